@@ -1,0 +1,92 @@
+#include "args.hpp"
+
+#include <cstdlib>
+#include <sstream>
+
+namespace lom::cli {
+
+Args::Args(std::vector<std::string> words, std::set<std::string> flags)
+    : flag_names_(std::move(flags)) {
+  for (size_t i = 0; i < words.size(); ++i) {
+    const std::string& word = words[i];
+    if (word.size() > 2 && word.rfind("--", 0) == 0) {
+      std::string name = word.substr(2);
+      const auto eq = name.find('=');
+      if (eq != std::string::npos) {
+        options_.emplace_back(name.substr(0, eq), name.substr(eq + 1));
+      } else if (flag_names_.count(name)) {
+        flags_set_.insert(name);
+      } else {
+        if (i + 1 >= words.size()) throw UsageError("option --" + name + " expects a value");
+        options_.emplace_back(name, words[++i]);
+      }
+    } else {
+      positionals_.push_back(word);
+    }
+  }
+}
+
+const std::string& Args::positional(size_t i, const std::string& what) const {
+  if (i >= positionals_.size()) throw UsageError("missing argument: " + what);
+  return positionals_[i];
+}
+
+std::optional<std::string> Args::option(const std::string& name) const {
+  std::optional<std::string> value;
+  for (const auto& [key, v] : options_)
+    if (key == name) value = v;  // the last one wins
+  return value;
+}
+
+std::string Args::required(const std::string& name) const {
+  auto value = option(name);
+  if (!value) throw UsageError("missing option --" + name);
+  return *value;
+}
+
+double Args::number(const std::string& name, double fallback) const {
+  auto value = option(name);
+  if (!value) return fallback;
+  char* end = nullptr;
+  const double parsed = std::strtod(value->c_str(), &end);
+  if (value->empty() || *end != '\0')
+    throw UsageError("option --" + name + " expects a number, got '" + *value + "'");
+  return parsed;
+}
+
+long Args::integer(const std::string& name, long fallback) const {
+  auto value = option(name);
+  if (!value) return fallback;
+  char* end = nullptr;
+  const long parsed = std::strtol(value->c_str(), &end, 10);
+  if (value->empty() || *end != '\0')
+    throw UsageError("option --" + name + " expects an integer, got '" + *value + "'");
+  return parsed;
+}
+
+void Args::expectOnly(const std::set<std::string>& known, size_t max_positionals) const {
+  for (const auto& [key, v] : options_)
+    if (!known.count(key)) throw UsageError("unknown option --" + key);
+  for (const auto& f : flags_set_)
+    if (!known.count(f)) throw UsageError("unknown option --" + f);
+  if (positionals_.size() > max_positionals)
+    throw UsageError("unexpected argument '" + positionals_[max_positionals] + "'");
+}
+
+std::vector<int> parseIntList(const std::string& text, const std::string& option) {
+  std::vector<int> values;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    char* end = nullptr;
+    const long v = std::strtol(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0')
+      throw UsageError("option --" + option + " expects a comma-separated list of integers, got '" +
+                       text + "'");
+    values.push_back(static_cast<int>(v));
+  }
+  if (values.empty()) throw UsageError("option --" + option + " expects at least one integer");
+  return values;
+}
+
+}  // namespace lom::cli

@@ -1,0 +1,43 @@
+#pragma once
+// Minimal command-line parsing for the labeloctomap subcommands:
+// positionals, "--name value" options and "--flag" switches.
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace lom::cli {
+
+// A mistake in how the command was called; main prints it with the usage and exits 2.
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Args {
+ public:
+  // `flags` are the options that take no value; every other --name takes one.
+  Args(std::vector<std::string> words, std::set<std::string> flags);
+
+  [[nodiscard]] size_t positionalCount() const { return positionals_.size(); }
+  [[nodiscard]] const std::string& positional(size_t i, const std::string& what) const;
+  [[nodiscard]] bool flag(const std::string& name) const { return flags_set_.count(name) > 0; }
+  [[nodiscard]] std::optional<std::string> option(const std::string& name) const;
+  [[nodiscard]] std::string required(const std::string& name) const;
+  [[nodiscard]] double number(const std::string& name, double fallback) const;
+  [[nodiscard]] long integer(const std::string& name, long fallback) const;
+  // Throws UsageError for any option not in `known` and for extra positionals.
+  void expectOnly(const std::set<std::string>& known, size_t max_positionals) const;
+
+ private:
+  std::vector<std::string> positionals_;
+  std::vector<std::pair<std::string, std::string>> options_;
+  std::set<std::string> flag_names_;
+  std::set<std::string> flags_set_;
+};
+
+// "0,8,19" -> {0, 8, 19}; throws UsageError naming `option` otherwise.
+std::vector<int> parseIntList(const std::string& text, const std::string& option);
+
+}  // namespace lom::cli

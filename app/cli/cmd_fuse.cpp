@@ -1,0 +1,133 @@
+// labeloctomap fuse: a sequence into a LabelOctoMap .ot file.
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+
+#include "args.hpp"
+#include "commands.hpp"
+#include "lom/error.hpp"
+#include "lom/fusion.hpp"
+
+namespace lom::cli {
+
+namespace {
+
+// "A:B", "A:", ":B" -> [A, B) frame indices.
+void parseFrameRange(const std::string& text, FusionOptions& options) {
+  const auto colon = text.find(':');
+  if (colon == std::string::npos)
+    throw UsageError("option --frames expects A:B (first frame, end frame exclusive), got '" +
+                     text + "'");
+  auto parse = [&](const std::string& part, size_t fallback) -> size_t {
+    if (part.empty()) return fallback;
+    char* end = nullptr;
+    const long value = std::strtol(part.c_str(), &end, 10);
+    if (*end != '\0' || value < 0)
+      throw UsageError("option --frames expects non-negative frame indices A:B, got '" + text + "'");
+    return static_cast<size_t>(value);
+  };
+  options.first_frame = parse(text.substr(0, colon), 0);
+  options.last_frame = parse(text.substr(colon + 1), static_cast<size_t>(-1));
+  if (options.last_frame <= options.first_frame)
+    throw UsageError("option --frames: the end frame must come after the first, got '" + text + "'");
+}
+
+void drawProgress(const FusionProgress& progress, double seconds_per_frame) {
+  constexpr int kWidth = 30;
+  const int filled = progress.total ? static_cast<int>(kWidth * progress.done / progress.total) : 0;
+  std::fprintf(stderr, "\r[%s%s] %zu/%zu frames  %.0f ms/frame", std::string(filled, '#').c_str(),
+               std::string(kWidth - filled, '.').c_str(), progress.done, progress.total,
+               seconds_per_frame * 1000.0);
+  std::fflush(stderr);
+}
+
+}  // namespace
+
+FusionOptions fusionOptionsFromArgs(const Args& args) {
+  FusionOptions options;
+  options.map.resolution = args.number("resolution", options.map.resolution);
+  options.map.max_range = args.number("max-range", options.map.max_range);
+  options.map.p_miss = args.number("p-miss", options.map.p_miss);
+  options.map.occupancy_threshold = args.number("threshold", options.map.occupancy_threshold);
+  if (auto candidates = args.option("candidates"); candidates && *candidates != "none")
+    options.candidates = parseIntList(*candidates, "candidates");
+  if (auto frames = args.option("frames")) parseFrameRange(*frames, options);
+  try {
+    checkMapParameters(options.map);
+  } catch (const Error& e) {
+    const std::string option = e.problem().field == "occupancy_threshold" ? "threshold"
+                               : e.problem().field == "p_miss"            ? "p-miss"
+                               : e.problem().field == "max_range"         ? "max-range"
+                                                                          : e.problem().field;
+    throw UsageError("option --" + option + " expects " + e.problem().expected + ", got " +
+                     e.problem().found);
+  }
+  return options;
+}
+
+int runFuse(const Words& words) {
+  const Args args(words, {"quiet"});
+  args.expectOnly({"out", "resolution", "max-range", "p-miss", "threshold", "candidates", "frames",
+                   "quiet"},
+                  1);
+  const std::string sequence_path = args.positional(0, "SEQ (a sequence folder)");
+  const std::filesystem::path out = args.required("out");
+  FusionOptions options = fusionOptionsFromArgs(args);
+
+  // Fail before the long part if the result could not be written.
+  const auto out_folder = out.has_parent_path() ? out.parent_path() : std::filesystem::path(".");
+  if (!std::filesystem::is_directory(out_folder))
+    throw Error(out.string(), "--out", "a path in an existing folder",
+                "folder " + out_folder.string() + " does not exist");
+
+  const Sequence sequence = loadSequence(sequence_path);
+  if (options.candidates)
+    for (int id : *options.candidates)
+      if (!sequence.labels.contains(id))
+        throw UsageError("option --candidates: label " + std::to_string(id) +
+                         " is not in the sequence (labels 0.." +
+                         std::to_string(sequence.labels.size() - 1) + ")");
+  if (options.first_frame >= sequence.frames.size())
+    throw UsageError("option --frames: the sequence has only " +
+                     std::to_string(sequence.frames.size()) + " frames");
+
+  const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
+  std::vector<double> frame_seconds;
+  const auto start = std::chrono::steady_clock::now();
+  LabelMap map = fuseSequence(sequence, options, [&](const FusionProgress& progress) {
+    frame_seconds.push_back(progress.stats.seconds);
+    if (show_progress) drawProgress(progress, progress.stats.seconds);
+    return true;
+  });
+  const double total_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (show_progress) std::fprintf(stderr, "\n");
+  map.prune();
+  map.save(out);
+
+  std::vector<double> sorted = frame_seconds;
+  std::sort(sorted.begin(), sorted.end());
+  const double median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
+  std::cout << "fused " << frame_seconds.size() << " frames of " << sequence_path << " in "
+            << std::fixed << std::setprecision(2) << total_seconds << " s (median "
+            << std::setprecision(1) << median * 1000.0 << " ms/frame integration)\n";
+  std::cout << std::defaultfloat << "map: resolution " << map.parameters().resolution << " m, "
+            << map.numNodes()
+            << " nodes, " << map.numLeaves() << " leaves, " << map.memoryBytes() / 1024
+            << " KiB\n";
+  const auto counts = map.occupiedCountPerLabel();
+  size_t occupied = 0;
+  for (const auto& [label, count] : counts) occupied += count;
+  std::cout << "occupied voxels: " << occupied << "\n";
+  for (const auto& [label, count] : counts)
+    std::cout << "  " << std::setw(3) << label << "  " << std::left << std::setw(36)
+              << map.labels().at(label).name << std::right << std::setw(8) << count << "\n";
+  std::cout << "wrote " << out.string() << "\n";
+  return 0;
+}
+
+}  // namespace lom::cli

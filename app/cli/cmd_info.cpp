@@ -1,0 +1,148 @@
+// labeloctomap info / validate: look at a sequence without fusing it.
+#include <algorithm>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "args.hpp"
+#include "commands.hpp"
+#include "lom/sequence.hpp"
+
+namespace lom::cli {
+
+namespace {
+
+std::string fileKind(const std::string& path) {
+  const auto dot = path.rfind('.');
+  return dot == std::string::npos ? "(no extension)" : path.substr(dot);
+}
+
+std::string availability(const Sequence& sequence, std::string FrameRecord::*member) {
+  std::map<std::string, size_t> kinds;
+  size_t present = 0;
+  for (const auto& frame : sequence.frames) {
+    const std::string& path = frame.*member;
+    if (path.empty()) continue;
+    ++present;
+    ++kinds[fileKind(path)];
+  }
+  std::ostringstream out;
+  out << present << "/" << sequence.frames.size();
+  if (present) {
+    out << " (";
+    bool first = true;
+    for (const auto& [kind, count] : kinds) {
+      out << (first ? "" : ", ") << count << " " << kind;
+      first = false;
+    }
+    out << ")";
+  }
+  return out.str();
+}
+
+void printProbaLabels(const Sequence& sequence, std::ostream& out) {
+  std::set<int> used;
+  for (const auto& frame : sequence.frames) {
+    if (frame.proba.empty()) continue;
+    if (frame.proba_labels.empty())
+      for (int id = 0; id < sequence.labels.size(); ++id) used.insert(id);
+    used.insert(frame.proba_labels.begin(), frame.proba_labels.end());
+  }
+  out << "labels in proba:  ";
+  if (used.empty()) {
+    out << "none (no frame has a proba file)\n";
+    return;
+  }
+  out << used.size() << "\n";
+  for (int id : used)
+    out << "  " << std::setw(5) << id << "  " << sequence.labels.at(id).name << "\n";
+}
+
+void printCameraPath(const Sequence& sequence, std::ostream& out) {
+  Eigen::Vector3d low = sequence.frames.front().T_world_camera.translation();
+  Eigen::Vector3d high = low;
+  double length = 0.0;
+  for (size_t i = 0; i < sequence.frames.size(); ++i) {
+    const Eigen::Vector3d p = sequence.frames[i].T_world_camera.translation();
+    low = low.cwiseMin(p);
+    high = high.cwiseMax(p);
+    if (i) length += (p - sequence.frames[i - 1].T_world_camera.translation()).norm();
+  }
+  out << "camera path:      ";
+  const char* axes = "xyz";
+  for (int k = 0; k < 3; ++k)
+    out << (k ? "  " : "") << axes[k] << " " << low[k] << " .. " << high[k];
+  out << " m (" << sequence.frame_id << "), length " << length << " m\n";
+}
+
+void printInfo(const Sequence& sequence, std::ostream& out) {
+  const auto& frames = sequence.frames;
+  const auto& cam = sequence.camera;
+  const size_t views = static_cast<size_t>(
+      std::count_if(frames.begin(), frames.end(), [](const FrameRecord& f) { return f.view; }));
+  const size_t overrides = static_cast<size_t>(std::count_if(
+      frames.begin(), frames.end(), [](const FrameRecord& f) { return f.camera.has_value(); }));
+  double first_stamp = frames.front().stamp, last_stamp = frames.front().stamp;
+  for (const auto& f : frames) {
+    first_stamp = std::min(first_stamp, f.stamp);
+    last_stamp = std::max(last_stamp, f.stamp);
+  }
+
+  out << std::setprecision(6);
+  out << "sequence:         " << (sequence.root / "sequence.json").string() << "\n";
+  out << "frame_id:         " << sequence.frame_id << "\n";
+  out << "labels:           " << sequence.labels.size()
+      << (sequence.labels == apc2016Labels() ? " (the APC 2016 set)" : "") << "\n";
+  printProbaLabels(sequence, out);
+  out << "camera:           " << cam.width << " x " << cam.height << "  fx " << cam.fx << "  fy "
+      << cam.fy << "  cx " << cam.cx << "  cy " << cam.cy << "  depth_scale " << cam.depth_scale
+      << "\n";
+  if (overrides) out << "camera overrides: " << overrides << " frame(s) have their own camera\n";
+  out << "frames:           " << frames.size() << "\n";
+  out << "views:            " << views << "\n";
+  out << "time span:        " << first_stamp << " .. " << last_stamp << " ("
+      << last_stamp - first_stamp << " s)\n";
+  out << "depth:            " << availability(sequence, &FrameRecord::depth) << "\n";
+  out << "proba:            " << availability(sequence, &FrameRecord::proba) << "\n";
+  out << "label:            " << availability(sequence, &FrameRecord::label) << "\n";
+  out << "color:            " << availability(sequence, &FrameRecord::color) << "\n";
+  printCameraPath(sequence, out);
+}
+
+}  // namespace
+
+int runInfo(const Words& words) {
+  const Args args(words, {});
+  args.expectOnly({}, 1);
+  const Sequence sequence =
+      loadSequence(args.positional(0, "SEQ (a sequence folder or sequence.json)"));
+  printInfo(sequence, std::cout);
+  return 0;
+}
+
+int runValidate(const Words& words) {
+  const Args args(words, {});
+  args.expectOnly({}, 1);
+  const std::string path = args.positional(0, "SEQ (a sequence folder or sequence.json)");
+  std::vector<Problem> problems;
+  size_t frames = 0;
+  try {
+    const Sequence sequence = loadSequence(path);
+    frames = sequence.frames.size();
+    problems = validateSequence(sequence);
+  } catch (const Error& e) {
+    problems.push_back(e.problem());
+  }
+  if (problems.empty()) {
+    std::cout << "OK: " << frames << " frames valid\n";
+    return 0;
+  }
+  for (const auto& problem : problems) std::cout << problem.message() << "\n";
+  std::cerr << "labeloctomap validate: " << problems.size()
+            << (problems.size() == 1 ? " problem" : " problems") << " found in " << path << "\n";
+  return 1;
+}
+
+}  // namespace lom::cli

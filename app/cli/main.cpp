@@ -1,0 +1,71 @@
+// labeloctomap: the command-line program (needs no display).
+#include <cstring>
+#include <iostream>
+#include <string>
+
+#include "args.hpp"
+#include "commands.hpp"
+#include "lom/error.hpp"
+
+namespace {
+
+struct Command {
+  const char* name;
+  int (*run)(const lom::cli::Words&);
+  const char* usage;
+};
+
+const Command kCommands[] = {
+    {"info", lom::cli::runInfo, "info SEQ                      summary of a sequence"},
+    {"validate", lom::cli::runValidate,
+     "validate SEQ                  check every file of a sequence; non-zero exit on problems"},
+    {"synth", lom::cli::runSynth,
+     "synth --out DIR [--seed S] [--objects N] [--frames F] [--views V]\n"
+     "                                write a synthetic shelf-bin sequence with annotations"},
+    {"fuse", lom::cli::runFuse,
+     "fuse SEQ --out MAP.ot [--resolution R] [--max-range M] [--p-miss P] [--threshold T]\n"
+     "     [--candidates 0,8,19 | --candidates none] [--frames A:B] [--quiet]\n"
+     "                                fuse a sequence into a LabelOctoMap"},
+    {"score", lom::cli::runScore,
+     "score SEQ --annotations BOXES.json --out DIR [--map MAP.ot] [--resolution R]\n"
+     "      [--candidates ...] [--iou exact|center] | score --batch LIST.txt --out DIR\n"
+     "                                per-object IU_3d against projection baselines"},
+    {"export", lom::cli::runExport,
+     "export MAP.ot --voxels OUT.pcd  write the occupied voxels (x y z label probability)"},
+};
+
+void printUsage(std::ostream& out) {
+  out << "usage: labeloctomap COMMAND [ARGS]\n\ncommands:\n";
+  for (const auto& c : kCommands) out << "  " << c.usage << "\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") ||
+      !std::strcmp(argv[1], "help")) {
+    printUsage(argc < 2 ? std::cerr : std::cout);
+    return argc < 2 ? 2 : 0;
+  }
+  const std::string name = argv[1];
+  lom::cli::Words words(argv + 2, argv + argc);
+  for (const auto& c : kCommands) {
+    if (name != c.name) continue;
+    try {
+      return c.run(words);
+    } catch (const lom::cli::UsageError& e) {
+      std::cerr << "labeloctomap " << name << ": " << e.what() << "\nusage: labeloctomap "
+                << c.usage << "\n";
+      return 2;
+    } catch (const lom::ValidationError& e) {
+      std::cerr << "labeloctomap " << name << ": " << e.what() << "\n";
+      return 1;
+    } catch (const std::exception& e) {
+      std::cerr << "labeloctomap " << name << ": error: " << e.what() << "\n";
+      return 1;
+    }
+  }
+  std::cerr << "labeloctomap: unknown command '" << name << "'\n";
+  printUsage(std::cerr);
+  return 2;
+}

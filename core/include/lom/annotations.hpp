@@ -1,0 +1,36 @@
+#pragma once
+// Ground-truth boxes, format "labeloctomap-annotations" version 1 (docs/annotation-format.md).
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "lom/geometry.hpp"
+#include "lom/labels.hpp"
+
+namespace lom {
+
+struct GroundTruthBox {
+  int label = 0;
+  std::string name;
+  OrientedBox box;
+};
+
+struct Annotations {
+  std::string frame_id = "world";
+  std::vector<GroundTruthBox> boxes;
+
+  [[nodiscard]] const GroundTruthBox* find(int label) const;
+};
+
+// Throws lom::Error naming the file and field on any malformed content.
+[[nodiscard]] Annotations loadAnnotations(const std::filesystem::path& path);
+void saveAnnotations(const Annotations& annotations, const std::filesystem::path& path);
+
+// The YAML box files of the paper's original experiments:
+// boxes: [{dimensions: [dx,dy,dz], position: [x,y,z], orientation: [qx,qy,qz,qw],
+//          name: object_N, frame_id: base}]; label N comes from "object_N", the
+// name is looked up in `labels` when given.
+[[nodiscard]] Annotations importYamlBoxes(const std::filesystem::path& path,
+                                          const LabelSet& labels = {});
+
+}  // namespace lom

@@ -1,0 +1,24 @@
+#pragma once
+// Outputs are written to a temporary file beside the target and renamed into
+// place, so a failure never leaves half a file and never destroys the old one.
+#include <filesystem>
+#include <functional>
+#include <iosfwd>
+#include <string>
+
+namespace lom {
+
+// Calls write(stream) on a temporary file next to `target`, then renames it over
+// `target`. Throws lom::Error naming `target` if the folder is not writable or
+// the stream fails; the temporary file is removed on any failure.
+void writeFileAtomically(const std::filesystem::path& target,
+                         const std::function<void(std::ostream&)>& write, bool binary = true);
+
+// Same, for writers that need a file name (e.g. OpenCV, PCL, VTK): `write`
+// receives the temporary path to write to.
+void writePathAtomically(const std::filesystem::path& target,
+                         const std::function<void(const std::filesystem::path&)>& write);
+
+void writeTextFileAtomically(const std::filesystem::path& target, const std::string& text);
+
+}  // namespace lom

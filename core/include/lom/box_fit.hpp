@@ -1,0 +1,25 @@
+#pragma once
+// Oriented boxes fitted to an object's voxels, for the box IU of the evaluation
+// (docs/evaluation.md, "Box IU").
+#include <vector>
+
+#include "lom/geometry.hpp"
+#include "lom/label_map.hpp"
+
+namespace lom {
+
+// The largest Euclidean cluster of voxels: two voxels are neighbours when their
+// centres are at most `tolerance_voxels` voxel edges apart. Ties go to the
+// cluster holding the smallest key, so the result is deterministic. Sorted.
+[[nodiscard]] std::vector<VoxelKey> largestCluster(const std::vector<VoxelKey>& keys,
+                                                   double tolerance_voxels);
+
+// A box enclosing every voxel cube: the smaller of the box along the principal
+// axes of the voxel centres and the axis-aligned box. Keys are OctoMap keys of
+// voxels of edge `resolution`. Throws std::invalid_argument for no keys.
+[[nodiscard]] OrientedBox fitOrientedBox(const std::vector<VoxelKey>& keys, double resolution);
+
+// Centre of the voxel with OctoMap key `key` (same as LabelMap::centerOf).
+[[nodiscard]] Eigen::Vector3d voxelCenter(const VoxelKey& key, double resolution);
+
+}  // namespace lom

@@ -1,0 +1,142 @@
+#pragma once
+// Scoring a labelled map against ground-truth boxes (the paper's section V.B):
+// per-object IU_3d and box IU of LabelOctoMap and of the single-view projection
+// baseline, plus the 2D metrics of section V.A. Definitions: docs/evaluation.md.
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "lom/annotations.hpp"
+#include "lom/fusion.hpp"
+#include "lom/geometry.hpp"
+#include "lom/label_map.hpp"
+#include "lom/metrics_2d.hpp"
+#include "lom/sequence.hpp"
+
+namespace lom {
+
+enum class IouMode {
+  Exact,   // each voxel counts with the exact volume of its cube inside the box
+  Center,  // each voxel counts with its full volume when its centre is inside the box
+};
+[[nodiscard]] const char* iouModeName(IouMode mode);  // "exact" | "center"
+[[nodiscard]] std::optional<IouMode> parseIouMode(const std::string& name);
+
+struct EvaluationOptions {
+  // Candidates and frame range apply to fusion, the projection baseline and the
+  // 2D metrics alike; the map parameters are used when the map is fused here.
+  FusionOptions fusion;
+  IouMode iou_mode = IouMode::Exact;
+  // Box fit: voxels whose centres are at most this many voxel edges apart are
+  // in the same cluster; only the largest cluster is boxed.
+  double cluster_tolerance_voxels = 2.0;
+  // Only for error messages.
+  std::string annotations_file;
+  std::string map_file;
+};
+
+struct MethodScores {
+  double projection_mean = 0.0;
+  double projection_max = 0.0;
+  double labeloctomap = 0.0;
+};
+
+struct ObjectScore {
+  int label = 0;
+  std::string name;
+  size_t voxels = 0;              // LabelOctoMap voxels of the label (finest resolution)
+  MethodScores iou_3d;
+  std::vector<double> per_view;   // projection IU_3d of each view, in view order
+  MethodScores box_iou;
+  std::vector<double> per_view_box_iou;
+  OrientedBox ground_truth;
+  std::optional<OrientedBox> fitted_box;  // fitted to the LabelOctoMap voxels (none when empty)
+};
+
+struct ScoreSummary {
+  size_t objects = 0;
+  MethodScores iou_3d;   // means over the objects
+  MethodScores box_iou;
+  size_t labeloctomap_beats_projection_max = 0;  // objects with LabelOctoMap IU_3d > Projection (Max)
+};
+[[nodiscard]] ScoreSummary summarize(const std::vector<ObjectScore>& objects);
+
+struct EvaluationReport {
+  std::string sequence;          // the sequence folder's name
+  double resolution = 0.0;       // of the map; also used by the projection baseline
+  double max_range = 0.0;
+  double occupancy_threshold = 0.0;
+  IouMode iou_mode = IouMode::Exact;
+  std::optional<std::vector<int>> candidates;
+  std::vector<size_t> views;     // frame indices of the views (frames with view: true)
+  std::vector<ObjectScore> objects;  // by ascending label
+  ScoreSummary summary;
+  // Over all frames with both a ground-truth label image and a proba image.
+  std::optional<Metrics2d> metrics_2d;             // argmax of the probabilities
+  std::optional<Metrics2d> metrics_2d_candidates;  // argmax after candidates (when given)
+};
+
+// The summary over all objects of several reports (a batch).
+[[nodiscard]] ScoreSummary summarizeAll(const std::vector<EvaluationReport>& reports);
+
+struct EvaluationProgress {
+  std::string stage;  // "fusing", "projecting", "scoring"
+  size_t done = 0;
+  size_t total = 0;
+};
+// Returning false cancels: the evaluation throws EvaluationCancelled.
+using EvaluationProgressFn = std::function<bool(const EvaluationProgress&)>;
+
+class EvaluationCancelled : public std::runtime_error {
+ public:
+  EvaluationCancelled() : std::runtime_error("evaluation cancelled") {}
+};
+
+// Throws lom::Error (naming options.annotations_file and the field) when the
+// annotations' frame_id differs from the sequence's or a box's label is not an
+// object label of the sequence.
+void checkAnnotationsForSequence(const Sequence& sequence, const Annotations& annotations,
+                                 const std::string& annotations_file);
+
+// Scores every annotated object. Resolution and max range come from `map`.
+// Throws lom::Error for unusable inputs (see checkAnnotationsForSequence; a map
+// with another label set or no occupied voxel; no view among the frames).
+[[nodiscard]] EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotations,
+                                        const LabelMap& map, const EvaluationOptions& options,
+                                        const EvaluationProgressFn& progress = {});
+
+// IU_3d of a voxel set against a box (the paper's equation; 0 for no voxels).
+[[nodiscard]] double voxelIou(const std::vector<VoxelKey>& voxels, double resolution,
+                              const OrientedBox& box, IouMode mode);
+
+struct ScoreInputs {
+  std::filesystem::path sequence;     // folder or sequence.json
+  std::filesystem::path annotations;  // annotations.json
+  std::optional<std::filesystem::path> map;  // a fused .ot; fused from the sequence when absent
+  std::optional<double> occupancy_threshold;  // re-thresholds a loaded map
+};
+
+// Loads the inputs, fuses (or loads) the map and evaluates. Annotations are
+// checked against the sequence before the fusion starts.
+[[nodiscard]] EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOptions& options,
+                                             const EvaluationProgressFn& progress = {});
+
+// A batch list: one sequence per line, "SEQ ANNOTATIONS [MAP.ot]", paths
+// relative to the list's folder, double quotes around paths with spaces,
+// blank lines and lines starting with # ignored.
+struct BatchEntry {
+  ScoreInputs inputs;
+  std::string name;  // the sequence folder's name: its report goes to DIR/<name>/
+  size_t line = 0;
+};
+// Throws lom::Error naming the list file and the line for malformed lines,
+// missing files and two sequences with the same folder name.
+[[nodiscard]] std::vector<BatchEntry> readBatchList(const std::filesystem::path& list);
+
+// The name under which a sequence folder is reported.
+[[nodiscard]] std::string sequenceName(const std::filesystem::path& sequence_folder_or_json);
+
+}  // namespace lom

@@ -1,0 +1,103 @@
+#pragma once
+// Fusion of RGB-D frames with per-pixel label probabilities into a LabelMap,
+// following the paper (sections III-IV). Semantics: docs/fusion.md.
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "lom/camera.hpp"
+#include "lom/images.hpp"
+#include "lom/label_map.hpp"
+#include "lom/sequence.hpp"
+
+namespace lom {
+
+// Probabilities are clamped to [kProbabilityEpsilon, 1 - kProbabilityEpsilon]
+// before logit so that no log-odds value is ever infinite.
+inline constexpr double kProbabilityEpsilon = 1e-6;
+
+// Per-pixel label evidence of one frame: log-odds logit(p_k) of every label k,
+// from a probability image or a label image (one-hot with `label_confidence`),
+// after restricting to class candidates when given.
+class FrameEvidence {
+ public:
+  // Exactly one of proba / label must be set. Throws lom::Error on size mismatches.
+  FrameEvidence(int num_labels, const ProbabilityImage* proba, const LabelImage* label,
+                const std::optional<std::vector<int>>& candidates, double label_confidence);
+  [[nodiscard]] int numLabels() const { return num_labels_; }
+  [[nodiscard]] int width() const { return width_; }
+  [[nodiscard]] int height() const { return height_; }
+  // Probabilities of pixel (u, v) after candidates and renormalisation (not clamped).
+  void probabilities(int u, int v, float* out) const;
+  // logit of the clamped probabilities.
+  void logOdds(int u, int v, float* out) const;
+  // Argmax label of pixel (u, v) (ties to the lower id).
+  [[nodiscard]] int argmax(int u, int v) const;
+
+  // For fast paths: the probability image when it is used as is (no candidates),
+  // so that only its channels need a logit per pixel; nullptr otherwise.
+  [[nodiscard]] const ProbabilityImage* directProbabilities() const;
+
+ private:
+  int num_labels_;
+  int width_ = 0, height_ = 0;
+  const ProbabilityImage* proba_;
+  const LabelImage* label_;
+  std::vector<char> allowed_;  // per label: 1 if candidate (or no candidates given)
+  double label_confidence_;
+  std::vector<int> channel_of_label_;  // -1 when the label has no channel
+};
+
+struct FrameStats {
+  size_t valid_pixels = 0;
+  size_t hit_voxels = 0;
+  size_t miss_voxels = 0;
+  double seconds = 0.0;
+};
+
+enum class IntegrationPath {
+  Fast,       // pixels grouped by end voxel, one ray per end voxel, both cores, sorted tree pass
+  Reference,  // every pixel casts its own ray into a hash set; straightforward and slow
+};
+
+struct IntegrationOptions {
+  IntegrationPath path = IntegrationPath::Fast;
+  int threads = 0;  // fast path worker threads; 0 = one per core
+};
+
+// Integrates one frame into `map` with the paper's rule (docs/fusion.md). Both
+// paths give the same map (the fast one may differ in the last float bits of
+// summed log-odds).
+FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
+                          const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
+                          const FrameEvidence& evidence, const IntegrationOptions& integration = {});
+
+struct FusionOptions {
+  MapParameters map;
+  std::optional<std::vector<int>> candidates;  // labels known to be present
+  double label_confidence = 0.9;  // one-hot confidence when a frame has only a label image
+  IntegrationOptions integration;
+  size_t first_frame = 0;
+  size_t last_frame = static_cast<size_t>(-1);  // exclusive; clipped to the sequence
+};
+
+struct FusionProgress {
+  size_t frame_index = 0;  // index in the sequence of the frame just fused
+  size_t done = 0;
+  size_t total = 0;
+  FrameStats stats;
+};
+
+// Builds the evidence of a loaded frame (proba if present, else label image).
+// Throws lom::Error naming the frame when it has neither.
+[[nodiscard]] FrameEvidence makeEvidence(const Sequence& sequence, size_t index,
+                                         const FrameData& frame, const FusionOptions& options);
+
+// Fuses frames [first_frame, last_frame) of the sequence into a new map.
+// `progress` (optional) is called after each frame; returning false cancels.
+[[nodiscard]] LabelMap fuseSequence(const Sequence& sequence, const FusionOptions& options,
+                                    const std::function<bool(const FusionProgress&)>& progress = {});
+
+}  // namespace lom

@@ -1,0 +1,51 @@
+#pragma once
+// Exact volumes of intersections between voxels and oriented boxes, and the
+// exact 3D IoU of two oriented boxes (definitions: docs/evaluation.md).
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "lom/geometry.hpp"
+
+namespace lom {
+
+// A convex polyhedron as its faces; each face is a convex polygon whose
+// vertices follow its boundary (either direction).
+struct ConvexPolyhedron {
+  std::vector<std::vector<Eigen::Vector3d>> faces;
+};
+
+[[nodiscard]] ConvexPolyhedron boxPolyhedron(const OrientedBox& box);
+
+// The part of `polyhedron` where normal . x <= offset.
+[[nodiscard]] ConvexPolyhedron clipByHalfSpace(const ConvexPolyhedron& polyhedron,
+                                               const Eigen::Vector3d& normal, double offset);
+
+[[nodiscard]] double polyhedronVolume(const ConvexPolyhedron& polyhedron);
+
+// Exact volume of the intersection of two oriented boxes.
+[[nodiscard]] double intersectionVolume(const OrientedBox& a, const OrientedBox& b);
+
+// Exact intersection over union of two oriented boxes (0 when both are empty).
+[[nodiscard]] double boxIoU(const OrientedBox& a, const OrientedBox& b);
+
+// Exact volume of an axis-aligned cube (a voxel) inside an oriented box.
+// Cubes entirely inside or clearly outside take a fast path; the others are clipped.
+class VoxelBoxIntersector {
+ public:
+  VoxelBoxIntersector(const OrientedBox& box, double voxel_edge);
+  [[nodiscard]] double volume(const Eigen::Vector3d& voxel_center) const;
+  [[nodiscard]] bool centerInside(const Eigen::Vector3d& voxel_center) const;
+
+ private:
+  OrientedBox box_;
+  Eigen::Matrix3d world_to_box_;
+  Eigen::Vector3d half_size_;
+  double edge_;
+  // Half extent of the voxel along each box axis: 0.5 * edge * sum_i |R_ji|.
+  Eigen::Vector3d voxel_reach_on_box_axes_;
+  // Half extent of the box along each world axis.
+  Eigen::Vector3d box_reach_on_world_axes_;
+};
+
+}  // namespace lom

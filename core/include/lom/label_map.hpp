@@ -1,0 +1,109 @@
+#pragma once
+// The multilabel occupancy map (LabelOctoMap). A thin, OctoMap-free facade over
+// lom::LabelOcTree (lom/octree/label_octree.hpp) so that most code never
+// compiles OctoMap's templates.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "lom/labels.hpp"
+
+namespace lom {
+
+class LabelOcTree;
+
+// Defaults are the paper's experimental settings and OctoMap's clamping.
+struct MapParameters {
+  double resolution = 0.01;           // voxel edge, metres
+  double p_miss = 0.3;                // probability given to every label of a missed voxel
+  double occupancy_threshold = 0.5;   // occupied iff max_k p_k >= threshold
+  double clamp_min = 0.12;            // per-label probability clamping range
+  double clamp_max = 0.97;
+  double max_range = 1.0;             // metres from the camera; <= 0 means unlimited
+};
+
+// Throws lom::Error naming the parameter when a value is out of range
+// (resolution > 0; probabilities strictly between 0 and 1; clamp_min < clamp_max).
+void checkMapParameters(const MapParameters& parameters);
+
+// OctoMap key of a finest-resolution voxel.
+struct VoxelKey {
+  std::uint16_t x = 0, y = 0, z = 0;
+  bool operator==(const VoxelKey& o) const { return x == o.x && y == o.y && z == o.z; }
+  bool operator<(const VoxelKey& o) const {
+    return x != o.x ? x < o.x : (y != o.y ? y < o.y : z < o.z);
+  }
+};
+
+struct OccupiedVoxel {
+  Eigen::Vector3d center;
+  double size = 0.0;        // edge length (larger than the resolution for pruned nodes)
+  int label = 0;            // argmax label
+  float probability = 0.f;  // probability of that label
+};
+
+struct VoxelState {
+  bool known = false;       // observed at least once
+  bool occupied = false;
+  int label = -1;           // argmax label (valid when known)
+  std::vector<float> probabilities;  // one per label (empty when unknown)
+};
+
+class LabelMap {
+ public:
+  explicit LabelMap(LabelSet labels, const MapParameters& parameters = {});
+  ~LabelMap();
+  LabelMap(LabelMap&&) noexcept;
+  LabelMap& operator=(LabelMap&&) noexcept;
+  LabelMap(const LabelMap&) = delete;
+  LabelMap& operator=(const LabelMap&) = delete;
+
+  [[nodiscard]] const LabelSet& labels() const { return labels_; }
+  [[nodiscard]] int numLabels() const { return labels_.size(); }
+  [[nodiscard]] const MapParameters& parameters() const { return parameters_; }
+  // Re-thresholds the whole map at once (no re-fusion needed).
+  void setOccupancyThreshold(double threshold);
+  // Changes max range and p_miss for later fusion (resolution and clamping are fixed).
+  void setIntegrationParameters(double p_miss, double max_range);
+
+  [[nodiscard]] VoxelKey keyOf(const Eigen::Vector3d& point_world) const;  // throws if out of map
+  [[nodiscard]] Eigen::Vector3d centerOf(const VoxelKey& key) const;
+  [[nodiscard]] VoxelState voxelAt(const Eigen::Vector3d& point_world) const;
+  [[nodiscard]] VoxelState voxelAt(const VoxelKey& key) const;
+
+  // Visits occupied leaves (pruned leaves once, with their larger size).
+  void forEachOccupied(const std::function<void(const OccupiedVoxel&)>& visit) const;
+  // Finest-resolution keys of the voxels occupied by `label` (pruned leaves expanded), sorted.
+  [[nodiscard]] std::vector<VoxelKey> voxelsOfLabel(int label) const;
+  // Number of finest-resolution occupied voxels per label (labels with none omitted).
+  [[nodiscard]] std::map<int, size_t> occupiedCountPerLabel() const;
+  // Axis-aligned bounds of all known voxels; nullopt for an empty map.
+  [[nodiscard]] std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> bounds() const;
+
+  [[nodiscard]] size_t numNodes() const;
+  [[nodiscard]] size_t numLeaves() const;
+  [[nodiscard]] size_t memoryBytes() const;  // nodes + label blocks
+  void prune();
+
+  // Native .ot file (OctoMap's format, tree type "LabelOcTree"), written atomically.
+  void save(const std::filesystem::path& path) const;
+  // Throws lom::Error naming the file for unreadable files and trees of another type.
+  [[nodiscard]] static LabelMap load(const std::filesystem::path& path);
+
+  [[nodiscard]] LabelOcTree& tree() { return *tree_; }
+  [[nodiscard]] const LabelOcTree& tree() const { return *tree_; }
+
+ private:
+  LabelMap(LabelSet labels, const MapParameters& parameters, std::unique_ptr<LabelOcTree> tree);
+  LabelSet labels_;
+  MapParameters parameters_;
+  std::unique_ptr<LabelOcTree> tree_;
+};
+
+}  // namespace lom

@@ -1,0 +1,44 @@
+#pragma once
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace lom {
+
+using Rgb = std::array<std::uint8_t, 3>;
+
+struct LabelInfo {
+  int id = 0;
+  std::string name;
+  Rgb color{0, 0, 0};
+};
+
+// The labels of a sequence or map. Ids are 0..size()-1 in order (label 0 is
+// the background); a map's number of labels is labels.size().
+class LabelSet {
+ public:
+  LabelSet() = default;
+  explicit LabelSet(std::vector<LabelInfo> labels);
+
+  [[nodiscard]] int size() const { return static_cast<int>(labels_.size()); }
+  [[nodiscard]] bool empty() const { return labels_.empty(); }
+  [[nodiscard]] bool contains(int id) const { return id >= 0 && id < size(); }
+  [[nodiscard]] const LabelInfo& at(int id) const;  // throws std::out_of_range
+  [[nodiscard]] const std::vector<LabelInfo>& all() const { return labels_; }
+  [[nodiscard]] std::optional<int> findByName(const std::string& name) const;
+  bool operator==(const LabelSet& other) const;
+
+ private:
+  std::vector<LabelInfo> labels_;
+};
+
+// The 39 Amazon Picking Challenge 2016 objects in the paper's numbering 1..39
+// plus "__background__" as 0, coloured with the PASCAL VOC palette.
+[[nodiscard]] LabelSet apc2016Labels();
+
+// Colour of label `id` in the PASCAL VOC palette (1 -> 128,0,0).
+[[nodiscard]] Rgb vocColor(int id);
+
+}  // namespace lom

@@ -1,0 +1,136 @@
+#pragma once
+// The multilabel octree, built on OctoMap the way OctoMap extends itself
+// (compare octomap::ColorOcTree). This header pulls in OctoMap's templates:
+// include it only from the few .cpp files that work on the tree directly;
+// everything else goes through lom::LabelMap.
+#include <cstdint>
+#include <iosfwd>
+#include <vector>
+
+#include <octomap/OcTreeNode.h>
+#include <octomap/OccupancyOcTreeBase.h>
+
+#include "lom/label_map.hpp"
+#include "lom/labels.hpp"
+
+namespace lom {
+
+// One log-odds value per label. A node whose labels are all equal (every voxel
+// that has only ever been missed, and all unknown-but-created nodes) stores no
+// label array at all: its OctoMap value is the common log-odds. Otherwise it
+// owns an array of the labels' log-odds and its value is their maximum, so
+// OctoMap's own occupancy test (value >= logit(threshold)) is exactly the
+// paper's rule max_k p_k >= threshold. The representation is canonical (all
+// equal <=> no array), so operator== and pruning compare like for like.
+class LabelOcTreeNode : public octomap::OcTreeNode {
+ public:
+  friend class LabelOcTree;
+
+  LabelOcTreeNode() = default;
+  // Copies the data only; children are copied by the tree.
+  LabelOcTreeNode(const LabelOcTreeNode& rhs);
+  LabelOcTreeNode& operator=(const LabelOcTreeNode&) = delete;
+  ~LabelOcTreeNode();
+
+  bool operator==(const LabelOcTreeNode& rhs) const;
+  void copyData(const LabelOcTreeNode& from);
+
+  [[nodiscard]] bool isUniform() const { return labels_ == nullptr; }
+  // Log-odds of label k (k < the tree's number of labels).
+  [[nodiscard]] float labelLogOdds(int k) const { return labels_ ? labels_[k + 1] : value; }
+  void labelLogOdds(int num_labels, float* out) const;
+  // Argmax label, ties to the lower id.
+  [[nodiscard]] int argmaxLabel(int num_labels) const;
+
+  // Sets all labels (canonicalises: an all-equal vector frees the array).
+  void setLabelLogOdds(int num_labels, const float* values);
+  void setUniformLogOdds(float log_odds);
+  // Adds `update` per label and clamps each to [lo, hi].
+  void addLabelLogOdds(int num_labels, const float* update, float lo, float hi);
+  // Adds the same update to every label and clamps.
+  void addUniformLogOdds(float update, float lo, float hi);
+
+  // Inner nodes: per-label maximum over the existing children (OctoMap's
+  // conservative rule, per label), value = the maximum over labels.
+  void updateOccupancyChildren();
+
+  // Self-describing: value, a flag, then (when not uniform) the count and the labels.
+  std::istream& readData(std::istream& s);
+  std::ostream& writeData(std::ostream& s) const;
+
+  [[nodiscard]] size_t labelBytes() const;
+
+ private:
+  void releaseLabels();
+  float* ensureLabels(int num_labels);  // materialises the uniform value per label
+  void canonicalise(int num_labels);
+  // labels_[0] holds the label count (bit pattern of a uint32), then the values.
+  float* labels_ = nullptr;
+};
+
+// One voxel's update in a frame, for LabelOcTree::applySortedUpdates.
+struct VoxelUpdate {
+  std::uint64_t morton = 0;     // grid::mortonCode of the key: depth-first order of the tree
+  octomap::OcTreeKey key;
+  const float* hit = nullptr;   // summed per-label log-odds of a hit; nullptr for a miss
+};
+
+class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
+ public:
+  explicit LabelOcTree(double resolution);
+  LabelOcTree(const LabelSet& labels, const MapParameters& parameters);
+  LabelOcTree(const LabelOcTree&) = delete;
+  LabelOcTree& operator=(const LabelOcTree&) = delete;
+
+  [[nodiscard]] LabelOcTree* create() const override;
+  [[nodiscard]] std::string getTreeType() const override { return "LabelOcTree"; }
+
+  [[nodiscard]] int numLabels() const { return labels_.size(); }
+  [[nodiscard]] const LabelSet& labels() const { return labels_; }
+  [[nodiscard]] const MapParameters& parameters() const { return parameters_; }
+  void setOccupancyThreshold(double threshold);
+  void setIntegrationParameters(double p_miss, double max_range);
+
+  // Finest-depth leaf for `key`, created (and pruned ancestors expanded) when
+  // needed. Inner nodes are not refreshed: call refreshAncestors afterwards.
+  LabelOcTreeNode* touchLeaf(const octomap::OcTreeKey& key);
+  // Hit: adds per-label log-odds, clamped. Miss: adds logit(p_miss) to every label, clamped.
+  void applyHit(const octomap::OcTreeKey& key, const float* log_odds);
+  void applyMiss(const octomap::OcTreeKey& key);
+  // Brings the ancestors of the given finest-depth keys up to date, bottom-up,
+  // pruning nodes whose eight children are identical leaves.
+  void refreshAncestors(std::vector<octomap::OcTreeKey> keys);
+  // Applies updates sorted by Morton code (one per key) in a single depth-first
+  // pass: the path from the root is reused between consecutive keys, and each
+  // inner node is refreshed (or pruned) once, when its subtree is finished.
+  void applySortedUpdates(const std::vector<VoxelUpdate>& updates);
+
+  [[nodiscard]] float missLogOdds() const { return prob_miss_log; }
+  [[nodiscard]] float clampMinLogOdds() const { return clamping_thres_min; }
+  [[nodiscard]] float clampMaxLogOdds() const { return clamping_thres_max; }
+  [[nodiscard]] size_t labelArrayBytes() const;
+
+  // The file carries the label set and the parameters before OctoMap's node stream.
+  std::istream& readData(std::istream& s) override;
+  std::ostream& writeData(std::ostream& s) const override;
+
+ private:
+  void applyParameters();
+
+  LabelSet labels_;
+  MapParameters parameters_;
+
+  // Registers the tree type with OctoMap's factory so AbstractOcTree::read works.
+  class StaticMemberInitializer {
+   public:
+    StaticMemberInitializer();
+    void ensureLinking() {}
+  };
+  static StaticMemberInitializer label_octree_member_init_;
+};
+
+// Log-odds helpers shared by the engine.
+[[nodiscard]] float logit(double p);
+[[nodiscard]] double probabilityFromLogOdds(double log_odds);
+
+}  // namespace lom

@@ -1,0 +1,46 @@
+#pragma once
+// Evaluation reports: report.json (a public contract, docs/evaluation.md),
+// report.csv, report.md, report.svg, and the aggregate of a batch.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "lom/evaluation.hpp"
+
+namespace lom {
+
+[[nodiscard]] std::string reportJson(const EvaluationReport& report);
+[[nodiscard]] std::string reportCsv(const EvaluationReport& report);
+[[nodiscard]] std::string reportMarkdown(const EvaluationReport& report);
+[[nodiscard]] std::string reportSvg(const EvaluationReport& report);
+// The paper-style table for a terminal (values x100).
+[[nodiscard]] std::string reportTable(const EvaluationReport& report);
+
+// Writes report.json, report.csv, report.md and report.svg into `dir` (created
+// with its parents when missing), each file atomically.
+void writeReport(const EvaluationReport& report, const std::filesystem::path& dir);
+
+// A batch: the mean over all objects of all sequences, and one row per sequence.
+[[nodiscard]] std::string aggregateJson(const std::vector<EvaluationReport>& reports);
+[[nodiscard]] std::string aggregateMarkdown(const std::vector<EvaluationReport>& reports);
+[[nodiscard]] std::string aggregateTable(const std::vector<EvaluationReport>& reports);
+[[nodiscard]] std::string aggregateSvg(const std::vector<EvaluationReport>& reports);
+// Writes aggregate.json, aggregate.md and aggregate.svg into `dir`, each atomically.
+void writeAggregate(const std::vector<EvaluationReport>& reports, const std::filesystem::path& dir);
+
+// A grouped bar chart as a standalone SVG document (no display needed).
+struct BarChart {
+  std::string title;
+  std::string y_label;
+  double y_unit = 100.0;  // values are multiplied by this for the axis (fractions -> percent)
+  std::vector<std::string> series;  // one colour per series
+  struct Group {
+    std::string label;     // under the group
+    std::string sublabel;  // smaller, slanted, below the label (e.g. an object name)
+    std::vector<double> values;  // one per series
+  };
+  std::vector<Group> groups;
+};
+[[nodiscard]] std::string barChartSvg(const BarChart& chart);
+
+}  // namespace lom

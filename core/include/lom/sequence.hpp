@@ -1,0 +1,81 @@
+#pragma once
+// Recorded frame sequences, format "labeloctomap-sequence" version 1
+// (docs/sequence-format.md).
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "lom/camera.hpp"
+#include "lom/error.hpp"
+#include "lom/images.hpp"
+#include "lom/labels.hpp"
+
+namespace lom {
+
+struct FrameRecord {
+  double stamp = 0.0;
+  Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();
+  std::string depth;                // relative path; .png (16-bit) or .npy (float32 metres)
+  std::string color;                // optional
+  std::string proba;                // optional .npy H x W x C
+  std::vector<int> proba_labels;    // label of each proba channel; empty = all labels in order
+  std::string label;                // optional 8/16-bit PNG of label ids
+  bool view = true;                 // counts as a separate viewpoint for the projection baseline
+  std::optional<CameraIntrinsics> camera;  // overrides the sequence camera
+};
+
+struct Sequence {
+  std::filesystem::path root;  // folder holding sequence.json
+  std::string frame_id = "world";
+  LabelSet labels;
+  CameraIntrinsics camera;
+  std::vector<FrameRecord> frames;
+
+  [[nodiscard]] const CameraIntrinsics& cameraOf(size_t frame) const {
+    return frames[frame].camera ? *frames[frame].camera : camera;
+  }
+  [[nodiscard]] std::filesystem::path pathOf(const std::string& relative) const {
+    return root / relative;
+  }
+};
+
+// Everything one frame holds, loaded from disk.
+struct FrameData {
+  DepthImage depth;
+  std::optional<ColorImage> color;
+  std::optional<ProbabilityImage> proba;
+  std::optional<LabelImage> label;
+};
+
+// Reads `folder/sequence.json` (or a path to the json itself). Checks the JSON
+// structure (types, required fields, rigid poses, label ids) and throws
+// lom::Error naming the file and the field on the first problem. Does not open
+// the frame files: see validateSequence / loadFrame.
+[[nodiscard]] Sequence loadSequence(const std::filesystem::path& folder_or_json);
+
+// Writes `folder/sequence.json` atomically (frame files are written by the caller).
+void saveSequence(const Sequence& sequence, const std::filesystem::path& folder);
+
+// Opens every file of every frame and checks existence, image size, bit depth,
+// channel count, proba dtype, label ids. Returns all problems found (empty = valid).
+[[nodiscard]] std::vector<Problem> validateSequence(const Sequence& sequence);
+
+// Loads one frame's images. Throws lom::Error naming the file and field.
+[[nodiscard]] FrameData loadFrame(const Sequence& sequence, size_t index);
+
+// Image file helpers (OpenCV behind the scenes). All throw lom::Error naming the file.
+[[nodiscard]] DepthImage readDepthImage(const std::filesystem::path& path, double depth_scale);
+[[nodiscard]] ColorImage readColorImage(const std::filesystem::path& path);
+[[nodiscard]] LabelImage readLabelImage(const std::filesystem::path& path);
+[[nodiscard]] ProbabilityImage readProbabilityImage(const std::filesystem::path& path,
+                                                    const std::vector<int>& channel_labels,
+                                                    int num_labels);
+// 16-bit PNG with value = round(metres / depth_scale), 0 for no measurement.
+void writeDepthPng(const std::filesystem::path& path, const DepthImage& depth, double depth_scale);
+void writeColorPng(const std::filesystem::path& path, const ColorImage& color);
+void writeLabelPng(const std::filesystem::path& path, const LabelImage& label);
+
+}  // namespace lom

@@ -1,0 +1,177 @@
+#include "lom/evaluation.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+#include "evaluation_frames.hpp"
+#include "lom/box_fit.hpp"
+#include "lom/error.hpp"
+#include "lom/iou.hpp"
+
+namespace lom {
+
+namespace {
+
+std::string orDefault(const std::string& text, const char* fallback) {
+  return text.empty() ? fallback : text;
+}
+
+void checkMapAgainstSequence(const LabelMap& map, const Sequence& sequence, const std::string& map_file) {
+  const std::string file = orDefault(map_file, "(map)");
+  if (map.numLabels() != sequence.labels.size())
+    throw Error(file, "labels", std::to_string(sequence.labels.size()) + " labels (the sequence's)",
+                std::to_string(map.numLabels()) + " labels");
+  for (int k = 0; k < map.numLabels(); ++k)
+    if (map.labels().at(k).name != sequence.labels.at(k).name)
+      throw Error(file, "labels[" + std::to_string(k) + "]",
+                  "the sequence's label \"" + sequence.labels.at(k).name + "\"",
+                  "\"" + map.labels().at(k).name + "\"");
+  if (map.occupiedCountPerLabel().empty())
+    throw Error(file, "map", "at least one occupied voxel", "an empty map");
+}
+
+// Box IU of the largest cluster's fitted box (0 and no box when there are no voxels).
+double fittedBoxIou(const std::vector<VoxelKey>& voxels, double resolution, const OrientedBox& truth,
+                    double tolerance_voxels, std::optional<OrientedBox>* fitted = nullptr) {
+  if (voxels.empty()) return 0.0;
+  const OrientedBox box = fitOrientedBox(largestCluster(voxels, tolerance_voxels), resolution);
+  if (fitted) *fitted = box;
+  return boxIoU(box, truth);
+}
+
+void meanAndMax(const std::vector<double>& values, double& mean, double& max) {
+  mean = values.empty() ? 0.0 : std::accumulate(values.begin(), values.end(), 0.0) / values.size();
+  max = values.empty() ? 0.0 : *std::max_element(values.begin(), values.end());
+}
+
+}  // namespace
+
+const char* iouModeName(IouMode mode) { return mode == IouMode::Exact ? "exact" : "center"; }
+
+std::optional<IouMode> parseIouMode(const std::string& name) {
+  if (name == "exact") return IouMode::Exact;
+  if (name == "center") return IouMode::Center;
+  return std::nullopt;
+}
+
+void checkAnnotationsForSequence(const Sequence& sequence, const Annotations& annotations,
+                                 const std::string& annotations_file) {
+  const std::string file = orDefault(annotations_file, "(annotations)");
+  if (annotations.frame_id != sequence.frame_id)
+    throw Error(file, "frame_id",
+                "the sequence's frame \"" + sequence.frame_id + "\" (" +
+                    (sequence.root / "sequence.json").string() + ")",
+                "\"" + annotations.frame_id + "\"");
+  if (annotations.boxes.empty()) throw Error(file, "boxes", "at least one box to score", "none");
+  const int n = sequence.labels.size();
+  for (size_t i = 0; i < annotations.boxes.size(); ++i) {
+    const int label = annotations.boxes[i].label;
+    if (label <= 0 || label >= n)
+      throw Error(file, "boxes[" + std::to_string(i) + "].label",
+                  "an object label of the sequence (1.." + std::to_string(n - 1) +
+                      "; 0 is the background)",
+                  std::to_string(label));
+  }
+}
+
+double voxelIou(const std::vector<VoxelKey>& voxels, double resolution, const OrientedBox& box,
+                IouMode mode) {
+  if (voxels.empty()) return 0.0;
+  const VoxelBoxIntersector intersector(box, resolution);
+  const double voxel_volume = resolution * resolution * resolution;
+  double true_positive = 0.0;
+  for (const auto& key : voxels) {
+    const Eigen::Vector3d center = voxelCenter(key, resolution);
+    true_positive += mode == IouMode::Exact ? intersector.volume(center)
+                                            : (intersector.centerInside(center) ? voxel_volume : 0.0);
+  }
+  const double predicted = voxel_volume * static_cast<double>(voxels.size());
+  // v_tp + v_fp + v_fn = v_pred + v_gt - v_tp
+  const double denominator = predicted + box.volume() - true_positive;
+  return denominator > 0.0 ? std::clamp(true_positive / denominator, 0.0, 1.0) : 0.0;
+}
+
+ScoreSummary summarize(const std::vector<ObjectScore>& objects) {
+  ScoreSummary summary;
+  summary.objects = objects.size();
+  if (objects.empty()) return summary;
+  auto mean = [&](auto member) {
+    double sum = 0.0;
+    for (const auto& o : objects) sum += member(o);
+    return sum / static_cast<double>(objects.size());
+  };
+  summary.iou_3d.projection_mean = mean([](const ObjectScore& o) { return o.iou_3d.projection_mean; });
+  summary.iou_3d.projection_max = mean([](const ObjectScore& o) { return o.iou_3d.projection_max; });
+  summary.iou_3d.labeloctomap = mean([](const ObjectScore& o) { return o.iou_3d.labeloctomap; });
+  summary.box_iou.projection_mean = mean([](const ObjectScore& o) { return o.box_iou.projection_mean; });
+  summary.box_iou.projection_max = mean([](const ObjectScore& o) { return o.box_iou.projection_max; });
+  summary.box_iou.labeloctomap = mean([](const ObjectScore& o) { return o.box_iou.labeloctomap; });
+  for (const auto& o : objects)
+    if (o.iou_3d.labeloctomap > o.iou_3d.projection_max) ++summary.labeloctomap_beats_projection_max;
+  return summary;
+}
+
+ScoreSummary summarizeAll(const std::vector<EvaluationReport>& reports) {
+  std::vector<ObjectScore> objects;
+  for (const auto& report : reports) objects.insert(objects.end(), report.objects.begin(), report.objects.end());
+  return summarize(objects);
+}
+
+EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotations, const LabelMap& map,
+                          const EvaluationOptions& options, const EvaluationProgressFn& progress) {
+  checkAnnotationsForSequence(sequence, annotations, options.annotations_file);
+  checkMapAgainstSequence(map, sequence, options.map_file);
+
+  std::vector<GroundTruthBox> boxes = annotations.boxes;
+  std::sort(boxes.begin(), boxes.end(),
+            [](const GroundTruthBox& a, const GroundTruthBox& b) { return a.label < b.label; });
+  std::vector<int> labels;
+  for (const auto& box : boxes) labels.push_back(box.label);
+
+  EvaluationReport report;
+  report.sequence = sequenceName(sequence.root);
+  report.resolution = map.parameters().resolution;
+  report.max_range = map.parameters().max_range;
+  report.occupancy_threshold = map.parameters().occupancy_threshold;
+  report.iou_mode = options.iou_mode;
+  report.candidates = options.fusion.candidates;
+
+  detail::FrameScan scan = detail::scanFrames(sequence, map, labels, options, progress);
+  if (scan.views.empty())
+    throw Error((sequence.root / "sequence.json").string(), "frames[].view",
+                "at least one frame with view: true among the frames scored", "none");
+  report.views = scan.views;
+
+  const double resolution = report.resolution;
+  EvaluationProgress step{"scoring", 0, boxes.size()};
+  for (const auto& box : boxes) {
+    ObjectScore object;
+    object.label = box.label;
+    object.name = box.name.empty() ? sequence.labels.at(box.label).name : box.name;
+    object.ground_truth = box.box;
+
+    const std::vector<VoxelKey> mapped = map.voxelsOfLabel(box.label);
+    object.voxels = mapped.size();
+    object.iou_3d.labeloctomap = voxelIou(mapped, resolution, box.box, options.iou_mode);
+    object.box_iou.labeloctomap = fittedBoxIou(mapped, resolution, box.box,
+                                               options.cluster_tolerance_voxels, &object.fitted_box);
+    for (const auto& view : scan.view_voxels) {
+      const std::vector<VoxelKey>& projected = view.at(box.label);
+      object.per_view.push_back(voxelIou(projected, resolution, box.box, options.iou_mode));
+      object.per_view_box_iou.push_back(
+          fittedBoxIou(projected, resolution, box.box, options.cluster_tolerance_voxels));
+    }
+    meanAndMax(object.per_view, object.iou_3d.projection_mean, object.iou_3d.projection_max);
+    meanAndMax(object.per_view_box_iou, object.box_iou.projection_mean, object.box_iou.projection_max);
+    report.objects.push_back(std::move(object));
+    ++step.done;
+    if (progress && !progress(step)) throw EvaluationCancelled();
+  }
+  report.summary = summarize(report.objects);
+  if (scan.confusion && scan.confusion->total() > 0) report.metrics_2d = scan.confusion->metrics();
+  if (scan.confusion_candidates && scan.confusion_candidates->total() > 0)
+    report.metrics_2d_candidates = scan.confusion_candidates->metrics();
+  return report;
+}
+
+}  // namespace lom

@@ -1,0 +1,134 @@
+// Scoring from files: one sequence (scoreSequence) or a batch list of them.
+#include <cctype>
+#include <fstream>
+#include <map>
+
+#include "lom/error.hpp"
+#include "lom/evaluation.hpp"
+
+namespace lom {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Splits a list line into whitespace-separated fields; "double quotes" keep spaces.
+std::vector<std::string> splitFields(const std::string& line, bool& unterminated_quote) {
+  std::vector<std::string> fields;
+  std::string current;
+  bool in_field = false, quoted = false;
+  for (char c : line) {
+    if (quoted) {
+      if (c == '"') quoted = false;
+      else current += c;
+    } else if (c == '"') {
+      quoted = in_field = true;
+    } else if (std::isspace(static_cast<unsigned char>(c))) {
+      if (in_field) fields.push_back(current);
+      current.clear();
+      in_field = false;
+    } else {
+      current += c;
+      in_field = true;
+    }
+  }
+  if (in_field) fields.push_back(current);
+  unterminated_quote = quoted;
+  return fields;
+}
+
+std::string trimmed(const std::string& text) {
+  const auto first = text.find_first_not_of(" \t\r");
+  if (first == std::string::npos) return {};
+  return text.substr(first, text.find_last_not_of(" \t\r") - first + 1);
+}
+
+}  // namespace
+
+std::string sequenceName(const fs::path& sequence_folder_or_json) {
+  fs::path folder = sequence_folder_or_json;
+  if (folder.extension() == ".json") folder = folder.parent_path();
+  std::error_code ec;
+  const fs::path absolute = fs::weakly_canonical(fs::absolute(folder.empty() ? fs::path(".") : folder), ec);
+  const fs::path normal = (ec ? folder : absolute).lexically_normal();
+  std::string name = normal.filename().string();
+  if (name.empty() || name == ".") name = normal.parent_path().filename().string();
+  return name.empty() ? "sequence" : name;
+}
+
+EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOptions& options,
+                               const EvaluationProgressFn& progress) {
+  const Sequence sequence = loadSequence(inputs.sequence);
+  const Annotations annotations = loadAnnotations(inputs.annotations);
+  EvaluationOptions named = options;
+  named.annotations_file = inputs.annotations.string();
+  // Reject unusable annotations before the long fusion.
+  checkAnnotationsForSequence(sequence, annotations, named.annotations_file);
+
+  if (inputs.map) {
+    named.map_file = inputs.map->string();
+    LabelMap map = LabelMap::load(*inputs.map);
+    if (inputs.occupancy_threshold) map.setOccupancyThreshold(*inputs.occupancy_threshold);
+    return evaluate(sequence, annotations, map, named, progress);
+  }
+  named.map_file = (sequence.root / "sequence.json").string() + " (fused)";
+  LabelMap map = fuseSequence(sequence, options.fusion, [&](const FusionProgress& fused) {
+    return !progress || progress(EvaluationProgress{"fusing", fused.done, fused.total});
+  });
+  if (progress && !progress(EvaluationProgress{"fusing", 1, 1})) throw EvaluationCancelled();
+  return evaluate(sequence, annotations, map, named, progress);
+}
+
+std::vector<BatchEntry> readBatchList(const fs::path& list) {
+  std::error_code ec;
+  if (!fs::is_regular_file(list, ec)) throw Error(list.string(), "", "an existing batch list file", "no such file");
+  std::ifstream in(list);
+  if (!in) throw Error(list.string(), "", "a readable batch list file", "cannot open it");
+  const fs::path base = list.has_parent_path() ? list.parent_path() : fs::path(".");
+  auto resolve = [&](const std::string& text) {
+    const fs::path path(text);
+    return path.is_absolute() ? path : base / path;
+  };
+
+  std::vector<BatchEntry> entries;
+  std::map<std::string, size_t> line_of_name;
+  std::string line;
+  for (size_t number = 1; std::getline(in, line); ++number) {
+    const std::string text = trimmed(line);
+    if (text.empty() || text[0] == '#') continue;
+    const std::string where = "line " + std::to_string(number);
+    bool unterminated = false;
+    const std::vector<std::string> fields = splitFields(text, unterminated);
+    if (unterminated) throw Error(list.string(), where, "a closing double quote", text);
+    if (fields.size() < 2 || fields.size() > 3)
+      throw Error(list.string(), where, "SEQ_PATH ANNOTATIONS_PATH [MAP.ot]", text);
+    BatchEntry entry;
+    entry.line = number;
+    entry.inputs.sequence = resolve(fields[0]);
+    entry.inputs.annotations = resolve(fields[1]);
+    if (fields.size() == 3) entry.inputs.map = resolve(fields[2]);
+    const fs::path json = entry.inputs.sequence.extension() == ".json"
+                              ? entry.inputs.sequence
+                              : entry.inputs.sequence / "sequence.json";
+    if (!fs::is_regular_file(json, ec))
+      throw Error(list.string(), where + " (SEQ_PATH)", "a sequence folder holding sequence.json",
+                  json.string() + " does not exist");
+    if (!fs::is_regular_file(entry.inputs.annotations, ec))
+      throw Error(list.string(), where + " (ANNOTATIONS_PATH)", "an existing annotations file",
+                  entry.inputs.annotations.string() + " does not exist");
+    if (entry.inputs.map && !fs::is_regular_file(*entry.inputs.map, ec))
+      throw Error(list.string(), where + " (MAP)", "an existing .ot map file",
+                  entry.inputs.map->string() + " does not exist");
+    entry.name = sequenceName(entry.inputs.sequence);
+    const auto [previous, inserted] = line_of_name.emplace(entry.name, number);
+    if (!inserted)
+      throw Error(list.string(), where,
+                  "sequence folders with distinct names (reports go to DIR/<name>/)",
+                  "\"" + entry.name + "\" again (also on line " + std::to_string(previous->second) + ")");
+    entries.push_back(std::move(entry));
+  }
+  if (entries.empty()) throw Error(list.string(), "", "at least one line SEQ_PATH ANNOTATIONS_PATH", "none");
+  return entries;
+}
+
+}  // namespace lom

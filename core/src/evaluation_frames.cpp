@@ -1,0 +1,142 @@
+#include "evaluation_frames.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <unordered_set>
+
+#include "lom/error.hpp"
+
+namespace lom::detail {
+
+namespace {
+
+std::uint64_t pack(const VoxelKey& key) {
+  return (static_cast<std::uint64_t>(key.x) << 32) | (static_cast<std::uint64_t>(key.y) << 16) | key.z;
+}
+
+VoxelKey unpack(std::uint64_t packed) {
+  return {static_cast<std::uint16_t>(packed >> 32), static_cast<std::uint16_t>(packed >> 16),
+          static_cast<std::uint16_t>(packed)};
+}
+
+class ArgmaxOf {
+ public:
+  explicit ArgmaxOf(const FrameEvidence& evidence)
+      : evidence_(evidence), buffer_(static_cast<size_t>(evidence.numLabels())) {}
+  int operator()(int u, int v) {
+    evidence_.probabilities(u, v, buffer_.data());
+    return static_cast<int>(std::max_element(buffer_.begin(), buffer_.end()) - buffer_.begin());
+  }
+
+ private:
+  const FrameEvidence& evidence_;
+  std::vector<float> buffer_;
+};
+
+// The voxels each scored label occupies when only this frame's argmax labels
+// are projected: the hits of the fusion (same range rule, same keys), one label each.
+std::map<int, std::vector<VoxelKey>> projectView(const Sequence& sequence, size_t index,
+                                                 const FrameData& frame, const LabelMap& map,
+                                                 const std::vector<int>& slot_of_label,
+                                                 const std::vector<int>& scored_labels,
+                                                 const EvaluationOptions& options) {
+  const FrameEvidence evidence = makeEvidence(sequence, index, frame, options.fusion);
+  const CameraIntrinsics& camera = sequence.cameraOf(index);
+  const Eigen::Isometry3d& T_world_camera = sequence.frames[index].T_world_camera;
+  const Eigen::Vector3d origin = T_world_camera.translation();
+  const double max_range = map.parameters().max_range;
+  const DepthImage& depth = frame.depth;
+  if (evidence.width() != depth.width || evidence.height() != depth.height)
+    throw Error((sequence.root / "sequence.json").string(), "frames[" + std::to_string(index) + "]",
+                "label evidence of the depth image's size " + std::to_string(depth.width) + "x" +
+                    std::to_string(depth.height),
+                std::to_string(evidence.width()) + "x" + std::to_string(evidence.height()));
+
+  ArgmaxOf argmax(evidence);
+  std::vector<std::unordered_set<std::uint64_t>> keys(scored_labels.size());
+  for (int v = 0; v < depth.height; ++v) {
+    for (int u = 0; u < depth.width; ++u) {
+      const float z = depth.at(u, v);
+      if (!(z > 0.f) || !std::isfinite(z)) continue;
+      const int slot = slot_of_label[static_cast<size_t>(argmax(u, v))];
+      if (slot < 0) continue;
+      const Eigen::Vector3d point = T_world_camera * camera.backProject(u, v, z);
+      if (max_range > 0.0 && (point - origin).norm() > max_range) continue;
+      try {
+        keys[static_cast<size_t>(slot)].insert(pack(map.keyOf(point)));
+      } catch (const Error&) {
+        // Outside the octree's extent: the fusion drops such points too.
+      }
+    }
+  }
+  std::map<int, std::vector<VoxelKey>> voxels;
+  for (size_t s = 0; s < scored_labels.size(); ++s) {
+    std::vector<VoxelKey>& list = voxels[scored_labels[s]];
+    list.reserve(keys[s].size());
+    for (std::uint64_t packed : keys[s]) list.push_back(unpack(packed));
+    std::sort(list.begin(), list.end());
+  }
+  return voxels;
+}
+
+void addToConfusion(const Sequence& sequence, size_t index, const FrameData& frame,
+                    const FusionOptions& fusion, ConfusionMatrix& confusion) {
+  const FrameEvidence evidence = makeEvidence(sequence, index, frame, fusion);
+  const LabelImage& truth = *frame.label;
+  if (evidence.width() != truth.width || evidence.height() != truth.height)
+    throw Error((sequence.root / "sequence.json").string(),
+                "frames[" + std::to_string(index) + "].label",
+                "a label image of the proba image's size " + std::to_string(evidence.width()) + "x" +
+                    std::to_string(evidence.height()),
+                std::to_string(truth.width) + "x" + std::to_string(truth.height));
+  ArgmaxOf argmax(evidence);
+  for (int v = 0; v < truth.height; ++v)
+    for (int u = 0; u < truth.width; ++u) confusion.add(truth.at(u, v), argmax(u, v));
+}
+
+}  // namespace
+
+FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
+                     const std::vector<int>& scored_labels, const EvaluationOptions& options,
+                     const EvaluationProgressFn& progress) {
+  const size_t first = std::min(options.fusion.first_frame, sequence.frames.size());
+  const size_t last = std::min(options.fusion.last_frame, sequence.frames.size());
+  std::vector<int> slot_of_label(static_cast<size_t>(sequence.labels.size()), -1);
+  for (size_t s = 0; s < scored_labels.size(); ++s)
+    slot_of_label[static_cast<size_t>(scored_labels[s])] = static_cast<int>(s);
+
+  FusionOptions without_candidates = options.fusion;
+  without_candidates.candidates.reset();
+
+  FrameScan scan;
+  std::vector<size_t> to_load;
+  for (size_t i = first; i < last; ++i) {
+    const FrameRecord& record = sequence.frames[i];
+    if (record.view || (!record.label.empty() && !record.proba.empty())) to_load.push_back(i);
+  }
+  EvaluationProgress report{"projecting", 0, to_load.size()};
+  for (size_t i : to_load) {
+    const FrameRecord& record = sequence.frames[i];
+    const FrameData frame = loadFrame(sequence, i);
+    if (record.view) {
+      scan.views.push_back(i);
+      scan.view_voxels.push_back(
+          projectView(sequence, i, frame, map, slot_of_label, scored_labels, options));
+    }
+    if (frame.label && frame.proba) {
+      if (!scan.confusion) scan.confusion.emplace(sequence.labels.size());
+      addToConfusion(sequence, i, frame, without_candidates, *scan.confusion);
+      if (options.fusion.candidates) {
+        if (!scan.confusion_candidates) scan.confusion_candidates.emplace(sequence.labels.size());
+        addToConfusion(sequence, i, frame, options.fusion, *scan.confusion_candidates);
+      }
+    }
+    ++report.done;
+    if (progress && !progress(report)) throw EvaluationCancelled();
+  }
+  return scan;
+}
+
+}  // namespace lom::detail

@@ -1,0 +1,27 @@
+#pragma once
+// The per-frame part of the evaluation: single-view projection voxels and the
+// 2D confusion matrices, gathered in one pass over the frames.
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "lom/evaluation.hpp"
+
+namespace lom::detail {
+
+struct FrameScan {
+  std::vector<size_t> views;
+  // For each view (same order), the voxels each scored label occupies in that view alone.
+  std::vector<std::map<int, std::vector<VoxelKey>>> view_voxels;
+  std::optional<ConfusionMatrix> confusion;             // frames with label and proba images
+  std::optional<ConfusionMatrix> confusion_candidates;  // the same, after candidates
+};
+
+// Frames [first_frame, last_frame) of options.fusion; voxel keys as in `map`
+// (its resolution and max range).
+[[nodiscard]] FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
+                                   const std::vector<int>& scored_labels,
+                                   const EvaluationOptions& options,
+                                   const EvaluationProgressFn& progress);
+
+}  // namespace lom::detail

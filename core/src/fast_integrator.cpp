@@ -1,0 +1,320 @@
+// The fast integration path. Same rule as the reference path (docs/fusion.md),
+// organised around where the cost is: the free voxels in the view frustum.
+//  1. Pixels are grouped by end voxel (runs along rows share one hash lookup);
+//     each group sums its pixels' log-odds. Rows are split between threads.
+//  2. One ray per end voxel marks the crossed voxels in 16^3 bit bricks, so a
+//     voxel crossed by many rays costs one bit (threads mark their own bricks).
+//  3. Hit voxels are removed from the marks; misses (read from the bricks in
+//     Morton order) and hits (sorted) merge into one depth-first update stream
+//     that the tree applies in a single pass (LabelOcTree::applySortedUpdates).
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <thread>
+#include <unordered_map>
+
+#include "fusion_internal.hpp"
+#include "lom/octree/label_octree.hpp"
+
+namespace lom {
+
+namespace {
+
+// Memoises logit for repeated probability values (8-bit probability images
+// have at most 256 of them); exact, since misses call the same function.
+class LogitCache {
+ public:
+  LogitCache() { std::fill(std::begin(bits_), std::end(bits_), 0xffffffffu); }
+  float operator()(float p) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &p, sizeof(bits));
+    const std::uint32_t slot = (bits * 2654435761u) >> (32 - kSlotBits);
+    if (bits_[slot] != bits) {
+      bits_[slot] = bits;
+      values_[slot] = clampedLogit(p);
+    }
+    return values_[slot];
+  }
+
+ private:
+  static constexpr int kSlotBits = 12;
+  std::uint32_t bits_[1 << kSlotBits];
+  float values_[1 << kSlotBits];
+};
+
+// Voxels as bits in 16 x 16 x 16 bricks, each brick's bits in Morton order.
+class BrickSet {
+ public:
+  static constexpr int kWords = 64;  // 4096 bits
+  using Bits = std::array<std::uint64_t, kWords>;
+
+  void set(const grid::Key& key) {
+    Bits& bits = brick(packBrick(key));
+    const unsigned local = localIndex(key);
+    bits[local >> 6] |= std::uint64_t{1} << (local & 63);
+  }
+  void clear(const grid::Key& key) {
+    const auto it = index_.find(packBrick(key));
+    if (it == index_.end()) return;
+    const unsigned local = localIndex(key);
+    bricks_[it->second][local >> 6] &= ~(std::uint64_t{1} << (local & 63));
+  }
+  void mergeFrom(const BrickSet& other) {
+    for (size_t i = 0; i < other.bricks_.size(); ++i) {
+      Bits& bits = brick(other.keys_[i]);
+      for (int w = 0; w < kWords; ++w) bits[static_cast<size_t>(w)] |= other.bricks_[i][static_cast<size_t>(w)];
+    }
+  }
+  // Appends every marked voxel as a miss, in Morton (depth-first) order.
+  void appendMisses(std::vector<VoxelUpdate>& out) const {
+    std::vector<std::pair<std::uint64_t, size_t>> order;
+    order.reserve(keys_.size());
+    for (size_t i = 0; i < keys_.size(); ++i) {
+      const auto [bx, by, bz] = unpackBrick(keys_[i]);
+      order.emplace_back(grid::mortonCode(bx, by, bz), i);
+    }
+    std::sort(order.begin(), order.end());
+    const LocalTables& tables = localTables();
+    for (const auto& [brick_morton, i] : order) {
+      const auto [bx, by, bz] = unpackBrick(keys_[i]);
+      const Bits& bits = bricks_[i];
+      for (int w = 0; w < kWords; ++w) {
+        std::uint64_t word = bits[static_cast<size_t>(w)];
+        while (word) {
+          const int bit = __builtin_ctzll(word);
+          word &= word - 1;
+          const unsigned local = static_cast<unsigned>(w * 64 + bit);
+          const auto& offset = tables.offset[local];
+          VoxelUpdate update;
+          update.morton = (brick_morton << 12) | local;
+          update.key = octomap::OcTreeKey(static_cast<std::uint16_t>((bx << 4) | offset[0]),
+                                          static_cast<std::uint16_t>((by << 4) | offset[1]),
+                                          static_cast<std::uint16_t>((bz << 4) | offset[2]));
+          out.push_back(update);
+        }
+      }
+    }
+  }
+
+ private:
+  struct LocalTables {
+    std::array<std::uint16_t, 16> spread{};                  // 4-bit value -> every third bit
+    std::array<std::array<std::uint8_t, 3>, 4096> offset{};  // local Morton index -> x, y, z
+  };
+  static const LocalTables& localTables() {
+    static const LocalTables tables = [] {
+      LocalTables t;
+      for (unsigned v = 0; v < 16; ++v) t.spread[v] = static_cast<std::uint16_t>(grid::spreadBits3(v));
+      for (unsigned x = 0; x < 16; ++x)
+        for (unsigned y = 0; y < 16; ++y)
+          for (unsigned z = 0; z < 16; ++z)
+            t.offset[t.spread[x] | (t.spread[y] << 1) | (t.spread[z] << 2)] = {
+                static_cast<std::uint8_t>(x), static_cast<std::uint8_t>(y),
+                static_cast<std::uint8_t>(z)};
+      return t;
+    }();
+    return tables;
+  }
+  static unsigned localIndex(const grid::Key& key) {
+    const auto& spread = localTables().spread;
+    return spread[key[0] & 15u] | (spread[key[1] & 15u] << 1) | (spread[key[2] & 15u] << 2);
+  }
+  static std::uint64_t packBrick(const grid::Key& key) {
+    return (std::uint64_t{static_cast<std::uint64_t>(key[0] >> 4)} << 24) |
+           (std::uint64_t{static_cast<std::uint64_t>(key[1] >> 4)} << 12) | (key[2] >> 4);
+  }
+  static std::array<std::uint16_t, 3> unpackBrick(std::uint64_t packed) {
+    return {static_cast<std::uint16_t>(packed >> 24), static_cast<std::uint16_t>((packed >> 12) & 0xfff),
+            static_cast<std::uint16_t>(packed & 0xfff)};
+  }
+  Bits& brick(std::uint64_t packed) {
+    if (packed == cached_key_) return bricks_[cached_index_];
+    auto [it, inserted] = index_.try_emplace(packed, bricks_.size());
+    if (inserted) {
+      bricks_.emplace_back();
+      bricks_.back().fill(0);
+      keys_.push_back(packed);
+    }
+    cached_key_ = packed;
+    cached_index_ = it->second;
+    return bricks_[cached_index_];
+  }
+
+  std::unordered_map<std::uint64_t, size_t> index_;
+  std::vector<Bits> bricks_;
+  std::vector<std::uint64_t> keys_;
+  std::uint64_t cached_key_ = ~std::uint64_t{0};
+  size_t cached_index_ = 0;
+};
+
+// The pixels of one thread's rows, grouped by end voxel.
+struct PixelGroups {
+  struct Group {
+    grid::Key key{};
+    bool beyond_range = false;
+    std::uint32_t pixels = 0;
+  };
+  std::unordered_map<std::uint64_t, std::uint32_t> index;
+  std::vector<Group> groups;
+  std::vector<float> sums;  // per group: one value per summed channel
+  size_t valid_pixels = 0;
+
+  static std::uint64_t pack(const grid::Key& key, bool beyond) {
+    return (std::uint64_t{key[0]} << 33) | (std::uint64_t{key[1]} << 17) |
+           (std::uint64_t{key[2]} << 1) | (beyond ? 1u : 0u);
+  }
+  std::uint32_t groupFor(const PixelRay& ray, int width) {
+    auto [it, inserted] = index.try_emplace(pack(ray.end_key, ray.beyond_range),
+                                            static_cast<std::uint32_t>(groups.size()));
+    if (inserted) {
+      groups.push_back({ray.end_key, ray.beyond_range, 0});
+      sums.resize(sums.size() + static_cast<size_t>(width), 0.f);
+    }
+    return it->second;
+  }
+};
+
+template <typename Work>
+void runOnThreads(int threads, Work&& work) {
+  if (threads <= 1) {
+    work(0);
+    return;
+  }
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back([&, t] { work(t); });
+  work(0);
+  for (auto& thread : pool) thread.join();
+}
+
+bool hasDuplicateChannels(const ProbabilityImage& proba) {
+  std::vector<int> labels = proba.channel_labels;
+  std::sort(labels.begin(), labels.end());
+  return std::adjacent_find(labels.begin(), labels.end()) != labels.end();
+}
+
+}  // namespace
+
+FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
+                              const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
+                              const FrameEvidence& evidence, int threads) {
+  const auto start = std::chrono::steady_clock::now();
+  checkFrameInputs(map, camera, depth, evidence);
+  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  threads = std::min(threads, std::max(1, depth.height));
+  LabelOcTree& tree = map.tree();
+  const int n = map.numLabels();
+  const double max_range = map.parameters().max_range;
+  const grid::Grid g(map.parameters().resolution);
+  const Eigen::Vector3d origin = T_world_camera.translation();
+
+  // With a probability image used as is, only its channels need a logit per
+  // pixel; labels without a channel get logit(epsilon) per pixel.
+  const ProbabilityImage* direct = evidence.directProbabilities();
+  if (direct && hasDuplicateChannels(*direct)) direct = nullptr;
+  const int width = direct ? direct->channels : n;
+
+  // 1. Group pixels by end voxel.
+  std::vector<PixelGroups> parts(static_cast<size_t>(threads));
+  runOnThreads(threads, [&](int t) {
+    PixelGroups& part = parts[static_cast<size_t>(t)];
+    LogitCache logit_of;
+    std::vector<float> probabilities(static_cast<size_t>(n));
+    const int rows_begin = depth.height * t / threads;
+    const int rows_end = depth.height * (t + 1) / threads;
+    for (int v = rows_begin; v < rows_end; ++v) {
+      std::uint64_t previous = ~std::uint64_t{0};
+      std::uint32_t group = 0;
+      for (int u = 0; u < depth.width; ++u) {
+        PixelRay ray;
+        if (!pixelRay(g, camera, T_world_camera, max_range, u, v, depth.at(u, v), ray)) continue;
+        ++part.valid_pixels;
+        const std::uint64_t packed = PixelGroups::pack(ray.end_key, ray.beyond_range);
+        if (packed != previous) {
+          group = part.groupFor(ray, width);
+          previous = packed;
+        }
+        ++part.groups[group].pixels;
+        if (ray.beyond_range) continue;
+        float* sums = part.sums.data() + static_cast<size_t>(group) * static_cast<size_t>(width);
+        if (direct) {
+          const float* pixel = direct->pixel(u, v);
+          for (int c = 0; c < width; ++c) sums[c] += logit_of(pixel[c]);
+        } else {
+          evidence.probabilities(u, v, probabilities.data());
+          for (int k = 0; k < n; ++k) sums[k] += logit_of(probabilities[static_cast<size_t>(k)]);
+        }
+      }
+    }
+  });
+  PixelGroups& all = parts[0];
+  for (size_t t = 1; t < parts.size(); ++t) {
+    const PixelGroups& part = parts[t];
+    all.valid_pixels += part.valid_pixels;
+    for (size_t i = 0; i < part.groups.size(); ++i) {
+      const auto& group = part.groups[i];
+      PixelRay ray{group.key, group.beyond_range};
+      const std::uint32_t target = all.groupFor(ray, width);
+      all.groups[target].pixels += group.pixels;
+      float* sums = all.sums.data() + static_cast<size_t>(target) * static_cast<size_t>(width);
+      const float* add = part.sums.data() + i * static_cast<size_t>(width);
+      for (int c = 0; c < width; ++c) sums[c] += add[c];
+    }
+  }
+
+  // 2. One ray per end voxel.
+  std::vector<BrickSet> marks(static_cast<size_t>(threads));
+  runOnThreads(threads, [&](int t) {
+    BrickSet& mark = marks[static_cast<size_t>(t)];
+    for (size_t i = static_cast<size_t>(t); i < all.groups.size(); i += static_cast<size_t>(threads)) {
+      const auto& group = all.groups[i];
+      const Eigen::Vector3d end = rayEnd(g, origin, group.key, group.beyond_range, max_range);
+      grid::traverseRay(g, origin, end, [&](const grid::Key& k) { mark.set(k); });
+    }
+  });
+  for (size_t t = 1; t < marks.size(); ++t) marks[0].mergeFrom(marks[t]);
+
+  // 3. Hits: full per-label log-odds; they are never also misses in this frame.
+  const float unlisted = clampedLogit(0.f);
+  std::vector<float> hit_values;
+  std::vector<VoxelUpdate> hits;
+  size_t hit_count = 0;
+  for (const auto& group : all.groups) hit_count += group.beyond_range ? 0 : 1;
+  hit_values.resize(hit_count * static_cast<size_t>(n));
+  hits.reserve(hit_count);
+  for (size_t i = 0; i < all.groups.size(); ++i) {
+    const auto& group = all.groups[i];
+    if (group.beyond_range) continue;
+    marks[0].clear(group.key);
+    float* values = hit_values.data() + hits.size() * static_cast<size_t>(n);
+    const float* sums = all.sums.data() + i * static_cast<size_t>(width);
+    if (direct) {
+      std::fill(values, values + n, unlisted * static_cast<float>(group.pixels));
+      for (int c = 0; c < width; ++c) values[direct->channel_labels[static_cast<size_t>(c)]] = sums[c];
+    } else {
+      std::copy(sums, sums + n, values);
+    }
+    VoxelUpdate update;
+    update.key = octomap::OcTreeKey(group.key[0], group.key[1], group.key[2]);
+    update.morton = grid::mortonCode(group.key[0], group.key[1], group.key[2]);
+    update.hit = values;
+    hits.push_back(update);
+  }
+  std::sort(hits.begin(), hits.end(),
+            [](const VoxelUpdate& a, const VoxelUpdate& b) { return a.morton < b.morton; });
+
+  std::vector<VoxelUpdate> misses;
+  marks[0].appendMisses(misses);
+  std::vector<VoxelUpdate> updates(hits.size() + misses.size());
+  std::merge(hits.begin(), hits.end(), misses.begin(), misses.end(), updates.begin(),
+             [](const VoxelUpdate& a, const VoxelUpdate& b) { return a.morton < b.morton; });
+  tree.applySortedUpdates(updates);
+
+  FrameStats stats;
+  stats.valid_pixels = all.valid_pixels;
+  stats.hit_voxels = hits.size();
+  stats.miss_voxels = misses.size();
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+}  // namespace lom

@@ -1,0 +1,261 @@
+#include "lom/fusion.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "lom/error.hpp"
+#include "lom/octree/label_octree.hpp"
+#include "fusion_internal.hpp"
+
+namespace lom {
+
+// ---------------------------------------------------------------------------
+// FrameEvidence
+
+FrameEvidence::FrameEvidence(int num_labels, const ProbabilityImage* proba, const LabelImage* label,
+                             const std::optional<std::vector<int>>& candidates,
+                             double label_confidence)
+    : num_labels_(num_labels),
+      proba_(proba),
+      label_(proba ? nullptr : label),
+      label_confidence_(label_confidence) {
+  if (!proba_ && !label_)
+    throw Error("", "frame", "a probability image or a label image", "neither");
+  if (!(label_confidence > 0.0 && label_confidence < 1.0))
+    throw Error("", "label_confidence", "a probability strictly between 0 and 1",
+                std::to_string(label_confidence));
+  allowed_.assign(static_cast<size_t>(num_labels), candidates ? 0 : 1);
+  if (candidates) {
+    for (int id : *candidates) {
+      if (id < 0 || id >= num_labels)
+        throw Error("", "candidates", "label ids between 0 and " + std::to_string(num_labels - 1),
+                    std::to_string(id));
+      allowed_[static_cast<size_t>(id)] = 1;
+    }
+    if (candidates->empty())
+      throw Error("", "candidates", "at least one candidate label", "an empty list");
+  }
+  if (proba_) {
+    width_ = proba_->width;
+    height_ = proba_->height;
+    if (static_cast<int>(proba_->channel_labels.size()) != proba_->channels)
+      throw Error("", "proba_labels", std::to_string(proba_->channels) + " channel labels",
+                  std::to_string(proba_->channel_labels.size()));
+    channel_of_label_.assign(static_cast<size_t>(num_labels), -1);
+    for (int c = 0; c < proba_->channels; ++c) {
+      const int id = proba_->channel_labels[static_cast<size_t>(c)];
+      if (id < 0 || id >= num_labels)
+        throw Error("", "proba_labels", "label ids between 0 and " + std::to_string(num_labels - 1),
+                    std::to_string(id));
+      channel_of_label_[static_cast<size_t>(id)] = c;
+    }
+  } else {
+    width_ = label_->width;
+    height_ = label_->height;
+  }
+}
+
+void FrameEvidence::probabilities(int u, int v, float* out) const {
+  std::fill(out, out + num_labels_, 0.f);
+  if (proba_) {
+    const float* pixel = proba_->pixel(u, v);
+    for (int c = 0; c < proba_->channels; ++c)
+      out[proba_->channel_labels[static_cast<size_t>(c)]] += pixel[c];
+  } else {
+    const int id = label_->at(u, v);
+    if (num_labels_ == 1) {
+      out[0] = static_cast<float>(label_confidence_);
+    } else {
+      std::fill(out, out + num_labels_,
+                static_cast<float>((1.0 - label_confidence_) / (num_labels_ - 1)));
+      if (id >= 0 && id < num_labels_) out[id] = static_cast<float>(label_confidence_);
+    }
+  }
+  bool restricted = false;
+  for (char a : allowed_) restricted = restricted || !a;
+  if (!restricted) return;
+  // Class candidates: drop the other labels and renormalise over the candidates.
+  double sum = 0.0;
+  int allowed_count = 0;
+  for (int k = 0; k < num_labels_; ++k) {
+    if (!allowed_[static_cast<size_t>(k)]) out[k] = 0.f;
+    sum += out[k];
+    allowed_count += allowed_[static_cast<size_t>(k)];
+  }
+  for (int k = 0; k < num_labels_; ++k) {
+    if (!allowed_[static_cast<size_t>(k)]) continue;
+    out[k] = sum > 0.0 ? static_cast<float>(out[k] / sum) : 1.f / static_cast<float>(allowed_count);
+  }
+}
+
+float clampedLogit(float p) {
+  return logit(std::clamp(static_cast<double>(p), kProbabilityEpsilon, 1.0 - kProbabilityEpsilon));
+}
+
+void FrameEvidence::logOdds(int u, int v, float* out) const {
+  probabilities(u, v, out);
+  for (int k = 0; k < num_labels_; ++k) out[k] = clampedLogit(out[k]);
+}
+
+const ProbabilityImage* FrameEvidence::directProbabilities() const {
+  for (char a : allowed_)
+    if (!a) return nullptr;
+  return proba_;
+}
+
+int FrameEvidence::argmax(int u, int v) const {
+  std::vector<float> p(static_cast<size_t>(num_labels_));
+  probabilities(u, v, p.data());
+  return static_cast<int>(std::max_element(p.begin(), p.end()) - p.begin());
+}
+
+// ---------------------------------------------------------------------------
+// Reference integration: every pixel casts its own ray.
+
+void checkFrameInputs(const LabelMap& map, const CameraIntrinsics& camera, const DepthImage& depth,
+                      const FrameEvidence& evidence) {
+  if (depth.width != camera.width || depth.height != camera.height)
+    throw Error("", "depth", "an image of the camera's size " + std::to_string(camera.width) + "x" +
+                                 std::to_string(camera.height),
+                std::to_string(depth.width) + "x" + std::to_string(depth.height));
+  if (evidence.width() != depth.width || evidence.height() != depth.height)
+    throw Error("", "proba", "label evidence of the depth image's size",
+                std::to_string(evidence.width()) + "x" + std::to_string(evidence.height()));
+  if (evidence.numLabels() != map.numLabels())
+    throw Error("", "labels", std::to_string(map.numLabels()) + " labels (the map's)",
+                std::to_string(evidence.numLabels()));
+}
+
+bool pixelRay(const grid::Grid& g, const CameraIntrinsics& camera,
+              const Eigen::Isometry3d& T_world_camera, double max_range, int u, int v, float z,
+              PixelRay& ray) {
+  if (!(z > 0.f) || !std::isfinite(z)) return false;
+  const Eigen::Vector3d origin = T_world_camera.translation();
+  const Eigen::Vector3d point = T_world_camera * camera.backProject(u, v, z);
+  if (!g.keyOf(point, ray.end_key)) return false;
+  ray.beyond_range = max_range > 0.0 && (point - origin).norm() > max_range;
+  return true;
+}
+
+Eigen::Vector3d rayEnd(const grid::Grid& g, const Eigen::Vector3d& origin, const grid::Key& end_key,
+                       bool beyond_range, double max_range) {
+  const Eigen::Vector3d target = g.centerOf(end_key);
+  if (!beyond_range) return target;
+  return origin + (target - origin).normalized() * max_range;
+}
+
+FrameStats integrateFrameReference(LabelMap& map, const CameraIntrinsics& camera,
+                                   const Eigen::Isometry3d& T_world_camera,
+                                   const DepthImage& depth, const FrameEvidence& evidence) {
+  const auto start = std::chrono::steady_clock::now();
+  checkFrameInputs(map, camera, depth, evidence);
+  LabelOcTree& tree = map.tree();
+  const int n = map.numLabels();
+  const double max_range = map.parameters().max_range;
+  const grid::Grid g(map.parameters().resolution);
+  const Eigen::Vector3d origin = T_world_camera.translation();
+
+  std::unordered_map<octomap::OcTreeKey, std::vector<float>, octomap::OcTreeKey::KeyHash> hits;
+  octomap::KeySet misses;
+  std::vector<float> pixel_log_odds(static_cast<size_t>(n));
+  FrameStats stats;
+
+  for (int v = 0; v < depth.height; ++v) {
+    for (int u = 0; u < depth.width; ++u) {
+      PixelRay ray;
+      if (!pixelRay(g, camera, T_world_camera, max_range, u, v, depth.at(u, v), ray)) continue;
+      ++stats.valid_pixels;
+      const Eigen::Vector3d end = rayEnd(g, origin, ray.end_key, ray.beyond_range, max_range);
+      grid::traverseRay(g, origin, end, [&](const grid::Key& k) {
+        misses.insert(octomap::OcTreeKey(k[0], k[1], k[2]));
+      });
+      if (ray.beyond_range) continue;
+      evidence.logOdds(u, v, pixel_log_odds.data());
+      const octomap::OcTreeKey key(ray.end_key[0], ray.end_key[1], ray.end_key[2]);
+      auto [it, inserted] = hits.try_emplace(key);
+      if (inserted) {
+        it->second = pixel_log_odds;
+      } else {
+        for (int k = 0; k < n; ++k)
+          it->second[static_cast<size_t>(k)] += pixel_log_odds[static_cast<size_t>(k)];
+      }
+    }
+  }
+
+  std::vector<octomap::OcTreeKey> touched;
+  touched.reserve(hits.size() + misses.size());
+  for (const auto& key : misses) {
+    if (hits.count(key)) continue;  // a voxel hit in this frame is never also missed
+    tree.applyMiss(key);
+    touched.push_back(key);
+    ++stats.miss_voxels;
+  }
+  for (const auto& [key, sum] : hits) {
+    tree.applyHit(key, sum.data());
+    touched.push_back(key);
+  }
+  stats.hit_voxels = hits.size();
+  tree.refreshAncestors(std::move(touched));
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
+                          const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
+                          const FrameEvidence& evidence, const IntegrationOptions& integration) {
+  if (integration.path == IntegrationPath::Reference)
+    return integrateFrameReference(map, camera, T_world_camera, depth, evidence);
+  return integrateFrameFast(map, camera, T_world_camera, depth, evidence, integration.threads);
+}
+
+// ---------------------------------------------------------------------------
+// Sequences
+
+FrameEvidence makeEvidence(const Sequence& sequence, size_t index, const FrameData& frame,
+                           const FusionOptions& options) {
+  const std::string frame_field = "frames[" + std::to_string(index) + "]";
+  const std::string file = (sequence.root / "sequence.json").string();
+  if (!frame.proba && !frame.label)
+    throw Error(file, frame_field, "a proba or label image to fuse", "neither");
+  try {
+    return FrameEvidence(sequence.labels.size(), frame.proba ? &*frame.proba : nullptr,
+                         frame.label ? &*frame.label : nullptr, options.candidates,
+                         options.label_confidence);
+  } catch (const Error& e) {
+    Problem p = e.problem();
+    p.file = file;
+    p.field = frame_field + "." + p.field;
+    throw Error(p);
+  }
+}
+
+LabelMap fuseSequence(const Sequence& sequence, const FusionOptions& options,
+                      const std::function<bool(const FusionProgress&)>& progress) {
+  LabelMap map(sequence.labels, options.map);
+  const size_t first = std::min(options.first_frame, sequence.frames.size());
+  const size_t last = std::min(options.last_frame, sequence.frames.size());
+  FusionProgress report;
+  report.total = last > first ? last - first : 0;
+  for (size_t i = first; i < last; ++i) {
+    const FrameData frame = loadFrame(sequence, i);
+    const FrameEvidence evidence = makeEvidence(sequence, i, frame, options);
+    try {
+      report.stats = integrateFrame(map, sequence.cameraOf(i), sequence.frames[i].T_world_camera,
+                                    frame.depth, evidence, options.integration);
+    } catch (const Error& e) {
+      Problem p = e.problem();
+      p.file = (sequence.root / "sequence.json").string();
+      p.field = "frames[" + std::to_string(i) + "]." + p.field;
+      throw Error(p);
+    }
+    report.frame_index = i;
+    ++report.done;
+    if (progress && !progress(report)) break;
+  }
+  return map;
+}
+
+}  // namespace lom

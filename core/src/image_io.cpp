@@ -1,0 +1,289 @@
+// Reading and writing the frame images of a sequence. This is the only file
+// that talks to OpenCV's image codecs.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <set>
+
+#include "lom/atomic_file.hpp"
+#include "lom/error.hpp"
+#include "lom/npy.hpp"
+#include "lom/sequence.hpp"
+
+namespace lom {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Softmax outputs stored as float16 can overshoot [0, 1] by a rounding step.
+constexpr float kProbabilityTolerance = 1e-3f;
+
+std::string lowerExtension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return ext;
+}
+
+std::string describeMat(const cv::Mat& mat) {
+  const int depth = mat.depth();
+  const std::string bits = depth == CV_8U    ? "8-bit"
+                           : depth == CV_16U ? "16-bit"
+                           : depth == CV_16S ? "16-bit signed"
+                           : depth == CV_32F ? "32-bit float"
+                           : depth == CV_32S ? "32-bit signed"
+                           : depth == CV_64F ? "64-bit float"
+                                             : "other bit depth";
+  const int channels = mat.channels();
+  return bits + ", " + std::to_string(channels) + (channels == 1 ? " channel" : " channels");
+}
+
+cv::Mat readImage(const fs::path& path) {
+  const std::string file = path.string();
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw Error(file, "", "an existing image file", "no such file");
+  cv::Mat mat;
+  try {
+    mat = cv::imread(file, cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {
+    throw Error(file, "", "a readable PNG image", "OpenCV failed: " + std::string(e.what()));
+  }
+  if (mat.empty()) throw Error(file, "", "a readable PNG image", "a file OpenCV cannot decode");
+  return mat;
+}
+
+std::string typeName(NpyType type) {
+  switch (type) {
+    case NpyType::Float32:
+      return "float32";
+    case NpyType::Float16:
+      return "float16";
+    case NpyType::Float64:
+      return "float64";
+    case NpyType::UInt8:
+      return "uint8";
+    case NpyType::UInt16:
+      return "uint16";
+  }
+  return "unknown";
+}
+
+std::string shapeText(const std::vector<size_t>& shape) {
+  std::string text;
+  for (size_t i = 0; i < shape.size(); ++i) text += (i ? " x " : "") + std::to_string(shape[i]);
+  return shape.empty() ? "a scalar" : text;
+}
+
+DepthImage readDepthNpy(const fs::path& path) {
+  const std::string file = path.string();
+  const NpyArray array = readNpy(path);
+  const bool single_channel = array.shape.size() == 3 && array.shape[2] == 1;
+  if (array.shape.size() != 2 && !single_channel)
+    throw Error(file, "shape", "a 2-D array H x W of depths in metres", shapeText(array.shape));
+  if (array.type == NpyType::UInt8 || array.type == NpyType::UInt16)
+    throw Error(file, "dtype", "float32 depths in metres (float16 and float64 also accepted)",
+                typeName(array.type) + " (store integer depths as a 16-bit PNG with depth_scale)");
+  DepthImage depth;
+  depth.height = static_cast<int>(array.shape[0]);
+  depth.width = static_cast<int>(array.shape[1]);
+  depth.metres = array.toFloat(false);
+  for (float& z : depth.metres)
+    if (!std::isfinite(z) || z < 0.0f) z = 0.0f;
+  return depth;
+}
+
+void writeMatPng(const fs::path& path, const cv::Mat& mat) {
+  if (lowerExtension(path) != ".png")
+    throw Error(path.string(), "output path", "a file name ending in .png",
+                "'" + path.extension().string() + "'");
+  writePathAtomically(path, [&](const fs::path& temporary) {
+    bool written = false;
+    try {
+      written = cv::imwrite(temporary.string(), mat);
+    } catch (const cv::Exception& e) {
+      throw Error(path.string(), "output", "a writable PNG",
+                  "OpenCV failed: " + std::string(e.what()));
+    }
+    if (!written)
+      throw Error(path.string(), "output", "a writable PNG", "OpenCV could not write it");
+  });
+}
+
+void checkPixelCount(const fs::path& path, int width, int height, size_t values, size_t per_pixel) {
+  if (width <= 0 || height <= 0 ||
+      values != static_cast<size_t>(width) * static_cast<size_t>(height) * per_pixel)
+    throw Error(path.string(), "image",
+                "width x height x " + std::to_string(per_pixel) + " values for a " +
+                    std::to_string(width) + " x " + std::to_string(height) + " image",
+                std::to_string(values) + " values");
+}
+
+}  // namespace
+
+DepthImage readDepthImage(const fs::path& path, double depth_scale) {
+  if (lowerExtension(path) == ".npy") return readDepthNpy(path);
+  const cv::Mat mat = readImage(path);
+  if (mat.channels() != 1 || mat.depth() != CV_16U)
+    throw Error(path.string(), "bit depth",
+                "a 16-bit single-channel image (depth in units of depth_scale)", describeMat(mat));
+  DepthImage depth;
+  depth.width = mat.cols;
+  depth.height = mat.rows;
+  depth.metres.resize(static_cast<size_t>(mat.cols) * static_cast<size_t>(mat.rows));
+  for (int v = 0; v < mat.rows; ++v) {
+    const auto* row = mat.ptr<std::uint16_t>(v);
+    float* out = depth.metres.data() + static_cast<size_t>(v) * static_cast<size_t>(mat.cols);
+    for (int u = 0; u < mat.cols; ++u) out[u] = static_cast<float>(row[u] * depth_scale);
+  }
+  return depth;
+}
+
+ColorImage readColorImage(const fs::path& path) {
+  const cv::Mat mat = readImage(path);
+  if (mat.depth() != CV_8U)
+    throw Error(path.string(), "bit depth", "an 8-bit RGB image", describeMat(mat));
+  cv::Mat rgb;
+  switch (mat.channels()) {
+    case 1:
+      cv::cvtColor(mat, rgb, cv::COLOR_GRAY2RGB);
+      break;
+    case 3:
+      cv::cvtColor(mat, rgb, cv::COLOR_BGR2RGB);
+      break;
+    case 4:
+      cv::cvtColor(mat, rgb, cv::COLOR_BGRA2RGB);
+      break;
+    default:
+      throw Error(path.string(), "channels", "an 8-bit RGB image (3 channels)", describeMat(mat));
+  }
+  ColorImage color;
+  color.width = rgb.cols;
+  color.height = rgb.rows;
+  color.rgb.resize(static_cast<size_t>(rgb.cols) * static_cast<size_t>(rgb.rows) * 3);
+  for (int v = 0; v < rgb.rows; ++v)
+    std::copy_n(rgb.ptr<std::uint8_t>(v), static_cast<size_t>(rgb.cols) * 3,
+                color.rgb.data() + static_cast<size_t>(v) * static_cast<size_t>(rgb.cols) * 3);
+  return color;
+}
+
+LabelImage readLabelImage(const fs::path& path) {
+  const cv::Mat mat = readImage(path);
+  if (mat.channels() != 1)
+    throw Error(path.string(), "channels", "a single-channel 8- or 16-bit image of label ids",
+                describeMat(mat) + " (a colour image?)");
+  if (mat.depth() != CV_8U && mat.depth() != CV_16U)
+    throw Error(path.string(), "bit depth", "a single-channel 8- or 16-bit image of label ids",
+                describeMat(mat));
+  cv::Mat ids;
+  mat.convertTo(ids, CV_16U);
+  LabelImage label;
+  label.width = ids.cols;
+  label.height = ids.rows;
+  label.ids.resize(static_cast<size_t>(ids.cols) * static_cast<size_t>(ids.rows));
+  for (int v = 0; v < ids.rows; ++v)
+    std::copy_n(ids.ptr<std::uint16_t>(v), ids.cols,
+                label.ids.data() + static_cast<size_t>(v) * static_cast<size_t>(ids.cols));
+  return label;
+}
+
+ProbabilityImage readProbabilityImage(const fs::path& path, const std::vector<int>& channel_labels,
+                                      int num_labels) {
+  const std::string file = path.string();
+  std::set<int> seen;
+  for (size_t i = 0; i < channel_labels.size(); ++i) {
+    const std::string field = "proba_labels[" + std::to_string(i) + "]";
+    if (channel_labels[i] < 0 || channel_labels[i] >= num_labels)
+      throw Error(file, field, "a label id from 0 to " + std::to_string(num_labels - 1),
+                  std::to_string(channel_labels[i]));
+    if (!seen.insert(channel_labels[i]).second)
+      throw Error(file, field, "each label id once", std::to_string(channel_labels[i]) + " again");
+  }
+  const NpyArray array = readNpy(path);
+  if (array.shape.size() != 3)
+    throw Error(file, "shape", "a 3-D array H x W x C of probabilities", shapeText(array.shape));
+  const size_t expected_channels =
+      channel_labels.empty() ? static_cast<size_t>(std::max(num_labels, 0)) : channel_labels.size();
+  if (array.shape[2] != expected_channels)
+    throw Error(
+        file, "channels",
+        std::to_string(expected_channels) +
+            (channel_labels.empty() ? " channels (one per label, as proba_labels is absent)"
+                                    : " channels (one per entry of proba_labels)"),
+        std::to_string(array.shape[2]) + " channels (shape " + shapeText(array.shape) + ")");
+
+  ProbabilityImage proba;
+  proba.height = static_cast<int>(array.shape[0]);
+  proba.width = static_cast<int>(array.shape[1]);
+  proba.channels = static_cast<int>(array.shape[2]);
+  proba.channel_labels = channel_labels;
+  if (proba.channel_labels.empty())
+    for (int id = 0; id < num_labels; ++id) proba.channel_labels.push_back(id);
+  proba.values = array.toFloat(true);
+  for (size_t i = 0; i < proba.values.size(); ++i) {
+    float& p = proba.values[i];
+    if (!std::isfinite(p) || p < -kProbabilityTolerance || p > 1.0f + kProbabilityTolerance) {
+      const size_t pixel = i / static_cast<size_t>(proba.channels);
+      throw Error(file, "values", "probabilities in [0, 1]",
+                  std::to_string(p) +
+                      " at pixel (u=" + std::to_string(pixel % static_cast<size_t>(proba.width)) +
+                      ", v=" + std::to_string(pixel / static_cast<size_t>(proba.width)) +
+                      "), channel " + std::to_string(i % static_cast<size_t>(proba.channels)));
+    }
+    p = std::clamp(p, 0.0f, 1.0f);
+  }
+  return proba;
+}
+
+void writeDepthPng(const fs::path& path, const DepthImage& depth, double depth_scale) {
+  checkPixelCount(path, depth.width, depth.height, depth.metres.size(), 1);
+  if (!(depth_scale > 0.0) || !std::isfinite(depth_scale))
+    throw Error(path.string(), "depth_scale", "a positive number", std::to_string(depth_scale));
+  cv::Mat mat(depth.height, depth.width, CV_16UC1);
+  for (int v = 0; v < depth.height; ++v) {
+    auto* row = mat.ptr<std::uint16_t>(v);
+    for (int u = 0; u < depth.width; ++u) {
+      const float z = depth.at(u, v);
+      const double units = std::isfinite(z) && z > 0.0f ? std::round(z / depth_scale) : 0.0;
+      if (units > 65535.0)
+        throw Error(
+            path.string(), "depth",
+            "depths up to " + std::to_string(65535.0 * depth_scale) + " m (65535 * depth_scale)",
+            std::to_string(z) + " m at pixel (u=" + std::to_string(u) + ", v=" + std::to_string(v) +
+                ")");
+      row[u] = static_cast<std::uint16_t>(units);
+    }
+  }
+  writeMatPng(path, mat);
+}
+
+void writeColorPng(const fs::path& path, const ColorImage& color) {
+  checkPixelCount(path, color.width, color.height, color.rgb.size(), 3);
+  const cv::Mat rgb(color.height, color.width, CV_8UC3,
+                    const_cast<std::uint8_t*>(color.rgb.data()));
+  cv::Mat bgr;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  writeMatPng(path, bgr);
+}
+
+void writeLabelPng(const fs::path& path, const LabelImage& label) {
+  checkPixelCount(path, label.width, label.height, label.ids.size(), 1);
+  const cv::Mat ids(label.height, label.width, CV_16UC1,
+                    const_cast<std::uint16_t*>(label.ids.data()));
+  // 8 bits whenever they suffice: smaller files that any image viewer shows.
+  const bool fits_8_bit =
+      label.ids.empty() || *std::max_element(label.ids.begin(), label.ids.end()) < 256;
+  if (!fits_8_bit) {
+    writeMatPng(path, ids);
+    return;
+  }
+  cv::Mat narrow;
+  ids.convertTo(narrow, CV_8U);
+  writeMatPng(path, narrow);
+}
+
+}  // namespace lom

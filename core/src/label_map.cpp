@@ -1,0 +1,222 @@
+#include "lom/label_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "lom/atomic_file.hpp"
+#include "lom/error.hpp"
+#include "lom/octree/label_octree.hpp"
+#include "voxel_grid.hpp"
+
+namespace lom {
+
+namespace {
+
+std::string str(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
+void requireProbability(double p, const char* field) {
+  if (!(p > 0.0 && p < 1.0))
+    throw Error("", field, "a probability strictly between 0 and 1", str(p));
+}
+
+octomap::OcTreeKey toOctomap(const VoxelKey& key) { return octomap::OcTreeKey(key.x, key.y, key.z); }
+VoxelKey fromOctomap(const octomap::OcTreeKey& key) { return {key[0], key[1], key[2]}; }
+
+VoxelState stateOf(const LabelOcTree& tree, const LabelOcTreeNode* node) {
+  VoxelState state;
+  if (!node) return state;
+  const int n = tree.numLabels();
+  std::vector<float> log_odds(static_cast<size_t>(n));
+  node->labelLogOdds(n, log_odds.data());
+  state.known = true;
+  state.label = node->argmaxLabel(n);
+  state.occupied = tree.isNodeOccupied(node);
+  state.probabilities.resize(log_odds.size());
+  for (size_t k = 0; k < log_odds.size(); ++k)
+    state.probabilities[k] = static_cast<float>(probabilityFromLogOdds(log_odds[k]));
+  return state;
+}
+
+}  // namespace
+
+void checkMapParameters(const MapParameters& p) {
+  if (!(p.resolution > 0.0 && std::isfinite(p.resolution)))
+    throw Error("", "resolution", "a positive voxel size in metres", str(p.resolution));
+  requireProbability(p.p_miss, "p_miss");
+  requireProbability(p.occupancy_threshold, "occupancy_threshold");
+  requireProbability(p.clamp_min, "clamp_min");
+  requireProbability(p.clamp_max, "clamp_max");
+  if (!(p.clamp_min < p.clamp_max))
+    throw Error("", "clamp_min", "clamp_min < clamp_max",
+                str(p.clamp_min) + " >= " + str(p.clamp_max));
+  if (!std::isfinite(p.max_range))
+    throw Error("", "max_range", "a finite range in metres (<= 0 for unlimited)", str(p.max_range));
+}
+
+LabelMap::LabelMap(LabelSet labels, const MapParameters& parameters)
+    : labels_(std::move(labels)), parameters_(parameters) {
+  checkMapParameters(parameters_);
+  if (labels_.empty() || labels_.size() > 256)
+    throw Error("", "labels", "between 1 and 256 labels", std::to_string(labels_.size()));
+  tree_ = std::make_unique<LabelOcTree>(labels_, parameters_);
+}
+
+LabelMap::LabelMap(LabelSet labels, const MapParameters& parameters,
+                   std::unique_ptr<LabelOcTree> tree)
+    : labels_(std::move(labels)), parameters_(parameters), tree_(std::move(tree)) {}
+
+LabelMap::~LabelMap() = default;
+LabelMap::LabelMap(LabelMap&&) noexcept = default;
+LabelMap& LabelMap::operator=(LabelMap&&) noexcept = default;
+
+void LabelMap::setOccupancyThreshold(double threshold) {
+  requireProbability(threshold, "occupancy_threshold");
+  parameters_.occupancy_threshold = threshold;
+  tree_->setOccupancyThreshold(threshold);
+}
+
+void LabelMap::setIntegrationParameters(double p_miss, double max_range) {
+  MapParameters changed = parameters_;
+  changed.p_miss = p_miss;
+  changed.max_range = max_range;
+  checkMapParameters(changed);
+  parameters_ = changed;
+  tree_->setIntegrationParameters(p_miss, max_range);
+}
+
+VoxelKey LabelMap::keyOf(const Eigen::Vector3d& p) const {
+  grid::Key key;
+  if (!grid::Grid(parameters_.resolution).keyOf(p, key))
+    throw Error("", "point", "a point inside the map's extent",
+                "(" + str(p.x()) + ", " + str(p.y()) + ", " + str(p.z()) + ")");
+  return {key[0], key[1], key[2]};
+}
+
+Eigen::Vector3d LabelMap::centerOf(const VoxelKey& key) const {
+  return grid::Grid(parameters_.resolution).centerOf(grid::Key{key.x, key.y, key.z});
+}
+
+VoxelState LabelMap::voxelAt(const Eigen::Vector3d& p) const {
+  grid::Key key;
+  if (!grid::Grid(parameters_.resolution).keyOf(p, key)) return {};
+  return voxelAt(VoxelKey{key[0], key[1], key[2]});
+}
+
+VoxelState LabelMap::voxelAt(const VoxelKey& key) const {
+  return stateOf(*tree_, tree_->search(toOctomap(key)));
+}
+
+void LabelMap::forEachOccupied(const std::function<void(const OccupiedVoxel&)>& visit) const {
+  const int n = numLabels();
+  for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it) {
+    if (!tree_->isNodeOccupied(*it)) continue;
+    OccupiedVoxel voxel;
+    const octomap::point3d c = it.getCoordinate();
+    voxel.center = {c.x(), c.y(), c.z()};
+    voxel.size = it.getSize();
+    voxel.label = it->argmaxLabel(n);
+    voxel.probability = static_cast<float>(probabilityFromLogOdds(it->labelLogOdds(voxel.label)));
+    visit(voxel);
+  }
+}
+
+std::vector<VoxelKey> LabelMap::voxelsOfLabel(int label) const {
+  std::vector<VoxelKey> keys;
+  const int n = numLabels();
+  const unsigned max_depth = tree_->getTreeDepth();
+  for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it) {
+    if (!tree_->isNodeOccupied(*it) || it->argmaxLabel(n) != label) continue;
+    const octomap::OcTreeKey base = it.getIndexKey();
+    const unsigned span = 1u << (max_depth - it.getDepth());
+    for (unsigned dx = 0; dx < span; ++dx)
+      for (unsigned dy = 0; dy < span; ++dy)
+        for (unsigned dz = 0; dz < span; ++dz)
+          keys.push_back({static_cast<std::uint16_t>(base[0] + dx),
+                          static_cast<std::uint16_t>(base[1] + dy),
+                          static_cast<std::uint16_t>(base[2] + dz)});
+  }
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+std::map<int, size_t> LabelMap::occupiedCountPerLabel() const {
+  std::map<int, size_t> counts;
+  const int n = numLabels();
+  const unsigned max_depth = tree_->getTreeDepth();
+  for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it) {
+    if (!tree_->isNodeOccupied(*it)) continue;
+    const size_t span = size_t{1} << (max_depth - it.getDepth());
+    counts[it->argmaxLabel(n)] += span * span * span;
+  }
+  return counts;
+}
+
+std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> LabelMap::bounds() const {
+  if (tree_->size() == 0) return std::nullopt;
+  double x0, y0, z0, x1, y1, z1;
+  tree_->getMetricMin(x0, y0, z0);
+  tree_->getMetricMax(x1, y1, z1);
+  return std::make_pair(Eigen::Vector3d(x0, y0, z0), Eigen::Vector3d(x1, y1, z1));
+}
+
+size_t LabelMap::numNodes() const { return tree_->size(); }
+size_t LabelMap::numLeaves() const { return tree_->getNumLeafNodes(); }
+size_t LabelMap::memoryBytes() const { return tree_->memoryUsage() + tree_->labelArrayBytes(); }
+void LabelMap::prune() { tree_->prune(); }
+
+void LabelMap::save(const std::filesystem::path& path) const {
+  writeFileAtomically(path, [&](std::ostream& out) {
+    if (!tree_->write(out)) throw Error(path.string(), "map", "a complete write", "write failed");
+  });
+}
+
+LabelMap LabelMap::load(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(file, "map file", "a readable LabelOctoMap .ot file", "cannot open");
+  std::string line;
+  std::getline(in, line);
+  if (line.rfind("# Octomap OcTree file", 0) != 0)
+    throw Error(file, "header", "an OctoMap .ot file starting with '# Octomap OcTree file'",
+                line.empty() ? "an empty first line" : "'" + line.substr(0, 40) + "'");
+  std::string id;
+  double resolution = 0.0;
+  bool has_size = false;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream words(line);
+    std::string token;
+    words >> token;
+    if (token == "id") {
+      words >> id;
+    } else if (token == "res") {
+      words >> resolution;
+    } else if (token == "size") {
+      has_size = true;
+    } else if (token == "data") {
+      break;
+    } else {
+      throw Error(file, "header", "one of the keys id, size, res, data", "'" + token + "'");
+    }
+  }
+  if (id != "LabelOcTree")
+    throw Error(file, "id", "tree type LabelOcTree (a labelled map written by labeloctomap)",
+                id.empty() ? "no id" : "tree type " + id);
+  if (!has_size || !(resolution > 0.0) || line.rfind("data", 0) != 0)
+    throw Error(file, "header", "size, a positive res and a data line", "an incomplete header");
+  auto tree = std::make_unique<LabelOcTree>(resolution);
+  tree->readData(in);
+  if (!in) throw Error(file, "data", "a complete LabelOcTree node stream", "truncated or corrupt data");
+  LabelSet labels = tree->labels();
+  MapParameters parameters = tree->parameters();
+  parameters.resolution = resolution;
+  return LabelMap(std::move(labels), parameters, std::move(tree));
+}
+
+}  // namespace lom

@@ -1,0 +1,99 @@
+#include "lom/labels.hpp"
+
+#include <stdexcept>
+
+namespace lom {
+
+LabelSet::LabelSet(std::vector<LabelInfo> labels) : labels_(std::move(labels)) {
+  for (size_t i = 0; i < labels_.size(); ++i)
+    if (labels_[i].id != static_cast<int>(i))
+      throw std::invalid_argument("label ids must be 0..n-1 in order; label at position " +
+                                  std::to_string(i) + " has id " +
+                                  std::to_string(labels_[i].id));
+}
+
+const LabelInfo& LabelSet::at(int id) const {
+  if (!contains(id)) throw std::out_of_range("label id " + std::to_string(id) + " not in label set");
+  return labels_[static_cast<size_t>(id)];
+}
+
+std::optional<int> LabelSet::findByName(const std::string& name) const {
+  for (const auto& label : labels_)
+    if (label.name == name) return label.id;
+  return std::nullopt;
+}
+
+bool LabelSet::operator==(const LabelSet& other) const {
+  if (labels_.size() != other.labels_.size()) return false;
+  for (size_t i = 0; i < labels_.size(); ++i)
+    if (labels_[i].name != other.labels_[i].name || labels_[i].color != other.labels_[i].color)
+      return false;
+  return true;
+}
+
+Rgb vocColor(int id) {
+  // Bits of the id are spread over the high bits of the three channels.
+  int r = 0, g = 0, b = 0;
+  int c = id;
+  for (int shift = 7; shift >= 0 && c; --shift) {
+    r |= ((c >> 0) & 1) << shift;
+    g |= ((c >> 1) & 1) << shift;
+    b |= ((c >> 2) & 1) << shift;
+    c >>= 3;
+  }
+  return {static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(b)};
+}
+
+LabelSet apc2016Labels() {
+  static const char* const kNames[] = {
+      "__background__",
+      "barkely_hide_bones",
+      "cherokee_easy_tee_shirt",
+      "clorox_utility_brush",
+      "cloud_b_plush_bear",
+      "command_hooks",
+      "cool_shot_glue_sticks",
+      "crayola_24_ct",
+      "creativity_chenille_stems",
+      "dasani_water_bottle",
+      "dove_beauty_bar",
+      "dr_browns_bottle_brush",
+      "easter_turtle_sippy_cup",
+      "elmers_washable_no_run_school_glue",
+      "expo_dry_erase_board_eraser",
+      "fiskars_scissors_red",
+      "fitness_gear_3lb_dumbbell",
+      "folgers_classic_roast_coffee",
+      "hanes_tube_socks",
+      "i_am_a_bunny_book",
+      "jane_eyre_dvd",
+      "kleenex_paper_towels",
+      "kleenex_tissue_box",
+      "kyjen_squeakin_eggs_plush_puppies",
+      "laugh_out_loud_joke_book",
+      "oral_b_toothbrush_green",
+      "oral_b_toothbrush_red",
+      "peva_shower_curtain_liner",
+      "platinum_pets_dog_bowl",
+      "rawlings_baseball",
+      "rolodex_jumbo_pencil_cup",
+      "safety_first_outlet_plugs",
+      "scotch_bubble_mailer",
+      "scotch_duct_tape",
+      "soft_white_lightbulb",
+      "staples_index_cards",
+      "ticonderoga_12_pencils",
+      "up_glucose_bottle",
+      "womens_knit_gloves",
+      "woods_extension_cord",
+  };
+  std::vector<LabelInfo> labels;
+  int id = 0;
+  for (const char* name : kNames) {
+    labels.push_back({id, name, vocColor(id)});
+    ++id;
+  }
+  return LabelSet(std::move(labels));
+}
+
+}  // namespace lom

@@ -1,0 +1,212 @@
+// Human-readable reports: report.csv, report.md, the terminal table and the
+// aggregate of a batch. Values are fractions in the CSV, x100 elsewhere (as in the paper).
+#include <algorithm>
+#include <cstdio>
+#include <sstream>
+
+#include "lom/report.hpp"
+
+namespace lom {
+
+namespace {
+
+constexpr const char* kMethodNames[3] = {"Projection (Mean)", "Projection (Max)", "LabelOctoMap"};
+
+std::string percent(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f", fraction * 100.0);
+  return text;
+}
+
+std::string fraction(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6f", value);
+  return text;
+}
+
+std::vector<double> values(const MethodScores& s) { return {s.projection_mean, s.projection_max, s.labeloctomap}; }
+
+// Markdown cells x100 with the best bold. Values equal after rounding are all
+// bold; nothing is bold when every value is below 1 (as the paper's table).
+std::vector<std::string> markBest(const MethodScores& scores) {
+  std::vector<std::string> cells;
+  for (double v : values(scores)) cells.push_back(percent(v));
+  const auto best = std::max_element(cells.begin(), cells.end(),
+                                     [](const std::string& a, const std::string& b) { return std::stod(a) < std::stod(b); });
+  if (std::stod(*best) < 1.0) return cells;
+  const std::string best_text = *best;
+  for (auto& cell : cells)
+    if (cell == best_text) cell = "**" + cell + "**";
+  return cells;
+}
+
+std::string markdownText(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '|' || c == '*' || c == '_' || c == '\\' || c == '`') out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+std::string csvText(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+std::string joinViews(const std::vector<size_t>& views) {
+  std::string text;
+  for (size_t v : views) text += (text.empty() ? "" : ", ") + std::to_string(v);
+  return text;
+}
+
+std::string describeSettings(const EvaluationReport& r) {
+  std::ostringstream out;
+  out << "resolution " << r.resolution << " m, max range ";
+  if (r.max_range > 0.0) out << r.max_range << " m";
+  else out << "unlimited";
+  out << ", occupancy threshold " << r.occupancy_threshold << ", IU_3d from "
+      << (r.iou_mode == IouMode::Exact ? "exact voxel/box intersection volumes" : "voxel centres inside the box")
+      << ", " << r.views.size() << " views (frames " << joinViews(r.views) << ")";
+  if (r.candidates) {
+    std::string list;
+    for (int c : *r.candidates) list += (list.empty() ? "" : ",") + std::to_string(c);
+    out << ", candidates " << list;
+  }
+  return out.str();
+}
+
+void markdownMetricsRow(std::ostringstream& out, const char* name, const Metrics2d& m) {
+  out << "| " << name << " | " << percent(m.pixel_accuracy) << " | " << percent(m.mean_accuracy) << " | "
+      << percent(m.mean_iu) << " | " << percent(m.fw_iu) << " |\n";
+}
+
+std::string padRight(const std::string& text, size_t width) {
+  return text.size() >= width ? text : text + std::string(width - text.size(), ' ');
+}
+
+std::string padLeft(const std::string& text, size_t width) {
+  return text.size() >= width ? text : std::string(width - text.size(), ' ') + text;
+}
+
+std::string tableScores(const MethodScores& s) {
+  return padLeft(percent(s.projection_mean), 11) + padLeft(percent(s.projection_max), 10) +
+         padLeft(percent(s.labeloctomap), 14);
+}
+
+}  // namespace
+
+std::string reportCsv(const EvaluationReport& report) {
+  std::ostringstream out;
+  out << "label,name,voxels,iou3d_projection_mean,iou3d_projection_max,iou3d_labeloctomap,"
+         "box_iou_projection_mean,box_iou_projection_max,box_iou_labeloctomap";
+  for (size_t v : report.views) out << ",iou3d_frame_" << v;
+  out << "\n";
+  for (const auto& o : report.objects) {
+    out << o.label << "," << csvText(o.name) << "," << o.voxels;
+    for (double v : values(o.iou_3d)) out << "," << fraction(v);
+    for (double v : values(o.box_iou)) out << "," << fraction(v);
+    for (double v : o.per_view) out << "," << fraction(v);
+    out << "\n";
+  }
+  return out.str();
+}
+
+std::string reportMarkdown(const EvaluationReport& report) {
+  std::ostringstream out;
+  out << "# Segmentation results: " << markdownText(report.sequence) << "\n\n"
+      << markdownText(describeSettings(report)) << ".\n"
+      << "Values are x100; the best of each row is bold (none when all are below 1).\n\n"
+      << "## IU_3d per object\n\n"
+      << "| label | name | voxels | Projection (Mean) | Projection (Max) | LabelOctoMap |\n"
+      << "|---:|---|---:|---:|---:|---:|\n";
+  for (const auto& o : report.objects) {
+    const auto cells = markBest(o.iou_3d);
+    out << "| " << o.label << " | " << markdownText(o.name) << " | " << o.voxels << " | " << cells[0] << " | "
+        << cells[1] << " | " << cells[2] << " |\n";
+  }
+  const ScoreSummary& s = report.summary;
+  out << "\n## Summary\n\n| methods | mean IU_3d | mean box IU |\n|---|---:|---:|\n";
+  const auto iou_cells = markBest(s.iou_3d);
+  const auto box_cells = markBest(s.box_iou);
+  for (int m = 0; m < 3; ++m)
+    out << "| " << kMethodNames[m] << " | " << iou_cells[static_cast<size_t>(m)] << " | "
+        << box_cells[static_cast<size_t>(m)] << " |\n";
+  out << "\nLabelOctoMap exceeds Projection (Max) for " << s.labeloctomap_beats_projection_max << " of "
+      << s.objects << " objects.\n\n![IU_3d per object](report.svg)\n\n"
+      << "## Box IU per object\n\nBoxes fitted to the largest cluster of each method's voxels.\n\n"
+      << "| label | name | Projection (Mean) | Projection (Max) | LabelOctoMap |\n|---:|---|---:|---:|---:|\n";
+  for (const auto& o : report.objects) {
+    const auto cells = markBest(o.box_iou);
+    out << "| " << o.label << " | " << markdownText(o.name) << " | " << cells[0] << " | " << cells[1] << " | "
+        << cells[2] << " |\n";
+  }
+  if (report.metrics_2d) {
+    out << "\n## 2D segmentation\n\nOver " << report.metrics_2d->pixels << " labelled pixels, "
+        << report.metrics_2d->classes << " classes in the ground truth.\n\n"
+        << "| candidates | pixel acc. | mean acc. | mean IU | f.w. IU |\n|---|---:|---:|---:|---:|\n";
+    markdownMetricsRow(out, "no", *report.metrics_2d);
+    if (report.metrics_2d_candidates) markdownMetricsRow(out, "yes", *report.metrics_2d_candidates);
+  }
+  return out.str();
+}
+
+std::string reportTable(const EvaluationReport& report) {
+  std::ostringstream out;
+  out << "Segmentation results (IU_3d x100) of " << report.sequence << ": " << describeSettings(report) << "\n"
+      << padLeft("label", 6) << "  " << padRight("name", 36) << padLeft("voxels", 8) << padLeft("Proj Mean", 11)
+      << padLeft("Proj Max", 10) << padLeft("LabelOctoMap", 14) << "\n";
+  for (const auto& o : report.objects)
+    out << padLeft(std::to_string(o.label), 6) << "  " << padRight(o.name, 36)
+        << padLeft(std::to_string(o.voxels), 8) << tableScores(o.iou_3d) << "\n";
+  const ScoreSummary& s = report.summary;
+  out << padRight("Summary (" + std::to_string(s.objects) + " objects)", 52) << tableScores(s.iou_3d) << "\n"
+      << padRight("Box IU (mean)", 52) << tableScores(s.box_iou) << "\n"
+      << "LabelOctoMap exceeds Projection (Max) for " << s.labeloctomap_beats_projection_max << " of "
+      << s.objects << " objects\n";
+  auto metrics = [&](const char* name, const Metrics2d& m) {
+    out << "2D segmentation " << name << ": pixel acc. " << percent(m.pixel_accuracy) << ", mean acc. "
+        << percent(m.mean_accuracy) << ", mean IU " << percent(m.mean_iu) << ", f.w. IU " << percent(m.fw_iu)
+        << "\n";
+  };
+  if (report.metrics_2d) metrics("without candidates", *report.metrics_2d);
+  if (report.metrics_2d_candidates) metrics("with candidates", *report.metrics_2d_candidates);
+  return out.str();
+}
+
+std::string aggregateMarkdown(const std::vector<EvaluationReport>& reports) {
+  std::ostringstream out;
+  out << "# Segmentation results of " << reports.size() << " sequences\n\n"
+      << "Mean IU_3d x100 over the objects of each sequence; the last row is the mean over all objects.\n\n"
+      << "| sequence | objects | Projection (Mean) | Projection (Max) | LabelOctoMap | LabelOctoMap > Projection (Max) |\n"
+      << "|---|---:|---:|---:|---:|---:|\n";
+  auto row = [&](const std::string& name, const ScoreSummary& s) {
+    const auto cells = markBest(s.iou_3d);
+    out << "| " << name << " | " << s.objects << " | " << cells[0] << " | " << cells[1] << " | " << cells[2]
+        << " | " << s.labeloctomap_beats_projection_max << " |\n";
+  };
+  for (const auto& r : reports)
+    row("[" + markdownText(r.sequence) + "](" + r.sequence + "/report.md)", r.summary);
+  row("all", summarizeAll(reports));
+  out << "\n![Mean IU_3d per sequence](aggregate.svg)\n";
+  return out.str();
+}
+
+std::string aggregateTable(const std::vector<EvaluationReport>& reports) {
+  std::ostringstream out;
+  out << "Mean IU_3d x100 per sequence\n"
+      << padRight("sequence", 36) << padLeft("objects", 8) << padLeft("Proj Mean", 11) << padLeft("Proj Max", 10)
+      << padLeft("LabelOctoMap", 14) << "\n";
+  for (const auto& r : reports)
+    out << padRight(r.sequence, 36) << padLeft(std::to_string(r.summary.objects), 8) << tableScores(r.summary.iou_3d)
+        << "\n";
+  const ScoreSummary all = summarizeAll(reports);
+  out << padRight("all", 36) << padLeft(std::to_string(all.objects), 8) << tableScores(all.iou_3d) << "\n"
+      << "LabelOctoMap exceeds Projection (Max) for " << all.labeloctomap_beats_projection_max << " of "
+      << all.objects << " objects\n";
+  return out.str();
+}
+
+}  // namespace lom

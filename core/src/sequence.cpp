@@ -1,0 +1,580 @@
+// sequence.json (format "labeloctomap-sequence" version 1, docs/sequence-format.md):
+// parsing with precise error messages, writing, and checking the frame files.
+#include "lom/sequence.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <initializer_list>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "lom/atomic_file.hpp"
+
+namespace lom {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+using OrderedJson = nlohmann::ordered_json;
+
+namespace {
+
+constexpr const char* kFormat = "labeloctomap-sequence";
+constexpr int kVersion = 1;
+constexpr int kMaxLabels = 256;
+constexpr double kRotationTolerance = 1e-4;
+constexpr double kLastRowTolerance = 1e-6;
+// Rotations this close to orthonormal are kept bit for bit, so that saving a
+// loaded sequence reproduces its poses exactly.
+constexpr double kAlreadyOrthonormal = 1e-12;
+constexpr size_t kLineWidth = 100;
+
+std::string describe(const Json& value) {
+  std::string text = value.dump(-1, ' ', false, Json::error_handler_t::replace);
+  if (text.size() > 60) text = text.substr(0, 57) + "...";
+  switch (value.type()) {
+    case Json::value_t::string:
+      return "the string " + text;
+    case Json::value_t::boolean:
+      return "the boolean " + text;
+    case Json::value_t::null:
+      return "null";
+    case Json::value_t::array:
+      return "an array " + text;
+    case Json::value_t::object:
+      return "an object " + text;
+    default:
+      return "the number " + text;
+  }
+}
+
+std::string join(const std::string& prefix, const std::string& key) {
+  return prefix.empty() ? key : prefix + "." + key;
+}
+
+std::string indexed(const std::string& prefix, size_t index) {
+  return prefix + "[" + std::to_string(index) + "]";
+}
+
+// Typed access to the JSON tree; every failure names the file and the field.
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& expected,
+                         const std::string& found) const {
+    throw Error(file_, field, expected, found);
+  }
+
+  void expectObject(const Json& value, const std::string& field) const {
+    if (!value.is_object()) fail(field, "an object", describe(value));
+  }
+
+  void allowOnly(const Json& object, const std::string& field,
+                 std::initializer_list<const char*> keys) const {
+    for (const auto& item : object.items()) {
+      bool known = false;
+      std::string list;
+      for (const char* key : keys) {
+        known = known || item.key() == key;
+        list += (list.empty() ? "" : ", ") + std::string(key);
+      }
+      if (!known) fail(join(field, item.key()), "only the keys " + list, "an unknown key");
+    }
+  }
+
+  const Json& required(const Json& object, const std::string& field, const char* key) const {
+    const auto it = object.find(key);
+    if (it == object.end()) fail(join(field, key), "a value", "nothing (the key is missing)");
+    return *it;
+  }
+
+  static const Json* optional(const Json& object, const char* key) {
+    const auto it = object.find(key);
+    return it == object.end() ? nullptr : &*it;
+  }
+
+  double number(const Json& value, const std::string& field) const {
+    if (!value.is_number()) fail(field, "a number", describe(value));
+    const double number = value.get<double>();
+    if (!std::isfinite(number)) fail(field, "a finite number", describe(value));
+    return number;
+  }
+
+  double positive(const Json& value, const std::string& field) const {
+    const double v = number(value, field);
+    if (!(v > 0.0)) fail(field, "a positive number", describe(value));
+    return v;
+  }
+
+  int integer(const Json& value, const std::string& field, int min, int max) const {
+    const std::string expected =
+        "an integer from " + std::to_string(min) + " to " + std::to_string(max);
+    if (!value.is_number()) fail(field, expected, describe(value));
+    const double v = value.get<double>();
+    if (std::floor(v) != v || v < min || v > max) fail(field, expected, describe(value));
+    return static_cast<int>(v);
+  }
+
+  std::string text(const Json& value, const std::string& field, const std::string& what) const {
+    if (!value.is_string() || value.get<std::string>().empty()) fail(field, what, describe(value));
+    return value.get<std::string>();
+  }
+
+  bool boolean(const Json& value, const std::string& field) const {
+    if (!value.is_boolean()) fail(field, "true or false", describe(value));
+    return value.get<bool>();
+  }
+
+  const Json& array(const Json& value, const std::string& field, const std::string& what) const {
+    if (!value.is_array()) fail(field, what, describe(value));
+    return value;
+  }
+
+  [[nodiscard]] const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+};
+
+LabelSet parseLabels(const Reader& in, const Json& value) {
+  const Json& list = in.array(value, "labels", "an array of {id, name, color} objects");
+  if (list.empty() || list.size() > static_cast<size_t>(kMaxLabels))
+    in.fail("labels", "from 1 to " + std::to_string(kMaxLabels) + " labels",
+            std::to_string(list.size()) + " labels");
+  const int count = static_cast<int>(list.size());
+  std::vector<LabelInfo> labels(list.size());
+  std::vector<std::string> id_field(list.size());
+  std::map<std::string, std::string> name_field;
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string field = indexed("labels", i);
+    in.expectObject(list[i], field);
+    in.allowOnly(list[i], field, {"id", "name", "color"});
+    const int id = in.integer(in.required(list[i], field, "id"), join(field, "id"), 0, count - 1);
+    if (!id_field[static_cast<size_t>(id)].empty())
+      in.fail(join(field, "id"), "each id from 0 to " + std::to_string(count - 1) + " once",
+              std::to_string(id) + " again (also " + id_field[static_cast<size_t>(id)] + ")");
+    id_field[static_cast<size_t>(id)] = join(field, "id");
+    LabelInfo label;
+    label.id = id;
+    label.name =
+        in.text(in.required(list[i], field, "name"), join(field, "name"), "a non-empty string");
+    const auto [previous, inserted] = name_field.emplace(label.name, join(field, "name"));
+    if (!inserted)
+      in.fail(join(field, "name"), "a unique name",
+              "\"" + label.name + "\" again (also " + previous->second + ")");
+    label.color = vocColor(id);
+    if (const Json* color = Reader::optional(list[i], "color")) {
+      const std::string color_field = join(field, "color");
+      const Json& rgb = in.array(*color, color_field, "3 integers [r, g, b] from 0 to 255");
+      if (rgb.size() != 3)
+        in.fail(color_field, "3 integers [r, g, b] from 0 to 255", describe(rgb));
+      for (size_t c = 0; c < 3; ++c)
+        label.color[c] =
+            static_cast<std::uint8_t>(in.integer(rgb[c], indexed(color_field, c), 0, 255));
+    }
+    labels[static_cast<size_t>(id)] = label;
+  }
+  return LabelSet(std::move(labels));
+}
+
+CameraIntrinsics parseCamera(const Reader& in, const Json& value, const std::string& field,
+                             const CameraIntrinsics* fallback) {
+  in.expectObject(value, field);
+  in.allowOnly(value, field, {"width", "height", "fx", "fy", "cx", "cy", "depth_scale"});
+  // A per-frame camera only needs the fields that differ from the sequence camera.
+  auto get = [&](const char* key) -> const Json* {
+    const Json* found = Reader::optional(value, key);
+    if (!found && !fallback && std::string(key) != "depth_scale") in.required(value, field, key);
+    return found;
+  };
+  CameraIntrinsics camera = fallback ? *fallback : CameraIntrinsics{};
+  if (!fallback) camera.depth_scale = 0.001;
+  if (const Json* v = get("width")) camera.width = in.integer(*v, join(field, "width"), 1, 65535);
+  if (const Json* v = get("height"))
+    camera.height = in.integer(*v, join(field, "height"), 1, 65535);
+  if (const Json* v = get("fx")) camera.fx = in.positive(*v, join(field, "fx"));
+  if (const Json* v = get("fy")) camera.fy = in.positive(*v, join(field, "fy"));
+  if (const Json* v = get("cx")) camera.cx = in.number(*v, join(field, "cx"));
+  if (const Json* v = get("cy")) camera.cy = in.number(*v, join(field, "cy"));
+  if (const Json* v = get("depth_scale"))
+    camera.depth_scale = in.positive(*v, join(field, "depth_scale"));
+  return camera;
+}
+
+std::string matrixRowText(const Eigen::Matrix4d& m, int row) {
+  std::ostringstream out;
+  out << "[" << m(row, 0) << " " << m(row, 1) << " " << m(row, 2) << " " << m(row, 3) << "]";
+  return out.str();
+}
+
+Eigen::Isometry3d parsePose(const Reader& in, const Json& value, const std::string& field) {
+  const std::string what = "16 numbers (row-major 4x4 camera-to-world matrix)";
+  const Json& list = in.array(value, field, what);
+  if (list.size() != 16) in.fail(field, what, std::to_string(list.size()) + " elements");
+  Eigen::Matrix4d m;
+  for (size_t i = 0; i < 16; ++i)
+    m(static_cast<int>(i / 4), static_cast<int>(i % 4)) = in.number(list[i], indexed(field, i));
+
+  const Eigen::Matrix3d r = m.topLeftCorner<3, 3>();
+  const double det = r.determinant();
+  const double orthogonality =
+      (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  const double last_row = (m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff();
+  if (std::abs(det - 1.0) > kRotationTolerance || orthogonality > kRotationTolerance ||
+      last_row > kLastRowTolerance) {
+    std::ostringstream found;
+    found << "det(R) = " << det << ", max |R^T R - I| = " << orthogonality << ", last row "
+          << matrixRowText(m, 3);
+    in.fail(field, "a rigid transform (orthonormal rotation, det +1, last row 0 0 0 1)",
+            found.str());
+  }
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = m.topRightCorner<3, 1>();
+  if (orthogonality <= kAlreadyOrthonormal && std::abs(det - 1.0) <= kAlreadyOrthonormal)
+    pose.linear() = r;
+  else
+    pose.linear() = Eigen::Quaterniond(r).normalized().toRotationMatrix();
+  return pose;
+}
+
+std::vector<int> parseProbaLabels(const Reader& in, const Json& value, const std::string& field,
+                                  const LabelSet& labels) {
+  const std::string what = "a non-empty array of label ids";
+  const Json& list = in.array(value, field, what);
+  if (list.empty()) in.fail(field, what, "an empty array");
+  std::vector<int> ids;
+  std::map<int, size_t> first_index;
+  for (size_t c = 0; c < list.size(); ++c) {
+    const std::string item = indexed(field, c);
+    const int id = in.integer(list[c], item, 0, 65535);
+    if (!labels.contains(id))
+      in.fail(item,
+              "a label id from 0 to " + std::to_string(labels.size() - 1) + " (the sequence has " +
+                  std::to_string(labels.size()) + " labels)",
+              "unknown label id " + std::to_string(id));
+    const auto [previous, inserted] = first_index.emplace(id, c);
+    if (!inserted)
+      in.fail(item, "each label id once",
+              std::to_string(id) + " again (also " + indexed(field, previous->second) + ")");
+    ids.push_back(id);
+  }
+  return ids;
+}
+
+FrameRecord parseFrame(const Reader& in, const Json& value, size_t index,
+                       const Sequence& sequence) {
+  const std::string field = indexed("frames", index);
+  in.expectObject(value, field);
+  in.allowOnly(
+      value, field,
+      {"stamp", "pose", "depth", "color", "proba", "proba_labels", "label", "view", "camera"});
+  const std::string path_what = "a non-empty file path relative to the sequence folder";
+  FrameRecord frame;
+  frame.stamp = static_cast<double>(index);
+  if (const Json* v = Reader::optional(value, "stamp"))
+    frame.stamp = in.number(*v, join(field, "stamp"));
+  frame.T_world_camera = parsePose(in, in.required(value, field, "pose"), join(field, "pose"));
+  frame.depth = in.text(in.required(value, field, "depth"), join(field, "depth"), path_what);
+  if (const Json* v = Reader::optional(value, "color"))
+    frame.color = in.text(*v, join(field, "color"), path_what);
+  if (const Json* v = Reader::optional(value, "proba"))
+    frame.proba = in.text(*v, join(field, "proba"), path_what);
+  if (const Json* v = Reader::optional(value, "label"))
+    frame.label = in.text(*v, join(field, "label"), path_what);
+  if (const Json* v = Reader::optional(value, "proba_labels")) {
+    if (frame.proba.empty())
+      in.fail(join(field, "proba_labels"),
+              "proba_labels only together with " + join(field, "proba"),
+              "proba_labels without a proba file");
+    frame.proba_labels = parseProbaLabels(in, *v, join(field, "proba_labels"), sequence.labels);
+  }
+  if (const Json* v = Reader::optional(value, "view"))
+    frame.view = in.boolean(*v, join(field, "view"));
+  if (const Json* v = Reader::optional(value, "camera"))
+    frame.camera = parseCamera(in, *v, join(field, "camera"), &sequence.camera);
+  return frame;
+}
+
+Json parseJsonFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path.string(), "", "a readable sequence.json", "cannot open it");
+  std::stringstream text;
+  text << in.rdbuf();
+  try {
+    return Json::parse(text.str());
+  } catch (const Json::parse_error& e) {
+    std::string message = e.what();
+    const auto bracket = message.find("] ");
+    if (message.rfind("[json.exception", 0) == 0 && bracket != std::string::npos)
+      message = message.substr(bracket + 2);
+    throw Error(path.string(), "", "valid JSON", message);
+  }
+}
+
+fs::path sequenceJsonPath(const fs::path& folder_or_json) {
+  std::error_code ec;
+  fs::path path =
+      fs::is_directory(folder_or_json, ec) ? folder_or_json / "sequence.json" : folder_or_json;
+  path = fs::absolute(path, ec).lexically_normal();
+  if (!fs::is_regular_file(path, ec))
+    throw Error(path.string(), "",
+                "a sequence folder holding sequence.json, or the path of a sequence.json file",
+                "no such file");
+  return path;
+}
+
+// JSON with short objects and all number arrays on one line: poses stay
+// readable as one line each instead of sixteen.
+std::string inlineJson(const OrderedJson& value) {
+  if (value.is_array()) {
+    std::string text = "[";
+    for (size_t i = 0; i < value.size(); ++i) text += (i ? ", " : "") + inlineJson(value[i]);
+    return text + "]";
+  }
+  if (value.is_object()) {
+    std::string text = "{";
+    bool first = true;
+    for (const auto& item : value.items()) {
+      text +=
+          (first ? "" : ", ") + OrderedJson(item.key()).dump() + ": " + inlineJson(item.value());
+      first = false;
+    }
+    return text + "}";
+  }
+  return value.dump(-1, ' ', false, OrderedJson::error_handler_t::replace);
+}
+
+void prettyJson(const OrderedJson& value, size_t column, size_t indent, std::string& out) {
+  const std::string flat = inlineJson(value);
+  const bool scalars_only =
+      value.is_array() && std::none_of(value.begin(), value.end(),
+                                       [](const OrderedJson& v) { return v.is_structured(); });
+  if (!value.is_structured() || value.empty() || scalars_only ||
+      column + flat.size() <= kLineWidth) {
+    out += flat;
+    return;
+  }
+  const std::string pad(indent + 2, ' ');
+  out += value.is_array() ? "[\n" : "{\n";
+  bool first = true;
+  for (const auto& item : value.items()) {
+    if (!first) out += ",\n";
+    first = false;
+    out += pad;
+    std::string key;
+    if (value.is_object()) key = OrderedJson(item.key()).dump() + ": ";
+    out += key;
+    prettyJson(item.value(), pad.size() + key.size(), indent + 2, out);
+  }
+  out += "\n" + std::string(indent, ' ') + (value.is_array() ? "]" : "}");
+}
+
+OrderedJson cameraJson(const CameraIntrinsics& camera) {
+  OrderedJson json;
+  json["width"] = camera.width;
+  json["height"] = camera.height;
+  json["fx"] = camera.fx;
+  json["fy"] = camera.fy;
+  json["cx"] = camera.cx;
+  json["cy"] = camera.cy;
+  json["depth_scale"] = camera.depth_scale;
+  return json;
+}
+
+void requireFinite(const fs::path& file, const std::string& field, double value) {
+  if (!std::isfinite(value))
+    throw Error(file.string(), field, "a finite number (JSON has no NaN or infinity)",
+                std::to_string(value));
+}
+
+OrderedJson frameJson(const FrameRecord& frame, size_t index, const fs::path& file) {
+  const std::string field = indexed("frames", index);
+  OrderedJson json;
+  requireFinite(file, join(field, "stamp"), frame.stamp);
+  json["stamp"] = frame.stamp;
+  OrderedJson pose = OrderedJson::array();
+  const Eigen::Matrix4d m = frame.T_world_camera.matrix();
+  for (int i = 0; i < 16; ++i) {
+    requireFinite(file, indexed(join(field, "pose"), static_cast<size_t>(i)), m(i / 4, i % 4));
+    pose.push_back(m(i / 4, i % 4));
+  }
+  json["pose"] = pose;
+  if (frame.depth.empty())
+    throw Error(file.string(), join(field, "depth"), "a depth file path", "an empty path");
+  json["depth"] = frame.depth;
+  if (!frame.color.empty()) json["color"] = frame.color;
+  if (!frame.proba.empty()) json["proba"] = frame.proba;
+  if (!frame.proba_labels.empty()) {
+    if (frame.proba.empty())
+      throw Error(file.string(), join(field, "proba_labels"),
+                  "proba_labels only together with " + join(field, "proba"),
+                  "proba_labels without a proba file");
+    json["proba_labels"] = frame.proba_labels;
+  }
+  if (!frame.label.empty()) json["label"] = frame.label;
+  json["view"] = frame.view;
+  if (frame.camera) json["camera"] = cameraJson(*frame.camera);
+  return json;
+}
+
+// Reads one image of a frame and checks its size against the frame's camera;
+// failures become problems naming the frame field instead of exceptions.
+template <class Image, class Read>
+std::optional<Image> readPart(const Sequence& sequence, const std::string& relative,
+                              const std::string& field, const CameraIntrinsics& camera, Read read,
+                              std::vector<Problem>& problems) {
+  const fs::path path = sequence.pathOf(relative);
+  try {
+    Image image = read(path);
+    if (image.width != camera.width || image.height != camera.height) {
+      problems.push_back({path.string(), field + " (image size)",
+                          std::to_string(camera.width) + " x " + std::to_string(camera.height) +
+                              " pixels (the frame's camera width x height)",
+                          std::to_string(image.width) + " x " + std::to_string(image.height)});
+      return std::nullopt;
+    }
+    return image;
+  } catch (const Error& e) {
+    Problem problem = e.problem();
+    problem.file = path.string();
+    problem.field = problem.field.empty() ? field : field + " (" + problem.field + ")";
+    problems.push_back(std::move(problem));
+    return std::nullopt;
+  }
+}
+
+void checkLabelIds(const fs::path& path, const std::string& field, const LabelImage& label,
+                   int num_labels, std::vector<Problem>& problems) {
+  size_t unknown = 0;
+  size_t first = 0;
+  for (size_t i = 0; i < label.ids.size(); ++i)
+    if (label.ids[i] >= num_labels && unknown++ == 0) first = i;
+  if (unknown == 0) return;
+  const size_t width = static_cast<size_t>(label.width);
+  problems.push_back(
+      {path.string(), field + " (label ids)",
+       "label ids from 0 to " + std::to_string(num_labels - 1) + " (the labels of the sequence)",
+       "id " + std::to_string(label.ids[first]) + " at pixel (u=" + std::to_string(first % width) +
+           ", v=" + std::to_string(first / width) + "), " + std::to_string(unknown) +
+           " pixel(s) with unknown ids"});
+}
+
+FrameData readFrame(const Sequence& sequence, size_t index, std::vector<Problem>& problems) {
+  const FrameRecord& record = sequence.frames[index];
+  const CameraIntrinsics& camera = sequence.cameraOf(index);
+  const std::string field = indexed("frames", index);
+  FrameData data;
+  if (auto depth = readPart<DepthImage>(
+          sequence, record.depth, join(field, "depth"), camera,
+          [&](const fs::path& p) { return readDepthImage(p, camera.depth_scale); }, problems))
+    data.depth = std::move(*depth);
+  if (!record.color.empty())
+    data.color = readPart<ColorImage>(
+        sequence, record.color, join(field, "color"), camera,
+        [](const fs::path& p) { return readColorImage(p); }, problems);
+  if (!record.proba.empty())
+    data.proba = readPart<ProbabilityImage>(
+        sequence, record.proba, join(field, "proba"), camera,
+        [&](const fs::path& p) {
+          return readProbabilityImage(p, record.proba_labels, sequence.labels.size());
+        },
+        problems);
+  if (!record.label.empty()) {
+    data.label = readPart<LabelImage>(
+        sequence, record.label, join(field, "label"), camera,
+        [](const fs::path& p) { return readLabelImage(p); }, problems);
+    if (data.label)
+      checkLabelIds(sequence.pathOf(record.label), join(field, "label"), *data.label,
+                    sequence.labels.size(), problems);
+  }
+  return data;
+}
+
+}  // namespace
+
+Sequence loadSequence(const fs::path& folder_or_json) {
+  const fs::path json_path = sequenceJsonPath(folder_or_json);
+  const Reader in(json_path.string());
+  const Json root = parseJsonFile(json_path);
+  in.expectObject(root, "(top level)");
+  in.allowOnly(root, "", {"format", "version", "frame_id", "labels", "camera", "frames"});
+
+  const Json& format = in.required(root, "", "format");
+  if (!format.is_string() || format.get<std::string>() != kFormat)
+    in.fail("format", std::string("\"") + kFormat + "\"", describe(format));
+  const Json& version = in.required(root, "", "version");
+  if (!version.is_number() || version.get<double>() != kVersion)
+    in.fail("version", std::to_string(kVersion) + " (the only version this program reads)",
+            describe(version));
+
+  Sequence sequence;
+  sequence.root = json_path.parent_path();
+  if (const Json* v = Reader::optional(root, "frame_id"))
+    sequence.frame_id = in.text(*v, "frame_id", "a non-empty string");
+  const Json* labels = Reader::optional(root, "labels");
+  sequence.labels = labels ? parseLabels(in, *labels) : apc2016Labels();
+  sequence.camera = parseCamera(in, in.required(root, "", "camera"), "camera", nullptr);
+
+  const Json& frames = in.array(in.required(root, "", "frames"), "frames", "an array of frames");
+  if (frames.empty()) in.fail("frames", "at least one frame", "an empty array");
+  for (size_t i = 0; i < frames.size(); ++i)
+    sequence.frames.push_back(parseFrame(in, frames[i], i, sequence));
+  return sequence;
+}
+
+void saveSequence(const Sequence& sequence, const fs::path& folder) {
+  const fs::path file = folder / "sequence.json";
+  if (sequence.labels.empty())
+    throw Error(file.string(), "labels", "at least one label", "an empty label set");
+  OrderedJson root;
+  root["format"] = kFormat;
+  root["version"] = kVersion;
+  root["frame_id"] = sequence.frame_id.empty() ? std::string("world") : sequence.frame_id;
+  OrderedJson labels = OrderedJson::array();
+  for (const auto& label : sequence.labels.all())
+    labels.push_back(OrderedJson{{"id", label.id},
+                                 {"name", label.name},
+                                 {"color", {label.color[0], label.color[1], label.color[2]}}});
+  root["labels"] = labels;
+  root["camera"] = cameraJson(sequence.camera);
+  OrderedJson frames = OrderedJson::array();
+  for (size_t i = 0; i < sequence.frames.size(); ++i)
+    frames.push_back(frameJson(sequence.frames[i], i, file));
+  root["frames"] = frames;
+
+  std::string text;
+  prettyJson(root, 0, 0, text);
+  std::error_code ec;
+  fs::create_directories(folder, ec);
+  writeTextFileAtomically(file, text + "\n");
+}
+
+std::vector<Problem> validateSequence(const Sequence& sequence) {
+  std::vector<Problem> problems;
+  const fs::path json_path = sequence.root / "sequence.json";
+  for (size_t i = 0; i < sequence.frames.size(); ++i) {
+    const FrameRecord& record = sequence.frames[i];
+    if (record.proba.empty() && record.label.empty())
+      problems.push_back({json_path.string(), indexed("frames", i),
+                          "a \"proba\" or a \"label\" file (fusion needs per-pixel labels)",
+                          "neither"});
+    (void)readFrame(sequence, i, problems);
+  }
+  return problems;
+}
+
+FrameData loadFrame(const Sequence& sequence, size_t index) {
+  if (index >= sequence.frames.size())
+    throw Error((sequence.root / "sequence.json").string(), indexed("frames", index),
+                "a frame index below " + std::to_string(sequence.frames.size()),
+                std::to_string(index));
+  std::vector<Problem> problems;
+  FrameData data = readFrame(sequence, index, problems);
+  if (!problems.empty()) throw Error(problems.front());
+  return data;
+}
+
+}  // namespace lom

@@ -1,0 +1,336 @@
+// Scene layout: the shelf bin, the objects on its floor, the camera path.
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <cstdio>
+
+#include "synth_internal.hpp"
+
+namespace lom {
+
+namespace {
+
+using synth::Rest;
+using synth::Rng;
+
+// Bin interior in the world frame: the opening is the plane x = 0 facing -x,
+// the floor is z = 0, the bin is centred on y = 0.
+constexpr double kBinDepth = 0.35;
+constexpr double kBinWidth = 0.45;
+constexpr double kBinHeight = 0.25;
+constexpr double kMaxObjectHeight = 0.22;
+constexpr double kWallClearance = 0.012;
+constexpr double kObjectClearance = 0.008;
+constexpr double kDegree = M_PI / 180.0;
+
+OrientedBox axisAlignedBox(const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
+  OrientedBox box;
+  box.center = 0.5 * (min + max);
+  box.size = max - min;
+  return box;
+}
+
+// The shelf body around the bin; other bins of the shelf are not modelled.
+std::vector<OrientedBox> shelfBoxes() {
+  const double x1 = kBinDepth + 0.05, y0 = 0.5 * kBinWidth, y1 = 0.70, z0 = -0.35, z1 = 0.60;
+  return {
+      axisAlignedBox({0, -y1, z0}, {x1, y1, 0}),                    // below, its top is the floor
+      axisAlignedBox({0, -y1, kBinHeight}, {x1, y1, z1}),           // above
+      axisAlignedBox({0, -y1, 0}, {x1, -y0, kBinHeight}),           // left wall
+      axisAlignedBox({0, y0, 0}, {x1, y1, kBinHeight}),             // right wall
+      axisAlignedBox({kBinDepth, -y0, 0}, {x1, y0, kBinHeight}),    // back wall
+  };
+}
+
+// An object's footprint on the floor: a rectangle of half extents `half` in a
+// frame rotated by `yaw`.
+struct Footprint {
+  Eigen::Vector2d center = Eigen::Vector2d::Zero();
+  Eigen::Vector2d half = Eigen::Vector2d::Zero();
+  double yaw = 0.0;
+
+  [[nodiscard]] Eigen::Vector2d axis(int i) const {
+    return i == 0 ? Eigen::Vector2d(std::cos(yaw), std::sin(yaw))
+                  : Eigen::Vector2d(-std::sin(yaw), std::cos(yaw));
+  }
+  // Half width of the footprint's shadow on a unit direction.
+  [[nodiscard]] double radiusAlong(const Eigen::Vector2d& direction) const {
+    return half.x() * std::abs(axis(0).dot(direction)) + half.y() * std::abs(axis(1).dot(direction));
+  }
+};
+
+bool separated(const Footprint& a, const Footprint& b, double clearance) {
+  const Eigen::Vector2d offset = b.center - a.center;
+  for (const Footprint* f : {&a, &b})
+    for (int i = 0; i < 2; ++i) {
+      const Eigen::Vector2d axis = f->axis(i);
+      if (std::abs(offset.dot(axis)) > a.radiusAlong(axis) + b.radiusAlong(axis) + clearance)
+        return true;
+    }
+  return false;
+}
+
+// One object before it is put somewhere: its size and how it rests.
+struct ObjectPlan {
+  int label = 0;
+  synth::CatalogueItem item;
+  Eigen::Vector3d size;        // box edge lengths before scaling by the crowd factor
+  Eigen::Matrix3d tilt;        // object axes to yaw-frame axes (a permutation)
+
+  [[nodiscard]] Eigen::Vector3d halfExtents(double scale) const {
+    return tilt.cwiseAbs() * (0.5 * scale * size);
+  }
+};
+
+// The object's edge lengths in its own axes, and the tilt of those axes for
+// the given rest (before the yaw about z).
+struct Resting {
+  Eigen::Vector3d size;
+  Eigen::Matrix3d tilt = Eigen::Matrix3d::Identity();
+};
+
+Resting restingAs(SynthShape shape, Rest rest, const Eigen::Vector3d& catalogue_size) {
+  const double a = catalogue_size.x(), b = catalogue_size.y(), c = catalogue_size.z();
+  Resting resting;
+  if (shape == SynthShape::Cylinder) {
+    resting.size = catalogue_size;
+    if (rest == Rest::Lying)  // axis across the bin, along y
+      resting.tilt = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    return resting;
+  }
+  // At yaw 0 the longest horizontal edge runs across the bin, facing the cameras.
+  switch (rest) {
+    case Rest::Side: resting.size = {c, a, b}; break;
+    case Rest::Upright: resting.size = {c, b, a}; break;
+    default: resting.size = {b, a, c}; break;
+  }
+  return resting;
+}
+
+double heightOf(const Resting& resting) { return (resting.tilt.cwiseAbs() * resting.size).z(); }
+
+ObjectPlan planObject(int label, Rng& rng) {
+  ObjectPlan plan;
+  plan.label = label;
+  plan.item = synth::catalogueItem(label);
+  const Eigen::Vector3d size = rng.uniform(0.92, 1.04) * plan.item.size;
+  std::vector<Rest> rests;
+  for (const Rest rest : plan.item.rests)
+    if (heightOf(restingAs(plan.item.shape, rest, size)) <= kMaxObjectHeight) rests.push_back(rest);
+  if (rests.empty()) rests.push_back(plan.item.shape == SynthShape::Box ? Rest::Flat : Rest::Lying);
+  const Rest rest = rests[static_cast<size_t>(rng.below(static_cast<int>(rests.size())))];
+  const Resting resting = restingAs(plan.item.shape, rest, size);
+  plan.size = resting.size;
+  plan.tilt = resting.tilt;
+  return plan;
+}
+
+SynthObject placedObject(const ObjectPlan& plan, const Footprint& footprint, double scale,
+                         const LabelSet& labels) {
+  SynthObject object;
+  object.label = plan.label;
+  object.name = labels.at(plan.label).name;
+  object.shape = plan.item.shape;
+  const Eigen::Matrix3d rotation =
+      Eigen::AngleAxisd(footprint.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix() * plan.tilt;
+  object.box.rotation = Eigen::Quaterniond(rotation).normalized();
+  object.box.size = scale * plan.size;
+  object.box.center = {footprint.center.x(), footprint.center.y(), plan.halfExtents(scale).z()};
+  return object;
+}
+
+// Mostly facing the opening, sometimes turned lengthwise.
+double randomYaw(Rng& rng) {
+  const double yaw = rng.uniform(-0.35, 0.35);
+  return rng.chance(0.2) ? yaw + M_PI / 2 : yaw;
+}
+
+// Uniform in [low, high] restricted to [preferred_low, preferred_high] when
+// the two ranges overlap.
+double uniformPreferring(Rng& rng, double low, double high, double preferred_low,
+                         double preferred_high) {
+  const double a = std::max(low, preferred_low), b = std::min(high, preferred_high);
+  return a <= b ? rng.uniform(a, b) : rng.uniform(low, high);
+}
+
+// Rejection sampling of footprints, each centre drawn where the footprint
+// stays clear of the walls. The first object stands in the back row near the
+// middle, the second right in front of it so that the central view sees the
+// first one partly hidden; the others alternate between the front and back
+// rows. Returns false when some object found no free spot at this scale.
+bool placeAll(const std::vector<ObjectPlan>& plans, double scale, Rng& rng,
+              std::vector<Footprint>& placed) {
+  constexpr int kTriesInRow = 150;
+  constexpr int kTries = 400;
+  constexpr double kRowSplit = 0.17;  // x of the boundary between the rows
+  placed.clear();
+  for (size_t i = 0; i < plans.size(); ++i) {
+    Footprint f;
+    f.half = plans[i].halfExtents(scale).head<2>();
+    bool found = false;
+    for (int attempt = 0; attempt < kTries && !found; ++attempt) {
+      f.yaw = randomYaw(rng);
+      const double rx = f.radiusAlong({1, 0}), ry = f.radiusAlong({0, 1});
+      const double x_low = kWallClearance + rx, x_high = kBinDepth - kWallClearance - rx;
+      const double y_high = 0.5 * kBinWidth - kWallClearance - ry;
+      if (x_low > x_high || y_high < 0) continue;
+      double x = rng.uniform(x_low, x_high), y = rng.uniform(-y_high, y_high);
+      if (attempt < kTriesInRow) {
+        const bool back = i % 2 == 0;
+        x = uniformPreferring(rng, x_low, x_high, back ? kRowSplit : 0.0,
+                              back ? kBinDepth : kRowSplit);
+        if (i == 0) y = uniformPreferring(rng, -y_high, y_high, -0.1, 0.1);
+        if (i == 1) {
+          const Footprint& behind = placed[0];
+          x = behind.center.x() - behind.radiusAlong({1, 0}) - rx - kObjectClearance -
+              rng.uniform(0.0, 0.02);
+          const double overlap = std::min(behind.radiusAlong({0, 1}), ry);
+          y = std::clamp(behind.center.y() + rng.uniform(-0.7, 0.7) * overlap, -y_high, y_high);
+        }
+      }
+      f.center = {x, y};
+      found = x >= x_low && x <= x_high &&
+              std::all_of(placed.begin(), placed.end(), [&](const Footprint& other) {
+                return separated(f, other, kObjectClearance);
+              });
+    }
+    if (!found) { fprintf(stderr, "DEBUG fail i=%zu scale=%g half=%g,%g\n", i, scale, f.half.x(), f.half.y()); return false; }
+    placed.push_back(f);
+  }
+  return true;
+}
+
+std::vector<SynthObject> makeObjects(const SynthOptions& options) {
+  Rng rng(synth::streamSeed(options.seed, synth::Stream::Layout));
+  std::vector<int> pool;
+  for (int label = 1; label <= kSynthMaxObjects; ++label) pool.push_back(label);
+  std::vector<ObjectPlan> plans;
+  for (int i = 0; i < options.objects; ++i) {
+    const int pick = i + rng.below(static_cast<int>(pool.size()) - i);
+    std::swap(pool[static_cast<size_t>(i)], pool[static_cast<size_t>(pick)]);
+    plans.push_back(planObject(pool[static_cast<size_t>(i)], rng));
+  }
+  // The tallest object goes behind the second tallest (see placeAll); the
+  // others follow largest footprint first, which packs the floor best.
+  auto taller = [](const ObjectPlan& a, const ObjectPlan& b) {
+    return a.halfExtents(1.0).z() > b.halfExtents(1.0).z();
+  };
+  auto larger = [](const ObjectPlan& a, const ObjectPlan& b) {
+    return a.halfExtents(1.0).head<2>().prod() > b.halfExtents(1.0).head<2>().prod();
+  };
+  std::stable_sort(plans.begin(), plans.end(), taller);
+  if (plans.size() > 2) std::stable_sort(plans.begin() + 2, plans.end(), larger);
+
+  // Crowded bins shrink every object until they all fit side by side.
+  std::vector<Footprint> placed;
+  double scale = 1.0;
+  while (!placeAll(plans, scale, rng, placed)) {
+    scale *= 0.93;
+    if (scale < 0.2) throw std::logic_error("synthetic objects do not fit into the bin");
+  }
+  const LabelSet labels = apc2016Labels();
+  std::vector<SynthObject> objects;
+  for (size_t i = 0; i < plans.size(); ++i)
+    objects.push_back(placedObject(plans[i], placed[i], scale, labels));
+  return objects;
+}
+
+Eigen::Isometry3d lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
+  // OpenCV camera axes: z forward, x right, y down.
+  const Eigen::Vector3d forward = (target - eye).normalized();
+  const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
+  const Eigen::Vector3d down = forward.cross(right);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() << right, down, forward;
+  pose.translation() = eye;
+  return pose;
+}
+
+// A left-to-right arc in front of the opening with one up-down sweep, always
+// looking at the middle of the bin's contents from about 0.6 m.
+void makeCameraPath(const SynthOptions& options, SynthLayout& layout) {
+  Rng rng(synth::streamSeed(options.seed, synth::Stream::Path));
+  const Eigen::Vector3d target(0.17, 0.0, 0.07);
+  const double azimuth_left = -rng.uniform(24, 32) * kDegree;
+  const double azimuth_right = rng.uniform(24, 32) * kDegree;
+  const double elevation = rng.uniform(20, 24) * kDegree;
+  const double elevation_sweep = rng.uniform(6, 8) * kDegree;
+  const double distance = rng.uniform(0.56, 0.62);
+  const int frames = options.frames;
+  for (int i = 0; i < frames; ++i) {
+    const double t = frames > 1 ? static_cast<double>(i) / (frames - 1) : 0.5;
+    const double azimuth = azimuth_left + t * (azimuth_right - azimuth_left);
+    const double tilt = elevation + elevation_sweep * std::sin(2 * M_PI * t);
+    const Eigen::Vector3d toward_camera(-std::cos(tilt) * std::cos(azimuth),
+                                        std::cos(tilt) * std::sin(azimuth), std::sin(tilt));
+    layout.T_world_camera.push_back(lookAt(target + distance * toward_camera, target));
+    layout.view.push_back(false);
+  }
+  const int views = options.views;
+  for (int k = 0; k < views; ++k) {
+    const long index = std::lround(static_cast<double>(k) * (frames - 1) / (views - 1));
+    layout.view[static_cast<size_t>(index)] = true;
+  }
+}
+
+CameraIntrinsics scaledCamera(int width, int height) {
+  // The sequence camera at 640 x 480, scaled about the pixel-centre convention.
+  CameraIntrinsics camera;
+  const double sx = width / 640.0, sy = height / 480.0;
+  camera.width = width;
+  camera.height = height;
+  camera.fx = 615.2 * sx;
+  camera.fy = 615.2 * sy;
+  camera.cx = (319.5 + 0.5) * sx - 0.5;
+  camera.cy = (239.5 + 0.5) * sy - 0.5;
+  camera.depth_scale = 0.001;
+  return camera;
+}
+
+}  // namespace
+
+void checkSynthOptions(const SynthOptions& o) {
+  auto require = [](bool ok, const std::string& message) {
+    if (!ok) throw std::invalid_argument("synthetic scene: " + message);
+  };
+  require(o.objects >= 1 && o.objects <= kSynthMaxObjects,
+          "objects must be 1.." + std::to_string(kSynthMaxObjects) + ", got " +
+              std::to_string(o.objects));
+  require(o.views >= kSynthMinViews, "views must be at least " + std::to_string(kSynthMinViews) +
+                                         ", got " + std::to_string(o.views));
+  require(o.frames >= o.views && o.frames <= kSynthMaxFrames,
+          "frames must be views.." + std::to_string(kSynthMaxFrames) + ", got " +
+              std::to_string(o.frames));
+  require(o.width >= kSynthMinWidth && o.width <= kSynthMaxImageSide,
+          "width must be " + std::to_string(kSynthMinWidth) + ".." +
+              std::to_string(kSynthMaxImageSide) + ", got " + std::to_string(o.width));
+  require(o.height >= kSynthMinHeight && o.height <= kSynthMaxImageSide,
+          "height must be " + std::to_string(kSynthMinHeight) + ".." +
+              std::to_string(kSynthMaxImageSide) + ", got " + std::to_string(o.height));
+}
+
+SynthLayout makeSynthLayout(const SynthOptions& options) {
+  checkSynthOptions(options);
+  SynthLayout layout;
+  layout.shelf = shelfBoxes();
+  layout.bin_interior = axisAlignedBox({0, -0.5 * kBinWidth, 0}, {kBinDepth, 0.5 * kBinWidth, kBinHeight});
+  layout.objects = makeObjects(options);
+  layout.camera = scaledCamera(options.width, options.height);
+  makeCameraPath(options, layout);
+  std::vector<int> object_labels;
+  for (const auto& object : layout.objects) object_labels.push_back(object.label);
+  Rng rng(synth::streamSeed(options.seed, synth::Stream::Segmenter));
+  layout.proba_labels = synth::chooseProbaLabels(object_labels, rng);
+  return layout;
+}
+
+Annotations synthAnnotations(const SynthLayout& layout) {
+  Annotations annotations;
+  annotations.frame_id = "world";
+  for (const auto& object : layout.objects)
+    annotations.boxes.push_back({object.label, object.name, object.box});
+  return annotations;
+}
+
+}  // namespace lom

@@ -1,0 +1,118 @@
+#pragma once
+// Key arithmetic and ray traversal on OctoMap's voxel grid (16-bit keys
+// centred on 32768), in double precision. Every fusion path uses these, so the
+// reference and fast paths visit exactly the same voxels.
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include <Eigen/Core>
+
+namespace lom::grid {
+
+constexpr int kKeyOffset = 32768;  // OctoMap's tree_max_val for depth 16
+
+using Key = std::array<std::uint16_t, 3>;
+
+struct Grid {
+  double resolution = 0.01;
+  double inverse = 100.0;
+
+  explicit Grid(double res) : resolution(res), inverse(1.0 / res) {}
+
+  // False when the point lies outside the 16-bit key range.
+  [[nodiscard]] bool keyOf(const Eigen::Vector3d& p, Key& key) const {
+    for (int i = 0; i < 3; ++i) {
+      const double scaled = std::floor(inverse * p[i]);
+      if (!(scaled >= -kKeyOffset && scaled < kKeyOffset)) return false;
+      key[static_cast<size_t>(i)] = static_cast<std::uint16_t>(static_cast<int>(scaled) + kKeyOffset);
+    }
+    return true;
+  }
+  [[nodiscard]] double centerOf(std::uint16_t k) const {
+    return (static_cast<double>(static_cast<int>(k) - kKeyOffset) + 0.5) * resolution;
+  }
+  [[nodiscard]] Eigen::Vector3d centerOf(const Key& key) const {
+    return {centerOf(key[0]), centerOf(key[1]), centerOf(key[2])};
+  }
+};
+
+// Visits, in order, the voxels crossed by the segment from `origin` to `end`,
+// starting with the origin's voxel and stopping before the voxel that contains
+// `end` (a 3D DDA). Returns false (visiting nothing) when either end is
+// outside the key range.
+template <typename Visit>
+bool traverseRay(const Grid& grid, const Eigen::Vector3d& origin, const Eigen::Vector3d& end,
+                 Visit&& visit) {
+  Key key, end_key;
+  if (!grid.keyOf(origin, key) || !grid.keyOf(end, end_key)) return false;
+  if (key == end_key) return true;
+  const Eigen::Vector3d delta = end - origin;
+  const double length = delta.norm();
+  const Eigen::Vector3d direction = delta / length;
+
+  int step[3];
+  double t_max[3];
+  double t_delta[3];
+  for (int i = 0; i < 3; ++i) {
+    if (direction[i] > 0.0) {
+      step[i] = 1;
+    } else if (direction[i] < 0.0) {
+      step[i] = -1;
+    } else {
+      step[i] = 0;
+    }
+    if (step[i] != 0) {
+      // Distance along the ray to the first voxel border in this dimension.
+      const double border =
+          (static_cast<double>(static_cast<int>(key[static_cast<size_t>(i)]) - kKeyOffset) +
+           (step[i] > 0 ? 1.0 : 0.0)) *
+          grid.resolution;
+      t_max[i] = (border - origin[i]) / direction[i];
+      t_delta[i] = grid.resolution / std::fabs(direction[i]);
+    } else {
+      t_max[i] = std::numeric_limits<double>::max();
+      t_delta[i] = std::numeric_limits<double>::max();
+    }
+  }
+
+  visit(key);
+  // A ray crosses at most this many voxels; guards against rounding loops.
+  const long max_steps = 3L * static_cast<long>(std::ceil(length * grid.inverse)) + 3;
+  for (long i = 0; i < max_steps; ++i) {
+    int dim = 0;
+    if (t_max[1] < t_max[dim]) dim = 1;
+    if (t_max[2] < t_max[dim]) dim = 2;
+    if (t_max[dim] > length) break;  // passed the end point (end voxel reached by rounding)
+    key[static_cast<size_t>(dim)] = static_cast<std::uint16_t>(key[static_cast<size_t>(dim)] + step[dim]);
+    t_max[dim] += t_delta[dim];
+    if (key == end_key) break;
+    visit(key);
+  }
+  return true;
+}
+
+}  // namespace lom::grid
+
+namespace lom::grid {
+
+// Spreads the low 16 bits of v so that bit i lands on bit 3i.
+inline std::uint64_t spreadBits3(std::uint64_t v) {
+  v &= 0xffff;
+  v = (v | (v << 32)) & 0x1f00000000ffffULL;
+  v = (v | (v << 16)) & 0x1f0000ff0000ffULL;
+  v = (v | (v << 8)) & 0x100f00f00f00f00fULL;
+  v = (v | (v << 4)) & 0x10c30c30c30c30c3ULL;
+  v = (v | (v << 2)) & 0x1249249249249249ULL;
+  return v;
+}
+
+// Interleaves the key bits so that each 3-bit group, from the top, is OctoMap's
+// child index at that depth (x = 1, y = 2, z = 4): sorting by this code visits
+// voxels in the tree's depth-first order.
+inline std::uint64_t mortonCode(std::uint16_t x, std::uint16_t y, std::uint16_t z) {
+  return spreadBits3(x) | (spreadBits3(y) << 1) | (spreadBits3(z) << 2);
+}
+
+}  // namespace lom::grid

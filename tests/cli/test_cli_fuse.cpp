@@ -1,0 +1,103 @@
+// labeloctomap fuse / export end to end on a generated sequence.
+#include <gtest/gtest.h>
+
+#include <pcl/io/pcd_io.h>
+#include <pcl/point_types.h>
+
+#include <fstream>
+
+#include "lom/label_map.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using lom::test::runCli;
+using lom::test::TempDir;
+
+class CliFuseTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    scene_ = new TempDir();
+    const auto r = runCli("synth --out '" + (scene_->path() / "scene").string() +
+                          "' --seed 5 --objects 4 --frames 4 --views 3 --width 160 --height 120");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  static void TearDownTestSuite() {
+    delete scene_;
+    scene_ = nullptr;
+  }
+  static std::string scene() { return "'" + (scene_->path() / "scene").string() + "'"; }
+  static TempDir* scene_;
+};
+TempDir* CliFuseTest::scene_ = nullptr;
+
+TEST_F(CliFuseTest, FusesAndPrintsASummary) {
+  TempDir out;
+  const auto map_path = out / "map.ot";
+  const auto r = runCli("fuse " + scene() + " --out '" + map_path.string() + "' --resolution 0.02");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("fused 4 frames"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("occupied voxels"), std::string::npos);
+  EXPECT_NE(r.out.find("__background__"), std::string::npos);
+  const lom::LabelMap map = lom::LabelMap::load(map_path);
+  EXPECT_DOUBLE_EQ(map.parameters().resolution, 0.02);
+  EXPECT_EQ(map.numLabels(), 40);
+  EXPECT_FALSE(map.occupiedCountPerLabel().empty());
+}
+
+TEST_F(CliFuseTest, FrameRangeAndCandidatesAreApplied) {
+  TempDir out;
+  const auto r = runCli("fuse " + scene() + " --out '" + (out / "m.ot").string() +
+                        "' --resolution 0.02 --frames 1:3 --candidates 0");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("fused 2 frames"), std::string::npos) << r.out;
+  const auto counts = lom::LabelMap::load(out / "m.ot").occupiedCountPerLabel();
+  ASSERT_EQ(counts.size(), 1u);  // only the background can win
+  EXPECT_EQ(counts.begin()->first, 0);
+}
+
+TEST_F(CliFuseTest, ExportWritesAPcdThatPclReads) {
+  TempDir out;
+  ASSERT_EQ(runCli("fuse " + scene() + " --out '" + (out / "m.ot").string() + "' --resolution 0.02")
+                .exit_code,
+            0);
+  const auto r = runCli("export '" + (out / "m.ot").string() + "' --voxels '" +
+                        (out / "v.pcd").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  pcl::PCLPointCloud2 cloud;
+  ASSERT_EQ(pcl::io::loadPCDFile((out / "v.pcd").string(), cloud), 0);
+  std::vector<std::string> fields;
+  for (const auto& f : cloud.fields) fields.push_back(f.name);
+  for (const char* name : {"x", "y", "z", "label", "probability", "rgb"})
+    EXPECT_NE(std::find(fields.begin(), fields.end(), name), fields.end()) << name;
+  const lom::LabelMap map = lom::LabelMap::load(out / "m.ot");
+  size_t occupied = 0;
+  for (const auto& [label, count] : map.occupiedCountPerLabel()) occupied += count;
+  EXPECT_EQ(static_cast<size_t>(cloud.width) * cloud.height, occupied);
+}
+
+TEST_F(CliFuseTest, BadInputGivesAClearErrorAndNoOutput) {
+  TempDir out;
+  auto r = runCli("fuse " + scene() + " --out '" + (out / "m.ot").string() + "' --p-miss 1.5");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--p-miss"), std::string::npos) << r.err;
+  r = runCli("fuse " + scene() + " --out '" + (out / "nofolder" / "m.ot").string() + "'");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("nofolder"), std::string::npos) << r.err;
+  r = runCli("fuse " + scene() + " --out '" + (out / "m.ot").string() + "' --candidates 0,99");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("99"), std::string::npos) << r.err;
+  r = runCli("fuse '" + (out / "nothing").string() + "' --out '" + (out / "m.ot").string() + "'");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_TRUE(std::filesystem::is_empty(out.path()));
+
+  // A map file of another kind.
+  std::ofstream(out / "not-a-map.ot") << "# Octomap OcTree file\nid OcTree\nsize 1\nres 0.1\ndata\n";
+  r = runCli("export '" + (out / "not-a-map.ot").string() + "' --voxels '" +
+             (out / "v.pcd").string() + "'");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("LabelOcTree"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "v.pcd"));
+}
+
+}  // namespace

@@ -1,0 +1,115 @@
+// labeloctomap info / validate, run as a separate process.
+#include <fstream>
+
+#include "lom/npy.hpp"
+#include "lom/sequence.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kWidth = 6;
+constexpr int kHeight = 4;
+
+// Three frames with depth PNG, label PNG and (for frame 0) a proba .npy.
+void writeSequence(const fs::path& root) {
+  fs::create_directories(root / "frames");
+  lom::Sequence sequence;
+  sequence.labels = lom::LabelSet(
+      {{0, "__background__", {0, 0, 0}}, {1, "mug", {128, 0, 0}}, {2, "book", {0, 128, 0}}});
+  sequence.camera.width = kWidth;
+  sequence.camera.height = kHeight;
+  for (int i = 0; i < 3; ++i) {
+    const std::string stem = "frames/" + std::to_string(i);
+    lom::FrameRecord frame;
+    frame.stamp = 10.0 + i;
+    frame.T_world_camera.translation() = Eigen::Vector3d(0.25 * i, 0.0, -1.0);
+    frame.depth = stem + ".depth.png";
+    frame.label = stem + ".label.png";
+    frame.view = i != 1;
+    lom::writeDepthPng(root / frame.depth, {kWidth, kHeight, std::vector<float>(24, 0.8f)}, 0.001);
+    lom::writeLabelPng(root / frame.label, {kWidth, kHeight, std::vector<std::uint16_t>(24, 2)});
+    if (i == 0) {
+      frame.proba = stem + ".proba.npy";
+      frame.proba_labels = {0, 2};
+      lom::writeNpyFloat32(root / frame.proba, {kHeight, kWidth, 2}, std::vector<float>(48, 0.5f));
+    }
+    sequence.frames.push_back(frame);
+  }
+  lom::saveSequence(sequence, root);
+}
+
+std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
+
+class CliInfoTest : public ::testing::Test {
+ protected:
+  lom::test::TempDir dir;
+  fs::path seq() const { return dir / "seq"; }
+  void SetUp() override { writeSequence(seq()); }
+};
+
+TEST_F(CliInfoTest, InfoSummarisesTheSequence) {
+  const auto result = lom::test::runCli("info " + quoted(seq()));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("frames:           3"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("views:            2"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("labels:           3"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("book"), std::string::npos) << result.out;
+  EXPECT_EQ(result.out.find("mug"), std::string::npos) << "mug has no proba channel\n"
+                                                       << result.out;
+  EXPECT_NE(result.out.find("time span:        10 .. 12"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("proba:            1/3"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("x 0 .. 0.5"), std::string::npos) << result.out;
+}
+
+TEST_F(CliInfoTest, InfoAcceptsThePathOfSequenceJson) {
+  const auto result = lom::test::runCli("info " + quoted(seq() / "sequence.json"));
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("frames:           3"), std::string::npos) << result.out;
+}
+
+TEST_F(CliInfoTest, InfoOnAMissingSequenceFailsNamingThePath) {
+  const auto result = lom::test::runCli("info " + quoted(dir / "nowhere"));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("nowhere"), std::string::npos) << result.err;
+}
+
+TEST_F(CliInfoTest, UnknownOptionOrMissingArgumentExitsTwo) {
+  EXPECT_EQ(lom::test::runCli("info " + quoted(seq()) + " --bogus 1").exit_code, 2);
+  EXPECT_EQ(lom::test::runCli("validate " + quoted(seq()) + " --strict=yes").exit_code, 2);
+  const auto missing = lom::test::runCli("validate");
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("SEQ"), std::string::npos) << missing.err;
+}
+
+TEST_F(CliInfoTest, ValidateAcceptsAGoodSequence) {
+  const auto result = lom::test::runCli("validate " + quoted(seq()));
+  EXPECT_EQ(result.exit_code, 0) << result.out << result.err;
+  EXPECT_NE(result.out.find("OK: 3 frames valid"), std::string::npos) << result.out;
+}
+
+TEST_F(CliInfoTest, ValidateListsEveryProblemOfABrokenSequence) {
+  fs::remove(seq() / "frames/1.depth.png");
+  lom::writeLabelPng(seq() / "frames/2.label.png",
+                     {kWidth, kHeight, std::vector<std::uint16_t>(24, 7)});
+  lom::writeNpyFloat32(seq() / "frames/0.proba.npy", {kHeight, kWidth, 3},
+                       std::vector<float>(72, 0.1f));
+  const auto result = lom::test::runCli("validate " + quoted(seq()));
+  EXPECT_EQ(result.exit_code, 1);
+  const std::string all = result.out + result.err;
+  for (const std::string expected :
+       {"frames/1.depth.png: frames[1].depth: expected",
+        "frames/2.label.png: frames[2].label (label ids)",
+        "frames/0.proba.npy: frames[0].proba (channels)", "3 problems"})
+    EXPECT_NE(all.find(expected), std::string::npos) << expected << " missing in\n" << all;
+}
+
+TEST_F(CliInfoTest, ValidateReportsJsonLevelProblems) {
+  std::ofstream(seq() / "sequence.json") << R"({"format": "labeloctomap-sequence", "version": 7})";
+  const auto result = lom::test::runCli("validate " + quoted(seq()));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.out.find("sequence.json: version: expected 1"), std::string::npos) << result.out;
+}
+
+}  // namespace

@@ -1,0 +1,85 @@
+// labeloctomap synth, run as a separate process.
+#include <fstream>
+#include <iterator>
+
+#include "lom/annotations.hpp"
+#include "lom/sequence.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
+
+const char* const kSmall = " --seed 3 --objects 4 --frames 5 --views 3 --width 160 --height 120";
+
+TEST(CliSynthTest, WritesSequenceAndAnnotations) {
+  lom::test::TempDir dir;
+  const fs::path out = dir / "scene";
+  const auto result = lom::test::runCli("synth --out " + quoted(out) + kSmall);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_TRUE(fs::is_regular_file(out / "sequence.json"));
+  EXPECT_TRUE(fs::is_regular_file(out / "annotations.json"));
+  EXPECT_TRUE(fs::is_regular_file(out / "proba/000004.npy"));
+  EXPECT_NE(result.out.find("5 frames (3 views)"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("4 objects"), std::string::npos) << result.out;
+
+  const lom::Sequence sequence = lom::loadSequence(out);
+  EXPECT_EQ(sequence.frames.size(), 5u);
+  EXPECT_EQ(sequence.camera.width, 160);
+  const lom::Annotations annotations = lom::loadAnnotations(out / "annotations.json");
+  ASSERT_EQ(annotations.boxes.size(), 4u);
+  for (const auto& box : annotations.boxes)
+    EXPECT_NE(result.out.find(box.name), std::string::npos) << "output does not list " << box.name;
+}
+
+TEST(CliSynthTest, SameSeedTwiceGivesTheSameSequence) {
+  lom::test::TempDir dir;
+  ASSERT_EQ(lom::test::runCli("synth --out " + quoted(dir / "a") + kSmall).exit_code, 0);
+  ASSERT_EQ(lom::test::runCli("synth --out " + quoted(dir / "b") + kSmall).exit_code, 0);
+  auto slurp = [](const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_EQ(slurp(dir / "a/annotations.json"), slurp(dir / "b/annotations.json"));
+  EXPECT_EQ(slurp(dir / "a/depth/000002.png"), slurp(dir / "b/depth/000002.png"));
+}
+
+TEST(CliSynthTest, BadOptionValuesExitWithUsageErrorNamingTheOption) {
+  lom::test::TempDir dir;
+  const std::string out = " --out " + quoted(dir / "scene");
+  const std::pair<const char*, const char*> cases[] = {
+      {"--objects 0", "--objects"},  {"--objects 40", "--objects"}, {"--views 2", "--views"},
+      {"--frames 2", "--frames"},    {"--frames 4 --views 5", "--views"},
+      {"--width 8", "--width"},      {"--height 99999", "--height"},
+      {"--seed -1", "--seed"},       {"--seed abc", "--seed"},     {"--objects two", "--objects"},
+      {"--colour red", "--colour"},
+  };
+  for (const auto& [arguments, option] : cases) {
+    const auto result = lom::test::runCli(std::string("synth") + out + " " + arguments);
+    EXPECT_EQ(result.exit_code, 2) << arguments << "\n" << result.err;
+    EXPECT_NE(result.err.find(option), std::string::npos) << arguments << "\n" << result.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "scene"));
+}
+
+TEST(CliSynthTest, MissingOutIsAUsageError) {
+  const auto result = lom::test::runCli("synth --seed 3");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("--out"), std::string::npos) << result.err;
+}
+
+TEST(CliSynthTest, RefusesAForeignNonEmptyFolder) {
+  lom::test::TempDir dir;
+  {
+    std::ofstream(dir / "notes.txt") << "keep me";
+  }
+  const auto result = lom::test::runCli("synth --out " + quoted(dir.path()) + kSmall);
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find(dir.path().string()), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("synth.json"), std::string::npos) << result.err;
+  EXPECT_FALSE(fs::exists(dir / "sequence.json"));
+}
+
+}  // namespace

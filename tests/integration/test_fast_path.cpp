@@ -1,0 +1,144 @@
+// The fast integration path gives the same map as the reference path.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "lom/fusion.hpp"
+#include "lom/octree/label_octree.hpp"
+#include "lom/synth.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using lom::IntegrationPath;
+using lom::LabelMap;
+
+struct Comparison {
+  size_t checked = 0;
+  size_t mismatched_state = 0;   // known / occupied / label differ
+  double max_probability_difference = 0.0;
+};
+
+// Checks every leaf of `a` against the voxel at the same key in `b`.
+void compareLeaves(const LabelMap& a, const LabelMap& b, Comparison& result) {
+  for (auto it = a.tree().begin_leafs(), end = a.tree().end_leafs(); it != end; ++it) {
+    const octomap::OcTreeKey key = it.getIndexKey();
+    const lom::VoxelKey voxel{key[0], key[1], key[2]};
+    const lom::VoxelState sa = a.voxelAt(voxel);
+    const lom::VoxelState sb = b.voxelAt(voxel);
+    ++result.checked;
+    if (sa.known != sb.known || sa.occupied != sb.occupied ||
+        (sa.occupied && sa.label != sb.label)) {
+      ++result.mismatched_state;
+      continue;
+    }
+    for (size_t k = 0; k < sa.probabilities.size(); ++k)
+      result.max_probability_difference =
+          std::max(result.max_probability_difference,
+                   static_cast<double>(std::fabs(sa.probabilities[k] - sb.probabilities[k])));
+  }
+}
+
+void expectSameMaps(const LabelMap& reference, const LabelMap& fast) {
+  Comparison result;
+  compareLeaves(reference, fast, result);
+  compareLeaves(fast, reference, result);
+  EXPECT_GT(result.checked, 1000u);
+  EXPECT_EQ(result.mismatched_state, 0u);
+  EXPECT_LE(result.max_probability_difference, 1e-4);
+  EXPECT_EQ(reference.occupiedCountPerLabel(), fast.occupiedCountPerLabel());
+  EXPECT_EQ(reference.tree().size(), reference.tree().calcNumNodes());
+  EXPECT_EQ(fast.tree().size(), fast.tree().calcNumNodes());
+}
+
+TEST(FastPathTest, SameMapAsReferenceOnASyntheticScene) {
+  lom::test::TempDir dir;
+  lom::SynthOptions options;
+  options.seed = 21;
+  options.objects = 5;
+  options.frames = 4;
+  options.views = 3;
+  options.width = 320;
+  options.height = 240;
+  lom::writeSyntheticScene(options, dir.path());
+  const lom::Sequence sequence = lom::loadSequence(dir.path());
+
+  lom::FusionOptions fusion;
+  fusion.integration.path = IntegrationPath::Reference;
+  const LabelMap reference = lom::fuseSequence(sequence, fusion);
+  fusion.integration.path = IntegrationPath::Fast;
+  const LabelMap fast = lom::fuseSequence(sequence, fusion);
+  expectSameMaps(reference, fast);
+  // Candidates go through the general (dense) per-pixel evidence.
+  fusion.candidates = std::vector<int>{0, sequence.labels.size() - 1};
+  fusion.first_frame = 1;
+  fusion.last_frame = 3;
+  fusion.integration.path = IntegrationPath::Reference;
+  const LabelMap reference_candidates = lom::fuseSequence(sequence, fusion);
+  fusion.integration.path = IntegrationPath::Fast;
+  expectSameMaps(reference_candidates, lom::fuseSequence(sequence, fusion));
+}
+
+// Real recorded depth and poses, with probability images made up from colour.
+lom::ProbabilityImage madeUpProbabilities(const lom::ColorImage& color, int num_labels) {
+  lom::ProbabilityImage proba;
+  proba.width = color.width;
+  proba.height = color.height;
+  proba.channels = 4;
+  proba.channel_labels = {0, 3, 17, num_labels - 1};
+  proba.values.resize(static_cast<size_t>(color.width) * color.height * 4);
+  for (size_t i = 0; i < static_cast<size_t>(color.width) * color.height; ++i) {
+    const float r = color.rgb[3 * i] / 255.f, gch = color.rgb[3 * i + 1] / 255.f,
+                b = color.rgb[3 * i + 2] / 255.f;
+    const float scores[4] = {1.f, 4.f * r, 4.f * gch, 4.f * b};
+    float total = 0.f;
+    for (float s : scores) total += std::exp(s);
+    for (int c = 0; c < 4; ++c) proba.values[4 * i + static_cast<size_t>(c)] = std::exp(scores[c]) / total;
+  }
+  return proba;
+}
+
+Eigen::Isometry3d readPose(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  Eigen::Matrix4d m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) in >> m(r, c);
+  Eigen::Isometry3d pose;
+  pose.matrix() = m;
+  return pose;
+}
+
+TEST(FastPathTest, SameMapAsReferenceOnRecordedFrames) {
+  LOM_REQUIRE_SHARED_DATA("apc-box-realsense");
+  const auto folder = lom::test::sharedDataDir() / "apc-box-realsense";
+  lom::CameraIntrinsics camera;
+  camera.width = 640;
+  camera.height = 480;
+  camera.fx = camera.fy = 615.195;
+  camera.cx = 298.443;
+  camera.cy = 247.519;
+  const lom::LabelSet labels = lom::apc2016Labels();
+  lom::MapParameters parameters;
+  LabelMap reference(labels, parameters);
+  LabelMap fast(labels, parameters);
+  for (const char* frame : {"000015", "000031", "000061"}) {
+    const auto stem = folder / (std::string("frame-") + frame);
+    const lom::DepthImage depth = lom::readDepthImage(stem.string() + ".depth.png", 0.001);
+    const lom::ColorImage color = lom::readColorImage(stem.string() + ".color.png");
+    const lom::ProbabilityImage proba = madeUpProbabilities(color, labels.size());
+    const Eigen::Isometry3d pose = readPose(stem.string() + ".pose.txt");
+    const lom::FrameEvidence evidence(labels.size(), &proba, nullptr, std::nullopt, 0.9);
+    lom::IntegrationOptions options;
+    options.path = IntegrationPath::Reference;
+    const auto stats_reference = lom::integrateFrame(reference, camera, pose, depth, evidence, options);
+    options.path = IntegrationPath::Fast;
+    const auto stats_fast = lom::integrateFrame(fast, camera, pose, depth, evidence, options);
+    EXPECT_EQ(stats_reference.hit_voxels, stats_fast.hit_voxels);
+    EXPECT_EQ(stats_reference.miss_voxels, stats_fast.miss_voxels);
+    EXPECT_GT(stats_fast.hit_voxels, 1000u);
+  }
+  expectSameMaps(reference, fast);
+}
+
+}  // namespace

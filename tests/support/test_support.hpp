@@ -1,0 +1,53 @@
+#pragma once
+// Helpers shared by the test executables.
+#include <filesystem>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace lom::test {
+
+// A fresh, empty temporary folder removed when the object goes out of scope.
+class TempDir {
+ public:
+  TempDir() {
+    std::random_device rd;
+    path_ = std::filesystem::temp_directory_path() /
+            ("lom-test-" + std::to_string(rd()) + "-" + std::to_string(rd()));
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+  [[nodiscard]] std::filesystem::path operator/(const std::string& name) const {
+    return path_ / name;
+  }
+
+ private:
+  std::filesystem::path path_;
+};
+
+inline std::filesystem::path sharedDataDir() { return LOM_SHARED_DATA_DIR; }
+
+// Skips the current test with a message when ../shared/data/<name> is absent.
+#define LOM_REQUIRE_SHARED_DATA(name)                                                     \
+  do {                                                                                     \
+    if (!std::filesystem::exists(::lom::test::sharedDataDir() / (name)))                   \
+      GTEST_SKIP() << "recorded data " << (::lom::test::sharedDataDir() / (name))          \
+                   << " is absent; skipping";                                             \
+  } while (0)
+
+// Runs the labeloctomap CLI with `args`; returns the exit code, fills stdout/stderr.
+struct CliResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+CliResult runCli(const std::string& args);
+
+}  // namespace lom::test

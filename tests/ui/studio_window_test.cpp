@@ -1,0 +1,234 @@
+// The studio window end to end: open, navigate, 3D content, errors, screenshot.
+#include <gtest/gtest.h>
+
+#include <QAction>
+#include <QApplication>
+#include <QDragEnterEvent>
+#include <QDropEvent>
+#include <QMimeData>
+#include <QSlider>
+#include <QTest>
+#include <QUrl>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "lom/ui/frame_images_view.hpp"
+#include "lom/ui/image_pane.hpp"
+#include "lom/ui/label_legend.hpp"
+#include "lom/ui/main_window.hpp"
+#include "lom/ui/scene_view.hpp"
+#include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/window_capture.hpp"
+#include "test_support.hpp"
+#include "tiny_sequence.hpp"
+
+namespace lom::ui {
+namespace {
+
+struct ReportedError {
+  QString title;
+  QString message;
+};
+
+class StudioWindowTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    tiny_ = test::writeTinySequence(temp_ / "tiny_shelf");
+    window_.setErrorReporter([this](const QString& title, const QString& message) {
+      errors_.push_back({title, message});
+    });
+    window_.resize(1280, 800);
+    window_.show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(&window_));
+  }
+
+  bool openTiny() { return window_.controller().openSequence(qPath(tiny_.folder)); }
+  static QString qPath(const std::filesystem::path& path) {
+    return QString::fromStdString(path.string());
+  }
+  QAction* menuAction(const QString& text) {
+    for (QAction* action : window_.findChildren<QAction*>())
+      if (action->text().remove('&') == text) return action;
+    return nullptr;
+  }
+
+  test::TempDir temp_;
+  test::TinySequence tiny_;
+  MainWindow window_;
+  std::vector<ReportedError> errors_;
+};
+
+TEST_F(StudioWindowTest, StartsEmptyWithNavigationDisabled) {
+  EXPECT_FALSE(window_.controller().hasSequence());
+  EXPECT_EQ(window_.controller().currentFrame(), -1);
+  EXPECT_EQ(window_.statusText(), "No sequence open");
+  EXPECT_FALSE(window_.timeline().slider().isEnabled());
+  ASSERT_NE(menuAction("Next Frame"), nullptr);
+  EXPECT_FALSE(menuAction("Next Frame")->isEnabled());
+  EXPECT_EQ(window_.sceneView().framePointCount(), 0u);
+  window_.controller().stepFrames(1);  // harmless without a sequence
+  EXPECT_EQ(window_.controller().currentFrame(), -1);
+}
+
+TEST_F(StudioWindowTest, OpeningSetsTheTimelineAndStatus) {
+  ASSERT_TRUE(openTiny());
+  EXPECT_TRUE(errors_.empty());
+  const QSlider& slider = window_.timeline().slider();
+  EXPECT_EQ(slider.maximum() - slider.minimum() + 1, test::kTinyFrames);
+  EXPECT_EQ(slider.value(), 0);
+  EXPECT_EQ(window_.controller().currentFrame(), 0);
+  EXPECT_TRUE(window_.statusText().contains("tiny_shelf")) << window_.statusText().toStdString();
+  EXPECT_TRUE(window_.statusText().contains("frame 1 of 3")) << window_.statusText().toStdString();
+  EXPECT_TRUE(window_.windowTitle().contains("tiny_shelf"));
+}
+
+TEST_F(StudioWindowTest, StepsThroughFramesWithActionsAndSlider) {
+  ASSERT_TRUE(openTiny());
+  QAction* next = menuAction("Next Frame");
+  QAction* previous = menuAction("Previous Frame");
+  ASSERT_NE(next, nullptr);
+  ASSERT_NE(previous, nullptr);
+  EXPECT_FALSE(previous->isEnabled());
+
+  next->trigger();
+  EXPECT_EQ(window_.controller().currentFrame(), 1);
+  EXPECT_EQ(window_.timeline().slider().value(), 1);
+  EXPECT_TRUE(window_.statusText().contains("frame 2 of 3")) << window_.statusText().toStdString();
+  EXPECT_TRUE(previous->isEnabled());
+
+  window_.timeline().slider().setValue(2);
+  EXPECT_EQ(window_.controller().currentFrame(), 2);
+  EXPECT_TRUE(window_.statusText().contains("frame 3 of 3"));
+  EXPECT_FALSE(next->isEnabled());
+
+  window_.controller().stepFrames(+5);  // clamps at the last frame
+  EXPECT_EQ(window_.controller().currentFrame(), 2);
+  previous->trigger();
+  EXPECT_EQ(window_.controller().currentFrame(), 1);
+  EXPECT_TRUE(errors_.empty());
+}
+
+TEST_F(StudioWindowTest, SceneHasOnePointPerValidDepthPixel) {
+  ASSERT_TRUE(openTiny());
+  for (int frame = 0; frame < test::kTinyFrames; ++frame) {
+    window_.controller().setCurrentFrame(frame);
+    const size_t expected = test::countValidDepth(tiny_.depths[static_cast<size_t>(frame)]);
+    EXPECT_EQ(window_.sceneView().framePointCount(), expected) << "frame " << frame;
+  }
+  // The frames differ on purpose, so a stale cloud would be caught above.
+  EXPECT_NE(test::countValidDepth(tiny_.depths[0]), test::countValidDepth(tiny_.depths[2]));
+}
+
+TEST_F(StudioWindowTest, FramePanesShowColourDepthAndLabels) {
+  ASSERT_TRUE(openTiny());
+  const FrameImagesView& images = window_.frameImages();
+  EXPECT_EQ(images.colorPane().image().size(), QSize(test::kTinyWidth, test::kTinyHeight));
+  EXPECT_EQ(images.depthPane().image().size(), QSize(test::kTinyWidth, test::kTinyHeight));
+  const QImage& labels = images.labelPane().image();
+  ASSERT_EQ(labels.size(), QSize(test::kTinyWidth, test::kTinyHeight));
+  // Inside the square the label colour dominates the blend over the colour image.
+  const QColor inside = labels.pixelColor(80, 60);
+  EXPECT_GT(inside.red(), inside.green());
+  EXPECT_GT(inside.blue(), inside.green());
+
+  const auto& legend = images.labelLegend().entries();
+  ASSERT_EQ(legend.size(), 2u);
+  EXPECT_EQ(legend[0].name, "square_box");
+  EXPECT_EQ(legend[0].color, QColor(230, 60, 160));
+  EXPECT_EQ(legend[1].name, "blue_cup");
+}
+
+TEST_F(StudioWindowTest, BrokenSequenceIsReportedAndTheOpenOneKept) {
+  ASSERT_TRUE(openTiny());
+  window_.controller().setCurrentFrame(1);
+
+  const auto broken = temp_ / "broken";
+  std::filesystem::create_directories(broken);
+  std::ofstream(broken / "sequence.json") << R"({"format": "labeloctomap-sequence", "version": 1,
+    "camera": {"width": "wide"}, "frames": 7})";
+  EXPECT_FALSE(window_.controller().openSequence(qPath(broken)));
+  ASSERT_EQ(errors_.size(), 1u);
+  EXPECT_TRUE(errors_[0].message.contains("sequence.json")) << errors_[0].message.toStdString();
+
+  EXPECT_FALSE(window_.controller().openSequence(qPath(temp_ / "no_such_folder")));
+  ASSERT_EQ(errors_.size(), 2u);
+  EXPECT_TRUE(errors_[1].message.contains("no_such_folder")) << errors_[1].message.toStdString();
+
+  EXPECT_EQ(window_.controller().sequenceName(), "tiny_shelf");
+  EXPECT_EQ(window_.controller().currentFrame(), 1);
+  EXPECT_EQ(window_.timeline().slider().maximum(), test::kTinyFrames - 1);
+}
+
+TEST_F(StudioWindowTest, MissingFrameFileIsReportedOnceAndShowsNothing) {
+  std::filesystem::remove(tiny_.folder / "depth_1.png");
+  ASSERT_TRUE(openTiny());
+  window_.controller().setCurrentFrame(1);
+  ASSERT_EQ(errors_.size(), 1u);
+  EXPECT_TRUE(errors_[0].message.contains("depth_1.png")) << errors_[0].message.toStdString();
+  EXPECT_EQ(window_.controller().currentFrameData(), nullptr);
+  EXPECT_EQ(window_.sceneView().framePointCount(), 0u);
+
+  window_.controller().setCurrentFrame(0);
+  window_.controller().setCurrentFrame(1);
+  EXPECT_EQ(errors_.size(), 1u);
+}
+
+TEST_F(StudioWindowTest, RememberedAsRecentAndOpenedByDrop) {
+  ASSERT_TRUE(openTiny());
+  ASSERT_FALSE(window_.recentSequences().paths().isEmpty());
+  EXPECT_EQ(std::filesystem::path(window_.recentSequences().paths().front().toStdString()),
+            std::filesystem::absolute(tiny_.folder));
+
+  const auto other = test::writeTinySequence(temp_ / "dropped_shelf");
+  QMimeData mime;
+  mime.setUrls({QUrl::fromLocalFile(qPath(other.folder))});
+  QDragEnterEvent enter(QPoint(40, 40), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+  QApplication::sendEvent(&window_, &enter);
+  EXPECT_TRUE(enter.isAccepted());
+  QDropEvent drop(QPointF(40, 40), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+  QApplication::sendEvent(&window_, &drop);
+  EXPECT_EQ(window_.controller().sequenceName(), "dropped_shelf");
+  EXPECT_TRUE(errors_.empty());
+}
+
+bool isNear(QRgb pixel, const Rgb& color, int tolerance) {
+  return std::abs(qRed(pixel) - color[0]) <= tolerance &&
+         std::abs(qGreen(pixel) - color[1]) <= tolerance &&
+         std::abs(qBlue(pixel) - color[2]) <= tolerance;
+}
+
+TEST_F(StudioWindowTest, ScreenshotShowsTheLabelledCloud) {
+  ASSERT_TRUE(openTiny());
+  window_.controller().setCurrentFrame(1);
+  const QImage shot = captureWindow(window_, window_.sceneView());
+  ASSERT_FALSE(shot.isNull());
+  shot.save(LOM_UI_SCREENSHOT_PATH);
+  const auto temp_png = temp_ / "shot.png";
+  ASSERT_TRUE(shot.save(qPath(temp_png)));
+  const QImage reloaded(qPath(temp_png));
+  ASSERT_EQ(reloaded.size(), shot.size());
+
+  bool uniform = true;
+  for (int y = 0; y < shot.height() && uniform; y += 7)
+    for (int x = 0; x < shot.width() && uniform; x += 7)
+      uniform = shot.pixel(x, y) == shot.pixel(0, 0);
+  EXPECT_FALSE(uniform);
+
+  const QRect scene_area(window_.sceneView().mapTo(&window_, QPoint(0, 0)),
+                         window_.sceneView().size());
+  ASSERT_TRUE(shot.rect().contains(scene_area));
+  size_t label_pixels = 0, dark_pixels = 0;
+  for (int y = scene_area.top(); y <= scene_area.bottom(); ++y)
+    for (int x = scene_area.left(); x <= scene_area.right(); ++x) {
+      const QRgb pixel = shot.pixel(x, y);
+      if (isNear(pixel, test::kSquareColor, 12)) ++label_pixels;
+      if (qGray(pixel) < 8) ++dark_pixels;
+    }
+  const auto area = static_cast<size_t>(scene_area.width()) * scene_area.height();
+  EXPECT_GT(label_pixels, 200u) << "the labelled square is not visible in the 3D view";
+  EXPECT_LT(dark_pixels, area / 2) << "the 3D view is mostly black";
+}
+
+}  // namespace
+}  // namespace lom::ui

@@ -1,0 +1,100 @@
+// Euclidean clustering of voxels and oriented boxes fitted to them.
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "lom/box_fit.hpp"
+#include "lom/iou.hpp"
+
+namespace {
+
+constexpr double kEdge = 0.01;
+constexpr int kOrigin = 32768;
+
+lom::VoxelKey key(int i, int j, int k) {
+  return {static_cast<std::uint16_t>(kOrigin + i), static_cast<std::uint16_t>(kOrigin + j),
+          static_cast<std::uint16_t>(kOrigin + k)};
+}
+
+std::vector<lom::VoxelKey> block(int i0, int i1, int j0, int j1, int k0, int k1) {
+  std::vector<lom::VoxelKey> keys;
+  for (int i = i0; i < i1; ++i)
+    for (int j = j0; j < j1; ++j)
+      for (int k = k0; k < k1; ++k) keys.push_back(key(i, j, k));
+  return keys;
+}
+
+TEST(BoxFit, LargestClusterDropsOutliers) {
+  std::vector<lom::VoxelKey> keys = block(0, 3, 0, 3, 0, 3);  // 27 voxels
+  keys.push_back(key(20, 0, 0));
+  keys.push_back(key(21, 0, 0));
+  const auto cluster = lom::largestCluster(keys, 2.0);
+  EXPECT_EQ(cluster, block(0, 3, 0, 3, 0, 3));
+}
+
+TEST(BoxFit, ToleranceDecidesWhatIsConnected) {
+  // Two 2x2x2 blocks whose nearest centres are 3 voxels apart, and a larger third one far away.
+  std::vector<lom::VoxelKey> keys = block(0, 2, 0, 2, 0, 2);
+  const auto second = block(4, 6, 0, 2, 0, 2);
+  keys.insert(keys.end(), second.begin(), second.end());
+  const auto far = block(40, 43, 0, 2, 0, 2);  // 12 voxels
+  keys.insert(keys.end(), far.begin(), far.end());
+  EXPECT_EQ(lom::largestCluster(keys, 2.0).size(), 12u);
+  EXPECT_EQ(lom::largestCluster(keys, 3.0).size(), 16u);
+  // Diagonal neighbours (distance sqrt(3)) are connected at the smallest tolerance used.
+  EXPECT_EQ(lom::largestCluster({key(0, 0, 0), key(1, 1, 1), key(2, 2, 2)}, 2.0).size(), 3u);
+  EXPECT_TRUE(lom::largestCluster({}, 2.0).empty());
+}
+
+TEST(BoxFit, AxisAlignedBlockIsFittedExactly) {
+  lom::OrientedBox truth;  // voxels [0, 5) x [0, 3) x [0, 2)
+  truth.center = {0.025, 0.015, 0.01};
+  truth.size = {0.05, 0.03, 0.02};
+  const lom::OrientedBox fitted = lom::fitOrientedBox(block(0, 5, 0, 3, 0, 2), kEdge);
+  EXPECT_NEAR(lom::boxIoU(fitted, truth), 1.0, 1e-9);
+}
+
+TEST(BoxFit, RotatedObjectGetsARotatedBox) {
+  // Voxels whose centres lie in a long thin box turned 30 degrees about z.
+  lom::OrientedBox truth;
+  truth.center = {0.0, 0.0, 0.05};
+  truth.size = {0.40, 0.06, 0.10};
+  truth.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 6, Eigen::Vector3d::UnitZ()));
+  std::vector<lom::VoxelKey> keys;
+  for (int i = -30; i < 30; ++i)
+    for (int j = -30; j < 30; ++j)
+      for (int k = 0; k < 10; ++k)
+        if (truth.contains(lom::voxelCenter(key(i, j, k), kEdge))) keys.push_back(key(i, j, k));
+  ASSERT_GT(keys.size(), 1000u);
+  const lom::OrientedBox fitted = lom::fitOrientedBox(keys, kEdge);
+  // The box encloses the voxel cubes, so it reaches past the object by under a
+  // voxel on each side; the axis-aligned box of the same voxels is far worse.
+  lom::OrientedBox axis_aligned;
+  Eigen::Vector3d low = Eigen::Vector3d::Constant(1e9), high = Eigen::Vector3d::Constant(-1e9);
+  for (const auto& k : keys) {
+    low = low.cwiseMin(lom::voxelCenter(k, kEdge) - Eigen::Vector3d::Constant(kEdge / 2));
+    high = high.cwiseMax(lom::voxelCenter(k, kEdge) + Eigen::Vector3d::Constant(kEdge / 2));
+  }
+  axis_aligned.center = (low + high) / 2;
+  axis_aligned.size = high - low;
+  EXPECT_GT(lom::boxIoU(fitted, truth), 0.7);
+  EXPECT_LT(lom::boxIoU(axis_aligned, truth), 0.3);
+  EXPECT_LT(fitted.volume(), axis_aligned.volume());
+
+  int longest = 0;
+  fitted.size.maxCoeff(&longest);
+  const Eigen::Vector3d fitted_long = fitted.rotation * Eigen::Vector3d::Unit(longest);
+  EXPECT_GT(std::abs(fitted_long.dot(truth.rotation * Eigen::Vector3d::UnitX())), std::cos(3.0 * M_PI / 180.0));
+  // Every corner of every voxel is inside the fitted box.
+  for (const auto& k : keys)
+    for (int corner = 0; corner < 8; ++corner) {
+      const Eigen::Vector3d sign((corner & 1) ? 0.5 : -0.5, (corner & 2) ? 0.5 : -0.5, (corner & 4) ? 0.5 : -0.5);
+      ASSERT_TRUE(fitted.contains(lom::voxelCenter(k, kEdge) + kEdge * sign, 1e-12));
+    }
+}
+
+TEST(BoxFit, NoVoxelsIsAnError) {
+  EXPECT_THROW((void)lom::fitOrientedBox({}, kEdge), std::invalid_argument);
+}
+
+}  // namespace

@@ -1,0 +1,289 @@
+// Hand-computed log-odds for short hit/miss sequences (docs/fusion.md).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "lom/error.hpp"
+#include "lom/fusion.hpp"
+
+namespace {
+
+using lom::CameraIntrinsics;
+using lom::DepthImage;
+using lom::FrameEvidence;
+using lom::LabelMap;
+using lom::MapParameters;
+using lom::ProbabilityImage;
+
+double logitOf(double p) { return std::log(p / (1.0 - p)); }
+double probOf(double l) { return 1.0 - 1.0 / (1.0 + std::exp(l)); }
+
+lom::LabelSet threeLabels() {
+  return lom::LabelSet({{0, "__background__", {0, 0, 0}}, {1, "book", {128, 0, 0}},
+                        {2, "cup", {0, 128, 0}}});
+}
+
+// A camera of `width` x 1 pixels whose rays all go (almost exactly) along +z:
+// the huge focal length keeps every pixel in the voxel column of the origin.
+CameraIntrinsics pencilCamera(int width) {
+  CameraIntrinsics camera;
+  camera.width = width;
+  camera.height = 1;
+  camera.fx = camera.fy = 1e6;
+  camera.cx = (width - 1) / 2.0;
+  camera.cy = 0.0;
+  return camera;
+}
+
+// The origin sits at a voxel centre (x, y) so rays run along the voxel column.
+Eigen::Isometry3d poseAtVoxelCentre() {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(0.005, 0.005, 0.005);
+  return T;
+}
+
+struct Pixel {
+  float depth;
+  std::vector<float> proba;  // one value per label
+};
+
+// Which integration path the current test runs (every rule must hold for both).
+lom::IntegrationPath g_path = lom::IntegrationPath::Reference;
+
+class FusionRulesTest : public ::testing::TestWithParam<lom::IntegrationPath> {
+ protected:
+  void SetUp() override { g_path = GetParam(); }
+};
+
+lom::FrameStats integrate(LabelMap& map, const std::vector<Pixel>& pixels,
+                          const std::optional<std::vector<int>>& candidates = std::nullopt) {
+  const int width = static_cast<int>(pixels.size());
+  DepthImage depth{width, 1, {}};
+  ProbabilityImage proba;
+  proba.width = width;
+  proba.height = 1;
+  proba.channels = map.numLabels();
+  for (int k = 0; k < map.numLabels(); ++k) proba.channel_labels.push_back(k);
+  for (const auto& p : pixels) {
+    depth.metres.push_back(p.depth);
+    proba.values.insert(proba.values.end(), p.proba.begin(), p.proba.end());
+  }
+  FrameEvidence evidence(map.numLabels(), &proba, nullptr, candidates, 0.9);
+  lom::IntegrationOptions options;
+  options.path = g_path;
+  return lom::integrateFrame(map, pencilCamera(width), poseAtVoxelCentre(), depth, evidence, options);
+}
+
+// Centre of the voxel the pixel at depth d lands in (origin z = 0.005).
+Eigen::Vector3d at(double z) { return {0.005, 0.005, z}; }
+
+const double kMin = logitOf(0.12);
+const double kMax = logitOf(0.97);
+const double kMiss = logitOf(0.3);
+
+TEST_P(FusionRulesTest, OneHitGivesLogitOfEachLabelClampedBelow) {
+  LabelMap map(threeLabels());
+  integrate(map, {{0.5, {0.7f, 0.2f, 0.1f}}});
+  const auto state = map.voxelAt(at(0.505));
+  ASSERT_TRUE(state.known);
+  EXPECT_TRUE(state.occupied);
+  EXPECT_EQ(state.label, 0);
+  EXPECT_NEAR(state.probabilities[0], 0.7, 1e-6);
+  EXPECT_NEAR(state.probabilities[1], 0.2, 1e-6);
+  // logit(0.1) = -2.197 is below logit(0.12): clamped.
+  EXPECT_NEAR(state.probabilities[2], 0.12, 1e-6);
+}
+
+TEST_P(FusionRulesTest, TwoFramesAddLogOdds) {
+  LabelMap map(threeLabels());
+  integrate(map, {{0.5, {0.2f, 0.7f, 0.1f}}});
+  integrate(map, {{0.5, {0.3f, 0.6f, 0.1f}}});
+  const auto state = map.voxelAt(at(0.505));
+  EXPECT_EQ(state.label, 1);
+  EXPECT_NEAR(state.probabilities[1], probOf(logitOf(0.7) + logitOf(0.6)), 1e-6);
+  EXPECT_NEAR(state.probabilities[0], probOf(std::max(kMin, logitOf(0.2) + logitOf(0.3))), 1e-6);
+}
+
+TEST_P(FusionRulesTest, ClampsAtTheUpperBound) {
+  LabelMap map(threeLabels());
+  for (int i = 0; i < 3; ++i) integrate(map, {{0.5, {0.01f, 0.98f, 0.01f}}});
+  const auto state = map.voxelAt(at(0.505));
+  EXPECT_NEAR(state.probabilities[1], 0.97, 1e-6);
+  // Then one strongly contradicting view lowers it from the clamped value, not from 3 x logit(0.98).
+  integrate(map, {{0.5, {0.5f, 0.05f, 0.45f}}});
+  EXPECT_NEAR(map.voxelAt(at(0.505)).probabilities[1], probOf(kMax + logitOf(0.05)), 1e-6);
+}
+
+TEST_P(FusionRulesTest, MissesLowerEveryLabelUntilTheLowerClamp) {
+  LabelMap map(threeLabels());
+  integrate(map, {{0.5, {0.7f, 0.2f, 0.1f}}});
+  auto state = map.voxelAt(at(0.255));
+  ASSERT_TRUE(state.known);
+  EXPECT_FALSE(state.occupied);
+  for (float p : state.probabilities) EXPECT_NEAR(p, 0.3, 1e-6);
+  integrate(map, {{0.5, {0.7f, 0.2f, 0.1f}}});
+  state = map.voxelAt(at(0.255));
+  for (float p : state.probabilities) EXPECT_NEAR(p, probOf(2 * kMiss), 1e-6);
+  integrate(map, {{0.5, {0.7f, 0.2f, 0.1f}}});
+  state = map.voxelAt(at(0.255));
+  for (float p : state.probabilities) EXPECT_NEAR(p, 0.12, 1e-6);  // 3 x -0.847 < -1.992
+  // The voxel behind the hit was never observed.
+  EXPECT_FALSE(map.voxelAt(at(0.515)).known);
+}
+
+TEST_P(FusionRulesTest, AMissOnAnOccupiedVoxelLowersEveryLabel) {
+  LabelMap map(threeLabels());
+  integrate(map, {{0.5, {0.1f, 0.8f, 0.1f}}});
+  integrate(map, {{0.9, {1.f, 0.f, 0.f}}});  // the ray now passes through the earlier hit
+  const auto state = map.voxelAt(at(0.505));
+  EXPECT_NEAR(state.probabilities[1], probOf(logitOf(0.8) + kMiss), 1e-6);
+  EXPECT_NEAR(state.probabilities[0], probOf(std::max(kMin, kMin + kMiss)), 1e-6);
+}
+
+TEST_P(FusionRulesTest, ThresholdBoundaryCountsAsOccupied) {
+  LabelMap map(threeLabels());
+  integrate(map, {{0.5, {0.5f, 0.3f, 0.2f}}});
+  auto state = map.voxelAt(at(0.505));
+  EXPECT_NEAR(state.probabilities[0], 0.5, 1e-6);
+  EXPECT_TRUE(state.occupied);  // max_k p_k >= 0.5
+  map.setOccupancyThreshold(0.51);
+  EXPECT_FALSE(map.voxelAt(at(0.505)).occupied);
+  EXPECT_TRUE(map.occupiedCountPerLabel().empty());
+  map.setOccupancyThreshold(0.5);
+  EXPECT_EQ(map.occupiedCountPerLabel().at(0), 1u);
+}
+
+TEST_P(FusionRulesTest, TiesGoToTheLowerLabelId) {
+  LabelMap map(threeLabels());
+  integrate(map, {{0.5, {0.1f, 0.6f, 0.6f}}});
+  EXPECT_EQ(map.voxelAt(at(0.505)).label, 1);
+  LabelMap map2(threeLabels());
+  integrate(map2, {{0.5, {0.6f, 0.6f, 0.1f}}});
+  EXPECT_EQ(map2.voxelAt(at(0.505)).label, 0);
+}
+
+TEST_P(FusionRulesTest, SeveralPixelsInOneVoxelEachContribute) {
+  LabelMap map(threeLabels());
+  const auto stats = integrate(map, {{0.5, {0.1f, 0.7f, 0.2f}}, {0.501f, {0.1f, 0.7f, 0.2f}}});
+  EXPECT_EQ(stats.hit_voxels, 1u);
+  EXPECT_NEAR(map.voxelAt(at(0.505)).probabilities[1], probOf(2 * logitOf(0.7)), 1e-6);
+  EXPECT_NEAR(map.voxelAt(at(0.505)).probabilities[2], probOf(std::max(kMin, 2 * logitOf(0.2))),
+              1e-6);
+}
+
+TEST_P(FusionRulesTest, AVoxelHitInAFrameIsNotMissedInThatFrame) {
+  LabelMap map(threeLabels());
+  // The second pixel's ray passes through the voxel the first pixel hits.
+  const auto stats = integrate(map, {{0.5, {0.1f, 0.7f, 0.2f}}, {0.8, {0.1f, 0.2f, 0.7f}}});
+  EXPECT_EQ(stats.hit_voxels, 2u);
+  EXPECT_NEAR(map.voxelAt(at(0.505)).probabilities[1], 0.7, 1e-6);
+  EXPECT_NEAR(map.voxelAt(at(0.805)).probabilities[2], 0.7, 1e-6);
+  // A voxel crossed by both rays is missed once, not twice.
+  for (float p : map.voxelAt(at(0.305)).probabilities) EXPECT_NEAR(p, 0.3, 1e-6);
+}
+
+TEST_P(FusionRulesTest, BeyondMaxRangeOnlyMissesUpToMaxRange) {
+  MapParameters parameters;
+  parameters.max_range = 1.0;
+  LabelMap map(threeLabels(), parameters);
+  const auto stats = integrate(map, {{1.5, {0.1f, 0.8f, 0.1f}}});
+  EXPECT_EQ(stats.hit_voxels, 0u);
+  EXPECT_FALSE(map.voxelAt(at(1.505)).known);
+  EXPECT_NEAR(map.voxelAt(at(0.905)).probabilities[0], 0.3, 1e-6);
+  EXPECT_FALSE(map.voxelAt(at(1.205)).known);
+  // Unlimited range (<= 0) hits the far point.
+  parameters.max_range = 0.0;
+  LabelMap unlimited(threeLabels(), parameters);
+  integrate(unlimited, {{1.5, {0.1f, 0.8f, 0.1f}}});
+  EXPECT_EQ(unlimited.voxelAt(at(1.505)).label, 1);
+  EXPECT_TRUE(unlimited.voxelAt(at(1.505)).occupied);
+}
+
+TEST_P(FusionRulesTest, CandidatesZeroOtherLabelsAndRenormalise) {
+  LabelMap map(threeLabels());
+  integrate(map, {{0.5, {0.5f, 0.3f, 0.2f}}}, std::vector<int>{1, 2});
+  const auto state = map.voxelAt(at(0.505));
+  EXPECT_EQ(state.label, 1);
+  EXPECT_NEAR(state.probabilities[1], 0.6, 1e-6);
+  EXPECT_NEAR(state.probabilities[2], 0.4, 1e-6);
+  EXPECT_NEAR(state.probabilities[0], 0.12, 1e-6);
+}
+
+TEST_P(FusionRulesTest, CandidatesWithNoMassBecomeUniform) {
+  ProbabilityImage proba{1, 1, 3, {0, 1, 2}, {1.f, 0.f, 0.f}};
+  FrameEvidence evidence(3, &proba, nullptr, std::vector<int>{1, 2}, 0.9);
+  float p[3];
+  evidence.probabilities(0, 0, p);
+  EXPECT_FLOAT_EQ(p[0], 0.f);
+  EXPECT_FLOAT_EQ(p[1], 0.5f);
+  EXPECT_FLOAT_EQ(p[2], 0.5f);
+}
+
+TEST_P(FusionRulesTest, ZeroAndOneProbabilitiesGiveFiniteLogOdds) {
+  ProbabilityImage proba{1, 1, 3, {0, 1, 2}, {0.f, 1.f, 0.f}};
+  FrameEvidence evidence(3, &proba, nullptr, std::nullopt, 0.9);
+  float l[3];
+  evidence.logOdds(0, 0, l);
+  for (float v : l) EXPECT_TRUE(std::isfinite(v));
+  EXPECT_GT(l[1], 10.f);
+  EXPECT_LT(l[0], -10.f);
+}
+
+TEST_P(FusionRulesTest, LabelImageBecomesOneHotWithConfidence) {
+  lom::LabelImage label{2, 1, {2, 0}};
+  FrameEvidence evidence(3, nullptr, &label, std::nullopt, 0.9);
+  float p[3];
+  evidence.probabilities(0, 0, p);
+  EXPECT_FLOAT_EQ(p[2], 0.9f);
+  EXPECT_FLOAT_EQ(p[0], 0.05f);
+  EXPECT_FLOAT_EQ(p[1], 0.05f);
+  EXPECT_EQ(evidence.argmax(1, 0), 0);
+}
+
+TEST_P(FusionRulesTest, UnlistedChannelsHaveProbabilityZero) {
+  // Channels for labels 0 and 2 only: label 1 gets 0.
+  ProbabilityImage proba{1, 1, 2, {0, 2}, {0.25f, 0.75f}};
+  FrameEvidence evidence(3, &proba, nullptr, std::nullopt, 0.9);
+  float p[3];
+  evidence.probabilities(0, 0, p);
+  EXPECT_FLOAT_EQ(p[0], 0.25f);
+  EXPECT_FLOAT_EQ(p[1], 0.f);
+  EXPECT_FLOAT_EQ(p[2], 0.75f);
+}
+
+TEST_P(FusionRulesTest, RejectsBadParametersAndMismatchedInputs) {
+  MapParameters bad;
+  bad.p_miss = 1.0;
+  EXPECT_THROW(LabelMap(threeLabels(), bad), lom::Error);
+  bad = {};
+  bad.resolution = 0.0;
+  EXPECT_THROW(LabelMap(threeLabels(), bad), lom::Error);
+  bad = {};
+  bad.clamp_min = 0.9;
+  bad.clamp_max = 0.5;
+  EXPECT_THROW(LabelMap(threeLabels(), bad), lom::Error);
+
+  ProbabilityImage proba{1, 1, 3, {0, 1, 7}, {0.2f, 0.3f, 0.5f}};
+  try {
+    FrameEvidence evidence(3, &proba, nullptr, std::nullopt, 0.9);
+    FAIL() << "expected an error for label 7";
+  } catch (const lom::Error& e) {
+    EXPECT_EQ(e.problem().field, "proba_labels");
+    EXPECT_NE(std::string(e.what()).find("7"), std::string::npos);
+  }
+  ProbabilityImage ok{2, 1, 3, {0, 1, 2}, std::vector<float>(6, 0.3f)};
+  FrameEvidence evidence(3, &ok, nullptr, std::nullopt, 0.9);
+  LabelMap map(threeLabels());
+  DepthImage depth{3, 1, {0.5f, 0.5f, 0.5f}};
+  EXPECT_THROW(lom::integrateFrame(map, pencilCamera(3), poseAtVoxelCentre(), depth, evidence),
+               lom::Error);
+}
+
+INSTANTIATE_TEST_SUITE_P(BothPaths, FusionRulesTest,
+                         ::testing::Values(lom::IntegrationPath::Reference,
+                                           lom::IntegrationPath::Fast),
+                         [](const auto& info) {
+                           return info.param == lom::IntegrationPath::Fast ? "Fast" : "Reference";
+                         });
+
+}  // namespace

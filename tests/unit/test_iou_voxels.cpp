@@ -1,0 +1,128 @@
+// Voxel cubes against oriented boxes, and the IU_3d of voxel sets.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "lom/box_fit.hpp"
+#include "lom/evaluation.hpp"
+#include "lom/iou.hpp"
+
+namespace {
+
+using lom::OrientedBox;
+
+constexpr double kEdge = 0.01;
+
+OrientedBox tiltedBox() {
+  OrientedBox b;
+  b.center = {0.113, -0.047, 0.052};
+  b.size = {0.083, 0.051, 0.037};
+  b.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.6, Eigen::Vector3d(0.3, -0.5, 1.0).normalized()));
+  return b;
+}
+
+// Fraction of `samples` uniform points of the voxel inside the box, as a volume,
+// with its standard error.
+std::pair<double, double> monteCarloVolume(const OrientedBox& box, const Eigen::Vector3d& voxel_center,
+                                           int samples, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> offset(-0.5 * kEdge, 0.5 * kEdge);
+  int inside = 0;
+  for (int i = 0; i < samples; ++i)
+    inside += box.contains(voxel_center + Eigen::Vector3d(offset(rng), offset(rng), offset(rng)));
+  const double voxel = kEdge * kEdge * kEdge;
+  const double fraction = static_cast<double>(inside) / samples;
+  return {fraction * voxel, std::sqrt(fraction * (1 - fraction) / samples) * voxel};
+}
+
+TEST(IouVoxelVolume, PartialVoxelsAgreeWithMonteCarlo) {
+  const OrientedBox box = tiltedBox();
+  const lom::VoxelBoxIntersector intersector(box, kEdge);
+  const Eigen::Matrix3d axes = box.rotation.toRotationMatrix();
+  const Eigen::Vector3d half = 0.5 * box.size;
+  // Voxels centred on a box corner, on an edge and on a face: each is cut.
+  const std::vector<Eigen::Vector3d> centers = {
+      box.center + axes * half,
+      box.center + axes * Eigen::Vector3d(half.x(), -half.y(), 0.0),
+      box.center + axes * Eigen::Vector3d(0.0, 0.0, -half.z()) + Eigen::Vector3d(0.001, 0.002, 0.0),
+  };
+  unsigned seed = 1;
+  for (const auto& center : centers) {
+    const double exact = intersector.volume(center);
+    ASSERT_GT(exact, 0.0);
+    ASSERT_LT(exact, kEdge * kEdge * kEdge);
+    const auto [estimate, standard_error] = monteCarloVolume(box, center, 1000000, seed++);
+    // Five standard errors: a correct implementation fails with probability < 1e-6.
+    EXPECT_NEAR(exact, estimate, 5 * standard_error) << "voxel at " << center.transpose();
+  }
+}
+
+TEST(IouVoxelVolume, VoxelsTilingSpaceAddUpToTheBoxVolume) {
+  // Every voxel of a grid around the box: their exact shares must sum to the
+  // box's volume, whichever path (inside, outside, clipped) each one took.
+  const OrientedBox box = tiltedBox();
+  const lom::VoxelBoxIntersector intersector(box, kEdge);
+  double total = 0.0;
+  int clipped = 0;
+  for (int i = -10; i <= 30; ++i)
+    for (int j = -20; j <= 15; ++j)
+      for (int k = -10; k <= 20; ++k) {
+        const double v = intersector.volume(Eigen::Vector3d((i + 0.5) * kEdge, (j + 0.5) * kEdge, (k + 0.5) * kEdge));
+        total += v;
+        clipped += v > 0.0 && v < kEdge * kEdge * kEdge;
+      }
+  EXPECT_GT(clipped, 100);
+  EXPECT_NEAR(total, box.volume(), 1e-10 * box.volume());
+}
+
+TEST(IouVoxelVolume, FastPathsAndCentres) {
+  OrientedBox box;
+  box.center = {0, 0, 0};
+  box.size = {0.1, 0.1, 0.1};
+  const lom::VoxelBoxIntersector intersector(box, kEdge);
+  EXPECT_DOUBLE_EQ(intersector.volume({0.005, 0.005, 0.005}), kEdge * kEdge * kEdge);
+  EXPECT_DOUBLE_EQ(intersector.volume({0.5, 0.0, 0.0}), 0.0);
+  // Centred on a face: half inside.
+  EXPECT_NEAR(intersector.volume({0.05, 0.0, 0.0}), 0.5 * kEdge * kEdge * kEdge, 1e-18);
+  EXPECT_TRUE(intersector.centerInside({0.049, 0.0, 0.0}));
+  EXPECT_FALSE(intersector.centerInside({0.051, 0.0, 0.0}));
+}
+
+// Keys of the voxels with lower corner (i, j, k) * edge for i in [i0, i1) etc.
+std::vector<lom::VoxelKey> block(int i0, int i1, int j0, int j1, int k0, int k1) {
+  std::vector<lom::VoxelKey> keys;
+  for (int i = i0; i < i1; ++i)
+    for (int j = j0; j < j1; ++j)
+      for (int k = k0; k < k1; ++k)
+        keys.push_back({static_cast<std::uint16_t>(32768 + i), static_cast<std::uint16_t>(32768 + j),
+                        static_cast<std::uint16_t>(32768 + k)});
+  return keys;
+}
+
+TEST(IouVoxelSets, GridAlignedBoxes) {
+  OrientedBox box;  // exactly the voxels [0, 4) x [0, 2) x [0, 3)
+  box.center = {0.02, 0.01, 0.015};
+  box.size = {0.04, 0.02, 0.03};
+  for (lom::IouMode mode : {lom::IouMode::Exact, lom::IouMode::Center}) {
+    EXPECT_NEAR(lom::voxelIou(block(0, 4, 0, 2, 0, 3), kEdge, box, mode), 1.0, 1e-9);
+    // Half of the box predicted, nothing else: v_tp = v_pred = v_gt / 2.
+    EXPECT_NEAR(lom::voxelIou(block(0, 2, 0, 2, 0, 3), kEdge, box, mode), 0.5, 1e-9);
+    // The box and as much again outside it: IU = 1/2.
+    EXPECT_NEAR(lom::voxelIou(block(0, 8, 0, 2, 0, 3), kEdge, box, mode), 0.5, 1e-9);
+    EXPECT_EQ(lom::voxelIou({}, kEdge, box, mode), 0.0);
+  }
+}
+
+TEST(IouVoxelSets, ExactAndCentreModesDifferOnShiftedBoxes) {
+  OrientedBox box;  // shifted by a quarter voxel along x: voxels straddle its faces
+  box.center = {0.02 + 0.0025, 0.01, 0.015};
+  box.size = {0.04, 0.02, 0.03};
+  const auto voxels = block(0, 4, 0, 2, 0, 3);
+  // Exact: v_tp = 3.75/4 of the voxels; union = 4.25/4 -> 15/17.
+  EXPECT_NEAR(lom::voxelIou(voxels, kEdge, box, lom::IouMode::Exact), 15.0 / 17.0, 1e-9);
+  // Centres: all 24 centres are inside, so the IU is v_pred / v_gt = 1.
+  EXPECT_NEAR(lom::voxelIou(voxels, kEdge, box, lom::IouMode::Center), 1.0, 1e-9);
+}
+
+}  // namespace

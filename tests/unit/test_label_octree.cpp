@@ -1,0 +1,232 @@
+// The label octree as an OctoMap tree: storage, pruning, invariants, files.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <memory>
+
+#include <octomap/OcTree.h>
+
+#include "lom/error.hpp"
+#include "lom/label_map.hpp"
+#include "lom/octree/label_octree.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using lom::LabelMap;
+using lom::LabelOcTree;
+using lom::LabelOcTreeNode;
+
+lom::LabelSet labels(int n) {
+  std::vector<lom::LabelInfo> list;
+  for (int i = 0; i < n; ++i) list.push_back({i, "label" + std::to_string(i), lom::vocColor(i)});
+  return lom::LabelSet(list);
+}
+
+octomap::OcTreeKey keyAt(const LabelOcTree& tree, double x, double y, double z) {
+  return tree.coordToKey(octomap::point3d(static_cast<float>(x), static_cast<float>(y),
+                                          static_cast<float>(z)));
+}
+
+// A small map with occupied voxels of several labels and free space around them.
+LabelMap sampleMap() {
+  LabelMap map(labels(4));
+  LabelOcTree& tree = map.tree();
+  std::vector<octomap::OcTreeKey> touched;
+  for (int i = 0; i < 20; ++i) {
+    const float update[4] = {-1.f, i % 3 == 0 ? 2.f : -0.5f, i % 3 == 1 ? 1.5f : -2.f, 0.25f * i};
+    const auto key = keyAt(tree, 0.01 * i, 0.02, 0.3);
+    tree.applyHit(key, update);
+    touched.push_back(key);
+    for (int j = 0; j < 10; ++j) {
+      const auto miss = keyAt(tree, 0.01 * i, 0.02, 0.01 * j);
+      tree.applyMiss(miss);
+      touched.push_back(miss);
+    }
+  }
+  tree.refreshAncestors(touched);
+  return map;
+}
+
+TEST(LabelOcTreeTest, MissedOnlyVoxelsStoreNoLabelArray) {
+  LabelMap map(labels(40));
+  LabelOcTree& tree = map.tree();
+  const auto key = keyAt(tree, 0.1, 0.1, 0.1);
+  tree.applyMiss(key);
+  tree.refreshAncestors({key});
+  const LabelOcTreeNode* node = tree.search(key);
+  ASSERT_NE(node, nullptr);
+  EXPECT_TRUE(node->isUniform());
+  EXPECT_EQ(node->labelBytes(), 0u);
+  EXPECT_EQ(tree.labelArrayBytes(), 0u);
+  std::vector<float> hit(40, -3.f);
+  hit[7] = 2.f;
+  tree.applyHit(key, hit.data());
+  EXPECT_FALSE(tree.search(key)->isUniform());
+  EXPECT_EQ(tree.search(key)->argmaxLabel(40), 7);
+}
+
+TEST(LabelOcTreeTest, BecomesUniformAgainWhenAllLabelsClampToTheSameValue) {
+  LabelMap map(labels(3));
+  LabelOcTree& tree = map.tree();
+  const auto key = keyAt(tree, 0.2, 0.2, 0.2);
+  const float hit[3] = {-0.5f, 0.4f, -1.f};
+  tree.applyHit(key, hit);
+  EXPECT_FALSE(tree.search(key)->isUniform());
+  for (int i = 0; i < 10; ++i) tree.applyMiss(key);
+  EXPECT_TRUE(tree.search(key)->isUniform());
+  EXPECT_FLOAT_EQ(tree.search(key)->getLogOdds(), tree.clampMinLogOdds());
+}
+
+TEST(LabelOcTreeTest, InnerNodesCarryThePerLabelMaximumOfTheirChildren) {
+  LabelMap map(labels(3));
+  LabelOcTree& tree = map.tree();
+  const auto a = keyAt(tree, 0.005, 0.005, 0.005);
+  const auto b = keyAt(tree, 0.015, 0.005, 0.005);  // sibling of a
+  const float hit_a[3] = {1.f, -1.f, 0.5f};
+  const float hit_b[3] = {-1.f, 2.f, 0.25f};
+  tree.applyHit(a, hit_a);
+  tree.applyHit(b, hit_b);
+  tree.refreshAncestors({a, b});
+  const LabelOcTreeNode* parent = tree.search(a, tree.getTreeDepth() - 1);
+  ASSERT_NE(parent, nullptr);
+  EXPECT_FLOAT_EQ(parent->labelLogOdds(0), 1.f);
+  EXPECT_FLOAT_EQ(parent->labelLogOdds(1), 2.f);
+  EXPECT_FLOAT_EQ(parent->labelLogOdds(2), 0.5f);
+  EXPECT_FLOAT_EQ(parent->getLogOdds(), 2.f);
+  EXPECT_FLOAT_EQ(tree.getRoot()->getLogOdds(), 2.f);
+}
+
+TEST(LabelOcTreeTest, PrunesOnlyIdenticalChildren) {
+  LabelMap map(labels(3));
+  LabelOcTree& tree = map.tree();
+  std::vector<octomap::OcTreeKey> keys;
+  for (int i = 0; i < 8; ++i)
+    keys.push_back(keyAt(tree, 0.005 + 0.01 * (i & 1), 0.005 + 0.01 * ((i >> 1) & 1),
+                         0.005 + 0.01 * ((i >> 2) & 1)));
+  for (const auto& key : keys) tree.applyMiss(key);
+  tree.refreshAncestors(keys);
+  EXPECT_EQ(tree.size(), tree.calcNumNodes());
+  // Eight identical free children collapse into their parent.
+  EXPECT_EQ(tree.getNumLeafNodes(), 1u);
+  EXPECT_EQ(tree.search(keys[3])->getLogOdds(), tree.missLogOdds());
+  // A hit on one of them expands the parent again with the other seven unchanged.
+  const float hit[3] = {0.f, 1.f, 0.f};
+  tree.applyHit(keys[3], hit);
+  tree.refreshAncestors({keys[3]});
+  EXPECT_EQ(tree.getNumLeafNodes(), 8u);
+  EXPECT_EQ(tree.search(keys[0])->getLogOdds(), tree.missLogOdds());
+  EXPECT_EQ(tree.search(keys[3])->argmaxLabel(3), 1);
+  EXPECT_EQ(tree.size(), tree.calcNumNodes());
+}
+
+TEST(LabelOcTreeTest, SizeMatchesNodeCountAfterPruning) {
+  LabelMap map = sampleMap();
+  map.prune();
+  EXPECT_EQ(map.tree().size(), map.tree().calcNumNodes());
+  EXPECT_GT(map.numLeaves(), 0u);
+}
+
+void expectSameTrees(const LabelMap& a, const LabelMap& b) {
+  ASSERT_EQ(a.numNodes(), b.numNodes());
+  EXPECT_EQ(a.labels(), b.labels());
+  EXPECT_EQ(a.parameters().resolution, b.parameters().resolution);
+  EXPECT_EQ(a.parameters().p_miss, b.parameters().p_miss);
+  EXPECT_EQ(a.parameters().max_range, b.parameters().max_range);
+  auto ia = a.tree().begin_tree(), ib = b.tree().begin_tree();
+  for (; ia != a.tree().end_tree(); ++ia, ++ib) {
+    ASSERT_TRUE(ib != b.tree().end_tree());
+    EXPECT_EQ(ia.getKey(), ib.getKey());
+    EXPECT_EQ(ia.getDepth(), ib.getDepth());
+    EXPECT_TRUE(*ia == *ib);
+  }
+}
+
+TEST(LabelOcTreeTest, SaveAndLoadGiveTheSameMap) {
+  lom::test::TempDir dir;
+  LabelMap map = sampleMap();
+  map.save(dir / "map.ot");
+  const LabelMap loaded = LabelMap::load(dir / "map.ot");
+  expectSameTrees(map, loaded);
+  EXPECT_EQ(loaded.occupiedCountPerLabel(), map.occupiedCountPerLabel());
+}
+
+TEST(LabelOcTreeTest, OctomapsFactoryReadsTheFile) {
+  lom::test::TempDir dir;
+  LabelMap map = sampleMap();
+  map.save(dir / "map.ot");
+  std::unique_ptr<octomap::AbstractOcTree> tree(octomap::AbstractOcTree::read((dir / "map.ot").string()));
+  ASSERT_NE(tree, nullptr);
+  auto* label_tree = dynamic_cast<LabelOcTree*>(tree.get());
+  ASSERT_NE(label_tree, nullptr);
+  EXPECT_EQ(label_tree->numLabels(), 4);
+  EXPECT_EQ(label_tree->size(), map.numNodes());
+}
+
+TEST(LabelOcTreeTest, AnEmptyMapRoundTripsWithItsLabels) {
+  lom::test::TempDir dir;
+  LabelMap map(labels(5));
+  map.save(dir / "empty.ot");
+  const LabelMap loaded = LabelMap::load(dir / "empty.ot");
+  EXPECT_EQ(loaded.numNodes(), 0u);
+  EXPECT_EQ(loaded.labels(), map.labels());
+  EXPECT_FALSE(loaded.bounds().has_value());
+}
+
+TEST(LabelOcTreeTest, LoadingAnotherTreeTypeNamesTheType) {
+  lom::test::TempDir dir;
+  octomap::OcTree plain(0.05);
+  plain.updateNode(octomap::point3d(0.1f, 0.1f, 0.1f), true);
+  ASSERT_TRUE(plain.write((dir / "plain.ot").string()));
+  try {
+    (void)LabelMap::load(dir / "plain.ot");
+    FAIL() << "expected an error";
+  } catch (const lom::Error& e) {
+    EXPECT_EQ(e.problem().field, "id");
+    EXPECT_NE(std::string(e.what()).find("OcTree"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("plain.ot"), std::string::npos);
+  }
+}
+
+TEST(LabelOcTreeTest, LoadingATruncatedOrForeignFileFails) {
+  lom::test::TempDir dir;
+  sampleMap().save(dir / "map.ot");
+  const auto full = std::filesystem::file_size(dir / "map.ot");
+  std::filesystem::copy_file(dir / "map.ot", dir / "cut.ot");
+  std::filesystem::resize_file(dir / "cut.ot", full - 40);
+  EXPECT_THROW((void)LabelMap::load(dir / "cut.ot"), lom::Error);
+  std::ofstream(dir / "text.ot") << "hello\n";
+  EXPECT_THROW((void)LabelMap::load(dir / "text.ot"), lom::Error);
+  EXPECT_THROW((void)LabelMap::load(dir / "missing.ot"), lom::Error);
+}
+
+TEST(LabelOcTreeTest, SavingToAnUnwritablePlaceFailsWithoutLeavingFiles) {
+  lom::test::TempDir dir;
+  EXPECT_THROW(sampleMap().save(dir / "no-such-folder" / "map.ot"), lom::Error);
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+TEST(LabelOcTreeTest, VoxelsOfLabelExpandPrunedLeaves) {
+  LabelMap map(labels(2));
+  LabelOcTree& tree = map.tree();
+  std::vector<octomap::OcTreeKey> keys;
+  const float hit[2] = {-1.f, 1.f};
+  for (int i = 0; i < 8; ++i) {
+    keys.push_back(keyAt(tree, 0.005 + 0.01 * (i & 1), 0.005 + 0.01 * ((i >> 1) & 1),
+                         0.005 + 0.01 * ((i >> 2) & 1)));
+    tree.applyHit(keys.back(), hit);
+  }
+  tree.refreshAncestors(keys);
+  EXPECT_EQ(tree.getNumLeafNodes(), 1u);  // pruned
+  EXPECT_EQ(map.voxelsOfLabel(1).size(), 8u);
+  EXPECT_EQ(map.occupiedCountPerLabel().at(1), 8u);
+  size_t visited = 0;
+  map.forEachOccupied([&](const lom::OccupiedVoxel& v) {
+    ++visited;
+    EXPECT_NEAR(v.size, 0.02, 1e-9);
+    EXPECT_EQ(v.label, 1);
+  });
+  EXPECT_EQ(visited, 1u);
+}
+
+}  // namespace

@@ -1,0 +1,559 @@
+// sequence.json parsing, writing and validation, and the frame image files.
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "lom/npy.hpp"
+#include "lom/sequence.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+constexpr int kWidth = 8;
+constexpr int kHeight = 6;
+
+lom::LabelSet threeLabels() {
+  return lom::LabelSet({{0, "__background__", {0, 0, 0}},
+                        {1, "red_mug", {200, 10, 10}},
+                        {2, "blue_book", {10, 10, 200}}});
+}
+
+lom::CameraIntrinsics smallCamera() {
+  lom::CameraIntrinsics camera;
+  camera.width = kWidth;
+  camera.height = kHeight;
+  camera.fx = 10.5;
+  camera.fy = 11.25;
+  camera.cx = 3.5;
+  camera.cy = 2.5;
+  camera.depth_scale = 0.001;
+  return camera;
+}
+
+Eigen::Isometry3d poseOf(size_t i) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = (Eigen::AngleAxisd(0.3 * static_cast<double>(i) + 0.1, Eigen::Vector3d::UnitZ()) *
+                   Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()))
+                      .toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(0.1 * static_cast<double>(i), -0.2, 1.0 / 3.0);
+  return pose;
+}
+
+// Two frames of 8 x 6 pixels: depth PNG, 2-channel proba for labels {0, 2},
+// label PNG and colour PNG, all consistent with smallCamera().
+lom::Sequence writeSmallSequence(const fs::path& root, size_t frames = 2) {
+  for (const char* folder : {"depth", "proba", "label", "color"})
+    fs::create_directories(root / folder);
+  lom::Sequence sequence;
+  sequence.root = root;
+  sequence.labels = threeLabels();
+  sequence.camera = smallCamera();
+  for (size_t i = 0; i < frames; ++i) {
+    const std::string stem = std::to_string(i);
+    lom::FrameRecord frame;
+    frame.stamp = 0.5 * static_cast<double>(i);
+    frame.T_world_camera = poseOf(i);
+    frame.depth = "depth/" + stem + ".png";
+    frame.proba = "proba/" + stem + ".npy";
+    frame.proba_labels = {0, 2};
+    frame.label = "label/" + stem + ".png";
+    frame.color = "color/" + stem + ".png";
+
+    lom::DepthImage depth{kWidth, kHeight, {}};
+    lom::LabelImage label{kWidth, kHeight, {}};
+    lom::ColorImage color{kWidth, kHeight, {}};
+    std::vector<float> proba;
+    for (int v = 0; v < kHeight; ++v)
+      for (int u = 0; u < kWidth; ++u) {
+        depth.metres.push_back(0.5f + 0.001f * static_cast<float>(u + v));
+        label.ids.push_back(static_cast<std::uint16_t>((u + v) % 3));
+        color.rgb.insert(color.rgb.end(), {static_cast<std::uint8_t>(u * 10),
+                                           static_cast<std::uint8_t>(v * 10), 200});
+        const float p = static_cast<float>(u) / (kWidth - 1);
+        proba.insert(proba.end(), {1.0f - p, p});
+      }
+    lom::writeDepthPng(root / frame.depth, depth, 0.001);
+    lom::writeLabelPng(root / frame.label, label);
+    lom::writeColorPng(root / frame.color, color);
+    lom::writeNpyFloat32(root / frame.proba, {kHeight, kWidth, 2}, proba);
+    sequence.frames.push_back(frame);
+  }
+  lom::saveSequence(sequence, root);
+  return sequence;
+}
+
+Json readJson(const fs::path& path) {
+  std::ifstream in(path);
+  return Json::parse(in);
+}
+
+void writeJson(const fs::path& path, const Json& json) {
+  std::ofstream out(path);
+  out << json.dump(2);
+}
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+lom::Problem loadError(const fs::path& folder) {
+  try {
+    (void)lom::loadSequence(folder);
+  } catch (const lom::Error& e) {
+    return e.problem();
+  }
+  ADD_FAILURE() << "loadSequence accepted " << folder;
+  return {};
+}
+
+// Applies `edit` to the sequence.json of a fresh small sequence and returns
+// the error loadSequence reports.
+class SequenceTest : public ::testing::Test {
+ protected:
+  lom::test::TempDir dir;
+  fs::path json() const { return dir.path() / "sequence.json"; }
+  lom::Problem errorAfterEdit(const std::function<void(Json&)>& edit) {
+    writeSmallSequence(dir.path());
+    Json j = readJson(json());
+    edit(j);
+    writeJson(json(), j);
+    return loadError(dir.path());
+  }
+};
+
+TEST_F(SequenceTest, RoundTripKeepsEveryFieldAndPosesExactly) {
+  lom::Sequence original = writeSmallSequence(dir.path(), 3);
+  original.frame_id = "shelf";
+  original.frames[1].view = false;
+  original.frames[2].proba_labels.clear();
+  original.frames[2].proba.clear();
+  lom::CameraIntrinsics other = smallCamera();
+  other.fx = 612.3456789012345;
+  other.depth_scale = 0.0001;
+  original.frames[1].camera = other;
+  lom::saveSequence(original, dir.path());
+
+  const lom::Sequence loaded = lom::loadSequence(dir.path());
+  EXPECT_EQ(loaded.root, fs::absolute(dir.path()).lexically_normal());
+  EXPECT_EQ(loaded.frame_id, "shelf");
+  EXPECT_TRUE(loaded.labels == threeLabels());
+  EXPECT_EQ(loaded.camera, smallCamera());
+  ASSERT_EQ(loaded.frames.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    const auto& a = original.frames[i];
+    const auto& b = loaded.frames[i];
+    EXPECT_EQ(b.stamp, a.stamp);
+    EXPECT_LE((b.T_world_camera.matrix() - a.T_world_camera.matrix()).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_EQ(b.depth, a.depth);
+    EXPECT_EQ(b.color, a.color);
+    EXPECT_EQ(b.proba, a.proba);
+    EXPECT_EQ(b.proba_labels, a.proba_labels);
+    EXPECT_EQ(b.label, a.label);
+    EXPECT_EQ(b.view, a.view);
+    EXPECT_EQ(b.camera.has_value(), a.camera.has_value());
+  }
+  ASSERT_TRUE(loaded.frames[1].camera);
+  EXPECT_EQ(*loaded.frames[1].camera, other);
+  EXPECT_EQ(loaded.cameraOf(1).fx, 612.3456789012345);
+  EXPECT_EQ(loaded.cameraOf(0), smallCamera());
+
+  // Saving what was loaded reproduces the file byte for byte.
+  const std::string first = slurp(json());
+  lom::saveSequence(loaded, dir.path());
+  EXPECT_EQ(slurp(json()), first);
+}
+
+TEST_F(SequenceTest, AcceptsTheJsonPathAndAppliesDefaults) {
+  writeSmallSequence(dir.path());
+  Json j = readJson(json());
+  j.erase("labels");
+  j.erase("frame_id");
+  j["camera"].erase("depth_scale");
+  j["frames"][0].erase("stamp");
+  j["frames"][1].erase("stamp");
+  j["frames"][1].erase("view");
+  j["frames"][1]["camera"] = {{"fx", 500.0}};
+  j["frames"][0].erase("proba_labels");
+  writeJson(json(), j);
+
+  const lom::Sequence loaded = lom::loadSequence(json());
+  EXPECT_EQ(loaded.labels.size(), 40);
+  EXPECT_EQ(loaded.labels.at(19).name, "i_am_a_bunny_book");
+  EXPECT_EQ(loaded.frame_id, "world");
+  EXPECT_EQ(loaded.camera.depth_scale, 0.001);
+  EXPECT_EQ(loaded.frames[0].stamp, 0.0);
+  EXPECT_EQ(loaded.frames[1].stamp, 1.0);
+  EXPECT_TRUE(loaded.frames[1].view);
+  EXPECT_TRUE(loaded.frames[0].proba_labels.empty());
+  ASSERT_TRUE(loaded.frames[1].camera);
+  EXPECT_EQ(loaded.frames[1].camera->fx, 500.0);
+  EXPECT_EQ(loaded.frames[1].camera->width, kWidth);
+  EXPECT_EQ(loaded.frames[1].camera->cy, smallCamera().cy);
+}
+
+TEST_F(SequenceTest, SortsLabelsListedOutOfOrder) {
+  writeSmallSequence(dir.path());
+  Json j = readJson(json());
+  std::swap(j["labels"][0], j["labels"][2]);
+  j["labels"][1].erase("color");
+  writeJson(json(), j);
+  const lom::Sequence loaded = lom::loadSequence(dir.path());
+  ASSERT_EQ(loaded.labels.size(), 3);
+  EXPECT_EQ(loaded.labels.at(0).name, "__background__");
+  EXPECT_EQ(loaded.labels.at(2).name, "blue_book");
+  EXPECT_EQ(loaded.labels.at(1).color, lom::vocColor(1));
+}
+
+TEST_F(SequenceTest, RejectsDuplicateAndMissingLabelIds) {
+  auto duplicate = errorAfterEdit([](Json& j) { j["labels"][2]["id"] = 1; });
+  EXPECT_EQ(duplicate.file, json().string());
+  EXPECT_EQ(duplicate.field, "labels[2].id");
+  EXPECT_NE(duplicate.found.find("also labels[1].id"), std::string::npos) << duplicate.message();
+
+  auto gap = errorAfterEdit([](Json& j) { j["labels"][2]["id"] = 5; });
+  EXPECT_EQ(gap.field, "labels[2].id");
+  EXPECT_NE(gap.expected.find("0 to 2"), std::string::npos) << gap.message();
+}
+
+TEST_F(SequenceTest, RejectsBadJsonNamingTheFile) {
+  writeSmallSequence(dir.path());
+  std::ofstream(json()) << "{\"format\": \"labeloctomap-sequence\",\n \"version\": 1,, }";
+  const auto problem = loadError(dir.path());
+  EXPECT_EQ(problem.file, json().string());
+  EXPECT_EQ(problem.expected, "valid JSON");
+  EXPECT_NE(problem.found.find("line 2"), std::string::npos) << problem.message();
+}
+
+TEST_F(SequenceTest, RejectsUnknownFormatAndVersion) {
+  auto format = errorAfterEdit([](Json& j) { j["format"] = "something-else"; });
+  EXPECT_EQ(format.file, json().string());
+  EXPECT_EQ(format.field, "format");
+  EXPECT_NE(format.found.find("something-else"), std::string::npos);
+  EXPECT_NE(format.expected.find("labeloctomap-sequence"), std::string::npos);
+
+  auto version = errorAfterEdit([](Json& j) { j["version"] = 2; });
+  EXPECT_EQ(version.field, "version");
+  EXPECT_NE(version.found.find("2"), std::string::npos);
+}
+
+TEST_F(SequenceTest, RejectsNonRigidPoseNamingTheFrame) {
+  auto scaled = errorAfterEdit([](Json& j) { j["frames"][1]["pose"][0] = 2.0; });
+  EXPECT_EQ(scaled.file, json().string());
+  EXPECT_EQ(scaled.field, "frames[1].pose");
+  EXPECT_EQ(scaled.expected, "a rigid transform (orthonormal rotation, det +1, last row 0 0 0 1)");
+  EXPECT_NE(scaled.found.find("det(R)"), std::string::npos) << scaled.message();
+
+  auto mirrored = errorAfterEdit(
+      [](Json& j) { j["frames"][0]["pose"] = {-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}; });
+  EXPECT_EQ(mirrored.field, "frames[0].pose");
+  EXPECT_NE(mirrored.found.find("det(R) = -1"), std::string::npos) << mirrored.message();
+
+  auto last_row = errorAfterEdit([](Json& j) { j["frames"][0]["pose"][12] = 0.5; });
+  EXPECT_NE(last_row.found.find("last row [0.5 0 0 1]"), std::string::npos) << last_row.message();
+
+  auto short_pose = errorAfterEdit([](Json& j) { j["frames"][0]["pose"].erase(3); });
+  EXPECT_EQ(short_pose.field, "frames[0].pose");
+  EXPECT_NE(short_pose.found.find("15 elements"), std::string::npos);
+}
+
+TEST_F(SequenceTest, ReorthonormalisesSlightlyNoisyRotations) {
+  writeSmallSequence(dir.path());
+  Json j = readJson(json());
+  j["frames"][0]["pose"] = {1.00002, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  writeJson(json(), j);
+  const auto rotation = lom::loadSequence(dir.path()).frames[0].T_world_camera.linear();
+  EXPECT_LE((rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(),
+            1e-12);
+  EXPECT_NEAR(rotation.determinant(), 1.0, 1e-12);
+}
+
+TEST_F(SequenceTest, RejectsUnknownLabelIdInProbaLabels) {
+  auto problem = errorAfterEdit([](Json& j) { j["frames"][1]["proba_labels"] = {0, 2, 7}; });
+  EXPECT_EQ(problem.file, json().string());
+  EXPECT_EQ(problem.field, "frames[1].proba_labels[2]");
+  EXPECT_NE(problem.found.find("7"), std::string::npos);
+  EXPECT_NE(problem.expected.find("0 to 2"), std::string::npos) << problem.message();
+}
+
+TEST_F(SequenceTest, RejectsMissingDepthAndWrongFieldTypes) {
+  auto depth = errorAfterEdit([](Json& j) { j["frames"][0].erase("depth"); });
+  EXPECT_EQ(depth.file, json().string());
+  EXPECT_EQ(depth.field, "frames[0].depth");
+  EXPECT_NE(depth.found.find("missing"), std::string::npos);
+
+  auto fx = errorAfterEdit([](Json& j) { j["camera"]["fx"] = "615"; });
+  EXPECT_EQ(fx.field, "camera.fx");
+  EXPECT_EQ(fx.expected, "a number");
+  EXPECT_NE(fx.found.find("string"), std::string::npos);
+
+  auto width = errorAfterEdit([](Json& j) { j["frames"][1]["camera"] = {{"width", 6.5}}; });
+  EXPECT_EQ(width.field, "frames[1].camera.width");
+
+  auto view = errorAfterEdit([](Json& j) { j["frames"][0]["view"] = "yes"; });
+  EXPECT_EQ(view.field, "frames[0].view");
+
+  auto typo = errorAfterEdit([](Json& j) { j["frames"][0]["veiw"] = false; });
+  EXPECT_EQ(typo.field, "frames[0].veiw");
+  EXPECT_NE(typo.expected.find("view"), std::string::npos);
+}
+
+TEST_F(SequenceTest, ReportsAMissingSequenceJson) {
+  const auto problem = loadError(dir.path());
+  EXPECT_EQ(problem.file, (fs::absolute(dir.path()) / "sequence.json").lexically_normal().string());
+  EXPECT_EQ(problem.found, "no such file");
+}
+
+class SequenceValidationTest : public SequenceTest {
+ protected:
+  lom::Sequence sequence;
+  void SetUp() override { sequence = lom::loadSequence(writeSmallSequence(dir.path()).root); }
+  std::vector<lom::Problem> problems() const { return lom::validateSequence(sequence); }
+  static const lom::Problem* findField(const std::vector<lom::Problem>& list,
+                                       const std::string& field) {
+    for (const auto& p : list)
+      if (p.field.rfind(field, 0) == 0) return &p;
+    return nullptr;
+  }
+};
+
+TEST_F(SequenceValidationTest, AcceptsAConsistentSequence) {
+  const auto list = problems();
+  EXPECT_TRUE(list.empty()) << list.front().message();
+}
+
+TEST_F(SequenceValidationTest, ReportsAMissingFile) {
+  fs::remove(dir / "depth/1.png");
+  const auto list = problems();
+  ASSERT_EQ(list.size(), 1u);
+  EXPECT_EQ(list[0].file, (sequence.root / "depth/1.png").string());
+  EXPECT_EQ(list[0].field, "frames[1].depth");
+  EXPECT_EQ(list[0].found, "no such file");
+}
+
+TEST_F(SequenceValidationTest, ReportsAWrongImageSize) {
+  lom::LabelImage small{4, 3, std::vector<std::uint16_t>(12, 1)};
+  lom::writeLabelPng(dir / "label/0.png", small);
+  const auto list = problems();
+  ASSERT_EQ(list.size(), 1u);
+  EXPECT_EQ(list[0].file, (sequence.root / "label/0.png").string());
+  EXPECT_EQ(list[0].field, "frames[0].label (image size)");
+  EXPECT_NE(list[0].expected.find("8 x 6"), std::string::npos);
+  EXPECT_EQ(list[0].found, "4 x 3");
+}
+
+TEST_F(SequenceValidationTest, ReportsAWrongBitDepth) {
+  // An 8-bit PNG where a 16-bit depth PNG belongs, and a 16-bit one as colour.
+  lom::writeLabelPng(dir / "depth/0.png", {kWidth, kHeight, std::vector<std::uint16_t>(48, 3)});
+  lom::writeDepthPng(dir / "color/1.png", {kWidth, kHeight, std::vector<float>(48, 1.0f)}, 0.001);
+  const auto list = problems();
+  ASSERT_EQ(list.size(), 2u);
+  EXPECT_EQ(list[0].file, (sequence.root / "depth/0.png").string());
+  EXPECT_EQ(list[0].field, "frames[0].depth (bit depth)");
+  EXPECT_NE(list[0].expected.find("16-bit"), std::string::npos);
+  EXPECT_NE(list[0].found.find("8-bit"), std::string::npos);
+  EXPECT_EQ(list[1].file, (sequence.root / "color/1.png").string());
+  EXPECT_EQ(list[1].field, "frames[1].color (bit depth)");
+  EXPECT_NE(list[1].found.find("16-bit"), std::string::npos);
+}
+
+TEST_F(SequenceValidationTest, ReportsAWrongChannelCount) {
+  lom::writeNpyFloat32(dir / "proba/1.npy", {kHeight, kWidth, 3}, std::vector<float>(144, 0.25f));
+  const auto list = problems();
+  ASSERT_EQ(list.size(), 1u);
+  EXPECT_EQ(list[0].file, (sequence.root / "proba/1.npy").string());
+  EXPECT_EQ(list[0].field, "frames[1].proba (channels)");
+  EXPECT_NE(list[0].expected.find("2 channels"), std::string::npos);
+  EXPECT_NE(list[0].found.find("3 channels"), std::string::npos);
+}
+
+TEST_F(SequenceValidationTest, ReportsAnUnsupportedProbaDtype) {
+  std::string bytes = slurp(dir / "proba/0.npy");
+  bytes.replace(bytes.find("'<f4'"), 5, "'<i8'");
+  std::ofstream(dir / "proba/0.npy", std::ios::binary) << bytes;
+  const auto list = problems();
+  ASSERT_EQ(list.size(), 1u);
+  EXPECT_EQ(list[0].field, "frames[0].proba (dtype)");
+  EXPECT_NE(list[0].found.find("int64"), std::string::npos) << list[0].message();
+}
+
+TEST_F(SequenceValidationTest, ReportsUnknownLabelIdsInALabelPng) {
+  std::vector<std::uint16_t> ids(48, 1);
+  ids[2 * kWidth + 5] = 9;
+  lom::writeLabelPng(dir / "label/1.png", {kWidth, kHeight, ids});
+  const auto list = problems();
+  ASSERT_EQ(list.size(), 1u);
+  EXPECT_EQ(list[0].file, (sequence.root / "label/1.png").string());
+  EXPECT_EQ(list[0].field, "frames[1].label (label ids)");
+  EXPECT_NE(list[0].found.find("id 9 at pixel (u=5, v=2)"), std::string::npos) << list[0].message();
+}
+
+TEST_F(SequenceValidationTest, ReportsAFrameWithoutLabelsAndEveryOtherProblemAtOnce) {
+  sequence.frames[0].proba.clear();
+  sequence.frames[0].proba_labels.clear();
+  sequence.frames[0].label.clear();
+  fs::remove(dir / "color/1.png");
+  fs::remove(dir / "proba/1.npy");
+  const auto list = problems();
+  ASSERT_EQ(list.size(), 3u);
+  const auto* neither = findField(list, "frames[0]");
+  ASSERT_NE(neither, nullptr);
+  EXPECT_EQ(neither->file, (sequence.root / "sequence.json").string());
+  EXPECT_EQ(neither->found, "neither");
+  EXPECT_NE(findField(list, "frames[1].color"), nullptr);
+  EXPECT_NE(findField(list, "frames[1].proba"), nullptr);
+}
+
+TEST_F(SequenceValidationTest, LoadFrameReturnsTheImagesAndThrowsOnProblems) {
+  const lom::FrameData frame = lom::loadFrame(sequence, 1);
+  EXPECT_EQ(frame.depth.width, kWidth);
+  EXPECT_FLOAT_EQ(frame.depth.at(3, 2), 0.505f);
+  ASSERT_TRUE(frame.proba && frame.label && frame.color);
+  EXPECT_EQ(frame.proba->channel_labels, (std::vector<int>{0, 2}));
+  EXPECT_FLOAT_EQ(frame.proba->pixel(kWidth - 1, 4)[1], 1.0f);
+  EXPECT_EQ(frame.label->at(4, 1), 2);
+  EXPECT_EQ(frame.color->rgb[3 * (2 * kWidth + 3) + 0], 30);
+  EXPECT_EQ(frame.color->rgb[3 * (2 * kWidth + 3) + 1], 20);
+  EXPECT_EQ(frame.color->rgb[3 * (2 * kWidth + 3) + 2], 200);
+
+  fs::remove(dir / "proba/1.npy");
+  try {
+    (void)lom::loadFrame(sequence, 1);
+    ADD_FAILURE() << "loadFrame accepted a missing proba file";
+  } catch (const lom::Error& e) {
+    EXPECT_EQ(e.problem().field, "frames[1].proba");
+    EXPECT_EQ(e.problem().file, (sequence.root / "proba/1.npy").string());
+  }
+  EXPECT_THROW((void)lom::loadFrame(sequence, 2), lom::Error);
+}
+
+// A minimal PNG encoder (stored, uncompressed deflate blocks) so that the
+// image readers are checked against files not written by OpenCV.
+std::uint32_t crc32(const std::string& bytes) {
+  std::uint32_t crc = 0xffffffffu;
+  for (unsigned char byte : bytes) {
+    crc ^= byte;
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+  }
+  return ~crc;
+}
+
+std::string bigEndian32(std::uint32_t value) {
+  return {static_cast<char>(value >> 24), static_cast<char>(value >> 16),
+          static_cast<char>(value >> 8), static_cast<char>(value)};
+}
+
+std::string pngChunk(const std::string& type, const std::string& data) {
+  return bigEndian32(static_cast<std::uint32_t>(data.size())) + type + data +
+         bigEndian32(crc32(type + data));
+}
+
+// `rows` holds the raw samples of each row (big-endian for 16-bit).
+void writeRawPng(const fs::path& path, int width, int height, int bit_depth, int color_type,
+                 const std::vector<std::string>& rows) {
+  std::string scanlines;
+  for (const auto& row : rows) scanlines += '\0' + row;  // filter type 0 per row
+  std::string zlib = "\x78\x01";
+  for (size_t start = 0; start < scanlines.size() || start == 0; start += 65535) {
+    const std::string block = scanlines.substr(start, 65535);
+    const bool last = start + 65535 >= scanlines.size();
+    const auto length = static_cast<std::uint16_t>(block.size());
+    zlib += static_cast<char>(last ? 1 : 0);
+    zlib += {static_cast<char>(length & 0xff), static_cast<char>(length >> 8),
+             static_cast<char>(~length & 0xff), static_cast<char>((~length >> 8) & 0xff)};
+    zlib += block;
+  }
+  std::uint32_t a = 1, b = 0;
+  for (unsigned char byte : scanlines) {
+    a = (a + byte) % 65521;
+    b = (b + a) % 65521;
+  }
+  zlib += bigEndian32((b << 16) | a);
+  const std::string header =
+      bigEndian32(static_cast<std::uint32_t>(width)) +
+      bigEndian32(static_cast<std::uint32_t>(height)) +
+      std::string{static_cast<char>(bit_depth), static_cast<char>(color_type), 0, 0, 0};
+  std::ofstream out(path, std::ios::binary);
+  out << "\x89PNG\r\n\x1a\n"
+      << pngChunk("IHDR", header) << pngChunk("IDAT", zlib) << pngChunk("IEND", "");
+}
+
+TEST(SequenceImagesTest, ReadsIndependentlyEncodedPngs) {
+  lom::test::TempDir dir;
+  // Two RGB pixels, red-ish then blue-ish: the reader must not swap to BGR.
+  writeRawPng(dir / "color.png", 2, 1, 8, 2, {std::string("\xff\x0a\x00\x01\x02\xfe", 6)});
+  const auto color = lom::readColorImage(dir / "color.png");
+  EXPECT_EQ(color.rgb, (std::vector<std::uint8_t>{255, 10, 0, 1, 2, 254}));
+
+  // 16-bit grey, big-endian samples 1234 and 65535 in millimetres.
+  writeRawPng(dir / "depth.png", 2, 1, 16, 0, {std::string("\x04\xd2\xff\xff", 4)});
+  const auto depth = lom::readDepthImage(dir / "depth.png", 0.001);
+  ASSERT_EQ(depth.metres.size(), 2u);
+  EXPECT_EQ(depth.metres[0], static_cast<float>(1234 * 0.001));
+  EXPECT_EQ(depth.metres[1], static_cast<float>(65535 * 0.001));
+
+  writeRawPng(dir / "label.png", 3, 1, 16, 0, {std::string("\x00\x00\x01\x2c\x00\x13", 6)});
+  EXPECT_EQ(lom::readLabelImage(dir / "label.png").ids, (std::vector<std::uint16_t>{0, 300, 19}));
+}
+
+TEST(SequenceImagesTest, DepthPngRoundTripIsExactInDepthScaleUnits) {
+  lom::test::TempDir dir;
+  for (double scale : {0.001, 0.0001, 0.005}) {
+    lom::DepthImage depth{7, 5, {}};
+    std::vector<int> units;
+    for (int i = 0; i < 35; ++i) {
+      units.push_back(i == 3 ? 0 : 1 + i * 1871);
+      depth.metres.push_back(static_cast<float>(units.back() * scale));
+    }
+    depth.metres[4] = std::nanf("");  // no measurement
+    units[4] = 0;
+    lom::writeDepthPng(dir / "depth.png", depth, scale);
+    const auto read = lom::readDepthImage(dir / "depth.png", scale);
+    ASSERT_EQ(read.width, 7);
+    ASSERT_EQ(read.height, 5);
+    for (int i = 0; i < 35; ++i)
+      EXPECT_EQ(read.metres[static_cast<size_t>(i)],
+                static_cast<float>(units[static_cast<size_t>(i)] * scale))
+          << "pixel " << i << " scale " << scale;
+  }
+}
+
+TEST(SequenceImagesTest, DepthPngWriterRejectsDepthsBeyondSixteenBits) {
+  lom::test::TempDir dir;
+  lom::DepthImage depth{1, 1, {70.0f}};
+  EXPECT_THROW(lom::writeDepthPng(dir / "depth.png", depth, 0.001), lom::Error);
+  EXPECT_FALSE(fs::exists(dir / "depth.png"));
+}
+
+TEST(SequenceImagesTest, DepthNpyInMetresTurnsInvalidValuesIntoZero) {
+  lom::test::TempDir dir;
+  lom::writeNpyFloat32(dir / "depth.npy", {2, 2},
+                       {1.25f, std::nanf(""), -3.0f, std::numeric_limits<float>::infinity()});
+  const auto depth = lom::readDepthImage(dir / "depth.npy", 0.001);
+  EXPECT_EQ(depth.width, 2);
+  EXPECT_EQ(depth.metres, (std::vector<float>{1.25f, 0.0f, 0.0f, 0.0f}));
+}
+
+TEST(SequenceImagesTest, ReadsRecordedRealSenseDepth) {
+  LOM_REQUIRE_SHARED_DATA("apc-box-realsense");
+  const auto depth = lom::readDepthImage(
+      lom::test::sharedDataDir() / "apc-box-realsense/frame-000015.depth.png", 0.001);
+  EXPECT_EQ(depth.width, 640);
+  EXPECT_EQ(depth.height, 480);
+  size_t valid = 0, plausible = 0;
+  for (float z : depth.metres) {
+    if (z <= 0.0f) continue;
+    ++valid;
+    if (z >= 0.1f && z <= 5.0f) ++plausible;
+  }
+  EXPECT_GT(valid, depth.metres.size() / 10);
+  // A few flying pixels at object edges are tolerated.
+  EXPECT_GE(static_cast<double>(plausible), 0.99 * static_cast<double>(valid));
+}
+
+}  // namespace

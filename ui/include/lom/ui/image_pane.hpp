@@ -1,0 +1,32 @@
+#pragma once
+#include <QImage>
+#include <QString>
+#include <QWidget>
+
+namespace lom::ui {
+
+// One captioned 2D image, scaled to fit while keeping its aspect ratio.
+class ImagePane : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit ImagePane(const QString& caption, QWidget* parent = nullptr);
+
+  void setImage(const QImage& image);
+  // Shown instead of an image, e.g. "no colour image in this frame".
+  void setPlaceholder(const QString& text);
+  [[nodiscard]] const QImage& image() const { return image_; }
+
+  [[nodiscard]] QSize sizeHint() const override { return {320, 260}; }
+  [[nodiscard]] bool hasHeightForWidth() const override { return false; }
+
+ protected:
+  void paintEvent(QPaintEvent* event) override;
+
+ private:
+  QString caption_;
+  QString placeholder_;
+  QImage image_;
+};
+
+}  // namespace lom::ui

@@ -1,0 +1,67 @@
+#pragma once
+// Owns the loaded sequence and the current frame; every view follows it
+// through its signals.
+#include <QObject>
+#include <QString>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <set>
+
+#include "lom/sequence.hpp"
+
+namespace lom::ui {
+
+class SequenceController : public QObject {
+  Q_OBJECT
+
+ public:
+  explicit SequenceController(QObject* parent = nullptr);
+  ~SequenceController() override;
+
+  // Loads `folder/sequence.json` (or the json itself) and goes to frame 0.
+  // On failure emits errorOccurred with the core's message (which names the
+  // file and field), keeps the previous sequence and returns false.
+  bool openSequence(const QString& folder_or_json);
+
+  [[nodiscard]] bool hasSequence() const { return sequence_ != nullptr; }
+  [[nodiscard]] const Sequence& sequence() const { return *sequence_; }  // needs hasSequence()
+  [[nodiscard]] QString sequencePath() const { return sequence_path_; }
+  [[nodiscard]] QString sequenceName() const;
+  [[nodiscard]] int frameCount() const;
+  [[nodiscard]] int currentFrame() const { return current_frame_; }  // -1 without a sequence
+
+  // Null when the current frame's files could not be read.
+  [[nodiscard]] const FrameData* currentFrameData() const {
+    return frame_data_ ? &*frame_data_ : nullptr;
+  }
+  [[nodiscard]] const std::optional<LabelImage>& currentLabels() const { return frame_labels_; }
+
+  // Nothing can be edited yet; the close and open paths already ask this.
+  [[nodiscard]] bool hasUnsavedWork() const { return false; }
+  // Asked before another sequence replaces one with unsaved work; false cancels.
+  void setDiscardGuard(std::function<bool()> guard) { discard_guard_ = std::move(guard); }
+
+ public slots:
+  void setCurrentFrame(int index);  // clamped to the sequence
+  void stepFrames(int delta);
+
+ signals:
+  void sequenceChanged();
+  void currentFrameChanged(int index);
+  void errorOccurred(const QString& title, const QString& message);
+
+ private:
+  void loadCurrentFrame();
+
+  std::function<bool()> discard_guard_;
+  std::unique_ptr<Sequence> sequence_;
+  QString sequence_path_;
+  int current_frame_ = -1;
+  std::optional<FrameData> frame_data_;
+  std::optional<LabelImage> frame_labels_;
+  // A broken frame is reported once, not on every pass of the slider.
+  std::set<int> reported_broken_frames_;
+};
+
+}  // namespace lom::ui

@@ -1,0 +1,38 @@
+#pragma once
+// Frame navigation under the views: step buttons, a slider and the frame number.
+#include <QWidget>
+
+class QAction;
+class QLabel;
+class QSlider;
+class QSpinBox;
+
+namespace lom::ui {
+
+class TimelineWidget : public QWidget {
+  Q_OBJECT
+
+ public:
+  struct StepActions {
+    QAction* first;
+    QAction* previous;
+    QAction* next;
+    QAction* last;
+  };
+
+  explicit TimelineWidget(const StepActions& actions, QWidget* parent = nullptr);
+
+  void setFrameCount(int count);  // 0 disables the timeline
+  void setCurrentFrame(int index);
+  [[nodiscard]] QSlider& slider() { return *slider_; }
+
+ signals:
+  void frameRequested(int index);
+
+ private:
+  QSlider* slider_;
+  QSpinBox* frame_number_;  // 1-based, as people count frames
+  QLabel* frame_count_;
+};
+
+}  // namespace lom::ui

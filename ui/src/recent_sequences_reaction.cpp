@@ -1,0 +1,41 @@
+#include "lom/ui/recent_sequences_reaction.hpp"
+
+#include <QAction>
+#include <QDir>
+#include <QFileInfo>
+#include <QMenu>
+
+#include "lom/ui/recent_sequences.hpp"
+#include "lom/ui/sequence_controller.hpp"
+
+namespace lom::ui {
+
+RecentSequencesReaction::RecentSequencesReaction(QMenu* menu, RecentSequences& recent,
+                                                 SequenceController& controller)
+    : QObject(menu), menu_(menu), recent_(recent), controller_(controller) {
+  connect(menu_, &QMenu::aboutToShow, this, &RecentSequencesReaction::rebuildMenu);
+  connect(&controller_, &SequenceController::sequenceChanged, this,
+          [this] { recent_.add(controller_.sequencePath()); });
+}
+
+void RecentSequencesReaction::rebuildMenu() {
+  menu_->clear();
+  const QStringList paths = recent_.paths();
+  if (paths.isEmpty()) {
+    menu_->addAction(tr("(none)"))->setEnabled(false);
+    return;
+  }
+  int number = 1;
+  for (const QString& path : paths) {
+    const QFileInfo info(path);
+    const QString name = info.isDir() || !info.exists() ? info.fileName() : info.dir().dirName();
+    QAction* entry = menu_->addAction(
+        tr("&%1 %2  (%3)").arg(number++).arg(name, QDir::toNativeSeparators(path)));
+    connect(entry, &QAction::triggered, this, [this, path] { controller_.openSequence(path); });
+  }
+  menu_->addSeparator();
+  connect(menu_->addAction(tr("Clear Recent")), &QAction::triggered, this,
+          [this] { recent_.clear(); });
+}
+
+}  // namespace lom::ui

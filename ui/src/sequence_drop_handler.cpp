@@ -1,0 +1,48 @@
+#include "lom/ui/sequence_drop_handler.hpp"
+
+#include <QDragEnterEvent>
+#include <QDropEvent>
+#include <QFileInfo>
+#include <QMimeData>
+#include <QUrl>
+#include <QWidget>
+
+#include "lom/ui/sequence_controller.hpp"
+
+namespace lom::ui {
+
+SequenceDropHandler::SequenceDropHandler(QWidget* target, SequenceController& controller)
+    : QObject(target), controller_(controller) {
+  target->setAcceptDrops(true);
+  target->installEventFilter(this);
+}
+
+QString SequenceDropHandler::droppedSequencePath(const QMimeData* mime) {
+  if (!mime || !mime->hasUrls()) return {};
+  for (const QUrl& url : mime->urls()) {
+    if (!url.isLocalFile()) continue;
+    const QFileInfo info(url.toLocalFile());
+    if (info.isDir() || info.suffix().compare("json", Qt::CaseInsensitive) == 0)
+      return info.absoluteFilePath();
+  }
+  return {};
+}
+
+bool SequenceDropHandler::eventFilter(QObject* watched, QEvent* event) {
+  if (event->type() == QEvent::DragEnter) {
+    auto* drag = static_cast<QDragEnterEvent*>(event);
+    if (!droppedSequencePath(drag->mimeData()).isEmpty()) drag->acceptProposedAction();
+    return true;
+  }
+  if (event->type() == QEvent::Drop) {
+    auto* drop = static_cast<QDropEvent*>(event);
+    const QString path = droppedSequencePath(drop->mimeData());
+    if (path.isEmpty()) return false;
+    drop->acceptProposedAction();
+    controller_.openSequence(path);
+    return true;
+  }
+  return QObject::eventFilter(watched, event);
+}
+
+}  // namespace lom::ui
