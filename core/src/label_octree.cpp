@@ -15,191 +15,237 @@ double probabilityFromLogOdds(double log_odds) { return 1.0 - 1.0 / (1.0 + std::
 // ---------------------------------------------------------------------------
 // LabelOcTreeNode
 
+// Header of a leaf's label block; followed by `count` label ids (uint8,
+// padded to 4 bytes) and their `count` values. Labels not listed have `base`.
+struct LabelOcTreeNode::SparseLabels {
+  std::uint16_t num_labels;
+  std::uint16_t count;
+  float base;
+
+  static size_t bytesFor(unsigned count) { return sizeof(SparseLabels) + ((count + 3u) & ~3u) + 4u * count; }
+  [[nodiscard]] size_t bytes() const { return bytesFor(count); }
+  std::uint8_t* ids() { return reinterpret_cast<std::uint8_t*>(this + 1); }
+  [[nodiscard]] const std::uint8_t* ids() const { return reinterpret_cast<const std::uint8_t*>(this + 1); }
+  float* values() { return reinterpret_cast<float*>(ids() + ((count + 3u) & ~3u)); }
+  [[nodiscard]] const float* values() const {
+    return reinterpret_cast<const float*>(ids() + ((count + 3u) & ~3u));
+  }
+
+  static SparseLabels* allocate(unsigned num_labels, unsigned count) {
+    void* memory = ::operator new(bytesFor(count));
+    std::memset(memory, 0, bytesFor(count));  // padding too: blocks are compared bytewise
+    auto* block = static_cast<SparseLabels*>(memory);
+    block->num_labels = static_cast<std::uint16_t>(num_labels);
+    block->count = static_cast<std::uint16_t>(count);
+    return block;
+  }
+  void decode(float* out) const {
+    std::fill(out, out + num_labels, base);
+    for (unsigned i = 0; i < count; ++i) out[ids()[i]] = values()[i];
+  }
+};
+
 namespace {
 
-std::uint32_t storedCount(const float* labels) {
-  std::uint32_t count;
-  std::memcpy(&count, labels, sizeof(count));
-  return count;
-}
-
-float* allocateLabels(std::uint32_t count) {
-  auto* labels = new float[count + 1];
-  std::memcpy(labels, &count, sizeof(count));
-  return labels;
-}
+constexpr int kMaxLabels = 256;
 
 }  // namespace
+
+const LabelOcTreeNode::SparseLabels* LabelOcTreeNode::block() const {
+  return (data_ != 0 && !isSummary()) ? reinterpret_cast<const SparseLabels*>(data_) : nullptr;
+}
+
+void LabelOcTreeNode::release() {
+  if (const SparseLabels* b = block()) ::operator delete(const_cast<SparseLabels*>(b));
+  data_ = 0;
+}
 
 LabelOcTreeNode::LabelOcTreeNode(const LabelOcTreeNode& rhs) : octomap::OcTreeNode() {
   copyData(rhs);
 }
 
-LabelOcTreeNode::~LabelOcTreeNode() { releaseLabels(); }
-
-void LabelOcTreeNode::releaseLabels() {
-  delete[] labels_;
-  labels_ = nullptr;
-}
+LabelOcTreeNode::~LabelOcTreeNode() { release(); }
 
 bool LabelOcTreeNode::operator==(const LabelOcTreeNode& rhs) const {
-  if (value != rhs.value || isUniform() != rhs.isUniform()) return false;
-  if (isUniform()) return true;
-  const std::uint32_t count = storedCount(labels_);
-  return count == storedCount(rhs.labels_) &&
-         std::memcmp(labels_ + 1, rhs.labels_ + 1, count * sizeof(float)) == 0;
+  if (value != rhs.value) return false;
+  const SparseLabels* a = block();
+  const SparseLabels* b = rhs.block();
+  if (!a || !b) return a == b && data_ == rhs.data_;
+  return a->bytes() == b->bytes() && std::memcmp(a, b, a->bytes()) == 0;
 }
 
 void LabelOcTreeNode::copyData(const LabelOcTreeNode& from) {
   if (this == &from) return;
+  release();
   value = from.value;
-  if (from.isUniform()) {
-    releaseLabels();
-    return;
+  if (const SparseLabels* b = from.block()) {
+    void* copy = ::operator new(b->bytes());
+    std::memcpy(copy, b, b->bytes());
+    data_ = reinterpret_cast<std::uintptr_t>(copy);
+  } else {
+    data_ = from.data_;
   }
-  const std::uint32_t count = storedCount(from.labels_);
-  if (!labels_ || storedCount(labels_) != count) {
-    releaseLabels();
-    labels_ = allocateLabels(count);
-  }
-  std::memcpy(labels_ + 1, from.labels_ + 1, count * sizeof(float));
+}
+
+float LabelOcTreeNode::labelLogOdds(int k) const {
+  const SparseLabels* b = block();
+  if (!b) return value;
+  for (unsigned i = 0; i < b->count; ++i)
+    if (b->ids()[i] == k) return b->values()[i];
+  return b->base;
 }
 
 void LabelOcTreeNode::labelLogOdds(int num_labels, float* out) const {
-  if (isUniform()) {
+  if (const SparseLabels* b = block())
+    b->decode(out);
+  else
     std::fill(out, out + num_labels, value);
-  } else {
-    std::memcpy(out, labels_ + 1, static_cast<size_t>(num_labels) * sizeof(float));
-  }
 }
 
-int LabelOcTreeNode::argmaxLabel(int num_labels) const {
-  if (isUniform()) return 0;
-  const float* values = labels_ + 1;
-  int best = 0;
-  for (int k = 1; k < num_labels; ++k)
-    if (values[k] > values[best]) best = k;
+int LabelOcTreeNode::argmaxLabel(int /*num_labels*/) const {
+  if (isSummary()) return static_cast<int>(data_ >> 1);
+  const SparseLabels* b = block();
+  if (!b) return 0;
+  // Listed labels are above the base, so the maximum is among them.
+  int best = b->ids()[0];
+  float best_value = b->values()[0];
+  for (unsigned i = 1; i < b->count; ++i) {
+    const float v = b->values()[i];
+    const int id = b->ids()[i];
+    if (v > best_value || (v == best_value && id < best)) {
+      best = id;
+      best_value = v;
+    }
+  }
   return best;
 }
 
-float* LabelOcTreeNode::ensureLabels(int num_labels) {
-  if (!labels_) {
-    labels_ = allocateLabels(static_cast<std::uint32_t>(num_labels));
-    std::fill(labels_ + 1, labels_ + 1 + num_labels, value);
-  }
-  return labels_ + 1;
-}
-
-void LabelOcTreeNode::canonicalise(int num_labels) {
-  if (!labels_) return;
-  const float* values = labels_ + 1;
-  float max_value = values[0];
-  bool all_equal = true;
-  for (int k = 1; k < num_labels; ++k) {
-    if (values[k] != values[0]) all_equal = false;
-    max_value = std::max(max_value, values[k]);
-  }
-  value = max_value;
-  if (all_equal) releaseLabels();
-}
-
 void LabelOcTreeNode::setLabelLogOdds(int num_labels, const float* values) {
-  std::memcpy(ensureLabels(num_labels), values, static_cast<size_t>(num_labels) * sizeof(float));
-  canonicalise(num_labels);
+  float low = values[0], high = values[0];
+  unsigned above = 0;
+  for (int k = 1; k < num_labels; ++k) {
+    low = std::min(low, values[k]);
+    high = std::max(high, values[k]);
+  }
+  release();
+  value = high;
+  if (low == high) return;
+  for (int k = 0; k < num_labels; ++k) above += values[k] > low ? 1u : 0u;
+  SparseLabels* b = SparseLabels::allocate(static_cast<unsigned>(num_labels), above);
+  b->base = low;
+  unsigned i = 0;
+  for (int k = 0; k < num_labels; ++k) {
+    if (values[k] <= low) continue;
+    b->ids()[i] = static_cast<std::uint8_t>(k);
+    b->values()[i] = values[k];
+    ++i;
+  }
+  data_ = reinterpret_cast<std::uintptr_t>(b);
 }
 
 void LabelOcTreeNode::setUniformLogOdds(float log_odds) {
-  releaseLabels();
+  release();
   value = log_odds;
 }
 
 void LabelOcTreeNode::addLabelLogOdds(int num_labels, const float* update, float lo, float hi) {
-  float* values = ensureLabels(num_labels);
+  float values[kMaxLabels];
+  labelLogOdds(num_labels, values);
   for (int k = 0; k < num_labels; ++k) values[k] = std::clamp(values[k] + update[k], lo, hi);
-  canonicalise(num_labels);
+  setLabelLogOdds(num_labels, values);
 }
 
 void LabelOcTreeNode::addUniformLogOdds(float update, float lo, float hi) {
-  if (isUniform()) {
+  SparseLabels* b = const_cast<SparseLabels*>(block());
+  if (!b) {
     value = std::clamp(value + update, lo, hi);
     return;
   }
-  const int num_labels = static_cast<int>(storedCount(labels_));
-  float* values = labels_ + 1;
+  float values[kMaxLabels];
+  b->decode(values);
+  const int num_labels = b->num_labels;
   for (int k = 0; k < num_labels; ++k) values[k] = std::clamp(values[k] + update, lo, hi);
-  canonicalise(num_labels);
+  setLabelLogOdds(num_labels, values);
 }
 
 void LabelOcTreeNode::updateOccupancyChildren() {
-  // Children are reached through OctoMap's untyped child array; all are LabelOcTreeNodes.
-  const LabelOcTreeNode* explicit_child = nullptr;
-  float uniform_max = -std::numeric_limits<float>::infinity();
   bool any_child = false;
+  float best_value = 0.f;
+  int best_label = 0;
   for (unsigned i = 0; i < 8; ++i) {
     if (!children || !children[i]) continue;
     const auto* child = static_cast<const LabelOcTreeNode*>(children[i]);
+    const int label = child->argmaxLabel(0);
+    if (!any_child || child->value > best_value ||
+        (child->value == best_value && label < best_label)) {
+      best_value = child->value;
+      best_label = label;
+    }
     any_child = true;
-    if (child->isUniform())
-      uniform_max = std::max(uniform_max, child->value);
-    else if (!explicit_child)
-      explicit_child = child;
   }
   if (!any_child) return;
-  if (!explicit_child) {
-    setUniformLogOdds(uniform_max);
-    return;
-  }
-  const int num_labels = static_cast<int>(storedCount(explicit_child->labels_));
-  float* values = ensureLabels(num_labels);
-  std::fill(values, values + num_labels, uniform_max);
-  for (unsigned i = 0; i < 8; ++i) {
-    if (!children[i]) continue;
-    const auto* child = static_cast<const LabelOcTreeNode*>(children[i]);
-    if (child->isUniform()) continue;
-    const float* child_values = child->labels_ + 1;
-    for (int k = 0; k < num_labels; ++k) values[k] = std::max(values[k], child_values[k]);
-  }
-  canonicalise(num_labels);
+  release();
+  value = best_value;
+  data_ = (static_cast<std::uintptr_t>(best_label) << 1) | 1u;
+}
+
+namespace {
+enum NodeKind : std::uint8_t { kUniformLeaf = 0, kSparseLeaf = 1, kSummary = 2 };
 }
 
 std::istream& LabelOcTreeNode::readData(std::istream& s) {
-  std::uint8_t has_labels = 0;
+  std::uint8_t kind = 0;
   s.read(reinterpret_cast<char*>(&value), sizeof(value));
-  s.read(reinterpret_cast<char*>(&has_labels), sizeof(has_labels));
-  releaseLabels();
+  s.read(reinterpret_cast<char*>(&kind), sizeof(kind));
+  release();
   if (!s) return s;
-  if (has_labels > 1) {
+  if (kind == kUniformLeaf) return s;
+  if (kind == kSummary) {
+    std::uint16_t label = 0;
+    s.read(reinterpret_cast<char*>(&label), sizeof(label));
+    data_ = (static_cast<std::uintptr_t>(label) << 1) | 1u;
+    return s;
+  }
+  std::uint16_t header[2] = {0, 0};  // num_labels, count
+  float base = 0.f;
+  s.read(reinterpret_cast<char*>(header), sizeof(header));
+  s.read(reinterpret_cast<char*>(&base), sizeof(base));
+  if (kind != kSparseLeaf || !s || header[0] == 0 || header[0] > kMaxLabels || header[1] == 0 ||
+      header[1] > header[0]) {
     s.setstate(std::ios::failbit);
     return s;
   }
-  if (has_labels) {
-    std::uint16_t count = 0;
-    s.read(reinterpret_cast<char*>(&count), sizeof(count));
-    if (!s || count == 0) {
-      s.setstate(std::ios::failbit);
-      return s;
-    }
-    labels_ = allocateLabels(count);
-    s.read(reinterpret_cast<char*>(labels_ + 1), static_cast<std::streamsize>(count * sizeof(float)));
-  }
+  SparseLabels* b = SparseLabels::allocate(header[0], header[1]);
+  data_ = reinterpret_cast<std::uintptr_t>(b);
+  b->base = base;
+  s.read(reinterpret_cast<char*>(b->ids()), header[1]);
+  s.read(reinterpret_cast<char*>(b->values()), static_cast<std::streamsize>(4u * header[1]));
+  for (unsigned i = 0; s && i < b->count; ++i)
+    if (b->ids()[i] >= b->num_labels) s.setstate(std::ios::failbit);
   return s;
 }
 
 std::ostream& LabelOcTreeNode::writeData(std::ostream& s) const {
-  const std::uint8_t has_labels = isUniform() ? 0 : 1;
   s.write(reinterpret_cast<const char*>(&value), sizeof(value));
-  s.write(reinterpret_cast<const char*>(&has_labels), sizeof(has_labels));
-  if (has_labels) {
-    const auto count = static_cast<std::uint16_t>(storedCount(labels_));
-    s.write(reinterpret_cast<const char*>(&count), sizeof(count));
-    s.write(reinterpret_cast<const char*>(labels_ + 1),
-            static_cast<std::streamsize>(count * sizeof(float)));
+  const SparseLabels* b = block();
+  const std::uint8_t kind = b ? kSparseLeaf : (isSummary() ? kSummary : kUniformLeaf);
+  s.write(reinterpret_cast<const char*>(&kind), sizeof(kind));
+  if (kind == kSummary) {
+    const auto label = static_cast<std::uint16_t>(data_ >> 1);
+    s.write(reinterpret_cast<const char*>(&label), sizeof(label));
+  } else if (b) {
+    const std::uint16_t header[2] = {b->num_labels, b->count};
+    s.write(reinterpret_cast<const char*>(header), sizeof(header));
+    s.write(reinterpret_cast<const char*>(&b->base), sizeof(b->base));
+    s.write(reinterpret_cast<const char*>(b->ids()), b->count);
+    s.write(reinterpret_cast<const char*>(b->values()), static_cast<std::streamsize>(4u * b->count));
   }
   return s;
 }
 
 size_t LabelOcTreeNode::labelBytes() const {
-  return labels_ ? (storedCount(labels_) + 1) * sizeof(float) : 0;
+  const SparseLabels* b = block();
+  return b ? b->bytes() : 0;
 }
 
 // ---------------------------------------------------------------------------
@@ -394,9 +440,10 @@ std::istream& LabelOcTree::readData(std::istream& s) {
   if (!has_nodes) return s;
   octomap::OccupancyOcTreeBase<LabelOcTreeNode>::readData(s);
   if (!s) return s;
-  // Every explicit label array must have the tree's label count.
+  // Every label block must have the tree's label count.
   for (auto it = begin_tree(), end = end_tree(); it != end; ++it) {
-    if (!it->isUniform() && it->labelBytes() != (static_cast<size_t>(count) + 1) * sizeof(float)) {
+    if (it->isUniform() || it->isSummary()) continue;
+    if (it->block()->num_labels != count) {
       s.setstate(std::ios::failbit);
       break;
     }

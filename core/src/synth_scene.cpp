@@ -1,6 +1,7 @@
 // Scene layout: the shelf bin, the objects on its floor, the camera path.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <cstdio>
@@ -16,8 +17,8 @@ using synth::Rng;
 
 // Bin interior in the world frame: the opening is the plane x = 0 facing -x,
 // the floor is z = 0, the bin is centred on y = 0.
-constexpr double kBinDepth = 0.35;
-constexpr double kBinWidth = 0.45;
+constexpr double kBinDepth = 0.38;
+constexpr double kBinWidth = 0.50;
 constexpr double kBinHeight = 0.25;
 constexpr double kMaxObjectHeight = 0.22;
 constexpr double kWallClearance = 0.012;
@@ -154,49 +155,76 @@ double uniformPreferring(Rng& rng, double low, double high, double preferred_low
   return a <= b ? rng.uniform(a, b) : rng.uniform(low, high);
 }
 
-// Rejection sampling of footprints, each centre drawn where the footprint
-// stays clear of the walls. The first object stands in the back row near the
-// middle, the second right in front of it so that the central view sees the
-// first one partly hidden; the others alternate between the front and back
-// rows. Returns false when some object found no free spot at this scale.
+constexpr double kRowSplit = 0.19;  // x of the boundary between the front and back rows
+
+// A random footprint for the i-th object with its centre where the footprint
+// stays clear of the walls; nullopt when the drawn yaw does not fit at all.
+// In the row phase, the first object stands in the back row toward a side
+// wall, the second right in front of it so that the central view sees the
+// first one partly hidden; the others alternate between the rows.
+std::optional<Footprint> drawFootprint(const Eigen::Vector2d& half, size_t i, bool row_phase,
+                                       const std::vector<Footprint>& placed, Rng& rng) {
+  Footprint f;
+  f.half = half;
+  f.yaw = randomYaw(rng);
+  const double rx = f.radiusAlong({1, 0}), ry = f.radiusAlong({0, 1});
+  const double x_low = kWallClearance + rx, x_high = kBinDepth - kWallClearance - rx;
+  const double y_high = 0.5 * kBinWidth - kWallClearance - ry;
+  if (x_low > x_high || y_high < 0) return std::nullopt;
+  double x = rng.uniform(x_low, x_high), y = rng.uniform(-y_high, y_high);
+  if (row_phase) {
+    const bool back = i % 2 == 0;
+    x = uniformPreferring(rng, x_low, x_high, back ? kRowSplit : 0.0, back ? kBinDepth : kRowSplit);
+    if (i == 0) {  // leaves room for large objects on the other side
+      const double side = rng.chance(0.5) ? 1.0 : -1.0;
+      y = side * rng.uniform(0.4 * y_high, y_high);
+    }
+    if (i == 1) {
+      const Footprint& behind = placed[0];
+      x = behind.center.x() - behind.radiusAlong({1, 0}) - rx - kObjectClearance -
+          rng.uniform(0.0, 0.02);
+      const double overlap = std::min(behind.radiusAlong({0, 1}), ry);
+      y = std::clamp(behind.center.y() + rng.uniform(-0.7, 0.7) * overlap, -y_high, y_high);
+      if (x < x_low) return std::nullopt;
+    }
+  }
+  f.center = {x, y};
+  return f;
+}
+
+// Free floor between the footprint and the nearest wall.
+double wallGap(const Footprint& f) {
+  const double rx = f.radiusAlong({1, 0}), ry = f.radiusAlong({0, 1});
+  return std::min({f.center.x() - rx, kBinDepth - f.center.x() - rx,
+                   0.5 * kBinWidth - std::abs(f.center.y()) - ry});
+}
+
+// Rejection sampling of footprints. Apart from the occluding pair, each
+// object takes the free candidate closest to a wall among a few, which keeps
+// the middle of the floor open for the objects still to come. Returns false
+// when some object found no free spot at this scale.
 bool placeAll(const std::vector<ObjectPlan>& plans, double scale, Rng& rng,
               std::vector<Footprint>& placed) {
   constexpr int kTriesInRow = 150;
   constexpr int kTries = 400;
-  constexpr double kRowSplit = 0.17;  // x of the boundary between the rows
+  constexpr int kCandidates = 6;
   placed.clear();
   for (size_t i = 0; i < plans.size(); ++i) {
-    Footprint f;
-    f.half = plans[i].halfExtents(scale).head<2>();
-    bool found = false;
-    for (int attempt = 0; attempt < kTries && !found; ++attempt) {
-      f.yaw = randomYaw(rng);
-      const double rx = f.radiusAlong({1, 0}), ry = f.radiusAlong({0, 1});
-      const double x_low = kWallClearance + rx, x_high = kBinDepth - kWallClearance - rx;
-      const double y_high = 0.5 * kBinWidth - kWallClearance - ry;
-      if (x_low > x_high || y_high < 0) continue;
-      double x = rng.uniform(x_low, x_high), y = rng.uniform(-y_high, y_high);
-      if (attempt < kTriesInRow) {
-        const bool back = i % 2 == 0;
-        x = uniformPreferring(rng, x_low, x_high, back ? kRowSplit : 0.0,
-                              back ? kBinDepth : kRowSplit);
-        if (i == 0) y = uniformPreferring(rng, -y_high, y_high, -0.1, 0.1);
-        if (i == 1) {
-          const Footprint& behind = placed[0];
-          x = behind.center.x() - behind.radiusAlong({1, 0}) - rx - kObjectClearance -
-              rng.uniform(0.0, 0.02);
-          const double overlap = std::min(behind.radiusAlong({0, 1}), ry);
-          y = std::clamp(behind.center.y() + rng.uniform(-0.7, 0.7) * overlap, -y_high, y_high);
-        }
-      }
-      f.center = {x, y};
-      found = x >= x_low && x <= x_high &&
-              std::all_of(placed.begin(), placed.end(), [&](const Footprint& other) {
-                return separated(f, other, kObjectClearance);
-              });
+    const Eigen::Vector2d half = plans[i].halfExtents(scale).head<2>();
+    const int wanted = i < 2 ? 1 : kCandidates;
+    std::optional<Footprint> best;
+    int found = 0;
+    for (int attempt = 0; attempt < kTries && found < wanted; ++attempt) {
+      const auto candidate = drawFootprint(half, i, attempt < kTriesInRow, placed, rng);
+      if (!candidate || !std::all_of(placed.begin(), placed.end(), [&](const Footprint& other) {
+            return separated(*candidate, other, kObjectClearance);
+          }))
+        continue;
+      ++found;
+      if (!best || wallGap(*candidate) < wallGap(*best)) best = candidate;
     }
-    if (!found) { fprintf(stderr, "DEBUG fail i=%zu scale=%g half=%g,%g\n", i, scale, f.half.x(), f.half.y()); return false; }
-    placed.push_back(f);
+    if (!best) { fprintf(stderr, "DEBUG fail i=%zu scale=%g\n", i, scale); return false; }
+    placed.push_back(*best);
   }
   return true;
 }
@@ -225,8 +253,9 @@ std::vector<SynthObject> makeObjects(const SynthOptions& options) {
   // Crowded bins shrink every object until they all fit side by side.
   std::vector<Footprint> placed;
   double scale = 1.0;
-  while (!placeAll(plans, scale, rng, placed)) {
-    scale *= 0.93;
+  constexpr int kRestartsPerScale = 8;
+  for (int restart = 1; !placeAll(plans, scale, rng, placed); ++restart) {
+    if (restart % kRestartsPerScale == 0) scale *= 0.96;
     if (scale < 0.2) throw std::logic_error("synthetic objects do not fit into the bin");
   }
   const LabelSet labels = apc2016Labels();
@@ -251,7 +280,7 @@ Eigen::Isometry3d lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& targ
 // looking at the middle of the bin's contents from about 0.6 m.
 void makeCameraPath(const SynthOptions& options, SynthLayout& layout) {
   Rng rng(synth::streamSeed(options.seed, synth::Stream::Path));
-  const Eigen::Vector3d target(0.17, 0.0, 0.07);
+  const Eigen::Vector3d target(0.5 * kBinDepth, 0.0, 0.07);
   const double azimuth_left = -rng.uniform(24, 32) * kDegree;
   const double azimuth_right = rng.uniform(24, 32) * kDegree;
   const double elevation = rng.uniform(20, 24) * kDegree;

@@ -78,7 +78,7 @@ TEST(LabelOcTreeTest, BecomesUniformAgainWhenAllLabelsClampToTheSameValue) {
   EXPECT_FLOAT_EQ(tree.search(key)->getLogOdds(), tree.clampMinLogOdds());
 }
 
-TEST(LabelOcTreeTest, InnerNodesCarryThePerLabelMaximumOfTheirChildren) {
+TEST(LabelOcTreeTest, InnerNodesCarryTheMaximumOfTheirChildrenAndItsLabel) {
   LabelMap map(labels(3));
   LabelOcTree& tree = map.tree();
   const auto a = keyAt(tree, 0.005, 0.005, 0.005);
@@ -90,11 +90,39 @@ TEST(LabelOcTreeTest, InnerNodesCarryThePerLabelMaximumOfTheirChildren) {
   tree.refreshAncestors({a, b});
   const LabelOcTreeNode* parent = tree.search(a, tree.getTreeDepth() - 1);
   ASSERT_NE(parent, nullptr);
-  EXPECT_FLOAT_EQ(parent->labelLogOdds(0), 1.f);
-  EXPECT_FLOAT_EQ(parent->labelLogOdds(1), 2.f);
-  EXPECT_FLOAT_EQ(parent->labelLogOdds(2), 0.5f);
+  EXPECT_TRUE(parent->isSummary());
   EXPECT_FLOAT_EQ(parent->getLogOdds(), 2.f);
+  EXPECT_EQ(parent->argmaxLabel(3), 1);
   EXPECT_FLOAT_EQ(tree.getRoot()->getLogOdds(), 2.f);
+  EXPECT_EQ(tree.getRoot()->argmaxLabel(3), 1);
+  // Coarse-depth iteration reports the occupied label.
+  size_t coarse = 0;
+  for (auto it = tree.begin_leafs(tree.getTreeDepth() - 2); it != tree.end_leafs(); ++it) {
+    ++coarse;
+    EXPECT_TRUE(tree.isNodeOccupied(*it));
+    EXPECT_EQ(it->argmaxLabel(3), 1);
+  }
+  EXPECT_EQ(coarse, 1u);
+}
+
+TEST(LabelOcTreeTest, LeafBlocksKeepOnlyLabelsAboveTheSmallest) {
+  LabelMap map(labels(40));
+  LabelOcTree& tree = map.tree();
+  const auto key = keyAt(tree, 0.3, 0.3, 0.3);
+  std::vector<float> hit(40, -20.f);  // clamps to the lower bound
+  hit[4] = 1.f;
+  hit[30] = 0.5f;
+  tree.applyHit(key, hit.data());
+  const LabelOcTreeNode* node = tree.search(key);
+  // Two listed labels instead of forty values.
+  EXPECT_LT(node->labelBytes(), 40 * sizeof(float) / 4);
+  std::vector<float> values(40);
+  node->labelLogOdds(40, values.data());
+  EXPECT_FLOAT_EQ(values[4], 1.f);
+  EXPECT_FLOAT_EQ(values[30], 0.5f);
+  EXPECT_FLOAT_EQ(values[0], tree.clampMinLogOdds());
+  EXPECT_FLOAT_EQ(node->labelLogOdds(39), tree.clampMinLogOdds());
+  EXPECT_EQ(node->argmaxLabel(40), 4);
 }
 
 TEST(LabelOcTreeTest, PrunesOnlyIdenticalChildren) {

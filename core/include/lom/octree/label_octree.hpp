@@ -15,13 +15,19 @@
 
 namespace lom {
 
-// One log-odds value per label. A node whose labels are all equal (every voxel
-// that has only ever been missed, and all unknown-but-created nodes) stores no
-// label array at all: its OctoMap value is the common log-odds. Otherwise it
-// owns an array of the labels' log-odds and its value is their maximum, so
-// OctoMap's own occupancy test (value >= logit(threshold)) is exactly the
-// paper's rule max_k p_k >= threshold. The representation is canonical (all
-// equal <=> no array), so operator== and pruning compare like for like.
+// One log-odds value per label, stored compactly because most voxels are
+// free space that only ever got misses:
+// - a leaf whose labels are all equal stores nothing extra: its OctoMap value
+//   is the common log-odds (every missed-only voxel, and new nodes);
+// - any other leaf owns a sparse block: the smallest label value ("base",
+//   usually the lower clamp, where labels with no evidence end up) and the
+//   labels above it with their values;
+// - an inner node keeps OctoMap's conservative value (the maximum over its
+//   children, which is also the maximum over labels) and the label of that
+//   maximum, so coarse-depth iteration sees occupancy and label.
+// The leaf value is always max_k L_k, so OctoMap's own occupancy test
+// (value >= logit(threshold)) is exactly the paper's rule max_k p_k >= threshold.
+// The representation is canonical, so operator== and pruning compare like for like.
 class LabelOcTreeNode : public octomap::OcTreeNode {
  public:
   friend class LabelOcTree;
@@ -35,14 +41,17 @@ class LabelOcTreeNode : public octomap::OcTreeNode {
   bool operator==(const LabelOcTreeNode& rhs) const;
   void copyData(const LabelOcTreeNode& from);
 
-  [[nodiscard]] bool isUniform() const { return labels_ == nullptr; }
-  // Log-odds of label k (k < the tree's number of labels).
-  [[nodiscard]] float labelLogOdds(int k) const { return labels_ ? labels_[k + 1] : value; }
+  // True for leaves whose labels are all equal (no label block).
+  [[nodiscard]] bool isUniform() const { return data_ == 0; }
+  [[nodiscard]] bool isSummary() const { return (data_ & 1u) != 0; }  // inner-node form
+  // Log-odds of label k (k < the tree's number of labels). Inner nodes only
+  // know their maximum: every label reads as that maximum.
+  [[nodiscard]] float labelLogOdds(int k) const;
   void labelLogOdds(int num_labels, float* out) const;
-  // Argmax label, ties to the lower id.
+  // Argmax label, ties to the lower id (for inner nodes: the label of the maximum).
   [[nodiscard]] int argmaxLabel(int num_labels) const;
 
-  // Sets all labels (canonicalises: an all-equal vector frees the array).
+  // Sets all labels (canonicalises: an all-equal vector frees the block).
   void setLabelLogOdds(int num_labels, const float* values);
   void setUniformLogOdds(float log_odds);
   // Adds `update` per label and clamps each to [lo, hi].
@@ -50,22 +59,22 @@ class LabelOcTreeNode : public octomap::OcTreeNode {
   // Adds the same update to every label and clamps.
   void addUniformLogOdds(float update, float lo, float hi);
 
-  // Inner nodes: per-label maximum over the existing children (OctoMap's
-  // conservative rule, per label), value = the maximum over labels.
+  // Inner nodes: the maximum over the existing children and its label.
   void updateOccupancyChildren();
 
-  // Self-describing: value, a flag, then (when not uniform) the count and the labels.
+  // Self-describing: value, a kind byte, then the block or the summary label.
   std::istream& readData(std::istream& s);
   std::ostream& writeData(std::ostream& s) const;
 
   [[nodiscard]] size_t labelBytes() const;
 
  private:
-  void releaseLabels();
-  float* ensureLabels(int num_labels);  // materialises the uniform value per label
-  void canonicalise(int num_labels);
-  // labels_[0] holds the label count (bit pattern of a uint32), then the values.
-  float* labels_ = nullptr;
+  struct SparseLabels;
+  [[nodiscard]] const SparseLabels* block() const;
+  void release();
+  // Either 0 (uniform leaf), a pointer to a SparseLabels block (even), or
+  // (label << 1) | 1 for an inner node's summary.
+  std::uintptr_t data_ = 0;
 };
 
 // One voxel's update in a frame, for LabelOcTree::applySortedUpdates.

@@ -1,0 +1,210 @@
+// labeloctomap score end to end: reports, errors, --map, --iou and --batch.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "test_support.hpp"
+
+namespace {
+
+using lom::test::runCli;
+using lom::test::TempDir;
+using Json = nlohmann::json;
+
+std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+
+class CliScoreTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    root_ = new TempDir();
+    for (const char* name : {"bin_a", "bin_b"}) {
+      const auto r = runCli("synth --out " + quoted(root_->path() / name) + " --seed " +
+                            (std::string(name) == "bin_a" ? "5" : "6") +
+                            " --objects 4 --frames 4 --views 3 --width 160 --height 120");
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+  }
+  static void TearDownTestSuite() {
+    delete root_;
+    root_ = nullptr;
+  }
+  static std::filesystem::path scene(const char* name = "bin_a") { return root_->path() / name; }
+  static std::string scoreArgs(const std::filesystem::path& out, const std::string& annotations = {}) {
+    return "score " + quoted(scene()) + " --annotations " +
+           quoted(annotations.empty() ? scene() / "annotations.json" : std::filesystem::path(annotations)) +
+           " --out " + quoted(out);
+  }
+  static TempDir* root_;
+};
+TempDir* CliScoreTest::root_ = nullptr;
+
+void expectScores(const Json& scores) {
+  for (const char* method : {"projection_mean", "projection_max", "labeloctomap"}) {
+    ASSERT_TRUE(scores.contains(method)) << method;
+    const double v = scores[method].get<double>();
+    EXPECT_TRUE(v >= 0.0 && v <= 1.0) << method << " " << v;
+  }
+}
+
+TEST_F(CliScoreTest, WritesTheFourReports) {
+  TempDir out;
+  const auto dir = out / "report";
+  const auto r = runCli(scoreArgs(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("Summary (4 objects)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("LabelOctoMap"), std::string::npos);
+
+  const Json report = Json::parse(slurp(dir / "report.json"));
+  EXPECT_EQ(report["format"], "labeloctomap-score-report");
+  EXPECT_EQ(report["sequence"], "bin_a");
+  EXPECT_DOUBLE_EQ(report["resolution"].get<double>(), 0.01);
+  EXPECT_EQ(report["iou_mode"], "exact");
+  ASSERT_EQ(report["views"].size(), 3u);
+  ASSERT_EQ(report["objects"].size(), 4u);
+  for (const auto& object : report["objects"]) {
+    EXPECT_TRUE(object["label"].is_number_integer());
+    EXPECT_TRUE(object["name"].is_string());
+    EXPECT_TRUE(object["voxels"].is_number_unsigned());
+    expectScores(object["iou_3d"]);
+    expectScores(object["box_iou"]);
+    EXPECT_EQ(object["per_view"].size(), 3u);
+  }
+  const Json& summary = report["summary"];
+  EXPECT_EQ(summary["objects"], 4);
+  expectScores(summary["iou_3d"]);
+  EXPECT_LE(summary["labeloctomap_beats_projection_max"].get<int>(), 4);
+  // Generated frames carry ground-truth label images and probabilities.
+  ASSERT_TRUE(report.contains("metrics_2d"));
+  for (const char* metric : {"pixel_accuracy", "mean_accuracy", "mean_iu", "fw_iu"}) {
+    const double v = report["metrics_2d"][metric].get<double>();
+    EXPECT_TRUE(v > 0.0 && v <= 1.0) << metric;
+  }
+  EXPECT_FALSE(report.contains("metrics_2d_candidates"));
+
+  const std::string csv = slurp(dir / "report.csv");
+  EXPECT_EQ(csv.rfind("label,name,voxels,iou3d_projection_mean", 0), 0u) << csv;
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5);
+  const std::string markdown = slurp(dir / "report.md");
+  EXPECT_NE(markdown.find("| label | name | voxels | Projection (Mean) | Projection (Max) | LabelOctoMap |"),
+            std::string::npos);
+  EXPECT_NE(markdown.find("**"), std::string::npos);  // the best value of a row is bold
+  const std::string svg = slurp(dir / "report.svg");
+  EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+  EXPECT_NE(svg.find("LabelOctoMap"), std::string::npos);
+}
+
+TEST_F(CliScoreTest, SavedMapScoresLikeTheFusedOne) {
+  TempDir out;
+  ASSERT_EQ(runCli("fuse " + quoted(scene()) + " --out " + quoted(out / "map.ot") + " --quiet").exit_code, 0);
+  ASSERT_EQ(runCli(scoreArgs(out / "fused")).exit_code, 0);
+  const auto r = runCli(scoreArgs(out / "loaded") + " --map " + quoted(out / "map.ot"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json fused = Json::parse(slurp(out / "fused" / "report.json"));
+  const Json loaded = Json::parse(slurp(out / "loaded" / "report.json"));
+  EXPECT_EQ(fused["objects"], loaded["objects"]);
+}
+
+TEST_F(CliScoreTest, CentreModeAndCandidatesAreReported) {
+  TempDir out;
+  const Json annotations = Json::parse(slurp(scene() / "annotations.json"));
+  std::string candidates = "0";
+  for (const auto& box : annotations["boxes"]) candidates += "," + std::to_string(box["label"].get<int>());
+  const auto r = runCli(scoreArgs(out / "r") + " --iou center --candidates " + candidates);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json report = Json::parse(slurp(out / "r" / "report.json"));
+  EXPECT_EQ(report["iou_mode"], "center");
+  EXPECT_EQ(report["candidates"].size(), annotations["boxes"].size() + 1);
+  ASSERT_TRUE(report.contains("metrics_2d_candidates"));
+  EXPECT_GE(report["metrics_2d_candidates"]["pixel_accuracy"].get<double>(),
+            report["metrics_2d"]["pixel_accuracy"].get<double>());
+}
+
+TEST_F(CliScoreTest, BoxOfAnUnknownLabelFailsAndWritesNothing) {
+  TempDir out;
+  Json annotations = Json::parse(slurp(scene() / "annotations.json"));
+  annotations["boxes"][2]["label"] = 77;
+  const auto bad = out / "bad annotations.json";
+  std::ofstream(bad) << annotations.dump();
+  const auto dir = out / "report";
+  const auto r = runCli(scoreArgs(dir, bad.string()));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find(bad.string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("boxes[2].label"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("77"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir));
+}
+
+TEST_F(CliScoreTest, OtherFrameFailsAndWritesNothing) {
+  TempDir out;
+  Json annotations = Json::parse(slurp(scene() / "annotations.json"));
+  annotations["frame_id"] = "base_link";
+  const auto bad = out / "boxes.json";
+  std::ofstream(bad) << annotations.dump();
+  const auto r = runCli(scoreArgs(out / "report", bad.string()));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("frame_id"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("base_link"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "report"));
+}
+
+TEST_F(CliScoreTest, UsageMistakesExitWithTwo) {
+  TempDir out;
+  EXPECT_EQ(runCli("score " + quoted(scene()) + " --annotations x.json").exit_code, 2);  // no --out
+  EXPECT_EQ(runCli(scoreArgs(out / "r") + " --iou volume").exit_code, 2);
+  EXPECT_EQ(runCli(scoreArgs(out / "r") + " --candidates 0,99").exit_code, 2);
+  EXPECT_EQ(runCli("score --batch list.txt " + quoted(scene()) + " --out " + quoted(out / "r")).exit_code, 2);
+  EXPECT_FALSE(std::filesystem::exists(out / "r"));
+}
+
+TEST_F(CliScoreTest, BatchWritesOneReportPerSequenceAndTheAggregate) {
+  TempDir out;
+  const auto list = out / "list.txt";
+  // Paths relative to the list's folder, a comment and a blank line.
+  std::ofstream(list) << "# two bins\n"
+                      << std::filesystem::relative(scene("bin_a"), out.path()).string() << " "
+                      << std::filesystem::relative(scene("bin_a") / "annotations.json", out.path()).string()
+                      << "\n\n"
+                      << scene("bin_b").string() << " " << (scene("bin_b") / "annotations.json").string() << "\n";
+  const auto r = runCli("score --batch " + quoted(list) + " --out " + quoted(out / "reports") + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* name : {"bin_a", "bin_b"})
+    for (const char* file : {"report.json", "report.csv", "report.md", "report.svg"})
+      EXPECT_TRUE(std::filesystem::exists(out / "reports" / name / file)) << name << "/" << file;
+  const Json aggregate = Json::parse(slurp(out / "reports" / "aggregate.json"));
+  ASSERT_EQ(aggregate["sequences"].size(), 2u);
+  EXPECT_EQ(aggregate["sequences"][0]["sequence"], "bin_a");
+  EXPECT_EQ(aggregate["summary"]["objects"], 8);
+  // The aggregate is the mean over all objects of both sequences.
+  double sum = 0.0;
+  for (const char* name : {"bin_a", "bin_b"})
+    for (const auto& o : Json::parse(slurp(out / "reports" / name / "report.json"))["objects"])
+      sum += o["iou_3d"]["labeloctomap"].get<double>();
+  EXPECT_NEAR(aggregate["summary"]["iou_3d"]["labeloctomap"].get<double>(), sum / 8, 1e-12);
+  EXPECT_TRUE(std::filesystem::exists(out / "reports" / "aggregate.md"));
+  EXPECT_TRUE(std::filesystem::exists(out / "reports" / "aggregate.svg"));
+}
+
+TEST_F(CliScoreTest, BatchWithABadLineFailsAndWritesNothing) {
+  TempDir out;
+  const auto list = out / "list.txt";
+  std::ofstream(list) << scene("bin_a").string() << " " << (scene("bin_a") / "annotations.json").string() << "\n"
+                      << scene("bin_b").string() << "\n";
+  const auto r = runCli("score --batch " + quoted(list) + " --out " + quoted(out / "reports"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find(list.string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("line 2"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "reports"));
+}
+
+}  // namespace

@@ -1,0 +1,175 @@
+// The paper's finding on generated scenes with occlusions, and the evaluation's
+// checks of its inputs.
+#include <gtest/gtest.h>
+
+#include <iostream>
+
+#include "lom/error.hpp"
+#include "lom/evaluation.hpp"
+#include "lom/synth.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using lom::test::TempDir;
+
+lom::SynthOptions sceneOptions(std::uint64_t seed, int width, int height, int frames) {
+  lom::SynthOptions options;
+  options.seed = seed;
+  options.objects = 6;
+  options.frames = frames;
+  options.views = 3;
+  options.width = width;
+  options.height = height;
+  return options;
+}
+
+TEST(ScoreSynthetic, LabelOctoMapBeatsProjectionMaxBeatsProjectionMean) {
+  // Section V.B of the paper: three views of a cluttered bin; the mean IU_3d of
+  // LabelOctoMap exceeds that of the best single view, which exceeds the mean view.
+  std::vector<lom::ObjectScore> objects;
+  for (std::uint64_t seed : {1, 2, 3, 4}) {
+    TempDir dir;
+    const lom::SynthScene scene = lom::writeSyntheticScene(sceneOptions(seed, 320, 240, 8), dir.path());
+    const lom::Sequence sequence = lom::loadSequence(dir.path());
+    const lom::EvaluationOptions options;
+    const lom::LabelMap map = lom::fuseSequence(sequence, options.fusion);
+    const lom::EvaluationReport report = lom::evaluate(sequence, scene.annotations, map, options);
+
+    ASSERT_EQ(report.objects.size(), scene.annotations.boxes.size());
+    EXPECT_EQ(report.views.size(), 3u);
+    for (const auto& o : report.objects) {
+      SCOPED_TRACE("seed " + std::to_string(seed) + " " + o.name);
+      ASSERT_EQ(o.per_view.size(), 3u);
+      EXPECT_GE(o.iou_3d.projection_max, o.iou_3d.projection_mean);
+      for (double v : {o.iou_3d.projection_mean, o.iou_3d.projection_max, o.iou_3d.labeloctomap})
+        EXPECT_TRUE(v >= 0.0 && v <= 1.0) << v;
+      // The transparent bottle has no depth, so nothing of it is mapped or projected;
+      // it scores 0 for every method and is left out of the comparison.
+      if (o.label != lom::kSynthTransparentLabel) objects.push_back(o);
+    }
+    std::cout << "seed " << seed << ": mean IU_3d x100  Projection (Mean) "
+              << 100 * report.summary.iou_3d.projection_mean << "  Projection (Max) "
+              << 100 * report.summary.iou_3d.projection_max << "  LabelOctoMap "
+              << 100 * report.summary.iou_3d.labeloctomap << "\n";
+  }
+  const lom::ScoreSummary summary = lom::summarize(objects);
+  std::cout << summary.objects << " objects: mean IU_3d x100  Projection (Mean) "
+            << 100 * summary.iou_3d.projection_mean << "  Projection (Max) " << 100 * summary.iou_3d.projection_max
+            << "  LabelOctoMap " << 100 * summary.iou_3d.labeloctomap << "; LabelOctoMap > Projection (Max) for "
+            << summary.labeloctomap_beats_projection_max << "\n";
+  EXPECT_GT(summary.iou_3d.labeloctomap, summary.iou_3d.projection_max);
+  EXPECT_GT(summary.iou_3d.projection_max, summary.iou_3d.projection_mean);
+  // The paper: better for 29 of 39 objects. Here: for most objects too.
+  EXPECT_GT(2 * summary.labeloctomap_beats_projection_max, summary.objects);
+}
+
+class ScoreChecks : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir();
+    scene_ = new lom::SynthScene(lom::writeSyntheticScene(sceneOptions(3, 160, 120, 4), dir_->path()));
+    sequence_ = new lom::Sequence(lom::loadSequence(dir_->path()));
+    map_ = new lom::LabelMap(lom::fuseSequence(*sequence_, lom::FusionOptions{}));
+  }
+  static void TearDownTestSuite() {
+    delete map_;
+    delete sequence_;
+    delete scene_;
+    delete dir_;
+  }
+  static lom::EvaluationOptions named() {
+    lom::EvaluationOptions options;
+    options.annotations_file = "boxes.json";
+    options.map_file = "map.ot";
+    return options;
+  }
+  static TempDir* dir_;
+  static lom::SynthScene* scene_;
+  static lom::Sequence* sequence_;
+  static lom::LabelMap* map_;
+};
+TempDir* ScoreChecks::dir_ = nullptr;
+lom::SynthScene* ScoreChecks::scene_ = nullptr;
+lom::Sequence* ScoreChecks::sequence_ = nullptr;
+lom::LabelMap* ScoreChecks::map_ = nullptr;
+
+// Runs `call`, expecting a lom::Error about `file` and `field`.
+template <typename Call>
+void expectError(Call call, const std::string& file, const std::string& field) {
+  try {
+    call();
+    ADD_FAILURE() << "no error for " << file << ": " << field;
+  } catch (const lom::Error& e) {
+    EXPECT_EQ(e.problem().file, file) << e.what();
+    EXPECT_EQ(e.problem().field, field) << e.what();
+  }
+}
+
+TEST_F(ScoreChecks, BoxLabelOutsideTheSequenceIsAnError) {
+  lom::Annotations annotations = scene_->annotations;
+  annotations.boxes[1].label = 40;  // the sequence has labels 0..39
+  expectError([&] { (void)lom::evaluate(*sequence_, annotations, *map_, named()); }, "boxes.json",
+              "boxes[1].label");
+  annotations.boxes[1].label = 0;  // the background is no object
+  expectError([&] { (void)lom::evaluate(*sequence_, annotations, *map_, named()); }, "boxes.json",
+              "boxes[1].label");
+}
+
+TEST_F(ScoreChecks, FrameIdMismatchIsAnError) {
+  lom::Annotations annotations = scene_->annotations;
+  annotations.frame_id = "base";
+  expectError([&] { (void)lom::evaluate(*sequence_, annotations, *map_, named()); }, "boxes.json", "frame_id");
+}
+
+TEST_F(ScoreChecks, EmptyMapIsAnError) {
+  const lom::LabelMap empty(sequence_->labels);
+  expectError([&] { (void)lom::evaluate(*sequence_, scene_->annotations, empty, named()); }, "map.ot", "map");
+}
+
+TEST_F(ScoreChecks, MapWithOtherLabelsIsAnError) {
+  std::vector<lom::LabelInfo> labels = sequence_->labels.all();
+  labels.pop_back();
+  const lom::LabelMap other{lom::LabelSet(labels)};
+  expectError([&] { (void)lom::evaluate(*sequence_, scene_->annotations, other, named()); }, "map.ot", "labels");
+}
+
+TEST_F(ScoreChecks, SequenceWithoutViewsIsAnError) {
+  lom::Sequence no_views = *sequence_;
+  for (auto& frame : no_views.frames) frame.view = false;
+  expectError([&] { (void)lom::evaluate(no_views, scene_->annotations, *map_, named()); },
+              (no_views.root / "sequence.json").string(), "frames[].view");
+}
+
+TEST_F(ScoreChecks, MissingBoxesOnlyLeaveObjectsUnscored) {
+  lom::Annotations annotations = scene_->annotations;
+  annotations.boxes.resize(2);
+  const lom::EvaluationReport report = lom::evaluate(*sequence_, annotations, *map_, named());
+  ASSERT_EQ(report.objects.size(), 2u);
+  EXPECT_EQ(report.summary.objects, 2u);
+  EXPECT_LT(report.objects[0].label, report.objects[1].label);
+}
+
+TEST_F(ScoreChecks, CandidatesHoldingEveryTrueLabelOnlyFixPixels) {
+  // A pixel whose argmax is its true label keeps it when the other labels are
+  // dropped, so 2D pixel accuracy cannot fall.
+  lom::EvaluationOptions options = named();
+  std::vector<int> candidates{0};
+  for (const auto& box : scene_->annotations.boxes) candidates.push_back(box.label);
+  options.fusion.candidates = candidates;
+  const lom::EvaluationReport report = lom::evaluate(*sequence_, scene_->annotations, *map_, options);
+  ASSERT_TRUE(report.metrics_2d && report.metrics_2d_candidates);
+  EXPECT_GE(report.metrics_2d_candidates->pixel_accuracy, report.metrics_2d->pixel_accuracy);
+  EXPECT_EQ(report.metrics_2d->pixels, report.metrics_2d_candidates->pixels);
+  EXPECT_EQ(report.metrics_2d->pixels, 4u * 160u * 120u);
+}
+
+TEST_F(ScoreChecks, ProgressCanCancel) {
+  size_t calls = 0;
+  EXPECT_THROW((void)lom::evaluate(*sequence_, scene_->annotations, *map_, named(),
+                                   [&](const lom::EvaluationProgress&) { return ++calls < 2; }),
+               lom::EvaluationCancelled);
+  EXPECT_EQ(calls, 2u);
+}
+
+}  // namespace
