@@ -64,13 +64,20 @@ void checkAnnotationsForSequence(const Sequence& sequence, const Annotations& an
                 "\"" + annotations.frame_id + "\"");
   if (annotations.boxes.empty()) throw Error(file, "boxes", "at least one box to score", "none");
   const int n = sequence.labels.size();
+  std::vector<size_t> box_of_label(static_cast<size_t>(std::max(n, 0)), annotations.boxes.size());
   for (size_t i = 0; i < annotations.boxes.size(); ++i) {
     const int label = annotations.boxes[i].label;
+    const std::string field = "boxes[" + std::to_string(i) + "].label";
     if (label <= 0 || label >= n)
-      throw Error(file, "boxes[" + std::to_string(i) + "].label",
+      throw Error(file, field,
                   "an object label of the sequence (1.." + std::to_string(n - 1) +
                       "; 0 is the background)",
                   std::to_string(label));
+    size_t& first = box_of_label[static_cast<size_t>(label)];
+    if (first != annotations.boxes.size())
+      throw Error(file, field, "each label in at most one box",
+                  "label " + std::to_string(label) + " again (also boxes[" + std::to_string(first) + "])");
+    first = i;
   }
 }
 

@@ -214,6 +214,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   const int width = direct ? direct->channels : n;
 
   // 1. Group pixels by end voxel.
+  const PixelProjector projector(g, camera, T_world_camera, max_range);
   std::vector<PixelGroups> parts(static_cast<size_t>(threads));
   runOnThreads(threads, [&](int t) {
     PixelGroups& part = parts[static_cast<size_t>(t)];
@@ -226,7 +227,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
       std::uint32_t group = 0;
       for (int u = 0; u < depth.width; ++u) {
         PixelRay ray;
-        if (!pixelRay(g, camera, T_world_camera, max_range, u, v, depth.at(u, v), ray)) continue;
+        if (!projector.ray(u, v, depth.at(u, v), ray)) continue;
         ++part.valid_pixels;
         const std::uint64_t packed = PixelGroups::pack(ray.end_key, ray.beyond_range);
         if (packed != previous) {

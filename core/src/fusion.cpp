@@ -129,17 +129,6 @@ void checkFrameInputs(const LabelMap& map, const CameraIntrinsics& camera, const
                 std::to_string(evidence.numLabels()));
 }
 
-bool pixelRay(const grid::Grid& g, const CameraIntrinsics& camera,
-              const Eigen::Isometry3d& T_world_camera, double max_range, int u, int v, float z,
-              PixelRay& ray) {
-  if (!(z > 0.f) || !std::isfinite(z)) return false;
-  const Eigen::Vector3d origin = T_world_camera.translation();
-  const Eigen::Vector3d point = T_world_camera * camera.backProject(u, v, z);
-  if (!g.keyOf(point, ray.end_key)) return false;
-  ray.beyond_range = max_range > 0.0 && (point - origin).norm() > max_range;
-  return true;
-}
-
 Eigen::Vector3d rayEnd(const grid::Grid& g, const Eigen::Vector3d& origin, const grid::Key& end_key,
                        bool beyond_range, double max_range) {
   const Eigen::Vector3d target = g.centerOf(end_key);
@@ -162,11 +151,12 @@ FrameStats integrateFrameReference(LabelMap& map, const CameraIntrinsics& camera
   octomap::KeySet misses;
   std::vector<float> pixel_log_odds(static_cast<size_t>(n));
   FrameStats stats;
+  const PixelProjector projector(g, camera, T_world_camera, max_range);
 
   for (int v = 0; v < depth.height; ++v) {
     for (int u = 0; u < depth.width; ++u) {
       PixelRay ray;
-      if (!pixelRay(g, camera, T_world_camera, max_range, u, v, depth.at(u, v), ray)) continue;
+      if (!projector.ray(u, v, depth.at(u, v), ray)) continue;
       ++stats.valid_pixels;
       const Eigen::Vector3d end = rayEnd(g, origin, ray.end_key, ray.beyond_range, max_range);
       grid::traverseRay(g, origin, end, [&](const grid::Key& k) {

@@ -4,7 +4,6 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <cstdio>
 
 #include "synth_internal.hpp"
 
@@ -175,7 +174,8 @@ std::optional<Footprint> drawFootprint(const Eigen::Vector2d& half, size_t i, bo
   if (row_phase) {
     const bool back = i % 2 == 0;
     x = uniformPreferring(rng, x_low, x_high, back ? kRowSplit : 0.0, back ? kBinDepth : kRowSplit);
-    if (i == 0) {  // leaves room for large objects on the other side
+    if (i == 0) {  // at the back, toward a side: room in front and on the other side
+      x = rng.uniform(std::max(x_low, x_high - 0.05), x_high);
       const double side = rng.chance(0.5) ? 1.0 : -1.0;
       y = side * rng.uniform(0.4 * y_high, y_high);
     }
@@ -223,7 +223,7 @@ bool placeAll(const std::vector<ObjectPlan>& plans, double scale, Rng& rng,
       ++found;
       if (!best || wallGap(*candidate) < wallGap(*best)) best = candidate;
     }
-    if (!best) { fprintf(stderr, "DEBUG fail i=%zu scale=%g\n", i, scale); return false; }
+    if (!best) return false;
     placed.push_back(*best);
   }
   return true;
@@ -283,8 +283,8 @@ void makeCameraPath(const SynthOptions& options, SynthLayout& layout) {
   const Eigen::Vector3d target(0.5 * kBinDepth, 0.0, 0.07);
   const double azimuth_left = -rng.uniform(24, 32) * kDegree;
   const double azimuth_right = rng.uniform(24, 32) * kDegree;
-  const double elevation = rng.uniform(20, 24) * kDegree;
-  const double elevation_sweep = rng.uniform(6, 8) * kDegree;
+  const double elevation = rng.uniform(22, 26) * kDegree;
+  const double elevation_sweep = rng.uniform(5, 7) * kDegree;
   const double distance = rng.uniform(0.56, 0.62);
   const int frames = options.frames;
   for (int i = 0; i < frames; ++i) {

@@ -10,8 +10,10 @@ namespace lom::synth {
 namespace {
 
 constexpr float kMaxRange = 3.5f;           // metres; farther surfaces give no return
-constexpr float kGrazingCosine = 0.2588f;   // cos 75 deg: no return beyond this angle
-constexpr float kFadingCosine = 0.3420f;    // cos 70 deg: returns start to fail here
+// Returns fail more and more often from 72 deg between ray and normal on,
+// half of them at 75 deg, all beyond 78 deg.
+constexpr float kGrazingCosine = 0.2079f;   // cos 78 deg
+constexpr float kFadingCosine = 0.3090f;    // cos 72 deg
 constexpr float kEdgeJump = 0.02f;          // metres between neighbours
 constexpr double kShadowedEdgeLoss = 0.8;   // far side of a depth edge
 constexpr double kNearEdgeLoss = 0.15;      // near side of a depth edge

@@ -24,9 +24,12 @@ struct Grid {
   // False when the point lies outside the 16-bit key range.
   [[nodiscard]] bool keyOf(const Eigen::Vector3d& p, Key& key) const {
     for (int i = 0; i < 3; ++i) {
-      const double scaled = std::floor(inverse * p[i]);
+      const double scaled = inverse * p[i];
       if (!(scaled >= -kKeyOffset && scaled < kKeyOffset)) return false;
-      key[static_cast<size_t>(i)] = static_cast<std::uint16_t>(static_cast<int>(scaled) + kKeyOffset);
+      // floor() without a libm call: truncate, then step down for negatives.
+      int index = static_cast<int>(scaled);
+      if (scaled < index) --index;
+      key[static_cast<size_t>(i)] = static_cast<std::uint16_t>(index + kKeyOffset);
     }
     return true;
   }

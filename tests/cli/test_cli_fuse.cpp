@@ -100,4 +100,28 @@ TEST_F(CliFuseTest, BadInputGivesAClearErrorAndNoOutput) {
   EXPECT_FALSE(std::filesystem::exists(out / "v.pcd"));
 }
 
+TEST_F(CliFuseTest, WrongChannelCountNamesTheFrameAndField) {
+  TempDir out;
+  const auto copy = out / "scene";
+  std::filesystem::copy(scene_->path() / "scene", copy, std::filesystem::copy_options::recursive);
+  // Drop one entry of frame 2's proba_labels: the .npy keeps its channels.
+  std::ifstream in(copy / "sequence.json");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  size_t at = 0;
+  for (int frame = 0; frame <= 2; ++frame) at = text.find("\"proba_labels\"", at + 1);
+  ASSERT_NE(at, std::string::npos);
+  const size_t open = text.find('[', at);
+  const size_t comma = text.find(',', open);
+  text.erase(open + 1, comma - open);  // removes the first label id and its comma
+  std::ofstream(copy / "sequence.json") << text;
+
+  const auto r = runCli("fuse '" + copy.string() + "' --out '" + (out / "m.ot").string() + "'");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("frames[2]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("proba"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("channel"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "m.ot"));
+}
+
 }  // namespace

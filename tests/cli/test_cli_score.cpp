@@ -187,9 +187,10 @@ TEST_F(CliScoreTest, BatchWritesOneReportPerSequenceAndTheAggregate) {
   EXPECT_EQ(aggregate["summary"]["objects"], 8);
   // The aggregate is the mean over all objects of both sequences.
   double sum = 0.0;
-  for (const char* name : {"bin_a", "bin_b"})
-    for (const auto& o : Json::parse(slurp(out / "reports" / name / "report.json"))["objects"])
-      sum += o["iou_3d"]["labeloctomap"].get<double>();
+  for (const char* name : {"bin_a", "bin_b"}) {
+    const Json report = Json::parse(slurp(out / "reports" / name / "report.json"));
+    for (const auto& o : report["objects"]) sum += o["iou_3d"]["labeloctomap"].get<double>();
+  }
   EXPECT_NEAR(aggregate["summary"]["iou_3d"]["labeloctomap"].get<double>(), sum / 8, 1e-12);
   EXPECT_TRUE(std::filesystem::exists(out / "reports" / "aggregate.md"));
   EXPECT_TRUE(std::filesystem::exists(out / "reports" / "aggregate.svg"));

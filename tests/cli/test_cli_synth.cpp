@@ -52,7 +52,7 @@ TEST(CliSynthTest, BadOptionValuesExitWithUsageErrorNamingTheOption) {
   const std::pair<const char*, const char*> cases[] = {
       {"--objects 0", "--objects"},  {"--objects 40", "--objects"}, {"--views 2", "--views"},
       {"--frames 2", "--frames"},    {"--frames 4 --views 5", "--views"},
-      {"--width 8", "--width"},      {"--height 99999", "--height"},
+      {"--width 8", "--width"},      {"--height 2049", "--height"},
       {"--seed -1", "--seed"},       {"--seed abc", "--seed"},     {"--objects two", "--objects"},
       {"--colour red", "--colour"},
   };

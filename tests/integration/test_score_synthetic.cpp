@@ -28,7 +28,7 @@ TEST(ScoreSynthetic, LabelOctoMapBeatsProjectionMaxBeatsProjectionMean) {
   // Section V.B of the paper: three views of a cluttered bin; the mean IU_3d of
   // LabelOctoMap exceeds that of the best single view, which exceeds the mean view.
   std::vector<lom::ObjectScore> objects;
-  for (std::uint64_t seed : {1, 2, 3, 4}) {
+  for (std::uint64_t seed : {1, 2, 3, 4, 5, 6}) {
     TempDir dir;
     const lom::SynthScene scene = lom::writeSyntheticScene(sceneOptions(seed, 320, 240, 8), dir.path());
     const lom::Sequence sequence = lom::loadSequence(dir.path());
@@ -112,6 +112,9 @@ TEST_F(ScoreChecks, BoxLabelOutsideTheSequenceIsAnError) {
   expectError([&] { (void)lom::evaluate(*sequence_, annotations, *map_, named()); }, "boxes.json",
               "boxes[1].label");
   annotations.boxes[1].label = 0;  // the background is no object
+  expectError([&] { (void)lom::evaluate(*sequence_, annotations, *map_, named()); }, "boxes.json",
+              "boxes[1].label");
+  annotations.boxes[1].label = annotations.boxes[0].label;
   expectError([&] { (void)lom::evaluate(*sequence_, annotations, *map_, named()); }, "boxes.json",
               "boxes[1].label");
 }

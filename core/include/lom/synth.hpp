@@ -21,7 +21,7 @@ inline constexpr int kSynthMinViews = 3;
 inline constexpr int kSynthMaxFrames = 10000;
 inline constexpr int kSynthMinWidth = 32;
 inline constexpr int kSynthMinHeight = 24;
-inline constexpr int kSynthMaxImageSide = 4096;
+inline constexpr int kSynthMaxImageSide = 2048;  // keeps the float probabilities in memory small
 // The object without depth (like a transparent bottle): dasani_water_bottle.
 inline constexpr int kSynthTransparentLabel = 9;
 

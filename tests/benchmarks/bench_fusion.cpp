@@ -1,0 +1,229 @@
+// Fusion speed and memory. `lom_benchmarks --table` prints the comparison table
+// of docs/performance.md (fast path vs reference path vs OctoMap's own
+// insertPointCloud, measured in the same run on the same frames); without
+// --table it runs the Google Benchmark cases.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <octomap/OcTree.h>
+
+#include "lom/fusion.hpp"
+#include "lom/octree/label_octree.hpp"
+#include "lom/synth.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct LoadedFrame {
+  lom::CameraIntrinsics camera;
+  Eigen::Isometry3d pose;
+  lom::DepthImage depth;
+  lom::ProbabilityImage proba;         // the scene's probability image (40-label map)
+  lom::ProbabilityImage single_label;  // one channel: "occupied" with OctoMap's p_hit 0.7
+};
+
+struct Scene {
+  lom::LabelSet labels;
+  std::vector<LoadedFrame> frames;
+};
+
+fs::path benchmarkFolder() {
+  return fs::temp_directory_path() / "labeloctomap-benchmark-scenes";
+}
+
+// The synthetic shelf-bin scene at one image size (cached between runs).
+const Scene& scene(int width, int height, int frames) {
+  static std::map<std::string, Scene> cache;
+  const std::string name = std::to_string(width) + "x" + std::to_string(height) + "-" +
+                           std::to_string(frames);
+  if (auto it = cache.find(name); it != cache.end()) return it->second;
+  const fs::path folder = benchmarkFolder() / name;
+  if (!fs::exists(folder / "sequence.json")) {
+    lom::SynthOptions options;
+    options.seed = 7;
+    options.objects = 8;
+    options.frames = frames;
+    options.views = 3;
+    options.width = width;
+    options.height = height;
+    fs::create_directories(folder);
+    lom::writeSyntheticScene(options, folder);
+  }
+  const lom::Sequence sequence = lom::loadSequence(folder);
+  Scene s;
+  s.labels = sequence.labels;
+  for (size_t i = 0; i < sequence.frames.size(); ++i) {
+    lom::FrameData data = lom::loadFrame(sequence, i);
+    LoadedFrame f;
+    f.camera = sequence.cameraOf(i);
+    f.pose = sequence.frames[i].T_world_camera;
+    f.depth = std::move(data.depth);
+    f.proba = std::move(*data.proba);
+    f.single_label = {f.depth.width, f.depth.height, 1, {0},
+                      std::vector<float>(f.depth.metres.size(), 0.7f)};
+    s.frames.push_back(std::move(f));
+  }
+  return cache.emplace(name, std::move(s)).first->second;
+}
+
+lom::LabelSet singleLabel() { return lom::LabelSet({{0, "occupied", {255, 255, 255}}}); }
+
+struct Config {
+  int width, height;
+  double resolution;
+  int labels;
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+// Fuses frames [0, count) into a fresh map; returns per-frame seconds.
+std::vector<double> fuse(const Scene& s, const Config& c, lom::IntegrationPath path, size_t count,
+                         std::unique_ptr<lom::LabelMap>* keep = nullptr) {
+  lom::MapParameters parameters;
+  parameters.resolution = c.resolution;
+  auto map = std::make_unique<lom::LabelMap>(c.labels == 1 ? singleLabel() : s.labels, parameters);
+  lom::IntegrationOptions options;
+  options.path = path;
+  std::vector<double> seconds;
+  for (size_t i = 0; i < std::min(count, s.frames.size()); ++i) {
+    const LoadedFrame& f = s.frames[i];
+    const lom::ProbabilityImage& proba = c.labels == 1 ? f.single_label : f.proba;
+    const lom::FrameEvidence evidence(map->numLabels(), &proba, nullptr, std::nullopt, 0.9);
+    const auto start = std::chrono::steady_clock::now();
+    lom::integrateFrame(*map, f.camera, f.pose, f.depth, evidence, options);
+    seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  if (keep) *keep = std::move(map);
+  return seconds;
+}
+
+// OctoMap's own insertion of the same frames (single label, discretize = true).
+std::vector<double> fuseOctomap(const Scene& s, double resolution, size_t count,
+                                double* bytes_per_voxel) {
+  octomap::OcTree tree(resolution);
+  std::vector<double> seconds;
+  for (size_t i = 0; i < std::min(count, s.frames.size()); ++i) {
+    const LoadedFrame& f = s.frames[i];
+    octomap::Pointcloud cloud;
+    for (int v = 0; v < f.depth.height; ++v)
+      for (int u = 0; u < f.depth.width; ++u) {
+        const float z = f.depth.at(u, v);
+        if (!(z > 0.f)) continue;
+        const Eigen::Vector3d p = f.pose * f.camera.backProject(u, v, z);
+        cloud.push_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                        static_cast<float>(p.z()));
+      }
+    const Eigen::Vector3d o = f.pose.translation();
+    const auto start = std::chrono::steady_clock::now();
+    tree.insertPointCloud(cloud, octomap::point3d(static_cast<float>(o.x()), static_cast<float>(o.y()),
+                                                  static_cast<float>(o.z())),
+                          1.0, false, true);
+    seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  *bytes_per_voxel = static_cast<double>(tree.memoryUsage()) / static_cast<double>(tree.getNumLeafNodes());
+  return seconds;
+}
+
+int printTable(int repeats, size_t frames, size_t reference_frames) {
+  const Config configs[] = {
+      {160, 120, 0.01, 1},  {160, 120, 0.01, 40},  {160, 120, 0.005, 1},  {160, 120, 0.005, 40},
+      {640, 480, 0.01, 1},  {640, 480, 0.01, 40},  {640, 480, 0.005, 1},  {640, 480, 0.005, 40},
+  };
+  std::printf("Fusion of the synthetic shelf-bin scene (%zu frames, max range 1.0 m).\n", frames);
+  std::printf("Fast path: median over %d runs of all frames; reference path: first %zu frames;\n",
+              repeats, reference_frames);
+  std::printf("OctoMap: OcTree::insertPointCloud(discretize=true), single label, all frames.\n\n");
+  std::printf("| image | voxel | labels | fast ms/frame | fast fps | reference ms/frame | "
+              "OctoMap ms/frame | x OctoMap | x reference | bytes/voxel | OctoMap bytes/voxel | "
+              "memory ratio |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  std::map<std::string, std::pair<double, double>> octomap_cache;  // time, bytes per voxel
+  for (const Config& c : configs) {
+    const Scene& s = scene(c.width, c.height, static_cast<int>(frames));
+    std::vector<double> fast_times;
+    std::unique_ptr<lom::LabelMap> map;
+    for (int r = 0; r < repeats; ++r) {
+      auto t = fuse(s, c, lom::IntegrationPath::Fast, frames, &map);
+      fast_times.insert(fast_times.end(), t.begin(), t.end());
+    }
+    const double fast = median(fast_times);
+    const double reference = median(fuse(s, c, lom::IntegrationPath::Reference, reference_frames));
+    const std::string key = std::to_string(c.width) + "/" + std::to_string(c.resolution);
+    if (!octomap_cache.count(key)) {
+      double bytes = 0.0;
+      const double t = median(fuseOctomap(s, c.resolution, frames, &bytes));
+      octomap_cache[key] = {t, bytes};
+    }
+    const auto [octomap_time, octomap_bytes] = octomap_cache[key];
+    const double bytes = static_cast<double>(map->memoryBytes()) / static_cast<double>(map->numLeaves());
+    std::printf("| %dx%d | %g mm | %d | %.1f | %.0f | %.0f | %.0f | %.1f | %.1f | %.1f | %.1f | %.2f |\n",
+                c.width, c.height, c.resolution * 1000.0, c.labels, fast * 1e3, 1.0 / fast,
+                reference * 1e3, octomap_time * 1e3, octomap_time / fast, reference / fast, bytes,
+                octomap_bytes, bytes / octomap_bytes);
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+void BM_FastFusion(benchmark::State& state) {
+  const Config c{static_cast<int>(state.range(0)), static_cast<int>(state.range(0)) * 3 / 4,
+                 state.range(1) / 1000.0, static_cast<int>(state.range(2))};
+  const Scene& s = scene(c.width, c.height, 8);
+  for (auto _ : state) {
+    auto times = fuse(s, c, lom::IntegrationPath::Fast, s.frames.size());
+    benchmark::DoNotOptimize(times.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(s.frames.size()));
+  state.SetLabel("items = frames");
+}
+BENCHMARK(BM_FastFusion)
+    ->Args({160, 10, 40})
+    ->Args({640, 10, 1})
+    ->Args({640, 10, 40})
+    ->Args({640, 5, 40})
+    ->Unit(benchmark::kMillisecond);
+
+void BM_ReferenceFusion(benchmark::State& state) {
+  const Config c{160, 120, 0.01, 40};
+  const Scene& s = scene(c.width, c.height, 8);
+  for (auto _ : state) {
+    auto times = fuse(s, c, lom::IntegrationPath::Reference, s.frames.size());
+    benchmark::DoNotOptimize(times.data());
+  }
+}
+BENCHMARK(BM_ReferenceFusion)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int repeats = 5;
+  size_t frames = 8, reference_frames = 3;
+  bool table = false;
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--table")) table = true;
+    else if (!std::strncmp(argv[i], "--repeats=", 10)) repeats = std::atoi(argv[i] + 10);
+    else if (!std::strncmp(argv[i], "--frames=", 9)) frames = static_cast<size_t>(std::atoi(argv[i] + 9));
+    else if (!std::strncmp(argv[i], "--reference-frames=", 19))
+      reference_frames = static_cast<size_t>(std::atoi(argv[i] + 19));
+  }
+  if (table) return printTable(std::max(1, repeats), std::max<size_t>(1, frames),
+                               std::max<size_t>(1, reference_frames));
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
