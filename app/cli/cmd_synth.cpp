@@ -29,7 +29,8 @@ std::uint64_t parseSeed(const Args& args) {
   errno = 0;
   const unsigned long long value = std::strtoull(text->c_str(), &end, 10);
   if (text->empty() || (*text)[0] == '-' || *end != '\0' || errno == ERANGE)
-    throw UsageError("option --seed expects a non-negative integer below 2^64, got '" + *text + "'");
+    throw UsageError("option --seed expects a non-negative integer below 2^64, got '" + *text +
+                     "'");
   return value;
 }
 

@@ -21,6 +21,10 @@ int runSynth(const Words& words);     // cmd_synth.cpp
 int runFuse(const Words& words);      // cmd_fuse.cpp
 int runExport(const Words& words);    // cmd_export.cpp
 int runScore(const Words& words);     // cmd_score.cpp
+int runRender(const Words& words);    // cmd_render.cpp
+int runImport(const Words& words);    // cmd_import.cpp
+int runPlan(const Words& words);      // cmd_plan.cpp
+int runSegment(const Words& words);   // cmd_segment.cpp
 
 // --resolution --max-range --p-miss --threshold --candidates --frames (cmd_fuse.cpp).
 FusionOptions fusionOptionsFromArgs(const Args& args);

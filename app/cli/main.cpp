@@ -31,7 +31,21 @@ const Command kCommands[] = {
      "      [--candidates ...] [--iou exact|center] | score --batch LIST.txt --out DIR\n"
      "                                per-object IU_3d against projection baselines"},
     {"export", lom::cli::runExport,
-     "export MAP.ot --voxels OUT.pcd  write the occupied voxels (x y z label probability)"},
+     "export MAP.ot --format ply|obj|stl|pcd|ot|bt|objects [--per-label] [--labels 8,19]\n"
+     "       [--smooth] --out PATH | export MAP.ot --voxels OUT.pcd\n"
+     "                                write meshes, point clouds, octrees or object boxes"},
+    {"render", lom::cli::runRender,
+     "render MAP.ot --out view.png [--camera FRAME_OF_SEQ | --azimuth A --elevation E]\n"
+     "       [--size 1280x960]        render the map offscreen to a PNG (needs X or Xvfb)"},
+    {"import", lom::cli::runImport,
+     "import KIND SRC --out SEQ       convert a ROS bag or dataset folder to a sequence\n"
+     "                                (KIND: auto, rosbag, frames, tum, quaternion, scannet, apc-shelf)"},
+    {"plan", lom::cli::runPlan,
+     "plan MAP.ot --target LABEL [--approach x,y,z] [--out plan.json]\n"
+     "                                which objects to remove before picking the target"},
+    {"segment", lom::cli::runSegment,
+     "segment SEQ --segmenter MODEL.onnx\n"
+     "                                write probability images from a segmentation network"},
 };
 
 void printUsage(std::ostream& out) {

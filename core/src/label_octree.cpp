@@ -122,16 +122,24 @@ int LabelOcTreeNode::argmaxLabel(int /*num_labels*/) const {
 
 void LabelOcTreeNode::setLabelLogOdds(int num_labels, const float* values) {
   float low = values[0], high = values[0];
-  unsigned above = 0;
   for (int k = 1; k < num_labels; ++k) {
     low = std::min(low, values[k]);
     high = std::max(high, values[k]);
   }
-  release();
   value = high;
-  if (low == high) return;
+  if (low == high) {
+    release();
+    return;
+  }
+  unsigned above = 0;
   for (int k = 0; k < num_labels; ++k) above += values[k] > low ? 1u : 0u;
-  SparseLabels* b = SparseLabels::allocate(static_cast<unsigned>(num_labels), above);
+  // Re-hit voxels usually keep the same labels above the base: reuse the block.
+  SparseLabels* b = const_cast<SparseLabels*>(block());
+  if (!b || b->count != above || b->num_labels != num_labels) {
+    release();
+    b = SparseLabels::allocate(static_cast<unsigned>(num_labels), above);
+    data_ = reinterpret_cast<std::uintptr_t>(b);
+  }
   b->base = low;
   unsigned i = 0;
   for (int k = 0; k < num_labels; ++k) {
@@ -140,7 +148,6 @@ void LabelOcTreeNode::setLabelLogOdds(int num_labels, const float* values) {
     b->values()[i] = values[k];
     ++i;
   }
-  data_ = reinterpret_cast<std::uintptr_t>(b);
 }
 
 void LabelOcTreeNode::setUniformLogOdds(float log_odds) {
@@ -305,22 +312,23 @@ LabelOcTreeNode* LabelOcTree::touchLeaf(const octomap::OcTreeKey& key) {
     created = true;
   }
   LabelOcTreeNode* node = root;
-  for (int depth = 0; depth < static_cast<int>(tree_depth); ++depth) {
-    const unsigned pos = octomap::computeChildIdx(key, static_cast<int>(tree_depth) - 1 - depth);
-    if (!nodeChildExists(node, pos)) {
-      if (!nodeHasChildren(node) && !created) {
-        // A pruned leaf: its eight children inherit its data.
-        expandNode(node);
-      } else {
-        createNodeChild(node, pos);
-        created = true;
-      }
-    } else {
-      created = false;
-    }
-    node = getNodeChild(node, pos);
-  }
+  for (int depth = 0; depth < static_cast<int>(tree_depth); ++depth)
+    node = childForUpdate(node, octomap::computeChildIdx(key, static_cast<int>(tree_depth) - 1 - depth),
+                          created);
   return node;
+}
+
+LabelOcTreeNode* LabelOcTree::childForUpdate(LabelOcTreeNode* node, unsigned pos, bool& created) {
+  if (nodeChildExists(node, pos)) {
+    created = false;
+  } else if (!nodeHasChildren(node) && !created) {
+    // A childless node that is not new is a pruned leaf: its children inherit its data.
+    expandNode(node);
+  } else {
+    createNodeChild(node, pos);
+    created = true;
+  }
+  return getNodeChild(node, pos);
 }
 
 void LabelOcTree::applyHit(const octomap::OcTreeKey& key, const float* log_odds) {

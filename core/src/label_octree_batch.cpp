@@ -38,22 +38,9 @@ void LabelOcTree::applySortedUpdates(const std::vector<VoxelUpdate>& updates) {
     }
     previous = update.morton;
     LabelOcTreeNode* node = path[static_cast<size_t>(shared)];
-    // A childless node is either new (its children start unknown) or a pruned
-    // leaf (its children inherit its data).
     bool created = shared == 0 && root_is_new;
     for (int d = shared; d < depth_max; ++d) {
-      const unsigned pos = octomap::computeChildIdx(update.key, depth_max - 1 - d);
-      if (!nodeChildExists(node, pos)) {
-        if (!nodeHasChildren(node) && !created) {
-          expandNode(node);
-        } else {
-          createNodeChild(node, pos);
-          created = true;
-        }
-      } else {
-        created = false;
-      }
-      node = getNodeChild(node, pos);
+      node = childForUpdate(node, octomap::computeChildIdx(update.key, depth_max - 1 - d), created);
       path[static_cast<size_t>(d + 1)] = node;
     }
     valid_depth = depth_max;

@@ -1,11 +1,10 @@
 #pragma once
 // Building blocks of the synthetic scenes, shared by the synth_*.cpp files.
+#include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
 #include <random>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "lom/synth.hpp"
 
@@ -55,6 +54,18 @@ enum class Stream : std::uint64_t { Layout = 1, Path = 2, Depth = 3, Color = 4, 
   return z;
 }
 
+// Bin interior in the world frame: the opening is the plane x = 0 facing -x,
+// the floor is z = 0, the bin is centred on y = 0.
+inline constexpr double kBinDepth = 0.38;
+inline constexpr double kBinWidth = 0.50;
+inline constexpr double kBinHeight = 0.25;
+
+// ---- Camera (synth_camera.cpp) ----
+
+[[nodiscard]] CameraIntrinsics scaledCamera(int width, int height);
+// Fills layout.T_world_camera and layout.view.
+void makeCameraPath(const SynthOptions& options, SynthLayout& layout);
+
 // ---- Object catalogue (synth_catalogue.cpp) ----
 
 // How an object may rest on the bin floor. Boxes: Flat (shortest edge up),
@@ -78,7 +89,7 @@ struct CatalogueItem {
 struct SurfaceImage {
   int width = 0;
   int height = 0;
-  std::vector<float> depth;    // camera z in metres; 0 = nothing hit
+  std::vector<float> depth;             // camera z in metres; 0 = nothing hit
   std::vector<Eigen::Vector3f> normal;  // world-frame unit normal facing the camera
   std::vector<float> cos_incidence;     // |cos| of the angle between ray and normal
   std::vector<std::uint16_t> label;     // object label, 0 for the shelf and for nothing

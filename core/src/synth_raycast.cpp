@@ -136,7 +136,8 @@ SurfaceImage castRays(const SynthLayout& layout, size_t frame) {
   const CameraIntrinsics& camera = layout.camera;
   const Eigen::Isometry3d& pose = layout.T_world_camera.at(frame);
   std::vector<Primitive> primitives;
-  for (const auto& box : layout.shelf) primitives.push_back(makePrimitive(box, false, 0, pose, camera));
+  for (const auto& box : layout.shelf)
+    primitives.push_back(makePrimitive(box, false, 0, pose, camera));
   for (const auto& object : layout.objects)
     primitives.push_back(makePrimitive(object.box, object.shape == SynthShape::Cylinder,
                                        object.label, pose, camera));

@@ -1,4 +1,4 @@
-// Scene layout: the shelf bin, the objects on its floor, the camera path.
+// Scene layout: the shelf bin and the objects on its floor.
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -11,18 +11,15 @@ namespace lom {
 
 namespace {
 
+using synth::kBinDepth;
+using synth::kBinHeight;
+using synth::kBinWidth;
 using synth::Rest;
 using synth::Rng;
 
-// Bin interior in the world frame: the opening is the plane x = 0 facing -x,
-// the floor is z = 0, the bin is centred on y = 0.
-constexpr double kBinDepth = 0.38;
-constexpr double kBinWidth = 0.50;
-constexpr double kBinHeight = 0.25;
 constexpr double kMaxObjectHeight = 0.22;
 constexpr double kWallClearance = 0.012;
 constexpr double kObjectClearance = 0.008;
-constexpr double kDegree = M_PI / 180.0;
 
 OrientedBox axisAlignedBox(const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
   OrientedBox box;
@@ -35,11 +32,11 @@ OrientedBox axisAlignedBox(const Eigen::Vector3d& min, const Eigen::Vector3d& ma
 std::vector<OrientedBox> shelfBoxes() {
   const double x1 = kBinDepth + 0.05, y0 = 0.5 * kBinWidth, y1 = 0.70, z0 = -0.35, z1 = 0.60;
   return {
-      axisAlignedBox({0, -y1, z0}, {x1, y1, 0}),                    // below, its top is the floor
-      axisAlignedBox({0, -y1, kBinHeight}, {x1, y1, z1}),           // above
-      axisAlignedBox({0, -y1, 0}, {x1, -y0, kBinHeight}),           // left wall
-      axisAlignedBox({0, y0, 0}, {x1, y1, kBinHeight}),             // right wall
-      axisAlignedBox({kBinDepth, -y0, 0}, {x1, y0, kBinHeight}),    // back wall
+      axisAlignedBox({0, -y1, z0}, {x1, y1, 0}),                  // below, its top is the floor
+      axisAlignedBox({0, -y1, kBinHeight}, {x1, y1, z1}),         // above
+      axisAlignedBox({0, -y1, 0}, {x1, -y0, kBinHeight}),         // left wall
+      axisAlignedBox({0, y0, 0}, {x1, y1, kBinHeight}),           // right wall
+      axisAlignedBox({kBinDepth, -y0, 0}, {x1, y0, kBinHeight}),  // back wall
   };
 }
 
@@ -56,7 +53,8 @@ struct Footprint {
   }
   // Half width of the footprint's shadow on a unit direction.
   [[nodiscard]] double radiusAlong(const Eigen::Vector2d& direction) const {
-    return half.x() * std::abs(axis(0).dot(direction)) + half.y() * std::abs(axis(1).dot(direction));
+    return half.x() * std::abs(axis(0).dot(direction)) +
+           half.y() * std::abs(axis(1).dot(direction));
   }
 };
 
@@ -75,8 +73,8 @@ bool separated(const Footprint& a, const Footprint& b, double clearance) {
 struct ObjectPlan {
   int label = 0;
   synth::CatalogueItem item;
-  Eigen::Vector3d size;        // box edge lengths before scaling by the crowd factor
-  Eigen::Matrix3d tilt;        // object axes to yaw-frame axes (a permutation)
+  Eigen::Vector3d size;  // box edge lengths before scaling by the crowd factor
+  Eigen::Matrix3d tilt;  // object axes to yaw-frame axes (a permutation)
 
   [[nodiscard]] Eigen::Vector3d halfExtents(double scale) const {
     return tilt.cwiseAbs() * (0.5 * scale * size);
@@ -101,9 +99,15 @@ Resting restingAs(SynthShape shape, Rest rest, const Eigen::Vector3d& catalogue_
   }
   // At yaw 0 the longest horizontal edge runs across the bin, facing the cameras.
   switch (rest) {
-    case Rest::Side: resting.size = {c, a, b}; break;
-    case Rest::Upright: resting.size = {c, b, a}; break;
-    default: resting.size = {b, a, c}; break;
+    case Rest::Side:
+      resting.size = {c, a, b};
+      break;
+    case Rest::Upright:
+      resting.size = {c, b, a};
+      break;
+    default:
+      resting.size = {b, a, c};
+      break;
   }
   return resting;
 }
@@ -265,58 +269,6 @@ std::vector<SynthObject> makeObjects(const SynthOptions& options) {
   return objects;
 }
 
-Eigen::Isometry3d lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
-  // OpenCV camera axes: z forward, x right, y down.
-  const Eigen::Vector3d forward = (target - eye).normalized();
-  const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
-  const Eigen::Vector3d down = forward.cross(right);
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() << right, down, forward;
-  pose.translation() = eye;
-  return pose;
-}
-
-// A left-to-right arc in front of the opening with one up-down sweep, always
-// looking at the middle of the bin's contents from about 0.6 m.
-void makeCameraPath(const SynthOptions& options, SynthLayout& layout) {
-  Rng rng(synth::streamSeed(options.seed, synth::Stream::Path));
-  const Eigen::Vector3d target(0.5 * kBinDepth, 0.0, 0.07);
-  const double azimuth_left = -rng.uniform(24, 32) * kDegree;
-  const double azimuth_right = rng.uniform(24, 32) * kDegree;
-  const double elevation = rng.uniform(22, 26) * kDegree;
-  const double elevation_sweep = rng.uniform(5, 7) * kDegree;
-  const double distance = rng.uniform(0.56, 0.62);
-  const int frames = options.frames;
-  for (int i = 0; i < frames; ++i) {
-    const double t = frames > 1 ? static_cast<double>(i) / (frames - 1) : 0.5;
-    const double azimuth = azimuth_left + t * (azimuth_right - azimuth_left);
-    const double tilt = elevation + elevation_sweep * std::sin(2 * M_PI * t);
-    const Eigen::Vector3d toward_camera(-std::cos(tilt) * std::cos(azimuth),
-                                        std::cos(tilt) * std::sin(azimuth), std::sin(tilt));
-    layout.T_world_camera.push_back(lookAt(target + distance * toward_camera, target));
-    layout.view.push_back(false);
-  }
-  const int views = options.views;
-  for (int k = 0; k < views; ++k) {
-    const long index = std::lround(static_cast<double>(k) * (frames - 1) / (views - 1));
-    layout.view[static_cast<size_t>(index)] = true;
-  }
-}
-
-CameraIntrinsics scaledCamera(int width, int height) {
-  // The sequence camera at 640 x 480, scaled about the pixel-centre convention.
-  CameraIntrinsics camera;
-  const double sx = width / 640.0, sy = height / 480.0;
-  camera.width = width;
-  camera.height = height;
-  camera.fx = 615.2 * sx;
-  camera.fy = 615.2 * sy;
-  camera.cx = (319.5 + 0.5) * sx - 0.5;
-  camera.cy = (239.5 + 0.5) * sy - 0.5;
-  camera.depth_scale = 0.001;
-  return camera;
-}
-
 }  // namespace
 
 void checkSynthOptions(const SynthOptions& o) {
@@ -343,10 +295,11 @@ SynthLayout makeSynthLayout(const SynthOptions& options) {
   checkSynthOptions(options);
   SynthLayout layout;
   layout.shelf = shelfBoxes();
-  layout.bin_interior = axisAlignedBox({0, -0.5 * kBinWidth, 0}, {kBinDepth, 0.5 * kBinWidth, kBinHeight});
+  layout.bin_interior =
+      axisAlignedBox({0, -0.5 * kBinWidth, 0}, {kBinDepth, 0.5 * kBinWidth, kBinHeight});
   layout.objects = makeObjects(options);
-  layout.camera = scaledCamera(options.width, options.height);
-  makeCameraPath(options, layout);
+  layout.camera = synth::scaledCamera(options.width, options.height);
+  synth::makeCameraPath(options, layout);
   std::vector<int> object_labels;
   for (const auto& object : layout.objects) object_labels.push_back(object.label);
   Rng rng(synth::streamSeed(options.seed, synth::Stream::Segmenter));

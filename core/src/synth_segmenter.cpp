@@ -58,10 +58,10 @@ void boundaryDistance(const LabelImage& truth, std::vector<float>& distance,
 
 // How the segmenter treats one class in this frame.
 struct ClassBehaviour {
-  double confidence = 4.0;   // score of the true class well inside a region
-  int look_alike = -1;       // channel of a similar class, -1 if none
+  double confidence = 4.0;  // score of the true class well inside a region
+  int look_alike = -1;      // channel of a similar class, -1 if none
   double look_alike_ratio = 0.0;
-  double confusion = 0.0;    // > 0: patches where the look-alike wins
+  double confusion = 0.0;  // > 0: patches where the look-alike wins
 };
 
 struct FalsePositive {
@@ -168,8 +168,8 @@ ProbabilityImage simulateSegmenter(const LabelImage& truth, const std::vector<in
       std::fill(score.begin(), score.end(), 0.0);
       const int own = channel_of[truth.ids[i]];
       const ClassBehaviour& b = behaviour[static_cast<size_t>(own)];
-      const double s = b.confidence * (1.0 + 0.15 * confidence_field.at(u, v)) +
-                       rng.uniform(-0.3, 0.3);
+      const double s =
+          b.confidence * (1.0 + 0.15 * confidence_field.at(u, v)) + rng.uniform(-0.3, 0.3);
       const double inside = std::min(1.0, distance[i] / band);  // 0 at an edge, 1 well inside
       score[own] = s * (0.8 + 0.2 * inside);
       if (across[i] >= 0 && inside < 1.0) {
@@ -185,15 +185,17 @@ ProbabilityImage simulateSegmenter(const LabelImage& truth, const std::vector<in
       for (const auto& fp : false_positives) {
         const double du = (u - fp.u) / fp.radius, dv = (v - fp.v) / fp.radius;
         const double r2 = du * du + dv * dv;
-        if (r2 < 1.0) score[static_cast<size_t>(fp.channel)] =
-            std::max(score[static_cast<size_t>(fp.channel)], fp.score * (1.0 - r2));
+        if (r2 < 1.0)
+          score[static_cast<size_t>(fp.channel)] =
+              std::max(score[static_cast<size_t>(fp.channel)], fp.score * (1.0 - r2));
       }
       const double top = *std::max_element(score.begin(), score.end());
       double sum = 0.0;
       for (double& x : score) sum += (x = std::exp(x - top));
       float* out = proba.values.data() + i * channels;
       for (int c = 0; c < channels; ++c)  // as stored in the uint8 .npy
-        out[c] = static_cast<float>(std::round(score[static_cast<size_t>(c)] / sum * 255.0) / 255.0);
+        out[c] =
+            static_cast<float>(std::round(score[static_cast<size_t>(c)] / sum * 255.0) / 255.0);
     }
   return proba;
 }

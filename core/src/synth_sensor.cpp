@@ -9,14 +9,14 @@ namespace lom::synth {
 
 namespace {
 
-constexpr float kMaxRange = 3.5f;           // metres; farther surfaces give no return
+constexpr float kMaxRange = 3.5f;  // metres; farther surfaces give no return
 // Returns fail more and more often from 72 deg between ray and normal on,
 // half of them at 75 deg, all beyond 78 deg.
-constexpr float kGrazingCosine = 0.2079f;   // cos 78 deg
-constexpr float kFadingCosine = 0.3090f;    // cos 72 deg
-constexpr float kEdgeJump = 0.02f;          // metres between neighbours
-constexpr double kShadowedEdgeLoss = 0.8;   // far side of a depth edge
-constexpr double kNearEdgeLoss = 0.15;      // near side of a depth edge
+constexpr float kGrazingCosine = 0.2079f;  // cos 78 deg
+constexpr float kFadingCosine = 0.3090f;   // cos 72 deg
+constexpr float kEdgeJump = 0.02f;         // metres between neighbours
+constexpr double kShadowedEdgeLoss = 0.8;  // far side of a depth edge
+constexpr double kNearEdgeLoss = 0.15;     // near side of a depth edge
 constexpr double kDropout = 0.002;
 
 // Axial noise of a structured-light sensor grows with the square of the depth.
@@ -68,7 +68,7 @@ Rgbf baseColor(const SurfaceImage& s, size_t i) {
   const Eigen::Vector3f& n = s.normal[i];
   if (n.x() < -0.9f) return {0.62f, 0.42f, 0.24f};  // the shelf's front faces
   if (n.z() > 0.9f) return {0.70f, 0.63f, 0.52f};   // bin floor
-  return {0.78f, 0.72f, 0.62f};                      // bin walls and ceiling
+  return {0.78f, 0.72f, 0.62f};                     // bin walls and ceiling
 }
 
 }  // namespace
@@ -113,8 +113,8 @@ ColorImage shadeColor(const SurfaceImage& surface, Rng& rng) {
       }
       const float grain = static_cast<float>(rng.below(5) - 2) / 255.0f;
       for (int c = 0; c < 3; ++c)
-        color.rgb[3 * i + c] = static_cast<std::uint8_t>(
-            std::lround(std::clamp(rgb[c] + grain, 0.0f, 1.0f) * 255.0f));
+        color.rgb[3 * i + c] =
+            static_cast<std::uint8_t>(std::lround(std::clamp(rgb[c] + grain, 0.0f, 1.0f) * 255.0f));
     }
   return color;
 }

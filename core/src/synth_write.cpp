@@ -1,8 +1,7 @@
 // Writes a synthetic scene as a sequence folder with annotations.
 #include <cstdio>
-#include <regex>
-
 #include <nlohmann/json.hpp>
+#include <regex>
 
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
@@ -54,16 +53,11 @@ void prepareFolder(const fs::path& out) {
 
 void writeMarker(const SynthOptions& options, const fs::path& out) {
   const nlohmann::json marker = {
-      {"format", "labeloctomap-synth"},
-      {"version", 1},
-      {"seed", options.seed},
-      {"objects", options.objects},
-      {"frames", options.frames},
-      {"views", options.views},
-      {"width", options.width},
-      {"height", options.height},
-      {"noise", options.noise},
-      {"segmenter_mistakes", options.segmenter_mistakes},
+      {"format", "labeloctomap-synth"}, {"version", 1},
+      {"seed", options.seed},           {"objects", options.objects},
+      {"frames", options.frames},       {"views", options.views},
+      {"width", options.width},         {"height", options.height},
+      {"noise", options.noise},         {"segmenter_mistakes", options.segmenter_mistakes},
   };
   writeTextFileAtomically(out / kMarkerFile, marker.dump(2) + "\n");
 }

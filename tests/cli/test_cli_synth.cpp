@@ -50,10 +50,16 @@ TEST(CliSynthTest, BadOptionValuesExitWithUsageErrorNamingTheOption) {
   lom::test::TempDir dir;
   const std::string out = " --out " + quoted(dir / "scene");
   const std::pair<const char*, const char*> cases[] = {
-      {"--objects 0", "--objects"},  {"--objects 40", "--objects"}, {"--views 2", "--views"},
-      {"--frames 2", "--frames"},    {"--frames 4 --views 5", "--views"},
-      {"--width 8", "--width"},      {"--height 2049", "--height"},
-      {"--seed -1", "--seed"},       {"--seed abc", "--seed"},     {"--objects two", "--objects"},
+      {"--objects 0", "--objects"},
+      {"--objects 40", "--objects"},
+      {"--views 2", "--views"},
+      {"--frames 2", "--frames"},
+      {"--frames 4 --views 5", "--views"},
+      {"--width 8", "--width"},
+      {"--height 2049", "--height"},
+      {"--seed -1", "--seed"},
+      {"--seed abc", "--seed"},
+      {"--objects two", "--objects"},
       {"--colour red", "--colour"},
   };
   for (const auto& [arguments, option] : cases) {
@@ -72,9 +78,7 @@ TEST(CliSynthTest, MissingOutIsAUsageError) {
 
 TEST(CliSynthTest, RefusesAForeignNonEmptyFolder) {
   lom::test::TempDir dir;
-  {
-    std::ofstream(dir / "notes.txt") << "keep me";
-  }
+  { std::ofstream(dir / "notes.txt") << "keep me"; }
   const auto result = lom::test::runCli("synth --out " + quoted(dir.path()) + kSmall);
   EXPECT_EQ(result.exit_code, 1);
   EXPECT_NE(result.err.find(dir.path().string()), std::string::npos) << result.err;

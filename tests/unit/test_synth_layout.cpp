@@ -1,9 +1,9 @@
 // Synthetic scene layout: objects in the bin, camera path, options.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <set>
 #include <stdexcept>
-
-#include <gtest/gtest.h>
 
 #include "lom/synth.hpp"
 
@@ -174,15 +174,17 @@ TEST(SynthLayoutTest, PathSweepsSmoothlyAndMarksEvenlySpacedViews) {
   double total = 0.0;
   for (size_t f = 1; f < layout.T_world_camera.size(); ++f) {
     const double step =
-        (layout.T_world_camera[f].translation() - layout.T_world_camera[f - 1].translation()).norm();
+        (layout.T_world_camera[f].translation() - layout.T_world_camera[f - 1].translation())
+            .norm();
     EXPECT_GT(step, 0.005);
     EXPECT_LT(step, 0.08);
     total += step;
   }
   // Left to right: the first and last views are far apart.
-  EXPECT_GT((layout.T_world_camera.front().translation() - layout.T_world_camera.back().translation())
-                .norm(),
-            0.4);
+  EXPECT_GT(
+      (layout.T_world_camera.front().translation() - layout.T_world_camera.back().translation())
+          .norm(),
+      0.4);
   EXPECT_GT(total, 0.4);
 }
 

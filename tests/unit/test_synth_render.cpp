@@ -1,9 +1,9 @@
 // Synthetic frames: depth geometry, sensor effects, occlusion, colour.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
-
-#include <gtest/gtest.h>
 
 #include "lom/synth.hpp"
 
@@ -97,8 +97,8 @@ TEST(SynthRenderTest, NoisyDepthStaysWithinAFewMillimetres) {
         ++object_pixels;
         const double z = frame.depth.at(u, v);
         if (z > 0)
-          errors.push_back(distanceToSurface(*objectWithLabel(layout, label),
-                                             worldPoint(layout, f, u, v, z)));
+          errors.push_back(
+              distanceToSurface(*objectWithLabel(layout, label), worldPoint(layout, f, u, v, z)));
       }
   }
   ASSERT_GT(errors.size(), 1000u);
@@ -162,8 +162,8 @@ TEST(SynthRenderTest, SensorLosesPixelsAtDepthEdges) {
       ++seen;
       const bool lost = a.depth.at(u, v) <= 0;
       missing += lost;
-      const double nearest_neighbour = std::min({b.depth.at(u - 1, v), b.depth.at(u + 1, v),
-                                                 b.depth.at(u, v - 1), b.depth.at(u, v + 1)});
+      const double nearest_neighbour = std::min(
+          {b.depth.at(u - 1, v), b.depth.at(u + 1, v), b.depth.at(u, v - 1), b.depth.at(u, v + 1)});
       if (nearest_neighbour > 0 && z - nearest_neighbour > 0.03) {
         ++edge_pixels;
         edge_missing += lost;
@@ -218,7 +218,8 @@ TEST(SynthRenderTest, SomeObjectIsPartlyHiddenInTheMiddleViewButSeenInAnother) {
     options.frames = 3;
     const SynthLayout layout = makeSynthLayout(options);
     std::vector<std::map<int, int>> with_others;
-    for (size_t f = 0; f < 3; ++f) with_others.push_back(labelCounts(renderSynthFrame(layout, options, f)));
+    for (size_t f = 0; f < 3; ++f)
+      with_others.push_back(labelCounts(renderSynthFrame(layout, options, f)));
     bool found = false;
     for (const auto& object : layout.objects) {
       SynthLayout alone = layout;

@@ -1,8 +1,8 @@
 // The simulated segmenter's probability images.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <gtest/gtest.h>
 
 #include "lom/synth.hpp"
 

@@ -1,10 +1,10 @@
 // Writing synthetic scenes to disk: layout, determinism, readability.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <map>
-
-#include <gtest/gtest.h>
 
 #include "lom/annotations.hpp"
 #include "lom/error.hpp"

@@ -1,12 +1,11 @@
 #pragma once
 // Synthetic shelf-bin scenes: the built-in demo data and the test fixture.
 // Scene description, sensor model and file layout: docs/synthetic-scenes.md.
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 #include "lom/annotations.hpp"
 #include "lom/camera.hpp"
@@ -27,9 +26,9 @@ inline constexpr int kSynthTransparentLabel = 9;
 
 struct SynthOptions {
   std::uint64_t seed = 1;
-  int objects = 6;          // number of objects from the 39-label catalogue
-  int frames = 15;          // total frames along the camera path (>= views)
-  int views = 3;            // distinct viewpoints marked view: true (>= 3)
+  int objects = 6;  // number of objects from the 39-label catalogue
+  int frames = 15;  // total frames along the camera path (>= views)
+  int views = 3;    // distinct viewpoints marked view: true (>= 3)
   int width = 640;
   int height = 480;
   bool write_color = true;
@@ -81,12 +80,13 @@ struct SynthLayout {
   std::vector<int> proba_labels;
 };
 
-// Bin, objects and camera path. Objects depend on seed and object count only;
-// the path on frames and views; the intrinsics on width and height.
+// Bin, objects and camera path. The objects depend on the seed and the object
+// count only, the path on the seed, frames and views, the intrinsics on the
+// image size. Throws std::invalid_argument like checkSynthOptions.
 [[nodiscard]] SynthLayout makeSynthLayout(const SynthOptions& options);
 
 struct SynthFrame {
-  DepthImage depth;        // metres, quantised to the 1 mm PNG step; 0 = no measurement
+  DepthImage depth;  // metres, quantised to the 1 mm PNG step; 0 = no measurement
   ColorImage color;
   LabelImage label;        // exact label of the surface hit by each pixel's ray
   ProbabilityImage proba;  // values are multiples of 1/255, as stored in the .npy

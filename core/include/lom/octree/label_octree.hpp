@@ -125,6 +125,10 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
 
  private:
   void applyParameters();
+  // The child at `pos` for an update, created when missing. `created` says
+  // whether `node` itself was created by this descent (then its children start
+  // unknown; otherwise a childless node is a pruned leaf and is expanded).
+  LabelOcTreeNode* childForUpdate(LabelOcTreeNode* node, unsigned pos, bool& created);
 
   LabelSet labels_;
   MapParameters parameters_;

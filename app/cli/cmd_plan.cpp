@@ -1,0 +1,131 @@
+// labeloctomap plan: which objects to remove, in which order, before picking a
+// target, with grasps and placements (docs/planning.md).
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <sstream>
+
+#include "args.hpp"
+#include "commands.hpp"
+#include "lom/error.hpp"
+#include "lom/label_map.hpp"
+#include "lom/planning.hpp"
+#include "lom/sequence.hpp"
+
+namespace lom::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// "a,b,c,..." -> exactly `count` finite numbers; throws UsageError naming the option.
+std::vector<double> parseNumbers(const std::string& text, size_t count, const std::string& option,
+                                 const std::string& expected) {
+  std::vector<double> values;
+  std::stringstream stream(text);
+  std::string item;
+  const auto fail = [&]() {
+    return UsageError("option --" + option + " expects " + expected + ", got '" + text + "'");
+  };
+  while (std::getline(stream, item, ',')) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0' || !std::isfinite(v)) throw fail();
+    values.push_back(v);
+  }
+  if (values.size() != count || (!text.empty() && text.back() == ',')) throw fail();
+  return values;
+}
+
+Eigen::Vector3d parseApproach(const std::string& text) {
+  const auto v = parseNumbers(text, 3, "approach", "a direction x,y,z of three numbers, not all zero");
+  const Eigen::Vector3d direction(v[0], v[1], v[2]);
+  if (direction.norm() <= 1e-12)
+    throw UsageError("option --approach expects a direction x,y,z of three numbers, not all zero, got '" + text +
+                     "'");
+  return direction;
+}
+
+OrientedBox parseBin(const std::string& text) {
+  const std::string expected = "an axis-aligned box cx,cy,cz,dx,dy,dz (centre and sizes in metres, sizes > 0)";
+  const auto v = parseNumbers(text, 6, "empty-bin", expected);
+  OrientedBox bin;
+  bin.center = {v[0], v[1], v[2]};
+  bin.size = {v[3], v[4], v[5]};
+  if (!(bin.size.array() > 0.0).all()) throw UsageError("option --empty-bin expects " + expected + ", got '" + text + "'");
+  return bin;
+}
+
+// "8,19,bunny_book" -> label ids (ids or names of the map's labels).
+std::vector<int> parseCandidates(const std::string& text, const LabelSet& labels, const std::string& map_file) {
+  std::vector<int> ids;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ','))
+    ids.push_back(resolveObjectLabel(labels, item, map_file, "--candidates"));
+  if (ids.empty()) throw UsageError("option --candidates expects a comma-separated list of labels (ids or names)");
+  return ids;
+}
+
+}  // namespace
+
+int runPlan(const Words& words) {
+  const Args args(words, {"all-clusters", "transitive"});
+  args.expectOnly({"target", "approach", "sequence", "out", "empty-bin", "all-clusters", "candidates",
+                   "cluster-tolerance", "min-cluster-voxels", "overlap-margin", "transitive", "gap"},
+                  1);
+  const fs::path map_path = args.positional(0, "MAP.ot (a fused map)");
+  const std::string target_text = args.required("target");
+
+  PlanOptions options;
+  options.objects.map_file = map_path.string();
+  options.objects.all_clusters = args.flag("all-clusters");
+  options.objects.cluster_tolerance_voxels = args.number("cluster-tolerance", options.objects.cluster_tolerance_voxels);
+  if (!(options.objects.cluster_tolerance_voxels > 0.0))
+    throw UsageError("option --cluster-tolerance expects a number of voxel edges > 0, got '" +
+                     *args.option("cluster-tolerance") + "'");
+  const long min_voxels = args.integer("min-cluster-voxels", 1);
+  if (min_voxels < 1)
+    throw UsageError("option --min-cluster-voxels expects an integer >= 1, got '" +
+                     *args.option("min-cluster-voxels") + "'");
+  options.objects.min_cluster_voxels = static_cast<size_t>(min_voxels);
+  options.overlap_margin_voxels = args.number("overlap-margin", options.overlap_margin_voxels);
+  if (!(options.overlap_margin_voxels >= 0.0))
+    throw UsageError("option --overlap-margin expects a number of voxel edges >= 0, got '" +
+                     *args.option("overlap-margin") + "'");
+  options.placement_gap = args.number("gap", options.placement_gap);
+  if (!(options.placement_gap >= 0.0))
+    throw UsageError("option --gap expects a number of metres >= 0, got '" + *args.option("gap") + "'");
+  options.transitive = args.flag("transitive");
+  if (const auto bin = args.option("empty-bin")) options.empty_bin = parseBin(*bin);
+  if (args.option("approach") && args.option("sequence"))
+    throw UsageError("give either --approach or --sequence, not both");
+  if (const auto approach = args.option("approach")) {
+    options.approach = parseApproach(*approach);
+    options.approach_source = ApproachSource::Given;
+  }
+  const std::optional<std::string> out = args.option("out");
+  if (out && fs::is_directory(*out))
+    throw Error(*out, "--out", "a file name for the plan (plan.json)", "a folder");
+
+  // The sequence is read before the map: it is the cheaper file to get wrong.
+  if (const auto sequence_path = args.option("sequence")) {
+    options.approach = meanViewingDirection(loadSequence(*sequence_path));
+    options.approach_source = ApproachSource::Sequence;
+  }
+
+  const LabelMap map = LabelMap::load(map_path);
+  const int target = resolveObjectLabel(map.labels(), target_text, map_path.string(), "--target");
+  if (const auto candidates = args.option("candidates"))
+    options.objects.labels = parseCandidates(*candidates, map.labels(), map_path.string());
+
+  const PickPlan plan = planPick(map, target, options);
+  std::cout << planTable(plan);
+  if (out) {
+    writePlanJson(plan, *out, map_path.string());
+    std::cout << "wrote " << *out << "\n";
+  }
+  return 0;
+}
+
+}  // namespace lom::cli

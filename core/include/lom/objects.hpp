@@ -1,0 +1,73 @@
+#pragma once
+// Objects of a labelled map: per label, its occupied voxels split into
+// Euclidean clusters, the largest kept as the object (or every cluster as an
+// instance), with its oriented box, centroid and mean probability. Used by the
+// pick planner (lom/planning.hpp) and the studio's Objects panel.
+// Definitions: docs/planning.md.
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "lom/geometry.hpp"
+#include "lom/label_map.hpp"
+
+namespace lom {
+
+struct ObjectOptions {
+  // Labels to extract (the bin's candidate objects); every label but the
+  // background (0) when absent. Unknown ids are an error.
+  std::optional<std::vector<int>> labels;
+  // Two voxels are in the same cluster when their centres are at most this many
+  // voxel edges apart (26-neighbours are always connected). Must be > 0.
+  double cluster_tolerance_voxels = 2.0;
+  // false: only the largest cluster of each label is the object (the others are
+  // outliers). true: every cluster is reported as a separate instance.
+  bool all_clusters = false;
+  // Clusters with fewer voxels are never objects. Must be >= 1.
+  size_t min_cluster_voxels = 1;
+  // Only for error messages.
+  std::string map_file;
+};
+
+struct MapObject {
+  int label = 0;
+  std::string name;
+  // 0 for the largest cluster of the label; with all_clusters, 1, 2, ... for the
+  // next clusters by decreasing size (ties: the cluster holding the smaller key first).
+  int instance = 0;
+  std::vector<VoxelKey> voxels;      // the cluster's finest-resolution voxels, sorted
+  size_t label_voxels = 0;           // all occupied voxels of the label, before clustering
+  size_t label_clusters = 0;         // clusters of the label with >= min_cluster_voxels voxels
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // mean of the voxel centres
+  OrientedBox box;                   // encloses every voxel cube of the cluster
+  double mean_probability = 0.0;     // mean over the voxels of p(label)
+
+  [[nodiscard]] size_t voxelCount() const { return voxels.size(); }
+  // "19" for instance 0, "19#2" for instance 2.
+  [[nodiscard]] std::string id() const;
+};
+
+// Euclidean clusters of voxel keys (largestCluster of lom/box_fit.hpp applied
+// repeatedly): by decreasing size, ties to the cluster holding the smallest key;
+// clusters smaller than `min_size` are dropped. Each cluster is sorted.
+[[nodiscard]] std::vector<std::vector<VoxelKey>> euclideanClusters(const std::vector<VoxelKey>& keys,
+                                                                   double tolerance_voxels,
+                                                                   size_t min_size = 1);
+
+// The objects of `map`, by ascending label then instance. Labels without
+// occupied voxels (or whose clusters are all too small) have no object.
+// Throws lom::Error naming options.map_file for unknown labels and bad options.
+[[nodiscard]] std::vector<MapObject> extractObjects(const LabelMap& map, const ObjectOptions& options = {});
+
+// Generated scenes with known layouts (tests, demos): every voxel whose centre
+// lies inside `box` gets a hit that leaves a fresh voxel with probability
+// `probability` for `label` and the lower clamp for the other labels (evidence
+// adds up where boxes overlap). Returns the number of voxels touched.
+size_t rasterizeBox(LabelMap& map, const OrientedBox& box, int label, double probability = 0.9);
+// Every voxel whose centre lies inside `box` gets `misses` misses (observed free space).
+size_t rasterizeFreeBox(LabelMap& map, const OrientedBox& box, int misses = 3);
+
+}  // namespace lom

@@ -1,0 +1,327 @@
+// Pick planning: occluders, grasps, placements (docs/planning.md).
+#include "lom/planning.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include <Eigen/Geometry>
+
+#include "lom/error.hpp"
+#include "lom/octree/label_octree.hpp"
+
+namespace lom {
+
+namespace {
+
+std::string vectorText(const Eigen::Vector3d& v) {
+  std::ostringstream out;
+  out << v.x() << "," << v.y() << "," << v.z();
+  return out.str();
+}
+
+std::string labelText(const LabelSet& labels, int label) {
+  std::string text = std::to_string(label);
+  if (labels.contains(label) && !labels.at(label).name.empty()) text += " (" + labels.at(label).name + ")";
+  return text;
+}
+
+Eigen::Vector3d normalizedApproach(const Eigen::Vector3d& approach, const std::string& file) {
+  const double norm = approach.norm();
+  if (!approach.allFinite() || !(norm > 1e-12))
+    throw Error(file, "approach", "a finite, non-zero direction x,y,z", vectorText(approach));
+  return approach / norm;
+}
+
+Eigen::Matrix3d axesOf(const OrientedBox& box) { return box.rotation.normalized().toRotationMatrix(); }
+
+// Front-most first; ties by label, then instance.
+void sortFrontToBack(std::vector<size_t>& indices, const std::vector<MapObject>& objects,
+                     const Eigen::Vector3d& approach) {
+  std::sort(indices.begin(), indices.end(), [&](size_t a, size_t b) {
+    const double da = objects[a].centroid.dot(approach);
+    const double db = objects[b].centroid.dot(approach);
+    if (da != db) return da < db;
+    if (objects[a].label != objects[b].label) return objects[a].label < objects[b].label;
+    return objects[a].instance < objects[b].instance;
+  });
+}
+
+}  // namespace
+
+const char* approachSourceName(ApproachSource source) {
+  switch (source) {
+    case ApproachSource::Given: return "given";
+    case ApproachSource::Sequence: return "sequence";
+    case ApproachSource::FreeSpace: return "free-space";
+  }
+  return "given";
+}
+
+const char* stepActionName(StepAction action) { return action == StepAction::Pick ? "pick" : "remove"; }
+
+const char* objectRoleName(ObjectRole role) {
+  switch (role) {
+    case ObjectRole::Target: return "target";
+    case ObjectRole::Occluder: return "occluder";
+    case ObjectRole::Other: return "other";
+  }
+  return "other";
+}
+
+int resolveObjectLabel(const LabelSet& labels, const std::string& id_or_name, const std::string& file,
+                       const std::string& field) {
+  const std::string expected = "a label id 1.." + std::to_string(labels.size() - 1) + " or a label name of the map";
+  int label = -1;
+  const bool numeric = !id_or_name.empty() && std::all_of(id_or_name.begin(), id_or_name.end(), [](char c) {
+    return std::isdigit(static_cast<unsigned char>(c)) != 0;
+  });
+  if (numeric) {
+    if (id_or_name.size() > 6 || !labels.contains(std::atoi(id_or_name.c_str())))
+      throw Error(file, field, expected, "label " + id_or_name + ", which the map does not have");
+    label = std::atoi(id_or_name.c_str());
+  } else if (const auto found = labels.findByName(id_or_name)) {
+    label = *found;
+  } else {
+    throw Error(file, field, expected, "'" + id_or_name + "', which is no label name of the map");
+  }
+  if (label == 0)
+    throw Error(file, field, "an object label (1.." + std::to_string(labels.size() - 1) + ")",
+                labelText(labels, 0) + ", the background");
+  return label;
+}
+
+Eigen::Vector3d meanViewingDirection(const Sequence& sequence) {
+  const std::string file = (sequence.root / "sequence.json").string();
+  if (sequence.frames.empty())
+    throw Error(file, "frames", "at least one frame to take the mean viewing direction from", "no frame");
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const auto& frame : sequence.frames) sum += frame.T_world_camera.linear().col(2);
+  if (!(sum.norm() > 1e-9 * static_cast<double>(sequence.frames.size())))
+    throw Error(file, "frames[].pose", "cameras whose viewing directions (z axes) do not cancel out",
+                "a mean viewing direction of length 0");
+  return sum.normalized();
+}
+
+Eigen::Vector3d approachFromFreeSpace(const LabelMap& map, const std::vector<MapObject>& objects,
+                                      const std::string& map_file) {
+  const std::string expected =
+      "a map with observed free space and objects, or an approach given with --approach x,y,z or "
+      "--sequence SEQ";
+  Eigen::Vector3d object_sum = Eigen::Vector3d::Zero();
+  double object_count = 0.0;
+  for (const auto& object : objects) {
+    object_sum += object.centroid * static_cast<double>(object.voxelCount());
+    object_count += static_cast<double>(object.voxelCount());
+  }
+  if (object_count == 0.0) throw Error(map_file, "approach", expected, "no object in the map");
+
+  const LabelOcTree& tree = map.tree();
+  Eigen::Vector3d free_sum = Eigen::Vector3d::Zero();
+  double free_volume = 0.0;
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+    if (tree.isNodeOccupied(*it)) continue;
+    const double size = it.getSize();
+    const double volume = size * size * size;
+    const octomap::point3d c = it.getCoordinate();
+    free_sum += volume * Eigen::Vector3d(c.x(), c.y(), c.z());
+    free_volume += volume;
+  }
+  if (free_volume == 0.0) throw Error(map_file, "approach", expected, "no free voxel in the map");
+  const Eigen::Vector3d direction = object_sum / object_count - free_sum / free_volume;
+  if (!(direction.norm() > 1e-9))
+    throw Error(map_file, "approach", expected, "free space centred on the objects (no direction)");
+  return direction.normalized();
+}
+
+bool boxesOverlapAcross(const OrientedBox& a, const OrientedBox& b, const Eigen::Vector3d& direction,
+                        double margin) {
+  const Eigen::Vector3d d = direction.normalized();
+  const Eigen::Matrix3d axes_a = axesOf(a);
+  const Eigen::Matrix3d axes_b = axesOf(b);
+  // The projections are zonogons whose edges are the projected box axes, so the
+  // candidate separating lines in the plane are perpendicular to those: d x axis.
+  auto interval = [](const OrientedBox& box, const Eigen::Matrix3d& axes, const Eigen::Vector3d& n) {
+    const double centre = box.center.dot(n);
+    double reach = 0.0;
+    for (int k = 0; k < 3; ++k) reach += 0.5 * box.size[k] * std::abs(axes.col(k).dot(n));
+    return std::make_pair(centre - reach, centre + reach);
+  };
+  for (const Eigen::Matrix3d* axes : {&axes_a, &axes_b}) {
+    for (int k = 0; k < 3; ++k) {
+      Eigen::Vector3d n = d.cross(axes->col(k));
+      if (n.norm() < 1e-9) continue;  // this axis is along d: its faces project to nothing
+      n.normalize();
+      const auto [low_a, high_a] = interval(a, axes_a, n);
+      const auto [low_b, high_b] = interval(b, axes_b, n);
+      if (std::min(high_a, high_b) - std::max(low_a, low_b) <= margin) return false;
+    }
+  }
+  return true;
+}
+
+std::vector<size_t> findOccluders(const std::vector<MapObject>& objects, size_t target,
+                                  const Eigen::Vector3d& approach, double margin) {
+  const Eigen::Vector3d d = approach.normalized();
+  const double target_depth = objects.at(target).centroid.dot(d);
+  std::vector<size_t> occluders;
+  for (size_t i = 0; i < objects.size(); ++i) {
+    if (i == target) continue;
+    if (!(objects[i].centroid.dot(d) < target_depth)) continue;
+    if (boxesOverlapAcross(objects[i].box, objects[target].box, d, margin)) occluders.push_back(i);
+  }
+  sortFrontToBack(occluders, objects, d);
+  return occluders;
+}
+
+Grasp graspFor(const MapObject& object, const Eigen::Vector3d& approach) {
+  Grasp grasp;
+  grasp.approach = approach.normalized();
+  grasp.axes = axesOf(object.box);
+  grasp.size = object.box.size;
+  int best = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(grasp.axes.col(k).dot(grasp.approach)) > std::abs(grasp.axes.col(best).dot(grasp.approach)))
+      best = k;
+  grasp.face_axis = best;
+  const double sign = grasp.axes.col(best).dot(grasp.approach) > 0.0 ? -1.0 : 1.0;
+  grasp.face_normal = sign * grasp.axes.col(best);
+  // The centroid in box coordinates, moved onto the front face (and kept on it).
+  Eigen::Vector3d local = grasp.axes.transpose() * (object.centroid - object.box.center);
+  const Eigen::Vector3d half = 0.5 * object.box.size;
+  local = local.cwiseMax(-half).cwiseMin(half);
+  local[best] = sign * half[best];
+  grasp.position = object.box.center + grasp.axes * local;
+  return grasp;
+}
+
+std::vector<Placement> placeInBin(const std::vector<OrientedBox>& boxes, const std::optional<OrientedBox>& bin,
+                                  double gap) {
+  std::vector<Placement> placements(boxes.size());
+  if (!bin) return placements;
+  const Eigen::Vector3d low = bin->center - 0.5 * bin->size;
+  const int along = bin->size.y() > bin->size.x() ? 1 : 0;
+  const int across = 1 - along;
+  double cursor = gap;
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const Eigen::Vector3d extent = axesOf(boxes[i]).cwiseAbs() * boxes[i].size;  // world-aligned extent
+    const bool fits = cursor + extent[along] + gap <= bin->size[along] &&
+                      extent[across] + 2.0 * gap <= bin->size[across] && extent.z() <= bin->size.z();
+    if (!fits) continue;
+    Placement& placement = placements[i];
+    placement.in_bin = true;
+    placement.position[along] = low[along] + cursor + 0.5 * extent[along];
+    placement.position[across] = bin->center[across];
+    placement.position.z() = low.z() + 0.5 * extent.z();
+    cursor += extent[along] + gap;
+  }
+  return placements;
+}
+
+PickPlan planPick(const std::vector<MapObject>& objects, const LabelSet& labels, int target_label,
+                  const Eigen::Vector3d& approach, const PlanOptions& options, double resolution) {
+  const std::string& file = options.objects.map_file;
+  if (!labels.contains(target_label) || target_label == 0)
+    throw Error(file, "target", "an object label (1.." + std::to_string(labels.size() - 1) + ")",
+                labelText(labels, target_label));
+  if (!(options.overlap_margin_voxels >= 0.0) || !std::isfinite(options.overlap_margin_voxels))
+    throw Error(file, "overlap_margin_voxels", "a finite number >= 0", std::to_string(options.overlap_margin_voxels));
+  if (!(options.placement_gap >= 0.0) || !std::isfinite(options.placement_gap))
+    throw Error(file, "placement_gap", "a finite number of metres >= 0", std::to_string(options.placement_gap));
+  if (options.empty_bin && !((options.empty_bin->size.array() > 0.0).all() && options.empty_bin->size.allFinite() &&
+                             options.empty_bin->center.allFinite()))
+    throw Error(file, "empty_bin", "a finite box with all sizes > 0",
+                vectorText(options.empty_bin->center) + "," + vectorText(options.empty_bin->size));
+
+  PickPlan plan;
+  plan.target_label = target_label;
+  plan.target_name = labels.at(target_label).name;
+  plan.resolution = resolution;
+  plan.approach = normalizedApproach(approach, file);
+  plan.approach_source = options.approach_source;
+  plan.objects = objects;
+  plan.empty_bin = options.empty_bin;
+  plan.options = options;
+
+  const auto target = std::find_if(plan.objects.begin(), plan.objects.end(), [&](const MapObject& o) {
+    return o.label == target_label && o.instance == 0;
+  });
+  if (target == plan.objects.end())
+    throw Error(file, "target", "a label with occupied voxels in the map",
+                "label " + labelText(labels, target_label) + " has no occupied voxel" +
+                    (options.objects.min_cluster_voxels > 1
+                         ? " in a cluster of at least " + std::to_string(options.objects.min_cluster_voxels)
+                         : std::string()));
+  plan.target = static_cast<size_t>(target - plan.objects.begin());
+
+  const double margin = options.overlap_margin_voxels * resolution;
+  plan.occluders = findOccluders(plan.objects, plan.target, plan.approach, margin);
+  if (options.transitive) {
+    std::set<size_t> chosen(plan.occluders.begin(), plan.occluders.end());
+    std::vector<size_t> pending = plan.occluders;
+    while (!pending.empty()) {
+      const size_t blocked = pending.back();
+      pending.pop_back();
+      for (size_t i : findOccluders(plan.objects, blocked, plan.approach, margin))
+        if (i != plan.target && chosen.insert(i).second) pending.push_back(i);
+    }
+    plan.occluders.assign(chosen.begin(), chosen.end());
+    sortFrontToBack(plan.occluders, plan.objects, plan.approach);
+  }
+
+  const double target_depth = plan.objects[plan.target].centroid.dot(plan.approach);
+  plan.roles.assign(plan.objects.size(), ObjectRole::Other);
+  plan.depth.resize(plan.objects.size());
+  for (size_t i = 0; i < plan.objects.size(); ++i)
+    plan.depth[i] = plan.objects[i].centroid.dot(plan.approach) - target_depth;
+  plan.roles[plan.target] = ObjectRole::Target;
+  for (size_t i : plan.occluders) plan.roles[i] = ObjectRole::Occluder;
+
+  std::vector<OrientedBox> removed;
+  for (size_t i : plan.occluders) removed.push_back(plan.objects[i].box);
+  const std::vector<Placement> placements = placeInBin(removed, options.empty_bin, options.placement_gap);
+  for (size_t k = 0; k < plan.occluders.size(); ++k) {
+    PlanStep step;
+    step.action = StepAction::Remove;
+    step.object = plan.occluders[k];
+    step.grasp = graspFor(plan.objects[step.object], plan.approach);
+    step.placement = placements[k];
+    plan.steps.push_back(std::move(step));
+  }
+  PlanStep pick;
+  pick.action = StepAction::Pick;
+  pick.object = plan.target;
+  pick.grasp = graspFor(plan.objects[plan.target], plan.approach);
+  plan.steps.push_back(std::move(pick));
+  return plan;
+}
+
+PickPlan planPick(const LabelMap& map, int target_label, const PlanOptions& options) {
+  const std::string& file = options.objects.map_file;
+  if (!map.labels().contains(target_label) || target_label == 0)
+    throw Error(file, "target", "an object label (1.." + std::to_string(map.numLabels() - 1) + ")",
+                labelText(map.labels(), target_label));
+  PlanOptions effective = options;
+  if (effective.objects.labels) {
+    auto& labels = *effective.objects.labels;
+    if (std::find(labels.begin(), labels.end(), target_label) == labels.end()) labels.push_back(target_label);
+  }
+  const std::vector<MapObject> objects = extractObjects(map, effective.objects);
+  Eigen::Vector3d approach;
+  if (effective.approach) {
+    approach = *effective.approach;
+  } else {
+    // Without the target there is nothing to plan; say so before blaming the approach.
+    const bool has_target = std::any_of(objects.begin(), objects.end(),
+                                        [&](const MapObject& o) { return o.label == target_label; });
+    approach = has_target ? approachFromFreeSpace(map, objects, file) : Eigen::Vector3d::UnitX();
+    effective.approach_source = ApproachSource::FreeSpace;
+  }
+  return planPick(objects, map.labels(), target_label, approach, effective, map.parameters().resolution);
+}
+
+}  // namespace lom
