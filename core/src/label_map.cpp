@@ -26,7 +26,6 @@ void requireProbability(double p, const char* field) {
 }
 
 octomap::OcTreeKey toOctomap(const VoxelKey& key) { return octomap::OcTreeKey(key.x, key.y, key.z); }
-VoxelKey fromOctomap(const octomap::OcTreeKey& key) { return {key[0], key[1], key[2]}; }
 
 VoxelState stateOf(const LabelOcTree& tree, const LabelOcTreeNode* node) {
   VoxelState state;

@@ -92,12 +92,13 @@ double median(std::vector<double> v) {
 
 // Fuses frames [0, count) into a fresh map; returns per-frame seconds.
 std::vector<double> fuse(const Scene& s, const Config& c, lom::IntegrationPath path, size_t count,
-                         std::unique_ptr<lom::LabelMap>* keep = nullptr) {
+                         std::unique_ptr<lom::LabelMap>* keep = nullptr, int threads = 0) {
   lom::MapParameters parameters;
   parameters.resolution = c.resolution;
   auto map = std::make_unique<lom::LabelMap>(c.labels == 1 ? singleLabel() : s.labels, parameters);
   lom::IntegrationOptions options;
   options.path = path;
+  options.threads = threads;
   std::vector<double> seconds;
   for (size_t i = 0; i < std::min(count, s.frames.size()); ++i) {
     const LoadedFrame& f = s.frames[i];
@@ -205,6 +206,17 @@ void BM_ReferenceFusion(benchmark::State& state) {
     benchmark::DoNotOptimize(times.data());
   }
 }
+// One thread, for repeatable instruction counts under valgrind --tool=callgrind.
+void BM_FastFusionOneThread(benchmark::State& state) {
+  const Config c{640, 480, 0.01, 40};
+  const Scene& s = scene(c.width, c.height, 8);
+  for (auto _ : state) {
+    auto times = fuse(s, c, lom::IntegrationPath::Fast, s.frames.size(), nullptr, 1);
+    benchmark::DoNotOptimize(times.data());
+  }
+}
+BENCHMARK(BM_FastFusionOneThread)->Unit(benchmark::kMillisecond);
+
 BENCHMARK(BM_ReferenceFusion)->Unit(benchmark::kMillisecond);
 
 }  // namespace

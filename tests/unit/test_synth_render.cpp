@@ -245,6 +245,8 @@ TEST(SynthRenderTest, ColourImageShowsObjectsInTheirLabelColours) {
   std::map<int, Eigen::Vector3d> sums;
   for (size_t i = 0; i < frame.label.ids.size(); ++i) {
     const int label = frame.label.ids[i];
+    // Eigen vectors are not zero-initialised: start each sum explicitly.
+    sums.try_emplace(label, Eigen::Vector3d::Zero());
     sums[label] += Eigen::Vector3d(frame.color.rgb[3 * i], frame.color.rgb[3 * i + 1],
                                    frame.color.rgb[3 * i + 2]);
   }
