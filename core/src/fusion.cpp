@@ -245,6 +245,7 @@ LabelMap fuseSequence(const Sequence& sequence, const FusionOptions& options,
     ++report.done;
     if (progress && !progress(report)) break;
   }
+  map.prune();  // merge every identical set of children once fusion is over
   return map;
 }
 

@@ -318,6 +318,17 @@ LabelOcTreeNode* LabelOcTree::touchLeaf(const octomap::OcTreeKey& key) {
   return node;
 }
 
+bool LabelOcTree::pruneSaturated(LabelOcTreeNode* node) {
+  if (!isNodeCollapsible(node)) return false;
+  if (!isSaturatedFree(getNodeChild(node, 0), false)) return false;
+  return pruneNode(node);
+}
+
+bool LabelOcTree::isSaturatedFree(const LabelOcTreeNode* node, bool created) const {
+  return !created && !nodeHasChildren(node) && node->isUniform() &&
+         node->getLogOdds() <= clamping_thres_min;
+}
+
 LabelOcTreeNode* LabelOcTree::childForUpdate(LabelOcTreeNode* node, unsigned pos, bool& created) {
   if (nodeChildExists(node, pos)) {
     created = false;
@@ -336,6 +347,18 @@ void LabelOcTree::applyHit(const octomap::OcTreeKey& key, const float* log_odds)
 }
 
 void LabelOcTree::applyMiss(const octomap::OcTreeKey& key) {
+  // A miss cannot lower a voxel that is already at the lower clamp: leave such
+  // (often pruned) free space as it is instead of expanding it.
+  if (root) {
+    const LabelOcTreeNode* node = root;
+    for (int depth = 0; depth <= static_cast<int>(tree_depth); ++depth) {
+      if (isSaturatedFree(node, false)) return;
+      if (depth == static_cast<int>(tree_depth)) break;
+      const unsigned pos = octomap::computeChildIdx(key, static_cast<int>(tree_depth) - 1 - depth);
+      if (!nodeChildExists(node, pos)) break;
+      node = getNodeChild(node, pos);
+    }
+  }
   touchLeaf(key)->addUniformLogOdds(prob_miss_log, clamping_thres_min, clamping_thres_max);
 }
 
@@ -361,7 +384,7 @@ void LabelOcTree::refreshAncestors(std::vector<octomap::OcTreeKey> keys) {
         node = nodeChildExists(node, pos) ? getNodeChild(node, pos) : nullptr;
       }
       if (!node || !nodeHasChildren(node)) continue;
-      if (!pruneNode(node)) node->updateOccupancyChildren();
+      if (!pruneSaturated(node)) node->updateOccupancyChildren();
     }
     // The next level only needs the keys as they are (already truncated further up).
   }

@@ -1,4 +1,5 @@
 // Depth-first application of a frame's sorted voxel updates.
+#include <algorithm>
 #include <array>
 
 #include "lom/octree/label_octree.hpp"
@@ -22,7 +23,7 @@ void LabelOcTree::applySortedUpdates(const std::vector<VoxelUpdate>& updates) {
 
   auto finish = [&](int depth) {  // the subtree of path[depth] gets no more updates
     LabelOcTreeNode* node = path[static_cast<size_t>(depth)];
-    if (nodeHasChildren(node) && !pruneNode(node)) node->updateOccupancyChildren();
+    if (nodeHasChildren(node) && !pruneSaturated(node)) node->updateOccupancyChildren();
   };
 
   for (size_t i = 0; i < updates.size(); ++i) {
@@ -32,18 +33,26 @@ void LabelOcTree::applySortedUpdates(const std::vector<VoxelUpdate>& updates) {
       const std::uint64_t diff = update.morton ^ previous;
       if (diff == 0) continue;  // duplicates are not expected; keep the first
       const int level = (63 - __builtin_clzll(diff)) / 3;  // 0 = finest bit group
-      shared = depth_max - 1 - level;
+      // The path may end above the leaves where a miss was skipped.
+      shared = std::min(depth_max - 1 - level, valid_depth);
       for (int d = valid_depth; d > shared; --d)
         if (d < depth_max) finish(d);
     }
     previous = update.morton;
     LabelOcTreeNode* node = path[static_cast<size_t>(shared)];
     bool created = shared == 0 && root_is_new;
-    for (int d = shared; d < depth_max; ++d) {
+    int d = shared;
+    bool skipped = false;
+    for (; d < depth_max; ++d) {
+      if (!update.hit && isSaturatedFree(node, created)) {
+        skipped = true;
+        break;
+      }
       node = childForUpdate(node, octomap::computeChildIdx(update.key, depth_max - 1 - d), created);
       path[static_cast<size_t>(d + 1)] = node;
     }
-    valid_depth = depth_max;
+    valid_depth = d;
+    if (skipped) continue;
     if (update.hit)
       node->addLabelLogOdds(n, update.hit, clamping_thres_min, clamping_thres_max);
     else

@@ -108,6 +108,7 @@ std::vector<double> fuse(const Scene& s, const Config& c, lom::IntegrationPath p
     lom::integrateFrame(*map, f.camera, f.pose, f.depth, evidence, options);
     seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
+  map->prune();  // as fuseSequence does at the end
   if (keep) *keep = std::move(map);
   return seconds;
 }

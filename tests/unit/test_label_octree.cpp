@@ -125,7 +125,39 @@ TEST(LabelOcTreeTest, LeafBlocksKeepOnlyLabelsAboveTheSmallest) {
   EXPECT_EQ(node->argmaxLabel(40), 4);
 }
 
-TEST(LabelOcTreeTest, PrunesOnlyIdenticalChildren) {
+TEST(LabelOcTreeTest, MergesSaturatedFreeSpaceWhileFusing) {
+  LabelMap map(labels(3));
+  LabelOcTree& tree = map.tree();
+  std::vector<octomap::OcTreeKey> keys;
+  for (int i = 0; i < 8; ++i)
+    keys.push_back(keyAt(tree, 0.005 + 0.01 * (i & 1), 0.005 + 0.01 * ((i >> 1) & 1),
+                         0.005 + 0.01 * ((i >> 2) & 1)));
+  // One miss each: identical, but a later miss would change them, so they stay apart.
+  for (const auto& key : keys) tree.applyMiss(key);
+  tree.refreshAncestors(keys);
+  EXPECT_EQ(tree.getNumLeafNodes(), 8u);
+  // At the lower clamp (3 x logit(0.3) < logit(0.12)) they merge into their parent.
+  for (int frame = 0; frame < 2; ++frame) {
+    for (const auto& key : keys) tree.applyMiss(key);
+    tree.refreshAncestors(keys);
+  }
+  EXPECT_EQ(tree.size(), tree.calcNumNodes());
+  EXPECT_EQ(tree.getNumLeafNodes(), 1u);
+  EXPECT_FLOAT_EQ(tree.search(keys[3])->getLogOdds(), tree.clampMinLogOdds());
+  // Further misses leave the merged node alone.
+  tree.applyMiss(keys[5]);
+  EXPECT_EQ(tree.getNumLeafNodes(), 1u);
+  // A hit expands it again with the other seven unchanged.
+  const float hit[3] = {0.f, 1.f, 0.f};
+  tree.applyHit(keys[3], hit);
+  tree.refreshAncestors({keys[3]});
+  EXPECT_EQ(tree.getNumLeafNodes(), 8u);
+  EXPECT_FLOAT_EQ(tree.search(keys[0])->getLogOdds(), tree.clampMinLogOdds());
+  EXPECT_EQ(tree.search(keys[3])->argmaxLabel(3), 1);
+  EXPECT_EQ(tree.size(), tree.calcNumNodes());
+}
+
+TEST(LabelOcTreeTest, PruneMergesEveryIdenticalSetAndNothingElse) {
   LabelMap map(labels(3));
   LabelOcTree& tree = map.tree();
   std::vector<octomap::OcTreeKey> keys;
@@ -134,17 +166,15 @@ TEST(LabelOcTreeTest, PrunesOnlyIdenticalChildren) {
                          0.005 + 0.01 * ((i >> 2) & 1)));
   for (const auto& key : keys) tree.applyMiss(key);
   tree.refreshAncestors(keys);
-  EXPECT_EQ(tree.size(), tree.calcNumNodes());
-  // Eight identical free children collapse into their parent.
+  map.prune();
   EXPECT_EQ(tree.getNumLeafNodes(), 1u);
-  EXPECT_EQ(tree.search(keys[3])->getLogOdds(), tree.missLogOdds());
-  // A hit on one of them expands the parent again with the other seven unchanged.
-  const float hit[3] = {0.f, 1.f, 0.f};
-  tree.applyHit(keys[3], hit);
-  tree.refreshAncestors({keys[3]});
+  EXPECT_FLOAT_EQ(tree.search(keys[6])->getLogOdds(), tree.missLogOdds());
+  // Siblings that differ in one label are not merged.
+  const float hit[3] = {0.f, 0.5f, 0.f};
+  tree.applyHit(keys[2], hit);
+  tree.refreshAncestors({keys[2]});
+  map.prune();
   EXPECT_EQ(tree.getNumLeafNodes(), 8u);
-  EXPECT_EQ(tree.search(keys[0])->getLogOdds(), tree.missLogOdds());
-  EXPECT_EQ(tree.search(keys[3])->argmaxLabel(3), 1);
   EXPECT_EQ(tree.size(), tree.calcNumNodes());
 }
 
@@ -245,6 +275,7 @@ TEST(LabelOcTreeTest, VoxelsOfLabelExpandPrunedLeaves) {
     tree.applyHit(keys.back(), hit);
   }
   tree.refreshAncestors(keys);
+  map.prune();
   EXPECT_EQ(tree.getNumLeafNodes(), 1u);  // pruned
   EXPECT_EQ(map.voxelsOfLabel(1).size(), 8u);
   EXPECT_EQ(map.occupiedCountPerLabel().at(1), 8u);

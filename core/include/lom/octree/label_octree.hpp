@@ -107,11 +107,12 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   void applyHit(const octomap::OcTreeKey& key, const float* log_odds);
   void applyMiss(const octomap::OcTreeKey& key);
   // Brings the ancestors of the given finest-depth keys up to date, bottom-up,
-  // pruning nodes whose eight children are identical leaves.
+  // merging eight identical children of saturated free space (see pruneSaturated).
   void refreshAncestors(std::vector<octomap::OcTreeKey> keys);
   // Applies updates sorted by Morton code (one per key) in a single depth-first
   // pass: the path from the root is reused between consecutive keys, and each
-  // inner node is refreshed (or pruned) once, when its subtree is finished.
+  // inner node is refreshed (or pruned, see pruneSaturated) once, when its
+  // subtree is finished. Misses on saturated free space are skipped.
   void applySortedUpdates(const std::vector<VoxelUpdate>& updates);
 
   [[nodiscard]] float missLogOdds() const { return prob_miss_log; }
@@ -129,6 +130,13 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   // whether `node` itself was created by this descent (then its children start
   // unknown; otherwise a childless node is a pruned leaf and is expanded).
   LabelOcTreeNode* childForUpdate(LabelOcTreeNode* node, unsigned pos, bool& created);
+  // While fusing, only children that are identical free space at the lower
+  // clamp are merged: no later miss can change them, so they are never
+  // expanded again (merging anything identical would make the next frame's
+  // misses expand it again). LabelMap::prune merges every identical set.
+  bool pruneSaturated(LabelOcTreeNode* node);
+  // A leaf (possibly pruned) of free space at the lower clamp, which a miss cannot change.
+  [[nodiscard]] bool isSaturatedFree(const LabelOcTreeNode* node, bool created) const;
 
   LabelSet labels_;
   MapParameters parameters_;
