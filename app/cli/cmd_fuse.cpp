@@ -11,6 +11,7 @@
 #include "commands.hpp"
 #include "lom/error.hpp"
 #include "lom/fusion.hpp"
+#include "segmenter_option.hpp"
 
 namespace lom::cli {
 
@@ -66,13 +67,14 @@ FusionOptions fusionOptionsFromArgs(const Args& args) {
     throw UsageError("option --" + option + " expects " + e.problem().expected + ", got " +
                      e.problem().found);
   }
+  options.segmenter = segmenterFromArgs(args);
   return options;
 }
 
 int runFuse(const Words& words) {
   const Args args(words, {"quiet"});
   args.expectOnly({"out", "resolution", "max-range", "p-miss", "threshold", "candidates", "frames",
-                   "quiet"},
+                   "quiet", kSegmenterOption},
                   1);
   const std::string sequence_path = args.positional(0, "SEQ (a sequence folder)");
   const std::filesystem::path out = args.required("out");
@@ -126,6 +128,7 @@ int runFuse(const Words& words) {
   for (const auto& [label, count] : counts)
     std::cout << "  " << std::setw(3) << label << "  " << std::left << std::setw(36)
               << map.labels().at(label).name << std::right << std::setw(8) << count << "\n";
+  if (options.segmenter) std::cout << segmenterSummary(*options.segmenter) << "\n";
   std::cout << "wrote " << out.string() << "\n";
   return 0;
 }

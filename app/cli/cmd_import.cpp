@@ -1,5 +1,178 @@
+// labeloctomap import: a ROS 1 bag or a dataset folder into a v1 sequence.
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
 #include "args.hpp"
 #include "commands.hpp"
+#include "lom/error.hpp"
+#include "lom/import.hpp"
+
 namespace lom::cli {
-int runImport(const Words&) { throw UsageError("placeholder: being written"); }
+
+namespace {
+
+const char* const kHelp =
+    "usage: labeloctomap import KIND SRC --out SEQ [options]\n"
+    "\n"
+    "KIND: auto, rosbag, frames, tum, quaternion, scannet, apc-shelf (docs/import.md)\n"
+    "\n"
+    "camera and depth:\n"
+    "  --intrinsics fx,fy,cx,cy|FILE  camera override (FILE: 4 numbers, 3x3 or 4x4 matrix)\n"
+    "  --depth-scale S        metres per unit of 16-bit depth (default: the layout's own)\n"
+    "  --min-depth M          drop nearer depths (default 0.1 m)\n"
+    "  --max-depth M          drop farther depths (default: no limit)\n"
+    "  --flying-ratio R       flying-pixel filter: drop a pixel whose neighbour differs by\n"
+    "                         more than R x its depth (default 0.05)\n"
+    "  --flying-radius N      neighbourhood of the flying-pixel filter (default 1)\n"
+    "  --no-flying-filter     keep flying pixels\n"
+    "  --bilateral N          edge-preserving smoothing with radius N pixels (default 0: off)\n"
+    "labels:\n"
+    "  --labels FILE|apc2016  label names, one per line, label 0 (background) first\n"
+    "  --label-confidence C   one-hot confidence of label images (default 0.9)\n"
+    "frames and time:\n"
+    "  --first N --every N --max-frames N   frame subset (defaults 0, 1, all)\n"
+    "  --time-tolerance S     matching of images and poses by stamp (default 0.02 s)\n"
+    "  --time-offset S        added to image stamps before the pose lookup (default 0)\n"
+    "ROS bags (topics are detected when not given):\n"
+    "  --depth-topic T --color-topic T --camera-info-topic T --proba-topic T --label-topic T\n"
+    "  --fixed-frame F        world frame (default: root of the camera's tf tree)\n"
+    "  --camera-frame F       camera optical frame (default: the depth images' frame_id)\n"
+    "output:\n"
+    "  --no-color             leave colour images out\n"
+    "  --overwrite            replace a sequence already in SEQ\n"
+    "  --quiet                no progress bar\n";
+
+LabelSet readLabelList(const std::string& value) {
+  if (value == "apc2016") return apc2016Labels();
+  std::ifstream in(value);
+  if (!in)
+    throw UsageError("option --labels expects 'apc2016' or a readable file of label names, got '" +
+                     value + "'");
+  std::vector<LabelInfo> labels;
+  std::string line;
+  while (std::getline(in, line)) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t'))
+      line.pop_back();
+    const auto first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line[first] == '#') continue;
+    const int id = static_cast<int>(labels.size());
+    labels.push_back({id, line.substr(first), vocColor(id)});
+  }
+  if (labels.empty() || labels.size() > 256)
+    throw UsageError("option --labels: " + value + " must list 1 to 256 label names, found " +
+                     std::to_string(labels.size()));
+  return LabelSet(std::move(labels));
 }
+
+size_t nonNegative(const Args& args, const std::string& name, size_t fallback) {
+  const long value = args.integer(name, static_cast<long>(fallback));
+  if (value < 0) throw UsageError("option --" + name + " expects a non-negative integer");
+  return static_cast<size_t>(value);
+}
+
+}  // namespace
+
+int runImport(const Words& words) {
+  const Args args(words, {"no-flying-filter", "no-color", "overwrite", "quiet", "help"});
+  if (args.flag("help")) {
+    std::cout << kHelp;
+    return 0;
+  }
+  args.expectOnly({"out", "intrinsics", "depth-scale", "min-depth", "max-depth", "flying-ratio",
+                   "flying-radius", "no-flying-filter", "bilateral", "labels", "label-confidence",
+                   "first", "every", "max-frames", "time-tolerance", "time-offset", "depth-topic",
+                   "color-topic", "camera-info-topic", "proba-topic", "label-topic", "fixed-frame",
+                   "camera-frame", "no-color", "overwrite", "quiet", "help"},
+                  2);
+  const std::string kind_name = args.positional(0, "KIND (auto, rosbag, frames, tum, quaternion, scannet, apc-shelf)");
+  const std::string source = args.positional(1, "SRC (a bag file or dataset folder)");
+  const std::string out = args.required("out");
+
+  std::optional<SourceKind> kind;
+  if (kind_name != "auto") {
+    kind = sourceKindFromName(kind_name);
+    if (!kind || *kind == SourceKind::Sequence)
+      throw UsageError("unknown KIND '" + kind_name +
+                       "' (auto, rosbag, frames, tum, quaternion, scannet, apc-shelf)");
+  }
+
+  ImportOptions options;
+  if (auto value = args.option("intrinsics")) {
+    try {
+      options.intrinsics = parseIntrinsics(*value);
+    } catch (const Error& e) {
+      throw UsageError("option --intrinsics expects fx,fy,cx,cy or a camera matrix file: " +
+                       std::string(e.what()));
+    }
+  }
+  if (args.option("depth-scale")) options.depth_scale = args.number("depth-scale", 0.001);
+  auto& filter = options.depth_filter;
+  filter.min_depth = args.number("min-depth", filter.min_depth);
+  filter.max_depth = args.number("max-depth", filter.max_depth);
+  filter.flying_pixel_ratio = args.number("flying-ratio", filter.flying_pixel_ratio);
+  filter.flying_pixel_radius =
+      static_cast<int>(args.integer("flying-radius", filter.flying_pixel_radius));
+  filter.flying_pixels = !args.flag("no-flying-filter");
+  filter.bilateral_radius = static_cast<int>(args.integer("bilateral", filter.bilateral_radius));
+  if (auto value = args.option("labels")) options.labels = readLabelList(*value);
+  options.label_confidence = args.number("label-confidence", options.label_confidence);
+  options.first_frame = nonNegative(args, "first", 0);
+  options.frame_step = nonNegative(args, "every", 1);
+  if (options.frame_step == 0) throw UsageError("option --every expects an integer >= 1");
+  options.max_frames = nonNegative(args, "max-frames", 0);
+  options.time_tolerance = args.number("time-tolerance", options.time_tolerance);
+  options.time_offset = args.number("time-offset", options.time_offset);
+  options.rosbag.depth_topic = args.option("depth-topic").value_or("");
+  options.rosbag.color_topic = args.option("color-topic").value_or("");
+  options.rosbag.camera_info_topic = args.option("camera-info-topic").value_or("");
+  options.rosbag.proba_topic = args.option("proba-topic").value_or("");
+  options.rosbag.label_topic = args.option("label-topic").value_or("");
+  options.rosbag.fixed_frame = args.option("fixed-frame").value_or("");
+  options.rosbag.camera_frame = args.option("camera-frame").value_or("");
+  options.write_color = !args.flag("no-color");
+  options.overwrite = args.flag("overwrite");
+
+  const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
+  ImportReport report;
+  try {
+    report = importSource(kind, source, out, options, [&](const ImportProgress& progress) {
+      if (show_progress) {
+        constexpr int kWidth = 30;
+        const int filled =
+            progress.total ? static_cast<int>(kWidth * progress.done / progress.total) : 0;
+        std::fprintf(stderr, "\r[%s%s] %zu/%zu frames", std::string(filled, '#').c_str(),
+                     std::string(kWidth - filled, '.').c_str(), progress.done, progress.total);
+        std::fflush(stderr);
+      }
+      return true;
+    });
+  } catch (const Error& e) {
+    if (show_progress) std::fprintf(stderr, "\n");
+    // Option values out of range are usage errors; the rest is about the data.
+    if (e.problem().file.empty()) {
+      const std::string& field = e.problem().field;
+      const std::string option = field == "time_tolerance"     ? "time-tolerance"
+                                 : field == "time_offset"      ? "time-offset"
+                                 : field == "label_confidence" ? "label-confidence"
+                                 : field == "depth_scale"      ? "depth-scale"
+                                 : field == "min_depth"        ? "min-depth"
+                                 : field == "max_depth"        ? "max-depth"
+                                 : field == "flying_pixel_ratio"  ? "flying-ratio"
+                                 : field == "flying_pixel_radius" ? "flying-radius"
+                                 : field == "bilateral_radius"    ? "bilateral"
+                                                                  : field;
+      throw UsageError("option --" + option + " expects " + e.problem().expected + ", got " +
+                       e.problem().found);
+    }
+    throw;
+  }
+  if (show_progress) std::fprintf(stderr, "\n");
+  std::cout << report.text();
+  std::cout << "wrote " << out << "/sequence.json\n";
+  return 0;
+}
+
+}  // namespace lom::cli

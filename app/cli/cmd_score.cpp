@@ -7,6 +7,7 @@
 
 #include "args.hpp"
 #include "commands.hpp"
+#include "segmenter_option.hpp"
 #include "lom/error.hpp"
 #include "lom/evaluation.hpp"
 #include "lom/report.hpp"
@@ -57,7 +58,7 @@ void noteResolution(const Args& args, const EvaluationReport& report, const fs::
 int runScore(const Words& words) {
   const Args args(words, {"quiet"});
   args.expectOnly({"annotations", "out", "map", "batch", "iou", "resolution", "max-range", "p-miss",
-                   "threshold", "candidates", "frames", "quiet"},
+                   "threshold", "candidates", "frames", "quiet", kSegmenterOption},
                   1);
   const fs::path out = args.required("out");
   EvaluationOptions options;

@@ -1,5 +1,141 @@
+// labeloctomap segment: run a segmentation network on the colour images of a
+// sequence and write its probability images into the sequence (docs/segmenter.md).
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
 #include "args.hpp"
 #include "commands.hpp"
+#include "lom/error.hpp"
+#include "lom/npy.hpp"
+#include "lom/segmenter.hpp"
+#include "lom/sequence.hpp"
+#include "segmenter_option.hpp"
+
 namespace lom::cli {
-int runSegment(const Words&) { throw UsageError("placeholder: being written"); }
+
+namespace {
+
+namespace fs = std::filesystem;
+
+NpyType parseDtype(const std::string& text) {
+  if (text == "float32") return NpyType::Float32;
+  if (text == "float16") return NpyType::Float16;
+  if (text == "uint8") return NpyType::UInt8;
+  throw UsageError("option --dtype expects float32, float16 or uint8, got '" + text + "'");
 }
+
+const char* dtypeName(NpyType type) {
+  return type == NpyType::Float16 ? "float16" : type == NpyType::UInt8 ? "uint8" : "float32";
+}
+
+std::string frameList(const std::vector<size_t>& frames) {
+  std::ostringstream text;
+  for (size_t i = 0; i < frames.size() && i < 8; ++i) text << (i ? ", " : "") << frames[i];
+  if (frames.size() > 8) text << ", ... (" << frames.size() << " frames)";
+  return text.str();
+}
+
+bool allLabelsInOrder(const std::vector<int>& channel_labels, int num_labels) {
+  if (static_cast<int>(channel_labels.size()) != num_labels) return false;
+  for (int k = 0; k < num_labels; ++k)
+    if (channel_labels[static_cast<size_t>(k)] != k) return false;
+  return true;
+}
+
+}  // namespace
+
+int runSegment(const Words& words) {
+  const Args args(words, {"all", "quiet"});
+  args.expectOnly({kSegmenterOption, "all", "dtype", "out-dir", "quiet"}, 1);
+  const std::string sequence_path = args.positional(0, "SEQ (a sequence folder)");
+  if (!args.option(kSegmenterOption))
+    throw UsageError(std::string("missing option --") + kSegmenterOption);
+  const NpyType dtype = parseDtype(args.option("dtype").value_or("float32"));
+
+  Sequence sequence = loadSequence(sequence_path);
+  const std::shared_ptr<Segmenter> segmenter = loadSegmenterOption(args, true);
+  segmenter->checkLabels(sequence.labels);
+  const fs::path out_dir =
+      args.option("out-dir").value_or("proba-" + segmenter->modelPath().stem().string());
+  if (out_dir.empty()) throw UsageError("option --out-dir expects a folder name");
+
+  // Frames to segment: those without a proba (every frame with --all).
+  std::vector<size_t> frames, without_color;
+  for (size_t i = 0; i < sequence.frames.size(); ++i) {
+    if (!args.flag("all") && !sequence.frames[i].proba.empty()) continue;
+    frames.push_back(i);
+    if (sequence.frames[i].color.empty()) without_color.push_back(i);
+  }
+  if (frames.empty()) {
+    std::cout << "nothing to do: every frame of " << sequence_path
+              << " has a proba image (--all replaces them)\n";
+    return 0;
+  }
+  if (!without_color.empty()) {
+    bool any_color = false;
+    for (const auto& frame : sequence.frames) any_color = any_color || !frame.color.empty();
+    throw Error((sequence.root / "sequence.json").string(),
+                "frames[" + std::to_string(without_color.front()) + "].color",
+                "a colour image in every frame to segment (the network runs on colour images)",
+                any_color ? "none in frames " + frameList(without_color)
+                          : "a sequence without colour images");
+  }
+
+  const fs::path folder = out_dir.is_absolute() ? out_dir : sequence.root / out_dir;
+  auto makeFolder = [&] {
+    std::error_code ec;
+    fs::create_directories(folder, ec);
+    if (!fs::is_directory(folder))
+      throw Error(folder.string(), "--out-dir", "a folder that can be created",
+                  ec ? ec.message() : "not a folder");
+  };
+
+  const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
+  const auto start = std::chrono::steady_clock::now();
+  for (size_t n = 0; n < frames.size(); ++n) {
+    const size_t i = frames[n];
+    FrameRecord& record = sequence.frames[i];
+    ColorImage color;
+    try {
+      color = readColorImage(sequence.pathOf(record.color));
+    } catch (const Error& e) {
+      Problem p = e.problem();
+      p.field = "frames[" + std::to_string(i) + "].color";
+      throw Error(p);
+    }
+    const ProbabilityImage proba = segmentFrame(sequence, i, color, *segmenter);
+    if (n == 0) makeFolder();  // only once the network has produced something
+    char name[32];
+    std::snprintf(name, sizeof name, "%06zu.npy", i);
+    writeProbabilityNpy(folder / name, proba, dtype);
+    record.proba = (out_dir / name).generic_string();
+    record.proba_labels = allLabelsInOrder(proba.channel_labels, sequence.labels.size())
+                              ? std::vector<int>{}
+                              : proba.channel_labels;
+    if (show_progress) {
+      std::fprintf(stderr, "\rsegmented %zu/%zu frames", n + 1, frames.size());
+      std::fflush(stderr);
+    }
+  }
+  if (show_progress) std::fprintf(stderr, "\n");
+  // Every probability image is in place before sequence.json names them.
+  saveSequence(sequence, sequence.root);
+
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "segmented " << frames.size() << (frames.size() == 1 ? " frame" : " frames")
+            << " of " << sequence_path << " in " << std::fixed << std::setprecision(2) << seconds
+            << " s\n"
+            << segmenterSummary(*segmenter) << "\n"
+            << "wrote " << frames.size() << " " << dtypeName(dtype) << " probability images to "
+            << folder.string() << " and updated " << (sequence.root / "sequence.json").string()
+            << "\n";
+  return 0;
+}
+
+}  // namespace lom::cli

@@ -20,15 +20,18 @@ const Command kCommands[] = {
     {"validate", lom::cli::runValidate,
      "validate SEQ                  check every file of a sequence; non-zero exit on problems"},
     {"synth", lom::cli::runSynth,
-     "synth --out DIR [--seed S] [--objects N] [--frames F] [--views V]\n"
+     "synth --out DIR [--seed S] [--objects N] [--frames F] [--views V] [--width W]\n"
+     "      [--height H] [--no-noise] [--perfect-segmenter]\n"
      "                                write a synthetic shelf-bin sequence with annotations"},
     {"fuse", lom::cli::runFuse,
      "fuse SEQ --out MAP.ot [--resolution R] [--max-range M] [--p-miss P] [--threshold T]\n"
-     "     [--candidates 0,8,19 | --candidates none] [--frames A:B] [--quiet]\n"
+     "     [--candidates 0,8,19 | --candidates none] [--frames A:B] [--segmenter MODEL.onnx]\n"
+     "     [--quiet]\n"
      "                                fuse a sequence into a LabelOctoMap"},
     {"score", lom::cli::runScore,
      "score SEQ --annotations BOXES.json --out DIR [--map MAP.ot] [--resolution R]\n"
-     "      [--candidates ...] [--iou exact|center] | score --batch LIST.txt --out DIR\n"
+     "      [--candidates ...] [--iou exact|center] [--segmenter MODEL.onnx]\n"
+     "      | score --batch LIST.txt --out DIR\n"
      "                                per-object IU_3d against projection baselines"},
     {"export", lom::cli::runExport,
      "export MAP.ot --format ply|obj|stl|pcd|ot|bt|objects [--per-label] [--labels 8,19]\n"
@@ -38,13 +41,17 @@ const Command kCommands[] = {
      "render MAP.ot --out view.png [--camera FRAME_OF_SEQ | --azimuth A --elevation E]\n"
      "       [--size 1280x960]        render the map offscreen to a PNG (needs X or Xvfb)"},
     {"import", lom::cli::runImport,
-     "import KIND SRC --out SEQ       convert a ROS bag or dataset folder to a sequence\n"
-     "                                (KIND: auto, rosbag, frames, tum, quaternion, scannet, apc-shelf)"},
+     "import KIND SRC --out SEQ [--intrinsics fx,fy,cx,cy|FILE] [--every N] [--overwrite] ...\n"
+     "                                convert a ROS bag or dataset folder to a sequence\n"
+     "                                (KIND: auto, rosbag, frames, tum, quaternion, scannet, apc-shelf;\n"
+     "                                all options: labeloctomap import --help)"},
     {"plan", lom::cli::runPlan,
-     "plan MAP.ot --target LABEL [--approach x,y,z] [--out plan.json]\n"
+     "plan MAP.ot --target LABEL [--approach x,y,z | --sequence SEQ] [--empty-bin c,c,c,d,d,d]\n"
+     "     [--out plan.json]        (all options: docs/planning.md)\n"
      "                                which objects to remove before picking the target"},
     {"segment", lom::cli::runSegment,
-     "segment SEQ --segmenter MODEL.onnx\n"
+     "segment SEQ --segmenter MODEL.onnx [--all] [--dtype float32|float16|uint8] [--out-dir DIR]\n"
+     "        [--quiet]\n"
      "                                write probability images from a segmentation network"},
 };
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <unordered_set>
 
+#include "lom/segmenter.hpp"
 #include "lom/error.hpp"
 
 namespace lom::detail {
@@ -114,12 +115,13 @@ FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
   std::vector<size_t> to_load;
   for (size_t i = first; i < last; ++i) {
     const FrameRecord& record = sequence.frames[i];
-    if (record.view || (!record.label.empty() && !record.proba.empty())) to_load.push_back(i);
+    const bool has_proba = !record.proba.empty() || options.fusion.segmenter;
+    if (record.view || (!record.label.empty() && has_proba)) to_load.push_back(i);
   }
   EvaluationProgress report{"projecting", 0, to_load.size()};
   for (size_t i : to_load) {
     const FrameRecord& record = sequence.frames[i];
-    const FrameData frame = loadFrame(sequence, i);
+    const FrameData frame = loadFrameWithSegmenter(sequence, i, options.fusion.segmenter.get());
     if (record.view) {
       scan.views.push_back(i);
       scan.view_voxels.push_back(

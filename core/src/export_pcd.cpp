@@ -1,6 +1,9 @@
-// The one place that includes PCL's point types and io for voxel clouds.
+// The one place that includes PCL's point types and io for voxel clouds
+// (PCD, and PLY point clouds).
 #define PCL_NO_PRECOMPILE
+#include <pcl/conversions.h>
 #include <pcl/io/pcd_io.h>
+#include <pcl/io/ply_io.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
@@ -26,11 +29,15 @@ POINT_CLOUD_REGISTER_POINT_STRUCT(lom::LabelledVoxelPoint,
 
 namespace lom {
 
-size_t writeVoxelsPcd(const LabelMap& map, const std::filesystem::path& path) {
+namespace {
+
+pcl::PointCloud<LabelledVoxelPoint> voxelCloud(const LabelMap& map,
+                                               const std::optional<std::set<int>>& labels,
+                                               const std::filesystem::path& path) {
   pcl::PointCloud<LabelledVoxelPoint> cloud;
-  for (const auto& [label, count] : map.occupiedCountPerLabel()) {
-    (void)count;
-    for (const VoxelKey& key : map.voxelsOfLabel(label)) {
+  for (const auto& [label, keys] : occupiedVoxelsByLabel(map, labels)) {
+    const Rgb color = map.labels().at(label).color;
+    for (const VoxelKey& key : keys) {
       const Eigen::Vector3d c = map.centerOf(key);
       const VoxelState state = map.voxelAt(key);
       LabelledVoxelPoint point;
@@ -38,7 +45,6 @@ size_t writeVoxelsPcd(const LabelMap& map, const std::filesystem::path& path) {
       point.y = static_cast<float>(c.y());
       point.z = static_cast<float>(c.z());
       point.data[3] = 1.f;
-      const Rgb color = map.labels().at(label).color;
       point.r = color[0];
       point.g = color[1];
       point.b = color[2];
@@ -49,13 +55,46 @@ size_t writeVoxelsPcd(const LabelMap& map, const std::filesystem::path& path) {
     }
   }
   if (cloud.empty())
-    throw Error(path.string(), "map", "at least one occupied voxel to export", "an empty map");
+    throw Error(path.string(), "map", "at least one occupied voxel to export",
+                labels ? "no occupied voxel of the selected labels" : "an empty map");
   cloud.width = static_cast<std::uint32_t>(cloud.size());
   cloud.height = 1;
   cloud.is_dense = true;
+  return cloud;
+}
+
+size_t writePcd(const LabelMap& map, const std::optional<std::set<int>>& labels,
+                const std::filesystem::path& path) {
+  const auto cloud = voxelCloud(map, labels, path);
   writePathAtomically(path, [&](const std::filesystem::path& temporary) {
     if (pcl::io::savePCDFileBinary(temporary.string(), cloud) != 0)
       throw Error(path.string(), "output", "a writable PCD file", "PCL could not write it");
+  });
+  return cloud.size();
+}
+
+}  // namespace
+
+size_t writeVoxelsPcd(const LabelMap& map, const std::filesystem::path& path) {
+  return writePcd(map, std::nullopt, path);
+}
+
+size_t writeVoxelsPcd(const LabelMap& map, const std::set<int>& labels,
+                      const std::filesystem::path& path) {
+  return writePcd(map, labels, path);
+}
+
+size_t writeVoxelsPly(const LabelMap& map, const std::set<int>& labels,
+                      const std::filesystem::path& path) {
+  const auto cloud = voxelCloud(map, labels, path);
+  pcl::PCLPointCloud2 blob;
+  pcl::toPCLPointCloud2(cloud, blob);
+  writePathAtomically(path, [&](const std::filesystem::path& temporary) {
+    pcl::PLYWriter writer;
+    // No camera element: a plain vertex list that every PLY reader accepts.
+    if (writer.write(temporary.string(), blob, Eigen::Vector4f::Zero(),
+                     Eigen::Quaternionf::Identity(), /*binary=*/true, /*use_camera=*/false) != 0)
+      throw Error(path.string(), "output", "a writable PLY file", "PCL could not write it");
   });
   return cloud.size();
 }

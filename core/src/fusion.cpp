@@ -8,6 +8,7 @@
 
 #include "lom/error.hpp"
 #include "lom/octree/label_octree.hpp"
+#include "lom/segmenter.hpp"
 #include "fusion_internal.hpp"
 
 namespace lom {
@@ -230,7 +231,7 @@ LabelMap fuseSequence(const Sequence& sequence, const FusionOptions& options,
   FusionProgress report;
   report.total = last > first ? last - first : 0;
   for (size_t i = first; i < last; ++i) {
-    const FrameData frame = loadFrame(sequence, i);
+    const FrameData frame = loadFrameWithSegmenter(sequence, i, options.segmenter.get());
     const FrameEvidence evidence = makeEvidence(sequence, i, frame, options);
     try {
       report.stats = integrateFrame(map, sequence.cameraOf(i), sequence.frames[i].T_world_camera,

@@ -68,9 +68,9 @@ std::map<int, std::vector<LabelledKey>> occupiedByLabel(const LabelMap& map, con
   return by_label;
 }
 
-MapObject makeObject(const LabelMap& map, int label, int instance, std::vector<VoxelKey> cluster,
+ObjectInstance makeObject(const LabelMap& map, int label, int instance, std::vector<VoxelKey> cluster,
                      const std::vector<LabelledKey>& all) {
-  MapObject object;
+  ObjectInstance object;
   object.label = label;
   object.name = map.labels().at(label).name;
   object.instance = instance;
@@ -111,7 +111,7 @@ std::vector<VoxelKey> keysInside(const LabelMap& map, const OrientedBox& box) {
 
 }  // namespace
 
-std::string MapObject::id() const {
+std::string ObjectInstance::id() const {
   return instance == 0 ? std::to_string(label) : std::to_string(label) + "#" + std::to_string(instance);
 }
 
@@ -137,7 +137,7 @@ std::vector<std::vector<VoxelKey>> euclideanClusters(const std::vector<VoxelKey>
   return clusters;
 }
 
-std::vector<MapObject> extractObjects(const LabelMap& map, const ObjectOptions& options) {
+std::vector<ObjectInstance> extractObjects(const LabelMap& map, const ObjectOptions& options) {
   checkObjectOptions(map, options);
   std::vector<bool> wanted(static_cast<size_t>(map.numLabels()), false);
   if (options.labels) {
@@ -146,7 +146,7 @@ std::vector<MapObject> extractObjects(const LabelMap& map, const ObjectOptions& 
     for (int id = 1; id < map.numLabels(); ++id) wanted[static_cast<size_t>(id)] = true;
   }
 
-  std::vector<MapObject> objects;
+  std::vector<ObjectInstance> objects;
   for (const auto& [label, list] : occupiedByLabel(map, wanted)) {
     std::vector<VoxelKey> keys;
     keys.reserve(list.size());
@@ -156,7 +156,7 @@ std::vector<MapObject> extractObjects(const LabelMap& map, const ObjectOptions& 
     const size_t label_clusters = clusters.size();
     if (!options.all_clusters && clusters.size() > 1) clusters.resize(1);  // the others are outliers
     for (size_t i = 0; i < clusters.size(); ++i) {
-      MapObject object = makeObject(map, label, static_cast<int>(i), std::move(clusters[i]), list);
+      ObjectInstance object = makeObject(map, label, static_cast<int>(i), std::move(clusters[i]), list);
       object.label_voxels = keys.size();
       object.label_clusters = label_clusters;
       objects.push_back(std::move(object));

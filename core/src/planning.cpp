@@ -40,7 +40,7 @@ Eigen::Vector3d normalizedApproach(const Eigen::Vector3d& approach, const std::s
 Eigen::Matrix3d axesOf(const OrientedBox& box) { return box.rotation.normalized().toRotationMatrix(); }
 
 // Front-most first; ties by label, then instance.
-void sortFrontToBack(std::vector<size_t>& indices, const std::vector<MapObject>& objects,
+void sortFrontToBack(std::vector<size_t>& indices, const std::vector<ObjectInstance>& objects,
                      const Eigen::Vector3d& approach) {
   std::sort(indices.begin(), indices.end(), [&](size_t a, size_t b) {
     const double da = objects[a].centroid.dot(approach);
@@ -107,7 +107,7 @@ Eigen::Vector3d meanViewingDirection(const Sequence& sequence) {
   return sum.normalized();
 }
 
-Eigen::Vector3d approachFromFreeSpace(const LabelMap& map, const std::vector<MapObject>& objects,
+Eigen::Vector3d approachFromFreeSpace(const LabelMap& map, const std::vector<ObjectInstance>& objects,
                                       const std::string& map_file) {
   const std::string expected =
       "a map with observed free space and objects, or an approach given with --approach x,y,z or "
@@ -164,7 +164,7 @@ bool boxesOverlapAcross(const OrientedBox& a, const OrientedBox& b, const Eigen:
   return true;
 }
 
-std::vector<size_t> findOccluders(const std::vector<MapObject>& objects, size_t target,
+std::vector<size_t> findOccluders(const std::vector<ObjectInstance>& objects, size_t target,
                                   const Eigen::Vector3d& approach, double margin) {
   const Eigen::Vector3d d = approach.normalized();
   const double target_depth = objects.at(target).centroid.dot(d);
@@ -178,7 +178,7 @@ std::vector<size_t> findOccluders(const std::vector<MapObject>& objects, size_t 
   return occluders;
 }
 
-Grasp graspFor(const MapObject& object, const Eigen::Vector3d& approach) {
+Grasp graspFor(const ObjectInstance& object, const Eigen::Vector3d& approach) {
   Grasp grasp;
   grasp.approach = approach.normalized();
   grasp.axes = axesOf(object.box);
@@ -222,7 +222,7 @@ std::vector<Placement> placeInBin(const std::vector<OrientedBox>& boxes, const s
   return placements;
 }
 
-PickPlan planPick(const std::vector<MapObject>& objects, const LabelSet& labels, int target_label,
+PickPlan planPick(const std::vector<ObjectInstance>& objects, const LabelSet& labels, int target_label,
                   const Eigen::Vector3d& approach, const PlanOptions& options, double resolution) {
   const std::string& file = options.objects.map_file;
   if (!labels.contains(target_label) || target_label == 0)
@@ -247,14 +247,15 @@ PickPlan planPick(const std::vector<MapObject>& objects, const LabelSet& labels,
   plan.empty_bin = options.empty_bin;
   plan.options = options;
 
-  const auto target = std::find_if(plan.objects.begin(), plan.objects.end(), [&](const MapObject& o) {
+  const auto target = std::find_if(plan.objects.begin(), plan.objects.end(), [&](const ObjectInstance& o) {
     return o.label == target_label && o.instance == 0;
   });
   if (target == plan.objects.end())
     throw Error(file, "target", "a label with occupied voxels in the map",
-                "label " + labelText(labels, target_label) + " has no occupied voxel" +
+                "label " + labelText(labels, target_label) + ", which has no occupied voxel" +
                     (options.objects.min_cluster_voxels > 1
-                         ? " in a cluster of at least " + std::to_string(options.objects.min_cluster_voxels)
+                         ? " in a cluster of at least " + std::to_string(options.objects.min_cluster_voxels) +
+                               " voxels"
                          : std::string()));
   plan.target = static_cast<size_t>(target - plan.objects.begin());
 
@@ -310,14 +311,14 @@ PickPlan planPick(const LabelMap& map, int target_label, const PlanOptions& opti
     auto& labels = *effective.objects.labels;
     if (std::find(labels.begin(), labels.end(), target_label) == labels.end()) labels.push_back(target_label);
   }
-  const std::vector<MapObject> objects = extractObjects(map, effective.objects);
+  const std::vector<ObjectInstance> objects = extractObjects(map, effective.objects);
   Eigen::Vector3d approach;
   if (effective.approach) {
     approach = *effective.approach;
   } else {
     // Without the target there is nothing to plan; say so before blaming the approach.
     const bool has_target = std::any_of(objects.begin(), objects.end(),
-                                        [&](const MapObject& o) { return o.label == target_label; });
+                                        [&](const ObjectInstance& o) { return o.label == target_label; });
     approach = has_target ? approachFromFreeSpace(map, objects, file) : Eigen::Vector3d::UnitX();
     effective.approach_source = ApproachSource::FreeSpace;
   }

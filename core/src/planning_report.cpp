@@ -1,4 +1,5 @@
 // plan.json and the plan table; the fields are documented in docs/planning.md.
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -43,6 +44,7 @@ Json placementJson(const std::optional<Placement>& placement) {
 }
 
 std::string fixed(double value, int decimals = 3) {
+  if (std::abs(value) < 0.5 * std::pow(10.0, -decimals)) value = 0.0;  // no "-0.000"
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
   return buffer;
@@ -52,8 +54,9 @@ std::string triple(const Eigen::Vector3d& v, int decimals = 3) {
   return fixed(v.x(), decimals) + " " + fixed(v.y(), decimals) + " " + fixed(v.z(), decimals);
 }
 
+// Left-aligned in `width` columns, always followed by at least one space (long text is cut with "~").
 std::string pad(std::string text, size_t width) {
-  if (text.size() > width) text = text.substr(0, width - 1) + "~";
+  if (text.size() >= width) text = text.substr(0, width - 2) + "~";
   return text + std::string(width - text.size(), ' ');
 }
 
@@ -61,7 +64,7 @@ std::string padLeft(const std::string& text, size_t width) {
   return text.size() >= width ? text : std::string(width - text.size(), ' ') + text;
 }
 
-std::string objectName(const MapObject& object) {
+std::string objectName(const ObjectInstance& object) {
   return object.id() + (object.name.empty() ? "" : " " + object.name);
 }
 
@@ -79,7 +82,7 @@ const char* approachExplanation(ApproachSource source) {
 std::string planJson(const PickPlan& plan, const std::string& map_file) {
   Json objects = Json::array();
   for (size_t i = 0; i < plan.objects.size(); ++i) {
-    const MapObject& o = plan.objects[i];
+    const ObjectInstance& o = plan.objects[i];
     objects.push_back(Json{{"id", o.id()},
                            {"label", o.label},
                            {"name", o.name},
@@ -98,7 +101,7 @@ std::string planJson(const PickPlan& plan, const std::string& map_file) {
   Json steps = Json::array();
   for (size_t k = 0; k < plan.steps.size(); ++k) {
     const PlanStep& step = plan.steps[k];
-    const MapObject& o = plan.objects[step.object];
+    const ObjectInstance& o = plan.objects[step.object];
     steps.push_back(Json{{"step", k + 1},
                          {"action", stepActionName(step.action)},
                          {"object", o.id()},
@@ -133,7 +136,7 @@ std::string planJson(const PickPlan& plan, const std::string& map_file) {
 
 std::string planTable(const PickPlan& plan) {
   std::ostringstream out;
-  const MapObject& target = plan.objects[plan.target];
+  const ObjectInstance& target = plan.objects[plan.target];
   out << "target    " << objectName(target) << " (" << target.voxelCount() << " voxels, centroid "
       << triple(target.centroid) << " m)\n";
   out << "approach  " << triple(plan.approach) << " (" << approachExplanation(plan.approach_source) << ")\n";
@@ -146,7 +149,7 @@ std::string planTable(const PickPlan& plan) {
   out << "\n" << pad("object", 32) << padLeft("voxels", 7) << padLeft("mean p", 8) << padLeft("front (m)", 11)
       << "  " << pad("box size (m)", 20) << "role\n";
   for (size_t i = 0; i < plan.objects.size(); ++i) {
-    const MapObject& o = plan.objects[i];
+    const ObjectInstance& o = plan.objects[i];
     out << pad(objectName(o), 32) << padLeft(std::to_string(o.voxelCount()), 7)
         << padLeft(fixed(o.mean_probability, 2), 8) << padLeft(fixed(-plan.depth[i]), 11) << "  "
         << pad(triple(o.box.size), 20) << objectRoleName(plan.roles[i]) << "\n";

@@ -11,6 +11,10 @@ int main(int argc, char** argv) {
   // Recent-file lists go to a throw-away settings folder, not the user's.
   QTemporaryDir settings_home;
   qputenv("XDG_CONFIG_HOME", settings_home.path().toLocal8Bit());
+  // Recovery files and the demo cache likewise.
+  QTemporaryDir data_home, cache_home;
+  qputenv("XDG_DATA_HOME", data_home.path().toLocal8Bit());
+  qputenv("XDG_CACHE_HOME", cache_home.path().toLocal8Bit());
 
   lom::ui::setDefaultSurfaceFormat();
   QApplication app(argc, argv);

@@ -1,5 +1,7 @@
 #include "lom/ui/frame_images_view.hpp"
 
+#include <QGridLayout>
+#include <QLabel>
 #include <QVBoxLayout>
 #include <map>
 
@@ -8,6 +10,7 @@
 #include "lom/ui/image_conversion.hpp"
 #include "lom/ui/image_pane.hpp"
 #include "lom/ui/label_legend.hpp"
+#include "lom/ui/pixel_readout.hpp"
 
 namespace lom::ui {
 
@@ -21,7 +24,12 @@ FrameImagesView::FrameImagesView(QWidget* parent)
       depth_pane_(new ImagePane(tr("Depth"))),
       depth_legend_(new DepthLegend),
       label_pane_(new ImagePane(tr("Labels"))),
-      label_legend_(new LabelLegend) {
+      label_legend_(new LabelLegend),
+      heat_pane_(new ImagePane(tr("Probability"))),
+      readout_(new QLabel) {
+  heat_pane_->setObjectName("heatPane");
+  readout_->setObjectName("pixelReadout");
+  readout_->setWordWrap(true);
   color_pane_->setObjectName("colorPane");
   depth_pane_->setObjectName("depthPane");
   label_pane_->setObjectName("labelPane");
@@ -29,15 +37,61 @@ FrameImagesView::FrameImagesView(QWidget* parent)
 
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(4, 4, 4, 4);
-  layout->addWidget(color_pane_, 1);
-  layout->addWidget(depth_pane_, 1);
-  layout->addWidget(depth_legend_);
-  layout->addWidget(label_pane_, 1);
-  layout->addWidget(label_legend_);
+  auto* grid = new QGridLayout;
+  auto* depth_column = new QVBoxLayout;
+  depth_column->addWidget(depth_pane_, 1);
+  depth_column->addWidget(depth_legend_);
+  auto* label_column = new QVBoxLayout;
+  label_column->addWidget(label_pane_, 1);
+  label_column->addWidget(label_legend_);
+  grid->addWidget(color_pane_, 0, 0);
+  grid->addLayout(depth_column, 0, 1);
+  grid->addLayout(label_column, 1, 0);
+  grid->addWidget(heat_pane_, 1, 1);
+  layout->addLayout(grid, 1);
+  layout->addWidget(readout_);
+  for (ImagePane* pane : {color_pane_, depth_pane_, label_pane_, heat_pane_})
+    connect(pane, &ImagePane::hovered, this, &FrameImagesView::hoverPixel);
   clear();
 }
 
+void FrameImagesView::setHeatLabel(int label) {
+  heat_label_ = label;
+  showHeatMap();
+}
+
+void FrameImagesView::showHeatMap() {
+  QString name = tr("none");
+  if (sequence_ && sequence_->labels.contains(heat_label_))
+    name = QString::fromStdString(sequence_->labels.at(heat_label_).name);
+  heat_pane_->setCaption(tr("Probability of %1").arg(name));
+  if (!frame_ || !frame_->proba) {
+    heat_pane_->setPlaceholder(frame_ ? tr("No probabilities in this frame") : QString());
+    return;
+  }
+  if (heat_label_ < 0) {
+    heat_pane_->setPlaceholder(tr("Choose a label in the map legend"));
+    return;
+  }
+  heat_pane_->setImage(probabilityHeatMap(*frame_->proba, heat_label_));
+}
+
+QString FrameImagesView::readoutText() const { return readout_->text(); }
+
+void FrameImagesView::hoverPixel(const QPoint& pixel) {
+  if (!frame_ || !sequence_ || pixel.x() < 0 || pixel.y() < 0) {
+    readout_->clear();
+    return;
+  }
+  readout_->setText(describePixel(*sequence_, *frame_, *labels_, pixel.x(), pixel.y(), heat_label_));
+}
+
 void FrameImagesView::clear() {
+  sequence_ = nullptr;
+  frame_ = nullptr;
+  labels_ = nullptr;
+  heat_pane_->setPlaceholder(QString());
+  readout_->clear();
   color_pane_->setPlaceholder(tr("No sequence open"));
   depth_pane_->setPlaceholder(QString());
   label_pane_->setPlaceholder(QString());
@@ -53,6 +107,10 @@ void FrameImagesView::showFrame(const Sequence& sequence, const FrameData* frame
     color_pane_->setPlaceholder(tr("This frame's files could not be read"));
     return;
   }
+  sequence_ = &sequence;
+  frame_ = frame;
+  labels_ = &labels;
+  showHeatMap();
 
   QImage color;
   if (frame->color) color = toQImage(*frame->color);

@@ -1,13 +1,42 @@
 #include "lom/ui/image_pane.hpp"
 
+#include <QMouseEvent>
 #include <QPainter>
+#include <algorithm>
 
 namespace lom::ui {
 
 ImagePane::ImagePane(const QString& caption, QWidget* parent) : QWidget(parent), caption_(caption) {
   setMinimumSize(160, 130);
   setSizePolicy(QSizePolicy::Expanding, QSizePolicy::Expanding);
+  setMouseTracking(true);
 }
+
+void ImagePane::setCaption(const QString& caption) {
+  caption_ = caption;
+  update();
+}
+
+QRect ImagePane::imageRect() const {
+  const int caption_height = fontMetrics().height() + 4;
+  const QRect area(0, caption_height, width(), height() - caption_height);
+  QRect target(QPoint(0, 0), image_.size().scaled(area.size(), Qt::KeepAspectRatio));
+  target.moveCenter(area.center());
+  return target;
+}
+
+void ImagePane::mouseMoveEvent(QMouseEvent* event) {
+  const QRect target = imageRect();
+  if (image_.isNull() || !target.contains(event->pos()) || target.width() <= 0) {
+    emit hovered({-1, -1});
+    return;
+  }
+  const int u = (event->pos().x() - target.left()) * image_.width() / target.width();
+  const int v = (event->pos().y() - target.top()) * image_.height() / target.height();
+  emit hovered({std::clamp(u, 0, image_.width() - 1), std::clamp(v, 0, image_.height() - 1)});
+}
+
+void ImagePane::leaveEvent(QEvent*) { emit hovered({-1, -1}); }
 
 void ImagePane::setImage(const QImage& image) {
   image_ = image;
@@ -35,9 +64,7 @@ void ImagePane::paintEvent(QPaintEvent*) {
     painter.drawText(area.adjusted(6, 6, -6, -6), Qt::AlignCenter | Qt::TextWordWrap, placeholder_);
     return;
   }
-  QSize fitted = image_.size().scaled(area.size(), Qt::KeepAspectRatio);
-  QRect target(QPoint(0, 0), fitted);
-  target.moveCenter(area.center());
+  const QRect target = imageRect();
   // Smooth scaling would blur label borders into colours no label has.
   painter.setRenderHint(QPainter::SmoothPixmapTransform, false);
   painter.drawImage(target, image_);

@@ -2,6 +2,7 @@
 
 #include <QAction>
 #include <QCloseEvent>
+#include <QDockWidget>
 #include <QIcon>
 #include <QLabel>
 #include <QMenuBar>
@@ -14,6 +15,23 @@
 #include "lom/ui/about_reaction.hpp"
 #include "lom/ui/frame_images_view.hpp"
 #include "lom/ui/frame_step_reaction.hpp"
+#include "lom/ui/add_box_reaction.hpp"
+#include "lom/ui/annotation_files.hpp"
+#include "lom/ui/annotations_model.hpp"
+#include "lom/ui/box_editor_panel.hpp"
+#include "lom/ui/box_file_reaction.hpp"
+#include "lom/ui/export_map_reaction.hpp"
+#include "lom/ui/picked_voxel_view.hpp"
+#include "lom/ui/save_screenshot_reaction.hpp"
+#include "lom/ui/scene_view_reaction.hpp"
+#include "lom/ui/evaluation_panel.hpp"
+#include "lom/ui/shortcuts_help_reaction.hpp"
+#include "lom/ui/fusion_panel.hpp"
+#include "lom/ui/fusion_reactions.hpp"
+#include "lom/ui/fusion_status.hpp"
+#include "lom/ui/map_legend_panel.hpp"
+#include "lom/ui/map_worker.hpp"
+#include "lom/ui/studio_session.hpp"
 #include "lom/ui/open_sequence_reaction.hpp"
 #include "lom/ui/recent_sequences_reaction.hpp"
 #include "lom/ui/reset_camera_reaction.hpp"
@@ -30,8 +48,8 @@ namespace lom::ui {
 namespace {
 
 bool confirmDiscardUnsavedWork(QWidget* parent) {
-  return QMessageBox::question(parent, QObject::tr("Discard unsaved work?"),
-                               QObject::tr("The current work has unsaved changes. Discard them?"),
+  return QMessageBox::question(parent, QObject::tr("Discard unsaved boxes?"),
+                               QObject::tr("The boxes have unsaved changes. Discard them?"),
                                QMessageBox::Discard | QMessageBox::Cancel,
                                QMessageBox::Cancel) == QMessageBox::Discard;
 }
@@ -54,11 +72,13 @@ QString describeFrame(const SequenceController& controller) {
 MainWindow::MainWindow(QWidget* parent)
     : QMainWindow(parent),
       report_error_(messageBoxErrorReporter(this)),
-      controller_(new SequenceController(this)),
+      session_(new StudioSession(this)),
+      controller_(&session_->controller()),
       frame_images_(new FrameImagesView),
       scene_view_(new SceneView),
       status_label_(new QLabel) {
   registerStudioResources();
+  steps_ = BoxSteps::load();
   setWindowTitle(tr("LabelOctoMap Studio"));
   setWindowIcon(QIcon(":/icons/labeloctomap-studio.svg"));
   resize(1280, 800);
@@ -71,7 +91,7 @@ MainWindow::MainWindow(QWidget* parent)
   views->addWidget(frame_images_);
   views->addWidget(scene_view_);
   views->setStretchFactor(1, 1);
-  views->setSizes({360, 920});
+  views->setSizes({430, 520});
   auto* central = new QWidget;
   auto* layout = new QVBoxLayout(central);
   layout->setContentsMargins(0, 0, 0, 0);
@@ -83,10 +103,20 @@ MainWindow::MainWindow(QWidget* parent)
   status_label_->setObjectName("frameStatus");
   statusBar()->addWidget(status_label_, 1);
   status_label_->setText(describeFrame(*controller_));
+  fusion_status_ = new FusionStatus(session_->worker());
+  statusBar()->addPermanentWidget(fusion_status_);
 
+  autosave_ = new BoxesAutosave(*session_, [this](const QString& file) {
+    return QMessageBox::question(
+               this, tr("Recover unsaved boxes?"),
+               tr("Boxes of this sequence were not saved when the studio last closed.\n"
+                  "Restore them from %1?").arg(file)) == QMessageBox::Yes;
+  });
+  createDocks();
   createMenus(step_actions);
+  connectScene();
   new SequenceDropHandler(this, *controller_);
-  controller_->setDiscardGuard([this] { return confirmDiscardUnsavedWork(this); });
+  controller_->setDiscardGuard([this] { return confirmDiscard(); });
 
   connect(controller_, &SequenceController::errorOccurred, this,
           [this](const QString& title, const QString& message) { report_error_(title, message); });
@@ -114,6 +144,113 @@ TimelineWidget::StepActions MainWindow::createStepActions() {
           make(tr("&Last Frame"), QStyle::SP_MediaSkipForward, Qt::Key_End, Step::Last)};
 }
 
+void MainWindow::createDocks() {
+  auto dock = [this](QWidget* content, const QString& title, const QString& name) {
+    auto* widget = new QDockWidget(title, this);
+    widget->setObjectName(name);
+    widget->setWidget(content);
+    addDockWidget(Qt::RightDockWidgetArea, widget);
+    return widget;
+  };
+  map_legend_ = new MapLegendPanel(*session_);
+  map_legend_->setMinimumHeight(170);
+  fusion_panel_ = new FusionPanel(*session_);
+  dock(map_legend_, tr("Map Labels"), "mapLegendDock");
+  QDockWidget* fusion = dock(fusion_panel_, tr("Fusion"), "fusionDock");
+  QDockWidget* picked = dock(new PickedVoxelView(*session_), tr("Picked Voxel"), "pickedVoxelDock");
+  tabifyDockWidget(fusion, picked);
+  fusion->raise();
+  box_editor_ = new BoxEditorPanel(*session_, steps_);
+  QDockWidget* boxes = dock(box_editor_, tr("Boxes"), "boxesDock");
+  evaluation_panel_ = new EvaluationPanel(*session_);
+  QDockWidget* scores = dock(evaluation_panel_, tr("Evaluation"), "evaluationDock");
+  tabifyDockWidget(boxes, scores);
+  scores->raise();
+}
+
+void MainWindow::createAnnotateMenu() {
+  QMenu* menu = menuBar()->addMenu(tr("&Annotate"));
+  QUndoStack& undo_stack = session_->annotations().undoStack();
+  QAction* undo = undo_stack.createUndoAction(this, tr("&Undo"));
+  undo->setShortcut(QKeySequence::Undo);
+  QAction* redo = undo_stack.createRedoAction(this, tr("&Redo"));
+  redo->setShortcut(QKeySequence::Redo);
+  menu->addActions({undo, redo});
+  menu->addSeparator();
+  auto add_box = [&](const QString& text, AddBoxReaction::Mode mode, const QKeySequence& key) {
+    QAction* action = menu->addAction(text);
+    action->setShortcut(key);
+    auto* reaction = new AddBoxReaction(action, mode, *session_);
+    connect(reaction, &AddBoxReaction::failed, this,
+            [this](const QString& title, const QString& message) { report_error_(title, message); });
+  };
+  add_box(tr("Add Box from Label Voxels"), AddBoxReaction::Mode::FitLabelVoxels, Qt::Key_B);
+  add_box(tr("Add Box at Clicked Point"), AddBoxReaction::Mode::AtPickedPoint, Qt::SHIFT + Qt::Key_B);
+  menu->addSeparator();
+  for (QAction* action : createBoxEditActions(*this, *scene_view_, *session_, steps_))
+    menu->addAction(action);
+}
+
+bool MainWindow::confirmDiscard() {
+  if (!confirmDiscardUnsavedWork(this)) return false;
+  autosave_->discard();
+  return true;
+}
+
+void MainWindow::setRecoveryOffer(std::function<bool(const QString&)> offer) {
+  autosave_->setOffer(std::move(offer));
+}
+
+QAction* MainWindow::findAction(const QString& text) const {
+  for (QAction* action : findChildren<QAction*>())
+    if (action->text().remove('&') == text) return action;
+  return nullptr;
+}
+
+void MainWindow::connectScene() {
+  auto show_voxels = [this] {
+    if (!session_->sequence()) return;
+    scene_view_->showVoxels(*session_->worker().snapshot(), session_->sequence()->labels,
+                            session_->hiddenLabels());
+  };
+  connect(&session_->worker(), &MapWorker::snapshotChanged, this, show_voxels);
+  connect(session_, &StudioSession::hiddenLabelsChanged, this, show_voxels);
+  connect(&session_->worker(), &MapWorker::errorOccurred, this,
+          [this](const QString& title, const QString& message) { report_error_(title, message); });
+  auto show_boxes = [this] {
+    if (!session_->sequence()) return;
+    AnnotationsModel& boxes = session_->annotations();
+    scene_view_->showBoxes(boxes.annotations(), boxes.selected(), session_->sequence()->labels);
+  };
+  connect(&session_->annotations(), &AnnotationsModel::boxesChanged, this, show_boxes);
+  connect(&session_->annotations(), &AnnotationsModel::selectionChanged, this, show_boxes);
+  connect(&session_->annotations(), &AnnotationsModel::dirtyChanged, this, &MainWindow::updateTitle);
+  connect(scene_view_, &SceneView::boxEdited, this, [this](const OrientedBox& edited) {
+    AnnotationsModel& boxes = session_->annotations();
+    if (boxes.selected() < 0) return;
+    GroundTruthBox box = boxes.box(boxes.selected());
+    box.box = edited;
+    boxes.setBox(boxes.selected(), box, tr("Edit box with handles"));
+  });
+  connect(scene_view_, &SceneView::pointPicked, this, [this](const Eigen::Vector3d& point) {
+    session_->setPickedPoint(point);
+    session_->worker().pick(point);
+  });
+  connect(session_, &StudioSession::selectedLabelChanged, frame_images_,
+          &FrameImagesView::setHeatLabel);
+  connect(map_legend_, &MapLegendPanel::currentLabelChanged, session_,
+          [this](int label) { if (label > 0) session_->setSelectedLabel(label); });
+}
+
+void MainWindow::updateTitle() {
+  const QString name = controller_->hasSequence() ? controller_->sequenceName() + "[*] — "
+                                                  : QString();
+  setWindowTitle(name + tr("LabelOctoMap Studio"));
+  setWindowModified(session_->annotations().isDirty());
+}
+
+QString MainWindow::fusionStatusText() const { return fusion_status_->text(); }
+
 void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   QMenu* file = menuBar()->addMenu(tr("&File"));
   auto* open = file->addAction(tr("&Open Sequence…"));
@@ -126,23 +263,80 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
                            this);
   new RecentSequencesReaction(file->addMenu(tr("Open &Recent")), recent_, *controller_);
   file->addSeparator();
+  auto box_file = [&](const QString& text, BoxFileReaction::Kind kind, const QKeySequence& key) {
+    QAction* action = file->addAction(text);
+    action->setShortcut(key);
+    new BoxFileReaction(action, kind, *session_, this, report_error_);
+  };
+  box_file(tr("&Save Boxes"), BoxFileReaction::Kind::Save, QKeySequence::Save);
+  box_file(tr("Save Boxes &As…"), BoxFileReaction::Kind::SaveAs, QKeySequence::SaveAs);
+  box_file(tr("Open &Boxes…"), BoxFileReaction::Kind::Open, QKeySequence());
+  box_file(tr("&Import YAML Boxes…"), BoxFileReaction::Kind::ImportYaml, QKeySequence());
+  file->addSeparator();
+  new SaveScreenshotReaction(file->addAction(tr("Save Screens&hot…")), *this, *scene_view_);
+  file->addSeparator();
   auto* quit = file->addAction(tr("&Quit"), this, &QWidget::close);
   quit->setShortcut(QKeySequence::Quit);
+
+  QMenu* export_menu = menuBar()->addMenu(tr("E&xport"));
+  auto export_action = [&](const QString& text, ExportFormat format) {
+    ExportOptions options;
+    options.format = format;
+    auto* reaction = new ExportMapReaction(export_menu->addAction(text), options, *session_, this,
+                                           report_error_);
+    connect(reaction, &ExportMapReaction::finished, this, [this](const QString& message, bool ok) {
+      if (ok) statusBar()->showMessage(message, 8000);
+    });
+  };
+  export_action(tr("Voxel Mesh (PLY)…"), ExportFormat::Ply);
+  export_action(tr("Voxel Mesh (OBJ)…"), ExportFormat::Obj);
+  export_action(tr("Voxel Mesh (STL)…"), ExportFormat::Stl);
+  export_action(tr("Point Cloud (PCD)…"), ExportFormat::Pcd);
+  export_action(tr("Colour Octree (OT)…"), ExportFormat::Ot);
+  export_action(tr("Binary Octree (BT)…"), ExportFormat::Bt);
+
+  QMenu* fusion = menuBar()->addMenu(tr("F&usion"));
+  auto fusion_action = [&](const QString& text, FusionReaction::Kind kind, const QKeySequence& key) {
+    QAction* action = fusion->addAction(text);
+    action->setShortcut(key);
+    new FusionReaction(action, kind, *session_);
+  };
+  fusion_action(tr("&Fuse Sequence"), FusionReaction::Kind::Fuse, Qt::Key_F5);
+  fusion_action(tr("&Pause Fusion"), FusionReaction::Kind::Pause, Qt::Key_F6);
+  fusion_action(tr("&Cancel Fusion"), FusionReaction::Kind::Cancel, Qt::SHIFT + Qt::Key_F5);
+  fusion_action(tr("&Reset Map"), FusionReaction::Kind::Reset, QKeySequence());
 
   QMenu* view = menuBar()->addMenu(tr("&View"));
   view->addActions(
       {step_actions.first, step_actions.previous, step_actions.next, step_actions.last});
   view->addSeparator();
   new ResetCameraReaction(view->addAction(tr("&Reset Camera")), *scene_view_);
+  auto scene_action = [&](const QString& text, SceneViewReaction::Kind kind, const QKeySequence& key) {
+    QAction* action = view->addAction(text);
+    action->setShortcut(key);
+    new SceneViewReaction(action, kind, *session_, *scene_view_);
+  };
+  scene_action(tr("Look from &Current Camera"), SceneViewReaction::Kind::LookFromFrame,
+               Qt::CTRL + Qt::Key_L);
+  scene_action(tr("&Zoom to Map"), SceneViewReaction::Kind::ZoomToMap, Qt::CTRL + Qt::Key_M);
+  scene_action(tr("Show &Frame Points"), SceneViewReaction::Kind::FramePoints, QKeySequence());
+  scene_action(tr("Show &Projection Voxels of This View"), SceneViewReaction::Kind::ProjectionVoxels,
+               QKeySequence());
+  scene_action(tr("&Opacity by Probability"), SceneViewReaction::Kind::OpacityByProbability,
+               QKeySequence());
 
+  createAnnotateMenu();
   QMenu* help = menuBar()->addMenu(tr("&Help"));
+  QAction* shortcuts = help->addAction(tr("&Keyboard Shortcuts"));
+  shortcuts->setShortcut(QKeySequence::HelpContents);
+  new ShortcutsHelpReaction(shortcuts, this);
   new AboutReaction(help->addAction(tr("&About LabelOctoMap Studio")), this);
 }
 
 QString MainWindow::statusText() const { return status_label_->text(); }
 
 void MainWindow::onSequenceChanged() {
-  setWindowTitle(tr("%1 — LabelOctoMap Studio").arg(controller_->sequenceName()));
+  updateTitle();
   timeline_->setFrameCount(controller_->frameCount());
   scene_view_->showSequence(controller_->sequence());
 }
@@ -163,7 +357,7 @@ void MainWindow::onCurrentFrameChanged() {
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
-  if (controller_->hasUnsavedWork() && !confirmDiscardUnsavedWork(this)) {
+  if (controller_->hasUnsavedWork() && !confirmDiscard()) {
     event->ignore();
     return;
   }

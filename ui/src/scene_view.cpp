@@ -14,11 +14,17 @@
 #include <vtkRenderWindowInteractor.h>
 #include <vtkRenderer.h>
 
+#include <vtkObjectFactory.h>
+#include <vtkWorldPointPicker.h>
+
 #include <QSurfaceFormat>
 #include <QVBoxLayout>
+#include <cmath>
+#include <functional>
 #include <numeric>
 
 #include "scene_adapters.hpp"
+#include "scene_layers.hpp"
 
 namespace lom::ui {
 
@@ -39,6 +45,36 @@ struct PolyActor {
   }
 };
 
+// Trackball camera whose keys are left to the studio's actions (VTK's own
+// key bindings would switch to wireframe or quit), and that reports clicks.
+class StudioInteractorStyle : public vtkInteractorStyleTrackballCamera {
+ public:
+  static StudioInteractorStyle* New();
+  vtkTypeMacro(StudioInteractorStyle, vtkInteractorStyleTrackballCamera);
+
+  std::function<void(int, int)> on_click;
+
+  void OnLeftButtonDown() override {
+    const int* position = GetInteractor()->GetEventPosition();
+    press_[0] = position[0];
+    press_[1] = position[1];
+    vtkInteractorStyleTrackballCamera::OnLeftButtonDown();
+  }
+  void OnLeftButtonUp() override {
+    vtkInteractorStyleTrackballCamera::OnLeftButtonUp();
+    const int* position = GetInteractor()->GetEventPosition();
+    if (std::abs(position[0] - press_[0]) + std::abs(position[1] - press_[1]) <= 3 && on_click)
+      on_click(position[0], position[1]);
+  }
+  void OnChar() override {}
+  void OnKeyPress() override {}
+  void OnKeyRelease() override {}
+
+ private:
+  int press_[2] = {0, 0};
+};
+vtkStandardNewMacro(StudioInteractorStyle);
+
 }  // namespace
 
 struct SceneView::Scene {
@@ -47,6 +83,17 @@ struct SceneView::Scene {
   PolyActor cloud;
   PolyActor other_frustums;
   PolyActor current_frustum;
+  PolyActor boxes;
+  scene::VoxelLayer voxels;
+  scene::VoxelLayer projection;
+  size_t projection_count = 0;
+  std::unique_ptr<scene::BoxHandles> handles;
+  MapSnapshot snapshot;
+  LabelSet labels;
+  std::set<int> hidden;
+  bool opacity_by_probability = false;
+  bool cloud_visible = true;
+  size_t voxel_count = 0;
   vtkNew<vtkAxesActor> axes;
   vtkNew<vtkOrientationMarkerWidget> axes_widget;
 
@@ -73,10 +120,19 @@ struct SceneView::Scene {
     current_frustum.actor->GetProperty()->SetColor(1.0, 0.70, 0.0);
     current_frustum.actor->GetProperty()->SetLineWidth(3);
     current_frustum.actor->GetProperty()->LightingOff();
-    for (PolyActor* part : {&cloud, &other_frustums, &current_frustum}) {
+    boxes.mapper->SetScalarModeToUseCellData();
+    boxes.mapper->SetColorModeToDirectScalars();
+    boxes.actor->GetProperty()->SetLineWidth(2);
+    boxes.actor->GetProperty()->LightingOff();
+    for (PolyActor* part : {&cloud, &other_frustums, &current_frustum, &boxes}) {
       part->show(nullptr);
       renderer->AddActor(part->actor);
     }
+    renderer->AddActor(voxels.actor());
+    renderer->AddActor(projection.actor());
+    projection.actor()->GetProperty()->SetRepresentationToWireframe();
+    projection.actor()->GetProperty()->SetLineWidth(1.5);
+    projection.actor()->GetProperty()->LightingOff();
   }
 };
 
@@ -90,8 +146,11 @@ SceneView::SceneView(QWidget* parent)
   vtk_widget_->setRenderWindow(scene_->render_window);
 
   vtkRenderWindowInteractor* interactor = scene_->render_window->GetInteractor();
-  vtkNew<vtkInteractorStyleTrackballCamera> style;
+  vtkNew<StudioInteractorStyle> style;
+  style->on_click = [this](int x, int y) { pickAt(x, y); };
   interactor->SetInteractorStyle(style);
+  scene_->handles = std::make_unique<scene::BoxHandles>(interactor, scene_->renderer);
+  scene_->handles->onEdited([this](const OrientedBox& box) { emit boxEdited(box); });
   scene_->axes_widget->SetOrientationMarker(scene_->axes);
   scene_->axes_widget->SetInteractor(interactor);
   scene_->axes_widget->SetViewport(0.0, 0.0, 0.16, 0.22);
@@ -127,6 +186,7 @@ void SceneView::showFrame(const Sequence& sequence, size_t index, const FrameDat
     auto cloud = scene::frameCloud(sequence, index, *frame, labels ? &*labels : nullptr);
     scene_->point_count = static_cast<size_t>(cloud->GetNumberOfPoints());
     scene_->cloud.show(cloud);
+    scene_->cloud.actor->SetVisibility(scene_->cloud_visible);
   } else {
     scene_->point_count = 0;
     scene_->cloud.show(nullptr);
@@ -141,8 +201,12 @@ void SceneView::showFrame(const Sequence& sequence, size_t index, const FrameDat
 }
 
 void SceneView::clear() {
-  for (PolyActor* part : {&scene_->cloud, &scene_->other_frustums, &scene_->current_frustum})
+  for (PolyActor* part : {&scene_->cloud, &scene_->other_frustums, &scene_->current_frustum,
+                          &scene_->boxes})
     part->show(nullptr);
+  scene_->snapshot = MapSnapshot{};
+  scene_->voxel_count = scene_->voxels.show(scene_->snapshot, scene_->labels, {}, false);
+  scene_->handles->show(nullptr);
   scene_->point_count = 0;
   scene_->home_viewpoint.reset();
   render();
@@ -167,7 +231,85 @@ void SceneView::resetCamera() {
   render();
 }
 
+void SceneView::zoomToMap() {
+  if (scene_->voxel_count == 0) return;
+  double bounds[6];
+  scene_->voxels.actor()->GetBounds(bounds);
+  scene_->renderer->ResetCamera(bounds);
+  scene_->renderer->GetActiveCamera()->Dolly(1.25);
+  render();
+}
+
 size_t SceneView::framePointCount() const { return scene_->point_count; }
+
+void SceneView::lookFromFrame(const Sequence& sequence, size_t index) {
+  if (index >= sequence.frames.size()) return;
+  const scene::Viewpoint view = scene::viewpointOf(sequence, index);
+  vtkCamera* camera = scene_->renderer->GetActiveCamera();
+  const Eigen::Vector3d focal = view.position + view.forward;
+  camera->SetPosition(view.position.data());
+  camera->SetFocalPoint(focal.data());
+  camera->SetViewUp(view.up.data());
+  const CameraIntrinsics& intrinsics = sequence.cameraOf(index);
+  camera->SetViewAngle(2.0 * std::atan(0.5 * intrinsics.height / intrinsics.fy) * 180.0 / M_PI);
+  render();
+}
+
+void SceneView::showVoxels(const MapSnapshot& snapshot, const LabelSet& labels,
+                           const std::set<int>& hidden) {
+  const bool first_voxels = scene_->snapshot.empty() && !snapshot.empty();
+  scene_->snapshot = snapshot;
+  scene_->labels = labels;
+  scene_->hidden = hidden;
+  scene_->voxel_count =
+      scene_->voxels.show(snapshot, labels, hidden, scene_->opacity_by_probability);
+  if (first_voxels && !scene_->home_viewpoint) resetCamera();
+  render();
+}
+
+void SceneView::setOpacityByProbability(bool on) {
+  scene_->opacity_by_probability = on;
+  showVoxels(MapSnapshot(scene_->snapshot), scene_->labels, scene_->hidden);
+}
+
+void SceneView::setFrameCloudVisible(bool on) {
+  scene_->cloud_visible = on;
+  scene_->cloud.actor->SetVisibility(on && scene_->point_count > 0);
+  render();
+}
+
+void SceneView::showBoxes(const Annotations& boxes, int selected, const LabelSet& labels) {
+  scene_->boxes.show(scene::boxOutlines(boxes, labels, selected));
+  const bool has_selection = selected >= 0 && selected < static_cast<int>(boxes.boxes.size());
+  scene_->handles->show(has_selection ? &boxes.boxes[static_cast<size_t>(selected)].box : nullptr);
+  render();
+}
+
+void SceneView::showProjectionVoxels(const MapSnapshot* voxels, const LabelSet& labels) {
+  scene_->projection_count =
+      scene_->projection.show(voxels ? *voxels : MapSnapshot{}, labels, {}, false);
+  render();
+}
+
+size_t SceneView::projectionVoxelCount() const { return scene_->projection_count; }
+
+size_t SceneView::voxelCount() const { return scene_->voxel_count; }
+
+bool SceneView::boxHandlesVisible() const { return scene_->handles->visible(); }
+
+void SceneView::pickAt(int x, int y) {
+  vtkRenderer* renderer = scene_->renderer;
+  if (renderer->GetZ(x, y) >= 1.0) return;  // background
+  vtkNew<vtkWorldPointPicker> picker;
+  picker->Pick(x, y, 0.0, renderer);
+  Eigen::Vector3d point;
+  picker->GetPickPosition(point.data());
+  Eigen::Vector3d eye;
+  renderer->GetActiveCamera()->GetPosition(eye.data());
+  const double step = scene_->snapshot.resolution > 0 ? 0.3 * scene_->snapshot.resolution : 0.003;
+  if ((point - eye).norm() > 0) point += (point - eye).normalized() * step;
+  emit pointPicked(point);
+}
 
 QImage SceneView::renderToImage() {
   render();
@@ -175,6 +317,8 @@ QImage SceneView::renderToImage() {
 }
 
 void SceneView::render() {
+  // Rendering before the widget has its OpenGL context does nothing useful.
+  if (!scene_ || !vtk_widget_->isValid()) return;
   scene_->renderer->ResetCameraClippingRange();
   scene_->render_window->Render();
 }

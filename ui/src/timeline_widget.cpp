@@ -1,6 +1,9 @@
 #include "lom/ui/timeline_widget.hpp"
 
 #include <QAction>
+#include <QComboBox>
+#include <QStyle>
+#include <QTimer>
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QSignalBlocker>
@@ -23,7 +26,29 @@ TimelineWidget::TimelineWidget(const StepActions& actions, QWidget* parent)
     : QWidget(parent),
       slider_(new QSlider(Qt::Horizontal)),
       frame_number_(new QSpinBox),
-      frame_count_(new QLabel) {
+      frame_count_(new QLabel),
+      play_(new QToolButton),
+      speed_(new QComboBox),
+      play_timer_(new QTimer(this)) {
+  play_->setObjectName("playButton");
+  play_->setCheckable(true);
+  play_->setAutoRaise(true);
+  play_->setIcon(style()->standardIcon(QStyle::SP_MediaPlay));
+  play_->setToolTip(tr("Play / pause (Space)"));
+  play_->setShortcut(Qt::Key_Space);
+  speed_->setObjectName("playSpeed");
+  for (int fps : {1, 2, 5, 10, 15, 30}) speed_->addItem(tr("%1 fps").arg(fps), fps);
+  speed_->setCurrentIndex(2);
+  speed_->setToolTip(tr("Playback speed"));
+  connect(play_, &QToolButton::toggled, this, &TimelineWidget::setPlaying);
+  connect(speed_, qOverload<int>(&QComboBox::currentIndexChanged), this, [this] {
+    play_timer_->setInterval(1000 / std::max(1, speed_->currentData().toInt()));
+  });
+  play_timer_->setInterval(1000 / 5);
+  connect(play_timer_, &QTimer::timeout, this, [this] {
+    if (current_ + 1 >= count_) return setPlaying(false);
+    emit frameRequested(current_ + 1);
+  });
   slider_->setObjectName("frameSlider");
   frame_number_->setObjectName("frameNumber");
   slider_->setTracking(true);
@@ -34,11 +59,13 @@ TimelineWidget::TimelineWidget(const StepActions& actions, QWidget* parent)
   layout->setContentsMargins(6, 2, 6, 2);
   layout->addWidget(buttonFor(actions.first));
   layout->addWidget(buttonFor(actions.previous));
+  layout->addWidget(play_);
   layout->addWidget(slider_, 1);
   layout->addWidget(buttonFor(actions.next));
   layout->addWidget(buttonFor(actions.last));
   layout->addWidget(frame_number_);
   layout->addWidget(frame_count_);
+  layout->addWidget(speed_);
 
   connect(slider_, &QSlider::valueChanged, this, &TimelineWidget::frameRequested);
   connect(frame_number_, qOverload<int>(&QSpinBox::valueChanged), this,
@@ -46,7 +73,27 @@ TimelineWidget::TimelineWidget(const StepActions& actions, QWidget* parent)
   setFrameCount(0);
 }
 
+void TimelineWidget::setPlaying(bool playing) {
+  playing = playing && count_ > 1;
+  if (play_->isChecked() != playing) {
+    const QSignalBlocker block(play_);
+    play_->setChecked(playing);
+  }
+  play_->setIcon(style()->standardIcon(playing ? QStyle::SP_MediaPause : QStyle::SP_MediaPlay));
+  if (playing) {
+    if (current_ + 1 >= count_) emit frameRequested(0);  // from the start again
+    play_timer_->start();
+  } else {
+    play_timer_->stop();
+  }
+}
+
+bool TimelineWidget::isPlaying() const { return play_timer_->isActive(); }
+
 void TimelineWidget::setFrameCount(int count) {
+  count_ = count;
+  if (count <= 1) setPlaying(false);
+  play_->setEnabled(count > 1);
   const QSignalBlocker block_slider(slider_);
   const QSignalBlocker block_number(frame_number_);
   slider_->setRange(0, std::max(0, count - 1));
@@ -57,6 +104,7 @@ void TimelineWidget::setFrameCount(int count) {
 }
 
 void TimelineWidget::setCurrentFrame(int index) {
+  current_ = index;
   const QSignalBlocker block_slider(slider_);
   const QSignalBlocker block_number(frame_number_);
   slider_->setValue(index);

@@ -2,6 +2,7 @@
 // Fusion of RGB-D frames with per-pixel label probabilities into a LabelMap,
 // following the paper (sections III-IV). Semantics: docs/fusion.md.
 #include <functional>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -13,6 +14,8 @@
 #include "lom/sequence.hpp"
 
 namespace lom {
+
+class Segmenter;  // lom/segmenter.hpp
 
 // Probabilities are clamped to [kProbabilityEpsilon, 1 - kProbabilityEpsilon]
 // before logit so that no log-odds value is ever infinite.
@@ -81,6 +84,8 @@ struct FusionOptions {
   IntegrationOptions integration;
   size_t first_frame = 0;
   size_t last_frame = static_cast<size_t>(-1);  // exclusive; clipped to the sequence
+  // Runs on the colour image of every frame without a proba (docs/segmenter.md).
+  std::shared_ptr<const Segmenter> segmenter;
 };
 
 struct FusionProgress {

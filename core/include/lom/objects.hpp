@@ -32,7 +32,8 @@ struct ObjectOptions {
   std::string map_file;
 };
 
-struct MapObject {
+// One object of the map: a Euclidean cluster of one label's occupied voxels.
+struct ObjectInstance {
   int label = 0;
   std::string name;
   // 0 for the largest cluster of the label; with all_clusters, 1, 2, ... for the
@@ -60,7 +61,7 @@ struct MapObject {
 // The objects of `map`, by ascending label then instance. Labels without
 // occupied voxels (or whose clusters are all too small) have no object.
 // Throws lom::Error naming options.map_file for unknown labels and bad options.
-[[nodiscard]] std::vector<MapObject> extractObjects(const LabelMap& map, const ObjectOptions& options = {});
+[[nodiscard]] std::vector<ObjectInstance> extractObjects(const LabelMap& map, const ObjectOptions& options = {});
 
 // Generated scenes with known layouts (tests, demos): every voxel whose centre
 // lies inside `box` gets a hit that leaves a fresh voxel with probability

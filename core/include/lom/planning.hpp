@@ -76,7 +76,7 @@ struct PickPlan {
   double resolution = 0.0;
   Eigen::Vector3d approach = Eigen::Vector3d::UnitX();  // unit
   ApproachSource approach_source = ApproachSource::Given;
-  std::vector<MapObject> objects;  // all extracted objects, by label then instance
+  std::vector<ObjectInstance> objects;  // all extracted objects, by label then instance
   size_t target = 0;               // index into objects
   // Per object: (centroid - target centroid) . approach; negative = in front of the target.
   std::vector<double> depth;
@@ -100,7 +100,7 @@ struct PickPlan {
 // to the centroid of the objects' voxels, normalised: the cameras looked through
 // the free space at the objects. Throws lom::Error naming `map_file` when the map
 // has no free space or no objects.
-[[nodiscard]] Eigen::Vector3d approachFromFreeSpace(const LabelMap& map, const std::vector<MapObject>& objects,
+[[nodiscard]] Eigen::Vector3d approachFromFreeSpace(const LabelMap& map, const std::vector<ObjectInstance>& objects,
                                                     const std::string& map_file = {});
 
 // Whether the projections of the boxes onto the plane perpendicular to
@@ -111,11 +111,11 @@ struct PickPlan {
 // Indices of the objects (other than `target`) whose centroid lies in front of
 // the target's along `approach` and whose box overlaps the target's across it,
 // front-most first (ties: by label, then instance).
-[[nodiscard]] std::vector<size_t> findOccluders(const std::vector<MapObject>& objects, size_t target,
+[[nodiscard]] std::vector<size_t> findOccluders(const std::vector<ObjectInstance>& objects, size_t target,
                                                 const Eigen::Vector3d& approach, double margin = 0.0);
 
 // Grasp on the face of the object's box that faces the approach the most.
-[[nodiscard]] Grasp graspFor(const MapObject& object, const Eigen::Vector3d& approach);
+[[nodiscard]] Grasp graspFor(const ObjectInstance& object, const Eigen::Vector3d& approach);
 
 // Places boxes (in the given order) into an axis-aligned empty bin, packed along
 // its longer horizontal axis (x or y; ties: x) on its floor (z), `gap` metres
@@ -126,7 +126,7 @@ struct PickPlan {
 
 // The plan for already extracted objects. Throws lom::Error naming
 // options.objects.map_file when the target label has no object.
-[[nodiscard]] PickPlan planPick(const std::vector<MapObject>& objects, const LabelSet& labels, int target_label,
+[[nodiscard]] PickPlan planPick(const std::vector<ObjectInstance>& objects, const LabelSet& labels, int target_label,
                                 const Eigen::Vector3d& approach, const PlanOptions& options, double resolution);
 
 // Extracts the objects of `map` and plans; the approach is options.approach or,

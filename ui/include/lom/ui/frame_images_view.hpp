@@ -6,6 +6,8 @@
 
 #include "lom/sequence.hpp"
 
+class QLabel;
+
 namespace lom::ui {
 
 class DepthLegend;
@@ -22,20 +24,34 @@ class FrameImagesView : public QWidget {
   void showFrame(const Sequence& sequence, const FrameData* frame,
                  const std::optional<LabelImage>& labels);
   void clear();
+  // The label whose probability the heat map shows (-1 for none).
+  void setHeatLabel(int label);
 
   [[nodiscard]] const ImagePane& colorPane() const { return *color_pane_; }
   [[nodiscard]] const ImagePane& depthPane() const { return *depth_pane_; }
   [[nodiscard]] const ImagePane& labelPane() const { return *label_pane_; }
   [[nodiscard]] const LabelLegend& labelLegend() const { return *label_legend_; }
+  [[nodiscard]] const ImagePane& heatPane() const { return *heat_pane_; }
+  // The hover readout's text (empty when no pixel is hovered).
+  [[nodiscard]] QString readoutText() const;
+  void hoverPixel(const QPoint& pixel);
 
  private:
   void showLabelLegend(const LabelSet& label_set, const LabelImage& labels);
+  void showHeatMap();
 
   ImagePane* color_pane_;
   ImagePane* depth_pane_;
   DepthLegend* depth_legend_;
   ImagePane* label_pane_;
   LabelLegend* label_legend_;
+  ImagePane* heat_pane_;
+  QLabel* readout_;
+  // The frame shown (owned by the sequence controller until the next frame).
+  const Sequence* sequence_ = nullptr;
+  const FrameData* frame_ = nullptr;
+  const std::optional<LabelImage>* labels_ = nullptr;
+  int heat_label_ = -1;
 };
 
 }  // namespace lom::ui

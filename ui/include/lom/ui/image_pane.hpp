@@ -15,15 +15,24 @@ class ImagePane : public QWidget {
   void setImage(const QImage& image);
   // Shown instead of an image, e.g. "no colour image in this frame".
   void setPlaceholder(const QString& text);
+  void setCaption(const QString& caption);
   [[nodiscard]] const QImage& image() const { return image_; }
 
   [[nodiscard]] QSize sizeHint() const override { return {320, 260}; }
   [[nodiscard]] bool hasHeightForWidth() const override { return false; }
 
+ signals:
+  // The image pixel under the mouse, or (-1, -1) when it leaves the image.
+  void hovered(const QPoint& pixel);
+
  protected:
   void paintEvent(QPaintEvent* event) override;
+  void mouseMoveEvent(QMouseEvent* event) override;
+  void leaveEvent(QEvent* event) override;
 
  private:
+  [[nodiscard]] QRect imageRect() const;
+
   QString caption_;
   QString placeholder_;
   QImage image_;

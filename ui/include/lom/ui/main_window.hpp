@@ -3,6 +3,7 @@
 // wires them together. Behaviour lives in those classes, not here.
 #include <QMainWindow>
 
+#include "lom/ui/box_edit_actions.hpp"
 #include "lom/ui/error_reporter.hpp"
 #include "lom/ui/recent_sequences.hpp"
 #include "lom/ui/timeline_widget.hpp"
@@ -11,9 +12,16 @@ class QLabel;
 
 namespace lom::ui {
 
+class BoxEditorPanel;
+class EvaluationPanel;
+class BoxesAutosave;
 class FrameImagesView;
+class FusionPanel;
+class FusionStatus;
+class MapLegendPanel;
 class SceneView;
 class SequenceController;
+class StudioSession;
 
 class MainWindow : public QMainWindow {
   Q_OBJECT
@@ -22,7 +30,16 @@ class MainWindow : public QMainWindow {
   explicit MainWindow(QWidget* parent = nullptr);
   ~MainWindow() override;
 
+  [[nodiscard]] StudioSession& session() { return *session_; }
   [[nodiscard]] SequenceController& controller() { return *controller_; }
+  [[nodiscard]] MapLegendPanel& mapLegend() { return *map_legend_; }
+  [[nodiscard]] FusionPanel& fusionPanel() { return *fusion_panel_; }
+  [[nodiscard]] QString fusionStatusText() const;
+  [[nodiscard]] BoxEditorPanel& boxEditor() { return *box_editor_; }
+  [[nodiscard]] EvaluationPanel& evaluationPanel() { return *evaluation_panel_; }
+  [[nodiscard]] BoxesAutosave& autosave() { return *autosave_; }
+  // Finds one of the window's actions by its text without '&' (tests, scripting).
+  [[nodiscard]] QAction* findAction(const QString& text) const;
   [[nodiscard]] FrameImagesView& frameImages() { return *frame_images_; }
   [[nodiscard]] SceneView& sceneView() { return *scene_view_; }
   [[nodiscard]] TimelineWidget& timeline() { return *timeline_; }
@@ -31,6 +48,8 @@ class MainWindow : public QMainWindow {
 
   // Replaces the message box used for errors (tests, screenshot mode).
   void setErrorReporter(ErrorReporter reporter) { report_error_ = std::move(reporter); }
+  // Replaces the question asked before restoring a recovery file (tests).
+  void setRecoveryOffer(std::function<bool(const QString&)> offer);
 
  protected:
   void closeEvent(QCloseEvent* event) override;
@@ -38,12 +57,25 @@ class MainWindow : public QMainWindow {
  private:
   [[nodiscard]] TimelineWidget::StepActions createStepActions();
   void createMenus(const TimelineWidget::StepActions& step_actions);
+  void createDocks();
+  void createAnnotateMenu();
+  [[nodiscard]] bool confirmDiscard();
+  void connectScene();
+  void updateTitle();
   void onSequenceChanged();
   void onCurrentFrameChanged();
 
   RecentSequences recent_;
   ErrorReporter report_error_;
+  StudioSession* session_;
   SequenceController* controller_;
+  MapLegendPanel* map_legend_ = nullptr;
+  FusionPanel* fusion_panel_ = nullptr;
+  FusionStatus* fusion_status_ = nullptr;
+  BoxSteps steps_;
+  BoxEditorPanel* box_editor_ = nullptr;
+  EvaluationPanel* evaluation_panel_ = nullptr;
+  BoxesAutosave* autosave_ = nullptr;
   FrameImagesView* frame_images_;
   SceneView* scene_view_;
   TimelineWidget* timeline_;

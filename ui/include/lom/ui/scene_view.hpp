@@ -1,14 +1,18 @@
 #pragma once
-// The 3D view: the current frame's back-projected points coloured by label,
-// and the camera frustums of all frames with the current one highlighted.
+// The 3D view: the map's voxels coloured by label, the current frame's
+// back-projected points, the camera frustums of all frames with the current
+// one highlighted, and the ground-truth boxes with handles on the selected one.
 // VTK stays behind this header (see scene_adapters.hpp in src/).
 #include <QImage>
 #include <QWidget>
 #include <cstddef>
 #include <memory>
 #include <optional>
+#include <set>
 
+#include "lom/annotations.hpp"
 #include "lom/sequence.hpp"
+#include "lom/ui/map_snapshot.hpp"
 
 class QVTKOpenGLNativeWidget;
 
@@ -32,14 +36,36 @@ class SceneView : public QWidget {
                  const std::optional<LabelImage>& labels);
   void clear();
   void resetCamera();
+  // Keeps the view direction and frames the map's voxels.
+  void zoomToMap();
+  // Puts the 3D camera where frame `index`'s camera was.
+  void lookFromFrame(const Sequence& sequence, size_t index);
+
+  void showVoxels(const MapSnapshot& snapshot, const LabelSet& labels, const std::set<int>& hidden);
+  void setOpacityByProbability(bool on);
+  // Extra, smaller cubes (e.g. a single view's projection); null hides them.
+  void showProjectionVoxels(const MapSnapshot* voxels, const LabelSet& labels);
+  [[nodiscard]] size_t projectionVoxelCount() const;
+  void setFrameCloudVisible(bool on);
+  void showBoxes(const Annotations& boxes, int selected, const LabelSet& labels);
+  [[nodiscard]] size_t voxelCount() const;
+  [[nodiscard]] bool boxHandlesVisible() const;
 
   // Points of the current frame's cloud (one per valid depth pixel).
   [[nodiscard]] size_t framePointCount() const;
   // Renders now and returns the 3D view's pixels (same size as this widget).
   [[nodiscard]] QImage renderToImage();
 
+ signals:
+  // A click (press and release without dragging) hit the scene at this point,
+  // nudged a little along the view ray so that it lies inside the voxel hit.
+  void pointPicked(const Eigen::Vector3d& point_world);
+  // The 3D handles changed the selected box.
+  void boxEdited(const lom::OrientedBox& box);
+
  private:
   void render();
+  void pickAt(int x, int y);
 
   struct Scene;
   std::unique_ptr<Scene> scene_;

@@ -37,8 +37,10 @@ class SequenceController : public QObject {
   }
   [[nodiscard]] const std::optional<LabelImage>& currentLabels() const { return frame_labels_; }
 
-  // Nothing can be edited yet; the close and open paths already ask this.
-  [[nodiscard]] bool hasUnsavedWork() const { return false; }
+  // Whether the work on the open sequence has unsaved changes (asked before
+  // another sequence replaces it and before the window closes).
+  [[nodiscard]] bool hasUnsavedWork() const { return unsaved_work_ && unsaved_work_(); }
+  void setUnsavedWorkCheck(std::function<bool()> check) { unsaved_work_ = std::move(check); }
   // Asked before another sequence replaces one with unsaved work; false cancels.
   void setDiscardGuard(std::function<bool()> guard) { discard_guard_ = std::move(guard); }
 
@@ -55,6 +57,7 @@ class SequenceController : public QObject {
   void loadCurrentFrame();
 
   std::function<bool()> discard_guard_;
+  std::function<bool()> unsaved_work_;
   std::unique_ptr<Sequence> sequence_;
   QString sequence_path_;
   int current_frame_ = -1;

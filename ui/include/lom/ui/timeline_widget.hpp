@@ -3,9 +3,12 @@
 #include <QWidget>
 
 class QAction;
+class QComboBox;
 class QLabel;
 class QSlider;
 class QSpinBox;
+class QTimer;
+class QToolButton;
 
 namespace lom::ui {
 
@@ -25,6 +28,10 @@ class TimelineWidget : public QWidget {
   void setFrameCount(int count);  // 0 disables the timeline
   void setCurrentFrame(int index);
   [[nodiscard]] QSlider& slider() { return *slider_; }
+  // Playback: steps one frame per tick at the chosen speed, stops at the end.
+  void setPlaying(bool playing);
+  [[nodiscard]] bool isPlaying() const;
+  [[nodiscard]] QComboBox& speed() { return *speed_; }
 
  signals:
   void frameRequested(int index);
@@ -33,6 +40,11 @@ class TimelineWidget : public QWidget {
   QSlider* slider_;
   QSpinBox* frame_number_;  // 1-based, as people count frames
   QLabel* frame_count_;
+  QToolButton* play_;
+  QComboBox* speed_;
+  QTimer* play_timer_;
+  int count_ = 0;
+  int current_ = -1;
 };
 
 }  // namespace lom::ui

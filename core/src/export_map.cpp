@@ -1,0 +1,220 @@
+// exportMap: one entry point for every export format (the CLI's `export`).
+#include <algorithm>
+#include <cctype>
+
+#include "lom/error.hpp"
+#include "lom/export.hpp"
+
+namespace lom {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct FormatInfo {
+  ExportFormat format;
+  const char* name;
+  const char* extension;
+};
+
+constexpr FormatInfo kFormats[] = {
+    {ExportFormat::Ply, "ply", ".ply"},
+    {ExportFormat::Obj, "obj", ".obj"},
+    {ExportFormat::Stl, "stl", ".stl"},
+    {ExportFormat::Pcd, "pcd", ".pcd"},
+    {ExportFormat::Ot, "ot", ".ot"},
+    {ExportFormat::Bt, "bt", ".bt"},
+    {ExportFormat::Objects, "objects", ".json"},
+};
+
+const FormatInfo& infoOf(ExportFormat format) {
+  for (const auto& info : kFormats)
+    if (info.format == format) return info;
+  return kFormats[0];
+}
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return s;
+}
+
+bool isMesh(const ExportOptions& o) {
+  return o.format == ExportFormat::Obj || o.format == ExportFormat::Stl ||
+         (o.format == ExportFormat::Ply && !o.points);
+}
+
+bool isPointCloud(const ExportOptions& o) {
+  return o.format == ExportFormat::Pcd || (o.format == ExportFormat::Ply && o.points);
+}
+
+void checkOptions(const LabelMap& map, const ExportOptions& o, const fs::path& out) {
+  const std::string file = out.string();
+  const std::string format = exportFormatName(o.format);
+  if (o.labels) {
+    if (o.labels->empty()) throw Error(file, "labels", "at least one label id", "an empty list");
+    for (const int label : *o.labels)
+      if (!map.labels().contains(label))
+        throw Error(file, "labels",
+                    "label ids of the map, 0 to " + std::to_string(map.numLabels() - 1),
+                    std::to_string(label));
+  }
+  if (o.smooth && !isMesh(o))
+    throw Error(file, "smooth", "a mesh format (ply, obj, stl)", "format " + format);
+  if (o.per_label && !isMesh(o) && !isPointCloud(o))
+    throw Error(file, "per-label", "a mesh or point cloud format (ply, obj, stl, pcd)",
+                "format " + format);
+  if (o.points && o.format != ExportFormat::Ply)
+    throw Error(file, "points", "format ply (pcd is always points)", "format " + format);
+  if (o.native && o.format != ExportFormat::Ot)
+    throw Error(file, "native", "format ot", "format " + format);
+  if (o.native && o.labels)
+    throw Error(file, "labels", "no label selection with the native map (it keeps every label)",
+                "a label list");
+  if (o.per_label) {
+    std::error_code ec;
+    if (fs::exists(out, ec) && !fs::is_directory(out, ec))
+      throw Error(file, "output path", "a folder for the per-label files", "an existing file");
+    return;
+  }
+  const std::string extension = infoOf(o.format).extension;
+  if (lower(out.extension().string()) != extension)
+    throw Error(file, "output path", "a file name ending in " + extension + " for format " + format,
+                out.extension().empty() ? "no extension" : "'" + out.extension().string() + "'");
+}
+
+std::set<int> selectedLabels(const LabelMap& map, const ExportOptions& o) {
+  if (o.labels) return *o.labels;
+  std::set<int> all;
+  // Objects are the things on the background: label 0 only when asked for.
+  for (int label = o.format == ExportFormat::Objects ? 1 : 0; label < map.numLabels(); ++label)
+    all.insert(label);
+  return all;
+}
+
+void writeMeshes(const std::vector<SurfaceMesh>& meshes, const LabelMap& map, ExportFormat format,
+                 const fs::path& path, std::vector<fs::path>& files) {
+  switch (format) {
+    case ExportFormat::Ply:
+      writeMeshesPly(meshes, map.labels(), path);
+      break;
+    case ExportFormat::Stl:
+      writeMeshesStl(meshes, map.labels(), path);
+      break;
+    default: {
+      fs::path mtl = path;
+      mtl.replace_extension(".mtl");
+      writeMeshesObj(meshes, map.labels(), path, mtl);
+      files.push_back(mtl);
+      break;
+    }
+  }
+  files.push_back(path);
+}
+
+}  // namespace
+
+std::optional<ExportFormat> parseExportFormat(const std::string& name) {
+  for (const auto& info : kFormats)
+    if (lower(name) == info.name) return info.format;
+  return std::nullopt;
+}
+
+const char* exportFormatName(ExportFormat format) { return infoOf(format).name; }
+
+std::string labelFileStem(const LabelInfo& label, int num_labels) {
+  const size_t width = std::max<size_t>(2, std::to_string(std::max(num_labels - 1, 0)).size());
+  std::string id = std::to_string(label.id);
+  if (id.size() < width) id.insert(0, width - id.size(), '0');
+  std::string name;
+  for (const unsigned char c : label.name) {
+    const char l = static_cast<char>(std::tolower(c));
+    name += (std::isalnum(c) || l == '_' || l == '-') ? l : '_';
+  }
+  return name.empty() ? id : id + "_" + name;
+}
+
+ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const fs::path& out) {
+  checkOptions(map, options, out);
+  ExportSummary summary;
+  const std::string file = out.string();
+
+  if (options.format == ExportFormat::Ot && options.native) {
+    map.save(out);
+    summary.files.push_back(out);
+    summary.items = map.numLeaves();
+    summary.item_name = "leaves";
+    return summary;
+  }
+
+  const std::set<int> selected = selectedLabels(map, options);
+  if (options.format == ExportFormat::Ot || options.format == ExportFormat::Bt) {
+    OctreeExportOptions octree;
+    octree.labels = options.labels;
+    summary.items = options.format == ExportFormat::Ot ? writeColorOcTree(map, out, octree)
+                                                       : writeBinaryOcTree(map, out, octree);
+    summary.item_name = "leaves";
+    summary.files.push_back(out);
+    return summary;
+  }
+
+  const auto voxels = occupiedVoxelsByLabel(map, selected);
+  if (options.labels)
+    for (const int label : *options.labels)
+      if (!voxels.count(label)) summary.empty_labels.push_back(label);
+  if (voxels.empty())
+    throw Error(file, "map", "at least one occupied voxel to export",
+                options.labels ? "no occupied voxel of the selected labels" : "no occupied voxel");
+
+  if (options.format == ExportFormat::Objects) {
+    ObjectOptions object_options;
+    object_options.labels = std::vector<int>(selected.begin(), selected.end());
+    object_options.map_file = file;
+    const auto objects = extractObjects(map, object_options);
+    writeObjectsJson(objects, map, out);
+    summary.files.push_back(out);
+    summary.items = objects.size();
+    summary.item_name = "objects";
+    return summary;
+  }
+
+  if (options.per_label) fs::create_directories(out);
+  const auto pathFor = [&](int label) {
+    return out / (labelFileStem(map.labels().at(label), map.numLabels()) +
+                  infoOf(options.format).extension);
+  };
+
+  if (isPointCloud(options)) {
+    summary.item_name = "points";
+    const auto write = [&](const std::set<int>& labels, const fs::path& path) {
+      summary.items += options.format == ExportFormat::Pcd ? writeVoxelsPcd(map, labels, path)
+                                                           : writeVoxelsPly(map, labels, path);
+      summary.files.push_back(path);
+    };
+    if (!options.per_label) {
+      write(selected, out);
+    } else {
+      for (const auto& [label, keys] : voxels) write({label}, pathFor(label));
+    }
+    return summary;
+  }
+
+  summary.item_name = "triangles";
+  std::vector<SurfaceMesh> meshes;
+  for (const auto& [label, keys] : voxels) {
+    SurfaceMesh mesh = options.smooth ? smoothSurface(keys, map.parameters().resolution)
+                                      : voxelSurface(keys, map.parameters().resolution,
+                                                     VoxelSurfaceOptions{options.merge_coplanar});
+    mesh.label = label;
+    summary.items += mesh.triangles.size();
+    if (options.per_label) {
+      writeMeshes({mesh}, map, options.format, pathFor(label), summary.files);
+    } else {
+      meshes.push_back(std::move(mesh));
+    }
+  }
+  if (!options.per_label) writeMeshes(meshes, map, options.format, out, summary.files);
+  return summary;
+}
+
+}  // namespace lom

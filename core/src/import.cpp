@@ -1,0 +1,378 @@
+// Import entry points: kinds and their detection, option checks, the dispatch
+// to the importers, and the studio's cached conversion (openSource).
+#include "lom/import.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+#include "import_internal.hpp"
+
+namespace lom {
+
+namespace fs = std::filesystem;
+using namespace import_detail;
+
+namespace {
+
+struct KindName {
+  SourceKind kind;
+  const char* name;
+};
+constexpr KindName kKindNames[] = {
+    {SourceKind::Sequence, "sequence"},     {SourceKind::RosBag, "rosbag"},
+    {SourceKind::Frames, "frames"},         {SourceKind::Tum, "tum"},
+    {SourceKind::Quaternion, "quaternion"}, {SourceKind::ScanNet, "scannet"},
+    {SourceKind::ApcShelf, "apc-shelf"},
+};
+
+bool isDir(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_directory(p, ec);
+}
+bool isFile(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_regular_file(p, ec);
+}
+
+std::string lower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+bool startsWithRosbagMagic(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[9] = {};
+  in.read(magic, 8);
+  return std::string(magic, static_cast<size_t>(in.gcount())) == "#ROSBAG ";
+}
+
+std::string someEntries(const fs::path& folder) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(folder, ec)) {
+    names.push_back(entry.path().filename().string() + (entry.is_directory(ec) ? "/" : ""));
+    if (names.size() > 200) break;
+  }
+  std::sort(names.begin(), names.end());
+  if (names.empty()) return "an empty folder";
+  std::string text;
+  for (size_t i = 0; i < names.size() && i < 8; ++i) text += (i ? ", " : "") + names[i];
+  if (names.size() > 8) text += ", ...";
+  return text;
+}
+
+void checkOptions(const ImportOptions& options) {
+  auto fail = [](const std::string& field, const std::string& expected, const std::string& found) {
+    throw Error("", field, expected, found);
+  };
+  if (!(options.time_tolerance >= 0.0) || !std::isfinite(options.time_tolerance))
+    fail("time_tolerance", "a non-negative number of seconds", formatNumber(options.time_tolerance));
+  if (!std::isfinite(options.time_offset))
+    fail("time_offset", "a finite number of seconds", formatNumber(options.time_offset));
+  if (!(options.label_confidence > 0.0 && options.label_confidence < 1.0))
+    fail("label_confidence", "a probability strictly between 0 and 1",
+         formatNumber(options.label_confidence));
+  if (options.frame_step < 1) fail("frame_step", "at least 1", std::to_string(options.frame_step));
+  if (options.depth_scale && (!(*options.depth_scale > 0.0) || !std::isfinite(*options.depth_scale)))
+    fail("depth_scale", "a positive number of metres per unit", formatNumber(*options.depth_scale));
+  if (options.intrinsics) {
+    const auto& c = *options.intrinsics;
+    if (!(c.fx > 0.0) || !(c.fy > 0.0) || !std::isfinite(c.cx) || !std::isfinite(c.cy))
+      fail("intrinsics", "positive fx, fy and finite cx, cy",
+           formatNumber(c.fx) + "," + formatNumber(c.fy) + "," + formatNumber(c.cx) + "," +
+               formatNumber(c.cy));
+  }
+  DepthImage empty;
+  filterDepth(empty, options.depth_filter);  // checks the filter options
+}
+
+bool samePath(const fs::path& a, const fs::path& b) {
+  std::error_code ec;
+  const fs::path ca = fs::weakly_canonical(fs::absolute(a, ec), ec);
+  const fs::path cb = fs::weakly_canonical(fs::absolute(b, ec), ec);
+  return !ca.empty() && ca == cb;
+}
+
+std::uint64_t fnv1a(const std::string& text, std::uint64_t hash = 1469598103934665603ull) {
+  for (unsigned char c : text) {
+    hash ^= c;
+    hash *= 1099511628211ull;
+  }
+  return hash;
+}
+
+// What identifies a conversion: the source (names, sizes and modification times
+// of its files, two levels deep) and every option.
+std::string conversionFingerprint(const fs::path& source, SourceKind kind,
+                                  const ImportOptions& o) {
+  std::ostringstream text;
+  std::error_code ec;
+  text << sourceKindName(kind) << '\n' << fs::weakly_canonical(fs::absolute(source), ec).string() << '\n';
+  auto stamp = [&](const fs::path& p) {
+    std::error_code e;
+    const auto time = fs::last_write_time(p, e).time_since_epoch().count();
+    const auto size = fs::is_regular_file(p, e) ? fs::file_size(p, e) : 0;
+    text << p.lexically_relative(source).string() << ' ' << size << ' ' << time << '\n';
+  };
+  stamp(source);
+  if (isDir(source)) {
+    std::vector<fs::path> files;
+    for (auto it = fs::recursive_directory_iterator(source, ec);
+         !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+      if (it.depth() >= 1) it.disable_recursion_pending();
+      files.push_back(it->path());
+    }
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) stamp(f);
+  }
+  const auto& r = o.rosbag;
+  const auto& f = o.depth_filter;
+  text << std::setprecision(17) << r.depth_topic << '|' << r.color_topic << '|'
+       << r.camera_info_topic << '|' << r.proba_topic << '|' << r.label_topic << '|'
+       << r.fixed_frame << '|' << r.camera_frame << '|' << r.no_color << '|' << o.time_tolerance
+       << '|' << o.time_offset << '|' << f.min_depth << '|' << f.max_depth << '|'
+       << f.flying_pixels << '|' << f.flying_pixel_ratio << '|' << f.flying_pixel_radius << '|'
+       << f.bilateral_radius << '|' << f.bilateral_sigma_space << '|' << f.bilateral_sigma_depth
+       << '|' << o.label_confidence << '|' << o.depth_scale.value_or(0.0) << '|' << o.first_frame
+       << '|' << o.frame_step << '|' << o.max_frames << '|' << o.write_color << '|';
+  if (o.intrinsics)
+    text << o.intrinsics->fx << ',' << o.intrinsics->fy << ',' << o.intrinsics->cx << ','
+         << o.intrinsics->cy << ',' << o.intrinsics->width << ',' << o.intrinsics->height;
+  text << '|';
+  if (o.labels)
+    for (const auto& label : o.labels->all()) text << label.name << ',';
+  return text.str();
+}
+
+}  // namespace
+
+std::string sourceKindName(SourceKind kind) {
+  for (const auto& k : kKindNames)
+    if (k.kind == kind) return k.name;
+  return "unknown";
+}
+
+std::optional<SourceKind> sourceKindFromName(const std::string& name) {
+  const std::string n = lower(name);
+  for (const auto& k : kKindNames)
+    if (n == k.name) return k.kind;
+  if (n == "bag" || n == "ros") return SourceKind::RosBag;
+  if (n == "apc" || n == "apc2016" || n == "shelf") return SourceKind::ApcShelf;
+  return std::nullopt;
+}
+
+std::vector<SourceKind> importableKinds() {
+  return {SourceKind::RosBag,  SourceKind::Frames,  SourceKind::Tum,
+          SourceKind::Quaternion, SourceKind::ScanNet, SourceKind::ApcShelf};
+}
+
+SourceDetection detectSource(const fs::path& path) {
+  SourceDetection d;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
+    d.explanation = "no such file or folder";
+    return d;
+  }
+  if (isFile(path)) {
+    if (path.filename() == "sequence.json") {
+      d.kind = SourceKind::Sequence;
+      d.explanation = "a sequence.json file";
+    } else if (lower(path.extension().string()) == ".bag" || startsWithRosbagMagic(path)) {
+      d.kind = SourceKind::RosBag;
+      d.explanation = startsWithRosbagMagic(path) ? "a ROS bag file"
+                                                  : "a .bag file (not starting with #ROSBAG)";
+    } else {
+      d.explanation =
+          "a file that is neither a ROS 1 bag (.bag) nor a sequence.json; dataset layouts are "
+          "folders";
+    }
+    return d;
+  }
+  if (isFile(path / "sequence.json")) {
+    d.kind = SourceKind::Sequence;
+    d.explanation = "a folder with sequence.json";
+  } else if (isFile(path / "cam.info.txt")) {
+    d.kind = SourceKind::ApcShelf;
+    d.explanation = "an APC shelf & tote scene (cam.info.txt)";
+  } else if (isFile(path / "rgb.txt") && isFile(path / "depth.txt")) {
+    d.kind = SourceKind::Tum;
+    d.explanation = "a TUM RGB-D folder (rgb.txt, depth.txt)";
+  } else if (isDir(path / "depth") && isDir(path / "pose")) {
+    d.kind = SourceKind::ScanNet;
+    d.explanation = "a ScanNet export (depth/, pose/)";
+  } else if (isDir(path / "depth") && isFile(path / "pose.txt")) {
+    d.kind = SourceKind::Quaternion;
+    d.explanation = "a quaternion-pose folder (depth/, pose.txt)";
+  } else if (!numberedFiles(path, "frame-", ".depth.png").empty()) {
+    d.kind = SourceKind::Frames;
+    d.explanation = "a frames folder (frame-NNNNNN.depth.png)";
+  } else {
+    d.explanation =
+        "none of: sequence.json (sequence), cam.info.txt (apc-shelf), rgb.txt + depth.txt (tum), "
+        "depth/ + pose/ (scannet), depth/ + pose.txt (quaternion), frame-NNNNNN.depth.png "
+        "(frames); found " +
+        someEntries(path);
+  }
+  return d;
+}
+
+std::string ImportReport::text(size_t max_skipped_listed) const {
+  std::ostringstream out;
+  out << (cancelled ? "cancelled after " : "imported ") << frames_written << " of "
+      << frames_found << " frames (" << sourceKindName(kind) << ") from " << source.string();
+  if (!cancelled) out << " into " << output.string();
+  out << "\n";
+  if (!skipped.empty()) {
+    out << "skipped " << skipped.size() << (skipped.size() == 1 ? " frame:\n" : " frames:\n");
+    for (size_t i = 0; i < skipped.size() && i < max_skipped_listed; ++i)
+      out << "  " << skipped[i].frame << ": " << skipped[i].reason << "\n";
+    if (skipped.size() > max_skipped_listed)
+      out << "  ... and " << skipped.size() - max_skipped_listed << " more\n";
+  }
+  if (!notes.empty()) {
+    out << "notes:\n";
+    for (const auto& note : notes) out << "  " << note << "\n";
+  }
+  return out.str();
+}
+
+CameraIntrinsics parseIntrinsics(const std::string& text_or_file) {
+  if (isFile(text_or_file))
+    return intrinsicsFromNumbers(readNumbers(text_or_file), text_or_file);
+  std::vector<double> numbers;
+  try {
+    numbers = parseNumbers(text_or_file, "", 0);
+  } catch (const Error&) {
+    throw Error(text_or_file, "intrinsics", "fx,fy,cx,cy or an existing file with the camera matrix",
+                "neither numbers nor a file");
+  }
+  if (numbers.size() != 4)
+    throw Error(text_or_file, "intrinsics", "4 numbers fx,fy,cx,cy or a file with the camera matrix",
+                std::to_string(numbers.size()) + " numbers");
+  return intrinsicsFromNumbers(numbers, text_or_file);
+}
+
+ImportReport importSource(std::optional<SourceKind> kind, const fs::path& source,
+                          const fs::path& out_folder, const ImportOptions& options,
+                          const ImportProgressCallback& progress) {
+  std::error_code ec;
+  if (!fs::exists(source, ec))
+    throw Error(source.string(), "source", "an existing file or folder", "no such file or folder");
+  if (!kind) {
+    const SourceDetection detection = detectSource(source);
+    if (!detection.kind)
+      throw Error(source.string(), "kind", "a ROS bag or a known dataset layout",
+                  detection.explanation);
+    kind = detection.kind;
+  }
+  if (*kind == SourceKind::Sequence)
+    throw Error(source.string(), "kind", "a recording to convert",
+                "a sequence already (open or fuse it directly)");
+  if (samePath(source, out_folder))
+    throw Error(out_folder.string(), "output", "a folder other than the source", "the source itself");
+  checkOptions(options);
+
+  ImportReport report;
+  report.kind = *kind;
+  report.source = source;
+  report.output = out_folder;
+  SequenceWriter writer(out_folder, options, report, progress);
+  switch (*kind) {
+    case SourceKind::RosBag:
+      importRosbag(source, options, writer);
+      break;
+    case SourceKind::Frames:
+      importFrames(source, options, writer);
+      break;
+    case SourceKind::Tum:
+      importTum(source, options, writer);
+      break;
+    case SourceKind::Quaternion:
+      importQuaternion(source, options, writer);
+      break;
+    case SourceKind::ScanNet:
+      importScanNet(source, options, writer);
+      break;
+    case SourceKind::ApcShelf:
+      importApcShelf(source, options, writer);
+      break;
+    case SourceKind::Sequence:
+      break;
+  }
+  writer.finish(source.string());
+  return report;
+}
+
+fs::path defaultImportCacheRoot() {
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg)
+    return fs::path(xdg) / "labeloctomap" / "imports";
+  if (const char* home = std::getenv("HOME"); home && *home)
+    return fs::path(home) / ".cache" / "labeloctomap" / "imports";
+  return fs::temp_directory_path() / "labeloctomap-imports";
+}
+
+OpenedSource openSource(const fs::path& path, const ImportOptions& options,
+                        const fs::path& cache_root, const ImportProgressCallback& progress) {
+  const SourceDetection detection = detectSource(path);
+  if (!detection.kind)
+    throw Error(path.string(), "", "a sequence, a ROS bag or a dataset folder",
+                detection.explanation);
+  OpenedSource opened;
+  opened.kind = *detection.kind;
+  if (opened.kind == SourceKind::Sequence) {
+    opened.sequence = loadSequence(path);
+    opened.folder = opened.sequence.root;
+    return opened;
+  }
+  opened.converted = true;
+  const fs::path root = cache_root.empty() ? defaultImportCacheRoot() : cache_root;
+  std::ostringstream key;
+  key << std::hex << std::setw(16) << std::setfill('0')
+      << fnv1a(conversionFingerprint(path, opened.kind, options));
+  std::string stem = fs::absolute(path).lexically_normal().filename().string();
+  if (stem.empty()) stem = fs::absolute(path).lexically_normal().parent_path().filename().string();
+  for (char& c : stem)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
+  opened.folder = root / (stem + "-" + key.str());
+  std::error_code ec;
+  if (isFile(opened.folder / "sequence.json")) {
+    opened.sequence = loadSequence(opened.folder);
+    opened.reused_cache = true;
+    return opened;
+  }
+  fs::create_directories(root, ec);
+  if (ec) throw Error(root.string(), "cache", "a folder that can be created", ec.message());
+  const fs::path partial =
+      root / (".partial-" + key.str() + "-" + std::to_string(::getpid()) + "-" +
+              std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+  ImportOptions cache_options = options;
+  cache_options.overwrite = false;
+  try {
+    opened.report = importSource(opened.kind, path, partial, cache_options, progress);
+  } catch (...) {
+    fs::remove_all(partial, ec);
+    throw;
+  }
+  if (opened.report.cancelled) {
+    fs::remove_all(partial, ec);
+    return opened;
+  }
+  fs::rename(partial, opened.folder, ec);
+  if (ec) {  // another process finished the same conversion first
+    fs::remove_all(partial, ec);
+    if (!isFile(opened.folder / "sequence.json"))
+      throw Error(opened.folder.string(), "cache", "a writable cache folder", "rename failed");
+  }
+  opened.report.output = opened.folder;
+  opened.sequence = loadSequence(opened.folder);
+  return opened;
+}
+
+}  // namespace lom

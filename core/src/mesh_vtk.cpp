@@ -1,0 +1,158 @@
+// The meshing and mesh writing done with VTK: smooth surfaces (discrete
+// flying edges + windowed sinc) and binary STL. The only core file that
+// includes VTK headers.
+#include <vtkCellArray.h>
+#include <vtkCellArrayIterator.h>
+#include <vtkDiscreteFlyingEdges3D.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSTLWriter.h>
+#include <vtkSmartPointer.h>
+#include <vtkWindowedSincPolyDataFilter.h>
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+#include "lom/atomic_file.hpp"
+#include "lom/error.hpp"
+#include "lom/export.hpp"
+
+namespace lom {
+
+namespace {
+
+constexpr int kKeyOffset = 32768;
+
+SurfaceMesh meshFromPolyData(vtkPolyData* poly) {
+  SurfaceMesh mesh;
+  vtkPoints* points = poly->GetPoints();
+  const vtkIdType n = points ? points->GetNumberOfPoints() : 0;
+  mesh.vertices.reserve(static_cast<size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i) {
+    double p[3];
+    points->GetPoint(i, p);
+    mesh.vertices.emplace_back(p[0], p[1], p[2]);
+  }
+  vtkCellArray* polys = poly->GetPolys();
+  const auto iter = vtk::TakeSmartPointer(polys->NewIterator());
+  for (iter->GoToFirstCell(); !iter->IsDoneWithTraversal(); iter->GoToNextCell()) {
+    vtkIdType size;
+    const vtkIdType* ids;
+    iter->GetCurrentCell(size, ids);
+    // Flying edges emits triangles only; fan anything else for safety.
+    for (vtkIdType k = 1; k + 1 < size; ++k)
+      mesh.triangles.push_back({static_cast<std::uint32_t>(ids[0]),
+                                static_cast<std::uint32_t>(ids[k]),
+                                static_cast<std::uint32_t>(ids[k + 1])});
+  }
+  return mesh;
+}
+
+double signedVolume(const SurfaceMesh& mesh) {
+  double six_volume = 0.0;
+  for (const auto& t : mesh.triangles)
+    six_volume += mesh.vertices[t[0]].dot(mesh.vertices[t[1]].cross(mesh.vertices[t[2]]));
+  return six_volume / 6.0;
+}
+
+}  // namespace
+
+SurfaceMesh smoothSurface(const std::vector<VoxelKey>& keys, double resolution,
+                          const SmoothSurfaceOptions& options) {
+  if (!(resolution > 0.0)) throw std::invalid_argument("smoothSurface: resolution must be > 0");
+  if (keys.empty()) return {};
+  int lo[3] = {std::numeric_limits<int>::max(), std::numeric_limits<int>::max(),
+               std::numeric_limits<int>::max()};
+  int hi[3] = {std::numeric_limits<int>::min(), std::numeric_limits<int>::min(),
+               std::numeric_limits<int>::min()};
+  for (const VoxelKey& k : keys) {
+    const int c[3] = {k.x - kKeyOffset, k.y - kKeyOffset, k.z - kKeyOffset};
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], c[a]);
+      hi[a] = std::max(hi[a], c[a]);
+    }
+  }
+  // One empty voxel of padding on every side closes the surface.
+  vtkNew<vtkImageData> image;
+  image->SetExtent(lo[0] - 1, hi[0] + 1, lo[1] - 1, hi[1] + 1, lo[2] - 1, hi[2] + 1);
+  image->SetSpacing(resolution, resolution, resolution);
+  image->SetOrigin(0.5 * resolution, 0.5 * resolution,
+                   0.5 * resolution);  // sample i at voxel centre i
+  image->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
+  auto* values = static_cast<unsigned char*>(image->GetScalarPointer());
+  const long nx = hi[0] - lo[0] + 3, ny = hi[1] - lo[1] + 3, nz = hi[2] - lo[2] + 3;
+  std::fill(values, values + nx * ny * nz, 0);
+  for (const VoxelKey& k : keys) {
+    const long x = k.x - kKeyOffset - lo[0] + 1, y = k.y - kKeyOffset - lo[1] + 1,
+               z = k.z - kKeyOffset - lo[2] + 1;
+    values[(z * ny + y) * nx + x] = 1;
+  }
+  image->Modified();
+
+  vtkNew<vtkDiscreteFlyingEdges3D> contour;
+  contour->SetInputData(image);
+  contour->SetValue(0, 1.0);
+  contour->ComputeNormalsOff();
+  contour->ComputeGradientsOff();
+  contour->ComputeScalarsOff();
+  vtkSmartPointer<vtkPolyData> surface;
+  if (options.smoothing_iterations > 0) {
+    vtkNew<vtkWindowedSincPolyDataFilter> smoother;
+    smoother->SetInputConnection(contour->GetOutputPort());
+    smoother->SetNumberOfIterations(options.smoothing_iterations);
+    smoother->SetPassBand(options.pass_band);
+    smoother->NormalizeCoordinatesOn();
+    smoother->BoundarySmoothingOff();
+    smoother->FeatureEdgeSmoothingOff();
+    smoother->NonManifoldSmoothingOff();
+    smoother->Update();
+    surface = smoother->GetOutput();
+  } else {
+    contour->Update();
+    surface = contour->GetOutput();
+  }
+  SurfaceMesh mesh = meshFromPolyData(surface);
+  // Outward normals, whichever way the contour filter winds its triangles.
+  if (signedVolume(mesh) < 0.0)
+    for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+  return mesh;
+}
+
+void writeMeshesStl(const std::vector<SurfaceMesh>& meshes, const LabelSet& labels,
+                    const std::filesystem::path& path) {
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToFloat();
+  vtkNew<vtkCellArray> triangles;
+  std::string header = "labeloctomap voxel surface:";
+  for (const SurfaceMesh& mesh : meshes) {
+    const vtkIdType offset = points->GetNumberOfPoints();
+    for (const auto& v : mesh.vertices) points->InsertNextPoint(v.x(), v.y(), v.z());
+    for (const auto& t : mesh.triangles) {
+      const vtkIdType ids[3] = {offset + t[0], offset + t[1], offset + t[2]};
+      triangles->InsertNextCell(3, ids);
+    }
+    header += " " + (labels.contains(mesh.label) ? labels.at(mesh.label).name
+                                                 : std::to_string(mesh.label));
+  }
+  if (triangles->GetNumberOfCells() == 0)
+    throw Error(path.string(), "mesh", "at least one triangle to write", "an empty surface");
+  // Binary STL headers are 80 bytes and must not start with "solid".
+  if (header.size() > 79) header = header.substr(0, 76) + "...";
+  vtkNew<vtkPolyData> poly;
+  poly->SetPoints(points);
+  poly->SetPolys(triangles);
+  writePathAtomically(path, [&](const std::filesystem::path& temporary) {
+    vtkNew<vtkSTLWriter> writer;
+    writer->SetInputData(poly);
+    writer->SetFileName(temporary.string().c_str());
+    writer->SetFileTypeToBinary();
+    writer->SetHeader(header.c_str());
+    if (writer->Write() != 1 || writer->GetErrorCode() != 0)
+      throw Error(path.string(), "output", "a writable STL file", "VTK could not write it");
+  });
+}
+
+}  // namespace lom

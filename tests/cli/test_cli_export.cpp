@@ -1,0 +1,242 @@
+// labeloctomap export / render end to end on a fused synthetic sequence; the
+// meshes are opened with assimp (Debian package assimp-utils) as other tools would.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "lom/export.hpp"
+#include "lom/label_map.hpp"
+#include "lom/sequence.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using lom::test::runCli;
+using lom::test::TempDir;
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }  // for the shell
+
+bool onPath(const std::string& program) {
+  return std::system(("command -v " + program + " >/dev/null 2>&1").c_str()) == 0;
+}
+
+// The number after "wrote " in the command's output.
+size_t written(const std::string& out) {
+  std::smatch m;
+  if (!std::regex_search(out, m, std::regex("wrote ([0-9]+) "))) return 0;
+  return std::stoul(m[1]);
+}
+
+// Runs `assimp info FILE`; returns its exit code and the "Faces:" count.
+std::pair<int, long> assimpInfo(const fs::path& file) {
+  TempDir dir;
+  const std::string command = "assimp info " + q(file) + " >" + q(dir / "out.txt") + " 2>&1";
+  const int status = std::system(command.c_str());
+  std::ifstream in(dir / "out.txt");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::smatch m;
+  const std::string s = text.str();
+  long faces = -1;
+  if (std::regex_search(s, m, std::regex("\nFaces:\\s+([0-9]+)"))) faces = std::stol(m[1]);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, faces};
+}
+
+class CliExportTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir();
+    auto r = runCli("synth --out " + q(dir_->path() / "scene") +
+                    " --seed 3 --objects 4 --frames 4 --views 3 --width 160 --height 120");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = runCli("fuse " + q(dir_->path() / "scene") + " --out " + q(map()) +
+               " --resolution 0.01 --quiet");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static fs::path map() { return dir_->path() / "map.ot"; }
+  static fs::path scene() { return dir_->path() / "scene"; }
+  static TempDir* dir_;
+};
+TempDir* CliExportTest::dir_ = nullptr;
+
+TEST_F(CliExportTest, EveryMeshFormatOpensInAssimp) {
+  if (!onPath("assimp"))
+    GTEST_SKIP() << "assimp is not on PATH (Debian package assimp-utils); skipping";
+  TempDir out;
+  struct Case {
+    std::string args;
+    fs::path file;
+  };
+  const std::vector<Case> cases = {
+      {"--format ply", out / "map.ply"},
+      {"--format obj", out / "map.obj"},
+      {"--format stl", out / "map.stl"},
+      {"--format ply --smooth", out / "smooth.ply"},
+      {"--format obj --smooth --labels 0", out / "smooth.obj"},
+      {"--format stl --no-merge", out / "unit.stl"},
+  };
+  for (const auto& c : cases) {
+    const auto r = runCli("export " + q(map()) + " " + c.args + " --out " + q(c.file));
+    ASSERT_EQ(r.exit_code, 0) << c.args << ": " << r.err;
+    const size_t triangles = written(r.out);
+    EXPECT_GT(triangles, 100u) << c.args << ": " << r.out;
+    const auto [code, faces] = assimpInfo(c.file);
+    EXPECT_EQ(code, 0) << c.args;
+    EXPECT_EQ(faces, static_cast<long>(triangles)) << c.args;
+  }
+  // One file per label, each opening on its own.
+  const auto r =
+      runCli("export " + q(map()) + " --format ply --per-label --out " + q(out / "labels"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  size_t files = 0;
+  for (const auto& entry : fs::directory_iterator(out / "labels")) {
+    ++files;
+    EXPECT_EQ(assimpInfo(entry.path()).first, 0) << entry.path();
+  }
+  EXPECT_GE(files, 4u);
+}
+
+TEST_F(CliExportTest, PerLabelFilesAreNamedByLabelIdAndName) {
+  TempDir out;
+  const lom::LabelMap m = lom::LabelMap::load(map());
+  const auto r =
+      runCli("export " + q(map()) + " --format obj --per-label --out " + q(out / "meshes"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::set<std::string> expected, found;
+  for (const auto& [label, count] : m.occupiedCountPerLabel()) {
+    const std::string stem = lom::labelFileStem(m.labels().at(label), m.numLabels());
+    expected.insert(stem + ".obj");
+    expected.insert(stem + ".mtl");
+  }
+  for (const auto& entry : fs::directory_iterator(out / "meshes"))
+    found.insert(entry.path().filename().string());
+  EXPECT_EQ(found, expected);
+}
+
+TEST_F(CliExportTest, LabelSelectionWritesOnlyThoseLabels) {
+  TempDir out;
+  const lom::LabelMap m = lom::LabelMap::load(map());
+  const auto counts = m.occupiedCountPerLabel();
+  ASSERT_GE(counts.size(), 3u);
+  const int a = std::next(counts.begin())->first, b = std::next(counts.begin(), 2)->first;
+  const auto r = runCli("export " + q(map()) + " --format pcd --labels " + std::to_string(a) + "," +
+                        std::to_string(b) + " --out " + q(out / "ab.pcd"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(written(r.out), counts.at(a) + counts.at(b));
+}
+
+TEST_F(CliExportTest, OctreesAndObjectsAreWritten) {
+  TempDir out;
+  for (const std::string format : {"ot", "bt"}) {
+    const auto r = runCli("export " + q(map()) + " --format " + format + " --out " +
+                          q(out / ("map." + format)));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_GT(written(r.out), 0u);
+  }
+  std::ifstream ot(out / "map.ot");
+  std::string first;
+  std::getline(ot, first);
+  EXPECT_EQ(first, "# Octomap OcTree file");
+  auto r = runCli("export " + q(map()) + " --format ot --native --out " + q(out / "n.ot"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(lom::LabelMap::load(out / "n.ot").occupiedCountPerLabel(),
+            lom::LabelMap::load(map()).occupiedCountPerLabel());
+  r = runCli("export " + q(map()) + " --format objects --out " + q(out / "objects.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream json(out / "objects.json");
+  std::stringstream text;
+  text << json.rdbuf();
+  EXPECT_NE(text.str().find("\"format\": \"labeloctomap-objects\""), std::string::npos);
+  EXPECT_EQ(text.str().find("\"label\": 0,"), std::string::npos);  // the background is no object
+}
+
+TEST_F(CliExportTest, MistakesGiveClearMessagesAndNoFile) {
+  TempDir out;
+  auto r = runCli("export " + q(map()) + " --out " + q(out / "m.ply"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--format"), std::string::npos) << r.err;
+  r = runCli("export " + q(map()) + " --format fbx --out " + q(out / "m.fbx"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("ply, obj, stl, pcd, ot, bt or objects"), std::string::npos) << r.err;
+  r = runCli("export " + q(map()) + " --format ply --labels 99 --out " + q(out / "m.ply"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("labels"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("99"), std::string::npos) << r.err;
+  r = runCli("export " + q(map()) + " --format ply --out " + q(out / "m.stl"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find(".ply"), std::string::npos) << r.err;
+  r = runCli("export " + q(map()) + " --format pcd --smooth --out " + q(out / "m.pcd"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("smooth"), std::string::npos) << r.err;
+  r = runCli("export " + q(map()) + " --voxels " + q(out / "v.pcd") + " --format ply");
+  EXPECT_EQ(r.exit_code, 2);
+  r = runCli("export " + q(map()) + " --format ot --out " + q(map()));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("input map"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_empty(out.path()));
+  EXPECT_NO_THROW((void)lom::LabelMap::load(map()));
+}
+
+TEST_F(CliExportTest, RenderWithoutDisplaySaysHowToRunIt) {
+  TempDir out;
+  const char* saved = std::getenv("DISPLAY");
+  const std::string display = saved ? saved : "";
+  ::unsetenv("DISPLAY");
+  const auto r = runCli("render " + q(map()) + " --out " + q(out / "view.png"));
+  if (!display.empty()) ::setenv("DISPLAY", display.c_str(), 1);
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("X server"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("xvfb-run"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out / "view.png"));
+}
+
+TEST_F(CliExportTest, RenderWritesAPictureOfTheMap) {
+  if (!std::getenv("DISPLAY") || !*std::getenv("DISPLAY"))
+    GTEST_SKIP() << "DISPLAY is not set: rendering needs an X server (run under xvfb-run)";
+  TempDir out;
+  auto r = runCli("render " + q(map()) + " --out " + q(out / "orbit.png") +
+                  " --size 320x240 --azimuth 200 --elevation 35");
+  if (r.exit_code == 3) GTEST_SKIP() << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const lom::ColorImage orbit = lom::readColorImage(out / "orbit.png");
+  EXPECT_EQ(orbit.width, 320);
+  EXPECT_EQ(orbit.height, 240);
+  size_t not_background = 0;
+  for (size_t i = 0; i < orbit.rgb.size(); i += 3)
+    not_background += !(orbit.rgb[i] == 255 && orbit.rgb[i + 1] == 255 && orbit.rgb[i + 2] == 255);
+  EXPECT_GT(not_background, orbit.rgb.size() / 3 / 20);
+
+  // A recorded camera: the picture has that camera's size.
+  r = runCli("render " + q(map()) + " --out " + q(out / "frame.png") + " --camera " +
+             q(fs::path(scene().string() + ":1")) + " --flat");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const lom::ColorImage frame = lom::readColorImage(out / "frame.png");
+  EXPECT_EQ(frame.width, 160);
+  EXPECT_EQ(frame.height, 120);
+
+  r = runCli("render " + q(map()) + " --out " + q(out / "x.png") + " --camera " +
+             q(fs::path(scene().string() + ":99")));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("frame index"), std::string::npos) << r.err;
+}
+
+TEST_F(CliExportTest, RenderUsageMistakes) {
+  TempDir out;
+  auto r =
+      runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --camera x:1 --azimuth 10");
+  EXPECT_EQ(r.exit_code, 2);
+  r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --size 640");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("WIDTHxHEIGHT"), std::string::npos) << r.err;
+}
+
+}  // namespace

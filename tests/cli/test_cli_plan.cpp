@@ -1,0 +1,201 @@
+// labeloctomap plan end to end: table, plan.json, approach sources, errors.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include "lom/label_map.hpp"
+#include "lom/objects.hpp"
+#include "lom/sequence.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using lom::test::runCli;
+using lom::test::TempDir;
+using Json = nlohmann::json;
+
+std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+
+lom::OrientedBox aabb(const Eigen::Vector3d& low, const Eigen::Vector3d& high) {
+  lom::OrientedBox box;
+  box.center = 0.5 * (low + high);
+  box.size = high - low;
+  return box;
+}
+
+class CliPlanTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    root_ = new TempDir();
+    {
+      // The target (19) at the back of the bin, 8 in front of it, 30 in front of 8,
+      // 13 behind it; free space in front of the bin where the cameras looked through.
+      lom::LabelMap map(lom::apc2016Labels());
+      lom::rasterizeBox(map, aabb({0.30, -0.05, 0.0}, {0.40, 0.05, 0.10}), 19);
+      lom::rasterizeBox(map, aabb({0.16, -0.05, 0.0}, {0.24, 0.05, 0.09}), 8);
+      lom::rasterizeBox(map, aabb({0.02, -0.03, 0.0}, {0.08, 0.03, 0.12}), 30);
+      lom::rasterizeBox(map, aabb({0.45, -0.05, 0.0}, {0.55, 0.05, 0.10}), 13);
+      lom::rasterizeFreeBox(map, aabb({-0.50, -0.20, 0.0}, {0.0, 0.20, 0.25}));
+      map.save(root_->path() / "bin.ot");
+    }
+    {
+      lom::LabelMap map(lom::apc2016Labels());  // no free space, no target
+      lom::rasterizeBox(map, aabb({0.16, -0.05, 0.0}, {0.24, 0.05, 0.09}), 8);
+      map.save(root_->path() / "no_target.ot");
+    }
+    {
+      // Cameras looking along -y: the bin is seen from the side, so nothing hides 19.
+      lom::Sequence sequence;
+      sequence.labels = lom::apc2016Labels();
+      lom::FrameRecord frame;
+      frame.depth = "depth/000000.png";
+      frame.T_world_camera.linear() =
+          Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+      sequence.frames.push_back(frame);
+      frame.depth = "depth/000001.png";
+      sequence.frames.push_back(frame);
+      std::filesystem::create_directories(root_->path() / "side");
+      lom::saveSequence(sequence, root_->path() / "side");
+    }
+  }
+  static void TearDownTestSuite() {
+    delete root_;
+    root_ = nullptr;
+  }
+  static std::filesystem::path path(const std::string& name) { return root_->path() / name; }
+  static std::string map() { return quoted(path("bin.ot")); }
+  static TempDir* root_;
+};
+TempDir* CliPlanTest::root_ = nullptr;
+
+TEST_F(CliPlanTest, PrintsTheTableAndWritesThePlan) {
+  TempDir out;
+  const auto r = runCli("plan " + map() + " --target 19 --approach 1,0,0 --out " + quoted(out / "plan.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("   1  remove  30 rolodex_jumbo_pencil_cup"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("   2  remove  8 creativity_chenille_stems"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("   3  pick    19 i_am_a_bunny_book"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("wrote"), std::string::npos) << r.out;
+
+  const Json plan = Json::parse(slurp(out / "plan.json"));
+  EXPECT_EQ(plan["format"], "labeloctomap-plan");
+  EXPECT_EQ(plan["map"], path("bin.ot").string());
+  EXPECT_EQ(plan["approach"]["source"], "given");
+  EXPECT_EQ(plan["occluders"], Json::array({"30", "8"}));
+  ASSERT_EQ(plan["steps"].size(), 3u);
+  EXPECT_EQ(plan["steps"][0]["object"], "30");
+  EXPECT_EQ(plan["steps"][0]["placement"]["where"], "outside");
+  EXPECT_EQ(plan["steps"][2]["action"], "pick");
+  EXPECT_DOUBLE_EQ(plan["steps"][2]["grasp"]["position"][0].get<double>(), 0.30);
+  // Nothing is left behind next to the plan.
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(out.path()), {}), 1);
+}
+
+TEST_F(CliPlanTest, TargetByNameAndApproachFromTheMapsFreeSpace) {
+  TempDir out;
+  const auto r = runCli("plan " + map() + " --target i_am_a_bunny_book --out " + quoted(out / "plan.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("free space"), std::string::npos) << r.out;
+  const Json plan = Json::parse(slurp(out / "plan.json"));
+  EXPECT_EQ(plan["target"]["label"], 19);
+  EXPECT_EQ(plan["approach"]["source"], "free-space");
+  EXPECT_GT(plan["approach"]["direction"][0].get<double>(), 0.95);
+  EXPECT_EQ(plan["occluders"], Json::array({"30", "8"}));
+}
+
+TEST_F(CliPlanTest, SequenceGivesTheMeanViewingDirection) {
+  TempDir out;
+  const auto r = runCli("plan " + map() + " --target 19 --sequence " + quoted(path("side")) + " --out " +
+                        quoted(out / "plan.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json plan = Json::parse(slurp(out / "plan.json"));
+  EXPECT_EQ(plan["approach"]["source"], "sequence");
+  EXPECT_NEAR(plan["approach"]["direction"][1].get<double>(), -1.0, 1e-9);
+  EXPECT_TRUE(plan["occluders"].empty());
+  EXPECT_EQ(plan["steps"].size(), 1u);
+}
+
+TEST_F(CliPlanTest, EmptyBinCandidatesAndAllClusters) {
+  TempDir out;
+  const auto r = runCli("plan " + map() + " --target 19 --approach 1,0,0 --empty-bin 0,0.6,0.1,0.4,0.3,0.2"
+                        " --candidates 8,rolodex_jumbo_pencil_cup --all-clusters --out " + quoted(out / "plan.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json plan = Json::parse(slurp(out / "plan.json"));
+  EXPECT_EQ(plan["objects"].size(), 3u);  // 8, 19 (the target is always kept), 30; not 13
+  EXPECT_EQ(plan["options"]["all_clusters"], true);
+  EXPECT_EQ(plan["options"]["candidates"], Json::array({8, 30, 19}));
+  for (int k = 0; k < 2; ++k) {
+    const auto& placement = plan["steps"][k]["placement"];
+    ASSERT_EQ(placement["where"], "bin") << k;
+    const double y = placement["position"][1].get<double>();
+    EXPECT_NEAR(y, 0.6, 1e-9);
+  }
+  EXPECT_NE(r.out.find("bin "), std::string::npos) << r.out;
+}
+
+TEST_F(CliPlanTest, UnknownTargetLabelFailsNamingTheMap) {
+  for (const std::string target : {"99", "no_such_object", "0"}) {
+    const auto r = runCli("plan " + map() + " --target " + target + " --approach 1,0,0");
+    EXPECT_EQ(r.exit_code, 1) << target << r.out;
+    EXPECT_NE(r.err.find(path("bin.ot").string()), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--target"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("expected"), std::string::npos) << r.err;
+  }
+}
+
+TEST_F(CliPlanTest, TargetWithoutVoxelsFails) {
+  const auto r = runCli("plan " + quoted(path("no_target.ot")) + " --target 19 --approach 1,0,0");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("no_target.ot"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no occupied voxel"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("i_am_a_bunny_book"), std::string::npos) << r.err;
+}
+
+TEST_F(CliPlanTest, WithoutFreeSpaceAnApproachIsNeeded) {
+  const auto r = runCli("plan " + quoted(path("no_target.ot")) + " --target 8");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--approach"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--sequence"), std::string::npos) << r.err;
+}
+
+TEST_F(CliPlanTest, BadOptionsAreUsageErrors) {
+  for (const std::string bad : {"--approach 1,2", "--approach 0,0,0", "--approach a,b,c", "--approach 1,0,0,",
+                                "--empty-bin 0,0,0,1,1", "--empty-bin 0,0,0,1,-1,1", "--min-cluster-voxels 0",
+                                "--cluster-tolerance 0", "--approach 1,0,0 --sequence x", "--frobnicate 3"}) {
+    const auto r = runCli("plan " + map() + " --target 19 " + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.err;
+    EXPECT_NE(r.err.find("usage: labeloctomap plan"), std::string::npos) << r.err;
+  }
+  const auto r = runCli("plan " + map() + " --target 19 --approach 1,2");
+  EXPECT_NE(r.err.find("--approach"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("x,y,z"), std::string::npos) << r.err;
+  const auto missing = runCli("plan " + map());
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.err.find("--target"), std::string::npos) << missing.err;
+}
+
+TEST_F(CliPlanTest, MissingFilesFailNamingThem) {
+  TempDir out;
+  auto r = runCli("plan " + quoted(out / "absent.ot") + " --target 19 --approach 1,0,0");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("absent.ot"), std::string::npos) << r.err;
+  r = runCli("plan " + map() + " --target 19 --sequence " + quoted(out / "no_sequence"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("no_sequence"), std::string::npos) << r.err;
+  r = runCli("plan " + map() + " --target 19 --approach 1,0,0 --out " + quoted(out.path()));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("--out"), std::string::npos) << r.err;
+}
+
+}  // namespace

@@ -1,0 +1,172 @@
+// labeloctomap segment (and --segmenter on fuse) end to end with a tiny ONNX model.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "lom/label_map.hpp"
+#include "lom/npy.hpp"
+#include "lom/sequence.hpp"
+#include "onnx_model_builder.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using lom::test::runCli;
+using lom::test::TempDir;
+
+std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
+
+std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+class CliSegmentTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    sequence_ = lom::test::writeColourWallSequence(dir_ / "seq", 2);
+    model_ = dir_ / "colour.onnx";
+    lom::test::writeModel(model_, lom::test::buildConvModel(lom::test::colourChannelModel()));
+  }
+  [[nodiscard]] std::vector<double> expected(int frame, int u) const {
+    return lom::test::expectedProbabilities(lom::test::colourChannelModel(),
+                                            lom::test::colourWallPixel(frame, u));
+  }
+  TempDir dir_;
+  lom::Sequence sequence_;
+  std::filesystem::path model_;
+};
+
+TEST_F(CliSegmentTest, WritesProbabilityImagesAndUpdatesTheSequence) {
+  const auto r = runCli("segment " + quoted(dir_ / "seq") + " --segmenter " + quoted(model_));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("segmented 2 frames"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("2 network runs"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("float32 probability images"), std::string::npos) << r.out;
+
+  const lom::Sequence updated = lom::loadSequence(dir_ / "seq");
+  ASSERT_EQ(updated.frames.size(), 2u);
+  for (int f = 0; f < 2; ++f) {
+    const lom::FrameRecord& record = updated.frames[static_cast<size_t>(f)];
+    EXPECT_EQ(record.proba, "proba-colour/00000" + std::to_string(f) + ".npy");
+    EXPECT_TRUE(record.proba_labels.empty());  // one channel per label, in order
+    EXPECT_EQ(record.color, sequence_.frames[static_cast<size_t>(f)].color);
+    const lom::NpyArray array = lom::readNpy(updated.pathOf(record.proba));
+    EXPECT_EQ(array.type, lom::NpyType::Float32);
+    ASSERT_EQ(array.shape, (std::vector<size_t>{6, 8, 3}));
+    const std::vector<float> values = array.toFloat(false);
+    for (int v = 0; v < 6; ++v)
+      for (int u = 0; u < 8; ++u)
+        for (int k = 0; k < 3; ++k)
+          EXPECT_NEAR(values[(static_cast<size_t>(v) * 8 + u) * 3 + k], expected(f, u)[k], 2e-6);
+  }
+  const auto validate = runCli("validate " + quoted(dir_ / "seq"));
+  EXPECT_EQ(validate.exit_code, 0) << validate.out << validate.err;
+
+  // The written sequence fuses like any other: red on the left, green on the right.
+  const auto fused = runCli("fuse " + quoted(dir_ / "seq") + " --out " + quoted(dir_ / "m.ot") +
+                            " --resolution 0.05 --max-range 5 --frames 0:1");
+  ASSERT_EQ(fused.exit_code, 0) << fused.err;
+  const lom::LabelMap map = lom::LabelMap::load(dir_ / "m.ot");
+  const auto counts = map.occupiedCountPerLabel();
+  EXPECT_EQ(counts.count(0), 0u);
+  ASSERT_EQ(counts.count(1), 1u);
+  EXPECT_EQ(counts.at(1), counts.at(2));
+
+  // Nothing left to do; --all segments again, from the cache.
+  const auto again = runCli("segment " + quoted(dir_ / "seq") + " --segmenter " + quoted(model_));
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.out.find("nothing to do"), std::string::npos) << again.out;
+  const auto all = runCli("segment " + quoted(dir_ / "seq") + " --segmenter " + quoted(model_) +
+                          " --all --dtype uint8 --out-dir net8");
+  ASSERT_EQ(all.exit_code, 0) << all.err;
+  EXPECT_NE(all.out.find("0 network runs, 2 outputs from the cache"), std::string::npos) << all.out;
+  const lom::Sequence quantised = lom::loadSequence(dir_ / "seq");
+  EXPECT_EQ(quantised.frames[1].proba, "net8/000001.npy");
+  const lom::NpyArray bytes = lom::readNpy(quantised.pathOf(quantised.frames[1].proba));
+  EXPECT_EQ(bytes.type, lom::NpyType::UInt8);
+  ASSERT_EQ(bytes.bytes.size(), 6u * 8 * 3);
+  EXPECT_EQ(bytes.bytes[1], static_cast<std::uint8_t>(std::lround(expected(1, 0)[1] * 255)));
+}
+
+TEST_F(CliSegmentTest, Float16AndLabelMapping) {
+  // The network's three channels hold labels 3, 1 and 2 of a 4-label sequence.
+  sequence_ = lom::test::writeColourWallSequence(dir_ / "seq", 1, 1);
+  std::ofstream(dir_ / "colour.json") << R"({"labels": ["extra_0", "red_block", 2]})";
+  const auto r = runCli("segment " + quoted(dir_ / "seq") + " --segmenter " + quoted(model_) +
+                        " --dtype float16");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const lom::Sequence updated = lom::loadSequence(dir_ / "seq");
+  EXPECT_EQ(updated.frames[0].proba_labels, (std::vector<int>{3, 1, 2}));
+  const lom::FrameData frame = lom::loadFrame(updated, 0);
+  ASSERT_TRUE(frame.proba);
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(frame.proba->pixel(1, 1)[k], expected(0, 1)[k], 1e-3);  // half precision
+}
+
+TEST_F(CliSegmentTest, ErrorsAreClearAndLeaveTheSequenceAlone) {
+  const std::string before = slurp(dir_ / "seq" / "sequence.json");
+  auto segment = [&](const std::string& rest) {
+    return runCli("segment " + quoted(dir_ / "seq") + " " + rest);
+  };
+
+  auto r = segment("--segmenter " + quoted(dir_ / "missing.onnx"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("missing.onnx: model: expected a readable ONNX model file"), std::string::npos)
+      << r.err;
+
+  std::ofstream(dir_ / "junk.onnx") << "not a model";
+  r = segment("--segmenter " + quoted(dir_ / "junk.onnx"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("junk.onnx: model"), std::string::npos) << r.err;
+
+  r = segment("");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("missing option --segmenter"), std::string::npos) << r.err;
+  r = segment("--segmenter " + quoted(model_) + " --dtype float64");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--dtype expects float32, float16 or uint8"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(dir_ / "seq" / "sequence.json"), before);
+
+  // A network whose output does not match the label set (3 channels, 5 labels).
+  TempDir other;
+  (void)lom::test::writeColourWallSequence(other / "seq", 1, 2);
+  const std::string five = slurp(other / "seq" / "sequence.json");
+  r = runCli("segment " + quoted(other / "seq") + " --segmenter " + quoted(model_));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("colour.onnx: output channels: expected 5 channels"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("found 3 channels"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(other / "seq" / "sequence.json"), five);
+
+  // A sequence without colour images.
+  TempDir grey;
+  (void)lom::test::writeColourWallSequence(grey / "seq", 2, 0, false);
+  r = runCli("segment " + quoted(grey / "seq") + " --segmenter " + quoted(model_));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("frames[0].color: expected a colour image in every frame to segment"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("a sequence without colour images"), std::string::npos) << r.err;
+}
+
+TEST_F(CliSegmentTest, FuseRunsTheSegmenterOnFramesWithoutProba) {
+  const auto r = runCli("fuse " + quoted(dir_ / "seq") + " --out " + quoted(dir_ / "m.ot") +
+                        " --resolution 0.05 --max-range 5 --frames 0:1 --segmenter " + quoted(model_));
+  if (r.exit_code == 2 && r.err.find("unknown option --segmenter") != std::string::npos)
+    GTEST_SKIP() << "fuse does not take --segmenter";
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const lom::LabelMap map = lom::LabelMap::load(dir_ / "m.ot");
+  const auto counts = map.occupiedCountPerLabel();
+  EXPECT_EQ(counts.count(0), 0u);
+  ASSERT_EQ(counts.count(1), 1u);
+  EXPECT_EQ(counts.at(1), counts.at(2));
+  EXPECT_TRUE(std::filesystem::is_directory(dir_ / "seq" / ".segmenter-cache"));
+  // The sequence itself is not changed by fuse.
+  EXPECT_TRUE(lom::loadSequence(dir_ / "seq").frames[0].proba.empty());
+}
+
+}  // namespace

@@ -1,0 +1,139 @@
+// Real recordings in ../shared/data imported and fused: the surfaces seen from
+// two overlapping views must agree. Skipped with a message when the data is absent.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+
+#include "lom/fusion.hpp"
+#include "lom/import.hpp"
+#include "lom/label_map.hpp"
+#include "lom/sequence.hpp"
+#include "test_support.hpp"
+
+namespace lom {
+namespace {
+
+struct Agreement {
+  size_t checked = 0;   // occupied voxels of A that view B saw (not occluded, valid depth)
+  size_t agreeing = 0;  // ... of which B's map has an occupied voxel within one voxel
+  [[nodiscard]] double fraction() const {
+    return checked ? static_cast<double>(agreeing) / static_cast<double>(checked) : 0.0;
+  }
+};
+
+LabelMap fuseOne(const Sequence& sequence, size_t frame, double resolution, double max_range) {
+  FusionOptions options;
+  options.map.resolution = resolution;
+  options.map.max_range = max_range;
+  options.first_frame = frame;
+  options.last_frame = frame + 1;
+  return fuseSequence(sequence, options);
+}
+
+// For every occupied voxel of map A: project it into view B; when B measured a
+// depth there that does not hide the voxel (B's surface is not in front of it),
+// B's own map should have an occupied voxel within one voxel of it.
+Agreement agreement(const Sequence& sequence, const LabelMap& map_a, const LabelMap& map_b,
+                    size_t frame_b, const Eigen::Isometry3d& pose_b, double max_range) {
+  const FrameData data = loadFrame(sequence, frame_b);
+  const CameraIntrinsics& camera = sequence.cameraOf(frame_b);
+  const double resolution = map_a.parameters().resolution;
+  const Eigen::Isometry3d world_to_b = pose_b.inverse();
+  Agreement result;
+  for (int label = 0; label < map_a.numLabels(); ++label)
+    for (const VoxelKey& key : map_a.voxelsOfLabel(label)) {
+      const Eigen::Vector3d centre = map_a.centerOf(key);
+      const Eigen::Vector3d p = world_to_b * centre;
+      if (p.z() <= 0.1 || p.norm() > max_range - 2 * resolution) continue;
+      const Eigen::Vector2d uv = camera.project(p);
+      const int u = static_cast<int>(std::lround(uv.x()));
+      const int v = static_cast<int>(std::lround(uv.y()));
+      if (u < 0 || v < 0 || u >= camera.width || v >= camera.height) continue;
+      const float z = data.depth.at(u, v);
+      if (!(z > 0.0f)) continue;                    // B has no measurement there
+      if (z < p.z() - 2 * resolution) continue;     // occluded in B by a nearer surface
+      ++result.checked;
+      bool found = false;
+      for (int dx = -1; dx <= 1 && !found; ++dx)
+        for (int dy = -1; dy <= 1 && !found; ++dy)
+          for (int dz = -1; dz <= 1 && !found; ++dz) {
+            const VoxelState state =
+                map_b.voxelAt(centre + resolution * Eigen::Vector3d(dx, dy, dz));
+            found = state.known && state.occupied;
+          }
+      result.agreeing += found;
+    }
+  return result;
+}
+
+struct Case {
+  const char* name;
+  size_t frame_a, frame_b;
+  double resolution, max_range;
+};
+
+void checkViews(const Sequence& sequence, const Case& c, double minimum) {
+  const LabelMap a = fuseOne(sequence, c.frame_a, c.resolution, c.max_range);
+  const LabelMap b = fuseOne(sequence, c.frame_b, c.resolution, c.max_range);
+  const auto& pose_b = sequence.frames[c.frame_b].T_world_camera;
+  const Agreement ab = agreement(sequence, a, b, c.frame_b, pose_b, c.max_range);
+  const Agreement ba =
+      agreement(sequence, b, a, c.frame_a, sequence.frames[c.frame_a].T_world_camera, c.max_range);
+  // Negative control: with B's pose moved 10 cm along its image's vertical axis
+  // (floors, tables and the box's top are horizontal) the measure must drop.
+  Eigen::Isometry3d shifted = pose_b;
+  shifted.translation() += pose_b.linear() * Eigen::Vector3d(0.0, 0.1, 0.0);
+  Sequence moved = sequence;
+  moved.frames[c.frame_b].T_world_camera = shifted;
+  const LabelMap b_moved = fuseOne(moved, c.frame_b, c.resolution, c.max_range);
+  const Agreement wrong = agreement(moved, a, b_moved, c.frame_b, shifted, c.max_range);
+
+  std::cout << "[ agreement ] " << c.name << " frames " << c.frame_a << "/" << c.frame_b << " at "
+            << c.resolution * 100 << " cm: A in B " << ab.agreeing << "/" << ab.checked << " = "
+            << ab.fraction() << ", B in A " << ba.agreeing << "/" << ba.checked << " = "
+            << ba.fraction() << "; B moved 10 cm: " << wrong.fraction() << "\n";
+  EXPECT_GT(ab.checked, 1000u) << "the views should overlap";
+  EXPECT_GT(ba.checked, 1000u) << "the views should overlap";
+  EXPECT_GE(ab.fraction(), minimum);
+  EXPECT_GE(ba.fraction(), minimum);
+  EXPECT_LT(wrong.fraction(), ab.fraction() - 0.2) << "the measure must notice a wrong pose";
+}
+
+TEST(ImportRealData, ApcBoxRealsenseViewsAgree) {
+  LOM_REQUIRE_SHARED_DATA("apc-box-realsense");
+  test::TempDir dir;
+  ImportOptions options;
+  options.max_frames = 6;
+  const ImportReport report =
+      importSource(std::nullopt, test::sharedDataDir() / "apc-box-realsense", dir / "seq", options);
+  EXPECT_EQ(report.kind, SourceKind::Frames);
+  EXPECT_EQ(report.frames_found, 50u);
+  ASSERT_EQ(report.frames_written, 6u);
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_TRUE(validateSequence(sequence).empty());
+  EXPECT_NEAR(sequence.camera.fx, 615.195, 1e-3);
+  EXPECT_NEAR(sequence.camera.cy, 247.519, 1e-3);
+  EXPECT_TRUE(sequence.frames[0].T_world_camera.isApprox(Eigen::Isometry3d::Identity()));
+  checkViews(sequence, {"apc-box-realsense", 0, 3, 0.01, 1.5}, 0.8);
+}
+
+TEST(ImportRealData, KinectRoomViewsAgree) {
+  LOM_REQUIRE_SHARED_DATA("kinect-room-5");
+  test::TempDir dir;
+  ImportOptions options;
+  options.intrinsics = parseIntrinsics("518,519,325.5,253.5");
+  const ImportReport report = importSource(SourceKind::Quaternion,
+                                           test::sharedDataDir() / "kinect-room-5", dir / "seq",
+                                           options);
+  ASSERT_EQ(report.frames_written, 5u);
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_TRUE(validateSequence(sequence).empty());
+  EXPECT_EQ(sequence.camera.fx, 518.0);
+  EXPECT_NEAR(sequence.frames[0].T_world_camera.translation().x(), -0.228993, 1e-9);
+  checkViews(sequence, {"kinect-room-5", 0, 1, 0.02, 4.0}, 0.8);
+}
+
+}  // namespace
+}  // namespace lom

@@ -1,0 +1,239 @@
+// Offscreen pictures of a known map: not blank, in the label colours, and a
+// recorded pinhole camera puts each object where the camera model says.
+// Needs an X server (the test run goes under xvfb-run); skips without one.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <string>
+
+#include "lom/fusion.hpp"
+#include "lom/sequence.hpp"
+#include "lom/synth.hpp"
+#include "test_support.hpp"
+
+#ifdef LOM_HAVE_RENDER
+#include "../unit/test_mesh_checks.hpp"
+#include "lom/render/map_render.hpp"
+
+namespace {
+
+using lom::test::blockKeys;
+
+constexpr double kRes = 0.02;
+
+#define LOM_REQUIRE_DISPLAY()                                               \
+  do {                                                                      \
+    if (const auto problem = lom::render::displayProblem())                 \
+      GTEST_SKIP() << "no X display for offscreen rendering: " << *problem; \
+  } while (0)
+
+// Label 1: a 6x6x6 block at the origin; label 2: a 4x4x4 block beside it
+// along +y; label 3: a 4x4x4 block beside it along -y.
+lom::LabelMap sampleMap() {
+  return lom::test::MapBuilder(4, kRes)
+      .occupy(blockKeys(0, 6, 0, 6, 0, 6), 1)
+      .occupy(blockKeys(1, 5, 10, 14, 1, 5), 2)
+      .occupy(blockKeys(1, 5, -8, -4, 1, 5), 3)
+      .build();
+}
+
+std::array<int, 3> pixel(const lom::ColorImage& image, int u, int v) {
+  const size_t i = (static_cast<size_t>(v) * image.width + u) * 3;
+  return {image.rgb[i], image.rgb[i + 1], image.rgb[i + 2]};
+}
+
+std::array<int, 3> rgb(const lom::Rgb& c) { return {c[0], c[1], c[2]}; }
+
+size_t countColour(const lom::ColorImage& image, const std::array<int, 3>& colour) {
+  size_t n = 0;
+  for (int v = 0; v < image.height; ++v)
+    for (int u = 0; u < image.width; ++u) n += pixel(image, u, v) == colour;
+  return n;
+}
+
+// Pixels that are the colour scaled by one factor (a lit face of that colour).
+size_t countShade(const lom::ColorImage& image, const std::array<int, 3>& colour) {
+  const int top = std::max({colour[0], colour[1], colour[2]});
+  size_t n = 0;
+  for (int v = 0; v < image.height; ++v)
+    for (int u = 0; u < image.width; ++u) {
+      const auto p = pixel(image, u, v);
+      const double s = std::max({p[0], p[1], p[2]}) / static_cast<double>(top);
+      if (s < 0.25) continue;
+      bool match = true;
+      for (int c = 0; c < 3; ++c) match = match && std::abs(p[c] - s * colour[c]) <= 3.0;
+      n += match;
+    }
+  return n;
+}
+
+TEST(RenderMap, FlatPictureShowsEveryLabelInItsColour) {
+  LOM_REQUIRE_DISPLAY();
+  const lom::LabelMap map = sampleMap();
+  lom::render::RenderOptions options;
+  options.width = 320;
+  options.height = 240;
+  options.shading = false;
+  const lom::ColorImage image = lom::render::renderMap(map, options);
+  ASSERT_EQ(image.width, 320);
+  ASSERT_EQ(image.height, 240);
+  const size_t background = countColour(image, {255, 255, 255});
+  size_t labelled = 0;
+  for (int label = 1; label <= 3; ++label) {
+    const size_t n = countColour(image, rgb(map.labels().at(label).color));
+    EXPECT_GT(n, 200u) << "label " << label;
+    labelled += n;
+  }
+  EXPECT_GT(labelled, 320u * 240 / 20);          // not blank: the map fills a good part of the view
+  EXPECT_EQ(background + labelled, 320u * 240);  // nothing but background and label colours
+}
+
+TEST(RenderMap, ShadedPictureShowsShadesOfTheLabelColours) {
+  LOM_REQUIRE_DISPLAY();
+  const lom::LabelMap map = sampleMap();
+  lom::render::RenderOptions options;
+  options.width = 320;
+  options.height = 240;
+  options.azimuth_deg = 200;
+  options.elevation_deg = 40;
+  const lom::ColorImage image = lom::render::renderMap(map, options);
+  for (int label = 1; label <= 3; ++label)
+    EXPECT_GT(countShade(image, rgb(map.labels().at(label).color)), 200u) << "label " << label;
+  EXPECT_LT(countColour(image, {255, 255, 255}), 320u * 240 * 19 / 20);
+}
+
+TEST(RenderMap, LabelSelectionHidesTheOtherLabels) {
+  LOM_REQUIRE_DISPLAY();
+  const lom::LabelMap map = sampleMap();
+  lom::render::RenderOptions options;
+  options.width = 160;
+  options.height = 120;
+  options.shading = false;
+  options.labels = std::set<int>{2};
+  const lom::ColorImage image = lom::render::renderMap(map, options);
+  EXPECT_GT(countColour(image, rgb(map.labels().at(2).color)), 100u);
+  EXPECT_EQ(countColour(image, rgb(map.labels().at(1).color)), 0u);
+  EXPECT_EQ(countColour(image, rgb(map.labels().at(3).color)), 0u);
+}
+
+TEST(RenderMap, PinholeCameraPutsObjectsWhereTheCameraModelProjectsThem) {
+  LOM_REQUIRE_DISPLAY();
+  const lom::LabelMap map = sampleMap();
+  // Camera 0.5 m in front of the blocks (-x), looking along +x, image x = world -y.
+  lom::render::PinholeView view;
+  view.intrinsics.width = 200;
+  view.intrinsics.height = 150;
+  view.intrinsics.fx = view.intrinsics.fy = 180.0;
+  view.intrinsics.cx = 70.0;  // off-centre principal point
+  view.intrinsics.cy = 80.0;
+  Eigen::Matrix3d R;
+  R.col(0) = Eigen::Vector3d(0, -1, 0);
+  R.col(1) = Eigen::Vector3d(0, 0, -1);
+  R.col(2) = Eigen::Vector3d(1, 0, 0);
+  view.T_world_camera.linear() = R;
+  view.T_world_camera.translation() = Eigen::Vector3d(-0.5, 0.06, 0.06);
+  lom::render::RenderOptions options;
+  options.camera = view;
+  options.width = 200;
+  options.height = 150;
+  options.shading = false;
+  const lom::ColorImage image = lom::render::renderMap(map, options);
+
+  const auto project = [&](const Eigen::Vector3d& p_world) {
+    const Eigen::Vector3d p_camera = view.T_world_camera.inverse() * p_world;
+    return view.intrinsics.project(p_camera);
+  };
+  // Centres of the blocks' faces towards the camera (x = 0 or x = 1 voxel).
+  const Eigen::Vector3d faces[3] = {{0.0, 0.06, 0.06}, {0.02, 0.24, 0.06}, {0.02, -0.12, 0.06}};
+  for (int label = 1; label <= 3; ++label) {
+    const Eigen::Vector2d uv = project(faces[label - 1]);
+    const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+    ASSERT_TRUE(u >= 0 && u < 200 && v >= 0 && v < 150) << label << ": " << uv.transpose();
+    EXPECT_EQ(pixel(image, u, v), rgb(map.labels().at(label).color)) << "label " << label;
+  }
+  // The optical axis hits label 1's face centre: the principal point pixel.
+  EXPECT_EQ(pixel(image, 70, 80), rgb(map.labels().at(1).color));
+  // The edges of label 1's face project 3 voxels (0.06 m) off the axis at 0.5 m:
+  // 180 * 0.06 / 0.5 = 21.6 pixels; 2 pixels inside is label 1, 2 outside is not.
+  EXPECT_EQ(pixel(image, 70 + 19, 80), rgb(map.labels().at(1).color));
+  EXPECT_NE(pixel(image, 70, 80 + 24), rgb(map.labels().at(1).color));
+  EXPECT_EQ(pixel(image, 70, 80 - 19), rgb(map.labels().at(1).color));
+  EXPECT_EQ(pixel(image, 70, 80 - 24), (std::array<int, 3>{255, 255, 255}));
+}
+
+TEST(RenderMap, RecordedCameraViewMatchesTheGroundTruthLabels) {
+  LOM_REQUIRE_DISPLAY();
+  lom::test::TempDir dir;
+  lom::SynthOptions synth;
+  synth.seed = 4;
+  synth.objects = 4;
+  synth.frames = 4;
+  synth.views = 3;
+  synth.width = 160;
+  synth.height = 120;
+  synth.noise = false;
+  synth.segmenter_mistakes = false;
+  lom::writeSyntheticScene(synth, dir.path());
+  const lom::Sequence sequence = lom::loadSequence(dir.path());
+  lom::FusionOptions fusion;
+  fusion.map.resolution = 0.005;
+  const lom::LabelMap map = lom::fuseSequence(sequence, fusion);
+
+  const size_t frame = 1;
+  lom::render::RenderOptions options;
+  options.camera =
+      lom::render::PinholeView{sequence.cameraOf(frame), sequence.frames[frame].T_world_camera};
+  options.width = 160;
+  options.height = 120;
+  options.shading = false;
+  const lom::ColorImage image = lom::render::renderMap(map, options);
+  const lom::LabelImage truth = lom::readLabelImage(sequence.pathOf(sequence.frames[frame].label));
+  // Object pixels seen in the colour of their true label. Voxels are 5 mm
+  // cubes, so silhouettes differ by a few pixels from the exact shapes.
+  size_t objects = 0, agree = 0;
+  for (int v = 0; v < truth.height; ++v)
+    for (int u = 0; u < truth.width; ++u) {
+      const int label = truth.at(u, v);
+      if (label == 0) continue;
+      ++objects;
+      agree += pixel(image, u, v) == rgb(map.labels().at(label).color);
+    }
+  ASSERT_GT(objects, 500u);
+  EXPECT_GT(static_cast<double>(agree) / objects, 0.8) << agree << " of " << objects;
+}
+
+TEST(RenderMap, PngOnDiskMatchesThePicture) {
+  LOM_REQUIRE_DISPLAY();
+  lom::test::TempDir dir;
+  const lom::LabelMap map = sampleMap();
+  lom::render::RenderOptions options;
+  options.width = 160;
+  options.height = 120;
+  options.shading = false;
+  lom::render::renderMapToPng(map, options, dir / "view.png");
+  const lom::ColorImage png = lom::readColorImage(dir / "view.png");
+  const lom::ColorImage image = lom::render::renderMap(map, options);
+  ASSERT_EQ(png.width, 160);
+  ASSERT_EQ(png.height, 120);
+  EXPECT_EQ(png.rgb, image.rgb);
+}
+
+TEST(RenderMap, WithoutDisplayTheReasonSaysHowToRunIt) {
+  const char* saved = std::getenv("DISPLAY");
+  const std::string display = saved ? saved : "";
+  ::unsetenv("DISPLAY");
+  const auto problem = lom::render::displayProblem();
+  EXPECT_THROW((void)lom::render::renderMap(sampleMap(), {}), lom::render::RenderUnavailable);
+  if (!display.empty()) ::setenv("DISPLAY", display.c_str(), 1);
+  ASSERT_TRUE(problem.has_value());
+  EXPECT_NE(problem->find("xvfb-run"), std::string::npos) << *problem;
+  EXPECT_NE(problem->find("DISPLAY"), std::string::npos) << *problem;
+}
+
+}  // namespace
+
+#else
+
+TEST(RenderMap, NotBuilt) { GTEST_SKIP() << "lom_render is not built (LOM_BUILD_UI=OFF)"; }
+
+#endif

@@ -1,0 +1,225 @@
+// A sequence with colour and depth but no probability images is fused through
+// a tiny ONNX network: load, pre-process, infer, softmax, resize, fuse, with
+// the map's voxels holding exactly the network's probabilities.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <type_traits>
+
+#include "lom/error.hpp"
+#include "lom/fusion.hpp"
+#include "lom/segmenter.hpp"
+#include "onnx_model_builder.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using lom::Segmenter;
+using lom::test::TempDir;
+
+constexpr double kTolerance = 2e-5;
+
+lom::FusionOptions fusionOptions() {
+  lom::FusionOptions options;
+  options.map.resolution = 0.05;  // pixels are 0.125 m apart on the wall: one voxel each
+  options.map.max_range = 5.0;
+  options.integration.path = lom::IntegrationPath::Reference;
+  return options;
+}
+
+std::shared_ptr<Segmenter> loadModel(const TempDir& dir, lom::SegmenterOptions options = {}) {
+  const auto path = dir / "colour.onnx";
+  if (!std::filesystem::exists(path))
+    lom::test::writeModel(path, lom::test::buildConvModel(lom::test::colourChannelModel()));
+  return Segmenter::load(path, std::move(options));
+}
+
+std::vector<double> expectedAt(int frame, int u) {
+  return lom::test::expectedProbabilities(lom::test::colourChannelModel(),
+                                          lom::test::colourWallPixel(frame, u));
+}
+
+// Integrates frames [0, n) loaded through the segmenter.
+lom::LabelMap fuseWithSegmenter(const lom::Sequence& sequence, const Segmenter& segmenter, size_t n) {
+  const lom::FusionOptions options = fusionOptions();
+  lom::LabelMap map(sequence.labels, options.map);
+  for (size_t i = 0; i < n; ++i) {
+    const lom::FrameData frame = lom::loadFrameWithSegmenter(sequence, i, &segmenter);
+    const lom::FrameEvidence evidence = lom::makeEvidence(sequence, i, frame, options);
+    (void)lom::integrateFrame(map, sequence.cameraOf(i), sequence.frames[i].T_world_camera,
+                              frame.depth, evidence, options.integration);
+  }
+  return map;
+}
+
+Eigen::Vector3d wallPoint(const lom::Sequence& sequence, int u, int v) {
+  return sequence.camera.backProject(u, v, 1.0);
+}
+
+TEST(SegmenterFusion, FramesWithoutProbaAreFusedWithTheNetworksProbabilities) {
+  TempDir dir;
+  const lom::Sequence sequence = lom::test::writeColourWallSequence(dir / "seq", 1);
+  const auto segmenter = loadModel(dir);
+
+  const lom::FrameData frame = lom::loadFrameWithSegmenter(sequence, 0, segmenter.get());
+  ASSERT_TRUE(frame.proba);
+  EXPECT_EQ(frame.proba->width, 8);
+  EXPECT_EQ(frame.proba->height, 6);
+  EXPECT_EQ(frame.proba->channel_labels, (std::vector<int>{0, 1, 2}));
+  for (int v = 0; v < 6; ++v)
+    for (int u = 0; u < 8; ++u)
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(frame.proba->pixel(u, v)[k], expectedAt(0, u)[k], 2e-6);
+
+  // One frame: each wall voxel holds exactly one pixel's probabilities (all
+  // inside the clamping range), so the map reproduces the network's output.
+  const lom::LabelMap map = fuseWithSegmenter(sequence, *segmenter, 1);
+  for (int v = 0; v < 6; ++v)
+    for (int u = 0; u < 8; ++u) {
+      const lom::VoxelState voxel = map.voxelAt(wallPoint(sequence, u, v));
+      ASSERT_TRUE(voxel.known);
+      ASSERT_EQ(voxel.probabilities.size(), 3u);
+      const auto expected = expectedAt(0, u);
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(voxel.probabilities[static_cast<size_t>(k)], expected[k], kTolerance)
+            << "u=" << u << " v=" << v << " label " << k;
+      EXPECT_TRUE(voxel.occupied);
+      EXPECT_EQ(voxel.label, u < 4 ? 1 : 2);  // red block on the left, green on the right
+    }
+}
+
+TEST(SegmenterFusion, SecondFrameAddsItsLogOdds) {
+  TempDir dir;
+  const lom::Sequence sequence = lom::test::writeColourWallSequence(dir / "seq", 2);
+  const auto segmenter = loadModel(dir);
+  const lom::LabelMap map = fuseWithSegmenter(sequence, *segmenter, 2);
+  auto logit = [](double p) { return std::log(p / (1.0 - p)); };
+  auto sigmoid = [](double l) { return 1.0 / (1.0 + std::exp(-l)); };
+  const double lo = logit(0.12), hi = logit(0.97);
+  for (int u = 0; u < 8; ++u) {
+    const lom::VoxelState voxel = map.voxelAt(wallPoint(sequence, u, 3));
+    const auto a = expectedAt(0, u), b = expectedAt(1, u);
+    for (int k = 0; k < 3; ++k) {
+      const double expected = sigmoid(std::clamp(std::clamp(logit(a[k]), lo, hi) + logit(b[k]), lo, hi));
+      EXPECT_NEAR(voxel.probabilities[static_cast<size_t>(k)], expected, kTolerance) << "u=" << u;
+    }
+  }
+}
+
+TEST(SegmenterFusion, RefusingDoesNotRunTheNetworkAgain) {
+  TempDir dir;
+  const lom::Sequence sequence = lom::test::writeColourWallSequence(dir / "seq", 3);
+  const auto segmenter = loadModel(dir);
+  const lom::LabelMap first = fuseWithSegmenter(sequence, *segmenter, 3);
+  // Frames 0 and 2 have the same colour image: the network ran for two images.
+  EXPECT_EQ(segmenter->stats().inferences, 2u);
+  const lom::LabelMap second = fuseWithSegmenter(sequence, *segmenter, 3);
+  EXPECT_EQ(segmenter->stats().inferences, 2u);
+  EXPECT_EQ(segmenter->stats().memory_hits, 4u);
+  EXPECT_TRUE(std::filesystem::is_directory(dir / "seq" / ".segmenter-cache"));
+
+  // A new program run (a new segmenter) reads the outputs from the sequence's cache.
+  const auto fresh = loadModel(dir);
+  const lom::LabelMap third = fuseWithSegmenter(sequence, *fresh, 3);
+  EXPECT_EQ(fresh->stats().inferences, 0u);
+  EXPECT_EQ(fresh->stats().disk_hits, 2u);
+  for (int u = 0; u < 8; ++u) {
+    const auto a = first.voxelAt(wallPoint(sequence, u, 2));
+    EXPECT_EQ(a.probabilities, second.voxelAt(wallPoint(sequence, u, 2)).probabilities);
+    EXPECT_EQ(a.probabilities, third.voxelAt(wallPoint(sequence, u, 2)).probabilities);
+  }
+}
+
+TEST(SegmenterFusion, FramesWithProbaKeepTheirOwn) {
+  TempDir dir;
+  lom::Sequence sequence = lom::test::writeColourWallSequence(dir / "seq", 2);
+  lom::ProbabilityImage own;
+  own.width = 8;
+  own.height = 6;
+  own.channels = 3;
+  own.channel_labels = {0, 1, 2};
+  for (int i = 0; i < 48; ++i) own.values.insert(own.values.end(), {0.2f, 0.3f, 0.5f});
+  lom::writeProbabilityNpy(dir / "seq" / "own.npy", own, lom::NpyType::Float32);
+  sequence.frames[1].proba = "own.npy";
+  sequence.frames[0].label = "label.png";  // a label image alone is ground truth, not evidence
+  lom::LabelImage truth{8, 6, std::vector<std::uint16_t>(48, 2)};
+  lom::writeLabelPng(dir / "seq" / "label.png", truth);
+  lom::saveSequence(sequence, sequence.root);
+
+  const auto segmenter = loadModel(dir);
+  const lom::FrameData with_label = lom::loadFrameWithSegmenter(sequence, 0, segmenter.get());
+  ASSERT_TRUE(with_label.label);
+  ASSERT_TRUE(with_label.proba);
+  EXPECT_NEAR(with_label.proba->pixel(0, 0)[1], expectedAt(0, 0)[1], 2e-6);
+  const lom::FrameData with_proba = lom::loadFrameWithSegmenter(sequence, 1, segmenter.get());
+  EXPECT_EQ(with_proba.proba->values, own.values);
+  EXPECT_EQ(segmenter->stats().inferences, 1u);
+  // Without a segmenter it is loadFrame.
+  EXPECT_FALSE(lom::loadFrameWithSegmenter(sequence, 0, nullptr).proba);
+}
+
+TEST(SegmenterFusion, FrameWithoutColourIsAClearError) {
+  TempDir dir;
+  const lom::Sequence sequence = lom::test::writeColourWallSequence(dir / "seq", 1, 0, false);
+  const auto segmenter = loadModel(dir);
+  try {
+    (void)lom::loadFrameWithSegmenter(sequence, 0, segmenter.get());
+    FAIL() << "expected lom::Error";
+  } catch (const lom::Error& e) {
+    EXPECT_EQ(e.problem().field, "frames[0].color");
+    EXPECT_NE(std::string(e.what()).find("sequence.json"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("colour.onnx"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SegmenterFusion, NetworkWithTooFewChannelsForTheLabelsIsAClearError) {
+  TempDir dir;
+  const lom::Sequence sequence = lom::test::writeColourWallSequence(dir / "seq", 1, 2);  // 5 labels
+  const auto segmenter = loadModel(dir);
+  try {
+    (void)lom::loadFrameWithSegmenter(sequence, 0, segmenter.get());
+    FAIL() << "expected lom::Error";
+  } catch (const lom::Error& e) {
+    EXPECT_EQ(e.problem().field, "output channels");
+    EXPECT_NE(std::string(e.what()).find("expected 5 channels"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("found 3 channels"), std::string::npos) << e.what();
+  }
+}
+
+// fuseSequence with FusionOptions::segmenter (where FusionOptions has it).
+template <typename Options, typename = void>
+struct HasSegmenterField : std::false_type {};
+template <typename Options>
+struct HasSegmenterField<Options, std::void_t<decltype(std::declval<Options&>().segmenter)>>
+    : std::true_type {};
+
+template <typename Options>
+bool setSegmenter(Options& options, const std::shared_ptr<Segmenter>& segmenter) {
+  if constexpr (HasSegmenterField<Options>::value) {
+    options.segmenter = segmenter;
+    return true;
+  } else {
+    (void)options;
+    (void)segmenter;
+    return false;
+  }
+}
+
+TEST(SegmenterFusion, FuseSequenceUsesTheSegmenterOfTheOptions) {
+  TempDir dir;
+  const lom::Sequence sequence = lom::test::writeColourWallSequence(dir / "seq", 2);
+  const auto segmenter = loadModel(dir);
+  lom::FusionOptions options = fusionOptions();
+  if (!setSegmenter(options, segmenter)) GTEST_SKIP() << "FusionOptions has no segmenter";
+  const lom::LabelMap map = lom::fuseSequence(sequence, options);
+  const lom::LabelMap expected = fuseWithSegmenter(sequence, *segmenter, 2);
+  EXPECT_EQ(segmenter->stats().inferences, 2u);
+  for (int v = 0; v < 6; ++v)
+    for (int u = 0; u < 8; ++u)
+      EXPECT_EQ(map.voxelAt(wallPoint(sequence, u, v)).probabilities,
+                expected.voxelAt(wallPoint(sequence, u, v)).probabilities);
+  (void)lom::fuseSequence(sequence, options);  // re-fusing
+  EXPECT_EQ(segmenter->stats().inferences, 2u);
+}
+
+}  // namespace

@@ -1,0 +1,352 @@
+// The studio's session end to end on the synthetic demo scene: live fusion,
+// the map legend, box editing with undo and files, the evaluation panel and
+// a screenshot after fusion.
+#include <gtest/gtest.h>
+
+#include <QAction>
+#include <QApplication>
+#include <QDoubleSpinBox>
+#include <QFileInfo>
+#include <QPushButton>
+#include <QTableWidget>
+#include <QTest>
+#include <cmath>
+#include <filesystem>
+#include <set>
+
+#include "lom/annotations.hpp"
+#include "lom/evaluation.hpp"
+#include "lom/ui/annotation_files.hpp"
+#include "lom/ui/annotations_model.hpp"
+#include "lom/ui/demo_scene.hpp"
+#include "lom/ui/evaluation_panel.hpp"
+#include "lom/ui/export_map_reaction.hpp"
+#include "lom/ui/frame_images_view.hpp"
+#include "lom/ui/fusion_panel.hpp"
+#include "lom/ui/image_pane.hpp"
+#include "lom/ui/picked_voxel_view.hpp"
+#include "lom/ui/main_window.hpp"
+#include "lom/ui/map_legend_panel.hpp"
+#include "lom/ui/map_worker.hpp"
+#include "lom/ui/scene_view.hpp"
+#include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/studio_session.hpp"
+#include "lom/ui/window_capture.hpp"
+#include "test_support.hpp"
+
+namespace lom::ui {
+namespace {
+
+constexpr int kTimeoutMs = 120'000;
+
+SynthOptions smallDemo() {
+  SynthOptions options;
+  options.objects = 4;
+  options.frames = 6;
+  options.views = 3;
+  options.width = 160;
+  options.height = 120;
+  return options;
+}
+
+QString qPath(const std::filesystem::path& path) { return QString::fromStdString(path.string()); }
+
+class StudioSessionTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = temp_.path() / "demo_shelf";
+    prepareDemoScene(qPath(folder_), smallDemo());
+    truth_ = loadAnnotations(folder_ / "annotations.json");
+    window_.setErrorReporter([this](const QString& title, const QString& message) {
+      errors_.push_back(title + ": " + message);
+    });
+    window_.setRecoveryOffer([](const QString&) { return false; });
+    window_.resize(1280, 860);
+    window_.show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(&window_));
+  }
+
+  // Opens the demo and waits for the fusion (and the evaluation it triggers).
+  void openAndFuse() {
+    ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+    waitForFusion();
+  }
+  void waitForFusion() {
+    StudioSession& session = window_.session();
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !session.worker().isFusing(); }, kTimeoutMs));
+    QTest::qWait(50);  // the last snapshot arrives through the event loop
+    ASSERT_EQ(session.worker().snapshot()->frames_fused, static_cast<size_t>(smallDemo().frames));
+  }
+  void waitForEvaluation() {
+    EvaluationPanel& panel = window_.evaluationPanel();
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !panel.isBusy(); }, kTimeoutMs));
+  }
+  // Object labels that have depth (the transparent bottle has none).
+  std::set<int> visibleObjectLabels() const {
+    std::set<int> labels;
+    for (const auto& box : truth_.boxes)
+      if (box.label != kSynthTransparentLabel) labels.insert(box.label);
+    return labels;
+  }
+
+  test::TempDir temp_;
+  std::filesystem::path folder_;
+  Annotations truth_;
+  MainWindow window_;
+  std::vector<QString> errors_;
+};
+
+TEST_F(StudioSessionTest, FusesTheDemoLiveAndTheLegendListsItsLabels) {
+  openAndFuse();
+  EXPECT_TRUE(errors_.empty()) << errors_.front().toStdString();
+  const auto snapshot = window_.session().worker().snapshot();
+  const std::vector<int> listed = window_.mapLegend().listedLabels();
+  const Sequence& sequence = *window_.session().sequence();
+  for (int label : visibleObjectLabels()) {
+    EXPECT_GT(snapshot->counts.count(label), 0u) << "no voxels of label " << label;
+    const auto row = std::find(listed.begin(), listed.end(), label);
+    ASSERT_NE(row, listed.end()) << "legend misses label " << label;
+    EXPECT_EQ(window_.mapLegend().nameOf(static_cast<int>(row - listed.begin())).toStdString(),
+              sequence.labels.at(label).name);
+  }
+  EXPECT_GT(window_.sceneView().voxelCount(), 0u);
+  EXPECT_EQ(window_.sceneView().voxelCount(), snapshot->voxels.size());
+  EXPECT_TRUE(window_.fusionStatusText().contains("6/6")) << window_.fusionStatusText().toStdString();
+
+  // Hiding a label removes its voxels from the view at once.
+  const int hidden = *visibleObjectLabels().begin();
+  window_.mapLegend().showOnly(hidden);
+  size_t shown = 0;
+  for (const auto& voxel : snapshot->voxels) shown += voxel.label == hidden;
+  EXPECT_EQ(window_.sceneView().voxelCount(), shown);
+  window_.mapLegend().showAll();
+  EXPECT_EQ(window_.sceneView().voxelCount(), snapshot->voxels.size());
+}
+
+TEST_F(StudioSessionTest, ThresholdReThresholdsAtOnceAndOtherParametersOfferReFusion) {
+  openAndFuse();
+  const size_t before = window_.session().worker().snapshot()->voxels.size();
+  window_.fusionPanel().thresholdBox().setValue(0.9);
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] { return window_.session().worker().snapshot()->occupancy_threshold == 0.9; }, 10'000));
+  EXPECT_LT(window_.session().worker().snapshot()->voxels.size(), before);
+  EXPECT_FALSE(window_.fusionPanel().refuseButton().isEnabled());
+  window_.fusionPanel().resolutionBox().setValue(0.02);
+  EXPECT_TRUE(window_.fusionPanel().refuseButton().isEnabled());
+  window_.fusionPanel().refuseButton().click();
+  waitForFusion();
+  EXPECT_DOUBLE_EQ(window_.session().worker().snapshot()->resolution, 0.02);
+}
+
+TEST_F(StudioSessionTest, BoxAddedMovedUndoneRedoneSavedAndReloaded) {
+  openAndFuse();
+  AnnotationsModel& boxes = window_.session().annotations();
+  const int label = *visibleObjectLabels().begin();
+  // One box per label: drop the demo's box of this label first.
+  for (int i = 0; i < boxes.boxCount(); ++i)
+    if (boxes.box(i).label == label) boxes.removeBox(i);
+  const int initial = boxes.boxCount();
+  window_.session().setSelectedLabel(label);
+  QAction* add = window_.findAction("Add Box from Label Voxels");
+  ASSERT_NE(add, nullptr);
+  ASSERT_TRUE(add->isEnabled());
+  add->trigger();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return boxes.boxCount() == initial + 1; }, kTimeoutMs));
+  EXPECT_EQ(boxes.selected(), initial);
+  EXPECT_TRUE(boxes.isDirty());
+  EXPECT_TRUE(window_.isWindowModified());
+  const GroundTruthBox added = boxes.box(initial);
+  EXPECT_EQ(added.label, label);
+  // The fitted box overlaps the object's true box.
+  const GroundTruthBox* truth = truth_.find(label);
+  ASSERT_NE(truth, nullptr);
+  EXPECT_LT((added.box.center - truth->box.center).norm(), 0.05);
+
+  // W moves the box forward along its own x axis by the move step.
+  window_.activateWindow();
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&window_));
+  window_.sceneView().setFocus();
+  QTest::keyClick(QApplication::focusWidget() ? QApplication::focusWidget() : &window_, Qt::Key_W);
+  const GroundTruthBox moved = boxes.box(initial);
+  const Eigen::Vector3d step = added.box.rotation * Eigen::Vector3d(BoxSteps::load().move, 0, 0);
+  EXPECT_LT((moved.box.center - (added.box.center + step)).norm(), 1e-9);
+  // The numeric fields follow.
+  EXPECT_NEAR(window_.findChild<QDoubleSpinBox*>("boxField0")->value(), moved.box.center.x(), 1e-3);
+
+  boxes.undoStack().undo();
+  EXPECT_LT((boxes.box(initial).box.center - added.box.center).norm(), 1e-12);
+  boxes.undoStack().redo();
+  EXPECT_LT((boxes.box(initial).box.center - moved.box.center).norm(), 1e-12);
+
+  QAction* save = window_.findAction("Save Boxes");
+  ASSERT_NE(save, nullptr);
+  save->trigger();
+  EXPECT_TRUE(errors_.empty()) << errors_.front().toStdString();
+  EXPECT_FALSE(boxes.isDirty());
+  EXPECT_FALSE(window_.isWindowModified());
+
+  const Annotations saved = boxes.annotations();
+  boxes.reset({}, {});
+  ASSERT_EQ(loadBoxes(window_.session(), qPath(folder_ / "annotations.json")).toStdString(), "");
+  ASSERT_EQ(boxes.boxCount(), static_cast<int>(saved.boxes.size()));
+  for (int i = 0; i < boxes.boxCount(); ++i) {
+    EXPECT_EQ(boxes.box(i).label, saved.boxes[static_cast<size_t>(i)].label);
+    EXPECT_LT((boxes.box(i).box.center - saved.boxes[static_cast<size_t>(i)].box.center).norm(), 1e-9);
+    EXPECT_LT((boxes.box(i).box.size - saved.boxes[static_cast<size_t>(i)].box.size).norm(), 1e-9);
+    EXPECT_LT(boxes.box(i).box.rotation.angularDistance(saved.boxes[static_cast<size_t>(i)].box.rotation),
+              1e-9);
+  }
+
+  // Delete is undoable too.
+  boxes.select(0);
+  QTest::keyClick(QApplication::focusWidget() ? QApplication::focusWidget() : &window_, Qt::Key_Delete);
+  EXPECT_EQ(boxes.boxCount(), static_cast<int>(saved.boxes.size()) - 1);
+  boxes.undoStack().undo();
+  EXPECT_EQ(boxes.boxCount(), static_cast<int>(saved.boxes.size()));
+}
+
+TEST_F(StudioSessionTest, UnsavedBoxesAreOfferedBackFromTheRecoveryFile) {
+  openAndFuse();
+  AnnotationsModel& boxes = window_.session().annotations();
+  const int initial = boxes.boxCount();
+  boxes.removeBox(0);
+  window_.autosave().writeNow();
+  const QString recovery = window_.autosave().currentRecoveryPath();
+  ASSERT_TRUE(QFileInfo::exists(recovery));
+
+  MainWindow next;
+  next.setErrorReporter([](const QString&, const QString&) {});
+  next.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&next));
+  QString offered;
+  next.setRecoveryOffer([&](const QString& file) {
+    offered = file;
+    return true;
+  });
+  next.session().setAutoFuse(false);
+  ASSERT_TRUE(next.controller().openSequence(qPath(folder_)));
+  EXPECT_EQ(offered, recovery);
+  EXPECT_EQ(next.session().annotations().boxCount(), initial - 1);
+  EXPECT_TRUE(next.session().annotations().isDirty());
+  // Saving goes to the real file and drops the recovery copy.
+  EXPECT_EQ(saveBoxes(next.session(), qPath(folder_ / "annotations.json")), QString());
+  EXPECT_FALSE(QFileInfo::exists(recovery));
+}
+
+TEST_F(StudioSessionTest, EvaluationPanelShowsWhatTheScoreCommandComputes) {
+  openAndFuse();
+  waitForEvaluation();
+  EvaluationPanel& panel = window_.evaluationPanel();
+  ASSERT_TRUE(panel.report().has_value()) << panel.summaryText().toStdString();
+
+  // `labeloctomap score SEQ --annotations annotations.json` runs scoreSequence.
+  ScoreInputs inputs;
+  inputs.sequence = folder_;
+  inputs.annotations = folder_ / "annotations.json";
+  EvaluationOptions options;
+  options.fusion = window_.session().fusionOptions();
+  const EvaluationReport expected = scoreSequence(inputs, options);
+
+  QTableWidget& table = panel.table();
+  ASSERT_EQ(table.rowCount(), static_cast<int>(expected.objects.size()));
+  table.sortItems(EvaluationPanel::LabelOctoMap, Qt::DescendingOrder);  // sortable; order free
+  for (int row = 0; row < table.rowCount(); ++row) {
+    const int label = table.item(row, EvaluationPanel::Label)->data(EvaluationPanel::kValueRole).toInt();
+    const auto object = std::find_if(expected.objects.begin(), expected.objects.end(),
+                                     [&](const ObjectScore& o) { return o.label == label; });
+    ASSERT_NE(object, expected.objects.end());
+    auto value = [&](int column) {
+      return table.item(row, column)->data(EvaluationPanel::kValueRole).toDouble();
+    };
+    EXPECT_NEAR(value(EvaluationPanel::ProjectionMean), object->iou_3d.projection_mean, 1e-12);
+    EXPECT_NEAR(value(EvaluationPanel::ProjectionMax), object->iou_3d.projection_max, 1e-12);
+    EXPECT_NEAR(value(EvaluationPanel::LabelOctoMap), object->iou_3d.labeloctomap, 1e-12);
+    EXPECT_NEAR(value(EvaluationPanel::BoxIou), object->box_iou.labeloctomap, 1e-12);
+    EXPECT_EQ(static_cast<size_t>(value(EvaluationPanel::Voxels)), object->voxels);
+  }
+  EXPECT_NEAR(panel.report()->summary.iou_3d.labeloctomap, expected.summary.iou_3d.labeloctomap,
+              1e-12);
+  EXPECT_TRUE(panel.summaryText().contains(
+      QString::number(expected.summary.iou_3d.labeloctomap * 100.0, 'f', 1)));
+
+  // Export report writes the CLI's files.
+  const auto out = temp_.path() / "report";
+  EXPECT_EQ(panel.exportReport(qPath(out)), QString());
+  for (const char* name : {"report.json", "report.csv", "report.md", "report.svg"})
+    EXPECT_TRUE(std::filesystem::exists(out / name)) << name;
+
+  // A box change triggers a new evaluation.
+  window_.session().annotations().removeBox(0);
+  EXPECT_TRUE(panel.isBusy());
+  waitForEvaluation();
+  EXPECT_EQ(table.rowCount(), static_cast<int>(expected.objects.size()) - 1);
+}
+
+TEST_F(StudioSessionTest, HeatMapHoverPickingAndProjectionVoxels) {
+  openAndFuse();
+  const int label = *visibleObjectLabels().begin();
+  window_.session().setSelectedLabel(label);
+  EXPECT_FALSE(window_.frameImages().heatPane().image().isNull());
+  window_.frameImages().hoverPixel(QPoint(80, 60));
+  EXPECT_TRUE(window_.frameImages().readoutText().contains("(80, 60)"))
+      << window_.frameImages().readoutText().toStdString();
+
+  // Picking the centre of a voxel of the label reports that label first.
+  const auto snapshot = window_.session().worker().snapshot();
+  const auto voxel = std::find_if(snapshot->voxels.begin(), snapshot->voxels.end(),
+                                  [&](const OccupiedVoxel& v) { return v.label == label; });
+  ASSERT_NE(voxel, snapshot->voxels.end());
+  auto* picked = window_.findChild<PickedVoxelView*>("pickedVoxel");
+  ASSERT_NE(picked, nullptr);
+  window_.session().worker().pick(voxel->center);
+  const QString name = QString::fromStdString(window_.session().sequence()->labels.at(label).name);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return picked->text().contains("Occupied"); }, 10'000));
+  EXPECT_TRUE(picked->text().contains(name)) << picked->text().toStdString();
+
+  // Export ▸ Point Cloud writes the map's voxels on the worker.
+  QAction* pcd = window_.findAction("Point Cloud (PCD)…");
+  ASSERT_NE(pcd, nullptr);
+  ASSERT_TRUE(pcd->isEnabled());
+  auto* exporter = pcd->findChild<ExportMapReaction*>();
+  ASSERT_NE(exporter, nullptr);
+  bool exported = false;
+  QObject::connect(exporter, &ExportMapReaction::finished, [&](const QString&, bool ok) { exported = ok; });
+  exporter->exportTo(qPath(temp_.path() / "map.pcd"));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return exported; }, 30'000));
+  EXPECT_TRUE(std::filesystem::exists(temp_.path() / "map.pcd"));
+
+  QAction* projection = window_.findAction("Show Projection Voxels of This View");
+  ASSERT_NE(projection, nullptr);
+  projection->trigger();
+  EXPECT_GT(window_.sceneView().projectionVoxelCount(), 0u);
+  projection->trigger();
+  EXPECT_EQ(window_.sceneView().projectionVoxelCount(), 0u);
+}
+
+TEST_F(StudioSessionTest, ScreenshotAfterFusionShowsLabelColours) {
+  openAndFuse();
+  window_.sceneView().setFrameCloudVisible(false);  // only the map's voxels
+  const QImage shot = captureWindow(window_, window_.sceneView());
+  ASSERT_FALSE(shot.isNull());
+  const QRect area(window_.sceneView().mapTo(&window_, QPoint(0, 0)), window_.sceneView().size());
+  std::map<int, size_t> pixels_per_label;
+  for (int y = area.top(); y <= area.bottom(); y += 2)
+    for (int x = area.left(); x <= area.right(); x += 2) {
+      const QRgb pixel = shot.pixel(x, y);
+      for (int label : visibleObjectLabels()) {
+        const Rgb c = vocColor(label);
+        // Shading darkens faces; compare the hue direction with a tolerance.
+        const double scale = std::max({qRed(pixel), qGreen(pixel), qBlue(pixel), 1}) /
+                             std::max({double(c[0]), double(c[1]), double(c[2]), 1.0});
+        if (std::abs(qRed(pixel) - c[0] * scale) < 14 && std::abs(qGreen(pixel) - c[1] * scale) < 14 &&
+            std::abs(qBlue(pixel) - c[2] * scale) < 14 && qGray(pixel) > 20)
+          ++pixels_per_label[label];
+      }
+    }
+  size_t labels_seen = 0;
+  for (int label : visibleObjectLabels()) labels_seen += pixels_per_label[label] > 20;
+  EXPECT_GE(labels_seen, 2u) << "label colours are missing from the 3D view";
+}
+
+}  // namespace
+}  // namespace lom::ui

@@ -1,0 +1,570 @@
+// Folder layouts written by the tests (frames, TUM RGB-D, quaternion poses,
+// ScanNet), imported, read back and compared; malformed inputs of each kind.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "lom/import.hpp"
+#include "lom/npy.hpp"
+#include "lom/sequence.hpp"
+#include "test_support.hpp"
+
+namespace lom {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kW = 32;
+constexpr int kH = 24;
+
+// A slanted surface with a few holes, in whole millimetres.
+DepthImage sceneDepth(int seed) {
+  DepthImage depth;
+  depth.width = kW;
+  depth.height = kH;
+  depth.metres.resize(kW * kH);
+  for (int v = 0; v < kH; ++v)
+    for (int u = 0; u < kW; ++u)
+      depth.metres[v * kW + u] = static_cast<float>((1000 + 2 * u + v + 10 * seed) / 1000.0);
+  depth.metres[5] = 0.0f;
+  return depth;
+}
+
+ColorImage sceneColor(int seed) {
+  ColorImage color;
+  color.width = kW;
+  color.height = kH;
+  color.rgb.resize(kW * kH * 3);
+  for (size_t i = 0; i < color.rgb.size(); ++i)
+    color.rgb[i] = static_cast<std::uint8_t>((i * 7 + seed * 13) % 256);
+  return color;
+}
+
+Eigen::Matrix4d scenePose(int seed) {
+  Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();
+  pose.topLeftCorner<3, 3>() =
+      Eigen::AngleAxisd(0.1 * seed, Eigen::Vector3d(0, 1, 0.2).normalized()).toRotationMatrix();
+  pose.topRightCorner<3, 1>() = Eigen::Vector3d(0.1 * seed, -0.05 * seed, 0.02);
+  return pose;
+}
+
+void writeText(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path) << text;
+}
+
+std::string matrixText(const Eigen::Matrix4d& m) {
+  std::ostringstream out;
+  out << std::setprecision(17);
+  for (int r = 0; r < 4; ++r) out << m(r, 0) << " " << m(r, 1) << " " << m(r, 2) << " " << m(r, 3) << "\n";
+  return out.str();
+}
+
+void expectDepthEqual(const DepthImage& a, const DepthImage& b, double tolerance = 1e-6) {
+  ASSERT_EQ(a.width, b.width);
+  ASSERT_EQ(a.height, b.height);
+  for (size_t i = 0; i < a.metres.size(); ++i)
+    ASSERT_NEAR(a.metres[i], b.metres[i], tolerance) << "pixel " << i;
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+bool anySkipped(const ImportReport& report, const std::string& part) {
+  for (const auto& s : report.skipped)
+    if (contains(s.reason, part)) return true;
+  return false;
+}
+
+bool anyNote(const ImportReport& report, const std::string& part) {
+  for (const auto& n : report.notes)
+    if (contains(n, part)) return true;
+  return false;
+}
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+// ---------------------------------------------------------------------------
+// frames layout
+
+void writeFramesFolder(const fs::path& dir) {
+  fs::create_directories(dir);
+  writeText(dir / "camera-intrinsics.txt", "30 0 15.5\n0 31 11.5\n0 0 1\n");
+  int seed = 0;
+  for (int number : {15, 17, 20}) {
+    char base[32];
+    std::snprintf(base, sizeof base, "frame-%06d", number);
+    DepthImage depth = sceneDepth(seed);
+    if (number == 17) depth.metres[7] = 65.535f;  // 7-Scenes' "no depth"
+    writeDepthPng(dir / (std::string(base) + ".depth.png"), depth, 0.001);
+    writeColorPng(dir / (std::string(base) + ".color.png"), sceneColor(seed));
+    if (number != 20) writeText(dir / (std::string(base) + ".pose.txt"), matrixText(scenePose(seed)));
+    ++seed;
+  }
+}
+
+TEST(ImportFrames, RoundTrip) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  const ImportReport report = importSource(SourceKind::Frames, dir / "src", dir / "seq");
+  EXPECT_EQ(report.frames_found, 3u);
+  EXPECT_EQ(report.frames_written, 2u);
+  ASSERT_EQ(report.skipped.size(), 1u);
+  EXPECT_EQ(report.skipped[0].frame, "frame-000020");
+  EXPECT_TRUE(contains(report.skipped[0].reason, "no pose file")) << report.skipped[0].reason;
+  EXPECT_TRUE(anyNote(report, "__background__"));
+
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_TRUE(validateSequence(sequence).empty());
+  EXPECT_EQ(sequence.labels.size(), 1);
+  EXPECT_EQ(sequence.camera.width, kW);
+  EXPECT_EQ(sequence.camera.height, kH);
+  EXPECT_EQ(sequence.camera.fx, 30.0);
+  EXPECT_EQ(sequence.camera.fy, 31.0);
+  EXPECT_EQ(sequence.camera.cx, 15.5);
+  ASSERT_EQ(sequence.frames.size(), 2u);
+  EXPECT_EQ(sequence.frames[0].stamp, 15.0);
+  EXPECT_EQ(sequence.frames[1].stamp, 17.0);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_TRUE(sequence.frames[i].T_world_camera.matrix().isApprox(scenePose(i), 1e-12));
+    const FrameData frame = loadFrame(sequence, i);
+    DepthImage expected = sceneDepth(i);
+    if (i == 1) expected.metres[7] = 0.0f;
+    expectDepthEqual(frame.depth, expected);
+    ASSERT_TRUE(frame.color.has_value());
+    EXPECT_EQ(frame.color->rgb, sceneColor(i).rgb);
+    ASSERT_TRUE(frame.label.has_value());
+    EXPECT_FALSE(frame.proba.has_value());
+    for (auto id : frame.label->ids) ASSERT_EQ(id, 0);
+  }
+}
+
+TEST(ImportFrames, LabelImagesBecomeOneHotProbabilities) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  for (int number : {15, 17, 20}) {
+    LabelImage label;
+    label.width = kW;
+    label.height = kH;
+    label.ids.assign(kW * kH, 0);
+    for (int i = 0; i < kW * kH / 2; ++i) label.ids[i] = 19;
+    label.ids[kW * kH - 1] = 8;
+    char name[40];
+    std::snprintf(name, sizeof name, "frame-%06d.label.png", number);
+    writeLabelPng(dir / "src" / name, label);
+  }
+  ImportOptions options;
+  options.label_confidence = 0.8;
+  const ImportReport report = importSource(SourceKind::Frames, dir / "src", dir / "seq", options);
+  ASSERT_EQ(report.frames_written, 2u);
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_TRUE(validateSequence(sequence).empty());
+  EXPECT_EQ(sequence.labels, apc2016Labels());
+  EXPECT_EQ(sequence.frames[0].proba_labels, (std::vector<int>{0, 8, 19}));
+  const FrameData frame = loadFrame(sequence, 0);
+  ASSERT_TRUE(frame.proba.has_value());
+  ASSERT_EQ(frame.proba->channels, 3);
+  const float* first = frame.proba->pixel(0, 0);  // label 19
+  EXPECT_NEAR(first[2], 0.8f, 1e-3);
+  EXPECT_NEAR(first[0], 0.1f, 1e-3);
+  EXPECT_NEAR(first[1], 0.1f, 1e-3);
+  const float* last = frame.proba->pixel(kW - 1, kH - 1);  // label 8
+  EXPECT_NEAR(last[1], 0.8f, 1e-3);
+  ASSERT_TRUE(frame.label.has_value());
+  EXPECT_EQ(frame.label->at(0, 0), 19);
+}
+
+TEST(ImportFrames, MalformedInputs) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  fs::remove(dir / "src" / "camera-intrinsics.txt");
+  EXPECT_TRUE(contains(errorOf([&] { importSource(SourceKind::Frames, dir / "src", dir / "seq"); }),
+                       "--intrinsics fx,fy,cx,cy"));
+  EXPECT_FALSE(fs::exists(dir / "seq"));
+
+  writeText(dir / "src" / "camera-intrinsics.txt", "30 0 15.5\n0 31 11.5\n");
+  EXPECT_TRUE(contains(errorOf([&] { importSource(SourceKind::Frames, dir / "src", dir / "seq"); }),
+                       "6 numbers"));
+
+  writeText(dir / "src" / "camera-intrinsics.txt", "30 0 15.5\n0 31 11.5\n0 0 1\n");
+  writeText(dir / "src" / "frame-000015.pose.txt", "1 0 0 0\n0 1 0 0\nzero 0 1 0\n0 0 0 1\n");
+  writeText(dir / "src" / "frame-000017.pose.txt",
+            "-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf\n0 0 0 1\n");
+  writeText(dir / "src" / "frame-000020.pose.txt", "2 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
+  const std::string all_bad =
+      errorOf([&] { importSource(SourceKind::Frames, dir / "src", dir / "seq"); });
+  EXPECT_TRUE(contains(all_bad, "at least one frame")) << all_bad;
+  EXPECT_TRUE(contains(all_bad, "'zero'")) << all_bad;
+  EXPECT_FALSE(fs::exists(dir / "seq")) << "nothing left behind";
+
+  writeText(dir / "src" / "frame-000015.pose.txt", matrixText(scenePose(0)));
+  // An 8-bit depth image is refused with the file named.
+  cv::imwrite((dir / "src" / "frame-000017.depth.png").string(), cv::Mat(kH, kW, CV_8UC1, cv::Scalar(9)));
+  const ImportReport report = importSource(SourceKind::Frames, dir / "src", dir / "seq");
+  EXPECT_EQ(report.frames_written, 1u);
+  EXPECT_TRUE(anySkipped(report, "frame-000017.depth.png")) << report.text();
+  EXPECT_TRUE(anySkipped(report, "16-bit")) << report.text();
+  EXPECT_TRUE(anySkipped(report, "det R = 2")) << report.text();
+
+  // An existing sequence is not replaced without the overwrite option.
+  EXPECT_TRUE(contains(errorOf([&] { importSource(SourceKind::Frames, dir / "src", dir / "seq"); }),
+                       "already holds sequence.json"));
+  ImportOptions overwrite;
+  overwrite.overwrite = true;
+  EXPECT_EQ(importSource(SourceKind::Frames, dir / "src", dir / "seq", overwrite).frames_written, 1u);
+  EXPECT_TRUE(contains(errorOf([&] { importSource(SourceKind::Frames, dir / "src", dir / "src"); }),
+                       "other than the source"));
+}
+
+TEST(ImportFrames, SubsetAndCancel) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  ImportOptions options;
+  options.first_frame = 1;
+  const ImportReport report = importSource(SourceKind::Frames, dir / "src", dir / "seq", options);
+  EXPECT_EQ(report.frames_found, 3u);
+  EXPECT_EQ(report.frames_written, 1u);  // 17 written, 20 has no pose
+  const ImportReport cancelled = importSource(
+      SourceKind::Frames, dir / "src", dir / "cancelled", {},
+      [](const ImportProgress& p) { return p.done < 1; });
+  EXPECT_TRUE(cancelled.cancelled);
+  EXPECT_FALSE(fs::exists(dir / "cancelled"));
+}
+
+TEST(ImportFrames, DepthOfAnotherSizeGetsScaledIntrinsics) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  DepthImage big;
+  big.width = 2 * kW;
+  big.height = 2 * kH;
+  big.metres.assign(4 * kW * kH, 1.5f);
+  writeDepthPng(dir / "src" / "frame-000017.depth.png", big, 0.001);
+  const ImportReport report = importSource(SourceKind::Frames, dir / "src", dir / "seq");
+  ASSERT_EQ(report.frames_written, 2u);
+  EXPECT_TRUE(anyNote(report, "intrinsics scaled")) << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_TRUE(validateSequence(sequence).empty());
+  ASSERT_TRUE(sequence.frames[1].camera.has_value());
+  EXPECT_EQ(sequence.frames[1].camera->width, 2 * kW);
+  EXPECT_DOUBLE_EQ(sequence.frames[1].camera->fx, 60.0);
+  EXPECT_DOUBLE_EQ(sequence.frames[1].camera->cx, 31.5);
+  EXPECT_FALSE(sequence.frames[0].camera.has_value());
+}
+
+TEST(ImportOpen, ConvertsIntoACacheAndReusesIt) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  const OpenedSource first = openSource(dir / "src", {}, dir / "cache");
+  EXPECT_EQ(first.kind, SourceKind::Frames);
+  EXPECT_TRUE(first.converted);
+  EXPECT_FALSE(first.reused_cache);
+  EXPECT_EQ(first.sequence.frames.size(), 2u);
+  EXPECT_EQ(first.report.frames_written, 2u);
+  EXPECT_EQ(first.folder.parent_path(), dir / "cache");
+  const OpenedSource second = openSource(dir / "src", {}, dir / "cache");
+  EXPECT_TRUE(second.reused_cache);
+  EXPECT_EQ(second.folder, first.folder);
+  EXPECT_EQ(second.sequence.frames.size(), 2u);
+  // Other options: another conversion.
+  ImportOptions subset;
+  subset.max_frames = 1;
+  const OpenedSource third = openSource(dir / "src", subset, dir / "cache");
+  EXPECT_FALSE(third.reused_cache);
+  EXPECT_NE(third.folder, first.folder);
+  EXPECT_EQ(third.sequence.frames.size(), 1u);
+  // A changed source: converted again.
+  writeText(dir / "src" / "frame-000020.pose.txt", matrixText(scenePose(2)));
+  const OpenedSource fourth = openSource(dir / "src", {}, dir / "cache");
+  EXPECT_FALSE(fourth.reused_cache);
+  EXPECT_EQ(fourth.sequence.frames.size(), 3u);
+  // A sequence opens as it is.
+  const OpenedSource sequence = openSource(first.folder / "sequence.json", {}, dir / "cache");
+  EXPECT_EQ(sequence.kind, SourceKind::Sequence);
+  EXPECT_FALSE(sequence.converted);
+  EXPECT_EQ(sequence.folder, first.folder);
+  // Unknown things are refused with the explanation.
+  fs::create_directories(dir / "empty");
+  EXPECT_TRUE(contains(errorOf([&] { (void)openSource(dir / "empty", {}, dir / "cache"); }),
+                       "an empty folder"));
+}
+
+// ---------------------------------------------------------------------------
+// TUM RGB-D
+
+struct TumFixture {
+  fs::path dir;
+  std::vector<double> depth_stamps{100.0, 100.033, 100.066, 100.2};
+  std::vector<double> rgb_stamps{100.01, 100.043, 100.5};
+
+  static Eigen::Vector3d position(double t) { return {t - 100.0, 2.0 * (t - 100.0), 1.0}; }
+  static Eigen::Quaterniond rotation(double t) {
+    return Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * (t - 100.0), Eigen::Vector3d::UnitZ()));
+  }
+
+  explicit TumFixture(const fs::path& folder) : dir(folder) {
+    fs::create_directories(dir / "rgb");
+    fs::create_directories(dir / "depth");
+    std::ostringstream depth_list, rgb_list, gt;
+    depth_list << "# depth maps\n# file: 'test.bag'\n# timestamp filename\n" << std::fixed
+               << std::setprecision(6);
+    rgb_list << "# color images\n" << std::fixed << std::setprecision(6);
+    for (size_t i = 0; i < depth_stamps.size(); ++i) {
+      std::ostringstream name;
+      name << std::fixed << std::setprecision(6) << "depth/" << depth_stamps[i] << ".png";
+      DepthImage depth = sceneDepth(static_cast<int>(i));
+      writeDepthPng(dir / name.str(), depth, 1.0 / 5000.0);
+      depth_list << depth_stamps[i] << " " << name.str() << "\n";
+    }
+    for (size_t i = 0; i < rgb_stamps.size(); ++i) {
+      std::ostringstream name;
+      name << std::fixed << std::setprecision(6) << "rgb/" << rgb_stamps[i] << ".png";
+      writeColorPng(dir / name.str(), sceneColor(static_cast<int>(i)));
+      rgb_list << rgb_stamps[i] << " " << name.str() << "\n";
+    }
+    // Groundtruth at 100 Hz from 99.95 to 100.07; the frame at 100.2 has none.
+    gt << "# ground truth trajectory\n# timestamp tx ty tz qx qy qz qw\n" << std::setprecision(17);
+    for (int k = -5; k <= 7; ++k) {
+      const double t = 100.0 + 0.01 * k;
+      const auto p = position(t);
+      const auto q = rotation(t);
+      gt << t << " " << p.x() << " " << p.y() << " " << p.z() << " " << q.x() << " " << q.y()
+         << " " << q.z() << " " << q.w() << "\n";
+    }
+    writeText(dir / "depth.txt", depth_list.str());
+    writeText(dir / "rgb.txt", rgb_list.str());
+    writeText(dir / "groundtruth.txt", gt.str());
+  }
+};
+
+TEST(ImportTum, RoundTripWithAssociationAndInterpolation) {
+  test::TempDir dir;
+  TumFixture tum(dir / "rgbd_dataset_freiburg1_test");
+  ImportOptions options;
+  options.depth_filter.flying_pixels = false;
+  const ImportReport report = importSource(std::nullopt, tum.dir, dir / "seq", options);
+  EXPECT_EQ(report.kind, SourceKind::Tum);
+  EXPECT_EQ(report.frames_found, 4u);
+  EXPECT_EQ(report.frames_written, 3u);
+  EXPECT_TRUE(anySkipped(report, "no groundtruth pose within 0.02 s of 100.200000")) << report.text();
+  EXPECT_TRUE(anyNote(report, "freiburg1")) << report.text();
+  EXPECT_TRUE(anyNote(report, "without colour")) << report.text();
+
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_TRUE(validateSequence(sequence).empty());
+  EXPECT_DOUBLE_EQ(sequence.camera.fx, 517.3);
+  EXPECT_DOUBLE_EQ(sequence.camera.cy, 255.3);
+  EXPECT_DOUBLE_EQ(sequence.camera.depth_scale, 1.0 / 5000.0);
+  ASSERT_EQ(sequence.frames.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    const double t = tum.depth_stamps[i];
+    EXPECT_DOUBLE_EQ(sequence.frames[i].stamp, t);
+    EXPECT_TRUE(sequence.frames[i].T_world_camera.translation().isApprox(
+        TumFixture::position(t), 1e-9))
+        << "interpolated between the 100 Hz samples";
+    EXPECT_TRUE(sequence.frames[i].T_world_camera.linear().isApprox(
+        TumFixture::rotation(t).toRotationMatrix(), 1e-9));
+    const FrameData frame = loadFrame(sequence, i);
+    expectDepthEqual(frame.depth, sceneDepth(static_cast<int>(i)), 1e-6);
+    EXPECT_EQ(frame.color.has_value(), i < 2) << "rgb at 100.5 is too far from 100.066";
+    if (frame.color) {
+      EXPECT_EQ(frame.color->rgb, sceneColor(static_cast<int>(i)).rgb);
+    }
+  }
+
+  // A clock offset: with every image stamp 1000 s late nothing has a pose,
+  // unless the offset is given.
+  options.time_offset = 1000.0;
+  EXPECT_TRUE(contains(errorOf([&] { importSource(SourceKind::Tum, tum.dir, dir / "late", options); }),
+                       "no groundtruth pose"));
+}
+
+TEST(ImportTum, MalformedInputs) {
+  test::TempDir dir;
+  TumFixture tum(dir / "tum");
+  writeText(tum.dir / "groundtruth.txt", "# header\n100.0 1 2 3 0 0 0\n");
+  const std::string gt = errorOf([&] { importSource(SourceKind::Tum, tum.dir, dir / "seq"); });
+  EXPECT_TRUE(contains(gt, "groundtruth.txt: line 2: expected 8 numbers")) << gt;
+  fs::remove(tum.dir / "groundtruth.txt");
+  EXPECT_TRUE(contains(errorOf([&] { importSource(SourceKind::Tum, tum.dir, dir / "seq"); }),
+                       "groundtruth.txt"));
+  writeText(tum.dir / "depth.txt", "100.0\n");
+  const std::string list = errorOf([&] { importSource(SourceKind::Tum, tum.dir, dir / "seq"); });
+  EXPECT_TRUE(contains(list, "depth.txt: line 1: expected 'timestamp filename'")) << list;
+  // Without freiburg in the name: default intrinsics, noted.
+  TumFixture plain(dir / "plain");
+  const ImportReport report = importSource(SourceKind::Tum, plain.dir, dir / "seq2");
+  EXPECT_TRUE(anyNote(report, "default intrinsics")) << report.text();
+}
+
+// ---------------------------------------------------------------------------
+// Quaternion layout (kinect-room-5)
+
+void writeQuaternionFolder(const fs::path& dir) {
+  fs::create_directories(dir / "color");
+  fs::create_directories(dir / "depth");
+  std::ostringstream poses;
+  poses << std::setprecision(17);
+  for (int n = 1; n <= 3; ++n) {
+    const DepthImage depth = sceneDepth(n);
+    cv::Mat mm(kH, kW, CV_16UC1);
+    for (int v = 0; v < kH; ++v)
+      for (int u = 0; u < kW; ++u)
+        mm.at<std::uint16_t>(v, u) =
+            static_cast<std::uint16_t>(std::lround(depth.metres[v * kW + u] * 1000.0));
+    cv::imwrite((dir / "depth" / (std::to_string(n) + ".pgm")).string(), mm);
+    writeColorPng(dir / "color" / (std::to_string(n) + ".png"), sceneColor(n));
+    const Eigen::Matrix4d pose = scenePose(n);
+    const Eigen::Quaterniond q(Eigen::Matrix3d(pose.topLeftCorner<3, 3>()));
+    poses << pose(0, 3) << " " << pose(1, 3) << " " << pose(2, 3) << " " << q.x() << " " << q.y()
+          << " " << q.z() << " " << q.w() << "\n";
+  }
+  writeText(dir / "pose.txt", poses.str());
+}
+
+TEST(ImportQuaternion, RoundTripWithIntrinsicsOption) {
+  test::TempDir dir;
+  writeQuaternionFolder(dir / "room");
+  ImportOptions options;
+  options.intrinsics = parseIntrinsics("30,31,15.5,11.5");
+  const ImportReport report = importSource(std::nullopt, dir / "room", dir / "seq", options);
+  EXPECT_EQ(report.kind, SourceKind::Quaternion);
+  EXPECT_EQ(report.frames_written, 3u);
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_TRUE(validateSequence(sequence).empty());
+  EXPECT_EQ(sequence.camera.fy, 31.0);
+  EXPECT_EQ(sequence.camera.width, kW);
+  for (int n = 1; n <= 3; ++n) {
+    EXPECT_TRUE(sequence.frames[n - 1].T_world_camera.matrix().isApprox(scenePose(n), 1e-9));
+    const FrameData frame = loadFrame(sequence, n - 1);
+    expectDepthEqual(frame.depth, sceneDepth(n));
+    EXPECT_EQ(frame.color->rgb, sceneColor(n).rgb);
+  }
+}
+
+TEST(ImportQuaternion, MalformedInputs) {
+  test::TempDir dir;
+  writeQuaternionFolder(dir / "room");
+  const std::string none = errorOf([&] { importSource(SourceKind::Quaternion, dir / "room", dir / "seq"); });
+  EXPECT_TRUE(contains(none, "--intrinsics fx,fy,cx,cy")) << none;
+  // An intrinsics file in the folder is found.
+  writeText(dir / "room" / "intrinsics.txt", "30 31 15.5 11.5\n");
+  EXPECT_EQ(importSource(SourceKind::Quaternion, dir / "room", dir / "seq").frames_written, 3u);
+  // Fewer poses than images: the last frame is skipped, the mismatch noted.
+  writeText(dir / "room" / "pose.txt", "0 0 0 0 0 0 1\n0.1 0 0 0 0 0 1\n");
+  const ImportReport report = importSource(SourceKind::Quaternion, dir / "room", dir / "seq2");
+  EXPECT_EQ(report.frames_written, 2u);
+  EXPECT_TRUE(anySkipped(report, "no pose for it in pose.txt"));
+  EXPECT_TRUE(anyNote(report, "2 poses for 3 depth images"));
+  writeText(dir / "room" / "pose.txt", "0 0 0 0 0 1\n");
+  const std::string short_line =
+      errorOf([&] { importSource(SourceKind::Quaternion, dir / "room", dir / "seq3"); });
+  EXPECT_TRUE(contains(short_line, "pose.txt: line 1: expected 7 numbers")) << short_line;
+  writeText(dir / "room" / "pose.txt", "0 0 0 0 0 0 0\n0 0 0 0 0 0 1\n0 0 0 0 0 0 1\n");
+  const ImportReport zero = importSource(SourceKind::Quaternion, dir / "room", dir / "seq4");
+  EXPECT_TRUE(anySkipped(zero, "zero or non-finite quaternion")) << zero.text();
+}
+
+// ---------------------------------------------------------------------------
+// ScanNet
+
+void writeScanNetScene(const fs::path& dir, bool with_tsv) {
+  for (const char* sub : {"color", "depth", "pose", "intrinsic", "label-filt"})
+    fs::create_directories(dir / sub);
+  // Depth camera 32 x 24; colour 64 x 48 with the same field of view.
+  writeText(dir / "intrinsic" / "intrinsic_depth.txt",
+            "30 0 15.5 0\n0 31 11.5 0\n0 0 1 0\n0 0 0 1\n");
+  writeText(dir / "intrinsic" / "intrinsic_color.txt",
+            "60 0 31.5 0\n0 62 23.5 0\n0 0 1 0\n0 0 0 1\n");
+  for (int n = 0; n < 3; ++n) {
+    writeDepthPng(dir / "depth" / (std::to_string(n) + ".png"), sceneDepth(n), 0.001);
+    cv::Mat color(2 * kH, 2 * kW, CV_8UC3, cv::Scalar(40, 120, 200));  // BGR
+    cv::imwrite((dir / "color" / (std::to_string(n) + ".jpg")).string(), color);
+    cv::Mat label(2 * kH, 2 * kW, CV_16UC1, cv::Scalar(0));
+    label(cv::Rect(0, 8, kW, 2 * kH - 8)).setTo(5);           // left half: ScanNet id 5
+    label(cv::Rect(kW, 8, kW, 2 * kH - 8)).setTo(1234);       // right half: id 1234
+    cv::imwrite((dir / "label-filt" / (std::to_string(n) + ".png")).string(), label);
+    writeText(dir / "pose" / (std::to_string(n) + ".txt"),
+              n == 1 ? "-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf\n-inf -inf -inf -inf\n"
+                     : matrixText(scenePose(n)));
+  }
+  if (with_tsv)
+    writeText(dir / "scannetv2-labels.combined.tsv",
+              "id\traw_category\tcategory\tcount\n5\tchair\tchair\t10\n1234\tmug\tcup\t3\n");
+}
+
+TEST(ImportScanNet, RoundTripWithResampledColourAndLabels) {
+  test::TempDir dir;
+  writeScanNetScene(dir / "scene0000_00", true);
+  const ImportReport report = importSource(std::nullopt, dir / "scene0000_00", dir / "seq");
+  EXPECT_EQ(report.kind, SourceKind::ScanNet);
+  EXPECT_EQ(report.frames_written, 2u);
+  EXPECT_TRUE(anySkipped(report, "inf or NaN")) << report.text();
+  EXPECT_TRUE(anyNote(report, "resampled to the depth camera")) << report.text();
+
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_TRUE(validateSequence(sequence).empty());
+  ASSERT_EQ(sequence.labels.size(), 3);
+  EXPECT_EQ(sequence.labels.at(1).name, "chair");
+  EXPECT_EQ(sequence.labels.at(2).name, "cup");
+  EXPECT_EQ(sequence.camera.fx, 30.0);
+  EXPECT_EQ(sequence.camera.width, kW);
+  EXPECT_TRUE(sequence.frames[1].T_world_camera.matrix().isApprox(scenePose(2), 1e-12));
+  const FrameData frame = loadFrame(sequence, 0);
+  expectDepthEqual(frame.depth, sceneDepth(0));
+  ASSERT_TRUE(frame.color.has_value());
+  EXPECT_EQ(frame.color->width, kW);
+  EXPECT_NEAR(frame.color->rgb[3 * (10 * kW + 10)], 200, 6);  // R after JPEG
+  ASSERT_TRUE(frame.label.has_value());
+  ASSERT_EQ(frame.label->width, kW);
+  EXPECT_EQ(frame.label->at(0, 0), 0);
+  EXPECT_EQ(frame.label->at(kW / 2 - 1, kH / 2), 1) << "left half: chair";
+  EXPECT_EQ(frame.label->at(kW / 2, kH / 2), 2) << "right half: cup";
+  ASSERT_TRUE(frame.proba.has_value());
+  EXPECT_EQ(sequence.frames[0].proba_labels, (std::vector<int>{0, 1, 2}));
+  EXPECT_NEAR(frame.proba->pixel(kW / 2, kH / 2)[2], 0.9f, 1e-3);
+  EXPECT_NEAR(frame.proba->pixel(kW / 2, kH / 2)[0], 0.05f, 1e-3);
+}
+
+TEST(ImportScanNet, NamesWithoutTheLabelTableAndMalformedInputs) {
+  test::TempDir dir;
+  writeScanNetScene(dir / "scene", false);
+  ImportOptions options;
+  options.frame_step = 2;
+  const ImportReport report = importSource(SourceKind::ScanNet, dir / "scene", dir / "seq", options);
+  EXPECT_EQ(report.frames_written, 2u);
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_EQ(sequence.labels.at(2).name, "scannet_1234");
+
+  fs::remove(dir / "scene" / "intrinsic" / "intrinsic_depth.txt");
+  EXPECT_TRUE(contains(errorOf([&] { importSource(SourceKind::ScanNet, dir / "scene", dir / "s2"); }),
+                       "intrinsic_depth.txt"));
+  writeText(dir / "scene" / "intrinsic" / "intrinsic_depth.txt", "30 0 15.5\n");
+  EXPECT_TRUE(contains(errorOf([&] { importSource(SourceKind::ScanNet, dir / "scene", dir / "s2"); }),
+                       "3 numbers"));
+  writeText(dir / "scene" / "intrinsic" / "intrinsic_depth.txt",
+            "30 0 15.5 0\n0 31 11.5 0\n0 0 1 0\n0 0 0 1\n");
+  fs::remove(dir / "scene" / "label-filt" / "2.png");
+  const ImportReport missing = importSource(SourceKind::ScanNet, dir / "scene", dir / "s3");
+  EXPECT_TRUE(anySkipped(missing, "a label image for every frame")) << missing.text();
+  // A colour image of another aspect ratio without a colour camera is left out.
+  fs::remove(dir / "scene" / "intrinsic" / "intrinsic_color.txt");
+  cv::imwrite((dir / "scene" / "color" / "0.jpg").string(), cv::Mat(10, 50, CV_8UC3, cv::Scalar(1, 2, 3)));
+  fs::remove_all(dir / "scene" / "label-filt");
+  const ImportReport odd = importSource(SourceKind::ScanNet, dir / "scene", dir / "s4");
+  EXPECT_TRUE(anyNote(odd, "another aspect ratio")) << odd.text();
+}
+
+}  // namespace
+}  // namespace lom

@@ -1,0 +1,438 @@
+// ROS 1 bags written with the rosbag API, imported, read back and compared;
+// malformed bags. Without bag support in the build, the import must say so.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+#include "lom/import.hpp"
+#include "lom/sequence.hpp"
+#include "test_support.hpp"
+
+#ifdef LOM_WITH_ROSBAG
+#include <rosbag/bag.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/CompressedImage.h>
+#include <sensor_msgs/Image.h>
+#include <tf2_msgs/TFMessage.h>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#endif
+
+namespace lom {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(ImportRosbag, NotABagFileIsReported) {
+  test::TempDir dir;
+  std::ofstream(dir / "broken.bag") << "this is not a bag\n";
+  const std::string error =
+      errorOf([&] { importSource(SourceKind::RosBag, dir / "broken.bag", dir / "seq"); });
+  if (rosbagSupported())
+    EXPECT_NE(error.find("expected a readable ROS 1 bag"), std::string::npos) << error;
+  else
+    EXPECT_NE(error.find("no ROS bag support"), std::string::npos) << error;
+  EXPECT_FALSE(fs::exists(dir / "seq"));
+}
+
+#ifdef LOM_WITH_ROSBAG
+
+constexpr int kW = 32;
+constexpr int kH = 24;
+const char* const kOptical = "camera_depth_optical_frame";
+
+float depthAt(int u, int v, int frame) { return static_cast<float>((900 + 3 * u + 2 * v + 7 * frame) / 1000.0); }
+
+// world -> base_link moves along x at 1 m/s and turns about z; base_link ->
+// the optical frame is static.
+Eigen::Isometry3d worldBase(double t) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(t - 10.0, 0.5, 0.2);
+  T.linear() = Eigen::AngleAxisd(0.3 * (t - 10.0), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return T;
+}
+Eigen::Isometry3d baseCamera() {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(0.1, 0.0, 0.3);
+  // Optical frame: z forward along base x, x right along -base y, y down along -base z.
+  Eigen::Matrix3d R;
+  R << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  T.linear() = R;
+  return T;
+}
+
+geometry_msgs::TransformStamped transformMsg(const Eigen::Isometry3d& T, const std::string& parent,
+                                             const std::string& child, double stamp) {
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = ros::Time(stamp);
+  t.header.frame_id = parent;
+  t.child_frame_id = child;
+  t.transform.translation.x = T.translation().x();
+  t.transform.translation.y = T.translation().y();
+  t.transform.translation.z = T.translation().z();
+  const Eigen::Quaterniond q(T.linear());
+  t.transform.rotation.x = q.x();
+  t.transform.rotation.y = q.y();
+  t.transform.rotation.z = q.z();
+  t.transform.rotation.w = q.w();
+  return t;
+}
+
+struct BagSpec {
+  std::string depth_encoding = "16UC1";  // or 32FC1
+  bool color = true;
+  bool compressed_color = false;
+  bool camera_info = true;
+  int proba_channels = 3;  // 0: none
+  std::string proba_encoding = "32FC";
+  bool label = false;
+  double image_clock_offset = 0.0;  // added to image stamps (not tf)
+  bool second_depth_topic = false;
+  bool bad_step_in_frame_2 = false;
+  int frames = 5;
+  int proba_width = kW;  // probabilities of another resolution than depth
+  int proba_height = kH;
+};
+
+void writeBag(const fs::path& path, const BagSpec& spec) {
+  rosbag::Bag bag(path.string(), rosbag::bagmode::Write);
+  // tf at 20 Hz from 9.95 to 10.30; the frame at 10.4 has no pose.
+  for (int k = -1; k <= 6; ++k) {
+    const double t = 10.0 + 0.05 * k;
+    tf2_msgs::TFMessage tf;
+    tf.transforms.push_back(transformMsg(worldBase(t), "world", "base_link", t));
+    bag.write("/tf", ros::Time(t), tf);
+  }
+  tf2_msgs::TFMessage static_tf;
+  static_tf.transforms.push_back(transformMsg(baseCamera(), "base_link", kOptical, 9.9));
+  bag.write("/tf_static", ros::Time(9.9), static_tf);
+
+  for (int f = 0; f < spec.frames; ++f) {
+    const double t = 10.0 + 0.1 * f + spec.image_clock_offset;
+    const ros::Time stamp(t);
+    sensor_msgs::Image depth;
+    depth.header.stamp = stamp;
+    depth.header.frame_id = kOptical;
+    depth.width = kW;
+    depth.height = kH;
+    depth.encoding = spec.depth_encoding;
+    const bool is_float = spec.depth_encoding == "32FC1";
+    depth.step = kW * (is_float ? 4 : 2);
+    depth.data.resize(depth.step * kH);
+    for (int v = 0; v < kH; ++v)
+      for (int u = 0; u < kW; ++u) {
+        std::uint8_t* p = depth.data.data() + v * depth.step + u * (is_float ? 4 : 2);
+        if (is_float) {
+          const float z = (u == 3 && v == 3) ? NAN : depthAt(u, v, f);
+          std::memcpy(p, &z, 4);
+        } else {
+          const std::uint16_t mm = static_cast<std::uint16_t>(std::lround(depthAt(u, v, f) * 1000));
+          std::memcpy(p, &mm, 2);
+        }
+      }
+    if (spec.bad_step_in_frame_2 && f == 2) depth.step = 7;
+    bag.write("/camera/depth/image_rect_raw", stamp, depth);
+    if (spec.second_depth_topic) bag.write("/camera/depth/image_raw", stamp, depth);
+
+    if (spec.camera_info) {
+      sensor_msgs::CameraInfo info;
+      info.header = depth.header;
+      info.width = kW;
+      info.height = kH;
+      info.K = {30, 0, 15.5, 0, 31, 11.5, 0, 0, 1};
+      bag.write("/camera/depth/camera_info", stamp, info);
+    }
+    if (spec.color) {
+      const ros::Time color_stamp(t + 0.004);
+      if (spec.compressed_color) {
+        sensor_msgs::CompressedImage image;
+        image.header.stamp = color_stamp;
+        image.header.frame_id = "camera_color_optical_frame";
+        image.format = "bgr8; png compressed bgr8";
+        cv::Mat bgr(kH, kW, CV_8UC3, cv::Scalar(10 * f, 100, 200));
+        std::vector<std::uint8_t> png;
+        cv::imencode(".png", bgr, png);
+        image.data = png;
+        bag.write("/camera/color/image_raw/compressed", color_stamp, image);
+      } else {
+        sensor_msgs::Image image;
+        image.header.stamp = color_stamp;
+        image.header.frame_id = "camera_color_optical_frame";
+        image.width = kW;
+        image.height = kH;
+        image.encoding = "bgr8";
+        image.step = kW * 3 + 4;  // padded rows
+        image.data.assign(image.step * kH, 0);
+        for (int v = 0; v < kH; ++v)
+          for (int u = 0; u < kW; ++u) {
+            std::uint8_t* p = image.data.data() + v * image.step + 3 * u;
+            p[0] = 200;                                   // B
+            p[1] = 100;                                   // G
+            p[2] = static_cast<std::uint8_t>(10 * f + u);  // R
+          }
+        bag.write("/camera/color/image_raw", color_stamp, image);
+      }
+    }
+    if (spec.proba_channels > 0) {
+      sensor_msgs::Image proba;
+      proba.header.stamp = ros::Time(t - 0.003);
+      proba.header.frame_id = kOptical;
+      const int pw = spec.proba_width, ph = spec.proba_height;
+      proba.width = pw;
+      proba.height = ph;
+      const int n = spec.proba_channels;
+      const bool wide = spec.proba_encoding == "16UC";
+      proba.encoding = spec.proba_encoding + std::to_string(n);
+      proba.step = pw * n * (wide ? 2 : 4);
+      proba.data.resize(proba.step * ph);
+      for (int v = 0; v < ph; ++v)
+        for (int u = 0; u < pw; ++u)
+          for (int c = 0; c < n; ++c) {
+            // Channel 1 on the left half, channel 2 on the right, 0.1 for the others.
+            const int main = u < pw / 2 ? 1 : 2;
+            const float p = c == main ? 0.8f : 0.2f / static_cast<float>(n - 1);
+            std::uint8_t* out = proba.data.data() + v * proba.step + (u * n + c) * (wide ? 2 : 4);
+            if (wide) {
+              const std::uint16_t value = static_cast<std::uint16_t>(std::lround(p * 65535));
+              std::memcpy(out, &value, 2);
+            } else {
+              std::memcpy(out, &p, 4);
+            }
+          }
+      bag.write("/segmenter/probabilities", proba.header.stamp, proba);
+    }
+    if (spec.label) {
+      sensor_msgs::Image label;
+      label.header.stamp = stamp;
+      label.header.frame_id = kOptical;
+      label.width = kW;
+      label.height = kH;
+      label.encoding = "mono8";
+      label.step = kW;
+      label.data.assign(kW * kH, 0);
+      for (int i = kW * kH / 2; i < kW * kH; ++i) label.data[i] = 19;
+      bag.write("/segmenter/labels", stamp, label);
+    }
+  }
+  bag.close();
+}
+
+bool anyNote(const ImportReport& report, const std::string& part) {
+  for (const auto& n : report.notes)
+    if (n.find(part) != std::string::npos) return true;
+  return false;
+}
+
+TEST(ImportRosbag, RoundTripWithTfProbabilitiesAndColour) {
+  test::TempDir dir;
+  writeBag(dir / "rec.bag", {});
+  ImportOptions options;
+  options.depth_filter.flying_pixels = false;
+  const ImportReport report = importSource(std::nullopt, dir / "rec.bag", dir / "seq", options);
+  EXPECT_EQ(report.kind, SourceKind::RosBag);
+  EXPECT_EQ(report.frames_found, 5u);
+  EXPECT_EQ(report.frames_written, 4u) << report.text();
+  ASSERT_EQ(report.skipped.size(), 1u) << report.text();
+  EXPECT_NE(report.skipped[0].reason.find("no transform from 'world' to 'camera_depth_optical_frame'"),
+            std::string::npos)
+      << report.skipped[0].reason;
+  EXPECT_TRUE(anyNote(report, "depth topic: /camera/depth/image_rect_raw")) << report.text();
+  EXPECT_TRUE(anyNote(report, "colour topic: /camera/color/image_raw")) << report.text();
+  EXPECT_TRUE(anyNote(report, "probability topic: /segmenter/probabilities")) << report.text();
+  EXPECT_TRUE(anyNote(report, "in 'world'")) << report.text();
+
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_TRUE(validateSequence(sequence).empty());
+  EXPECT_EQ(sequence.frame_id, "world");
+  EXPECT_EQ(sequence.camera.fx, 30.0);
+  EXPECT_EQ(sequence.camera.cy, 11.5);
+  ASSERT_EQ(sequence.labels.size(), 3);
+  EXPECT_EQ(sequence.labels.at(2).name, "label_2");
+  ASSERT_EQ(sequence.frames.size(), 4u);
+  for (int f = 0; f < 4; ++f) {
+    const double t = 10.0 + 0.1 * f;
+    EXPECT_NEAR(sequence.frames[f].stamp, t, 1e-9);
+    const Eigen::Isometry3d expected = worldBase(t) * baseCamera();
+    EXPECT_TRUE(sequence.frames[f].T_world_camera.matrix().isApprox(expected.matrix(), 1e-6))
+        << "frame " << f << " (tf interpolated between 20 Hz samples)\n"
+        << sequence.frames[f].T_world_camera.matrix() << "\n"
+        << expected.matrix();
+    const FrameData frame = loadFrame(sequence, f);
+    for (int v = 0; v < kH; ++v)
+      for (int u = 0; u < kW; ++u)
+        ASSERT_NEAR(frame.depth.at(u, v), depthAt(u, v, f), 1e-6);
+    ASSERT_TRUE(frame.color.has_value());
+    const size_t i = (5 * kW + 7) * 3;
+    EXPECT_EQ(frame.color->rgb[i], 10 * f + 7);  // R (from bgr8 with padded rows)
+    EXPECT_EQ(frame.color->rgb[i + 2], 200);     // B
+    ASSERT_TRUE(frame.proba.has_value());
+    EXPECT_NEAR(frame.proba->pixel(3, 3)[1], 0.8f, 1e-3);
+    EXPECT_NEAR(frame.proba->pixel(kW - 3, 3)[2], 0.8f, 1e-3);
+    EXPECT_NEAR(frame.proba->pixel(kW - 3, 3)[0], 0.1f, 1e-3);
+  }
+}
+
+TEST(ImportRosbag, FloatDepthCompressedColourAndLabelImages) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.depth_encoding = "32FC1";
+  spec.compressed_color = true;
+  spec.proba_channels = 0;
+  spec.label = true;
+  spec.frames = 3;
+  writeBag(dir / "rec.bag", spec);
+  ImportOptions options;
+  options.depth_filter.flying_pixels = false;
+  options.label_confidence = 0.75;
+  const ImportReport report = importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq", options);
+  ASSERT_EQ(report.frames_written, 3u) << report.text();
+  EXPECT_TRUE(anyNote(report, "label topic: /segmenter/labels")) << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_TRUE(validateSequence(sequence).empty());
+  EXPECT_EQ(sequence.labels, apc2016Labels());
+  const FrameData frame = loadFrame(sequence, 1);
+  EXPECT_EQ(frame.depth.at(3, 3), 0.0f) << "NaN is a hole";
+  EXPECT_NEAR(frame.depth.at(4, 3), depthAt(4, 3, 1), 0.0006) << "float metres stored in mm";
+  ASSERT_TRUE(frame.color.has_value());
+  EXPECT_EQ(frame.color->rgb[0], 200);  // R of the decoded PNG (BGR 10, 100, 200)
+  EXPECT_EQ(frame.color->rgb[2], 10);
+  ASSERT_TRUE(frame.proba.has_value());
+  EXPECT_EQ(sequence.frames[1].proba_labels, (std::vector<int>{0, 19}));
+  EXPECT_NEAR(frame.proba->pixel(0, kH - 1)[1], 0.75f, 1e-3);
+  EXPECT_NEAR(frame.proba->pixel(0, kH - 1)[0], 0.25f, 1e-3);
+  ASSERT_TRUE(frame.label.has_value());
+  EXPECT_EQ(frame.label->at(0, kH - 1), 19);
+}
+
+TEST(ImportRosbag, ClockOffsetIsReportedAndCorrectedByTheOffsetOption) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.image_clock_offset = 1000.0;
+  writeBag(dir / "rec.bag", spec);
+  const std::string error =
+      errorOf([&] { importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq"); });
+  EXPECT_NE(error.find("no transform"), std::string::npos) << error;
+  EXPECT_NE(error.find("tf covers 9.950 to 10.300"), std::string::npos) << error;
+  ImportOptions options;
+  options.time_offset = -1000.0;
+  const ImportReport report = importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq", options);
+  EXPECT_EQ(report.frames_written, 4u) << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_TRUE(sequence.frames[2].T_world_camera.matrix().isApprox(
+      (worldBase(10.2) * baseCamera()).matrix(), 1e-6));
+}
+
+TEST(ImportRosbag, MalformedBags) {
+  test::TempDir dir;
+  // Two depth topics: ambiguous unless one is chosen.
+  BagSpec two;
+  two.second_depth_topic = true;
+  writeBag(dir / "two.bag", two);
+  std::string error = errorOf([&] { importSource(SourceKind::RosBag, dir / "two.bag", dir / "a"); });
+  EXPECT_NE(error.find("several: /camera/depth/image_raw, /camera/depth/image_rect_raw"),
+            std::string::npos)
+      << error;
+  ImportOptions chosen;
+  chosen.rosbag.depth_topic = "/camera/depth/image_raw";
+  EXPECT_EQ(importSource(SourceKind::RosBag, dir / "two.bag", dir / "a", chosen).frames_written, 4u);
+  chosen.rosbag.depth_topic = "/nope";
+  error = errorOf([&] { importSource(SourceKind::RosBag, dir / "two.bag", dir / "b", chosen); });
+  EXPECT_NE(error.find("'/nope' is not in it"), std::string::npos) << error;
+
+  // No camera info: intrinsics needed.
+  BagSpec no_info;
+  no_info.camera_info = false;
+  writeBag(dir / "noinfo.bag", no_info);
+  error = errorOf([&] { importSource(SourceKind::RosBag, dir / "noinfo.bag", dir / "c"); });
+  EXPECT_NE(error.find("--intrinsics"), std::string::npos) << error;
+  ImportOptions with_intrinsics;
+  with_intrinsics.intrinsics = parseIntrinsics("30,31,15.5,11.5");
+  EXPECT_EQ(importSource(SourceKind::RosBag, dir / "noinfo.bag", dir / "c", with_intrinsics)
+                .frames_written,
+            4u);
+
+  // A depth message whose step is too small: that frame is skipped with the reason.
+  BagSpec bad_step;
+  bad_step.bad_step_in_frame_2 = true;
+  writeBag(dir / "step.bag", bad_step);
+  const ImportReport report = importSource(SourceKind::RosBag, dir / "step.bag", dir / "d");
+  EXPECT_EQ(report.frames_written, 3u);
+  bool step_reported = false;
+  for (const auto& s : report.skipped) step_reported |= s.reason.find("step") != std::string::npos;
+  EXPECT_TRUE(step_reported) << report.text();
+
+  // A label list that does not match the probability channels.
+  ImportOptions labels;
+  labels.labels = apc2016Labels();
+  error = errorOf([&] { importSource(SourceKind::RosBag, dir / "step.bag", dir / "e", labels); });
+  EXPECT_NE(error.find("one label per probability channel: 3"), std::string::npos) << error;
+
+  // 16-bit probabilities are read as value / 65535.
+  BagSpec wide;
+  wide.proba_encoding = "16UC";
+  writeBag(dir / "wide.bag", wide);
+  ImportOptions options;
+  options.depth_filter.flying_pixels = false;
+  ASSERT_EQ(importSource(SourceKind::RosBag, dir / "wide.bag", dir / "f", options).frames_written, 4u);
+  const FrameData frame = loadFrame(loadSequence(dir / "f"), 0);
+  EXPECT_NEAR(frame.proba->pixel(1, 1)[1], 0.8f, 1e-3);
+
+  // Probabilities at half resolution are resampled; another aspect ratio is refused per frame.
+  BagSpec half;
+  half.proba_width = kW / 2;
+  half.proba_height = kH / 2;
+  writeBag(dir / "half.bag", half);
+  const ImportReport resampled = importSource(SourceKind::RosBag, dir / "half.bag", dir / "h", options);
+  ASSERT_EQ(resampled.frames_written, 4u) << resampled.text();
+  EXPECT_TRUE(anyNote(resampled, "probability images of 16 x 12 resampled to the depth camera"))
+      << resampled.text();
+  const FrameData half_frame = loadFrame(loadSequence(dir / "h"), 0);
+  EXPECT_NEAR(half_frame.proba->pixel(2, 2)[1], 0.8f, 1e-3);
+  EXPECT_NEAR(half_frame.proba->pixel(kW - 3, 2)[2], 0.8f, 1e-3);
+  BagSpec odd;
+  odd.proba_width = kW;
+  odd.proba_height = kH / 2;
+  writeBag(dir / "odd.bag", odd);
+  error = errorOf([&] { importSource(SourceKind::RosBag, dir / "odd.bag", dir / "o", options); });
+  EXPECT_NE(error.find("the probability image is 32 x 12, the depth image 32 x 24"), std::string::npos)
+      << error;
+
+  // A bag without tf.
+  {
+    rosbag::Bag bag((dir / "notf.bag").string(), rosbag::bagmode::Write);
+    sensor_msgs::Image depth;
+    depth.header.stamp = ros::Time(1.0);
+    depth.header.frame_id = kOptical;
+    depth.width = 2;
+    depth.height = 1;
+    depth.encoding = "16UC1";
+    depth.step = 4;
+    depth.data = {0xe8, 0x03, 0xe8, 0x03};
+    bag.write("/depth", depth.header.stamp, depth);
+  }
+  error = errorOf([&] { importSource(SourceKind::RosBag, dir / "notf.bag", dir / "g", with_intrinsics); });
+  EXPECT_NE(error.find("/tf or /tf_static"), std::string::npos) << error;
+}
+
+#else
+
+TEST(ImportRosbag, BuildWithoutBagSupportSaysSo) {
+  EXPECT_FALSE(rosbagSupported());
+}
+
+#endif
+
+}  // namespace
+}  // namespace lom

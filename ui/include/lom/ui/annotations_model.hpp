@@ -1,0 +1,59 @@
+#pragma once
+// The ground-truth boxes being edited, the selected box and the undo stack
+// that records every change (add, delete, move, label change).
+#include <QObject>
+#include <QString>
+#include <QUndoStack>
+
+#include "lom/annotations.hpp"
+
+namespace lom::ui {
+
+class AnnotationsModel : public QObject {
+  Q_OBJECT
+
+ public:
+  explicit AnnotationsModel(QObject* parent = nullptr);
+  ~AnnotationsModel() override;
+
+  [[nodiscard]] const Annotations& annotations() const { return annotations_; }
+  [[nodiscard]] int boxCount() const { return static_cast<int>(annotations_.boxes.size()); }
+  [[nodiscard]] const GroundTruthBox& box(int index) const { return annotations_.boxes.at(index); }
+  [[nodiscard]] int selected() const { return selected_; }  // -1 for none
+  [[nodiscard]] QUndoStack& undoStack() { return undo_stack_; }
+  [[nodiscard]] bool isDirty() const { return !undo_stack_.isClean(); }
+  // The file the boxes were loaded from or last saved to (empty when new).
+  [[nodiscard]] QString path() const { return path_; }
+
+  // Replaces everything, clears the undo history and marks the state clean.
+  void reset(const Annotations& annotations, const QString& path);
+  void markSaved(const QString& path);
+  void select(int index);  // clamped; -1 clears
+  void selectNext(int step = 1);
+
+  // Undoable edits.
+  void addBox(const GroundTruthBox& box);
+  void removeBox(int index);
+  // Edits with the same non-negative merge id on the same box are merged into
+  // one undo step (a drag of the 3D handles).
+  void setBox(int index, const GroundTruthBox& box, const QString& text, int merge_id = -1);
+
+  // Raw changes for the undo commands; they do not touch the undo stack.
+  void insertRaw(int index, const GroundTruthBox& box);
+  void removeRaw(int index);
+  void replaceRaw(int index, const GroundTruthBox& box);
+
+ signals:
+  void boxesChanged();
+  void selectionChanged(int index);
+  void dirtyChanged(bool dirty);
+  void saved();
+
+ private:
+  Annotations annotations_;
+  int selected_ = -1;
+  QString path_;
+  QUndoStack undo_stack_;
+};
+
+}  // namespace lom::ui

@@ -1,0 +1,58 @@
+#pragma once
+// The evaluation dock: per-object IU_3d of Projection (Mean), Projection (Max)
+// and LabelOctoMap plus box IU, sortable, a summary line and a bar chart.
+// Recomputed by the map worker (lom::evaluate, as `labeloctomap score`) when a
+// box or the map changes; "Export report" writes the same files as the CLI.
+#include <QWidget>
+#include <optional>
+
+#include "lom/evaluation.hpp"
+
+class QLabel;
+class QPushButton;
+class QTableWidget;
+class QTimer;
+
+namespace lom::ui {
+
+class ScoreChart;
+class StudioSession;
+
+class EvaluationPanel : public QWidget {
+  Q_OBJECT
+
+ public:
+  enum Column { Label, Name, Voxels, ProjectionMean, ProjectionMax, LabelOctoMap, BoxIou, Columns };
+  // The exact value behind a score cell (the cell shows it x100).
+  static constexpr int kValueRole = Qt::UserRole + 1;
+
+  explicit EvaluationPanel(StudioSession& session, QWidget* parent = nullptr);
+
+  [[nodiscard]] QTableWidget& table() { return *table_; }
+  [[nodiscard]] const std::optional<EvaluationReport>& report() const { return report_; }
+  [[nodiscard]] QString summaryText() const;
+  [[nodiscard]] bool isBusy() const;
+  // Writes report.json/csv/md/svg into `dir`; returns an error message or "".
+  QString exportReport(const QString& dir) const;
+
+ public slots:
+  void requestUpdate();  // debounced
+
+ signals:
+  void reportShown();
+
+ private:
+  void evaluateNow();
+  void show(const EvaluationReport& report);
+  void showMessage(const QString& message);
+
+  StudioSession& session_;
+  QTableWidget* table_;
+  QLabel* summary_;
+  ScoreChart* chart_;
+  QPushButton* export_;
+  QTimer* debounce_;
+  std::optional<EvaluationReport> report_;
+};
+
+}  // namespace lom::ui

@@ -1,0 +1,36 @@
+#pragma once
+// Export ▸ Mesh / Point Cloud / Octree: writes the fused map like
+// `labeloctomap export`, on the map worker so the window stays responsive.
+#include "lom/export.hpp"
+#include "lom/ui/error_reporter.hpp"
+#include "lom/ui/reaction.hpp"
+
+class QWidget;
+
+namespace lom::ui {
+
+class StudioSession;
+
+class ExportMapReaction : public Reaction {
+  Q_OBJECT
+
+ public:
+  ExportMapReaction(QAction* action, ExportOptions options, StudioSession& session,
+                    QWidget* parent, const ErrorReporter& report);
+  // Exports to `path` without asking; the result arrives through finished().
+  void exportTo(const QString& path);
+
+ signals:
+  void finished(const QString& message, bool ok);
+
+ protected:
+  void onTriggered() override;
+
+ private:
+  ExportOptions options_;
+  StudioSession& session_;
+  QWidget* parent_;
+  const ErrorReporter& report_;
+};
+
+}  // namespace lom::ui

@@ -1,0 +1,27 @@
+#pragma once
+// What the GUI thread sees of the map: a copy of its occupied voxels and
+// per-label counts, made by the map worker (the only thread touching the map).
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "lom/label_map.hpp"
+
+namespace lom::ui {
+
+struct MapSnapshot {
+  std::vector<OccupiedVoxel> voxels;
+  std::map<int, size_t> counts;  // finest-resolution voxels per label
+  double resolution = 0.0;
+  double occupancy_threshold = 0.5;
+  size_t frames_fused = 0;
+
+  [[nodiscard]] bool empty() const { return voxels.empty(); }
+};
+
+using MapSnapshotPtr = std::shared_ptr<const MapSnapshot>;
+
+[[nodiscard]] MapSnapshotPtr takeSnapshot(const LabelMap& map, size_t frames_fused);
+
+}  // namespace lom::ui

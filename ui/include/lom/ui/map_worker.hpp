@@ -1,0 +1,103 @@
+#pragma once
+// The one thread that owns the LabelMap: fuses frames (the fast integration
+// path), re-thresholds, answers voxel picks and runs the evaluation. The GUI
+// thread only queues jobs and receives snapshots and results through queued
+// calls, so it never waits for the map.
+#include <QObject>
+#include <QString>
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "lom/evaluation.hpp"
+#include "lom/fusion.hpp"
+#include "lom/ui/map_snapshot.hpp"
+
+namespace lom::ui {
+
+class MapWorker : public QObject {
+  Q_OBJECT
+
+ public:
+  enum class State { Idle, Fusing, Paused };
+
+  explicit MapWorker(QObject* parent = nullptr);
+  ~MapWorker() override;  // cancels fusion and joins the thread
+
+  // Fuses the option's frame range of `sequence` into a new map, replacing the
+  // current one. Snapshots are published at most every `snapshot_interval_ms`.
+  void startFusion(std::shared_ptr<const Sequence> sequence, const FusionOptions& options);
+  void setPaused(bool paused);
+  void cancel();  // keeps what was fused so far
+  void reset();   // cancels and drops the map
+  // Applied between frames while fusing, at once otherwise.
+  void setOccupancyThreshold(double threshold);
+  void pick(const Eigen::Vector3d& point_world);
+  // Newer requests supersede older ones that have not finished.
+  void evaluate(std::shared_ptr<const Sequence> sequence, const Annotations& annotations,
+                const EvaluationOptions& options);
+  // Runs `job` with the map (null when there is none) on the worker thread.
+  void withMap(std::function<void(const LabelMap*)> job);
+
+  [[nodiscard]] State state() const { return state_; }
+  [[nodiscard]] bool isFusing() const { return state_ != State::Idle; }
+  [[nodiscard]] MapSnapshotPtr snapshot() const { return snapshot_; }
+  [[nodiscard]] bool isEvaluating() const { return evaluations_pending_ > 0; }
+  void setSnapshotInterval(int ms) { snapshot_interval_ms_ = ms; }
+
+ signals:
+  void stateChanged(lom::ui::MapWorker::State state);
+  void snapshotChanged();
+  void fusionProgress(int done, int total, double frames_per_second);
+  void fusionFinished(bool completed);
+  void voxelPicked(const Eigen::Vector3d& point, const lom::VoxelState& voxel);
+  void evaluationStarted();
+  void evaluationFinished(const lom::EvaluationReport& report);
+  void evaluationFailed(const QString& message);
+  void errorOccurred(const QString& title, const QString& message);
+
+ private:
+  struct Job {
+    std::function<void()> run;
+    bool quick = true;  // may run between two fused frames
+  };
+  void post(std::function<void()> run, bool quick);
+  void loop();
+  void runQuickJobs();
+  void fuse(const std::shared_ptr<const Sequence>& sequence, const FusionOptions& options,
+            unsigned id, const std::shared_ptr<std::atomic<bool>>& cancelled);
+  void publish(MapSnapshotPtr snapshot);
+  void applyPendingThreshold();
+  void inGui(std::function<void()> call);
+  void setState(State state);
+
+  // Worker thread only.
+  std::unique_ptr<LabelMap> map_;
+  size_t frames_fused_ = 0;
+
+  // Shared.
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<Job> jobs_;
+  std::atomic<bool> stopping_{false};
+  std::atomic<bool> paused_{false};
+  std::atomic<bool> threshold_pending_{false};
+  std::atomic<double> threshold_{0.5};
+  std::atomic<unsigned> evaluation_generation_{0};
+  std::atomic<int> snapshot_interval_ms_{200};
+
+  // GUI thread only.
+  State state_ = State::Idle;
+  MapSnapshotPtr snapshot_;
+  unsigned fusion_id_ = 0;                          // latest started fusion
+  std::shared_ptr<std::atomic<bool>> fusion_cancel_;  // its cancel flag
+  int evaluations_pending_ = 0;
+
+  std::thread thread_;
+};
+
+}  // namespace lom::ui

@@ -1,0 +1,25 @@
+#pragma once
+// What the last click in the 3D view hit: the voxel's label and the top five
+// of its probability vector.
+#include <QLabel>
+
+#include "lom/label_map.hpp"
+
+namespace lom::ui {
+
+class StudioSession;
+
+class PickedVoxelView : public QLabel {
+  Q_OBJECT
+
+ public:
+  explicit PickedVoxelView(StudioSession& session, QWidget* parent = nullptr);
+  // The text for one voxel, e.g. "label 3 crayola_24_ct, p = 0.91" and the top 5 lines.
+  [[nodiscard]] static QString describe(const Eigen::Vector3d& point, const VoxelState& voxel,
+                                        const LabelSet& labels);
+
+ private:
+  StudioSession& session_;
+};
+
+}  // namespace lom::ui

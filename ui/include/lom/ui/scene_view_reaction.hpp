@@ -1,0 +1,30 @@
+#pragma once
+// View menu items that change the 3D view: look from the current frame's
+// camera, show the frame's points, show the projection-baseline voxels of the
+// current view, opacity by probability.
+#include "lom/ui/reaction.hpp"
+
+namespace lom::ui {
+
+class SceneView;
+class StudioSession;
+
+class SceneViewReaction : public Reaction {
+  Q_OBJECT
+
+ public:
+  enum class Kind { LookFromFrame, ZoomToMap, FramePoints, ProjectionVoxels, OpacityByProbability };
+  SceneViewReaction(QAction* action, Kind kind, StudioSession& session, SceneView& scene);
+
+ protected:
+  void onTriggered() override;
+
+ private:
+  void showProjection();
+
+  Kind kind_;
+  StudioSession& session_;
+  SceneView& scene_;
+};
+
+}  // namespace lom::ui

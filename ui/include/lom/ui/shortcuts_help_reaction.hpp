@@ -1,0 +1,24 @@
+#pragma once
+// Help > Keyboard Shortcuts: every action of the window that has a shortcut.
+#include "lom/ui/reaction.hpp"
+
+class QWidget;
+
+namespace lom::ui {
+
+class ShortcutsHelpReaction : public Reaction {
+  Q_OBJECT
+
+ public:
+  ShortcutsHelpReaction(QAction* action, QWidget* window);
+  // The rows the dialog shows: "shortcut\taction text".
+  [[nodiscard]] QStringList rows() const;
+
+ protected:
+  void onTriggered() override;
+
+ private:
+  QWidget* window_;
+};
+
+}  // namespace lom::ui

@@ -1,0 +1,73 @@
+#pragma once
+// What the studio's widgets share: the sequence (through its controller), the
+// map (through the worker that owns it), the fusion parameters, the
+// ground-truth boxes with their undo stack, and the label visibility.
+#include <QObject>
+#include <Eigen/Core>
+#include <memory>
+#include <optional>
+#include <set>
+
+#include "lom/fusion.hpp"
+
+namespace lom::ui {
+
+class AnnotationsModel;
+class MapWorker;
+class SequenceController;
+
+class StudioSession : public QObject {
+  Q_OBJECT
+
+ public:
+  explicit StudioSession(QObject* parent = nullptr);
+  ~StudioSession() override;
+
+  [[nodiscard]] SequenceController& controller() { return *controller_; }
+  [[nodiscard]] const SequenceController& controller() const { return *controller_; }
+  [[nodiscard]] MapWorker& worker() { return *worker_; }
+  [[nodiscard]] AnnotationsModel& annotations() { return *annotations_; }
+  [[nodiscard]] std::shared_ptr<const Sequence> sequence() const { return sequence_; }
+
+  // Parameters used by the next fusion (the threshold applies at once).
+  [[nodiscard]] const FusionOptions& fusionOptions() const { return options_; }
+  void setFusionOptions(const FusionOptions& options);  // not re-fused until fuse()
+  void setOccupancyThreshold(double threshold);
+  // Whether opening a sequence starts fusing it.
+  void setAutoFuse(bool on) { auto_fuse_ = on; }
+
+  void fuse();        // (re)starts fusion of the whole sequence
+  void resetMap();    // cancels and drops the map
+
+  // The label new boxes get and the heat map shows (-1 for none).
+  [[nodiscard]] int selectedLabel() const { return selected_label_; }
+  void setSelectedLabel(int label);
+  // The last point clicked in the 3D view.
+  [[nodiscard]] const std::optional<Eigen::Vector3d>& pickedPoint() const { return picked_point_; }
+  void setPickedPoint(const Eigen::Vector3d& point);
+
+  // Labels hidden in the 3D view.
+  [[nodiscard]] const std::set<int>& hiddenLabels() const { return hidden_labels_; }
+  void setHiddenLabels(std::set<int> hidden);
+
+ signals:
+  void fusionOptionsChanged();
+  void hiddenLabelsChanged();
+  void selectedLabelChanged(int label);
+  void pickedPointChanged();
+
+ private:
+  void onSequenceChanged();
+
+  SequenceController* controller_;
+  MapWorker* worker_;
+  AnnotationsModel* annotations_;
+  std::shared_ptr<const Sequence> sequence_;
+  FusionOptions options_;
+  bool auto_fuse_ = true;
+  std::set<int> hidden_labels_;
+  int selected_label_ = -1;
+  std::optional<Eigen::Vector3d> picked_point_;
+};
+
+}  // namespace lom::ui

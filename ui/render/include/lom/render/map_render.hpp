@@ -1,0 +1,59 @@
+#pragma once
+// Offscreen pictures of a labelled map: the voxel surfaces of its labels in
+// their label colours, seen from an orbit around the map or from a recorded
+// camera. Debian's VTK renders through X: a display (or Xvfb) is needed.
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+#include "lom/camera.hpp"
+#include "lom/images.hpp"
+#include "lom/label_map.hpp"
+#include "lom/labels.hpp"
+
+namespace lom::render {
+
+// Rendering is impossible here (no X display); the message says what to do.
+class RenderUnavailable : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A pinhole camera: the picture is what that camera would have seen.
+struct PinholeView {
+  CameraIntrinsics intrinsics;
+  Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();
+};
+
+struct RenderOptions {
+  int width = 1280;
+  int height = 960;
+  // Orbit view (world z up): the camera looks at the centre of the rendered
+  // voxels from this direction; azimuth counter-clockwise about +z from +x,
+  // elevation above the x-y plane, distance such that everything fits.
+  double azimuth_deg = 210.0;
+  double elevation_deg = 30.0;
+  // Replaces the orbit view. Its intrinsics are scaled to width x height.
+  std::optional<PinholeView> camera;
+  std::optional<std::set<int>> labels;  // default: every label
+  // Headlight shading; false paints every pixel exactly in its label's colour.
+  bool shading = true;
+  Rgb background{255, 255, 255};
+};
+
+// Empty when an X display can be opened; otherwise the reason, with the
+// xvfb-run command line that works around it.
+[[nodiscard]] std::optional<std::string> displayProblem();
+
+// Throws RenderUnavailable without a display, lom::Error when the selection
+// has no occupied voxel or the size is not positive.
+[[nodiscard]] ColorImage renderMap(const LabelMap& map, const RenderOptions& options);
+
+// renderMap, then a PNG written atomically.
+void renderMapToPng(const LabelMap& map, const RenderOptions& options,
+                    const std::filesystem::path& png);
+
+}  // namespace lom::render

@@ -1,0 +1,57 @@
+// Whether an X display can be opened, checked before VTK tries (Debian's VTK
+// renders through X and aborts the process when it cannot connect). Xlib's
+// macros (None, Status, Success) stay confined to this file.
+#include <chrono>
+#include <cstdlib>
+#include <mutex>
+#include <string>
+#include <thread>
+
+// clang-format off
+#include "lom/render/map_render.hpp"  // before Xlib: Eigen refuses Xlib's Success macro
+#include <X11/Xlib.h>
+// clang-format on
+
+namespace lom::render {
+
+namespace {
+
+constexpr const char* kXvfbHint =
+    "run it under a virtual X server, e.g. xvfb-run -a -s \"-screen 0 1280x1024x24\" "
+    "labeloctomap render ...";
+
+// An X server resets itself when its last client disconnects (Xvfb started by
+// xvfb-run does), refusing connections for a moment. So the connection that
+// found the display is kept open for the life of the process, which also keeps
+// the server up for VTK's own connection; and a refused connection is retried
+// for a short while in case another program's exit just triggered a reset.
+Display* openDisplayOnce(const std::string& name) {
+  static std::mutex mutex;
+  static Display* display = nullptr;
+  static std::string display_name;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (display && display_name == name) return display;
+  for (int attempt = 0; attempt < 20; ++attempt) {
+    if (Display* opened = XOpenDisplay(name.c_str())) {
+      display = opened;  // a previous connection to another name stays open: harmless
+      display_name = name;
+      return display;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+std::optional<std::string> displayProblem() {
+  const char* name = std::getenv("DISPLAY");
+  if (!name || !*name)
+    return std::string("render needs an X server and DISPLAY is not set; ") + kXvfbHint;
+  if (!openDisplayOnce(name))
+    return std::string("render needs an X server and cannot open display '") + name + "'; " +
+           kXvfbHint;
+  return std::nullopt;
+}
+
+}  // namespace lom::render

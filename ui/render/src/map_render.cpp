@@ -1,0 +1,183 @@
+#include "lom/render/map_render.hpp"
+
+#include <vtkActor.h>
+#include <vtkCamera.h>
+#include <vtkCellArray.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkProperty.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkWindowToImageFilter.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "lom/error.hpp"
+#include "lom/export.hpp"
+#include "lom/sequence.hpp"
+
+namespace lom::render {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The voxel surfaces of the selected labels, coloured per vertex.
+vtkSmartPointer<vtkPolyData> labelSurfaces(const LabelMap& map, const RenderOptions& options) {
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  auto triangles = vtkSmartPointer<vtkCellArray>::New();
+  auto colors = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  colors->SetNumberOfComponents(3);
+  colors->SetName("label colour");
+  for (const auto& [label, keys] : occupiedVoxelsByLabel(map, options.labels)) {
+    const SurfaceMesh mesh = voxelSurface(keys, map.parameters().resolution);
+    Rgb color = map.labels().at(label).color;
+    // Black (the background label of the VOC palette) would hide all shading.
+    if (options.shading && color == Rgb{0, 0, 0}) color = {96, 96, 96};
+    const vtkIdType offset = points->GetNumberOfPoints();
+    for (const auto& v : mesh.vertices) {
+      points->InsertNextPoint(v.x(), v.y(), v.z());
+      colors->InsertNextTypedTuple(color.data());
+    }
+    for (const auto& t : mesh.triangles) {
+      const vtkIdType ids[3] = {offset + t[0], offset + t[1], offset + t[2]};
+      triangles->InsertNextCell(3, ids);
+    }
+  }
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->SetPoints(points);
+  poly->SetPolys(triangles);
+  poly->GetPointData()->SetScalars(colors);
+  return poly;
+}
+
+// VTK camera equal to a pinhole camera seeing a width x height image.
+void placePinhole(vtkCamera* camera, const PinholeView& view, int width, int height) {
+  const CameraIntrinsics& k = view.intrinsics;
+  const double sx = static_cast<double>(width) / k.width;
+  const double sy = static_cast<double>(height) / k.height;
+  const double fy = k.fy * sy;
+  // Pixel centres sit at integer coordinates: the image spans [-0.5, size - 0.5].
+  const double cx = (k.cx + 0.5) * sx;
+  const double cy = (k.cy + 0.5) * sy;
+  const Eigen::Vector3d origin = view.T_world_camera.translation();
+  const Eigen::Matrix3d R = view.T_world_camera.linear();
+  const Eigen::Vector3d forward = R.col(2), down = R.col(1);
+  camera->SetPosition(origin.data());
+  const Eigen::Vector3d focal = origin + forward;
+  camera->SetFocalPoint(focal.data());
+  camera->SetViewUp(-down.x(), -down.y(), -down.z());
+  camera->SetViewAngle(2.0 * std::atan(0.5 * height / fy) * 180.0 / kPi);
+  // The optical axis lands at normalised viewport coordinates -WindowCenter.
+  camera->SetWindowCenter(1.0 - 2.0 * cx / width, 2.0 * cy / height - 1.0);
+}
+
+void placeOrbit(vtkCamera* camera, const double bounds[6], double azimuth_deg,
+                double elevation_deg) {
+  const Eigen::Vector3d lo(bounds[0], bounds[2], bounds[4]), hi(bounds[1], bounds[3], bounds[5]);
+  const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  const double radius = std::max(0.5 * (hi - lo).norm(), 1e-3);
+  const double view_angle = 30.0;
+  const double distance = 1.05 * radius / std::sin(0.5 * view_angle * kPi / 180.0);
+  const double az = azimuth_deg * kPi / 180.0, el = elevation_deg * kPi / 180.0;
+  const Eigen::Vector3d direction(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                                  std::sin(el));
+  const Eigen::Vector3d eye = centre + distance * direction;
+  camera->SetFocalPoint(centre.data());
+  camera->SetPosition(eye.data());
+  camera->SetViewAngle(view_angle);
+  // Straight down or up: "up" in the picture is the horizontal direction away from the camera.
+  if (std::abs(std::cos(el)) < 1e-6)
+    camera->SetViewUp(-std::cos(az) * std::sin(el), -std::sin(az) * std::sin(el), 0.0);
+  else
+    camera->SetViewUp(0.0, 0.0, 1.0);
+}
+
+}  // namespace
+
+ColorImage renderMap(const LabelMap& map, const RenderOptions& options) {
+  if (options.width <= 0 || options.height <= 0 || options.width > 16384 || options.height > 16384)
+    throw Error("", "size", "a picture size from 1x1 to 16384x16384",
+                std::to_string(options.width) + "x" + std::to_string(options.height));
+  if (const auto problem = displayProblem()) throw RenderUnavailable(*problem);
+  const vtkSmartPointer<vtkPolyData> surfaces = labelSurfaces(map, options);
+  if (surfaces->GetNumberOfPolys() == 0)
+    throw Error("", "map", "at least one occupied voxel to render",
+                options.labels ? "no occupied voxel of the selected labels" : "an empty map");
+
+  vtkNew<vtkPolyDataMapper> mapper;
+  mapper->SetInputData(surfaces);
+  mapper->SetScalarModeToUsePointData();
+  mapper->SetColorModeToDirectScalars();
+  mapper->ScalarVisibilityOn();
+  vtkNew<vtkActor> actor;
+  actor->SetMapper(mapper);
+  actor->GetProperty()->SetInterpolationToFlat();
+  if (options.shading) {
+    actor->GetProperty()->SetAmbient(0.35);
+    actor->GetProperty()->SetDiffuse(0.65);
+    actor->GetProperty()->SetSpecular(0.0);
+  } else {
+    actor->GetProperty()->LightingOff();
+  }
+
+  vtkNew<vtkRenderer> renderer;
+  renderer->AddActor(actor);
+  renderer->SetBackground(options.background[0] / 255.0, options.background[1] / 255.0,
+                          options.background[2] / 255.0);
+  vtkCamera* camera = renderer->GetActiveCamera();
+  if (options.camera) {
+    placePinhole(camera, *options.camera, options.width, options.height);
+  } else {
+    placeOrbit(camera, surfaces->GetBounds(), options.azimuth_deg, options.elevation_deg);
+  }
+  renderer->ResetCameraClippingRange();
+
+  vtkNew<vtkRenderWindow> window;
+  window->SetOffScreenRendering(1);
+  window->SetMultiSamples(options.shading ? 4 : 0);
+  window->SetSize(options.width, options.height);
+  window->AddRenderer(renderer);
+  window->Render();
+
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(window);
+  grab->SetInputBufferTypeToRGB();
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  vtkImageData* image = grab->GetOutput();
+  int dims[3];
+  image->GetDimensions(dims);
+  if (dims[0] != options.width || dims[1] != options.height ||
+      image->GetNumberOfScalarComponents() != 3)
+    throw RenderUnavailable("render: the X server returned a " + std::to_string(dims[0]) + "x" +
+                            std::to_string(dims[1]) + " picture instead of " +
+                            std::to_string(options.width) + "x" + std::to_string(options.height));
+  ColorImage out;
+  out.width = dims[0];
+  out.height = dims[1];
+  out.rgb.resize(static_cast<size_t>(out.width) * out.height * 3);
+  const auto* pixels = static_cast<const unsigned char*>(image->GetScalarPointer());
+  const size_t row = static_cast<size_t>(out.width) * 3;
+  // VTK's rows go bottom-up, image rows top-down.
+  for (int y = 0; y < out.height; ++y)
+    std::memcpy(out.rgb.data() + static_cast<size_t>(y) * row,
+                pixels + static_cast<size_t>(out.height - 1 - y) * row, row);
+  window->Finalize();
+  return out;
+}
+
+void renderMapToPng(const LabelMap& map, const RenderOptions& options,
+                    const std::filesystem::path& png) {
+  const ColorImage image = renderMap(map, options);
+  writeColorPng(png, image);
+}
+
+}  // namespace lom::render

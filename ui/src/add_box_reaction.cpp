@@ -1,0 +1,81 @@
+#include "lom/ui/add_box_reaction.hpp"
+
+#include <QAction>
+#include <QMetaObject>
+#include <QPointer>
+
+#include "lom/box_fit.hpp"
+#include "lom/ui/annotations_model.hpp"
+#include "lom/ui/map_worker.hpp"
+#include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/studio_session.hpp"
+
+namespace lom::ui {
+
+AddBoxReaction::AddBoxReaction(QAction* action, Mode mode, StudioSession& session)
+    : Reaction(action), mode_(mode), session_(session) {
+  connect(&session_, &StudioSession::selectedLabelChanged, this, &AddBoxReaction::updateEnabled);
+  connect(&session_, &StudioSession::pickedPointChanged, this, &AddBoxReaction::updateEnabled);
+  connect(&session_.controller(), &SequenceController::sequenceChanged, this,
+          &AddBoxReaction::updateEnabled);
+  updateEnabled();
+}
+
+void AddBoxReaction::updateEnabled() {
+  const bool label = session_.sequence() && session_.selectedLabel() > 0;
+  action()->setEnabled(label && (mode_ == Mode::FitLabelVoxels || session_.pickedPoint()));
+}
+
+void AddBoxReaction::onTriggered() {
+  const auto sequence = session_.sequence();
+  const int label = session_.selectedLabel();
+  if (!sequence || !sequence->labels.contains(label)) return;
+  // One box per object: a label that has one gets it selected instead.
+  AnnotationsModel& model = session_.annotations();
+  for (int i = 0; i < model.boxCount(); ++i)
+    if (model.box(i).label == label) {
+      model.select(i);
+      emit failed(tr("Label already boxed"),
+                  tr("%1 has a box already (selected now): edit or delete it.")
+                      .arg(QString::fromStdString(sequence->labels.at(label).name)));
+      return;
+    }
+  GroundTruthBox box;
+  box.label = label;
+  box.name = sequence->labels.at(label).name;
+  if (mode_ == Mode::AtPickedPoint) {
+    if (!session_.pickedPoint()) return;
+    box.box.center = *session_.pickedPoint();
+    box.box.size = Eigen::Vector3d::Constant(kDefaultSize);
+    session_.annotations().addBox(box);
+    return;
+  }
+  QPointer<AddBoxReaction> self(this);
+  MapWorker* worker = &session_.worker();  // outlives its thread's jobs
+  worker->withMap([self, worker, box](const LabelMap* map) mutable {
+    std::vector<VoxelKey> keys;
+    double resolution = 0.0;
+    if (map) {
+      keys = largestCluster(map->voxelsOfLabel(box.label), 2.0);
+      resolution = map->parameters().resolution;
+    }
+    if (!keys.empty()) box.box = fitOrientedBox(keys, resolution);
+    const bool fitted = !keys.empty();
+    QMetaObject::invokeMethod(
+        worker,
+        [self, box, fitted] {
+          if (!self) return;
+          if (!fitted) {
+            emit self->failed(tr("No voxels to fit"),
+                              tr("The map has no voxels of %1. Fuse the sequence first, or "
+                                 "click a point in the 3D view and add a box there.")
+                                  .arg(QString::fromStdString(box.name)));
+            return;
+          }
+          self->session_.annotations().addBox(box);
+        },
+        Qt::QueuedConnection);
+  });
+}
+
+}  // namespace lom::ui

@@ -1,0 +1,152 @@
+#include "lom/ui/annotations_model.hpp"
+
+#include <QUndoCommand>
+#include <algorithm>
+
+namespace lom::ui {
+
+namespace {
+
+class AddBoxCommand : public QUndoCommand {
+ public:
+  AddBoxCommand(AnnotationsModel& model, GroundTruthBox box)
+      : model_(model), box_(std::move(box)), index_(model.boxCount()) {
+    setText(QObject::tr("Add box %1").arg(QString::fromStdString(box_.name)));
+  }
+  void redo() override {
+    model_.insertRaw(index_, box_);
+    model_.select(index_);
+  }
+  void undo() override { model_.removeRaw(index_); }
+
+ private:
+  AnnotationsModel& model_;
+  GroundTruthBox box_;
+  int index_;
+};
+
+class RemoveBoxCommand : public QUndoCommand {
+ public:
+  RemoveBoxCommand(AnnotationsModel& model, int index)
+      : model_(model), box_(model.box(index)), index_(index) {
+    setText(QObject::tr("Delete box %1").arg(QString::fromStdString(box_.name)));
+  }
+  void redo() override { model_.removeRaw(index_); }
+  void undo() override {
+    model_.insertRaw(index_, box_);
+    model_.select(index_);
+  }
+
+ private:
+  AnnotationsModel& model_;
+  GroundTruthBox box_;
+  int index_;
+};
+
+class SetBoxCommand : public QUndoCommand {
+ public:
+  SetBoxCommand(AnnotationsModel& model, int index, GroundTruthBox after, const QString& text,
+                int merge_id)
+      : model_(model), index_(index), before_(model.box(index)), after_(std::move(after)),
+        merge_id_(merge_id) {
+    setText(text);
+  }
+  void redo() override {
+    model_.replaceRaw(index_, after_);
+    model_.select(index_);
+  }
+  void undo() override {
+    model_.replaceRaw(index_, before_);
+    model_.select(index_);
+  }
+  [[nodiscard]] int id() const override { return merge_id_; }
+  bool mergeWith(const QUndoCommand* other) override {
+    const auto* next = static_cast<const SetBoxCommand*>(other);
+    if (next->index_ != index_) return false;
+    after_ = next->after_;
+    return true;
+  }
+
+ private:
+  AnnotationsModel& model_;
+  int index_;
+  GroundTruthBox before_;
+  GroundTruthBox after_;
+  int merge_id_;
+};
+
+}  // namespace
+
+AnnotationsModel::AnnotationsModel(QObject* parent) : QObject(parent) {
+  connect(&undo_stack_, &QUndoStack::cleanChanged, this,
+          [this](bool clean) { emit dirtyChanged(!clean); });
+}
+
+AnnotationsModel::~AnnotationsModel() {
+  // Clearing the stack on destruction must not reach views being torn down.
+  undo_stack_.blockSignals(true);
+}
+
+void AnnotationsModel::reset(const Annotations& annotations, const QString& path) {
+  const bool was_dirty = isDirty();
+  undo_stack_.clear();
+  annotations_ = annotations;
+  path_ = path;
+  selected_ = annotations_.boxes.empty() ? -1 : 0;
+  emit boxesChanged();
+  emit selectionChanged(selected_);
+  if (was_dirty) emit dirtyChanged(false);
+}
+
+void AnnotationsModel::markSaved(const QString& path) {
+  path_ = path;
+  undo_stack_.setClean();
+  emit saved();
+}
+
+void AnnotationsModel::select(int index) {
+  index = boxCount() == 0 ? -1 : std::clamp(index, -1, boxCount() - 1);
+  if (index == selected_) return;
+  selected_ = index;
+  emit selectionChanged(selected_);
+}
+
+void AnnotationsModel::selectNext(int step) {
+  if (boxCount() == 0) return;
+  const int start = selected_ < 0 ? (step > 0 ? -1 : 0) : selected_;
+  select(((start + step) % boxCount() + boxCount()) % boxCount());
+}
+
+void AnnotationsModel::addBox(const GroundTruthBox& box) {
+  undo_stack_.push(new AddBoxCommand(*this, box));
+}
+
+void AnnotationsModel::removeBox(int index) {
+  if (index < 0 || index >= boxCount()) return;
+  undo_stack_.push(new RemoveBoxCommand(*this, index));
+}
+
+void AnnotationsModel::setBox(int index, const GroundTruthBox& box, const QString& text,
+                              int merge_id) {
+  if (index < 0 || index >= boxCount()) return;
+  undo_stack_.push(new SetBoxCommand(*this, index, box, text, merge_id));
+}
+
+void AnnotationsModel::insertRaw(int index, const GroundTruthBox& box) {
+  annotations_.boxes.insert(annotations_.boxes.begin() + index, box);
+  emit boxesChanged();
+}
+
+void AnnotationsModel::removeRaw(int index) {
+  annotations_.boxes.erase(annotations_.boxes.begin() + index);
+  if (selected_ >= boxCount()) selected_ = boxCount() - 1;
+  emit boxesChanged();
+  emit selectionChanged(selected_);
+}
+
+void AnnotationsModel::replaceRaw(int index, const GroundTruthBox& box) {
+  annotations_.boxes[static_cast<size_t>(index)] = box;
+  emit boxesChanged();
+}
+
+}  // namespace lom::ui

@@ -1,0 +1,117 @@
+#include "lom/ui/box_edit_actions.hpp"
+
+#include <QAction>
+#include <QSettings>
+#include <QWidget>
+#include <cmath>
+
+#include "lom/ui/annotations_model.hpp"
+#include "lom/ui/box_math.hpp"
+#include "lom/ui/studio_session.hpp"
+
+namespace lom::ui {
+
+BoxSteps BoxSteps::load() {
+  QSettings settings;
+  BoxSteps steps;
+  steps.move = settings.value("studio/boxSteps/move", steps.move).toDouble();
+  steps.turn = settings.value("studio/boxSteps/turn", steps.turn).toDouble();
+  steps.resize = settings.value("studio/boxSteps/resize", steps.resize).toDouble();
+  return steps;
+}
+
+void BoxSteps::save() const {
+  QSettings settings;
+  settings.setValue("studio/boxSteps/move", move);
+  settings.setValue("studio/boxSteps/turn", turn);
+  settings.setValue("studio/boxSteps/resize", resize);
+}
+
+BoxEditReaction::BoxEditReaction(QAction* action, Edit edit, StudioSession& session,
+                                 const BoxSteps& steps)
+    : Reaction(action), edit_(edit), session_(session), steps_(steps) {
+  connect(&session_.annotations(), &AnnotationsModel::selectionChanged, this,
+          &BoxEditReaction::updateEnabled);
+  connect(&session_.annotations(), &AnnotationsModel::boxesChanged, this,
+          &BoxEditReaction::updateEnabled);
+  updateEnabled();
+}
+
+void BoxEditReaction::updateEnabled() {
+  AnnotationsModel& model = session_.annotations();
+  const bool navigation = edit_ == Edit::Next || edit_ == Edit::Previous;
+  action()->setEnabled(navigation ? model.boxCount() > 0 : model.selected() >= 0);
+}
+
+void BoxEditReaction::onTriggered() {
+  AnnotationsModel& model = session_.annotations();
+  if (edit_ == Edit::Next) return model.selectNext(+1);
+  if (edit_ == Edit::Previous) return model.selectNext(-1);
+  const int index = model.selected();
+  if (index < 0) return;
+  if (edit_ == Edit::Delete) return model.removeBox(index);
+
+  GroundTruthBox box = model.box(index);
+  const double m = steps_.move, r = steps_.resize, turn = steps_.turn * M_PI / 180.0;
+  QString text = tr("Move box");
+  switch (edit_) {
+    case Edit::MoveForward: box.box = movedInBoxFrame(box.box, {m, 0, 0}); break;
+    case Edit::MoveBack: box.box = movedInBoxFrame(box.box, {-m, 0, 0}); break;
+    case Edit::MoveLeft: box.box = movedInBoxFrame(box.box, {0, m, 0}); break;
+    case Edit::MoveRight: box.box = movedInBoxFrame(box.box, {0, -m, 0}); break;
+    case Edit::MoveUp: box.box = movedInBoxFrame(box.box, {0, 0, m}); break;
+    case Edit::MoveDown: box.box = movedInBoxFrame(box.box, {0, 0, -m}); break;
+    case Edit::TurnLeft: box.box = turnedAboutZ(box.box, turn); text = tr("Rotate box"); break;
+    case Edit::TurnRight: box.box = turnedAboutZ(box.box, -turn); text = tr("Rotate box"); break;
+    case Edit::GrowX: box.box = resized(box.box, 0, r); text = tr("Resize box"); break;
+    case Edit::ShrinkX: box.box = resized(box.box, 0, -r); text = tr("Resize box"); break;
+    case Edit::GrowY: box.box = resized(box.box, 1, r); text = tr("Resize box"); break;
+    case Edit::ShrinkY: box.box = resized(box.box, 1, -r); text = tr("Resize box"); break;
+    case Edit::GrowZ: box.box = resized(box.box, 2, r); text = tr("Resize box"); break;
+    case Edit::ShrinkZ: box.box = resized(box.box, 2, -r); text = tr("Resize box"); break;
+    default: return;
+  }
+  model.setBox(index, box, text);
+}
+
+std::vector<QAction*> createBoxEditActions(QWidget& window, QWidget& scene, StudioSession& session,
+                                           const BoxSteps& steps) {
+  using Edit = BoxEditReaction::Edit;
+  struct Spec {
+    QString text;
+    QKeySequence key;
+    Edit edit;
+  };
+  const Spec specs[] = {
+      {QObject::tr("Move Box Forward (+x)"), Qt::Key_W, Edit::MoveForward},
+      {QObject::tr("Move Box Back (-x)"), Qt::Key_S, Edit::MoveBack},
+      {QObject::tr("Move Box Left (+y)"), Qt::Key_A, Edit::MoveLeft},
+      {QObject::tr("Move Box Right (-y)"), Qt::Key_D, Edit::MoveRight},
+      {QObject::tr("Move Box Up (+z)"), Qt::Key_E, Edit::MoveUp},
+      {QObject::tr("Move Box Down (-z)"), Qt::Key_Q, Edit::MoveDown},
+      {QObject::tr("Rotate Box Left"), Qt::Key_Z, Edit::TurnLeft},
+      {QObject::tr("Rotate Box Right"), Qt::Key_X, Edit::TurnRight},
+      {QObject::tr("Grow Box Length (x)"), Qt::Key_I, Edit::GrowX},
+      {QObject::tr("Shrink Box Length (x)"), Qt::Key_K, Edit::ShrinkX},
+      {QObject::tr("Grow Box Width (y)"), Qt::Key_O, Edit::GrowY},
+      {QObject::tr("Shrink Box Width (y)"), Qt::Key_L, Edit::ShrinkY},
+      {QObject::tr("Grow Box Height (z)"), Qt::SHIFT + Qt::Key_I, Edit::GrowZ},
+      {QObject::tr("Shrink Box Height (z)"), Qt::SHIFT + Qt::Key_K, Edit::ShrinkZ},
+      {QObject::tr("Next Box"), Qt::Key_Tab, Edit::Next},
+      {QObject::tr("Previous Box"), Qt::SHIFT + Qt::Key_Backtab, Edit::Previous},
+      {QObject::tr("Delete Box"), QKeySequence::Delete, Edit::Delete},
+  };
+  std::vector<QAction*> actions;
+  for (const Spec& spec : specs) {
+    auto* action = new QAction(spec.text, &window);
+    action->setShortcut(spec.key);
+    const bool tab = spec.edit == Edit::Next || spec.edit == Edit::Previous;
+    action->setShortcutContext(tab ? Qt::WidgetWithChildrenShortcut : Qt::WindowShortcut);
+    (tab ? scene : window).addAction(action);
+    new BoxEditReaction(action, spec.edit, session, steps);
+    actions.push_back(action);
+  }
+  return actions;
+}
+
+}  // namespace lom::ui

@@ -1,0 +1,214 @@
+#include "lom/ui/box_editor_panel.hpp"
+
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QGridLayout>
+#include <QGroupBox>
+#include <QLabel>
+#include <QListWidget>
+#include <QSignalBlocker>
+#include <QVBoxLayout>
+#include <algorithm>
+#include <cmath>
+
+#include "lom/ui/annotations_model.hpp"
+#include "lom/ui/box_edit_actions.hpp"
+#include "lom/ui/box_math.hpp"
+#include "lom/ui/frame_labels.hpp"
+#include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/studio_session.hpp"
+
+namespace lom::ui {
+
+namespace {
+
+QDoubleSpinBox* makeField(double low, double high, int decimals, double step, const QString& suffix) {
+  auto* box = new QDoubleSpinBox;
+  box->setRange(low, high);
+  box->setDecimals(decimals);
+  box->setSingleStep(step);
+  box->setSuffix(suffix);
+  box->setKeyboardTracking(false);
+  return box;
+}
+
+QIcon swatch(const QColor& color) {
+  QPixmap pixmap(12, 12);
+  pixmap.fill(color);
+  return QIcon(pixmap);
+}
+
+constexpr double kDegrees = 180.0 / M_PI;
+
+}  // namespace
+
+BoxEditorPanel::BoxEditorPanel(StudioSession& session, BoxSteps& steps, QWidget* parent)
+    : QWidget(parent),
+      session_(session),
+      steps_(steps),
+      list_(new QListWidget),
+      box_label_(new QComboBox),
+      new_label_(new QComboBox) {
+  setObjectName("boxEditor");
+  list_->setObjectName("boxList");
+  new_label_->setObjectName("newBoxLabel");
+  auto* layout = new QVBoxLayout(this);
+  layout->setContentsMargins(2, 2, 2, 2);
+  auto* new_form = new QFormLayout;
+  new_form->addRow(tr("New box label"), new_label_);
+  layout->addLayout(new_form);
+  layout->addWidget(list_, 1);
+
+  auto* grid = new QGridLayout;
+  const QString rows[3] = {tr("Centre"), tr("Size"), tr("Roll/Pitch/Yaw")};
+  for (int i = 0; i < 9; ++i) {
+    const bool angle = i >= 6;
+    fields_[static_cast<size_t>(i)] =
+        angle ? makeField(-180.0, 180.0, 1, 1.0, QStringLiteral("°"))
+              : (i >= 3 ? makeField(0.002, 100.0, 3, 0.005, "") : makeField(-1000, 1000, 3, 0.005, ""));
+    fields_[static_cast<size_t>(i)]->setObjectName(QString("boxField%1").arg(i));
+    if (i % 3 == 0) grid->addWidget(new QLabel(rows[i / 3]), i / 3, 0);
+    grid->addWidget(fields_[static_cast<size_t>(i)], i / 3, 1 + i % 3);
+    connect(fields_[static_cast<size_t>(i)], qOverload<double>(&QDoubleSpinBox::valueChanged), this,
+            &BoxEditorPanel::onFieldEdited);
+  }
+  auto* form = new QFormLayout;
+  form->addRow(tr("Label"), box_label_);
+  layout->addLayout(form);
+  layout->addLayout(grid);
+
+  auto* steps_box = new QGroupBox(tr("Key steps"));
+  auto* steps_form = new QFormLayout(steps_box);
+  auto* move = makeField(0.001, 1.0, 3, 0.005, " m");
+  auto* turn = makeField(0.1, 90.0, 1, 1.0, QStringLiteral("°"));
+  auto* resize = makeField(0.001, 1.0, 3, 0.005, " m");
+  move->setValue(steps_.move);
+  turn->setValue(steps_.turn);
+  resize->setValue(steps_.resize);
+  steps_form->addRow(tr("Move"), move);
+  steps_form->addRow(tr("Rotate"), turn);
+  steps_form->addRow(tr("Resize"), resize);
+  layout->addWidget(steps_box);
+  auto remember = [this, move, turn, resize] {
+    steps_.move = move->value();
+    steps_.turn = turn->value();
+    steps_.resize = resize->value();
+    steps_.save();
+  };
+  for (QDoubleSpinBox* box : {move, turn, resize})
+    connect(box, qOverload<double>(&QDoubleSpinBox::valueChanged), this, remember);
+
+  AnnotationsModel& model = session_.annotations();
+  connect(&model, &AnnotationsModel::boxesChanged, this, &BoxEditorPanel::rebuildList);
+  connect(&model, &AnnotationsModel::selectionChanged, this, &BoxEditorPanel::showSelected);
+  connect(list_, &QListWidget::currentRowChanged, this, [this](int row) {
+    if (!updating_) session_.annotations().select(row);
+  });
+  connect(box_label_, qOverload<int>(&QComboBox::activated), this,
+          &BoxEditorPanel::onBoxLabelChosen);
+  connect(new_label_, qOverload<int>(&QComboBox::currentIndexChanged), this, [this](int index) {
+    if (!updating_) session_.setSelectedLabel(new_label_->itemData(index).toInt());
+  });
+  connect(&session_, &StudioSession::selectedLabelChanged, this, [this](int label) {
+    const QSignalBlocker block(new_label_);
+    new_label_->setCurrentIndex(new_label_->findData(label));
+  });
+  connect(&session_.controller(), &SequenceController::sequenceChanged, this,
+          &BoxEditorPanel::rebuildLabels);
+  rebuildList();
+}
+
+void BoxEditorPanel::rebuildLabels() {
+  updating_ = true;
+  box_label_->clear();
+  new_label_->clear();
+  if (const auto sequence = session_.sequence()) {
+    for (const LabelInfo& info : sequence->labels.all()) {
+      if (info.id == 0) continue;  // the background is never boxed
+      const QString text = QString("%1 %2").arg(info.id).arg(QString::fromStdString(info.name));
+      const QIcon icon = swatch(labelColor(sequence->labels, info.id));
+      box_label_->addItem(icon, text, info.id);
+      new_label_->addItem(icon, text, info.id);
+    }
+  }
+  new_label_->setCurrentIndex(new_label_->findData(session_.selectedLabel()));
+  updating_ = false;
+  showSelected();
+}
+
+void BoxEditorPanel::rebuildList() {
+  updating_ = true;
+  const AnnotationsModel& model = session_.annotations();
+  list_->clear();
+  const auto sequence = session_.sequence();
+  for (int i = 0; i < model.boxCount(); ++i) {
+    const GroundTruthBox& box = model.box(i);
+    auto* item = new QListWidgetItem(
+        QString("%1  %2").arg(box.label).arg(QString::fromStdString(box.name)));
+    if (sequence) item->setIcon(swatch(labelColor(sequence->labels, box.label)));
+    list_->addItem(item);
+  }
+  updating_ = false;
+  showSelected();
+}
+
+void BoxEditorPanel::showSelected() {
+  updating_ = true;
+  const AnnotationsModel& model = session_.annotations();
+  const int index = model.selected();
+  list_->setCurrentRow(index);
+  const bool has = index >= 0;
+  for (QDoubleSpinBox* field : fields_) field->setEnabled(has);
+  box_label_->setEnabled(has);
+  if (has) {
+    const GroundTruthBox& box = model.box(index);
+    const Eigen::Vector3d angles = rollPitchYaw(box.box.rotation) * kDegrees;
+    for (int i = 0; i < 3; ++i) {
+      fields_[static_cast<size_t>(i)]->setValue(box.box.center[i]);
+      fields_[static_cast<size_t>(i + 3)]->setValue(box.box.size[i]);
+      fields_[static_cast<size_t>(i + 6)]->setValue(angles[i]);
+    }
+    box_label_->setCurrentIndex(box_label_->findData(box.label));
+  }
+  updating_ = false;
+}
+
+void BoxEditorPanel::onFieldEdited() {
+  AnnotationsModel& model = session_.annotations();
+  if (updating_ || model.selected() < 0) return;
+  GroundTruthBox box = model.box(model.selected());
+  // Only the edited value changes, so the others keep their full precision.
+  const auto it = std::find(fields_.begin(), fields_.end(), sender());
+  if (it == fields_.end()) return;
+  const int i = static_cast<int>(it - fields_.begin());
+  const double value = fields_[static_cast<size_t>(i)]->value();
+  if (i < 3) {
+    box.box.center[i] = value;
+  } else if (i < 6) {
+    box.box.size[i - 3] = value;
+  } else {
+    Eigen::Vector3d angles;
+    for (int a = 0; a < 3; ++a) angles[a] = fields_[static_cast<size_t>(6 + a)]->value() / kDegrees;
+    box.box.rotation = fromRollPitchYaw(angles);
+  }
+  model.setBox(model.selected(), box, tr("Edit box"));
+}
+
+void BoxEditorPanel::onBoxLabelChosen(int combo_index) {
+  AnnotationsModel& model = session_.annotations();
+  const auto sequence = session_.sequence();
+  if (updating_ || model.selected() < 0 || !sequence) return;
+  GroundTruthBox box = model.box(model.selected());
+  const int label = box_label_->itemData(combo_index).toInt();
+  for (int i = 0; i < model.boxCount(); ++i)
+    if (i != model.selected() && model.box(i).label == label) {
+      showSelected();  // one box per object: keep the old label
+      return;
+    }
+  box.label = label;
+  box.name = sequence->labels.at(box.label).name;
+  model.setBox(model.selected(), box, tr("Change box label"));
+}
+
+}  // namespace lom::ui

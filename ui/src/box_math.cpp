@@ -1,0 +1,42 @@
+#include "lom/ui/box_math.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace lom::ui {
+
+Eigen::Vector3d rollPitchYaw(const Eigen::Quaterniond& rotation) {
+  const Eigen::Matrix3d r = rotation.normalized().toRotationMatrix();
+  const double pitch = std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
+  const double roll = std::atan2(r(2, 1), r(2, 2));
+  const double yaw = std::atan2(r(1, 0), r(0, 0));
+  return {roll, pitch, yaw};
+}
+
+Eigen::Quaterniond fromRollPitchYaw(const Eigen::Vector3d& rpy) {
+  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+      .normalized();
+}
+
+OrientedBox movedInBoxFrame(const OrientedBox& box, const Eigen::Vector3d& delta) {
+  OrientedBox moved = box;
+  moved.center += box.rotation * delta;
+  return moved;
+}
+
+OrientedBox turnedAboutZ(const OrientedBox& box, double radians) {
+  OrientedBox turned = box;
+  turned.rotation =
+      (box.rotation * Eigen::AngleAxisd(radians, Eigen::Vector3d::UnitZ())).normalized();
+  return turned;
+}
+
+OrientedBox resized(const OrientedBox& box, int axis, double step, double minimum) {
+  OrientedBox result = box;
+  result.size[axis] = std::max(minimum, box.size[axis] + step);
+  return result;
+}
+
+}  // namespace lom::ui

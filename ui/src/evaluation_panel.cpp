@@ -1,0 +1,169 @@
+#include "lom/ui/evaluation_panel.hpp"
+
+#include <QFileDialog>
+#include <QHBoxLayout>
+#include <QHeaderView>
+#include <QLabel>
+#include <QMessageBox>
+#include <QPushButton>
+#include <QTableWidget>
+#include <QTimer>
+#include <QVBoxLayout>
+
+#include "lom/report.hpp"
+#include "lom/ui/annotations_model.hpp"
+#include "lom/ui/map_worker.hpp"
+#include "lom/ui/score_chart.hpp"
+#include "lom/ui/studio_session.hpp"
+
+namespace lom::ui {
+
+namespace {
+
+QTableWidgetItem* numberItem(double value, double display) {
+  auto* item = new QTableWidgetItem;
+  item->setData(Qt::DisplayRole, display);
+  item->setData(EvaluationPanel::kValueRole, value);
+  item->setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
+  return item;
+}
+
+QTableWidgetItem* scoreItem(double value) {
+  // Shown in percent with one decimal (sorting uses the number).
+  return numberItem(value, std::round(value * 1000.0) / 10.0);
+}
+
+}  // namespace
+
+EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
+    : QWidget(parent),
+      session_(session),
+      table_(new QTableWidget(0, Columns)),
+      summary_(new QLabel),
+      chart_(new ScoreChart),
+      export_(new QPushButton(tr("Export report…"))),
+      debounce_(new QTimer(this)) {
+  setObjectName("evaluationPanel");
+  table_->setObjectName("evaluationTable");
+  summary_->setObjectName("evaluationSummary");
+  table_->setHorizontalHeaderLabels({tr("Label"), tr("Object"), tr("Voxels"), tr("Proj. mean"),
+                                     tr("Proj. max"), tr("LabelOctoMap"), tr("Box IU")});
+  table_->verticalHeader()->hide();
+  table_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  table_->setSelectionBehavior(QAbstractItemView::SelectRows);
+  table_->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+  table_->horizontalHeader()->setSectionResizeMode(Name, QHeaderView::Stretch);
+  table_->setSortingEnabled(true);
+  summary_->setWordWrap(true);
+  summary_->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  export_->setEnabled(false);
+
+  auto* layout = new QVBoxLayout(this);
+  layout->setContentsMargins(2, 2, 2, 2);
+  layout->addWidget(table_, 2);
+  layout->addWidget(summary_);
+  layout->addWidget(chart_, 1);
+  auto* buttons = new QHBoxLayout;
+  buttons->addStretch(1);
+  buttons->addWidget(export_);
+  layout->addLayout(buttons);
+
+  debounce_->setSingleShot(true);
+  debounce_->setInterval(300);
+  connect(debounce_, &QTimer::timeout, this, &EvaluationPanel::evaluateNow);
+  MapWorker& worker = session_.worker();
+  connect(&session_.annotations(), &AnnotationsModel::boxesChanged, this,
+          &EvaluationPanel::requestUpdate);
+  connect(&worker, &MapWorker::fusionFinished, this, &EvaluationPanel::requestUpdate);
+  connect(&worker, &MapWorker::snapshotChanged, this, [this] {
+    if (!session_.worker().isFusing()) requestUpdate();  // re-thresholded or reset
+  });
+  connect(&worker, &MapWorker::evaluationFinished, this, &EvaluationPanel::show);
+  connect(&worker, &MapWorker::evaluationFailed, this, &EvaluationPanel::showMessage);
+  connect(export_, &QPushButton::clicked, this, [this] {
+    const QString dir = QFileDialog::getExistingDirectory(this, tr("Export Report To"));
+    if (dir.isEmpty()) return;
+    const QString error = exportReport(dir);
+    if (!error.isEmpty()) QMessageBox::warning(this, tr("Export report"), error);
+  });
+  showMessage(tr("Open a sequence, fuse it and add boxes to score the map."));
+}
+
+bool EvaluationPanel::isBusy() const {
+  return debounce_->isActive() || session_.worker().isEvaluating();
+}
+
+void EvaluationPanel::requestUpdate() { debounce_->start(); }
+
+void EvaluationPanel::evaluateNow() {
+  const auto sequence = session_.sequence();
+  if (!sequence) return;
+  if (session_.worker().isFusing()) return;  // fusionFinished asks again
+  const Annotations& boxes = session_.annotations().annotations();
+  if (boxes.boxes.empty()) {
+    report_.reset();
+    table_->setRowCount(0);
+    chart_->setObjects({});
+    export_->setEnabled(false);
+    summary_->setText(tr("No boxes: add one (Annotate menu) to score the map."));
+    return;
+  }
+  if (!session_.worker().snapshot() || session_.worker().snapshot()->frames_fused == 0) {
+    showMessage(tr("Fuse the sequence to score the map."));
+    return;
+  }
+  EvaluationOptions options;
+  options.fusion = session_.fusionOptions();
+  Annotations annotations = boxes;
+  annotations.frame_id = sequence->frame_id;
+  summary_->setText(tr("Scoring…"));
+  session_.worker().evaluate(sequence, annotations, options);
+}
+
+void EvaluationPanel::show(const EvaluationReport& report) {
+  report_ = report;
+  table_->setSortingEnabled(false);
+  table_->setRowCount(static_cast<int>(report.objects.size()));
+  for (int row = 0; row < table_->rowCount(); ++row) {
+    const ObjectScore& object = report.objects[static_cast<size_t>(row)];
+    table_->setItem(row, Label, numberItem(object.label, object.label));
+    table_->setItem(row, Name, new QTableWidgetItem(QString::fromStdString(object.name)));
+    table_->setItem(row, Voxels,
+                    numberItem(static_cast<double>(object.voxels), static_cast<double>(object.voxels)));
+    table_->setItem(row, ProjectionMean, scoreItem(object.iou_3d.projection_mean));
+    table_->setItem(row, ProjectionMax, scoreItem(object.iou_3d.projection_max));
+    table_->setItem(row, LabelOctoMap, scoreItem(object.iou_3d.labeloctomap));
+    table_->setItem(row, BoxIou, scoreItem(object.box_iou.labeloctomap));
+  }
+  table_->setSortingEnabled(true);
+  const ScoreSummary& s = report.summary;
+  summary_->setText(tr("Mean over %1 objects — Proj. mean %2, Proj. max %3, LabelOctoMap %4, "
+                       "box IU %5; LabelOctoMap beats Proj. max on %6 of %1.")
+                        .arg(s.objects)
+                        .arg(s.iou_3d.projection_mean * 100.0, 0, 'f', 1)
+                        .arg(s.iou_3d.projection_max * 100.0, 0, 'f', 1)
+                        .arg(s.iou_3d.labeloctomap * 100.0, 0, 'f', 1)
+                        .arg(s.box_iou.labeloctomap * 100.0, 0, 'f', 1)
+                        .arg(s.labeloctomap_beats_projection_max));
+  chart_->setObjects(report.objects);
+  export_->setEnabled(true);
+  emit reportShown();
+}
+
+void EvaluationPanel::showMessage(const QString& message) {
+  summary_->setText(message);
+}
+
+QString EvaluationPanel::summaryText() const { return summary_->text(); }
+
+QString EvaluationPanel::exportReport(const QString& dir) const {
+  if (!report_) return tr("Nothing to export yet.");
+  try {
+    writeReport(*report_, std::filesystem::path(dir.toStdString()));
+  } catch (const std::exception& error) {
+    return QString::fromStdString(error.what());
+  }
+  return {};
+}
+
+}  // namespace lom::ui

@@ -1,0 +1,66 @@
+#include "lom/ui/export_map_reaction.hpp"
+
+#include <QAction>
+#include <QFileDialog>
+#include <QMetaObject>
+#include <QPointer>
+
+#include "lom/ui/map_worker.hpp"
+#include "lom/ui/studio_session.hpp"
+
+namespace lom::ui {
+
+ExportMapReaction::ExportMapReaction(QAction* action, ExportOptions options,
+                                     StudioSession& session, QWidget* parent,
+                                     const ErrorReporter& report)
+    : Reaction(action), options_(std::move(options)), session_(session), parent_(parent),
+      report_(report) {
+  auto update = [this] {
+    const auto snapshot = session_.worker().snapshot();
+    this->action()->setEnabled(snapshot && !snapshot->empty());
+  };
+  connect(&session_.worker(), &MapWorker::snapshotChanged, this, update);
+  update();
+  connect(this, &ExportMapReaction::finished, this, [this](const QString& message, bool ok) {
+    if (!ok) report_(tr("Export"), message);
+  });
+}
+
+void ExportMapReaction::onTriggered() {
+  const QString extension = QString::fromLatin1(exportFormatName(options_.format));
+  const QString path = QFileDialog::getSaveFileName(
+      parent_, tr("Export Map"), "map." + extension,
+      tr("%1 files (*.%2)").arg(extension.toUpper(), extension));
+  if (!path.isEmpty()) exportTo(path);
+}
+
+void ExportMapReaction::exportTo(const QString& path) {
+  QPointer<ExportMapReaction> self(this);
+  MapWorker* worker = &session_.worker();
+  const ExportOptions options = options_;
+  worker->withMap([self, worker, options, path](const LabelMap* map) {
+    QString message;
+    bool ok = false;
+    if (!map) {
+      message = tr("Fuse the sequence first.");
+    } else {
+      try {
+        const ExportSummary summary = exportMap(*map, options, path.toStdString());
+        message = tr("Wrote %1 %2 to %3")
+                      .arg(summary.items)
+                      .arg(QString::fromStdString(summary.item_name), path);
+        ok = true;
+      } catch (const std::exception& error) {
+        message = QString::fromStdString(error.what());
+      }
+    }
+    QMetaObject::invokeMethod(
+        worker,
+        [self, message, ok] {
+          if (self) emit self->finished(message, ok);
+        },
+        Qt::QueuedConnection);
+  });
+}
+
+}  // namespace lom::ui

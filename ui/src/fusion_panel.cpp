@@ -1,0 +1,132 @@
+#include "lom/ui/fusion_panel.hpp"
+
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QLabel>
+#include <QLineEdit>
+#include <QPushButton>
+#include <QSignalBlocker>
+
+#include "lom/ui/studio_session.hpp"
+
+namespace lom::ui {
+
+namespace {
+
+QDoubleSpinBox* makeBox(double low, double high, double step, int decimals, const QString& suffix) {
+  auto* box = new QDoubleSpinBox;
+  box->setRange(low, high);
+  box->setSingleStep(step);
+  box->setDecimals(decimals);
+  box->setSuffix(suffix);
+  box->setKeyboardTracking(false);
+  return box;
+}
+
+std::optional<std::vector<int>> parseCandidates(const QString& text, bool* ok) {
+  *ok = true;
+  const QStringList words = text.split(QRegExp("[,\\s]+"), Qt::SkipEmptyParts);
+  if (words.isEmpty()) return std::nullopt;
+  std::vector<int> ids;
+  for (const QString& word : words) {
+    bool number = false;
+    const int id = word.toInt(&number);
+    if (!number || id < 0) {
+      *ok = false;
+      return std::nullopt;
+    }
+    ids.push_back(id);
+  }
+  return ids;
+}
+
+QString candidatesText(const std::optional<std::vector<int>>& candidates) {
+  if (!candidates) return {};
+  QStringList words;
+  for (int id : *candidates) words << QString::number(id);
+  return words.join(' ');
+}
+
+}  // namespace
+
+FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
+    : QWidget(parent),
+      session_(session),
+      resolution_(makeBox(0.002, 0.5, 0.005, 3, " m")),
+      max_range_(makeBox(0.0, 20.0, 0.1, 2, " m")),
+      p_miss_(makeBox(0.01, 0.49, 0.05, 2, "")),
+      threshold_(makeBox(0.01, 0.99, 0.05, 2, "")),
+      candidates_(new QLineEdit),
+      note_(new QLabel),
+      refuse_(new QPushButton(tr("Re-fuse"))) {
+  setObjectName("fusionPanel");
+  threshold_->setObjectName("thresholdBox");
+  resolution_->setObjectName("resolutionBox");
+  refuse_->setObjectName("refuseButton");
+  max_range_->setSpecialValueText(tr("unlimited"));
+  candidates_->setPlaceholderText(tr("all labels (e.g. 0 3 7)"));
+  note_->setWordWrap(true);
+  auto* form = new QFormLayout(this);
+  form->addRow(tr("Resolution"), resolution_);
+  form->addRow(tr("Max range"), max_range_);
+  form->addRow(tr("p_miss"), p_miss_);
+  form->addRow(tr("Threshold"), threshold_);
+  form->addRow(tr("Candidates"), candidates_);
+  form->addRow(note_);
+  form->addRow(refuse_);
+
+  loadFromSession();
+  connect(threshold_, qOverload<double>(&QDoubleSpinBox::valueChanged), this,
+          [this](double value) { session_.setOccupancyThreshold(value); });
+  for (QDoubleSpinBox* box : {resolution_, max_range_, p_miss_})
+    connect(box, qOverload<double>(&QDoubleSpinBox::valueChanged), this, &FusionPanel::onEdited);
+  connect(candidates_, &QLineEdit::textChanged, this, &FusionPanel::onEdited);
+  connect(refuse_, &QPushButton::clicked, this, &FusionPanel::refuse);
+}
+
+void FusionPanel::loadFromSession() {
+  const FusionOptions& options = session_.fusionOptions();
+  const QSignalBlocker b1(resolution_), b2(max_range_), b3(p_miss_), b4(threshold_),
+      b5(candidates_);
+  resolution_->setValue(options.map.resolution);
+  max_range_->setValue(std::max(0.0, options.map.max_range));
+  p_miss_->setValue(options.map.p_miss);
+  threshold_->setValue(options.map.occupancy_threshold);
+  candidates_->setText(candidatesText(options.candidates));
+  onEdited();
+}
+
+bool FusionPanel::hasPendingChanges() const {
+  const FusionOptions& options = session_.fusionOptions();
+  bool ok = true;
+  const auto candidates = parseCandidates(candidates_->text(), &ok);
+  return !qFuzzyCompare(resolution_->value(), options.map.resolution) ||
+         !qFuzzyCompare(1.0 + max_range_->value(), 1.0 + std::max(0.0, options.map.max_range)) ||
+         !qFuzzyCompare(p_miss_->value(), options.map.p_miss) || candidates != options.candidates;
+}
+
+void FusionPanel::onEdited() {
+  bool ok = true;
+  parseCandidates(candidates_->text(), &ok);
+  const bool pending = hasPendingChanges();
+  refuse_->setEnabled(pending && ok);
+  if (!ok)
+    note_->setText(tr("Candidates: label ids separated by spaces."));
+  else
+    note_->setText(pending ? tr("Changed: re-fuse to apply.") : QString());
+}
+
+void FusionPanel::refuse() {
+  bool ok = true;
+  FusionOptions options = session_.fusionOptions();
+  options.candidates = parseCandidates(candidates_->text(), &ok);
+  if (!ok) return;
+  options.map.resolution = resolution_->value();
+  options.map.max_range = max_range_->value();
+  options.map.p_miss = p_miss_->value();
+  session_.setFusionOptions(options);
+  session_.fuse();
+  onEdited();
+}
+
+}  // namespace lom::ui

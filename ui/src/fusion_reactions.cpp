@@ -1,0 +1,56 @@
+#include "lom/ui/fusion_reactions.hpp"
+
+#include <QAction>
+
+#include "lom/ui/map_worker.hpp"
+#include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/studio_session.hpp"
+
+namespace lom::ui {
+
+FusionReaction::FusionReaction(QAction* action, Kind kind, StudioSession& session)
+    : Reaction(action), kind_(kind), session_(session) {
+  if (kind_ == Kind::Pause) action->setCheckable(true);
+  connect(&session_.worker(), &MapWorker::stateChanged, this, &FusionReaction::updateState);
+  connect(&session_.controller(), &SequenceController::sequenceChanged, this,
+          &FusionReaction::updateState);
+  updateState();
+}
+
+void FusionReaction::onTriggered() {
+  MapWorker& worker = session_.worker();
+  switch (kind_) {
+    case Kind::Fuse:
+      session_.fuse();
+      break;
+    case Kind::Pause:
+      worker.setPaused(action()->isChecked());
+      break;
+    case Kind::Cancel:
+      worker.cancel();
+      break;
+    case Kind::Reset:
+      session_.resetMap();
+      break;
+  }
+}
+
+void FusionReaction::updateState() {
+  const bool open = session_.controller().hasSequence();
+  const bool fusing = session_.worker().isFusing();
+  switch (kind_) {
+    case Kind::Fuse:
+    case Kind::Reset:
+      action()->setEnabled(open);
+      break;
+    case Kind::Pause:
+      action()->setEnabled(fusing);
+      action()->setChecked(session_.worker().state() == MapWorker::State::Paused);
+      break;
+    case Kind::Cancel:
+      action()->setEnabled(fusing);
+      break;
+  }
+}
+
+}  // namespace lom::ui

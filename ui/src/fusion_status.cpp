@@ -1,0 +1,43 @@
+#include "lom/ui/fusion_status.hpp"
+
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QProgressBar>
+
+#include "lom/ui/map_worker.hpp"
+
+namespace lom::ui {
+
+FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
+    : QWidget(parent), progress_(new QProgressBar), rate_(new QLabel) {
+  setObjectName("fusionStatus");
+  progress_->setMaximumWidth(160);
+  progress_->setFormat(tr("fused %v/%m"));
+  progress_->setRange(0, 1);
+  progress_->setValue(0);
+  auto* layout = new QHBoxLayout(this);
+  layout->setContentsMargins(0, 0, 0, 0);
+  layout->addWidget(progress_);
+  layout->addWidget(rate_);
+  connect(&worker, &MapWorker::fusionProgress, this, [this](int done, int total, double rate) {
+    progress_->setRange(0, std::max(1, total));
+    progress_->setValue(done);
+    rate_->setText(tr("%1 frames/s").arg(rate, 0, 'f', 1));
+  });
+  connect(&worker, &MapWorker::stateChanged, this, [this](MapWorker::State state) {
+    if (state == MapWorker::State::Paused) rate_->setText(tr("paused"));
+  });
+  connect(&worker, &MapWorker::fusionFinished, this, [this](bool completed) {
+    if (!completed) rate_->setText(tr("stopped at %1/%2").arg(progress_->value()).arg(progress_->maximum()));
+  });
+  connect(&worker, &MapWorker::snapshotChanged, this, [this, &worker] {
+    if (worker.snapshot()->frames_fused == 0 && !worker.isFusing()) {
+      progress_->setValue(0);
+      rate_->clear();
+    }
+  });
+}
+
+QString FusionStatus::text() const { return progress_->text() + " " + rate_->text(); }
+
+}  // namespace lom::ui

@@ -1,0 +1,128 @@
+#include "lom/ui/map_legend_panel.hpp"
+
+#include <QHBoxLayout>
+#include <QHeaderView>
+#include <QPixmap>
+#include <QPushButton>
+#include <QSignalBlocker>
+#include <QTableWidget>
+#include <QVBoxLayout>
+
+#include "lom/ui/frame_labels.hpp"
+#include "lom/ui/map_worker.hpp"
+#include "lom/ui/studio_session.hpp"
+
+namespace lom::ui {
+
+namespace {
+constexpr int kLabelRole = Qt::UserRole + 1;
+
+QIcon swatch(const QColor& color) {
+  QPixmap pixmap(14, 14);
+  pixmap.fill(color);
+  return QIcon(pixmap);
+}
+}  // namespace
+
+MapLegendPanel::MapLegendPanel(StudioSession& session, QWidget* parent)
+    : QWidget(parent), session_(session), table_(new QTableWidget(0, 2)) {
+  setObjectName("mapLegend");
+  table_->setObjectName("mapLegendTable");
+  table_->setHorizontalHeaderLabels({tr("Label"), tr("Voxels")});
+  table_->horizontalHeader()->setSectionResizeMode(0, QHeaderView::Stretch);
+  table_->horizontalHeader()->setSectionResizeMode(1, QHeaderView::ResizeToContents);
+  table_->verticalHeader()->hide();
+  table_->setSelectionBehavior(QAbstractItemView::SelectRows);
+  table_->setSelectionMode(QAbstractItemView::SingleSelection);
+  table_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+
+  auto* only = new QPushButton(tr("Show only"));
+  only->setObjectName("showOnlyButton");
+  auto* all = new QPushButton(tr("Show all"));
+  auto* buttons = new QHBoxLayout;
+  buttons->addWidget(only);
+  buttons->addWidget(all);
+  auto* layout = new QVBoxLayout(this);
+  layout->setContentsMargins(2, 2, 2, 2);
+  layout->addWidget(table_, 1);
+  layout->addLayout(buttons);
+
+  connect(only, &QPushButton::clicked, this, [this] { showOnly(currentLabel()); });
+  connect(all, &QPushButton::clicked, this, &MapLegendPanel::showAll);
+  connect(table_, &QTableWidget::itemChanged, this, &MapLegendPanel::onItemChanged);
+  connect(table_, &QTableWidget::itemDoubleClicked, this,
+          [this](QTableWidgetItem* item) { showOnly(item->data(kLabelRole).toInt()); });
+  connect(table_, &QTableWidget::currentCellChanged, this,
+          [this] { emit currentLabelChanged(currentLabel()); });
+  connect(&session_.worker(), &MapWorker::snapshotChanged, this, &MapLegendPanel::rebuild);
+  connect(&session_, &StudioSession::hiddenLabelsChanged, this, &MapLegendPanel::rebuild);
+}
+
+std::vector<int> MapLegendPanel::listedLabels() const {
+  std::vector<int> labels;
+  for (int row = 0; row < table_->rowCount(); ++row)
+    labels.push_back(table_->item(row, 0)->data(kLabelRole).toInt());
+  return labels;
+}
+
+QString MapLegendPanel::nameOf(int row) const { return table_->item(row, 0)->text(); }
+
+int MapLegendPanel::currentLabel() const {
+  const int row = table_->currentRow();
+  return row < 0 ? -1 : table_->item(row, 0)->data(kLabelRole).toInt();
+}
+
+void MapLegendPanel::rebuild() {
+  const int keep = currentLabel();
+  const QSignalBlocker block(table_);
+  const auto snapshot = session_.worker().snapshot();
+  const auto sequence = session_.sequence();
+  table_->setRowCount(0);
+  if (!snapshot || !sequence) return;
+  int row = 0;
+  table_->setRowCount(static_cast<int>(snapshot->counts.size()));
+  for (const auto& [label, count] : snapshot->counts) {
+    const QString name = sequence->labels.contains(label)
+                             ? QString::fromStdString(sequence->labels.at(label).name)
+                             : tr("label %1").arg(label);
+    // The background is drawn grey in the 3D view (its palette colour is black).
+    const QColor color = label == 0 ? QColor(150, 150, 160) : labelColor(sequence->labels, label);
+    auto* item = new QTableWidgetItem(swatch(color), name);
+    item->setData(kLabelRole, label);
+    item->setFlags(Qt::ItemIsEnabled | Qt::ItemIsSelectable | Qt::ItemIsUserCheckable);
+    item->setCheckState(session_.hiddenLabels().count(label) ? Qt::Unchecked : Qt::Checked);
+    auto* count_item = new QTableWidgetItem;
+    count_item->setData(Qt::DisplayRole, static_cast<qulonglong>(count));
+    count_item->setData(kLabelRole, label);
+    count_item->setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
+    table_->setItem(row, 0, item);
+    table_->setItem(row, 1, count_item);
+    if (label == keep) table_->setCurrentCell(row, 0);
+    ++row;
+  }
+}
+
+void MapLegendPanel::onItemChanged() {
+  std::set<int> hidden = session_.hiddenLabels();
+  for (int row = 0; row < table_->rowCount(); ++row) {
+    const QTableWidgetItem* item = table_->item(row, 0);
+    const int label = item->data(kLabelRole).toInt();
+    if (item->checkState() == Qt::Checked)
+      hidden.erase(label);
+    else
+      hidden.insert(label);
+  }
+  session_.setHiddenLabels(std::move(hidden));
+}
+
+void MapLegendPanel::showOnly(int label) {
+  if (label < 0 || !session_.sequence()) return;
+  std::set<int> hidden;
+  for (const auto& info : session_.sequence()->labels.all())
+    if (info.id != label) hidden.insert(info.id);
+  session_.setHiddenLabels(std::move(hidden));
+}
+
+void MapLegendPanel::showAll() { session_.setHiddenLabels({}); }
+
+}  // namespace lom::ui

@@ -1,0 +1,267 @@
+#include "lom/ui/map_worker.hpp"
+
+#include <QMetaObject>
+#include <chrono>
+
+#include "lom/error.hpp"
+
+namespace lom::ui {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+}  // namespace
+
+MapWorker::MapWorker(QObject* parent)
+    : QObject(parent), snapshot_(std::make_shared<MapSnapshot>()) {
+  thread_ = std::thread([this] { loop(); });
+}
+
+MapWorker::~MapWorker() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+    jobs_.clear();
+  }
+  if (fusion_cancel_) *fusion_cancel_ = true;
+  paused_ = false;
+  evaluation_generation_ += 1;
+  wake_.notify_all();
+  thread_.join();
+}
+
+void MapWorker::post(std::function<void()> run, bool quick) {
+  {
+    std::lock_guard lock(mutex_);
+    jobs_.push_back({std::move(run), quick});
+  }
+  wake_.notify_all();
+}
+
+void MapWorker::inGui(std::function<void()> call) {
+  QMetaObject::invokeMethod(this, std::move(call), Qt::QueuedConnection);
+}
+
+void MapWorker::loop() {
+  for (;;) {
+    Job job;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [this] { return stopping_ || !jobs_.empty(); });
+      if (stopping_) return;
+      job = std::move(jobs_.front());
+      jobs_.pop_front();
+    }
+    job.run();
+  }
+}
+
+void MapWorker::runQuickJobs() {
+  std::deque<Job> quick;
+  {
+    std::lock_guard lock(mutex_);
+    for (auto it = jobs_.begin(); it != jobs_.end();) {
+      if (it->quick) {
+        quick.push_back(std::move(*it));
+        it = jobs_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+  }
+  for (Job& job : quick) job.run();
+}
+
+void MapWorker::setState(State state) {
+  if (state_ == state) return;
+  state_ = state;
+  emit stateChanged(state);
+}
+
+void MapWorker::publish(MapSnapshotPtr snapshot) {
+  inGui([this, snapshot = std::move(snapshot)] {
+    snapshot_ = snapshot;
+    emit snapshotChanged();
+  });
+}
+
+void MapWorker::startFusion(std::shared_ptr<const Sequence> sequence, const FusionOptions& options) {
+  cancel();
+  paused_ = false;
+  const unsigned id = ++fusion_id_;
+  fusion_cancel_ = std::make_shared<std::atomic<bool>>(false);
+  post([this, sequence, options, id, cancelled = fusion_cancel_] {
+    fuse(sequence, options, id, cancelled);
+  }, false);
+  setState(State::Fusing);
+}
+
+void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const FusionOptions& options,
+                     unsigned id, const std::shared_ptr<std::atomic<bool>>& cancelled) {
+  auto finish = [this, id](bool completed) {
+    inGui([this, id, completed] {
+      if (id != fusion_id_) return;  // superseded by a newer fusion
+      setState(State::Idle);
+      emit fusionFinished(completed);
+    });
+  };
+  FusionOptions fusion = options;
+  fusion.map.occupancy_threshold = threshold_;
+  try {
+    map_ = std::make_unique<LabelMap>(sequence->labels, fusion.map);
+  } catch (const std::exception& error) {
+    const QString message = QString::fromStdString(error.what());
+    inGui([this, message] { emit errorOccurred(tr("Cannot fuse"), message); });
+    return finish(false);
+  }
+  frames_fused_ = 0;
+  publish(takeSnapshot(*map_, 0));
+  const size_t first = std::min(fusion.first_frame, sequence->frames.size());
+  const size_t last = std::min(fusion.last_frame, sequence->frames.size());
+  const int total = static_cast<int>(last > first ? last - first : 0);
+  const auto start = Clock::now();
+  auto last_snapshot = Clock::now();
+  double paused_seconds = 0.0;
+  bool completed = true;
+  for (size_t i = first; i < last; ++i) {
+    runQuickJobs();
+    applyPendingThreshold();
+    if (paused_) {
+      const auto pause_start = Clock::now();
+      publish(takeSnapshot(*map_, frames_fused_));
+      std::unique_lock lock(mutex_);
+      while (paused_ && !*cancelled && !stopping_) {
+        wake_.wait_for(lock, std::chrono::milliseconds(50));
+        lock.unlock();
+        runQuickJobs();
+        applyPendingThreshold();
+        lock.lock();
+      }
+      paused_seconds += secondsSince(pause_start);
+    }
+    if (*cancelled || stopping_) {
+      completed = false;
+      break;
+    }
+    try {
+      const FrameData frame = loadFrame(*sequence, i);
+      const FrameEvidence evidence = makeEvidence(*sequence, i, frame, fusion);
+      integrateFrame(*map_, sequence->cameraOf(i), sequence->frames[i].T_world_camera, frame.depth,
+                     evidence, fusion.integration);
+    } catch (const std::exception& error) {
+      const QString message =
+          tr("frames[%1]: %2").arg(i).arg(QString::fromStdString(error.what()));
+      inGui([this, message] { emit errorOccurred(tr("Fusion stopped"), message); });
+      completed = false;
+      break;
+    }
+    ++frames_fused_;
+    const int done = static_cast<int>(i + 1 - first);
+    const double busy = std::max(1e-6, secondsSince(start) - paused_seconds);
+    const double rate = done / busy;
+    const bool last_frame = i + 1 == last;
+    if (!last_frame && secondsSince(last_snapshot) * 1000.0 >= snapshot_interval_ms_) {
+      publish(takeSnapshot(*map_, frames_fused_));
+      last_snapshot = Clock::now();
+    }
+    inGui([this, done, total, rate] { emit fusionProgress(done, total, rate); });
+  }
+  publish(takeSnapshot(*map_, frames_fused_));
+  finish(completed);
+}
+
+void MapWorker::setPaused(bool paused) {
+  if (!isFusing()) return;
+  paused_ = paused;
+  wake_.notify_all();
+  setState(paused ? State::Paused : State::Fusing);
+}
+
+void MapWorker::cancel() {
+  if (!isFusing()) return;
+  if (fusion_cancel_) *fusion_cancel_ = true;
+  paused_ = false;
+  wake_.notify_all();
+}
+
+void MapWorker::reset() {
+  cancel();
+  evaluation_generation_ += 1;
+  post(
+      [this] {
+        map_.reset();
+        frames_fused_ = 0;
+        publish(std::make_shared<MapSnapshot>());
+      },
+      false);
+}
+
+void MapWorker::applyPendingThreshold() {
+  if (!threshold_pending_.exchange(false) || !map_) return;
+  map_->setOccupancyThreshold(threshold_);
+  publish(takeSnapshot(*map_, frames_fused_));
+}
+
+void MapWorker::setOccupancyThreshold(double threshold) {
+  threshold_ = threshold;
+  threshold_pending_ = true;
+  post([this] { applyPendingThreshold(); }, true);
+}
+
+void MapWorker::pick(const Eigen::Vector3d& point_world) {
+  post(
+      [this, point_world] {
+        VoxelState state;
+        if (map_) {
+          try {
+            state = map_->voxelAt(point_world);
+          } catch (const std::exception&) {
+            // outside the map's key range: unknown
+          }
+        }
+        inGui([this, point_world, state] { emit voxelPicked(point_world, state); });
+      },
+      true);
+}
+
+void MapWorker::evaluate(std::shared_ptr<const Sequence> sequence, const Annotations& annotations,
+                         const EvaluationOptions& options) {
+  const unsigned generation = ++evaluation_generation_;
+  ++evaluations_pending_;
+  emit evaluationStarted();
+  post(
+      [this, sequence, annotations, options, generation] {
+        auto finish = [this](std::function<void()> emit_result) {
+          inGui([this, emit_result] {
+            --evaluations_pending_;
+            emit_result();
+          });
+        };
+        if (generation != evaluation_generation_) return finish([] {});
+        if (!map_) {
+          return finish([this] { emit evaluationFailed(tr("Fuse the sequence first.")); });
+        }
+        try {
+          EvaluationReport report = lom::evaluate(
+              *sequence, annotations, *map_, options,
+              [this, generation](const EvaluationProgress&) {
+                return generation == evaluation_generation_ && !stopping_;
+              });
+          finish([this, report] { emit evaluationFinished(report); });
+        } catch (const EvaluationCancelled&) {
+          finish([] {});
+        } catch (const std::exception& error) {
+          const QString message = QString::fromStdString(error.what());
+          finish([this, message] { emit evaluationFailed(message); });
+        }
+      },
+      false);
+}
+
+void MapWorker::withMap(std::function<void(const LabelMap*)> job) {
+  post([this, job = std::move(job)] { job(map_.get()); }, false);
+}
+
+}  // namespace lom::ui

@@ -1,0 +1,55 @@
+#include "lom/ui/picked_voxel_view.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+#include "lom/ui/map_worker.hpp"
+#include "lom/ui/studio_session.hpp"
+
+namespace lom::ui {
+
+PickedVoxelView::PickedVoxelView(StudioSession& session, QWidget* parent)
+    : QLabel(parent), session_(session) {
+  setObjectName("pickedVoxel");
+  setWordWrap(true);
+  setAlignment(Qt::AlignTop | Qt::AlignLeft);
+  setTextInteractionFlags(Qt::TextSelectableByMouse);
+  setText(tr("Click a voxel in the 3D view to see its probabilities."));
+  connect(&session_.worker(), &MapWorker::voxelPicked, this,
+          [this](const Eigen::Vector3d& point, const VoxelState& voxel) {
+            const auto sequence = session_.sequence();
+            setText(describe(point, voxel, sequence ? sequence->labels : LabelSet{}));
+          });
+}
+
+QString PickedVoxelView::describe(const Eigen::Vector3d& point, const VoxelState& voxel,
+                                  const LabelSet& labels) {
+  auto name = [&](int id) {
+    return labels.contains(id) ? QString::fromStdString(labels.at(id).name) : QString::number(id);
+  };
+  QString text = tr("Point (%1, %2, %3)\n")
+                     .arg(point.x(), 0, 'f', 3)
+                     .arg(point.y(), 0, 'f', 3)
+                     .arg(point.z(), 0, 'f', 3);
+  if (!voxel.known) return text + tr("Unknown voxel (never observed).");
+  text += tr("%1: label %2 %3\n")
+              .arg(voxel.occupied ? tr("Occupied") : tr("Free"))
+              .arg(voxel.label)
+              .arg(name(voxel.label));
+  std::vector<int> order(voxel.probabilities.size());
+  std::iota(order.begin(), order.end(), 0);
+  const size_t top = std::min<size_t>(5, order.size());
+  std::partial_sort(order.begin(), order.begin() + static_cast<long>(top), order.end(),
+                    [&](int a, int b) {
+                      return voxel.probabilities[static_cast<size_t>(a)] >
+                             voxel.probabilities[static_cast<size_t>(b)];
+                    });
+  for (size_t i = 0; i < top; ++i)
+    text += tr("  %1  %2 %3\n")
+                .arg(voxel.probabilities[static_cast<size_t>(order[i])], 0, 'f', 3)
+                .arg(order[i])
+                .arg(name(order[i]));
+  return text.trimmed();
+}
+
+}  // namespace lom::ui

@@ -1,0 +1,176 @@
+#include "scene_layers.hpp"
+
+#include <vtkCallbackCommand.h>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkCubeSource.h>
+#include <vtkFloatArray.h>
+#include <vtkMatrix4x4.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkProperty.h>
+#include <vtkRenderWindowInteractor.h>
+#include <vtkRenderer.h>
+#include <vtkTransform.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <Eigen/SVD>
+#include <algorithm>
+
+#include "lom/ui/frame_labels.hpp"
+
+namespace lom::ui::scene {
+
+VoxelLayer::VoxelLayer() {
+  vtkNew<vtkCubeSource> cube;
+  cube->SetXLength(1.0);
+  cube->SetYLength(1.0);
+  cube->SetZLength(1.0);
+  mapper_->SetSourceConnection(cube->GetOutputPort());
+  mapper_->SetScaleArray("size");
+  mapper_->SetScaleModeToScaleByMagnitude();
+  mapper_->ScalingOn();
+  mapper_->OrientOff();
+  mapper_->SetScalarModeToUsePointFieldData();
+  mapper_->SelectColorArray("colors");
+  mapper_->SetColorModeToDirectScalars();
+  mapper_->ScalarVisibilityOn();
+  actor_->SetMapper(mapper_);
+  actor_->GetProperty()->SetAmbient(0.35);
+  actor_->GetProperty()->SetDiffuse(0.75);
+  actor_->SetVisibility(false);
+}
+
+size_t VoxelLayer::show(const MapSnapshot& snapshot, const LabelSet& labels,
+                        const std::set<int>& hidden, bool opacity_by_probability) {
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToFloat();
+  auto sizes = vtkSmartPointer<vtkFloatArray>::New();
+  sizes->SetName("size");
+  auto colors = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  colors->SetName("colors");
+  colors->SetNumberOfComponents(4);
+  const double low = snapshot.occupancy_threshold;
+  for (const OccupiedVoxel& voxel : snapshot.voxels) {
+    if (hidden.count(voxel.label)) continue;
+    points->InsertNextPoint(voxel.center.x(), voxel.center.y(), voxel.center.z());
+    sizes->InsertNextValue(static_cast<float>(voxel.size * 0.96));
+    // The background's palette colour is black; grey keeps the shelf readable.
+    const QColor c = voxel.label == 0 ? QColor(150, 150, 160) : labelColor(labels, voxel.label);
+    double alpha = 1.0;
+    if (opacity_by_probability && low < 1.0)
+      alpha = 0.15 + 0.85 * std::clamp((voxel.probability - low) / (1.0 - low), 0.0, 1.0);
+    const unsigned char rgba[4] = {static_cast<unsigned char>(c.red()),
+                                   static_cast<unsigned char>(c.green()),
+                                   static_cast<unsigned char>(c.blue()),
+                                   static_cast<unsigned char>(alpha * 255.0 + 0.5)};
+    colors->InsertNextTypedTuple(rgba);
+  }
+  auto data = vtkSmartPointer<vtkPolyData>::New();
+  data->SetPoints(points);
+  data->GetPointData()->AddArray(sizes);
+  data->GetPointData()->AddArray(colors);
+  mapper_->SetInputData(data);
+  actor_->SetVisibility(points->GetNumberOfPoints() > 0);
+  return static_cast<size_t>(points->GetNumberOfPoints());
+}
+
+vtkSmartPointer<vtkPolyData> boxOutlines(const Annotations& boxes, const LabelSet& labels,
+                                         int skip) {
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  auto lines = vtkSmartPointer<vtkCellArray>::New();
+  auto colors = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  colors->SetName("colors");
+  colors->SetNumberOfComponents(3);
+  static constexpr int kEdges[12][2] = {{0, 1}, {1, 3}, {3, 2}, {2, 0}, {4, 5}, {5, 7},
+                                        {7, 6}, {6, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  for (size_t i = 0; i < boxes.boxes.size(); ++i) {
+    if (static_cast<int>(i) == skip) continue;
+    const OrientedBox& box = boxes.boxes[i].box;
+    vtkIdType corner[8];
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector3d local((c & 1 ? 0.5 : -0.5) * box.size.x(),
+                                  (c & 2 ? 0.5 : -0.5) * box.size.y(),
+                                  (c & 4 ? 0.5 : -0.5) * box.size.z());
+      const Eigen::Vector3d p = box.center + box.rotation * local;
+      corner[c] = points->InsertNextPoint(p.x(), p.y(), p.z());
+    }
+    // Half way to white: dark label colours stay visible as thin lines.
+    const QColor base = labelColor(labels, boxes.boxes[i].label);
+    const QColor color((base.red() + 255) / 2, (base.green() + 255) / 2, (base.blue() + 255) / 2);
+    for (const auto& edge : kEdges) {
+      const vtkIdType ends[2] = {corner[edge[0]], corner[edge[1]]};
+      lines->InsertNextCell(2, ends);
+      const unsigned char rgb[3] = {static_cast<unsigned char>(color.red()),
+                                    static_cast<unsigned char>(color.green()),
+                                    static_cast<unsigned char>(color.blue())};
+      colors->InsertNextTypedTuple(rgb);
+    }
+  }
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->SetPoints(points);
+  poly->SetLines(lines);
+  poly->GetCellData()->SetScalars(colors);
+  return poly;
+}
+
+BoxHandles::BoxHandles(vtkRenderWindowInteractor* interactor, vtkRenderer* renderer) {
+  representation_->SetPlaceFactor(1.0);
+  representation_->SetRenderer(renderer);
+  representation_->GetOutlineProperty()->SetColor(1.0, 0.85, 0.2);
+  representation_->GetOutlineProperty()->SetLineWidth(2.5);
+  representation_->SetHandleSize(4.0);
+  widget_->SetInteractor(interactor);
+  widget_->SetRepresentation(representation_);
+  widget_->SetCurrentRenderer(renderer);
+  widget_->SetRotationEnabled(true);
+  widget_->SetTranslationEnabled(true);
+  widget_->SetScalingEnabled(true);
+  widget_->SetMoveFacesEnabled(true);
+
+  vtkNew<vtkCallbackCommand> on_end;
+  on_end->SetClientData(this);
+  on_end->SetCallback([](vtkObject*, unsigned long, void* client, void*) {
+    auto* self = static_cast<BoxHandles*>(client);
+    vtkNew<vtkTransform> transform;
+    self->representation_->GetTransform(transform);
+    vtkMatrix4x4* m = transform->GetMatrix();
+    Eigen::Matrix3d linear;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) linear(r, c) = m->GetElement(r, c);
+    OrientedBox box;
+    box.center = Eigen::Vector3d(m->GetElement(0, 3), m->GetElement(1, 3), m->GetElement(2, 3));
+    for (int c = 0; c < 3; ++c) {
+      box.size[c] = std::max(1e-4, linear.col(c).norm());
+      linear.col(c) /= box.size[c];
+    }
+    // Orthonormalise what the widget left (it only scales along box axes).
+    Eigen::JacobiSVD<Eigen::Matrix3d> svd(linear, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d rotation = svd.matrixU() * svd.matrixV().transpose();
+    if (rotation.determinant() < 0) rotation.col(2) *= -1.0;
+    box.rotation = Eigen::Quaterniond(rotation).normalized();
+    if (self->edited_) self->edited_(box);
+  });
+  widget_->AddObserver(vtkCommand::EndInteractionEvent, on_end);
+}
+
+void BoxHandles::show(const OrientedBox* box) {
+  visible_ = box != nullptr;
+  if (!box) {
+    widget_->Off();
+    return;
+  }
+  double unit[6] = {-0.5, 0.5, -0.5, 0.5, -0.5, 0.5};
+  representation_->PlaceWidget(unit);
+  vtkNew<vtkTransform> transform;
+  transform->PostMultiply();
+  transform->Scale(box->size.x(), box->size.y(), box->size.z());
+  const Eigen::AngleAxisd angle_axis(box->rotation);
+  transform->RotateWXYZ(angle_axis.angle() * 180.0 / EIGEN_PI, angle_axis.axis().data());
+  transform->Translate(box->center.data());
+  representation_->SetTransform(transform);
+  widget_->On();
+}
+
+}  // namespace lom::ui::scene

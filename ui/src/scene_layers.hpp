@@ -1,0 +1,58 @@
+#pragma once
+// VTK layers of the 3D view beyond the frame cloud: the map's voxels, the
+// ground-truth boxes and the box handles. Only scene_*.cpp include this.
+#include <vtkActor.h>
+#include <vtkBoxRepresentation.h>
+#include <vtkBoxWidget2.h>
+#include <vtkGlyph3DMapper.h>
+#include <vtkNew.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkSmartPointer.h>
+
+#include <functional>
+#include <set>
+
+#include "lom/annotations.hpp"
+#include "lom/labels.hpp"
+#include "lom/ui/map_snapshot.hpp"
+
+class vtkRenderer;
+class vtkRenderWindowInteractor;
+
+namespace lom::ui::scene {
+
+// Occupied voxels as instanced cubes coloured by label.
+class VoxelLayer {
+ public:
+  VoxelLayer();
+  [[nodiscard]] vtkActor* actor() { return actor_; }
+  // Returns the number of voxels drawn.
+  size_t show(const MapSnapshot& snapshot, const LabelSet& labels, const std::set<int>& hidden,
+              bool opacity_by_probability);
+
+ private:
+  vtkNew<vtkGlyph3DMapper> mapper_;
+  vtkNew<vtkActor> actor_;
+};
+
+// Wireframes of all boxes, each in its label's colour.
+[[nodiscard]] vtkSmartPointer<vtkPolyData> boxOutlines(const Annotations& boxes,
+                                                       const LabelSet& labels, int skip);
+
+// The 3D handles of the selected box (move, rotate, resize).
+class BoxHandles {
+ public:
+  explicit BoxHandles(vtkRenderWindowInteractor* interactor, vtkRenderer* renderer);
+  void show(const OrientedBox* box);  // null hides the handles
+  // Called with the edited box when a drag ends.
+  void onEdited(std::function<void(const OrientedBox&)> callback) { edited_ = std::move(callback); }
+  [[nodiscard]] bool visible() const { return visible_; }
+
+ private:
+  vtkNew<vtkBoxWidget2> widget_;
+  vtkNew<vtkBoxRepresentation> representation_;
+  std::function<void(const OrientedBox&)> edited_;
+  bool visible_ = false;
+};
+
+}  // namespace lom::ui::scene

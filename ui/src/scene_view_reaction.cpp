@@ -1,0 +1,64 @@
+#include "lom/ui/scene_view_reaction.hpp"
+
+#include <QAction>
+
+#include "lom/ui/projection_voxels.hpp"
+#include "lom/ui/scene_view.hpp"
+#include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/studio_session.hpp"
+
+namespace lom::ui {
+
+SceneViewReaction::SceneViewReaction(QAction* action, Kind kind, StudioSession& session,
+                                     SceneView& scene)
+    : Reaction(action), kind_(kind), session_(session), scene_(scene) {
+  action->setCheckable(kind_ != Kind::LookFromFrame && kind_ != Kind::ZoomToMap);
+  action->setChecked(kind_ == Kind::FramePoints);
+  if (kind_ == Kind::ProjectionVoxels) {
+    connect(&session_.controller(), &SequenceController::currentFrameChanged, this,
+            &SceneViewReaction::showProjection);
+    connect(&session_, &StudioSession::fusionOptionsChanged, this,
+            &SceneViewReaction::showProjection);
+  }
+}
+
+void SceneViewReaction::onTriggered() {
+  SequenceController& controller = session_.controller();
+  switch (kind_) {
+    case Kind::LookFromFrame:
+      if (controller.currentFrame() >= 0)
+        scene_.lookFromFrame(controller.sequence(), static_cast<size_t>(controller.currentFrame()));
+      break;
+    case Kind::ZoomToMap:
+      scene_.zoomToMap();
+      break;
+    case Kind::FramePoints:
+      scene_.setFrameCloudVisible(action()->isChecked());
+      break;
+    case Kind::OpacityByProbability:
+      scene_.setOpacityByProbability(action()->isChecked());
+      break;
+    case Kind::ProjectionVoxels:
+      showProjection();
+      break;
+  }
+}
+
+void SceneViewReaction::showProjection() {
+  SequenceController& controller = session_.controller();
+  const FrameData* frame = controller.currentFrameData();
+  if (!action()->isChecked() || !frame || !session_.sequence()) {
+    scene_.showProjectionVoxels(nullptr, {});
+    return;
+  }
+  try {
+    const MapSnapshot voxels =
+        projectionVoxels(*session_.sequence(), static_cast<size_t>(controller.currentFrame()),
+                         *frame, session_.fusionOptions());
+    scene_.showProjectionVoxels(&voxels, session_.sequence()->labels);
+  } catch (const std::exception&) {
+    scene_.showProjectionVoxels(nullptr, {});  // the frame cannot give evidence
+  }
+}
+
+}  // namespace lom::ui

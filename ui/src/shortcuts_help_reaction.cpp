@@ -1,0 +1,51 @@
+#include "lom/ui/shortcuts_help_reaction.hpp"
+
+#include <QAction>
+#include <QDialog>
+#include <QDialogButtonBox>
+#include <QHeaderView>
+#include <QTableWidget>
+#include <QVBoxLayout>
+#include <QWidget>
+
+namespace lom::ui {
+
+ShortcutsHelpReaction::ShortcutsHelpReaction(QAction* action, QWidget* window)
+    : Reaction(action), window_(window) {}
+
+QStringList ShortcutsHelpReaction::rows() const {
+  QStringList rows;
+  for (const QAction* action : window_->findChildren<QAction*>()) {
+    if (action->shortcut().isEmpty()) continue;
+    const QString row = action->shortcut().toString(QKeySequence::NativeText) + "\t" +
+                        action->text().remove('&');
+    if (!rows.contains(row)) rows << row;
+  }
+  return rows;
+}
+
+void ShortcutsHelpReaction::onTriggered() {
+  QDialog dialog(window_);
+  dialog.setWindowTitle(tr("Keyboard Shortcuts"));
+  const QStringList lines = rows();
+  auto* table = new QTableWidget(lines.size(), 2);
+  table->setHorizontalHeaderLabels({tr("Keys"), tr("Action")});
+  table->verticalHeader()->hide();
+  table->horizontalHeader()->setStretchLastSection(true);
+  table->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  for (int row = 0; row < lines.size(); ++row) {
+    const QStringList parts = lines[row].split('\t');
+    table->setItem(row, 0, new QTableWidgetItem(parts.value(0)));
+    table->setItem(row, 1, new QTableWidgetItem(parts.value(1)));
+  }
+  table->resizeColumnToContents(0);
+  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close);
+  QObject::connect(buttons, &QDialogButtonBox::rejected, &dialog, &QDialog::reject);
+  auto* layout = new QVBoxLayout(&dialog);
+  layout->addWidget(table);
+  layout->addWidget(buttons);
+  dialog.resize(460, 560);
+  dialog.exec();
+}
+
+}  // namespace lom::ui

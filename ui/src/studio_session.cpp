@@ -1,0 +1,91 @@
+#include "lom/ui/studio_session.hpp"
+
+#include <filesystem>
+
+#include "lom/annotations.hpp"
+#include "lom/ui/annotations_model.hpp"
+#include "lom/ui/map_worker.hpp"
+#include "lom/ui/sequence_controller.hpp"
+
+namespace lom::ui {
+
+StudioSession::StudioSession(QObject* parent)
+    : QObject(parent),
+      controller_(new SequenceController(this)),
+      worker_(new MapWorker(this)),
+      annotations_(new AnnotationsModel(this)) {
+  controller_->setUnsavedWorkCheck([this] { return annotations_->isDirty(); });
+  connect(controller_, &SequenceController::sequenceChanged, this,
+          &StudioSession::onSequenceChanged);
+}
+
+StudioSession::~StudioSession() = default;
+
+void StudioSession::onSequenceChanged() {
+  sequence_ = std::make_shared<const Sequence>(controller_->sequence());
+  hidden_labels_.clear();
+  picked_point_.reset();
+  emit hiddenLabelsChanged();
+
+  // The boxes beside the sequence, when there are any, are the ones to edit.
+  Annotations boxes;
+  boxes.frame_id = sequence_->frame_id;
+  QString path;
+  const auto beside = sequence_->root / "annotations.json";
+  std::error_code ec;
+  if (std::filesystem::exists(beside, ec)) {
+    try {
+      boxes = loadAnnotations(beside);
+      path = QString::fromStdString(beside.string());
+    } catch (const std::exception& error) {
+      emit controller_->errorOccurred(tr("Cannot load the annotations"),
+                                      QString::fromStdString(error.what()));
+    }
+  }
+  annotations_->reset(boxes, path);
+  // New boxes get the first boxed label (else the first object label) until
+  // another is chosen.
+  setSelectedLabel(!boxes.boxes.empty() ? boxes.boxes.front().label
+                                        : (sequence_->labels.size() > 1 ? 1 : -1));
+  worker_->reset();
+  if (auto_fuse_) fuse();
+}
+
+void StudioSession::setFusionOptions(const FusionOptions& options) {
+  const double threshold = options_.map.occupancy_threshold;
+  options_ = options;
+  options_.map.occupancy_threshold = threshold;
+  emit fusionOptionsChanged();
+}
+
+void StudioSession::setOccupancyThreshold(double threshold) {
+  options_.map.occupancy_threshold = threshold;
+  worker_->setOccupancyThreshold(threshold);
+  emit fusionOptionsChanged();
+}
+
+void StudioSession::fuse() {
+  if (!sequence_) return;
+  worker_->setOccupancyThreshold(options_.map.occupancy_threshold);
+  worker_->startFusion(sequence_, options_);
+}
+
+void StudioSession::resetMap() { worker_->reset(); }
+
+void StudioSession::setSelectedLabel(int label) {
+  if (label == selected_label_) return;
+  selected_label_ = label;
+  emit selectedLabelChanged(label);
+}
+
+void StudioSession::setPickedPoint(const Eigen::Vector3d& point) {
+  picked_point_ = point;
+  emit pickedPointChanged();
+}
+
+void StudioSession::setHiddenLabels(std::set<int> hidden) {
+  hidden_labels_ = std::move(hidden);
+  emit hiddenLabelsChanged();
+}
+
+}  // namespace lom::ui
