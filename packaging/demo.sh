@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The demo on built-in data: builds the tools, writes a synthetic shelf-bin
-# sequence, fuses it into a LabelOctoMap and, when a display is available,
-# opens the sequence in the studio.
+# sequence, fuses it into a LabelOctoMap, scores every object against the
+# single-view projection baselines (the paper's evaluation) and, when a display
+# is available, opens the sequence in the studio.
 set -euo pipefail
 
 usage() {
@@ -37,6 +38,7 @@ cli="$build_dir/app/labeloctomap"
 studio="$build_dir/app/labeloctomap-studio"
 scene="$build_dir/demo/scene"
 map="$build_dir/demo/map.ot"
+report="$build_dir/demo/report"
 
 step "writing a synthetic scene"
 mkdir -p "$build_dir/demo"
@@ -45,10 +47,14 @@ mkdir -p "$build_dir/demo"
 step "fusing it into a LabelOctoMap"
 "$cli" fuse "$scene" --out "$map"
 
+step "scoring each object (IU_3d against the ground-truth boxes)"
+"$cli" score "$scene" --annotations "$scene/annotations.json" --map "$map" --out "$report"
+
 echo
 echo "Outputs:"
 echo "  sequence:      $scene/sequence.json (frames and ground-truth annotations.json beside it)"
 echo "  label map:     $map"
+echo "  scores:        $report/report.md (also .json, .csv and a chart, report.svg)"
 echo "  look at them:  $cli info $scene"
 echo "                 $studio $scene"
 

@@ -3,6 +3,8 @@
 // original experiments.
 #include "lom/annotations.hpp"
 
+#include "json_text.hpp"
+
 #include <yaml-cpp/yaml.h>
 
 #include <cctype>
@@ -22,6 +24,11 @@ namespace fs = std::filesystem;
 using Json = nlohmann::json;
 using OrderedJson = nlohmann::ordered_json;
 
+using json_text::describe;
+using json_text::field;
+using json_text::indexed;
+using json_text::inlineJson;
+
 namespace {
 
 constexpr const char* kFormat = "labeloctomap-annotations";
@@ -30,24 +37,6 @@ constexpr int kMaxLabel = 65535;
 // Unit quaternions already this close to norm 1 are kept bit for bit, so
 // that a load/save round trip reproduces the file exactly.
 constexpr double kAlreadyUnit = 1e-12;
-
-std::string field(const std::string& prefix, const std::string& key) {
-  return prefix.empty() ? key : prefix + "." + key;
-}
-
-std::string indexed(const std::string& prefix, size_t index) {
-  return prefix + "[" + std::to_string(index) + "]";
-}
-
-std::string describe(const Json& value) {
-  std::string text = value.dump(-1, ' ', false, Json::error_handler_t::replace);
-  if (text.size() > 60) text = text.substr(0, 57) + "...";
-  if (value.is_string()) return "the string " + text;
-  if (value.is_array()) return "an array " + text;
-  if (value.is_object()) return "an object " + text;
-  if (value.is_null()) return "null";
-  return text;
-}
 
 // Checks shared by the JSON and the YAML reader once the numbers are parsed.
 struct BoxChecker {
@@ -142,44 +131,6 @@ class JsonReader {
  private:
   std::string file_;
 };
-
-Json parseJsonFile(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    throw Error(path.string(), "", "an existing annotations file", "no such file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path.string(), "", "a readable annotations file", "cannot open it");
-  std::stringstream text;
-  text << in.rdbuf();
-  try {
-    return Json::parse(text.str());
-  } catch (const Json::parse_error& e) {
-    std::string message = e.what();
-    const auto bracket = message.find("] ");
-    if (message.rfind("[json.exception", 0) == 0 && bracket != std::string::npos)
-      message = message.substr(bracket + 2);
-    throw Error(path.string(), "", "valid JSON", message);
-  }
-}
-
-std::string inlineJson(const OrderedJson& value) {
-  if (value.is_array()) {
-    std::string text = "[";
-    for (size_t i = 0; i < value.size(); ++i) text += (i ? ", " : "") + inlineJson(value[i]);
-    return text + "]";
-  }
-  if (value.is_object()) {
-    std::string text = "{";
-    bool first = true;
-    for (const auto& item : value.items()) {
-      text +=
-          (first ? "" : ", ") + OrderedJson(item.key()).dump() + ": " + inlineJson(item.value());
-      first = false;
-    }
-    return text + "}";
-  }
-  return value.dump(-1, ' ', false, OrderedJson::error_handler_t::replace);
-}
 
 void requireFinite(const fs::path& path, const std::string& where, const Eigen::VectorXd& values) {
   if (!values.allFinite())
@@ -277,7 +228,7 @@ const GroundTruthBox* Annotations::find(int label) const {
 
 Annotations loadAnnotations(const fs::path& path) {
   const JsonReader in(path.string());
-  const Json root = parseJsonFile(path);
+  const Json root = json_text::parseFile(path, "a readable annotations file");
   in.allowOnly(root, "", {"format", "version", "frame_id", "boxes"});
   const Json& format = in.required(root, "", "format");
   if (!format.is_string() || format.get<std::string>() != kFormat)

@@ -2,29 +2,18 @@
 // voxel counts per label, as JSON "labeloctomap-objects" version 1 (docs/export.md).
 #include <nlohmann/json.hpp>
 
+#include "json_text.hpp"
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 #include "lom/export.hpp"
 
 namespace lom {
 
+using json_text::inlineJson;
+
 namespace {
 
 using Json = nlohmann::ordered_json;
-
-// One line, with a space after ':' and ',' (as in annotations.json).
-std::string inlineJson(const Json& value) {
-  if (!value.is_object() && !value.is_array())
-    return value.dump(-1, ' ', false, Json::error_handler_t::replace);
-  std::string text = value.is_object() ? "{" : "[";
-  bool first = true;
-  for (auto it = value.begin(); it != value.end(); ++it, first = false) {
-    if (!first) text += ", ";
-    if (value.is_object()) text += Json(it.key()).dump() + ": ";
-    text += inlineJson(it.value());
-  }
-  return text + (value.is_object() ? "}" : "]");
-}
 
 }  // namespace
 

@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "json_text.hpp"
 #include "lom/error.hpp"
 #include "lom/segmenter.hpp"
 
@@ -14,28 +15,11 @@ namespace lom {
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
+using json_text::describe;
+
 namespace {
 
 constexpr int kMaxInputSide = 16384;
-
-std::string describe(const Json& value) {
-  std::string text = value.dump(-1, ' ', false, Json::error_handler_t::replace);
-  if (text.size() > 60) text = text.substr(0, 57) + "...";
-  switch (value.type()) {
-    case Json::value_t::string:
-      return "the string " + text;
-    case Json::value_t::boolean:
-      return "the boolean " + text;
-    case Json::value_t::null:
-      return "null";
-    case Json::value_t::array:
-      return "an array " + text;
-    case Json::value_t::object:
-      return "an object " + text;
-    default:
-      return "the number " + text;
-  }
-}
 
 class Reader {
  public:

@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "json_text.hpp"
 #include "lom/atomic_file.hpp"
 
 namespace lom {
@@ -18,6 +19,10 @@ namespace lom {
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 using OrderedJson = nlohmann::ordered_json;
+
+using json_text::describe;
+using json_text::indexed;
+using json_text::inlineJson;
 
 namespace {
 
@@ -31,32 +36,10 @@ constexpr double kLastRowTolerance = 1e-6;
 constexpr double kAlreadyOrthonormal = 1e-12;
 constexpr size_t kLineWidth = 100;
 
-std::string describe(const Json& value) {
-  std::string text = value.dump(-1, ' ', false, Json::error_handler_t::replace);
-  if (text.size() > 60) text = text.substr(0, 57) + "...";
-  switch (value.type()) {
-    case Json::value_t::string:
-      return "the string " + text;
-    case Json::value_t::boolean:
-      return "the boolean " + text;
-    case Json::value_t::null:
-      return "null";
-    case Json::value_t::array:
-      return "an array " + text;
-    case Json::value_t::object:
-      return "an object " + text;
-    default:
-      return "the number " + text;
-  }
-}
-
 std::string join(const std::string& prefix, const std::string& key) {
   return prefix.empty() ? key : prefix + "." + key;
 }
 
-std::string indexed(const std::string& prefix, size_t index) {
-  return prefix + "[" + std::to_string(index) + "]";
-}
 
 // Typed access to the JSON tree; every failure names the file and the field.
 class Reader {
@@ -298,22 +281,6 @@ FrameRecord parseFrame(const Reader& in, const Json& value, size_t index,
   return frame;
 }
 
-Json parseJsonFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path.string(), "", "a readable sequence.json", "cannot open it");
-  std::stringstream text;
-  text << in.rdbuf();
-  try {
-    return Json::parse(text.str());
-  } catch (const Json::parse_error& e) {
-    std::string message = e.what();
-    const auto bracket = message.find("] ");
-    if (message.rfind("[json.exception", 0) == 0 && bracket != std::string::npos)
-      message = message.substr(bracket + 2);
-    throw Error(path.string(), "", "valid JSON", message);
-  }
-}
-
 fs::path sequenceJsonPath(const fs::path& folder_or_json) {
   std::error_code ec;
   fs::path path =
@@ -327,26 +294,7 @@ fs::path sequenceJsonPath(const fs::path& folder_or_json) {
 }
 
 // JSON with short objects and all number arrays on one line: poses stay
-// readable as one line each instead of sixteen.
-std::string inlineJson(const OrderedJson& value) {
-  if (value.is_array()) {
-    std::string text = "[";
-    for (size_t i = 0; i < value.size(); ++i) text += (i ? ", " : "") + inlineJson(value[i]);
-    return text + "]";
-  }
-  if (value.is_object()) {
-    std::string text = "{";
-    bool first = true;
-    for (const auto& item : value.items()) {
-      text +=
-          (first ? "" : ", ") + OrderedJson(item.key()).dump() + ": " + inlineJson(item.value());
-      first = false;
-    }
-    return text + "}";
-  }
-  return value.dump(-1, ' ', false, OrderedJson::error_handler_t::replace);
-}
-
+// readable as one line each instead of sixteen (json_text::inlineJson).
 void prettyJson(const OrderedJson& value, size_t column, size_t indent, std::string& out) {
   const std::string flat = inlineJson(value);
   const bool scalars_only =
@@ -498,7 +446,7 @@ FrameData readFrame(const Sequence& sequence, size_t index, std::vector<Problem>
 Sequence loadSequence(const fs::path& folder_or_json) {
   const fs::path json_path = sequenceJsonPath(folder_or_json);
   const Reader in(json_path.string());
-  const Json root = parseJsonFile(json_path);
+  const Json root = json_text::parseFile(json_path, "a readable sequence.json");
   in.expectObject(root, "(top level)");
   in.allowOnly(root, "", {"format", "version", "frame_id", "labels", "camera", "frames"});
 
