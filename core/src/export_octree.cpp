@@ -17,26 +17,7 @@ namespace lom {
 
 std::map<int, std::vector<VoxelKey>> occupiedVoxelsByLabel(
     const LabelMap& map, const std::optional<std::set<int>>& only) {
-  std::map<int, std::vector<VoxelKey>> voxels;
-  const LabelOcTree& tree = map.tree();
-  const int n = map.numLabels();
-  const unsigned max_depth = tree.getTreeDepth();
-  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
-    if (!tree.isNodeOccupied(*it)) continue;
-    const int label = it->argmaxLabel(n);
-    if (only && !only->count(label)) continue;
-    auto& keys = voxels[label];
-    const octomap::OcTreeKey base = it.getIndexKey();
-    const unsigned span = 1u << (max_depth - it.getDepth());
-    for (unsigned dx = 0; dx < span; ++dx)
-      for (unsigned dy = 0; dy < span; ++dy)
-        for (unsigned dz = 0; dz < span; ++dz)
-          keys.push_back({static_cast<std::uint16_t>(base[0] + dx),
-                          static_cast<std::uint16_t>(base[1] + dy),
-                          static_cast<std::uint16_t>(base[2] + dz)});
-  }
-  for (auto& [label, keys] : voxels) std::sort(keys.begin(), keys.end());
-  return voxels;
+  return map.voxelsByLabel(only);
 }
 
 namespace {

@@ -126,11 +126,20 @@ void LabelMap::forEachOccupied(const std::function<void(const OccupiedVoxel&)>& 
 }
 
 std::vector<VoxelKey> LabelMap::voxelsOfLabel(int label) const {
-  std::vector<VoxelKey> keys;
+  auto by_label = voxelsByLabel(std::set<int>{label});
+  return by_label.empty() ? std::vector<VoxelKey>{} : std::move(by_label.begin()->second);
+}
+
+std::map<int, std::vector<VoxelKey>> LabelMap::voxelsByLabel(
+    const std::optional<std::set<int>>& only) const {
+  std::map<int, std::vector<VoxelKey>> voxels;
   const int n = numLabels();
   const unsigned max_depth = tree_->getTreeDepth();
   for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it) {
-    if (!tree_->isNodeOccupied(*it) || it->argmaxLabel(n) != label) continue;
+    if (!tree_->isNodeOccupied(*it)) continue;
+    const int label = it->argmaxLabel(n);
+    if (only && !only->count(label)) continue;
+    auto& keys = voxels[label];
     const octomap::OcTreeKey base = it.getIndexKey();
     const unsigned span = 1u << (max_depth - it.getDepth());
     for (unsigned dx = 0; dx < span; ++dx)
@@ -140,8 +149,8 @@ std::vector<VoxelKey> LabelMap::voxelsOfLabel(int label) const {
                           static_cast<std::uint16_t>(base[1] + dy),
                           static_cast<std::uint16_t>(base[2] + dz)});
   }
-  std::sort(keys.begin(), keys.end());
-  return keys;
+  for (auto& [label, keys] : voxels) std::sort(keys.begin(), keys.end());
+  return voxels;
 }
 
 std::map<int, size_t> LabelMap::occupiedCountPerLabel() const {

@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <vector>
 
 #include <Eigen/Core>
@@ -81,6 +82,10 @@ class LabelMap {
   void forEachOccupied(const std::function<void(const OccupiedVoxel&)>& visit) const;
   // Finest-resolution keys of the voxels occupied by `label` (pruned leaves expanded), sorted.
   [[nodiscard]] std::vector<VoxelKey> voxelsOfLabel(int label) const;
+  // The same for every label in one pass (only those in `only`, when given);
+  // labels without occupied voxels are absent.
+  [[nodiscard]] std::map<int, std::vector<VoxelKey>> voxelsByLabel(
+      const std::optional<std::set<int>>& only = std::nullopt) const;
   // Number of finest-resolution occupied voxels per label (labels with none omitted).
   [[nodiscard]] std::map<int, size_t> occupiedCountPerLabel() const;
   // Axis-aligned bounds of all known voxels; nullopt for an empty map.
