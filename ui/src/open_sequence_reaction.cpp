@@ -30,10 +30,12 @@ QString OpenSequenceReaction::startFolder() const {
 void OpenSequenceReaction::onTriggered() {
   const QString path =
       pick_ == Pick::Folder
-          ? QFileDialog::getExistingDirectory(dialog_parent_, tr("Open Sequence Folder"),
-                                              startFolder())
-          : QFileDialog::getOpenFileName(dialog_parent_, tr("Open Sequence"), startFolder(),
-                                         tr("Sequences (sequence.json);;JSON files (*.json)"));
+          ? QFileDialog::getExistingDirectory(dialog_parent_,
+                                              tr("Open Sequence or Dataset Folder"), startFolder())
+          : QFileDialog::getOpenFileName(
+                dialog_parent_, tr("Open Sequence"), startFolder(),
+                tr("Sequences and ROS bags (sequence.json *.bag);;JSON files (*.json);;"
+                   "ROS bags (*.bag)"));
   if (!path.isEmpty()) controller_.openSequence(path);
 }
 

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "lom/error.hpp"
+#include "lom/import.hpp"
 #include "lom/ui/frame_labels.hpp"
 
 namespace lom::ui {
@@ -34,7 +35,9 @@ bool SequenceController::openSequence(const QString& folder_or_json) {
   if (hasUnsavedWork() && discard_guard_ && !discard_guard_()) return false;
   const QString absolute = QFileInfo(folder_or_json).absoluteFilePath();
   try {
-    auto loaded = std::make_unique<Sequence>(loadSequence(toPath(absolute)));
+    // A sequence opens as it is; a ROS bag or a dataset folder that the importer
+    // recognises is converted once into the import cache and opened from there.
+    auto loaded = std::make_unique<Sequence>(openSource(toPath(absolute)).sequence);
     sequence_ = std::move(loaded);
   } catch (const std::exception& error) {
     emit errorOccurred(tr("Cannot open sequence"), describeFailure(error, absolute));
