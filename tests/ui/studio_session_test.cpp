@@ -32,6 +32,7 @@
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
 #include "lom/ui/window_capture.hpp"
+#include "onnx_model_builder.hpp"
 #include "test_support.hpp"
 
 namespace lom::ui {
@@ -136,6 +137,37 @@ TEST_F(StudioSessionTest, ThresholdReThresholdsAtOnceAndOtherParametersOfferReFu
   window_.fusionPanel().refuseButton().click();
   waitForFusion();
   EXPECT_DOUBLE_EQ(window_.session().worker().snapshot()->resolution, 0.02);
+}
+
+// Frames without probability images fuse once a segmentation network is
+// chosen in the Fusion panel.
+TEST_F(StudioSessionTest, SegmenterChosenInTheFusionPanelFusesFramesWithoutProba) {
+  const auto wall = temp_ / "wall";
+  (void)test::writeColourWallSequence(wall, 1);
+  const auto model = temp_ / "colours.onnx";
+  test::writeModel(model, test::buildConvModel(test::colourChannelModel()));
+  StudioSession& session = window_.session();
+  ASSERT_TRUE(window_.controller().openSequence(qPath(wall)));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !session.worker().isFusing(); }, kTimeoutMs));
+
+  FusionPanel& panel = window_.fusionPanel();
+  EXPECT_FALSE(panel.setSegmenterModel(qPath(temp_ / "missing.onnx")));
+  EXPECT_TRUE(panel.noteText().contains("missing.onnx")) << panel.noteText().toStdString();
+  panel.maxRangeBox().setValue(2.0);  // the wall is 1 m away, its corners farther
+  ASSERT_TRUE(panel.setSegmenterModel(qPath(model)));
+  ASSERT_TRUE(panel.refuseButton().isEnabled());
+  errors_.clear();
+  panel.refuseButton().click();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !session.worker().isFusing(); }, kTimeoutMs));
+  QTest::qWait(50);  // the last snapshot arrives through the event loop
+  EXPECT_TRUE(errors_.empty()) << errors_.front().toStdString();
+  const auto snapshot = session.worker().snapshot();
+  EXPECT_EQ(snapshot->frames_fused, 1u);
+  // The network makes red win on the left half of the wall and green on the
+  // right: both labels end up in the map.
+  EXPECT_GT(snapshot->counts.count(1), 0u);
+  EXPECT_GT(snapshot->counts.count(2), 0u);
+  EXPECT_TRUE(session.fusionOptions().segmenter != nullptr);
 }
 
 TEST_F(StudioSessionTest, BoxAddedMovedUndoneRedoneSavedAndReloaded) {

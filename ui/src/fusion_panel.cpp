@@ -1,12 +1,15 @@
 #include "lom/ui/fusion_panel.hpp"
 
 #include <QDoubleSpinBox>
+#include <QFileDialog>
+#include <QHBoxLayout>
 #include <QFormLayout>
 #include <QLabel>
 #include <QLineEdit>
 #include <QPushButton>
 #include <QSignalBlocker>
 
+#include "lom/segmenter.hpp"
 #include "lom/ui/studio_session.hpp"
 
 namespace lom::ui {
@@ -47,6 +50,10 @@ QString candidatesText(const std::optional<std::vector<int>>& candidates) {
   return words.join(' ');
 }
 
+QString segmenterText(const std::shared_ptr<const Segmenter>& segmenter) {
+  return segmenter ? QString::fromStdString(segmenter->modelPath().filename().string()) : QString();
+}
+
 }  // namespace
 
 FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
@@ -57,6 +64,7 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
       p_miss_(makeBox(0.01, 0.49, 0.05, 2, "")),
       threshold_(makeBox(0.01, 0.99, 0.05, 2, "")),
       candidates_(new QLineEdit),
+      segmenter_path_(new QLineEdit),
       note_(new QLabel),
       refuse_(new QPushButton(tr("Re-fuse"))) {
   setObjectName("fusionPanel");
@@ -72,6 +80,17 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   form->addRow(tr("p_miss"), p_miss_);
   form->addRow(tr("Threshold"), threshold_);
   form->addRow(tr("Candidates"), candidates_);
+  segmenter_path_->setReadOnly(true);
+  segmenter_path_->setPlaceholderText(tr("none: frames need probability images"));
+  auto* choose = new QPushButton(tr("Choose…"));
+  auto* clear = new QPushButton(tr("Clear"));
+  auto* segmenter_row = new QHBoxLayout;
+  segmenter_row->addWidget(segmenter_path_, 1);
+  segmenter_row->addWidget(choose);
+  segmenter_row->addWidget(clear);
+  form->addRow(tr("Segmenter"), segmenter_row);
+  connect(choose, &QPushButton::clicked, this, &FusionPanel::chooseSegmenter);
+  connect(clear, &QPushButton::clicked, this, [this] { setSegmenterModel({}); });
   form->addRow(note_);
   form->addRow(refuse_);
 
@@ -93,8 +112,34 @@ void FusionPanel::loadFromSession() {
   p_miss_->setValue(options.map.p_miss);
   threshold_->setValue(options.map.occupancy_threshold);
   candidates_->setText(candidatesText(options.candidates));
+  segmenter_ = options.segmenter;
+  segmenter_path_->setText(segmenterText(segmenter_));
   onEdited();
 }
+
+bool FusionPanel::setSegmenterModel(const QString& model_path) {
+  if (model_path.isEmpty()) {
+    segmenter_.reset();
+  } else {
+    try {
+      segmenter_ = Segmenter::load(model_path.toStdString());
+    } catch (const std::exception& error) {
+      note_->setText(tr("Segmenter: %1").arg(QString::fromStdString(error.what())));
+      return false;
+    }
+  }
+  segmenter_path_->setText(segmenterText(segmenter_));
+  onEdited();
+  return true;
+}
+
+void FusionPanel::chooseSegmenter() {
+  const QString path = QFileDialog::getOpenFileName(this, tr("Segmentation Network"), QString(),
+                                                    tr("ONNX models (*.onnx)"));
+  if (!path.isEmpty()) setSegmenterModel(path);
+}
+
+QString FusionPanel::noteText() const { return note_->text(); }
 
 bool FusionPanel::hasPendingChanges() const {
   const FusionOptions& options = session_.fusionOptions();
@@ -102,7 +147,8 @@ bool FusionPanel::hasPendingChanges() const {
   const auto candidates = parseCandidates(candidates_->text(), &ok);
   return !qFuzzyCompare(resolution_->value(), options.map.resolution) ||
          !qFuzzyCompare(1.0 + max_range_->value(), 1.0 + std::max(0.0, options.map.max_range)) ||
-         !qFuzzyCompare(p_miss_->value(), options.map.p_miss) || candidates != options.candidates;
+         !qFuzzyCompare(p_miss_->value(), options.map.p_miss) || candidates != options.candidates ||
+         segmenter_ != options.segmenter;
 }
 
 void FusionPanel::onEdited() {
@@ -124,6 +170,7 @@ void FusionPanel::refuse() {
   options.map.resolution = resolution_->value();
   options.map.max_range = max_range_->value();
   options.map.p_miss = p_miss_->value();
+  options.segmenter = segmenter_;
   session_.setFusionOptions(options);
   session_.fuse();
   onEdited();

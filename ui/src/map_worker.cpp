@@ -1,3 +1,4 @@
+#include "lom/segmenter.hpp"
 #include "lom/ui/map_worker.hpp"
 
 #include <QMetaObject>
@@ -146,7 +147,7 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
       break;
     }
     try {
-      const FrameData frame = loadFrame(*sequence, i);
+      const FrameData frame = loadFrameWithSegmenter(*sequence, i, fusion.segmenter.get());
       const FrameEvidence evidence = makeEvidence(*sequence, i, frame, fusion);
       integrateFrame(*map_, sequence->cameraOf(i), sequence->frames[i].T_world_camera, frame.depth,
                      evidence, fusion.integration);
