@@ -156,8 +156,6 @@ TEST_F(CliSegmentTest, ErrorsAreClearAndLeaveTheSequenceAlone) {
 TEST_F(CliSegmentTest, FuseRunsTheSegmenterOnFramesWithoutProba) {
   const auto r = runCli("fuse " + quoted(dir_ / "seq") + " --out " + quoted(dir_ / "m.ot") +
                         " --resolution 0.05 --max-range 5 --frames 0:1 --segmenter " + quoted(model_));
-  if (r.exit_code == 2 && r.err.find("unknown option --segmenter") != std::string::npos)
-    GTEST_SKIP() << "fuse does not take --segmenter";
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const lom::LabelMap map = lom::LabelMap::load(dir_ / "m.ot");
   const auto counts = map.occupiedCountPerLabel();

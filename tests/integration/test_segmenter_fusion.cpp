@@ -186,31 +186,13 @@ TEST(SegmenterFusion, NetworkWithTooFewChannelsForTheLabelsIsAClearError) {
   }
 }
 
-// fuseSequence with FusionOptions::segmenter (where FusionOptions has it).
-template <typename Options, typename = void>
-struct HasSegmenterField : std::false_type {};
-template <typename Options>
-struct HasSegmenterField<Options, std::void_t<decltype(std::declval<Options&>().segmenter)>>
-    : std::true_type {};
-
-template <typename Options>
-bool setSegmenter(Options& options, const std::shared_ptr<Segmenter>& segmenter) {
-  if constexpr (HasSegmenterField<Options>::value) {
-    options.segmenter = segmenter;
-    return true;
-  } else {
-    (void)options;
-    (void)segmenter;
-    return false;
-  }
-}
-
+// fuseSequence runs the segmenter of its options, once per frame.
 TEST(SegmenterFusion, FuseSequenceUsesTheSegmenterOfTheOptions) {
   TempDir dir;
   const lom::Sequence sequence = lom::test::writeColourWallSequence(dir / "seq", 2);
   const auto segmenter = loadModel(dir);
   lom::FusionOptions options = fusionOptions();
-  if (!setSegmenter(options, segmenter)) GTEST_SKIP() << "FusionOptions has no segmenter";
+  options.segmenter = segmenter;
   const lom::LabelMap map = lom::fuseSequence(sequence, options);
   const lom::LabelMap expected = fuseWithSegmenter(sequence, *segmenter, 2);
   EXPECT_EQ(segmenter->stats().inferences, 2u);
