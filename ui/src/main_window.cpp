@@ -25,6 +25,7 @@
 #include "lom/ui/save_screenshot_reaction.hpp"
 #include "lom/ui/scene_view_reaction.hpp"
 #include "lom/ui/evaluation_panel.hpp"
+#include "lom/ui/objects_panel.hpp"
 #include "lom/ui/shortcuts_help_reaction.hpp"
 #include "lom/ui/fusion_panel.hpp"
 #include "lom/ui/fusion_reactions.hpp"
@@ -165,7 +166,16 @@ void MainWindow::createDocks() {
   evaluation_panel_ = new EvaluationPanel(*session_);
   QDockWidget* scores = dock(evaluation_panel_, tr("Evaluation"), "evaluationDock");
   tabifyDockWidget(boxes, scores);
+  objects_panel_ = new ObjectsPanel(*session_);
+  QDockWidget* objects = dock(objects_panel_, tr("Objects"), "objectsDock");
+  tabifyDockWidget(scores, objects);
   scores->raise();
+  connect(objects_panel_, &ObjectsPanel::objectBoxesChanged, this,
+          [this](const std::vector<ObjectInstance>& shown) {
+            if (!session_->sequence()) return scene_view_->showObjectBoxes({}, {});
+            scene_view_->showObjectBoxes(shown, session_->sequence()->labels);
+          });
+  connect(objects_panel_, &ObjectsPanel::pickPlanChanged, scene_view_, &SceneView::showPickPlan);
 }
 
 void MainWindow::createAnnotateMenu() {

@@ -115,6 +115,92 @@ vtkSmartPointer<vtkPolyData> boxOutlines(const Annotations& boxes, const LabelSe
   return poly;
 }
 
+namespace {
+
+void insertColor(vtkUnsignedCharArray* colors, const QColor& color) {
+  const unsigned char rgb[3] = {static_cast<unsigned char>(color.red()),
+                                static_cast<unsigned char>(color.green()),
+                                static_cast<unsigned char>(color.blue())};
+  colors->InsertNextTypedTuple(rgb);
+}
+
+vtkIdType insertPoint(vtkPoints* points, const Eigen::Vector3d& p) {
+  return points->InsertNextPoint(p.x(), p.y(), p.z());
+}
+
+void insertLine(vtkCellArray* lines, vtkIdType a, vtkIdType b) {
+  const vtkIdType ends[2] = {a, b};
+  lines->InsertNextCell(2, ends);
+}
+
+}  // namespace
+
+vtkSmartPointer<vtkPolyData> boxWireframes(const std::vector<OrientedBox>& boxes,
+                                           const std::vector<QColor>& colors) {
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  auto lines = vtkSmartPointer<vtkCellArray>::New();
+  auto cell_colors = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  cell_colors->SetName("colors");
+  cell_colors->SetNumberOfComponents(3);
+  static constexpr int kEdges[12][2] = {{0, 1}, {1, 3}, {3, 2}, {2, 0}, {4, 5}, {5, 7},
+                                        {7, 6}, {6, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}};
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const OrientedBox& box = boxes[i];
+    vtkIdType corner[8];
+    for (int c = 0; c < 8; ++c) {
+      const Eigen::Vector3d local((c & 1 ? 0.5 : -0.5) * box.size.x(),
+                                  (c & 2 ? 0.5 : -0.5) * box.size.y(),
+                                  (c & 4 ? 0.5 : -0.5) * box.size.z());
+      corner[c] = insertPoint(points, box.center + box.rotation * local);
+    }
+    const QColor color = i < colors.size() ? colors[i] : QColor(Qt::white);
+    for (const auto& edge : kEdges) {
+      insertLine(lines, corner[edge[0]], corner[edge[1]]);
+      insertColor(cell_colors, color);
+    }
+  }
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->SetPoints(points);
+  poly->SetLines(lines);
+  poly->GetCellData()->SetScalars(cell_colors);
+  return poly;
+}
+
+vtkSmartPointer<vtkPolyData> graspArrows(const std::vector<Eigen::Vector3d>& tips,
+                                         const std::vector<Eigen::Vector3d>& directions,
+                                         const std::vector<QColor>& colors, double length) {
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  auto lines = vtkSmartPointer<vtkCellArray>::New();
+  auto cell_colors = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  cell_colors->SetName("colors");
+  cell_colors->SetNumberOfComponents(3);
+  for (size_t i = 0; i < tips.size() && i < directions.size(); ++i) {
+    Eigen::Vector3d d = directions[i];
+    if (d.norm() < 1e-12) continue;
+    d.normalize();
+    const QColor color = i < colors.size() ? colors[i] : QColor(Qt::white);
+    const Eigen::Vector3d& tip = tips[i];
+    const vtkIdType tip_id = insertPoint(points, tip);
+    insertLine(lines, insertPoint(points, tip - d * length), tip_id);
+    insertColor(cell_colors, color);
+    // Head: four short lines back from the tip, around the shaft.
+    const Eigen::Vector3d helper =
+        std::abs(d.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d u = d.cross(helper).normalized();
+    const Eigen::Vector3d v = d.cross(u);
+    const double head = 0.25 * length;
+    for (const Eigen::Vector3d& side : {u, Eigen::Vector3d(-u), v, Eigen::Vector3d(-v)}) {
+      insertLine(lines, tip_id, insertPoint(points, tip - d * head + side * (0.4 * head)));
+      insertColor(cell_colors, color);
+    }
+  }
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  poly->SetPoints(points);
+  poly->SetLines(lines);
+  poly->GetCellData()->SetScalars(cell_colors);
+  return poly;
+}
+
 BoxHandles::BoxHandles(vtkRenderWindowInteractor* interactor, vtkRenderer* renderer) {
   representation_->SetPlaceFactor(1.0);
   representation_->SetRenderer(renderer);

@@ -11,6 +11,10 @@
 
 #include <functional>
 #include <set>
+#include <vector>
+
+#include <QColor>
+#include <Eigen/Core>
 
 #include "lom/annotations.hpp"
 #include "lom/labels.hpp"
@@ -38,6 +42,16 @@ class VoxelLayer {
 // Wireframes of all boxes, each in its label's colour.
 [[nodiscard]] vtkSmartPointer<vtkPolyData> boxOutlines(const Annotations& boxes,
                                                        const LabelSet& labels, int skip);
+
+// Wireframes of oriented boxes, all edges in one colour per box.
+[[nodiscard]] vtkSmartPointer<vtkPolyData> boxWireframes(const std::vector<OrientedBox>& boxes,
+                                                         const std::vector<QColor>& colors);
+
+// Grasp arrows: a shaft of `length` ending at each grasp position along its
+// approach direction, with a four-line head; one colour per arrow.
+[[nodiscard]] vtkSmartPointer<vtkPolyData> graspArrows(const std::vector<Eigen::Vector3d>& tips,
+                                                       const std::vector<Eigen::Vector3d>& directions,
+                                                       const std::vector<QColor>& colors, double length);
 
 // The 3D handles of the selected box (move, rotate, resize).
 class BoxHandles {

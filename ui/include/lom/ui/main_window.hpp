@@ -19,6 +19,7 @@ class FrameImagesView;
 class FusionPanel;
 class FusionStatus;
 class MapLegendPanel;
+class ObjectsPanel;
 class SceneView;
 class SequenceController;
 class StudioSession;
@@ -37,6 +38,7 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] QString fusionStatusText() const;
   [[nodiscard]] BoxEditorPanel& boxEditor() { return *box_editor_; }
   [[nodiscard]] EvaluationPanel& evaluationPanel() { return *evaluation_panel_; }
+  [[nodiscard]] ObjectsPanel& objectsPanel() { return *objects_panel_; }
   [[nodiscard]] BoxesAutosave& autosave() { return *autosave_; }
   // Finds one of the window's actions by its text without '&' (tests, scripting).
   [[nodiscard]] QAction* findAction(const QString& text) const;
@@ -75,6 +77,7 @@ class MainWindow : public QMainWindow {
   BoxSteps steps_;
   BoxEditorPanel* box_editor_ = nullptr;
   EvaluationPanel* evaluation_panel_ = nullptr;
+  ObjectsPanel* objects_panel_ = nullptr;
   BoxesAutosave* autosave_ = nullptr;
   FrameImagesView* frame_images_;
   SceneView* scene_view_;

@@ -11,6 +11,8 @@
 #include <set>
 
 #include "lom/annotations.hpp"
+#include "lom/objects.hpp"
+#include "lom/planning.hpp"
 #include "lom/sequence.hpp"
 #include "lom/ui/map_snapshot.hpp"
 
@@ -50,6 +52,16 @@ class SceneView : public QWidget {
   void showBoxes(const Annotations& boxes, int selected, const LabelSet& labels);
   [[nodiscard]] size_t voxelCount() const;
   [[nodiscard]] bool boxHandlesVisible() const;
+  // Wireframe boxes of extracted objects in their label colours (empty hides them).
+  void showObjectBoxes(const std::vector<ObjectInstance>& objects, const LabelSet& labels);
+  [[nodiscard]] size_t objectBoxCount() const;
+  // A pick plan: the occluders' boxes thick and red, the target's thick and
+  // green, one grasp arrow per step (yellow first to green last) with its step
+  // number. Null hides it.
+  void showPickPlan(const PickPlan* plan);
+  [[nodiscard]] bool pickPlanVisible() const;
+  [[nodiscard]] size_t pickPlanBoxCount() const;    // occluders + target
+  [[nodiscard]] size_t pickPlanArrowCount() const;  // one per step
 
   // Points of the current frame's cloud (one per valid depth pixel).
   [[nodiscard]] size_t framePointCount() const;

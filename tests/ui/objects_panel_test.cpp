@@ -1,0 +1,143 @@
+// The Objects dock on the synthetic demo scene: the objects extracted after
+// fusion, their boxes in 3D, and a pick plan with its steps and 3D layer.
+#include <gtest/gtest.h>
+
+#include <QCheckBox>
+#include <QComboBox>
+#include <QPushButton>
+#include <QTableWidget>
+#include <QTest>
+#include <algorithm>
+#include <filesystem>
+#include <set>
+
+#include "lom/annotations.hpp"
+#include "lom/ui/demo_scene.hpp"
+#include "lom/ui/main_window.hpp"
+#include "lom/ui/map_worker.hpp"
+#include "lom/ui/objects_panel.hpp"
+#include "lom/ui/scene_view.hpp"
+#include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/studio_session.hpp"
+#include "test_support.hpp"
+
+namespace lom::ui {
+namespace {
+
+constexpr int kTimeoutMs = 120'000;
+
+SynthOptions smallDemo() {
+  SynthOptions options;
+  options.objects = 4;
+  options.frames = 6;
+  options.views = 3;
+  options.width = 160;
+  options.height = 120;
+  return options;
+}
+
+QString qPath(const std::filesystem::path& path) { return QString::fromStdString(path.string()); }
+
+class ObjectsPanelTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = temp_.path() / "demo_shelf";
+    prepareDemoScene(qPath(folder_), smallDemo());
+    truth_ = loadAnnotations(folder_ / "annotations.json");
+    window_.setErrorReporter([this](const QString& title, const QString& message) {
+      errors_.push_back(title + ": " + message);
+    });
+    window_.setRecoveryOffer([](const QString&) { return false; });
+    window_.resize(1280, 860);
+    window_.show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(&window_));
+  }
+
+  // Opens and fuses the demo, then waits for the objects the fusion triggers.
+  void openFuseAndExtract() {
+    ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+    StudioSession& session = window_.session();
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !session.worker().isFusing(); }, kTimeoutMs));
+    ObjectsPanel& panel = window_.objectsPanel();
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !panel.isBusy() && panel.table().rowCount() > 0; },
+                                kTimeoutMs))
+        << panel.statusText().toStdString();
+  }
+
+  // Object labels that have depth (the transparent bottle has none).
+  std::set<int> visibleObjectLabels() const {
+    std::set<int> labels;
+    for (const auto& box : truth_.boxes)
+      if (box.label != kSynthTransparentLabel) labels.insert(box.label);
+    return labels;
+  }
+
+  test::TempDir temp_;
+  std::filesystem::path folder_;
+  Annotations truth_;
+  MainWindow window_;
+  std::vector<QString> errors_;
+};
+
+TEST_F(ObjectsPanelTest, ListsTheFusedObjectsAndDrawsTheirBoxes) {
+  openFuseAndExtract();
+  EXPECT_TRUE(errors_.empty()) << errors_.front().toStdString();
+  ObjectsPanel& panel = window_.objectsPanel();
+  const std::vector<int> listed = panel.listedLabels();
+  for (int label : visibleObjectLabels())
+    EXPECT_NE(std::find(listed.begin(), listed.end(), label), listed.end())
+        << "objects table misses label " << label;
+  EXPECT_EQ(panel.targetCombo().count() > 0, true);
+  EXPECT_TRUE(panel.planButton().isEnabled());
+
+  SceneView& scene = window_.sceneView();
+  ASSERT_TRUE(panel.showBoxesCheck().isChecked());
+  EXPECT_EQ(scene.objectBoxCount(), panel.objects().size());
+  panel.showBoxesCheck().setChecked(false);
+  EXPECT_EQ(scene.objectBoxCount(), 0u);
+  panel.showBoxesCheck().setChecked(true);
+  EXPECT_EQ(scene.objectBoxCount(), panel.objects().size());
+}
+
+TEST_F(ObjectsPanelTest, PlanPickEndsWithPickingTheTargetAndDrawsThePlan) {
+  openFuseAndExtract();
+  ObjectsPanel& panel = window_.objectsPanel();
+  SceneView& scene = window_.sceneView();
+  EXPECT_FALSE(scene.pickPlanVisible());
+
+  const int target = *visibleObjectLabels().begin();
+  const int index = panel.targetCombo().findData(target);
+  ASSERT_GE(index, 0) << "target combo misses label " << target;
+  panel.targetCombo().setCurrentIndex(index);
+  QTest::mouseClick(&panel.planButton(), Qt::LeftButton);
+
+  ASSERT_TRUE(panel.plan().has_value()) << panel.statusText().toStdString();
+  const PickPlan& plan = *panel.plan();
+  ASSERT_FALSE(plan.steps.empty());
+  EXPECT_EQ(plan.target_label, target);
+  EXPECT_EQ(plan.steps.back().action, StepAction::Pick);
+  EXPECT_EQ(plan.objects[plan.steps.back().object].label, target);
+  EXPECT_EQ(plan.approach_source, ApproachSource::Sequence);
+
+  QTableWidget& steps = panel.stepsTable();
+  ASSERT_EQ(steps.rowCount(), static_cast<int>(plan.steps.size()));
+  const int last = steps.rowCount() - 1;
+  EXPECT_EQ(steps.item(last, ObjectsPanel::Action)->text(), QString("pick"));
+  EXPECT_TRUE(steps.item(last, ObjectsPanel::Object)->text().startsWith(QString::number(target)));
+  for (int row = 0; row < last; ++row)
+    EXPECT_EQ(steps.item(row, ObjectsPanel::Action)->text(), QString("remove"));
+
+  EXPECT_TRUE(scene.pickPlanVisible());
+  EXPECT_EQ(scene.pickPlanBoxCount(), plan.occluders.size() + 1);
+  EXPECT_EQ(scene.pickPlanArrowCount(), plan.steps.size());
+  EXPECT_FALSE(scene.renderToImage().isNull());
+
+  // Re-extracting drops the plan and its layer.
+  QTest::mouseClick(panel.findChild<QPushButton*>("refreshObjectsButton"), Qt::LeftButton);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !panel.isBusy(); }, kTimeoutMs));
+  EXPECT_FALSE(panel.plan().has_value());
+  EXPECT_FALSE(scene.pickPlanVisible());
+}
+
+}  // namespace
+}  // namespace lom::ui

@@ -1,0 +1,79 @@
+#pragma once
+// The objects dock: the map's extracted objects (lom::extractObjects, as
+// `labeloctomap objects`) with their boxes drawn in the 3D view, and "Plan
+// pick" for a chosen target (lom::planPick with the sequence's mean viewing
+// direction, as `labeloctomap plan --sequence`): the ordered steps in a table,
+// the occluders highlighted and the grasp arrows in 3D. The extraction and the
+// plan run on the map worker's thread.
+#include <QWidget>
+#include <optional>
+#include <vector>
+
+#include "lom/objects.hpp"
+#include "lom/planning.hpp"
+
+class QCheckBox;
+class QComboBox;
+class QLabel;
+class QPushButton;
+class QTableWidget;
+
+namespace lom::ui {
+
+class StudioSession;
+
+class ObjectsPanel : public QWidget {
+  Q_OBJECT
+
+ public:
+  enum Column { Label, Name, Voxels, MeanProbability, Columns };
+  enum StepColumn { Step, Action, Object, StepColumns };
+
+  explicit ObjectsPanel(StudioSession& session, QWidget* parent = nullptr);
+
+  [[nodiscard]] QTableWidget& table() { return *table_; }
+  [[nodiscard]] QTableWidget& stepsTable() { return *steps_; }
+  [[nodiscard]] QComboBox& targetCombo() { return *target_; }
+  [[nodiscard]] QCheckBox& showBoxesCheck() { return *show_boxes_; }
+  [[nodiscard]] QPushButton& planButton() { return *plan_button_; }
+  [[nodiscard]] const std::vector<ObjectInstance>& objects() const { return objects_; }
+  [[nodiscard]] const std::optional<PickPlan>& plan() const { return plan_; }
+  [[nodiscard]] bool isBusy() const { return busy_ > 0; }
+  [[nodiscard]] QString statusText() const;
+  // Labels listed in the table, in row order.
+  [[nodiscard]] std::vector<int> listedLabels() const;
+
+ public slots:
+  void refresh();    // extracts the objects of the current map
+  void planPick();   // for the target chosen in the combo
+
+ signals:
+  // The boxes to draw changed: `objects` is empty when they are hidden.
+  void objectBoxesChanged(const std::vector<lom::ObjectInstance>& objects);
+  // A plan was made (or dropped: null).
+  void pickPlanChanged(const lom::PickPlan* plan);
+  void objectsShown();
+  void planShown();
+
+ private:
+  void showObjects(std::vector<ObjectInstance> objects);
+  void showPlan(PickPlan plan);
+  void showMessage(const QString& message);
+  void clearPlan();
+  void emitBoxes();
+
+  StudioSession& session_;
+  QTableWidget* table_;
+  QCheckBox* show_boxes_;
+  QComboBox* target_;
+  QPushButton* refresh_;
+  QPushButton* plan_button_;
+  QTableWidget* steps_;
+  QLabel* status_;
+  std::vector<ObjectInstance> objects_;
+  std::optional<PickPlan> plan_;
+  int busy_ = 0;
+  unsigned generation_ = 0;
+};
+
+}  // namespace lom::ui

@@ -1,0 +1,227 @@
+#include "lom/ui/objects_panel.hpp"
+
+#include <QCheckBox>
+#include <QComboBox>
+#include <QHBoxLayout>
+#include <QHeaderView>
+#include <QLabel>
+#include <QPointer>
+#include <QPushButton>
+#include <QTableWidget>
+#include <QVBoxLayout>
+#include <cmath>
+#include <memory>
+
+#include "lom/label_map.hpp"
+#include "lom/ui/map_worker.hpp"
+#include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/studio_session.hpp"
+
+namespace lom::ui {
+
+namespace {
+
+QTableWidgetItem* numberItem(double value) {
+  auto* item = new QTableWidgetItem;
+  item->setData(Qt::DisplayRole, value);
+  item->setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
+  return item;
+}
+
+QTableWidgetItem* textItem(const QString& text) { return new QTableWidgetItem(text); }
+
+QString objectTitle(const ObjectInstance& object) {
+  return QStringLiteral("%1 %2").arg(QString::fromStdString(object.id()),
+                                     QString::fromStdString(object.name));
+}
+
+void setupTable(QTableWidget* table) {
+  table->verticalHeader()->hide();
+  table->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  table->setSelectionBehavior(QAbstractItemView::SelectRows);
+  table->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+}
+
+}  // namespace
+
+ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
+    : QWidget(parent),
+      session_(session),
+      table_(new QTableWidget(0, Columns)),
+      show_boxes_(new QCheckBox(tr("Show boxes"))),
+      target_(new QComboBox),
+      refresh_(new QPushButton(tr("Refresh"))),
+      plan_button_(new QPushButton(tr("Plan pick"))),
+      steps_(new QTableWidget(0, StepColumns)),
+      status_(new QLabel) {
+  setObjectName("objectsPanel");
+  table_->setObjectName("objectsTable");
+  steps_->setObjectName("pickStepsTable");
+  target_->setObjectName("pickTargetCombo");
+  show_boxes_->setObjectName("showObjectBoxes");
+  plan_button_->setObjectName("planPickButton");
+  refresh_->setObjectName("refreshObjectsButton");
+  status_->setObjectName("objectsStatus");
+  table_->setHorizontalHeaderLabels({tr("Label"), tr("Object"), tr("Voxels"), tr("Mean p")});
+  setupTable(table_);
+  table_->horizontalHeader()->setSectionResizeMode(Name, QHeaderView::Stretch);
+  table_->setSortingEnabled(true);
+  steps_->setHorizontalHeaderLabels({tr("Step"), tr("Action"), tr("Object")});
+  setupTable(steps_);
+  steps_->horizontalHeader()->setSectionResizeMode(Object, QHeaderView::Stretch);
+  show_boxes_->setChecked(true);
+  status_->setWordWrap(true);
+  plan_button_->setEnabled(false);
+  target_->setToolTip(tr("The object to pick: the objects in front of it along the mean "
+                         "viewing direction of the sequence are removed first."));
+
+  auto* layout = new QVBoxLayout(this);
+  layout->setContentsMargins(2, 2, 2, 2);
+  auto* top = new QHBoxLayout;
+  top->addWidget(show_boxes_);
+  top->addStretch(1);
+  top->addWidget(refresh_);
+  layout->addLayout(top);
+  layout->addWidget(table_, 2);
+  auto* plan_row = new QHBoxLayout;
+  plan_row->addWidget(new QLabel(tr("Target:")));
+  plan_row->addWidget(target_, 1);
+  plan_row->addWidget(plan_button_);
+  layout->addLayout(plan_row);
+  layout->addWidget(steps_, 1);
+  layout->addWidget(status_);
+
+  MapWorker& worker = session_.worker();
+  connect(&worker, &MapWorker::fusionFinished, this, [this](bool) { refresh(); });
+  connect(&session_.controller(), &SequenceController::sequenceChanged, this, [this] {
+    ++generation_;
+    objects_.clear();
+    table_->setRowCount(0);
+    target_->clear();
+    plan_button_->setEnabled(false);
+    clearPlan();
+    emitBoxes();
+    showMessage(tr("Fuse the sequence to extract its objects."));
+  });
+  connect(refresh_, &QPushButton::clicked, this, &ObjectsPanel::refresh);
+  connect(plan_button_, &QPushButton::clicked, this, &ObjectsPanel::planPick);
+  connect(show_boxes_, &QCheckBox::toggled, this, [this] { emitBoxes(); });
+  showMessage(tr("Open a sequence and fuse it to list its objects."));
+}
+
+QString ObjectsPanel::statusText() const { return status_->text(); }
+
+std::vector<int> ObjectsPanel::listedLabels() const {
+  std::vector<int> labels;
+  for (int row = 0; row < table_->rowCount(); ++row)
+    if (const QTableWidgetItem* item = table_->item(row, Label))
+      labels.push_back(item->data(Qt::DisplayRole).toInt());
+  return labels;
+}
+
+void ObjectsPanel::refresh() {
+  if (!session_.sequence()) return;
+  MapWorker* worker = &session_.worker();  // outlives its thread's jobs
+  if (worker->isFusing()) return;          // fusionFinished asks again
+  const unsigned generation = ++generation_;
+  ++busy_;
+  showMessage(tr("Extracting objects…"));
+  QPointer<ObjectsPanel> self(this);
+  worker->withMap([self, worker, generation](const LabelMap* map) {
+    auto objects = std::make_shared<std::vector<ObjectInstance>>();
+    auto error = std::make_shared<QString>();
+    if (map) {
+      try {
+        *objects = extractObjects(*map);
+      } catch (const std::exception& e) {
+        *error = QString::fromStdString(e.what());
+      }
+    }
+    QMetaObject::invokeMethod(
+        worker,
+        [self, objects, error, generation] {
+          if (!self) return;
+          --self->busy_;
+          if (generation != self->generation_) return;  // superseded
+          if (!error->isEmpty()) return self->showMessage(*error);
+          self->showObjects(std::move(*objects));
+        },
+        Qt::QueuedConnection);
+  });
+}
+
+void ObjectsPanel::showObjects(std::vector<ObjectInstance> objects) {
+  objects_ = std::move(objects);
+  clearPlan();
+  table_->setSortingEnabled(false);
+  table_->setRowCount(static_cast<int>(objects_.size()));
+  const int previous_target = target_->currentData().isValid() ? target_->currentData().toInt() : -1;
+  target_->clear();
+  for (int row = 0; row < table_->rowCount(); ++row) {
+    const ObjectInstance& object = objects_[static_cast<size_t>(row)];
+    table_->setItem(row, Label, numberItem(object.label));
+    table_->setItem(row, Name, textItem(QString::fromStdString(object.name)));
+    table_->setItem(row, Voxels, numberItem(static_cast<double>(object.voxelCount())));
+    table_->setItem(row, MeanProbability,
+                    numberItem(std::round(object.mean_probability * 1000.0) / 1000.0));
+    if (object.instance == 0) target_->addItem(objectTitle(object), object.label);
+  }
+  table_->setSortingEnabled(true);
+  const int keep = target_->findData(previous_target);
+  if (keep >= 0) target_->setCurrentIndex(keep);
+  plan_button_->setEnabled(target_->count() > 0);
+  showMessage(objects_.empty() ? tr("The map has no objects yet.")
+                               : tr("%n object(s) in the map.", nullptr, static_cast<int>(objects_.size())));
+  emitBoxes();
+  emit objectsShown();
+}
+
+void ObjectsPanel::planPick() {
+  const auto sequence = session_.sequence();
+  if (!sequence || objects_.empty() || target_->currentIndex() < 0) return;
+  const int target = target_->currentData().toInt();
+  try {
+    PlanOptions options;
+    options.approach = meanViewingDirection(*sequence);
+    options.approach_source = ApproachSource::Sequence;
+    const auto snapshot = session_.worker().snapshot();
+    const double resolution = snapshot && snapshot->resolution > 0 ? snapshot->resolution : 0.01;
+    showPlan(lom::planPick(objects_, sequence->labels, target, *options.approach, options, resolution));
+  } catch (const std::exception& e) {
+    clearPlan();
+    showMessage(QString::fromStdString(e.what()));
+  }
+}
+
+void ObjectsPanel::showPlan(PickPlan plan) {
+  plan_ = std::move(plan);
+  steps_->setRowCount(static_cast<int>(plan_->steps.size()));
+  for (int row = 0; row < steps_->rowCount(); ++row) {
+    const PlanStep& step = plan_->steps[static_cast<size_t>(row)];
+    steps_->setItem(row, Step, numberItem(row + 1));
+    steps_->setItem(row, Action, textItem(QString::fromLatin1(stepActionName(step.action))));
+    const QString object =
+        step.object < plan_->objects.size() ? objectTitle(plan_->objects[step.object]) : QString();
+    steps_->setItem(row, Object, textItem(object));
+  }
+  showMessage(tr("Pick %1: %n occluder(s) to remove first.", nullptr,
+                 static_cast<int>(plan_->occluders.size()))
+                  .arg(QString::fromStdString(plan_->target_name)));
+  emit pickPlanChanged(&*plan_);
+  emit planShown();
+}
+
+void ObjectsPanel::clearPlan() {
+  const bool had_plan = plan_.has_value();
+  plan_.reset();
+  steps_->setRowCount(0);
+  if (had_plan) emit pickPlanChanged(nullptr);
+}
+
+void ObjectsPanel::emitBoxes() {
+  emit objectBoxesChanged(show_boxes_->isChecked() ? objects_ : std::vector<ObjectInstance>{});
+}
+
+void ObjectsPanel::showMessage(const QString& message) { status_->setText(message); }
+
+}  // namespace lom::ui
