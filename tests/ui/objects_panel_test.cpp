@@ -19,40 +19,17 @@
 #include "lom/ui/scene_view.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
+#include "demo_window_fixture.hpp"
 #include "test_support.hpp"
 
 namespace lom::ui {
 namespace {
 
-constexpr int kTimeoutMs = 120'000;
+using fixture::kTimeoutMs;
+using fixture::qPath;
 
-SynthOptions smallDemo() {
-  SynthOptions options;
-  options.objects = 4;
-  options.frames = 6;
-  options.views = 3;
-  options.width = 160;
-  options.height = 120;
-  return options;
-}
-
-QString qPath(const std::filesystem::path& path) { return QString::fromStdString(path.string()); }
-
-class ObjectsPanelTest : public ::testing::Test {
+class ObjectsPanelTest : public fixture::DemoWindowTest {
  protected:
-  void SetUp() override {
-    folder_ = temp_.path() / "demo_shelf";
-    prepareDemoScene(qPath(folder_), smallDemo());
-    truth_ = loadAnnotations(folder_ / "annotations.json");
-    window_.setErrorReporter([this](const QString& title, const QString& message) {
-      errors_.push_back(title + ": " + message);
-    });
-    window_.setRecoveryOffer([](const QString&) { return false; });
-    window_.resize(1280, 860);
-    window_.show();
-    ASSERT_TRUE(QTest::qWaitForWindowExposed(&window_));
-  }
-
   // Opens and fuses the demo, then waits for the objects the fusion triggers.
   void openFuseAndExtract() {
     ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
@@ -63,20 +40,6 @@ class ObjectsPanelTest : public ::testing::Test {
                                 kTimeoutMs))
         << panel.statusText().toStdString();
   }
-
-  // Object labels that have depth (the transparent bottle has none).
-  std::set<int> visibleObjectLabels() const {
-    std::set<int> labels;
-    for (const auto& box : truth_.boxes)
-      if (box.label != kSynthTransparentLabel) labels.insert(box.label);
-    return labels;
-  }
-
-  test::TempDir temp_;
-  std::filesystem::path folder_;
-  Annotations truth_;
-  MainWindow window_;
-  std::vector<QString> errors_;
 };
 
 TEST_F(ObjectsPanelTest, ListsTheFusedObjectsAndDrawsTheirBoxes) {

@@ -33,68 +33,22 @@
 #include "lom/ui/studio_session.hpp"
 #include "lom/ui/window_capture.hpp"
 #include "onnx_model_builder.hpp"
+#include "demo_window_fixture.hpp"
 #include "test_support.hpp"
 
 namespace lom::ui {
 namespace {
 
-constexpr int kTimeoutMs = 120'000;
+using fixture::kTimeoutMs;
+using fixture::qPath;
+using fixture::smallDemo;
 
-SynthOptions smallDemo() {
-  SynthOptions options;
-  options.objects = 4;
-  options.frames = 6;
-  options.views = 3;
-  options.width = 160;
-  options.height = 120;
-  return options;
-}
-
-QString qPath(const std::filesystem::path& path) { return QString::fromStdString(path.string()); }
-
-class StudioSessionTest : public ::testing::Test {
+class StudioSessionTest : public fixture::DemoWindowTest {
  protected:
-  void SetUp() override {
-    folder_ = temp_.path() / "demo_shelf";
-    prepareDemoScene(qPath(folder_), smallDemo());
-    truth_ = loadAnnotations(folder_ / "annotations.json");
-    window_.setErrorReporter([this](const QString& title, const QString& message) {
-      errors_.push_back(title + ": " + message);
-    });
-    window_.setRecoveryOffer([](const QString&) { return false; });
-    window_.resize(1280, 860);
-    window_.show();
-    ASSERT_TRUE(QTest::qWaitForWindowExposed(&window_));
-  }
-
-  // Opens the demo and waits for the fusion (and the evaluation it triggers).
-  void openAndFuse() {
-    ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
-    waitForFusion();
-  }
-  void waitForFusion() {
-    StudioSession& session = window_.session();
-    ASSERT_TRUE(QTest::qWaitFor([&] { return !session.worker().isFusing(); }, kTimeoutMs));
-    QTest::qWait(50);  // the last snapshot arrives through the event loop
-    ASSERT_EQ(session.worker().snapshot()->frames_fused, static_cast<size_t>(smallDemo().frames));
-  }
   void waitForEvaluation() {
     EvaluationPanel& panel = window_.evaluationPanel();
     ASSERT_TRUE(QTest::qWaitFor([&] { return !panel.isBusy(); }, kTimeoutMs));
   }
-  // Object labels that have depth (the transparent bottle has none).
-  std::set<int> visibleObjectLabels() const {
-    std::set<int> labels;
-    for (const auto& box : truth_.boxes)
-      if (box.label != kSynthTransparentLabel) labels.insert(box.label);
-    return labels;
-  }
-
-  test::TempDir temp_;
-  std::filesystem::path folder_;
-  Annotations truth_;
-  MainWindow window_;
-  std::vector<QString> errors_;
 };
 
 TEST_F(StudioSessionTest, FusesTheDemoLiveAndTheLegendListsItsLabels) {

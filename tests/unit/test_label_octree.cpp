@@ -28,6 +28,15 @@ octomap::OcTreeKey keyAt(const LabelOcTree& tree, double x, double y, double z) 
                                           static_cast<float>(z)));
 }
 
+// The eight 1 cm voxels that share one parent node.
+std::vector<octomap::OcTreeKey> siblingKeys(const LabelOcTree& tree) {
+  std::vector<octomap::OcTreeKey> keys;
+  for (int i = 0; i < 8; ++i)
+    keys.push_back(keyAt(tree, 0.005 + 0.01 * (i & 1), 0.005 + 0.01 * ((i >> 1) & 1),
+                         0.005 + 0.01 * ((i >> 2) & 1)));
+  return keys;
+}
+
 // A small map with occupied voxels of several labels and free space around them.
 LabelMap sampleMap() {
   LabelMap map(labels(4));
@@ -128,10 +137,7 @@ TEST(LabelOcTreeTest, LeafBlocksKeepOnlyLabelsAboveTheSmallest) {
 TEST(LabelOcTreeTest, MergesSaturatedFreeSpaceWhileFusing) {
   LabelMap map(labels(3));
   LabelOcTree& tree = map.tree();
-  std::vector<octomap::OcTreeKey> keys;
-  for (int i = 0; i < 8; ++i)
-    keys.push_back(keyAt(tree, 0.005 + 0.01 * (i & 1), 0.005 + 0.01 * ((i >> 1) & 1),
-                         0.005 + 0.01 * ((i >> 2) & 1)));
+  const std::vector<octomap::OcTreeKey> keys = siblingKeys(tree);
   // One miss each: identical, but a later miss would change them, so they stay apart.
   for (const auto& key : keys) tree.applyMiss(key);
   tree.refreshAncestors(keys);
@@ -160,10 +166,7 @@ TEST(LabelOcTreeTest, MergesSaturatedFreeSpaceWhileFusing) {
 TEST(LabelOcTreeTest, PruneMergesEveryIdenticalSetAndNothingElse) {
   LabelMap map(labels(3));
   LabelOcTree& tree = map.tree();
-  std::vector<octomap::OcTreeKey> keys;
-  for (int i = 0; i < 8; ++i)
-    keys.push_back(keyAt(tree, 0.005 + 0.01 * (i & 1), 0.005 + 0.01 * ((i >> 1) & 1),
-                         0.005 + 0.01 * ((i >> 2) & 1)));
+  const std::vector<octomap::OcTreeKey> keys = siblingKeys(tree);
   for (const auto& key : keys) tree.applyMiss(key);
   tree.refreshAncestors(keys);
   map.prune();
@@ -267,13 +270,9 @@ TEST(LabelOcTreeTest, SavingToAnUnwritablePlaceFailsWithoutLeavingFiles) {
 TEST(LabelOcTreeTest, VoxelsOfLabelExpandPrunedLeaves) {
   LabelMap map(labels(2));
   LabelOcTree& tree = map.tree();
-  std::vector<octomap::OcTreeKey> keys;
+  const std::vector<octomap::OcTreeKey> keys = siblingKeys(tree);
   const float hit[2] = {-1.f, 1.f};
-  for (int i = 0; i < 8; ++i) {
-    keys.push_back(keyAt(tree, 0.005 + 0.01 * (i & 1), 0.005 + 0.01 * ((i >> 1) & 1),
-                         0.005 + 0.01 * ((i >> 2) & 1)));
-    tree.applyHit(keys.back(), hit);
-  }
+  for (const auto& key : keys) tree.applyHit(key, hit);
   tree.refreshAncestors(keys);
   map.prune();
   EXPECT_EQ(tree.getNumLeafNodes(), 1u);  // pruned
