@@ -38,7 +38,7 @@ const Command kCommands[] = {
      "       [--smooth] --out PATH | export MAP.ot --voxels OUT.pcd\n"
      "                                write meshes, point clouds, octrees or object boxes"},
     {"render", lom::cli::runRender,
-     "render MAP.ot --out view.png [--camera FRAME_OF_SEQ | --azimuth A --elevation E]\n"
+     "render MAP.ot --out view.png [--camera SEQ:INDEX | --azimuth A --elevation E]\n"
      "       [--size 1280x960]        render the map offscreen to a PNG (needs X or Xvfb)"},
     {"import", lom::cli::runImport,
      "import KIND SRC --out SEQ [--intrinsics fx,fy,cx,cy|FILE] [--every N] [--overwrite] ...\n"
@@ -47,7 +47,7 @@ const Command kCommands[] = {
      "                                all options: labeloctomap import --help)"},
     {"plan", lom::cli::runPlan,
      "plan MAP.ot --target LABEL [--approach x,y,z | --sequence SEQ] [--empty-bin c,c,c,d,d,d]\n"
-     "     [--out plan.json]        (all options: docs/planning.md)\n"
+     "     [--out plan.json]          (all options: docs/planning.md)\n"
      "                                which objects to remove before picking the target"},
     {"segment", lom::cli::runSegment,
      "segment SEQ --segmenter MODEL.onnx [--all] [--dtype float32|float16|uint8] [--out-dir DIR]\n"
