@@ -25,6 +25,8 @@ FrameEvidence::FrameEvidence(int num_labels, const ProbabilityImage* proba, cons
       label_confidence_(label_confidence) {
   if (!proba_ && !label_)
     throw Error("", "frame", "a probability image or a label image", "neither");
+  if (num_labels < 1 || num_labels > 256)
+    throw Error("", "labels", "between 1 and 256 labels", std::to_string(num_labels));
   if (!(label_confidence > 0.0 && label_confidence < 1.0))
     throw Error("", "label_confidence", "a probability strictly between 0 and 1",
                 std::to_string(label_confidence));
@@ -38,6 +40,7 @@ FrameEvidence::FrameEvidence(int num_labels, const ProbabilityImage* proba, cons
     }
     if (candidates->empty())
       throw Error("", "candidates", "at least one candidate label", "an empty list");
+    restricted_ = std::find(allowed_.begin(), allowed_.end(), 0) != allowed_.end();
   }
   if (proba_) {
     width_ = proba_->width;
@@ -75,9 +78,7 @@ void FrameEvidence::probabilities(int u, int v, float* out) const {
       if (id >= 0 && id < num_labels_) out[id] = static_cast<float>(label_confidence_);
     }
   }
-  bool restricted = false;
-  for (char a : allowed_) restricted = restricted || !a;
-  if (!restricted) return;
+  if (!restricted_) return;
   // Class candidates: drop the other labels and renormalise over the candidates.
   double sum = 0.0;
   int allowed_count = 0;
@@ -102,15 +103,13 @@ void FrameEvidence::logOdds(int u, int v, float* out) const {
 }
 
 const ProbabilityImage* FrameEvidence::directProbabilities() const {
-  for (char a : allowed_)
-    if (!a) return nullptr;
-  return proba_;
+  return restricted_ ? nullptr : proba_;
 }
 
 int FrameEvidence::argmax(int u, int v) const {
-  std::vector<float> p(static_cast<size_t>(num_labels_));
-  probabilities(u, v, p.data());
-  return static_cast<int>(std::max_element(p.begin(), p.end()) - p.begin());
+  float p[256];  // a map has at most 256 labels; no allocation per pixel
+  probabilities(u, v, p);
+  return static_cast<int>(std::max_element(p, p + num_labels_) - p);
 }
 
 // ---------------------------------------------------------------------------

@@ -117,22 +117,34 @@ std::string stampText(double stamp) {
 }  // namespace
 
 // ---------------------------------------------------------------------------
+namespace {
+
+// The camera from an intrinsics file in the folder (when there is one) or the
+// intrinsics option, as chooseCamera decides; `required` says what is missing otherwise.
+void setCameraFromIntrinsicsFile(const fs::path& source, const std::string& skip_prefix,
+                                 const ImportOptions& options, SequenceWriter& writer,
+                                 const std::string& required) {
+  std::optional<CameraIntrinsics> file_camera;
+  std::string described = "no intrinsics file";
+  if (auto file = findIntrinsicsFile(source, skip_prefix)) {
+    file_camera = intrinsicsFromNumbers(readNumbers(*file), file->string());
+    described = "the intrinsics of " + file->filename().string();
+  }
+  writer.setCamera(chooseCamera(file_camera, described, options, writer, source, required));
+}
+
+}  // namespace
+
 // frames: frame-NNNNNN.color.png / .depth.png (mm) / .pose.txt (4x4), intrinsics file.
 void importFrames(const fs::path& source, const ImportOptions& options, SequenceWriter& writer) {
   const auto depth_files = numberedFiles(source, "frame-", ".depth.png");
   if (depth_files.empty())
     throw Error(source.string(), "frames", "frame-NNNNNN.depth.png files (16-bit depth)", "none");
 
-  std::optional<CameraIntrinsics> file_camera;
-  std::string described = "no intrinsics file";
-  if (auto file = findIntrinsicsFile(source, "frame-")) {
-    file_camera = intrinsicsFromNumbers(readNumbers(*file), file->string());
-    described = "the intrinsics of " + file->filename().string();
-  }
-  writer.setCamera(chooseCamera(
-      file_camera, described, options, writer, source,
+  setCameraFromIntrinsicsFile(
+      source, "frame-", options, writer,
       "an intrinsics file (e.g. camera-intrinsics.txt or intrinsics.K.txt with the 3x3 camera "
-      "matrix) or the intrinsics option (--intrinsics fx,fy,cx,cy)"));
+      "matrix) or the intrinsics option (--intrinsics fx,fy,cx,cy)");
   const double scale = options.depth_scale.value_or(0.001);
   writer.setDepthScale(scale);
 
@@ -350,16 +362,10 @@ void importQuaternion(const fs::path& source, const ImportOptions& options,
                 std::to_string(depth_files.size()) +
                 " depth images: line i is the pose of the i-th depth image by number");
 
-  std::optional<CameraIntrinsics> file_camera;
-  std::string described = "no intrinsics file";
-  if (auto file = findIntrinsicsFile(source, "pose")) {
-    file_camera = intrinsicsFromNumbers(readNumbers(*file), file->string());
-    described = "the intrinsics of " + file->filename().string();
-  }
-  writer.setCamera(chooseCamera(
-      file_camera, described, options, writer, source,
+  setCameraFromIntrinsicsFile(
+      source, "pose", options, writer,
       "the intrinsics option (--intrinsics fx,fy,cx,cy or a file), as this layout does not "
-      "store them (or an intrinsics.txt in the folder)"));
+      "store them (or an intrinsics.txt in the folder)");
   const double scale = options.depth_scale.value_or(0.001);
   writer.setDepthScale(scale);
   writer.setLabels(backgroundOnlyLabels());

@@ -49,6 +49,7 @@ class FrameEvidence {
   const ProbabilityImage* proba_;
   const LabelImage* label_;
   std::vector<char> allowed_;  // per label: 1 if candidate (or no candidates given)
+  bool restricted_ = false;    // some label is not a candidate: renormalise each pixel
   double label_confidence_;
   std::vector<int> channel_of_label_;  // -1 when the label has no channel
 };
