@@ -8,11 +8,12 @@
 //     Morton order) and hits (sorted) merge into one depth-first update stream
 //     that the tree applies in a single pass (LabelOcTree::applySortedUpdates).
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstring>
 #include <thread>
-#include <unordered_map>
 
+#include "flat_index.hpp"
 #include "fusion_internal.hpp"
 #include "lom/octree/label_octree.hpp"
 
@@ -43,21 +44,22 @@ class LogitCache {
 };
 
 // Voxels as bits in 16 x 16 x 16 bricks, each brick's bits in Morton order.
-class BrickSet {
+class alignas(64) BrickSet {  // own cache lines: each thread marks its own
  public:
   static constexpr int kWords = 64;  // 4096 bits
   using Bits = std::array<std::uint64_t, kWords>;
 
-  void set(const grid::Key& key) {
-    Bits& bits = brick(packBrick(key));
-    const unsigned local = localIndex(key);
+  void set(unsigned x, unsigned y, unsigned z) {
+    Bits& bits = brick((std::uint64_t{x >> 4} << 24) | (std::uint64_t{y >> 4} << 12) | (z >> 4));
+    const auto& spread = tables_.spread;
+    const unsigned local = spread[x & 15u] | (spread[y & 15u] << 1) | (spread[z & 15u] << 2);
     bits[local >> 6] |= std::uint64_t{1} << (local & 63);
   }
   void clear(const grid::Key& key) {
-    const auto it = index_.find(packBrick(key));
-    if (it == index_.end()) return;
+    const std::uint32_t* index = index_.find(packBrick(key));
+    if (!index) return;
     const unsigned local = localIndex(key);
-    bricks_[it->second][local >> 6] &= ~(std::uint64_t{1} << (local & 63));
+    bricks_[*index][local >> 6] &= ~(std::uint64_t{1} << (local & 63));
   }
   void mergeFrom(const BrickSet& other) {
     for (size_t i = 0; i < other.bricks_.size(); ++i) {
@@ -129,48 +131,64 @@ class BrickSet {
   }
   Bits& brick(std::uint64_t packed) {
     if (packed == cached_key_) return bricks_[cached_index_];
-    auto [it, inserted] = index_.try_emplace(packed, bricks_.size());
+    bool inserted = false;
+    cached_index_ = index_.findOrInsert(packed, static_cast<std::uint32_t>(bricks_.size()), inserted);
     if (inserted) {
       bricks_.emplace_back();
       bricks_.back().fill(0);
       keys_.push_back(packed);
     }
     cached_key_ = packed;
-    cached_index_ = it->second;
     return bricks_[cached_index_];
   }
 
-  std::unordered_map<std::uint64_t, size_t> index_;
+  FlatIndex index_{256};
   std::vector<Bits> bricks_;
   std::vector<std::uint64_t> keys_;
   std::uint64_t cached_key_ = ~std::uint64_t{0};
-  size_t cached_index_ = 0;
+  std::uint32_t cached_index_ = 0;
+  const LocalTables& tables_ = localTables();
 };
 
 // The pixels of one thread's rows, grouped by end voxel.
-struct PixelGroups {
+struct alignas(64) PixelGroups {  // own cache lines: threads write theirs per pixel
   struct Group {
     grid::Key key{};
     bool beyond_range = false;
     std::uint32_t pixels = 0;
   };
-  std::unordered_map<std::uint64_t, std::uint32_t> index;
+  FlatIndex index{4096};
   std::vector<Group> groups;
   std::vector<float> sums;  // per group: one value per summed channel
   size_t valid_pixels = 0;
+  // The groups of recently seen voxels, direct-mapped: neighbouring pixels
+  // (depth noise makes them alternate between a few voxels) mostly hit here.
+  static constexpr int kRecentBits = 8;
+  std::array<std::uint64_t, 1u << kRecentBits> recent_key;
+  std::array<std::uint32_t, 1u << kRecentBits> recent_group;
+
+  PixelGroups() { recent_key.fill(FlatIndex::kEmpty); }
 
   static std::uint64_t pack(const grid::Key& key, bool beyond) {
     return (std::uint64_t{key[0]} << 33) | (std::uint64_t{key[1]} << 17) |
            (std::uint64_t{key[2]} << 1) | (beyond ? 1u : 0u);
   }
   std::uint32_t groupFor(const PixelRay& ray, int width) {
-    auto [it, inserted] = index.try_emplace(pack(ray.end_key, ray.beyond_range),
-                                            static_cast<std::uint32_t>(groups.size()));
+    bool inserted = false;
+    const std::uint32_t group = index.findOrInsert(pack(ray.end_key, ray.beyond_range),
+                                                   static_cast<std::uint32_t>(groups.size()), inserted);
     if (inserted) {
       groups.push_back({ray.end_key, ray.beyond_range, 0});
       sums.resize(sums.size() + static_cast<size_t>(width), 0.f);
     }
-    return it->second;
+    return group;
+  }
+  std::uint32_t cachedGroupFor(std::uint64_t packed, const PixelRay& ray, int width) {
+    const size_t slot = static_cast<size_t>((packed * 0x9E3779B97F4A7C15ULL) >> (64 - kRecentBits));
+    if (recent_key[slot] == packed) return recent_group[slot];
+    recent_key[slot] = packed;
+    recent_group[slot] = groupFor(ray, width);
+    return recent_group[slot];
   }
 };
 
@@ -222,18 +240,14 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     std::vector<float> probabilities(static_cast<size_t>(n));
     const int rows_begin = depth.height * t / threads;
     const int rows_end = depth.height * (t + 1) / threads;
+    size_t valid_pixels = 0;  // counted here: part's fields are written per pixel
     for (int v = rows_begin; v < rows_end; ++v) {
-      std::uint64_t previous = ~std::uint64_t{0};
-      std::uint32_t group = 0;
       for (int u = 0; u < depth.width; ++u) {
         PixelRay ray;
         if (!projector.ray(u, v, depth.at(u, v), ray)) continue;
-        ++part.valid_pixels;
-        const std::uint64_t packed = PixelGroups::pack(ray.end_key, ray.beyond_range);
-        if (packed != previous) {
-          group = part.groupFor(ray, width);
-          previous = packed;
-        }
+        ++valid_pixels;
+        const std::uint32_t group =
+            part.cachedGroupFor(PixelGroups::pack(ray.end_key, ray.beyond_range), ray, width);
         ++part.groups[group].pixels;
         if (ray.beyond_range) continue;
         float* sums = part.sums.data() + static_cast<size_t>(group) * static_cast<size_t>(width);
@@ -246,6 +260,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
         }
       }
     }
+    part.valid_pixels = valid_pixels;
   });
   PixelGroups& all = parts[0];
   for (size_t t = 1; t < parts.size(); ++t) {
@@ -269,7 +284,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     for (size_t i = static_cast<size_t>(t); i < all.groups.size(); i += static_cast<size_t>(threads)) {
       const auto& group = all.groups[i];
       const Eigen::Vector3d end = rayEnd(g, origin, group.key, group.beyond_range, max_range);
-      grid::traverseRay(g, origin, end, [&](const grid::Key& k) { mark.set(k); });
+      grid::traverseRay(g, origin, end, [&](unsigned x, unsigned y, unsigned z) { mark.set(x, y, z); });
     }
   });
   for (size_t t = 1; t < marks.size(); ++t) marks[0].mergeFrom(marks[t]);

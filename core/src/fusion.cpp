@@ -159,8 +159,8 @@ FrameStats integrateFrameReference(LabelMap& map, const CameraIntrinsics& camera
       if (!projector.ray(u, v, depth.at(u, v), ray)) continue;
       ++stats.valid_pixels;
       const Eigen::Vector3d end = rayEnd(g, origin, ray.end_key, ray.beyond_range, max_range);
-      grid::traverseRay(g, origin, end, [&](const grid::Key& k) {
-        misses.insert(octomap::OcTreeKey(k[0], k[1], k[2]));
+      grid::traverseRay(g, origin, end, [&](std::uint16_t x, std::uint16_t y, std::uint16_t z) {
+        misses.insert(octomap::OcTreeKey(x, y, z));
       });
       if (ray.beyond_range) continue;
       evidence.logOdds(u, v, pixel_log_odds.data());

@@ -44,7 +44,8 @@ struct Grid {
 // Visits, in order, the voxels crossed by the segment from `origin` to `end`,
 // starting with the origin's voxel and stopping before the voxel that contains
 // `end` (a 3D DDA). Returns false (visiting nothing) when either end is
-// outside the key range.
+// outside the key range. `visit(x, y, z)` gets the key's three components as
+// plain integers (a Key built per step and read back costs a stall per step).
 template <typename Visit>
 bool traverseRay(const Grid& grid, const Eigen::Vector3d& origin, const Eigen::Vector3d& end,
                  Visit&& visit) {
@@ -80,18 +81,34 @@ bool traverseRay(const Grid& grid, const Eigen::Vector3d& origin, const Eigen::V
     }
   }
 
-  visit(key);
+  visit(static_cast<std::uint16_t>(key[0]), static_cast<std::uint16_t>(key[1]),
+        static_cast<std::uint16_t>(key[2]));
+  // The key and the border distances stay in registers: writing a key
+  // component to memory and reading the key back at once would stall each
+  // step. The axis of a step is x unless y is strictly closer, then z if
+  // strictly closer than the chosen one.
+  int k0 = key[0], k1 = key[1], k2 = key[2];
+  const int e0 = end_key[0], e1 = end_key[1], e2 = end_key[2];
+  double m0 = t_max[0], m1 = t_max[1], m2 = t_max[2];
   // A ray crosses at most this many voxels; guards against rounding loops.
   const long max_steps = 3L * static_cast<long>(std::ceil(length * grid.inverse)) + 3;
   for (long i = 0; i < max_steps; ++i) {
-    int dim = 0;
-    if (t_max[1] < t_max[dim]) dim = 1;
-    if (t_max[2] < t_max[dim]) dim = 2;
-    if (t_max[dim] > length) break;  // passed the end point (end voxel reached by rounding)
-    key[static_cast<size_t>(dim)] = static_cast<std::uint16_t>(key[static_cast<size_t>(dim)] + step[dim]);
-    t_max[dim] += t_delta[dim];
-    if (key == end_key) break;
-    visit(key);
+    if (m1 < m0 ? m2 < m1 : m2 < m0) {
+      if (m2 > length) break;  // passed the end point (end voxel reached by rounding)
+      k2 += step[2];
+      m2 += t_delta[2];
+    } else if (m1 < m0) {
+      if (m1 > length) break;
+      k1 += step[1];
+      m1 += t_delta[1];
+    } else {
+      if (m0 > length) break;
+      k0 += step[0];
+      m0 += t_delta[0];
+    }
+    if (k0 == e0 && k1 == e1 && k2 == e2) break;
+    visit(static_cast<std::uint16_t>(k0), static_cast<std::uint16_t>(k1),
+          static_cast<std::uint16_t>(k2));
   }
   return true;
 }

@@ -15,7 +15,8 @@ using lom::grid::Key;
 
 std::vector<Key> ourRay(const Grid& g, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   std::vector<Key> keys;
-  lom::grid::traverseRay(g, a, b, [&](const Key& k) { keys.push_back(k); });
+  lom::grid::traverseRay(g, a, b,
+                         [&](std::uint16_t x, std::uint16_t y, std::uint16_t z) { keys.push_back({x, y, z}); });
   return keys;
 }
 
