@@ -1,12 +1,15 @@
 // The fast integration path. Same rule as the reference path (docs/fusion.md),
 // organised around where the cost is: the free voxels in the view frustum.
-//  1. Pixels are grouped by end voxel (runs along rows share one hash lookup);
-//     each group sums its pixels' log-odds. Rows are split between threads.
+//  1. Pixels are grouped by end voxel (a small direct-mapped cache of recent
+//     voxels in front of an open-addressing table); each group sums its
+//     pixels' log-odds. Rows are split between threads.
 //  2. One ray per end voxel marks the crossed voxels in 16^3 bit bricks, so a
 //     voxel crossed by many rays costs one bit (threads mark their own bricks).
 //  3. Hit voxels are removed from the marks; misses (read from the bricks in
 //     Morton order) and hits (sorted) merge into one depth-first update stream
-//     that the tree applies in a single pass (LabelOcTree::applySortedUpdates).
+//     that the tree applies in one pass, cut in two halves that run at once
+//     (LabelOcTree::applySortedUpdates).
+// Per-thread state sits on its own cache lines: threads write it per pixel.
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -323,7 +326,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   std::vector<VoxelUpdate> updates(hits.size() + misses.size());
   std::merge(hits.begin(), hits.end(), misses.begin(), misses.end(), updates.begin(),
              [](const VoxelUpdate& a, const VoxelUpdate& b) { return a.morton < b.morton; });
-  tree.applySortedUpdates(updates);
+  tree.applySortedUpdates(updates, threads);
 
   FrameStats stats;
   stats.valid_pixels = all.valid_pixels;

@@ -66,6 +66,30 @@ LabelOcTreeNode::LabelOcTreeNode(const LabelOcTreeNode& rhs) : octomap::OcTreeNo
 
 LabelOcTreeNode::~LabelOcTreeNode() { release(); }
 
+LabelOcTreeNode* LabelOcTreeNode::addChild(unsigned pos) {
+  if (!children) {
+    children = new octomap::AbstractOcTreeNode*[8];
+    for (unsigned i = 0; i < 8; ++i) children[i] = nullptr;
+  }
+  auto* child = new LabelOcTreeNode();
+  children[pos] = child;
+  return child;
+}
+
+void LabelOcTreeNode::expandChildren() {
+  for (unsigned i = 0; i < 8; ++i) addChild(i)->copyData(*this);
+}
+
+void LabelOcTreeNode::collapseChildren() {
+  copyData(*static_cast<const LabelOcTreeNode*>(children[0]));
+  for (unsigned i = 0; i < 8; ++i) {
+    delete static_cast<LabelOcTreeNode*>(children[i]);
+    children[i] = nullptr;
+  }
+  delete[] children;
+  children = nullptr;
+}
+
 bool LabelOcTreeNode::operator==(const LabelOcTreeNode& rhs) const {
   if (value != rhs.value) return false;
   const SparseLabels* a = block();
@@ -318,10 +342,22 @@ LabelOcTreeNode* LabelOcTree::touchLeaf(const octomap::OcTreeKey& key) {
   return node;
 }
 
-bool LabelOcTree::pruneSaturated(LabelOcTreeNode* node) {
+bool LabelOcTree::pruneSaturated(LabelOcTreeNode* node, long& node_delta) const {
   if (!isNodeCollapsible(node)) return false;
   if (!isSaturatedFree(getNodeChild(node, 0), false)) return false;
-  return pruneNode(node);
+  node->collapseChildren();
+  node_delta -= 8;
+  return true;
+}
+
+bool LabelOcTree::pruneSaturated(LabelOcTreeNode* node) {
+  long node_delta = 0;
+  const bool pruned = pruneSaturated(node, node_delta);
+  if (pruned) {
+    tree_size = static_cast<size_t>(static_cast<long>(tree_size) + node_delta);
+    size_changed = true;
+  }
+  return pruned;
 }
 
 bool LabelOcTree::isSaturatedFree(const LabelOcTreeNode* node, bool created) const {
@@ -329,17 +365,31 @@ bool LabelOcTree::isSaturatedFree(const LabelOcTreeNode* node, bool created) con
          node->getLogOdds() <= clamping_thres_min;
 }
 
-LabelOcTreeNode* LabelOcTree::childForUpdate(LabelOcTreeNode* node, unsigned pos, bool& created) {
+LabelOcTreeNode* LabelOcTree::childForUpdate(LabelOcTreeNode* node, unsigned pos, bool& created,
+                                             long& node_delta) const {
   if (nodeChildExists(node, pos)) {
     created = false;
-  } else if (!nodeHasChildren(node) && !created) {
-    // A childless node that is not new is a pruned leaf: its children inherit its data.
-    expandNode(node);
-  } else {
-    createNodeChild(node, pos);
-    created = true;
+    return getNodeChild(node, pos);
   }
-  return getNodeChild(node, pos);
+  if (!nodeHasChildren(node) && !created) {
+    // A childless node that is not new is a pruned leaf: its children inherit its data.
+    node->expandChildren();
+    node_delta += 8;
+    return getNodeChild(node, pos);
+  }
+  created = true;
+  ++node_delta;
+  return node->addChild(pos);
+}
+
+LabelOcTreeNode* LabelOcTree::childForUpdate(LabelOcTreeNode* node, unsigned pos, bool& created) {
+  long node_delta = 0;
+  LabelOcTreeNode* child = childForUpdate(node, pos, created, node_delta);
+  if (node_delta) {
+    tree_size += static_cast<size_t>(node_delta);
+    size_changed = true;
+  }
+  return child;
 }
 
 void LabelOcTree::applyHit(const octomap::OcTreeKey& key, const float* log_odds) {

@@ -1,21 +1,38 @@
-// Depth-first application of a frame's sorted voxel updates.
+// Depth-first application of a frame's sorted voxel updates, on one thread or
+// on two halves of the stream at once.
 #include <algorithm>
 #include <array>
+#include <thread>
 
 #include "lom/octree/label_octree.hpp"
 
 namespace lom {
 
-void LabelOcTree::applySortedUpdates(const std::vector<VoxelUpdate>& updates) {
-  if (updates.empty()) return;
+// The nodes both halves of a split stream pass through: path[d] for d <= depth.
+struct LabelOcTree::SharedPath {
+  std::array<const LabelOcTreeNode*, 17> path{};
+  int depth = -1;  // -1: nothing shared (one part)
+  [[nodiscard]] bool holds(int d, const LabelOcTreeNode* node) const {
+    return d <= depth && path[static_cast<size_t>(d)] == node;
+  }
+};
+
+namespace {
+
+// Depth of the deepest node containing both keys (0 = root).
+int sharedDepth(std::uint64_t a, std::uint64_t b, int depth_max) {
+  const std::uint64_t diff = a ^ b;
+  const int level = (63 - __builtin_clzll(diff)) / 3;  // 0 = finest bit group
+  return depth_max - 1 - level;
+}
+
+}  // namespace
+
+long LabelOcTree::applyUpdateRange(const VoxelUpdate* first, const VoxelUpdate* last,
+                                   bool root_is_new, const SharedPath& shared) {
   const int depth_max = static_cast<int>(tree_depth);
   const int n = numLabels();
-  bool root_is_new = false;
-  if (!root) {
-    root = new LabelOcTreeNode();
-    ++tree_size;
-    root_is_new = true;
-  }
+  long node_delta = 0;
   std::array<LabelOcTreeNode*, 17> path{};  // path[d] = node at depth d on the current path
   path[0] = root;
   int valid_depth = 0;  // path[0..valid_depth] belong to the current key
@@ -23,42 +40,112 @@ void LabelOcTree::applySortedUpdates(const std::vector<VoxelUpdate>& updates) {
 
   auto finish = [&](int depth) {  // the subtree of path[depth] gets no more updates
     LabelOcTreeNode* node = path[static_cast<size_t>(depth)];
-    if (nodeHasChildren(node) && !pruneSaturated(node)) node->updateOccupancyChildren();
+    if (shared.holds(depth, node)) return;  // the other part may still work below it
+    if (nodeHasChildren(node) && !pruneSaturated(node, node_delta)) node->updateOccupancyChildren();
   };
 
-  for (size_t i = 0; i < updates.size(); ++i) {
-    const VoxelUpdate& update = updates[i];
-    int shared = 0;
-    if (i > 0) {
-      const std::uint64_t diff = update.morton ^ previous;
-      if (diff == 0) continue;  // duplicates are not expected; keep the first
-      const int level = (63 - __builtin_clzll(diff)) / 3;  // 0 = finest bit group
+  for (const VoxelUpdate* update = first; update != last; ++update) {
+    int common = 0;
+    if (update != first) {
+      if (update->morton == previous) continue;  // duplicates are not expected; keep the first
       // The path may end above the leaves where a miss was skipped.
-      shared = std::min(depth_max - 1 - level, valid_depth);
-      for (int d = valid_depth; d > shared; --d)
+      common = std::min(sharedDepth(update->morton, previous, depth_max), valid_depth);
+      for (int d = valid_depth; d > common; --d)
         if (d < depth_max) finish(d);
     }
-    previous = update.morton;
-    LabelOcTreeNode* node = path[static_cast<size_t>(shared)];
-    bool created = shared == 0 && root_is_new;
-    int d = shared;
+    previous = update->morton;
+    LabelOcTreeNode* node = path[static_cast<size_t>(common)];
+    bool created = common == 0 && root_is_new;
+    int d = common;
     bool skipped = false;
     for (; d < depth_max; ++d) {
-      if (!update.hit && isSaturatedFree(node, created)) {
+      if (!update->hit && isSaturatedFree(node, created)) {
         skipped = true;
         break;
       }
-      node = childForUpdate(node, octomap::computeChildIdx(update.key, depth_max - 1 - d), created);
+      node = childForUpdate(node, octomap::computeChildIdx(update->key, depth_max - 1 - d), created,
+                            node_delta);
       path[static_cast<size_t>(d + 1)] = node;
     }
     valid_depth = d;
     if (skipped) continue;
-    if (update.hit)
-      node->addLabelLogOdds(n, update.hit, clamping_thres_min, clamping_thres_max);
+    if (update->hit)
+      node->addLabelLogOdds(n, update->hit, clamping_thres_min, clamping_thres_max);
     else
       node->addUniformLogOdds(prob_miss_log, clamping_thres_min, clamping_thres_max);
   }
   for (int d = valid_depth - 1; d >= 0; --d) finish(d);
+  return node_delta;
+}
+
+int LabelOcTree::applySortedUpdates(const std::vector<VoxelUpdate>& updates, int threads) {
+  if (updates.empty()) return 1;
+  const int depth_max = static_cast<int>(tree_depth);
+  long node_delta = 0;
+  bool root_is_new = false;
+  if (!root) {
+    root = new LabelOcTreeNode();
+    ++node_delta;
+    root_is_new = true;
+  }
+
+  // Where to cut: near the middle of the work (a hit, with its label block,
+  // costs several times a miss), at a point where every node the two halves
+  // share already exists with children (then each half only creates nodes in
+  // its own subtrees, and no shared node is expanded or pruned).
+  SharedPath shared;
+  size_t cut = 0;
+  constexpr size_t kMinimumForTwo = 2048;  // below this, starting a thread costs more than it saves
+  if (threads > 1 && !root_is_new && updates.size() >= kMinimumForTwo) {
+    constexpr size_t kHitWeight = 8;
+    size_t total = 0;
+    for (const VoxelUpdate& u : updates) total += u.hit ? kHitWeight : 1;
+    size_t middle = 0;
+    for (size_t sum = 0; middle < updates.size() && 2 * sum < total; ++middle)
+      sum += updates[middle].hit ? kHitWeight : 1;
+    // Try cuts around the middle until one has a usable shared path.
+    const size_t step = std::max<size_t>(1, updates.size() / 64);
+    for (int attempt = 0; attempt < 16 && shared.depth < 0; ++attempt) {
+      const long offset = static_cast<long>((attempt + 1) / 2) * static_cast<long>(step) * (attempt % 2 ? 1 : -1);
+      const long candidate = static_cast<long>(middle) + offset;
+      if (candidate <= 0 || candidate >= static_cast<long>(updates.size())) continue;
+      cut = static_cast<size_t>(candidate);
+      if (updates[cut].morton == updates[cut - 1].morton) continue;
+      const int depth = sharedDepth(updates[cut].morton, updates[cut - 1].morton, depth_max);
+      const LabelOcTreeNode* node = root;
+      bool usable = nodeHasChildren(node);
+      shared.path[0] = node;
+      for (int d = 0; usable && d < depth; ++d) {
+        const unsigned pos = octomap::computeChildIdx(updates[cut].key, depth_max - 1 - d);
+        usable = nodeChildExists(node, pos) && nodeHasChildren(getNodeChild(node, pos));
+        if (usable) node = getNodeChild(node, pos);
+        shared.path[static_cast<size_t>(d + 1)] = node;
+      }
+      if (usable) shared.depth = depth;
+    }
+  }
+
+  if (shared.depth < 0) {
+    node_delta += applyUpdateRange(updates.data(), updates.data() + updates.size(), root_is_new, shared);
+  } else {
+    long second_delta = 0;
+    std::thread second([&] {
+      second_delta = applyUpdateRange(updates.data() + cut, updates.data() + updates.size(), false, shared);
+    });
+    node_delta += applyUpdateRange(updates.data(), updates.data() + cut, false, shared);
+    second.join();
+    node_delta += second_delta;
+    // The shared nodes, bottom-up, now that both halves are done.
+    for (int d = shared.depth; d >= 0; --d) {
+      auto* node = const_cast<LabelOcTreeNode*>(shared.path[static_cast<size_t>(d)]);
+      if (nodeHasChildren(node) && !pruneSaturated(node, node_delta)) node->updateOccupancyChildren();
+    }
+  }
+  if (node_delta != 0) {
+    tree_size = static_cast<size_t>(static_cast<long>(tree_size) + node_delta);
+    size_changed = true;
+  }
+  return shared.depth < 0 ? 1 : 2;
 }
 
 }  // namespace lom

@@ -1,8 +1,10 @@
 // The label octree as an OctoMap tree: storage, pruning, invariants, files.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <memory>
+#include <random>
 
 #include <octomap/OcTree.h>
 
@@ -10,6 +12,7 @@
 #include "lom/label_map.hpp"
 #include "lom/octree/label_octree.hpp"
 #include "test_support.hpp"
+#include "voxel_grid.hpp"
 
 namespace {
 
@@ -285,6 +288,69 @@ TEST(LabelOcTreeTest, VoxelsOfLabelExpandPrunedLeaves) {
     EXPECT_EQ(v.label, 1);
   });
   EXPECT_EQ(visited, 1u);
+}
+
+// Frames of sorted updates over a 48^3 block: hits of mixed labels on a
+// changing surface, misses in front of it (repeated, so free space saturates
+// and is merged), and some misses on voxels that were hit before.
+std::vector<std::vector<lom::VoxelUpdate>> randomFrames(const LabelOcTree& tree, int num_labels,
+                                                        std::vector<float>& hit_values) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> value(-3.f, 3.f);
+  const octomap::OcTreeKey corner = keyAt(tree, -0.2, -0.2, 0.1);
+  std::vector<std::vector<std::pair<octomap::OcTreeKey, size_t>>> frames(6);  // key, hit index + 1
+  for (auto& frame : frames) {
+    const int surface = 30 + static_cast<int>(rng() % 6);
+    for (int x = 0; x < 48; ++x)
+      for (int y = 0; y < 48; ++y)
+        for (int z = 0; z <= surface; ++z) {
+          const octomap::OcTreeKey key(static_cast<std::uint16_t>(corner[0] + x),
+                                       static_cast<std::uint16_t>(corner[1] + y),
+                                       static_cast<std::uint16_t>(corner[2] + z));
+          if (z < surface) {
+            if (rng() % 4 != 0) frame.emplace_back(key, 0);  // most of the free space, each frame
+          } else {
+            for (int k = 0; k < num_labels; ++k) hit_values.push_back(value(rng));
+            frame.emplace_back(key, hit_values.size() / static_cast<size_t>(num_labels));
+          }
+        }
+  }
+  std::vector<std::vector<lom::VoxelUpdate>> out;
+  for (const auto& frame : frames) {
+    std::vector<lom::VoxelUpdate> updates;
+    for (const auto& [key, hit] : frame) {
+      lom::VoxelUpdate u;
+      u.key = key;
+      u.morton = lom::grid::mortonCode(key[0], key[1], key[2]);
+      u.hit = hit ? hit_values.data() + (hit - 1) * static_cast<size_t>(num_labels) : nullptr;
+      updates.push_back(u);
+    }
+    std::sort(updates.begin(), updates.end(),
+              [](const lom::VoxelUpdate& a, const lom::VoxelUpdate& b) { return a.morton < b.morton; });
+    out.push_back(std::move(updates));
+  }
+  return out;
+}
+
+TEST(LabelOcTreeTest, TwoPartPassBuildsTheSameTreeAsOne) {
+  const int n = 5;
+  LabelMap one(labels(n)), two(labels(n));
+  std::vector<float> hit_values;
+  hit_values.reserve(1 << 20);  // pointers into it must stay valid
+  const auto frames = randomFrames(one.tree(), n, hit_values);
+  int split_frames = 0;
+  for (const auto& updates : frames) {
+    EXPECT_EQ(one.tree().applySortedUpdates(updates, 1), 1);
+    split_frames += two.tree().applySortedUpdates(updates, 2) == 2 ? 1 : 0;
+    expectSameTrees(one, two);
+    EXPECT_EQ(two.tree().size(), two.tree().calcNumNodes());
+  }
+  // The first frame builds the tree on one thread; the later ones are split.
+  EXPECT_EQ(split_frames, static_cast<int>(frames.size()) - 1);
+  EXPECT_GT(one.numLeaves(), 1000u);
+  one.prune();
+  two.prune();
+  expectSameTrees(one, two);
 }
 
 }  // namespace

@@ -69,6 +69,14 @@ class LabelOcTreeNode : public octomap::OcTreeNode {
   [[nodiscard]] size_t labelBytes() const;
 
  private:
+  // Structure changes as OctoMap's createNodeChild / expandNode / pruneNode
+  // make them, but without the tree's shared node count, so that threads can
+  // change disjoint subtrees at once (LabelOcTree::applySortedUpdates counts
+  // the nodes per thread and adds them up afterwards).
+  LabelOcTreeNode* addChild(unsigned pos);  // allocates the child array when needed
+  void expandChildren();                    // eight children with this node's data
+  void collapseChildren();                  // takes child 0's data, deletes the eight leaves
+
   struct SparseLabels;
   [[nodiscard]] const SparseLabels* block() const;
   void release();
@@ -113,7 +121,12 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   // pass: the path from the root is reused between consecutive keys, and each
   // inner node is refreshed (or pruned, see pruneSaturated) once, when its
   // subtree is finished. Misses on saturated free space are skipped.
-  void applySortedUpdates(const std::vector<VoxelUpdate>& updates);
+  // With threads > 1 the stream is cut in two at its middle and the halves run
+  // at once when the nodes the halves share (the path from the root to where
+  // the two keys at the cut part) already exist as inner nodes; those nodes
+  // are refreshed after both halves are done. Same tree as one thread.
+  // Returns how many parts ran at once (1 or 2).
+  int applySortedUpdates(const std::vector<VoxelUpdate>& updates, int threads = 1);
 
   [[nodiscard]] float missLogOdds() const { return prob_miss_log; }
   [[nodiscard]] float clampMinLogOdds() const { return clamping_thres_min; }
@@ -130,6 +143,15 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   // whether `node` itself was created by this descent (then its children start
   // unknown; otherwise a childless node is a pruned leaf and is expanded).
   LabelOcTreeNode* childForUpdate(LabelOcTreeNode* node, unsigned pos, bool& created);
+  // The same, counting created nodes in `node_delta` instead of tree_size.
+  LabelOcTreeNode* childForUpdate(LabelOcTreeNode* node, unsigned pos, bool& created,
+                                  long& node_delta) const;
+  // One part of applySortedUpdates: updates [first, last) from the root. Nodes
+  // listed in `shared` (by depth, up to shared_depth) are left unfinished.
+  struct SharedPath;
+  long applyUpdateRange(const VoxelUpdate* first, const VoxelUpdate* last, bool root_is_new,
+                        const SharedPath& shared);
+  bool pruneSaturated(LabelOcTreeNode* node, long& node_delta) const;
   // While fusing, only children that are identical free space at the lower
   // clamp are merged: no later miss can change them, so they are never
   // expanded again (merging anything identical would make the next frame's
