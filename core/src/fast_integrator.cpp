@@ -53,15 +53,14 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
   using Bits = std::array<std::uint64_t, kWords>;
 
   void set(unsigned x, unsigned y, unsigned z) {
-    Bits& bits = brick((std::uint64_t{x >> 4} << 24) | (std::uint64_t{y >> 4} << 12) | (z >> 4));
-    const auto& spread = tables_.spread;
-    const unsigned local = spread[x & 15u] | (spread[y & 15u] << 1) | (spread[z & 15u] << 2);
+    Bits& bits = brick(packBrick(x, y, z));
+    const unsigned local = localIndex(x, y, z);
     bits[local >> 6] |= std::uint64_t{1} << (local & 63);
   }
   void clear(const grid::Key& key) {
-    const std::uint32_t* index = index_.find(packBrick(key));
+    const std::uint32_t* index = index_.find(packBrick(key[0], key[1], key[2]));
     if (!index) return;
-    const unsigned local = localIndex(key);
+    const unsigned local = localIndex(key[0], key[1], key[2]);
     bricks_[*index][local >> 6] &= ~(std::uint64_t{1} << (local & 63));
   }
   void mergeFrom(const BrickSet& other) {
@@ -79,7 +78,7 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
       order.emplace_back(grid::mortonCode(bx, by, bz), i);
     }
     std::sort(order.begin(), order.end());
-    const LocalTables& tables = localTables();
+    const LocalTables& tables = tables_;
     for (const auto& [brick_morton, i] : order) {
       const auto [bx, by, bz] = unpackBrick(keys_[i]);
       const Bits& bits = bricks_[i];
@@ -120,13 +119,12 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
     }();
     return tables;
   }
-  static unsigned localIndex(const grid::Key& key) {
-    const auto& spread = localTables().spread;
-    return spread[key[0] & 15u] | (spread[key[1] & 15u] << 1) | (spread[key[2] & 15u] << 2);
+  [[nodiscard]] unsigned localIndex(unsigned x, unsigned y, unsigned z) const {
+    const auto& spread = tables_.spread;
+    return spread[x & 15u] | (spread[y & 15u] << 1) | (spread[z & 15u] << 2);
   }
-  static std::uint64_t packBrick(const grid::Key& key) {
-    return (std::uint64_t{static_cast<std::uint64_t>(key[0] >> 4)} << 24) |
-           (std::uint64_t{static_cast<std::uint64_t>(key[1] >> 4)} << 12) | (key[2] >> 4);
+  static std::uint64_t packBrick(unsigned x, unsigned y, unsigned z) {
+    return (std::uint64_t{x >> 4} << 24) | (std::uint64_t{y >> 4} << 12) | (z >> 4);
   }
   static std::array<std::uint16_t, 3> unpackBrick(std::uint64_t packed) {
     return {static_cast<std::uint16_t>(packed >> 24), static_cast<std::uint16_t>((packed >> 12) & 0xfff),
@@ -187,7 +185,7 @@ struct alignas(64) PixelGroups {  // own cache lines: threads write theirs per p
     return group;
   }
   std::uint32_t cachedGroupFor(std::uint64_t packed, const PixelRay& ray, int width) {
-    const size_t slot = static_cast<size_t>((packed * 0x9E3779B97F4A7C15ULL) >> (64 - kRecentBits));
+    const size_t slot = static_cast<size_t>(FlatIndex::mix(packed) >> (64 - kRecentBits));
     if (recent_key[slot] == packed) return recent_group[slot];
     recent_key[slot] = packed;
     recent_group[slot] = groupFor(ray, width);

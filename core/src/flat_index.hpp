@@ -58,7 +58,8 @@ class FlatIndex {
     }
   }
 
-  [[nodiscard]] size_t size() const { return size_; }
+  // The multiplicative hash the table uses; its top bits are the best mixed.
+  static std::uint64_t mix(std::uint64_t key) { return key * 0x9E3779B97F4A7C15ULL; }
 
  private:
   static int log2(size_t v) {
@@ -67,7 +68,7 @@ class FlatIndex {
     return bits;
   }
   [[nodiscard]] size_t slotOf(std::uint64_t key) const {
-    return static_cast<size_t>((key * 0x9E3779B97F4A7C15ULL) >> shift_);
+    return static_cast<size_t>(mix(key) >> shift_);
   }
   std::uint32_t insertNew(std::uint64_t key, std::uint32_t value) {
     size_t slot = slotOf(key);

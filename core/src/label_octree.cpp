@@ -342,22 +342,22 @@ LabelOcTreeNode* LabelOcTree::touchLeaf(const octomap::OcTreeKey& key) {
   return node;
 }
 
+void LabelOcTree::finishNode(LabelOcTreeNode* node, long& node_delta) const {
+  if (nodeHasChildren(node) && !pruneSaturated(node, node_delta)) node->updateOccupancyChildren();
+}
+
+void LabelOcTree::addToNodeCount(long node_delta) {
+  if (node_delta == 0) return;
+  tree_size = static_cast<size_t>(static_cast<long>(tree_size) + node_delta);
+  size_changed = true;
+}
+
 bool LabelOcTree::pruneSaturated(LabelOcTreeNode* node, long& node_delta) const {
   if (!isNodeCollapsible(node)) return false;
   if (!isSaturatedFree(getNodeChild(node, 0), false)) return false;
   node->collapseChildren();
   node_delta -= 8;
   return true;
-}
-
-bool LabelOcTree::pruneSaturated(LabelOcTreeNode* node) {
-  long node_delta = 0;
-  const bool pruned = pruneSaturated(node, node_delta);
-  if (pruned) {
-    tree_size = static_cast<size_t>(static_cast<long>(tree_size) + node_delta);
-    size_changed = true;
-  }
-  return pruned;
 }
 
 bool LabelOcTree::isSaturatedFree(const LabelOcTreeNode* node, bool created) const {
@@ -385,10 +385,7 @@ LabelOcTreeNode* LabelOcTree::childForUpdate(LabelOcTreeNode* node, unsigned pos
 LabelOcTreeNode* LabelOcTree::childForUpdate(LabelOcTreeNode* node, unsigned pos, bool& created) {
   long node_delta = 0;
   LabelOcTreeNode* child = childForUpdate(node, pos, created, node_delta);
-  if (node_delta) {
-    tree_size += static_cast<size_t>(node_delta);
-    size_changed = true;
-  }
+  addToNodeCount(node_delta);
   return child;
 }
 
@@ -414,6 +411,7 @@ void LabelOcTree::applyMiss(const octomap::OcTreeKey& key) {
 
 void LabelOcTree::refreshAncestors(std::vector<octomap::OcTreeKey> keys) {
   if (!root) return;
+  long node_delta = 0;
   auto packed = [](const octomap::OcTreeKey& k) {
     return (static_cast<std::uint64_t>(k[0]) << 32) | (static_cast<std::uint64_t>(k[1]) << 16) |
            k[2];
@@ -433,11 +431,11 @@ void LabelOcTree::refreshAncestors(std::vector<octomap::OcTreeKey> keys) {
         const unsigned pos = octomap::computeChildIdx(key, static_cast<int>(tree_depth) - 1 - d);
         node = nodeChildExists(node, pos) ? getNodeChild(node, pos) : nullptr;
       }
-      if (!node || !nodeHasChildren(node)) continue;
-      if (!pruneSaturated(node)) node->updateOccupancyChildren();
+      if (node) finishNode(node, node_delta);
     }
     // The next level only needs the keys as they are (already truncated further up).
   }
+  addToNodeCount(node_delta);
 }
 
 size_t LabelOcTree::labelArrayBytes() const {

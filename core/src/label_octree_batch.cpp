@@ -40,8 +40,7 @@ long LabelOcTree::applyUpdateRange(const VoxelUpdate* first, const VoxelUpdate* 
 
   auto finish = [&](int depth) {  // the subtree of path[depth] gets no more updates
     LabelOcTreeNode* node = path[static_cast<size_t>(depth)];
-    if (shared.holds(depth, node)) return;  // the other part may still work below it
-    if (nodeHasChildren(node) && !pruneSaturated(node, node_delta)) node->updateOccupancyChildren();
+    if (!shared.holds(depth, node)) finishNode(node, node_delta);  // else the other part may work below it
   };
 
   for (const VoxelUpdate* update = first; update != last; ++update) {
@@ -78,9 +77,45 @@ long LabelOcTree::applyUpdateRange(const VoxelUpdate* first, const VoxelUpdate* 
   return node_delta;
 }
 
+// Near the middle of the work (a hit, with its label block, costs several
+// times a miss), a cut where every node the two halves share already exists
+// with children: then each half only creates nodes in its own subtrees, and no
+// shared node is expanded or pruned. Cuts around the middle are tried in turn.
+LabelOcTree::SharedPath LabelOcTree::findCut(const std::vector<VoxelUpdate>& updates, size_t& cut) const {
+  const int depth_max = static_cast<int>(tree_depth);
+  constexpr size_t kHitWeight = 8;
+  size_t total = 0;
+  for (const VoxelUpdate& u : updates) total += u.hit ? kHitWeight : 1;
+  size_t middle = 0;
+  for (size_t sum = 0; middle < updates.size() && 2 * sum < total; ++middle)
+    sum += updates[middle].hit ? kHitWeight : 1;
+  const long step = static_cast<long>(std::max<size_t>(1, updates.size() / 64));
+  SharedPath shared;
+  for (int attempt = 0; attempt < 16; ++attempt) {
+    const long candidate = static_cast<long>(middle) + (attempt + 1) / 2 * step * (attempt % 2 ? 1 : -1);
+    if (candidate <= 0 || candidate >= static_cast<long>(updates.size())) continue;
+    cut = static_cast<size_t>(candidate);
+    if (updates[cut].morton == updates[cut - 1].morton) continue;
+    const int depth = sharedDepth(updates[cut].morton, updates[cut - 1].morton, depth_max);
+    const LabelOcTreeNode* node = root;
+    shared.path[0] = node;
+    bool usable = nodeHasChildren(node);
+    for (int d = 0; usable && d < depth; ++d) {
+      const unsigned pos = octomap::computeChildIdx(updates[cut].key, depth_max - 1 - d);
+      usable = nodeChildExists(node, pos) && nodeHasChildren(getNodeChild(node, pos));
+      if (usable) node = getNodeChild(node, pos);
+      shared.path[static_cast<size_t>(d + 1)] = node;
+    }
+    if (usable) {
+      shared.depth = depth;
+      return shared;
+    }
+  }
+  return shared;
+}
+
 int LabelOcTree::applySortedUpdates(const std::vector<VoxelUpdate>& updates, int threads) {
   if (updates.empty()) return 1;
-  const int depth_max = static_cast<int>(tree_depth);
   long node_delta = 0;
   bool root_is_new = false;
   if (!root) {
@@ -89,41 +124,10 @@ int LabelOcTree::applySortedUpdates(const std::vector<VoxelUpdate>& updates, int
     root_is_new = true;
   }
 
-  // Where to cut: near the middle of the work (a hit, with its label block,
-  // costs several times a miss), at a point where every node the two halves
-  // share already exists with children (then each half only creates nodes in
-  // its own subtrees, and no shared node is expanded or pruned).
   SharedPath shared;
   size_t cut = 0;
   constexpr size_t kMinimumForTwo = 2048;  // below this, starting a thread costs more than it saves
-  if (threads > 1 && !root_is_new && updates.size() >= kMinimumForTwo) {
-    constexpr size_t kHitWeight = 8;
-    size_t total = 0;
-    for (const VoxelUpdate& u : updates) total += u.hit ? kHitWeight : 1;
-    size_t middle = 0;
-    for (size_t sum = 0; middle < updates.size() && 2 * sum < total; ++middle)
-      sum += updates[middle].hit ? kHitWeight : 1;
-    // Try cuts around the middle until one has a usable shared path.
-    const size_t step = std::max<size_t>(1, updates.size() / 64);
-    for (int attempt = 0; attempt < 16 && shared.depth < 0; ++attempt) {
-      const long offset = static_cast<long>((attempt + 1) / 2) * static_cast<long>(step) * (attempt % 2 ? 1 : -1);
-      const long candidate = static_cast<long>(middle) + offset;
-      if (candidate <= 0 || candidate >= static_cast<long>(updates.size())) continue;
-      cut = static_cast<size_t>(candidate);
-      if (updates[cut].morton == updates[cut - 1].morton) continue;
-      const int depth = sharedDepth(updates[cut].morton, updates[cut - 1].morton, depth_max);
-      const LabelOcTreeNode* node = root;
-      bool usable = nodeHasChildren(node);
-      shared.path[0] = node;
-      for (int d = 0; usable && d < depth; ++d) {
-        const unsigned pos = octomap::computeChildIdx(updates[cut].key, depth_max - 1 - d);
-        usable = nodeChildExists(node, pos) && nodeHasChildren(getNodeChild(node, pos));
-        if (usable) node = getNodeChild(node, pos);
-        shared.path[static_cast<size_t>(d + 1)] = node;
-      }
-      if (usable) shared.depth = depth;
-    }
-  }
+  if (threads > 1 && !root_is_new && updates.size() >= kMinimumForTwo) shared = findCut(updates, cut);
 
   if (shared.depth < 0) {
     node_delta += applyUpdateRange(updates.data(), updates.data() + updates.size(), root_is_new, shared);
@@ -136,15 +140,10 @@ int LabelOcTree::applySortedUpdates(const std::vector<VoxelUpdate>& updates, int
     second.join();
     node_delta += second_delta;
     // The shared nodes, bottom-up, now that both halves are done.
-    for (int d = shared.depth; d >= 0; --d) {
-      auto* node = const_cast<LabelOcTreeNode*>(shared.path[static_cast<size_t>(d)]);
-      if (nodeHasChildren(node) && !pruneSaturated(node, node_delta)) node->updateOccupancyChildren();
-    }
+    for (int d = shared.depth; d >= 0; --d)
+      finishNode(const_cast<LabelOcTreeNode*>(shared.path[static_cast<size_t>(d)]), node_delta);
   }
-  if (node_delta != 0) {
-    tree_size = static_cast<size_t>(static_cast<long>(tree_size) + node_delta);
-    size_changed = true;
-  }
+  addToNodeCount(node_delta);
   return shared.depth < 0 ? 1 : 2;
 }
 

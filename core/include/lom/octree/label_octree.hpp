@@ -151,12 +151,19 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   struct SharedPath;
   long applyUpdateRange(const VoxelUpdate* first, const VoxelUpdate* last, bool root_is_new,
                         const SharedPath& shared);
-  bool pruneSaturated(LabelOcTreeNode* node, long& node_delta) const;
+  // Where applySortedUpdates cuts the stream, and the nodes both halves share
+  // (depth -1 when no usable cut was found).
+  SharedPath findCut(const std::vector<VoxelUpdate>& updates, size_t& cut) const;
+  // A node whose subtree got its last update: pruned when saturated free space, else refreshed.
+  void finishNode(LabelOcTreeNode* node, long& node_delta) const;
+  // Adds nodes counted apart (negative: removed) to OctoMap's node count.
+  void addToNodeCount(long node_delta);
   // While fusing, only children that are identical free space at the lower
   // clamp are merged: no later miss can change them, so they are never
   // expanded again (merging anything identical would make the next frame's
   // misses expand it again). LabelMap::prune merges every identical set.
-  bool pruneSaturated(LabelOcTreeNode* node);
+  // Removed nodes are counted in `node_delta`.
+  bool pruneSaturated(LabelOcTreeNode* node, long& node_delta) const;
   // A leaf (possibly pruned) of free space at the lower clamp, which a miss cannot change.
   [[nodiscard]] bool isSaturatedFree(const LabelOcTreeNode* node, bool created) const;
 
