@@ -1,8 +1,12 @@
 // The fast integration path. Same rule as the reference path (docs/fusion.md),
 // organised around where the cost is: the free voxels in the view frustum.
-//  1. Pixels are grouped by end voxel (a small direct-mapped cache of recent
+//  1. Rows are split between threads. Each row is back-projected at once
+//     into packed end voxels (vectorised, core/src/pixel_projector.cpp), and
+//     its log-odds come from a 256-entry table for 8-bit probability images
+//     or from the vectorised row logit (core/src/fast_logit.cpp) otherwise.
+//     Pixels are grouped by end voxel (a small direct-mapped cache of recent
 //     voxels in front of an open-addressing table); each group sums its
-//     pixels' log-odds. Rows are split between threads.
+//     pixels' log-odds.
 //  2. One ray per end voxel marks the crossed voxels in 16^3 bit bricks, so a
 //     voxel crossed by many rays costs one bit (threads mark their own bricks).
 //  3. Hit voxels are removed from the marks; misses (read from the bricks in
@@ -13,7 +17,6 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
-#include <cstring>
 #include <thread>
 
 #include "flat_index.hpp"
@@ -23,28 +26,6 @@
 namespace lom {
 
 namespace {
-
-// Memoises logit for repeated probability values (8-bit probability images
-// have at most 256 of them); exact, since misses call the same function.
-class LogitCache {
- public:
-  LogitCache() { std::fill(std::begin(bits_), std::end(bits_), 0xffffffffu); }
-  float operator()(float p) {
-    std::uint32_t bits;
-    std::memcpy(&bits, &p, sizeof(bits));
-    const std::uint32_t slot = (bits * 2654435761u) >> (32 - kSlotBits);
-    if (bits_[slot] != bits) {
-      bits_[slot] = bits;
-      values_[slot] = clampedLogit(p);
-    }
-    return values_[slot];
-  }
-
- private:
-  static constexpr int kSlotBits = 12;
-  std::uint32_t bits_[1 << kSlotBits];
-  float values_[1 << kSlotBits];
-};
 
 // Voxels as bits in 16 x 16 x 16 bricks, each brick's bits in Morton order.
 class alignas(64) BrickSet {  // own cache lines: each thread marks its own
@@ -154,44 +135,44 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
 // The pixels of one thread's rows, grouped by end voxel.
 struct alignas(64) PixelGroups {  // own cache lines: threads write theirs per pixel
   struct Group {
-    grid::Key key{};
-    bool beyond_range = false;
+    std::uint64_t voxel = 0;  // packVoxel(end key, beyond max range)
     std::uint32_t pixels = 0;
   };
   FlatIndex index{4096};
   std::vector<Group> groups;
   std::vector<float> sums;  // per group: one value per summed channel
   size_t valid_pixels = 0;
-  // The groups of recently seen voxels, direct-mapped: neighbouring pixels
-  // (depth noise makes them alternate between a few voxels) mostly hit here.
+  // The groups of recently seen voxels, direct-mapped: runs of pixels in a
+  // row alternate between a few voxels (depth noise), and mostly hit here.
   static constexpr int kRecentBits = 8;
   std::array<std::uint64_t, 1u << kRecentBits> recent_key;
   std::array<std::uint32_t, 1u << kRecentBits> recent_group;
 
   PixelGroups() { recent_key.fill(FlatIndex::kEmpty); }
 
-  static std::uint64_t pack(const grid::Key& key, bool beyond) {
-    return (std::uint64_t{key[0]} << 33) | (std::uint64_t{key[1]} << 17) |
-           (std::uint64_t{key[2]} << 1) | (beyond ? 1u : 0u);
-  }
-  std::uint32_t groupFor(const PixelRay& ray, int width) {
+  std::uint32_t groupFor(std::uint64_t voxel, int width) {
     bool inserted = false;
-    const std::uint32_t group = index.findOrInsert(pack(ray.end_key, ray.beyond_range),
-                                                   static_cast<std::uint32_t>(groups.size()), inserted);
+    const std::uint32_t group =
+        index.findOrInsert(voxel, static_cast<std::uint32_t>(groups.size()), inserted);
     if (inserted) {
-      groups.push_back({ray.end_key, ray.beyond_range, 0});
+      groups.push_back({voxel, 0});
       sums.resize(sums.size() + static_cast<size_t>(width), 0.f);
     }
     return group;
   }
-  std::uint32_t cachedGroupFor(std::uint64_t packed, const PixelRay& ray, int width) {
-    const size_t slot = static_cast<size_t>(FlatIndex::mix(packed) >> (64 - kRecentBits));
-    if (recent_key[slot] == packed) return recent_group[slot];
-    recent_key[slot] = packed;
-    recent_group[slot] = groupFor(ray, width);
+  std::uint32_t cachedGroupFor(std::uint64_t voxel, int width) {
+    const size_t slot = static_cast<size_t>(FlatIndex::mix(voxel) >> (64 - kRecentBits));
+    if (recent_key[slot] == voxel) return recent_group[slot];
+    recent_key[slot] = voxel;
+    recent_group[slot] = groupFor(voxel, width);
     return recent_group[slot];
   }
 };
+
+// sums[c] += add[c]; restrict lets g++ use vector adds.
+inline void addInto(float* __restrict sums, const float* __restrict add, int width) {
+  for (int c = 0; c < width; ++c) sums[c] += add[c];
+}
 
 template <typename Work>
 void runOnThreads(int threads, Work&& work) {
@@ -233,33 +214,69 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   const int width = direct ? direct->channels : n;
 
   // 1. Group pixels by end voxel.
+  // Log-odds per pixel: 8-bit images through a 256-entry table (the same
+  // clampedLogit the reference path calls, so the same bits); other images a
+  // row at a time with the vectorised logit (within 1e-6 of clampedLogit).
+  const bool coded = direct && !direct->codes.empty() && direct->codes.size() == direct->values.size();
+  std::array<float, 256> code_logit{};
+  if (coded)
+    for (int c = 0; c < 256; ++c)
+      code_logit[static_cast<size_t>(c)] = clampedLogit(probabilityOfCode(static_cast<std::uint8_t>(c)));
   const PixelProjector projector(g, camera, T_world_camera, max_range);
   std::vector<PixelGroups> parts(static_cast<size_t>(threads));
   runOnThreads(threads, [&](int t) {
     PixelGroups& part = parts[static_cast<size_t>(t)];
-    LogitCache logit_of;
-    std::vector<float> probabilities(static_cast<size_t>(n));
+    const size_t row_values = static_cast<size_t>(depth.width) * static_cast<size_t>(width);
+    std::vector<float> row_probabilities(direct ? 0 : row_values, 0.f);
+    std::vector<float> row_logits(coded ? 0 : row_values, 0.f);
+    std::vector<std::uint64_t> row(static_cast<size_t>(depth.width));
     const int rows_begin = depth.height * t / threads;
     const int rows_end = depth.height * (t + 1) / threads;
     size_t valid_pixels = 0;  // counted here: part's fields are written per pixel
     for (int v = rows_begin; v < rows_end; ++v) {
-      for (int u = 0; u < depth.width; ++u) {
-        PixelRay ray;
-        if (!projector.ray(u, v, depth.at(u, v), ray)) continue;
-        ++valid_pixels;
-        const std::uint32_t group =
-            part.cachedGroupFor(PixelGroups::pack(ray.end_key, ray.beyond_range), ray, width);
-        ++part.groups[group].pixels;
-        if (ray.beyond_range) continue;
-        float* sums = part.sums.data() + static_cast<size_t>(group) * static_cast<size_t>(width);
+      projector.projectRow(v, depth.metres.data() + static_cast<size_t>(v) * depth.width,
+                           depth.width, row.data());
+      const std::uint8_t* codes =
+          coded ? direct->codes.data() + static_cast<size_t>(v) * row_values : nullptr;
+      if (!coded) {
+        const float* probabilities = row_probabilities.data();
         if (direct) {
-          const float* pixel = direct->pixel(u, v);
-          for (int c = 0; c < width; ++c) sums[c] += logit_of(pixel[c]);
+          probabilities = direct->pixel(0, v);
         } else {
-          evidence.probabilities(u, v, probabilities.data());
-          for (int k = 0; k < n; ++k) sums[k] += logit_of(probabilities[static_cast<size_t>(k)]);
+          for (int u = 0; u < depth.width; ++u)
+            if (row[static_cast<size_t>(u)] != kNoVoxel && !(row[static_cast<size_t>(u)] & 1u))
+              evidence.probabilities(u, v, row_probabilities.data() + static_cast<size_t>(u) * n);
+        }
+        logitRow(probabilities, row_values, row_logits.data());
+      }
+      // Consecutive pixels often end in the same voxel (depth noise keeps
+      // the runs short, about two pixels at 640x480 and 1 cm): a run shares
+      // one group look-up and one pixel count.
+      std::uint64_t run_voxel = kNoVoxel;
+      std::uint32_t run_pixels = 0, group = 0;
+      float* sums = nullptr;
+      for (int u = 0; u < depth.width; ++u) {
+        const std::uint64_t voxel = row[static_cast<size_t>(u)];
+        if (voxel == kNoVoxel) continue;
+        if (voxel != run_voxel) {
+          if (run_pixels) part.groups[group].pixels += run_pixels;
+          valid_pixels += run_pixels;
+          run_pixels = 0;
+          run_voxel = voxel;
+          group = part.cachedGroupFor(voxel, width);
+          sums = part.sums.data() + static_cast<size_t>(group) * static_cast<size_t>(width);
+        }
+        ++run_pixels;
+        if (voxel & 1u) continue;  // beyond max range: misses only
+        const size_t first = static_cast<size_t>(u) * static_cast<size_t>(width);
+        if (coded) {
+          for (int c = 0; c < width; ++c) sums[c] += code_logit[codes[first + static_cast<size_t>(c)]];
+        } else {
+          addInto(sums, row_logits.data() + first, width);
         }
       }
+      if (run_pixels) part.groups[group].pixels += run_pixels;
+      valid_pixels += run_pixels;
     }
     part.valid_pixels = valid_pixels;
   });
@@ -269,8 +286,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     all.valid_pixels += part.valid_pixels;
     for (size_t i = 0; i < part.groups.size(); ++i) {
       const auto& group = part.groups[i];
-      PixelRay ray{group.key, group.beyond_range};
-      const std::uint32_t target = all.groupFor(ray, width);
+      const std::uint32_t target = all.groupFor(group.voxel, width);
       all.groups[target].pixels += group.pixels;
       float* sums = all.sums.data() + static_cast<size_t>(target) * static_cast<size_t>(width);
       const float* add = part.sums.data() + i * static_cast<size_t>(width);
@@ -283,8 +299,8 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   runOnThreads(threads, [&](int t) {
     BrickSet& mark = marks[static_cast<size_t>(t)];
     for (size_t i = static_cast<size_t>(t); i < all.groups.size(); i += static_cast<size_t>(threads)) {
-      const auto& group = all.groups[i];
-      const Eigen::Vector3d end = rayEnd(g, origin, group.key, group.beyond_range, max_range);
+      const PixelRay ray = unpackVoxel(all.groups[i].voxel);
+      const Eigen::Vector3d end = rayEnd(g, origin, ray.end_key, ray.beyond_range, max_range);
       grid::traverseRay(g, origin, end, [&](unsigned x, unsigned y, unsigned z) { mark.set(x, y, z); });
     }
   });
@@ -295,13 +311,14 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   std::vector<float> hit_values;
   std::vector<VoxelUpdate> hits;
   size_t hit_count = 0;
-  for (const auto& group : all.groups) hit_count += group.beyond_range ? 0 : 1;
+  for (const auto& group : all.groups) hit_count += (group.voxel & 1u) ? 0 : 1;
   hit_values.resize(hit_count * static_cast<size_t>(n));
   hits.reserve(hit_count);
   for (size_t i = 0; i < all.groups.size(); ++i) {
     const auto& group = all.groups[i];
-    if (group.beyond_range) continue;
-    marks[0].clear(group.key);
+    if (group.voxel & 1u) continue;  // beyond max range
+    const grid::Key key = unpackVoxel(group.voxel).end_key;
+    marks[0].clear(key);
     float* values = hit_values.data() + hits.size() * static_cast<size_t>(n);
     const float* sums = all.sums.data() + i * static_cast<size_t>(width);
     if (direct) {
@@ -311,8 +328,8 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
       std::copy(sums, sums + n, values);
     }
     VoxelUpdate update;
-    update.key = octomap::OcTreeKey(group.key[0], group.key[1], group.key[2]);
-    update.morton = grid::mortonCode(group.key[0], group.key[1], group.key[2]);
+    update.key = octomap::OcTreeKey(key[0], key[1], key[2]);
+    update.morton = grid::mortonCode(key[0], key[1], key[2]);
     update.hit = values;
     hits.push_back(update);
   }

@@ -153,10 +153,13 @@ FrameStats integrateFrameReference(LabelMap& map, const CameraIntrinsics& camera
   FrameStats stats;
   const PixelProjector projector(g, camera, T_world_camera, max_range);
 
+  std::vector<std::uint64_t> row(static_cast<size_t>(depth.width));
   for (int v = 0; v < depth.height; ++v) {
+    projector.projectRow(v, depth.metres.data() + static_cast<size_t>(v) * depth.width, depth.width,
+                         row.data());
     for (int u = 0; u < depth.width; ++u) {
-      PixelRay ray;
-      if (!projector.ray(u, v, depth.at(u, v), ray)) continue;
+      if (row[static_cast<size_t>(u)] == kNoVoxel) continue;
+      const PixelRay ray = unpackVoxel(row[static_cast<size_t>(u)]);
       ++stats.valid_pixels;
       const Eigen::Vector3d end = rayEnd(g, origin, ray.end_key, ray.beyond_range, max_range);
       grid::traverseRay(g, origin, end, [&](std::uint16_t x, std::uint16_t y, std::uint16_t z) {

@@ -1,6 +1,7 @@
 #pragma once
 // Pieces shared by the reference and the fast integration paths.
 #include <cmath>
+#include <cstdint>
 
 #include <Eigen/Geometry>
 
@@ -17,8 +18,23 @@ struct PixelRay {
 void checkFrameInputs(const LabelMap& map, const CameraIntrinsics& camera, const DepthImage& depth,
                       const FrameEvidence& evidence);
 
-// Back-projects pixels of one frame into end voxels. Both integration paths use
-// it, so they agree on every pixel's voxel to the last bit.
+// A pixel's end voxel packed in 64 bits: x << 33 | y << 17 | z << 1 | beyond
+// max range. kNoVoxel marks a pixel without a valid depth or outside the map's
+// key range.
+inline constexpr std::uint64_t kNoVoxel = ~std::uint64_t{0};
+inline std::uint64_t packVoxel(const grid::Key& key, bool beyond_range) {
+  return (std::uint64_t{key[0]} << 33) | (std::uint64_t{key[1]} << 17) |
+         (std::uint64_t{key[2]} << 1) | (beyond_range ? 1u : 0u);
+}
+inline PixelRay unpackVoxel(std::uint64_t packed) {
+  return {{static_cast<std::uint16_t>(packed >> 33), static_cast<std::uint16_t>(packed >> 17),
+           static_cast<std::uint16_t>(packed >> 1)},
+          (packed & 1u) != 0};
+}
+
+// Back-projects the pixels of one frame into end voxels, a row at a time
+// (row-constant terms once per row, no branch per pixel). Both integration
+// paths use it, so they agree on every pixel's voxel to the last bit.
 class PixelProjector {
  public:
   PixelProjector(const grid::Grid& g, const CameraIntrinsics& camera,
@@ -32,18 +48,11 @@ class PixelProjector {
         cy_(camera.cy),
         max_range_squared_(max_range > 0.0 ? max_range * max_range : -1.0) {}
 
-  // False for pixels without a valid depth or outside the map's key range.
-  bool ray(int u, int v, float depth, PixelRay& out) const {
-    if (!(depth > 0.f) || !std::isfinite(depth)) return false;
-    const double x = (u - cx_) * inverse_fx_;  // the pixel's direction at z = 1
-    const double y = (v - cy_) * inverse_fy_;
-    const double z = depth;
-    const Eigen::Vector3d point =
-        origin_ + z * (rotation_.col(0) * x + rotation_.col(1) * y + rotation_.col(2));
-    if (!grid_.keyOf(point, out.end_key)) return false;
-    out.beyond_range = max_range_squared_ > 0.0 && z * z * (x * x + y * y + 1.0) > max_range_squared_;
-    return true;
-  }
+  // out[u] = packVoxel(end voxel of pixel (u, v)), or kNoVoxel. Vectorised
+  // with AVX2 where the processor has it; `allow_avx2 = false` forces the
+  // baseline instruction set (for tests: both give the same keys).
+  void projectRow(int v, const float* depth_row, int width, std::uint64_t* out,
+                  bool allow_avx2 = true) const;
   [[nodiscard]] const Eigen::Vector3d& origin() const { return origin_; }
 
  private:
@@ -68,5 +77,11 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
 
 // logit of a probability clamped to [kProbabilityEpsilon, 1 - kProbabilityEpsilon].
 float clampedLogit(float p);
+
+// out[i] = clampedLogit(probabilities[i]) within 1e-6, vectorised
+// (core/src/fast_logit.cpp). `allow_avx2 = false` forces the baseline
+// instruction set (for tests: both give the same bits).
+void logitRow(const float* probabilities, size_t count, float* out, bool allow_avx2 = true);
+
 
 }  // namespace lom

@@ -236,6 +236,7 @@ ProbabilityImage readProbabilityImage(const fs::path& path, const std::vector<in
     }
     p = std::clamp(p, 0.0f, 1.0f);
   }
+  if (array.type == NpyType::UInt8) proba.codes = array.bytes;  // C order, like values
   return proba;
 }
 

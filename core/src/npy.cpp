@@ -10,6 +10,7 @@
 #include <map>
 
 #include "lom/atomic_file.hpp"
+#include "lom/images.hpp"
 #include "lom/error.hpp"
 
 namespace lom {
@@ -321,7 +322,7 @@ std::vector<float> NpyArray::toFloat(bool scale_integers) const {
       }
       case NpyType::UInt8:
         out[i] =
-            scale_integers ? static_cast<float>(data[i]) / 255.0f : static_cast<float>(data[i]);
+            scale_integers ? probabilityOfCode(data[i]) : static_cast<float>(data[i]);
         break;
       case NpyType::UInt16: {
         std::uint16_t v;

@@ -69,7 +69,7 @@ const Scene& scene(int width, int height, int frames) {
     f.depth = std::move(data.depth);
     f.proba = std::move(*data.proba);
     f.single_label = {f.depth.width, f.depth.height, 1, {0},
-                      std::vector<float>(f.depth.metres.size(), 0.7f)};
+                      std::vector<float>(f.depth.metres.size(), 0.7f), {}};
     s.frames.push_back(std::move(f));
   }
   return cache.emplace(name, std::move(s)).first->second;

@@ -80,6 +80,44 @@ TEST(FastPathTest, SameMapAsReferenceOnASyntheticScene) {
   expectSameMaps(reference_candidates, lom::fuseSequence(sequence, fusion));
 }
 
+// 8-bit probability images go through a log-odds table, other images through
+// the vectorised logit: both give the reference path's map.
+TEST(FastPathTest, EightBitAndFloatProbabilityImagesGiveTheSameMap) {
+  lom::test::TempDir dir;
+  lom::SynthOptions options;
+  options.seed = 5;
+  options.objects = 4;
+  options.frames = 3;
+  options.views = 3;
+  options.width = 320;
+  options.height = 240;
+  lom::writeSyntheticScene(options, dir.path());
+  const lom::Sequence sequence = lom::loadSequence(dir.path());
+  lom::MapParameters parameters;
+  LabelMap reference(sequence.labels, parameters);
+  LabelMap coded(sequence.labels, parameters);
+  LabelMap floats(sequence.labels, parameters);
+  for (size_t i = 0; i < sequence.frames.size(); ++i) {
+    const lom::FrameData frame = lom::loadFrame(sequence, i);
+    ASSERT_TRUE(frame.proba.has_value());
+    ASSERT_EQ(frame.proba->codes.size(), frame.proba->values.size()) << "generated scenes store 8-bit probabilities";
+    lom::ProbabilityImage without_codes = *frame.proba;
+    without_codes.codes.clear();
+    const int n = sequence.labels.size();
+    const lom::FrameEvidence with(n, &*frame.proba, nullptr, std::nullopt, 0.9);
+    const lom::FrameEvidence without(n, &without_codes, nullptr, std::nullopt, 0.9);
+    lom::IntegrationOptions reference_path;
+    reference_path.path = IntegrationPath::Reference;
+    const lom::CameraIntrinsics camera = sequence.cameraOf(i);
+    const Eigen::Isometry3d& pose = sequence.frames[i].T_world_camera;
+    lom::integrateFrame(reference, camera, pose, frame.depth, with, reference_path);
+    lom::integrateFrame(coded, camera, pose, frame.depth, with);
+    lom::integrateFrame(floats, camera, pose, frame.depth, without);
+  }
+  expectSameMaps(reference, coded);
+  expectSameMaps(reference, floats);
+}
+
 // Real recorded depth and poses, with probability images made up from colour.
 lom::ProbabilityImage madeUpProbabilities(const lom::ColorImage& color, int num_labels) {
   lom::ProbabilityImage proba;

@@ -27,7 +27,7 @@ TEST(FrameLabels, ArgmaxUsesChannelLabelsAndBreaksTiesToTheLowerId) {
 TEST(FrameLabels, LabelImageWinsOverProbabilities) {
   FrameData frame;
   frame.label = LabelImage{1, 1, {3}};
-  frame.proba = ProbabilityImage{1, 1, 1, {7}, {1.f}};
+  frame.proba = ProbabilityImage{1, 1, 1, {7}, {1.f}, {}};
   ASSERT_TRUE(labelsOfFrame(frame));
   EXPECT_EQ(labelsOfFrame(frame)->at(0, 0), 3);
   EXPECT_FALSE(labelsOfFrame(FrameData{}));

@@ -210,7 +210,7 @@ TEST_P(FusionRulesTest, CandidatesZeroOtherLabelsAndRenormalise) {
 }
 
 TEST_P(FusionRulesTest, CandidatesWithNoMassBecomeUniform) {
-  ProbabilityImage proba{1, 1, 3, {0, 1, 2}, {1.f, 0.f, 0.f}};
+  ProbabilityImage proba{1, 1, 3, {0, 1, 2}, {1.f, 0.f, 0.f}, {}};
   FrameEvidence evidence(3, &proba, nullptr, std::vector<int>{1, 2}, 0.9);
   float p[3];
   evidence.probabilities(0, 0, p);
@@ -220,7 +220,7 @@ TEST_P(FusionRulesTest, CandidatesWithNoMassBecomeUniform) {
 }
 
 TEST_P(FusionRulesTest, ZeroAndOneProbabilitiesGiveFiniteLogOdds) {
-  ProbabilityImage proba{1, 1, 3, {0, 1, 2}, {0.f, 1.f, 0.f}};
+  ProbabilityImage proba{1, 1, 3, {0, 1, 2}, {0.f, 1.f, 0.f}, {}};
   FrameEvidence evidence(3, &proba, nullptr, std::nullopt, 0.9);
   float l[3];
   evidence.logOdds(0, 0, l);
@@ -242,7 +242,7 @@ TEST_P(FusionRulesTest, LabelImageBecomesOneHotWithConfidence) {
 
 TEST_P(FusionRulesTest, UnlistedChannelsHaveProbabilityZero) {
   // Channels for labels 0 and 2 only: label 1 gets 0.
-  ProbabilityImage proba{1, 1, 2, {0, 2}, {0.25f, 0.75f}};
+  ProbabilityImage proba{1, 1, 2, {0, 2}, {0.25f, 0.75f}, {}};
   FrameEvidence evidence(3, &proba, nullptr, std::nullopt, 0.9);
   float p[3];
   evidence.probabilities(0, 0, p);
@@ -263,7 +263,7 @@ TEST_P(FusionRulesTest, RejectsBadParametersAndMismatchedInputs) {
   bad.clamp_max = 0.5;
   EXPECT_THROW(LabelMap(threeLabels(), bad), lom::Error);
 
-  ProbabilityImage proba{1, 1, 3, {0, 1, 7}, {0.2f, 0.3f, 0.5f}};
+  ProbabilityImage proba{1, 1, 3, {0, 1, 7}, {0.2f, 0.3f, 0.5f}, {}};
   try {
     FrameEvidence evidence(3, &proba, nullptr, std::nullopt, 0.9);
     FAIL() << "expected an error for label 7";
@@ -271,7 +271,7 @@ TEST_P(FusionRulesTest, RejectsBadParametersAndMismatchedInputs) {
     EXPECT_EQ(e.problem().field, "proba_labels");
     EXPECT_NE(std::string(e.what()).find("7"), std::string::npos);
   }
-  ProbabilityImage ok{2, 1, 3, {0, 1, 2}, std::vector<float>(6, 0.3f)};
+  ProbabilityImage ok{2, 1, 3, {0, 1, 2}, std::vector<float>(6, 0.3f), {}};
   FrameEvidence evidence(3, &ok, nullptr, std::nullopt, 0.9);
   LabelMap map(threeLabels());
   DepthImage depth{3, 1, {0.5f, 0.5f, 0.5f}};

@@ -265,6 +265,10 @@ TEST_F(NpyTest, ProbabilityImageScalesIntegersAndChecksChannelsAndRange) {
   EXPECT_EQ(proba.channel_labels, (std::vector<int>{0, 7}));
   EXPECT_FLOAT_EQ(proba.pixel(1, 0)[0], 0.2f);
   EXPECT_FLOAT_EQ(proba.pixel(1, 0)[1], 0.8f);
+  // 8-bit images keep their codes for fast fusion; values are code / 255.
+  EXPECT_EQ(proba.codes, (std::vector<std::uint8_t>{255, 0, 51, 204}));
+  for (size_t i = 0; i < proba.codes.size(); ++i)
+    EXPECT_EQ(proba.values[i], lom::probabilityOfCode(proba.codes[i]));
 
   const std::string channels = errorOf([&] {
     (void)lom::readProbabilityImage(path, {0, 1, 2}, 8);
@@ -272,6 +276,8 @@ TEST_F(NpyTest, ProbabilityImageScalesIntegersAndChecksChannelsAndRange) {
   EXPECT_NE(channels.find("3 channels"), std::string::npos) << channels;
   EXPECT_NE(channels.find("found 2 channels"), std::string::npos) << channels;
 
+  lom::writeNpyFloat32(path, {1, 1, 2}, {0.5f, 0.25f});
+  EXPECT_TRUE(lom::readProbabilityImage(path, {}, 2).codes.empty());  // only 8-bit images have codes
   lom::writeNpyFloat32(path, {1, 1, 2}, {0.5f, 1.5f});
   const std::string range = errorOf([&] { (void)lom::readProbabilityImage(path, {}, 2); });
   EXPECT_NE(range.find("[0, 1]"), std::string::npos) << range;

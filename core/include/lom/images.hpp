@@ -28,6 +28,9 @@ struct LabelImage {
   [[nodiscard]] int at(int u, int v) const { return ids[static_cast<size_t>(v) * width + u]; }
 };
 
+// The probability an 8-bit probability value stands for.
+inline float probabilityOfCode(std::uint8_t code) { return static_cast<float>(code) / 255.0f; }
+
 // Per-pixel probabilities, row-major H x W x C, values in [0, 1].
 // channel_labels[c] is the label id of channel c; labels that are not listed
 // have probability 0 in this image.
@@ -37,6 +40,11 @@ struct ProbabilityImage {
   int channels = 0;
   std::vector<int> channel_labels;
   std::vector<float> values;
+  // When the image was read from 8-bit values: those values, one per element
+  // of `values` (values[i] == probabilityOfCode(codes[i])); empty otherwise.
+  // Fast fusion turns a code into log-odds with a 256-entry table. Whoever
+  // changes `values` of a read image must clear `codes`.
+  std::vector<std::uint8_t> codes;
   [[nodiscard]] const float* pixel(int u, int v) const {
     return values.data() + (static_cast<size_t>(v) * width + u) * channels;
   }
