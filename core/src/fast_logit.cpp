@@ -65,14 +65,13 @@ inline std::uint32_t asBits(float f) {
 [[gnu::target("avx2")]] void logitRowAvx2(const float* p, size_t count, float* out) {
   logitKernel(p, count, out);
 }
-const bool kHasAvx2 = __builtin_cpu_supports("avx2");
 #endif
 
 }  // namespace
 
 void logitRow(const float* probabilities, size_t count, float* out, bool allow_avx2) {
 #if defined(__x86_64__) && defined(__GNUC__)
-  if (allow_avx2 && kHasAvx2) return logitRowAvx2(probabilities, count, out);
+  if (allow_avx2 && cpuHasAvx2()) return logitRowAvx2(probabilities, count, out);
 #endif
   logitKernel(probabilities, count, out);
 }

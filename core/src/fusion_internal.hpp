@@ -18,13 +18,27 @@ struct PixelRay {
 void checkFrameInputs(const LabelMap& map, const CameraIntrinsics& camera, const DepthImage& depth,
                       const FrameEvidence& evidence);
 
+// Whether the processor runs AVX2: the row kernels of the fast path
+// (pixel_projector.cpp, fast_logit.cpp) then use their AVX2 builds.
+inline bool cpuHasAvx2() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+#else
+  return false;
+#endif
+}
+
 // A pixel's end voxel packed in 64 bits: x << 33 | y << 17 | z << 1 | beyond
 // max range. kNoVoxel marks a pixel without a valid depth or outside the map's
 // key range.
 inline constexpr std::uint64_t kNoVoxel = ~std::uint64_t{0};
+inline std::uint64_t packVoxel(std::uint32_t x, std::uint32_t y, std::uint32_t z, bool beyond_range) {
+  return (std::uint64_t{x} << 33) | (std::uint64_t{y} << 17) | (std::uint64_t{z} << 1) |
+         (beyond_range ? 1u : 0u);
+}
 inline std::uint64_t packVoxel(const grid::Key& key, bool beyond_range) {
-  return (std::uint64_t{key[0]} << 33) | (std::uint64_t{key[1]} << 17) |
-         (std::uint64_t{key[2]} << 1) | (beyond_range ? 1u : 0u);
+  return packVoxel(key[0], key[1], key[2], beyond_range);
 }
 inline PixelRay unpackVoxel(std::uint64_t packed) {
   return {{static_cast<std::uint16_t>(packed >> 33), static_cast<std::uint16_t>(packed >> 17),

@@ -54,9 +54,7 @@ template <bool kFloorInstruction>
     const std::uint32_t k1 = static_cast<std::uint32_t>(floorToInt(inside ? s1 : 0.0) + grid::kKeyOffset);
     const std::uint32_t k2 = static_cast<std::uint32_t>(floorToInt(inside ? s2 : 0.0) + grid::kKeyOffset);
     const bool beyond = use_range & (z * z * (x * x + yy_plus_one) > max_range_squared);
-    const std::uint64_t packed = (std::uint64_t{k0} << 33) | (std::uint64_t{k1} << 17) |
-                                 (std::uint64_t{k2} << 1) | (beyond ? 1u : 0u);
-    out[u] = inside ? packed : kNoVoxel;
+    out[u] = inside ? packVoxel(k0, k1, k2, beyond) : kNoVoxel;
   }
 }
 
@@ -65,7 +63,6 @@ template <bool kFloorInstruction>
                                             std::uint64_t* out) {
   projectRowKernel<true>(r, depth_row, width, out);
 }
-const bool kHasAvx2 = __builtin_cpu_supports("avx2");
 #endif
 
 }  // namespace
@@ -86,7 +83,7 @@ void PixelProjector::projectRow(int v, const float* depth_row, int width, std::u
   r.yy_plus_one = y * y + 1.0;
   r.max_range_squared = max_range_squared_;
 #if defined(__x86_64__) && defined(__GNUC__)
-  if (allow_avx2 && kHasAvx2) return projectRowAvx2(r, depth_row, width, out);
+  if (allow_avx2 && cpuHasAvx2()) return projectRowAvx2(r, depth_row, width, out);
 #endif
   projectRowKernel<false>(r, depth_row, width, out);
 }

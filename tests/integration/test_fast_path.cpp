@@ -52,17 +52,22 @@ void expectSameMaps(const LabelMap& reference, const LabelMap& fast) {
   EXPECT_EQ(fast.tree().size(), fast.tree().calcNumNodes());
 }
 
-TEST(FastPathTest, SameMapAsReferenceOnASyntheticScene) {
-  lom::test::TempDir dir;
+// A generated 320x240 shelf-bin scene (8-bit probability images) in `dir`.
+lom::Sequence generatedScene(const lom::test::TempDir& dir, std::uint64_t seed, int objects, int frames) {
   lom::SynthOptions options;
-  options.seed = 21;
-  options.objects = 5;
-  options.frames = 4;
+  options.seed = seed;
+  options.objects = objects;
+  options.frames = frames;
   options.views = 3;
   options.width = 320;
   options.height = 240;
   lom::writeSyntheticScene(options, dir.path());
-  const lom::Sequence sequence = lom::loadSequence(dir.path());
+  return lom::loadSequence(dir.path());
+}
+
+TEST(FastPathTest, SameMapAsReferenceOnASyntheticScene) {
+  lom::test::TempDir dir;
+  const lom::Sequence sequence = generatedScene(dir, 21, 5, 4);
 
   lom::FusionOptions fusion;
   fusion.integration.path = IntegrationPath::Reference;
@@ -84,15 +89,7 @@ TEST(FastPathTest, SameMapAsReferenceOnASyntheticScene) {
 // the vectorised logit: both give the reference path's map.
 TEST(FastPathTest, EightBitAndFloatProbabilityImagesGiveTheSameMap) {
   lom::test::TempDir dir;
-  lom::SynthOptions options;
-  options.seed = 5;
-  options.objects = 4;
-  options.frames = 3;
-  options.views = 3;
-  options.width = 320;
-  options.height = 240;
-  lom::writeSyntheticScene(options, dir.path());
-  const lom::Sequence sequence = lom::loadSequence(dir.path());
+  const lom::Sequence sequence = generatedScene(dir, 5, 4, 3);
   lom::MapParameters parameters;
   LabelMap reference(sequence.labels, parameters);
   LabelMap coded(sequence.labels, parameters);

@@ -23,14 +23,6 @@ std::uint32_t bitsOf(float f) {
   return bits;
 }
 
-bool hasAvx2() {
-#if defined(__x86_64__) && defined(__GNUC__)
-  return __builtin_cpu_supports("avx2");
-#else
-  return false;
-#endif
-}
-
 TEST(FastLogitTest, WithinAMillionthOfClampedLogitOverTheProbabilities) {
   // Every 61st float in [0, 1] (17 million values, all exponents), the clamp
   // edges, 0 and 1, and values just outside [0, 1].
@@ -115,7 +107,7 @@ TEST(PixelProjectorTest, RowMatchesThePerPixelBackProjection) {
         ASSERT_EQ(packed[static_cast<size_t>(u)], expected) << "pixel (" << u << ", " << v << ")";
       }
     }
-    if (!hasAvx2()) GTEST_LOG_(INFO) << "no AVX2 here: both calls ran the baseline build";
+    if (!lom::cpuHasAvx2()) GTEST_LOG_(INFO) << "no AVX2 here: both calls ran the baseline build";
   }
 }
 
