@@ -2,134 +2,51 @@
 // organised around where the cost is: the free voxels in the view frustum.
 //  1. Rows are split between threads. Each row is back-projected at once
 //     into packed end voxels (vectorised, core/src/pixel_projector.cpp), and
-//     its log-odds come from a 256-entry table for 8-bit probability images
-//     or from the vectorised row logit (core/src/fast_logit.cpp) otherwise.
-//     Pixels are grouped by end voxel (a small direct-mapped cache of recent
+//     pixels are grouped by end voxel (a small direct-mapped cache of recent
 //     voxels in front of an open-addressing table); each group sums its
-//     pixels' log-odds.
+//     pixels' log-odds. 8-bit probability images with up to 16 channels (what
+//     generated scenes and `segment --dtype uint8` write) go through a vector
+//     kernel that turns a whole pixel's codes into log-odds from a 256-entry
+//     table and adds them in registers (coded_row_kernel.inc); other 8-bit
+//     images go through the same table a value at a time, and float images
+//     through the vectorised row logit (core/src/fast_logit.cpp).
 //  2. One ray per end voxel marks the crossed voxels in 16^3 bit bricks, so a
-//     voxel crossed by many rays costs one bit (threads mark their own bricks).
+//     voxel crossed by many rays costs one bit (threads mark their own
+//     bricks; brick_set.hpp).
 //  3. Hit voxels are removed from the marks; misses (read from the bricks in
 //     Morton order) and hits (sorted) merge into one depth-first update stream
 //     that the tree applies in one pass, cut in two halves that run at once
 //     (LabelOcTree::applySortedUpdates).
-// Per-thread state sits on its own cache lines: threads write it per pixel.
+// The parallel phases run on worker threads kept between frames
+// (worker_pool.hpp). Per-thread state sits on its own cache lines.
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <thread>
 
+#include <immintrin.h>
+
+#include "brick_set.hpp"
 #include "flat_index.hpp"
 #include "fusion_internal.hpp"
 #include "lom/octree/label_octree.hpp"
+#include "worker_pool.hpp"
 
 namespace lom {
 
 namespace {
 
-// Voxels as bits in 16 x 16 x 16 bricks, each brick's bits in Morton order.
-class alignas(64) BrickSet {  // own cache lines: each thread marks its own
- public:
-  static constexpr int kWords = 64;  // 4096 bits
-  using Bits = std::array<std::uint64_t, kWords>;
-
-  void set(unsigned x, unsigned y, unsigned z) {
-    Bits& bits = brick(packBrick(x, y, z));
-    const unsigned local = localIndex(x, y, z);
-    bits[local >> 6] |= std::uint64_t{1} << (local & 63);
-  }
-  void clear(const grid::Key& key) {
-    const std::uint32_t* index = index_.find(packBrick(key[0], key[1], key[2]));
-    if (!index) return;
-    const unsigned local = localIndex(key[0], key[1], key[2]);
-    bricks_[*index][local >> 6] &= ~(std::uint64_t{1} << (local & 63));
-  }
-  void mergeFrom(const BrickSet& other) {
-    for (size_t i = 0; i < other.bricks_.size(); ++i) {
-      Bits& bits = brick(other.keys_[i]);
-      for (int w = 0; w < kWords; ++w) bits[static_cast<size_t>(w)] |= other.bricks_[i][static_cast<size_t>(w)];
-    }
-  }
-  // Appends every marked voxel as a miss, in Morton (depth-first) order.
-  void appendMisses(std::vector<VoxelUpdate>& out) const {
-    std::vector<std::pair<std::uint64_t, size_t>> order;
-    order.reserve(keys_.size());
-    for (size_t i = 0; i < keys_.size(); ++i) {
-      const auto [bx, by, bz] = unpackBrick(keys_[i]);
-      order.emplace_back(grid::mortonCode(bx, by, bz), i);
-    }
-    std::sort(order.begin(), order.end());
-    const LocalTables& tables = tables_;
-    for (const auto& [brick_morton, i] : order) {
-      const auto [bx, by, bz] = unpackBrick(keys_[i]);
-      const Bits& bits = bricks_[i];
-      for (int w = 0; w < kWords; ++w) {
-        std::uint64_t word = bits[static_cast<size_t>(w)];
-        while (word) {
-          const int bit = __builtin_ctzll(word);
-          word &= word - 1;
-          const unsigned local = static_cast<unsigned>(w * 64 + bit);
-          const auto& offset = tables.offset[local];
-          VoxelUpdate update;
-          update.morton = (brick_morton << 12) | local;
-          update.key = octomap::OcTreeKey(static_cast<std::uint16_t>((bx << 4) | offset[0]),
-                                          static_cast<std::uint16_t>((by << 4) | offset[1]),
-                                          static_cast<std::uint16_t>((bz << 4) | offset[2]));
-          out.push_back(update);
-        }
-      }
-    }
-  }
-
- private:
-  struct LocalTables {
-    std::array<std::uint16_t, 16> spread{};                  // 4-bit value -> every third bit
-    std::array<std::array<std::uint8_t, 3>, 4096> offset{};  // local Morton index -> x, y, z
-  };
-  static const LocalTables& localTables() {
-    static const LocalTables tables = [] {
-      LocalTables t;
-      for (unsigned v = 0; v < 16; ++v) t.spread[v] = static_cast<std::uint16_t>(grid::spreadBits3(v));
-      for (unsigned x = 0; x < 16; ++x)
-        for (unsigned y = 0; y < 16; ++y)
-          for (unsigned z = 0; z < 16; ++z)
-            t.offset[t.spread[x] | (t.spread[y] << 1) | (t.spread[z] << 2)] = {
-                static_cast<std::uint8_t>(x), static_cast<std::uint8_t>(y),
-                static_cast<std::uint8_t>(z)};
-      return t;
-    }();
-    return tables;
-  }
-  [[nodiscard]] unsigned localIndex(unsigned x, unsigned y, unsigned z) const {
-    const auto& spread = tables_.spread;
-    return spread[x & 15u] | (spread[y & 15u] << 1) | (spread[z & 15u] << 2);
-  }
-  static std::uint64_t packBrick(unsigned x, unsigned y, unsigned z) {
-    return (std::uint64_t{x >> 4} << 24) | (std::uint64_t{y >> 4} << 12) | (z >> 4);
-  }
-  static std::array<std::uint16_t, 3> unpackBrick(std::uint64_t packed) {
-    return {static_cast<std::uint16_t>(packed >> 24), static_cast<std::uint16_t>((packed >> 12) & 0xfff),
-            static_cast<std::uint16_t>(packed & 0xfff)};
-  }
-  Bits& brick(std::uint64_t packed) {
-    if (packed == cached_key_) return bricks_[cached_index_];
-    bool inserted = false;
-    cached_index_ = index_.findOrInsert(packed, static_cast<std::uint32_t>(bricks_.size()), inserted);
-    if (inserted) {
-      bricks_.emplace_back();
-      bricks_.back().fill(0);
-      keys_.push_back(packed);
-    }
-    cached_key_ = packed;
-    return bricks_[cached_index_];
-  }
-
-  FlatIndex index_{256};
-  std::vector<Bits> bricks_;
-  std::vector<std::uint64_t> keys_;
-  std::uint64_t cached_key_ = ~std::uint64_t{0};
-  std::uint32_t cached_index_ = 0;
-  const LocalTables& tables_ = localTables();
+// Storage whose blocks start on a cache line, for whole-register loads.
+template <typename T>
+struct CacheLineAllocator {
+  using value_type = T;
+  CacheLineAllocator() = default;
+  template <typename U>
+  CacheLineAllocator(const CacheLineAllocator<U>&) {}  // NOLINT: allocator conversion
+  T* allocate(size_t count) { return static_cast<T*>(::operator new(count * sizeof(T), std::align_val_t{64})); }
+  void deallocate(T* p, size_t) { ::operator delete(p, std::align_val_t{64}); }
+  bool operator==(const CacheLineAllocator&) const { return true; }
+  bool operator!=(const CacheLineAllocator&) const { return false; }
 };
 
 // The pixels of one thread's rows, grouped by end voxel.
@@ -140,7 +57,9 @@ struct alignas(64) PixelGroups {  // own cache lines: threads write theirs per p
   };
   FlatIndex index{4096};
   std::vector<Group> groups;
-  std::vector<float> sums;  // per group: one value per summed channel
+  // Per group: one value per summed channel, then padding up to `stride`.
+  std::vector<float, CacheLineAllocator<float>> sums;
+  size_t stride = 0;
   size_t valid_pixels = 0;
   // The groups of recently seen voxels, direct-mapped: runs of pixels in a
   // row alternate between a few voxels (depth noise), and mostly hit here.
@@ -148,42 +67,108 @@ struct alignas(64) PixelGroups {  // own cache lines: threads write theirs per p
   std::array<std::uint64_t, 1u << kRecentBits> recent_key;
   std::array<std::uint32_t, 1u << kRecentBits> recent_group;
 
-  PixelGroups() { recent_key.fill(FlatIndex::kEmpty); }
+  explicit PixelGroups(size_t sums_stride = 0) : stride(sums_stride) { recent_key.fill(FlatIndex::kEmpty); }
 
-  std::uint32_t groupFor(std::uint64_t voxel, int width) {
+  float* sumsOf(size_t group) { return sums.data() + group * stride; }
+  std::uint32_t groupFor(std::uint64_t voxel) {
     bool inserted = false;
     const std::uint32_t group =
         index.findOrInsert(voxel, static_cast<std::uint32_t>(groups.size()), inserted);
     if (inserted) {
       groups.push_back({voxel, 0});
-      sums.resize(sums.size() + static_cast<size_t>(width), 0.f);
+      sums.resize(sums.size() + stride, 0.f);
     }
     return group;
   }
-  std::uint32_t cachedGroupFor(std::uint64_t voxel, int width) {
+  std::uint32_t cachedGroupFor(std::uint64_t voxel) {
     const size_t slot = static_cast<size_t>(FlatIndex::mix(voxel) >> (64 - kRecentBits));
     if (recent_key[slot] == voxel) return recent_group[slot];
     recent_key[slot] = voxel;
-    recent_group[slot] = groupFor(voxel, width);
+    recent_group[slot] = groupFor(voxel);
     return recent_group[slot];
   }
 };
 
+// 8-bit probability images with at most 16 channels go in two passes per row:
+// groupRow finds each pixel's group (hash look-ups, calls), then a vector
+// kernel without calls (coded_row_kernel.inc) sums the log-odds, the table
+// held in registers. Each group's sums are then 16 floats on one cache line.
+constexpr size_t kCodedStride = 16;
+constexpr std::uint32_t kNoGroup = ~std::uint32_t{0};
+
+// group_of[u] = the group of pixel u, or kNoGroup when it adds no log-odds
+// (no voxel, or beyond max range). Counts the pixels of every group; returns
+// the pixels with a voxel.
+size_t groupRow(PixelGroups& part, const std::uint64_t* voxels, int pixels, std::uint32_t* group_of) {
+  std::uint64_t run_voxel = kNoVoxel;
+  std::uint32_t run_pixels = 0, group = 0, target = kNoGroup;
+  size_t valid = 0;
+  for (int u = 0; u < pixels; ++u) {
+    const std::uint64_t voxel = voxels[u];
+    if (voxel == kNoVoxel) {
+      group_of[u] = kNoGroup;
+      continue;
+    }
+    if (voxel != run_voxel) {
+      if (run_pixels) part.groups[group].pixels += run_pixels;
+      valid += run_pixels;
+      run_pixels = 0;
+      run_voxel = voxel;
+      group = part.cachedGroupFor(voxel);
+      target = (voxel & 1u) ? kNoGroup : group;  // beyond max range: misses only
+    }
+    ++run_pixels;
+    group_of[u] = target;
+  }
+  if (run_pixels) part.groups[group].pixels += run_pixels;
+  return valid + run_pixels;
+}
+
+struct CodedRow {
+  const std::uint32_t* group_of;  // groupRow's output
+  int pixels;                     // image width
+  const std::uint8_t* codes;      // the row's first code
+  const std::uint8_t* codes_end;  // end of the image's codes: no load reaches past it
+  int width;                      // channels per pixel, 1..16
+  const float* table;             // log-odds of each code
+  float* sums;                    // the groups' sums, kCodedStride apart, on cache lines
+};
+
+// The 16 codes starting at a pixel's first; past the image's end, zeros.
+inline __m128i loadCodes(const CodedRow& r, int u) {
+  const std::uint8_t* first = r.codes + static_cast<size_t>(u) * static_cast<size_t>(r.width);
+  if (r.codes_end - first >= 16) return _mm_loadu_si128(reinterpret_cast<const __m128i*>(first));
+  alignas(16) std::uint8_t copy[16] = {};
+  for (int c = 0; c < r.width; ++c) copy[c] = first[c];
+  return _mm_load_si128(reinterpret_cast<const __m128i*>(copy));
+}
+
+// The kernel, built once per instruction set (coded_row_kernel.inc). Its
+// lambdas return vectors; they are inlined, so the ABI note does not apply.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+#pragma GCC push_options
+#pragma GCC target("avx2")
+#define LOM_CODED_ROW_KERNEL sumCodedRowAvx2
+#define LOM_CODED_ROW_AVX512 0
+#include "coded_row_kernel.inc"
+#undef LOM_CODED_ROW_KERNEL
+#undef LOM_CODED_ROW_AVX512
+#pragma GCC pop_options
+
+#pragma GCC push_options
+#pragma GCC target("avx512f")
+#define LOM_CODED_ROW_KERNEL sumCodedRowAvx512
+#define LOM_CODED_ROW_AVX512 1
+#include "coded_row_kernel.inc"
+#undef LOM_CODED_ROW_KERNEL
+#undef LOM_CODED_ROW_AVX512
+#pragma GCC pop_options
+#pragma GCC diagnostic pop
+
 // sums[c] += add[c]; restrict lets g++ use vector adds.
 inline void addInto(float* __restrict sums, const float* __restrict add, int width) {
   for (int c = 0; c < width; ++c) sums[c] += add[c];
-}
-
-template <typename Work>
-void runOnThreads(int threads, Work&& work) {
-  if (threads <= 1) {
-    work(0);
-    return;
-  }
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back([&, t] { work(t); });
-  work(0);
-  for (auto& thread : pool) thread.join();
 }
 
 bool hasDuplicateChannels(const ProbabilityImage& proba) {
@@ -196,7 +181,8 @@ bool hasDuplicateChannels(const ProbabilityImage& proba) {
 
 FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
                               const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
-                              const FrameEvidence& evidence, int threads) {
+                              const FrameEvidence& evidence, int threads, VectorKernels kernels) {
+  const bool vector_kernels = kernels != VectorKernels::Baseline;
   const auto start = std::chrono::steady_clock::now();
   checkFrameInputs(map, camera, depth, evidence);
   if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -222,20 +208,30 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   if (coded)
     for (int c = 0; c < 256; ++c)
       code_logit[static_cast<size_t>(c)] = clampedLogit(probabilityOfCode(static_cast<std::uint8_t>(c)));
+  // Up to 16 channels of 8-bit codes: a pixel at a time in vector registers.
+  void (*coded_kernel)(const CodedRow&) = nullptr;
+  const std::uint8_t* codes_end = coded ? direct->codes.data() + direct->codes.size() : nullptr;
+  if (coded && width <= 16 && vector_kernels)
+    coded_kernel = cpuHasAvx512() && kernels == VectorKernels::Best ? sumCodedRowAvx512
+                   : cpuHasAvx2()                                 ? sumCodedRowAvx2
+                                                                  : nullptr;
   const PixelProjector projector(g, camera, T_world_camera, max_range);
-  std::vector<PixelGroups> parts(static_cast<size_t>(threads));
-  runOnThreads(threads, [&](int t) {
+  const size_t stride = coded_kernel ? kCodedStride : static_cast<size_t>(width);
+  std::vector<PixelGroups> parts;
+  for (int t = 0; t < threads; ++t) parts.emplace_back(stride);
+  runParts(threads, [&](int t) {
     PixelGroups& part = parts[static_cast<size_t>(t)];
     const size_t row_values = static_cast<size_t>(depth.width) * static_cast<size_t>(width);
     std::vector<float> row_probabilities(direct ? 0 : row_values, 0.f);
     std::vector<float> row_logits(coded ? 0 : row_values, 0.f);
     std::vector<std::uint64_t> row(static_cast<size_t>(depth.width));
+    std::vector<std::uint32_t> group_of(coded_kernel ? static_cast<size_t>(depth.width) : 0);
     const int rows_begin = depth.height * t / threads;
     const int rows_end = depth.height * (t + 1) / threads;
     size_t valid_pixels = 0;  // counted here: part's fields are written per pixel
     for (int v = rows_begin; v < rows_end; ++v) {
       projector.projectRow(v, depth.metres.data() + static_cast<size_t>(v) * depth.width,
-                           depth.width, row.data());
+                           depth.width, row.data(), vector_kernels);
       const std::uint8_t* codes =
           coded ? direct->codes.data() + static_cast<size_t>(v) * row_values : nullptr;
       if (!coded) {
@@ -247,7 +243,12 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
             if (row[static_cast<size_t>(u)] != kNoVoxel && !(row[static_cast<size_t>(u)] & 1u))
               evidence.probabilities(u, v, row_probabilities.data() + static_cast<size_t>(u) * n);
         }
-        logitRow(probabilities, row_values, row_logits.data());
+        logitRow(probabilities, row_values, row_logits.data(), vector_kernels);
+      }
+      if (coded_kernel) {
+        valid_pixels += groupRow(part, row.data(), depth.width, group_of.data());
+        coded_kernel({group_of.data(), depth.width, codes, codes_end, width, code_logit.data(), part.sums.data()});
+        continue;
       }
       // Consecutive pixels often end in the same voxel (depth noise keeps
       // the runs short, about two pixels at 640x480 and 1 cm): a run shares
@@ -263,8 +264,8 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
           valid_pixels += run_pixels;
           run_pixels = 0;
           run_voxel = voxel;
-          group = part.cachedGroupFor(voxel, width);
-          sums = part.sums.data() + static_cast<size_t>(group) * static_cast<size_t>(width);
+          group = part.cachedGroupFor(voxel);
+          sums = part.sumsOf(group);
         }
         ++run_pixels;
         if (voxel & 1u) continue;  // beyond max range: misses only
@@ -282,26 +283,27 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   });
   PixelGroups& all = parts[0];
   for (size_t t = 1; t < parts.size(); ++t) {
-    const PixelGroups& part = parts[t];
+    PixelGroups& part = parts[t];
     all.valid_pixels += part.valid_pixels;
     for (size_t i = 0; i < part.groups.size(); ++i) {
       const auto& group = part.groups[i];
-      const std::uint32_t target = all.groupFor(group.voxel, width);
+      const std::uint32_t target = all.groupFor(group.voxel);
       all.groups[target].pixels += group.pixels;
-      float* sums = all.sums.data() + static_cast<size_t>(target) * static_cast<size_t>(width);
-      const float* add = part.sums.data() + i * static_cast<size_t>(width);
+      float* sums = all.sumsOf(target);
+      const float* add = part.sumsOf(i);
       for (int c = 0; c < width; ++c) sums[c] += add[c];
     }
   }
 
   // 2. One ray per end voxel.
   std::vector<BrickSet> marks(static_cast<size_t>(threads));
-  runOnThreads(threads, [&](int t) {
+  runParts(threads, [&](int t) {
     BrickSet& mark = marks[static_cast<size_t>(t)];
     for (size_t i = static_cast<size_t>(t); i < all.groups.size(); i += static_cast<size_t>(threads)) {
       const PixelRay ray = unpackVoxel(all.groups[i].voxel);
       const Eigen::Vector3d end = rayEnd(g, origin, ray.end_key, ray.beyond_range, max_range);
-      grid::traverseRay(g, origin, end, [&](unsigned x, unsigned y, unsigned z) { mark.set(x, y, z); });
+      grid::RayWalk walk;
+      if (grid::setUpRay(g, origin, end, walk)) mark.markWalk(walk);
     }
   });
   for (size_t t = 1; t < marks.size(); ++t) marks[0].mergeFrom(marks[t]);
@@ -320,7 +322,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     const grid::Key key = unpackVoxel(group.voxel).end_key;
     marks[0].clear(key);
     float* values = hit_values.data() + hits.size() * static_cast<size_t>(n);
-    const float* sums = all.sums.data() + i * static_cast<size_t>(width);
+    const float* sums = all.sumsOf(i);
     if (direct) {
       std::fill(values, values + n, unlisted * static_cast<float>(group.pixels));
       for (int c = 0; c < width; ++c) values[direct->channel_labels[static_cast<size_t>(c)]] = sums[c];

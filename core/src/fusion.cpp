@@ -201,7 +201,8 @@ FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
                           const FrameEvidence& evidence, const IntegrationOptions& integration) {
   if (integration.path == IntegrationPath::Reference)
     return integrateFrameReference(map, camera, T_world_camera, depth, evidence);
-  return integrateFrameFast(map, camera, T_world_camera, depth, evidence, integration.threads);
+  return integrateFrameFast(map, camera, T_world_camera, depth, evidence, integration.threads,
+                            integration.kernels);
 }
 
 // ---------------------------------------------------------------------------

@@ -29,6 +29,17 @@ inline bool cpuHasAvx2() {
 #endif
 }
 
+// Whether the processor runs AVX-512 (F): the fast path then sums 8-bit
+// probability codes a whole pixel per instruction.
+inline bool cpuHasAvx512() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool has = __builtin_cpu_supports("avx512f");
+  return has;
+#else
+  return false;
+#endif
+}
+
 // A pixel's end voxel packed in 64 bits: x << 33 | y << 17 | z << 1 | beyond
 // max range. kNoVoxel marks a pixel without a valid depth or outside the map's
 // key range.
@@ -87,7 +98,7 @@ FrameStats integrateFrameReference(LabelMap& map, const CameraIntrinsics& camera
                                    const DepthImage& depth, const FrameEvidence& evidence);
 FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
                               const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
-                              const FrameEvidence& evidence, int threads);
+                              const FrameEvidence& evidence, int threads, VectorKernels kernels);
 
 // logit of a probability clamped to [kProbabilityEpsilon, 1 - kProbabilityEpsilon].
 float clampedLogit(float p);

@@ -2,9 +2,9 @@
 // on two halves of the stream at once.
 #include <algorithm>
 #include <array>
-#include <thread>
 
 #include "lom/octree/label_octree.hpp"
+#include "worker_pool.hpp"
 
 namespace lom {
 
@@ -132,13 +132,13 @@ int LabelOcTree::applySortedUpdates(const std::vector<VoxelUpdate>& updates, int
   if (shared.depth < 0) {
     node_delta += applyUpdateRange(updates.data(), updates.data() + updates.size(), root_is_new, shared);
   } else {
-    long second_delta = 0;
-    std::thread second([&] {
-      second_delta = applyUpdateRange(updates.data() + cut, updates.data() + updates.size(), false, shared);
+    long deltas[2] = {0, 0};
+    runParts(2, [&](int part) {
+      deltas[part] = part == 0 ? applyUpdateRange(updates.data(), updates.data() + cut, false, shared)
+                               : applyUpdateRange(updates.data() + cut, updates.data() + updates.size(),
+                                                  false, shared);
     });
-    node_delta += applyUpdateRange(updates.data(), updates.data() + cut, false, shared);
-    second.join();
-    node_delta += second_delta;
+    node_delta += deltas[0] + deltas[1];
     // The shared nodes, bottom-up, now that both halves are done.
     for (int d = shared.depth; d >= 0; --d)
       finishNode(const_cast<LabelOcTreeNode*>(shared.path[static_cast<size_t>(d)]), node_delta);

@@ -41,6 +41,64 @@ struct Grid {
   }
 };
 
+// A 3D DDA walk from `origin` towards `end`, set up once per segment. Both the
+// generic traversal below and the fast path's bit-marking walk step it with the
+// same comparisons on the same doubles, so they visit the same voxels.
+struct RayWalk {
+  int key[3] = {};       // the origin's voxel
+  int end_key[3] = {};   // the voxel containing `end` (not visited)
+  int step[3] = {};      // -1, 0 or +1 per axis
+  double t_max[3] = {};  // distance along the ray to the next border per axis
+  double t_delta[3] = {};
+  double length = 0.0;
+  long max_steps = 0;    // a ray crosses at most this many voxels; guards against rounding loops
+};
+
+// False when either end is outside the key range (nothing to visit). When
+// both ends are in the same voxel, `walk.key` equals `walk.end_key`.
+inline bool setUpRay(const Grid& grid, const Eigen::Vector3d& origin, const Eigen::Vector3d& end,
+                     RayWalk& walk) {
+  Key key, end_key;
+  if (!grid.keyOf(origin, key) || !grid.keyOf(end, end_key)) return false;
+  for (int i = 0; i < 3; ++i) {
+    walk.key[i] = key[static_cast<size_t>(i)];
+    walk.end_key[i] = end_key[static_cast<size_t>(i)];
+  }
+  if (key == end_key) return true;
+  const Eigen::Vector3d delta = end - origin;
+  const double length = delta.norm();
+  const Eigen::Vector3d direction = delta / length;
+  for (int i = 0; i < 3; ++i) {
+    if (direction[i] > 0.0) {
+      walk.step[i] = 1;
+    } else if (direction[i] < 0.0) {
+      walk.step[i] = -1;
+    } else {
+      walk.step[i] = 0;
+    }
+    if (walk.step[i] != 0) {
+      // Distance along the ray to the first voxel border in this dimension.
+      const double border = (static_cast<double>(walk.key[i] - kKeyOffset) + (walk.step[i] > 0 ? 1.0 : 0.0)) *
+                            grid.resolution;
+      walk.t_max[i] = (border - origin[i]) / direction[i];
+      walk.t_delta[i] = grid.resolution / std::fabs(direction[i]);
+    } else {
+      walk.t_max[i] = std::numeric_limits<double>::max();
+      walk.t_delta[i] = std::numeric_limits<double>::max();
+    }
+  }
+  walk.length = length;
+  walk.max_steps = 3L * static_cast<long>(std::ceil(length * grid.inverse)) + 3;
+  return true;
+}
+
+// The axis of the next step: x unless y is strictly closer, then z if strictly
+// closer than the chosen one.
+inline int nextAxis(double m0, double m1, double m2) {
+  if (m1 < m0 ? m2 < m1 : m2 < m0) return 2;
+  return m1 < m0 ? 1 : 0;
+}
+
 // Visits, in order, the voxels crossed by the segment from `origin` to `end`,
 // starting with the origin's voxel and stopping before the voxel that contains
 // `end` (a 3D DDA). Returns false (visiting nothing) when either end is
@@ -49,62 +107,31 @@ struct Grid {
 template <typename Visit>
 bool traverseRay(const Grid& grid, const Eigen::Vector3d& origin, const Eigen::Vector3d& end,
                  Visit&& visit) {
-  Key key, end_key;
-  if (!grid.keyOf(origin, key) || !grid.keyOf(end, end_key)) return false;
-  if (key == end_key) return true;
-  const Eigen::Vector3d delta = end - origin;
-  const double length = delta.norm();
-  const Eigen::Vector3d direction = delta / length;
-
-  int step[3];
-  double t_max[3];
-  double t_delta[3];
-  for (int i = 0; i < 3; ++i) {
-    if (direction[i] > 0.0) {
-      step[i] = 1;
-    } else if (direction[i] < 0.0) {
-      step[i] = -1;
-    } else {
-      step[i] = 0;
-    }
-    if (step[i] != 0) {
-      // Distance along the ray to the first voxel border in this dimension.
-      const double border =
-          (static_cast<double>(static_cast<int>(key[static_cast<size_t>(i)]) - kKeyOffset) +
-           (step[i] > 0 ? 1.0 : 0.0)) *
-          grid.resolution;
-      t_max[i] = (border - origin[i]) / direction[i];
-      t_delta[i] = grid.resolution / std::fabs(direction[i]);
-    } else {
-      t_max[i] = std::numeric_limits<double>::max();
-      t_delta[i] = std::numeric_limits<double>::max();
-    }
-  }
-
-  visit(static_cast<std::uint16_t>(key[0]), static_cast<std::uint16_t>(key[1]),
-        static_cast<std::uint16_t>(key[2]));
+  RayWalk walk;
+  if (!setUpRay(grid, origin, end, walk)) return false;
+  int k0 = walk.key[0], k1 = walk.key[1], k2 = walk.key[2];
+  const int e0 = walk.end_key[0], e1 = walk.end_key[1], e2 = walk.end_key[2];
+  if (k0 == e0 && k1 == e1 && k2 == e2) return true;
+  visit(static_cast<std::uint16_t>(k0), static_cast<std::uint16_t>(k1), static_cast<std::uint16_t>(k2));
   // The key and the border distances stay in registers: writing a key
   // component to memory and reading the key back at once would stall each
-  // step. The axis of a step is x unless y is strictly closer, then z if
-  // strictly closer than the chosen one.
-  int k0 = key[0], k1 = key[1], k2 = key[2];
-  const int e0 = end_key[0], e1 = end_key[1], e2 = end_key[2];
-  double m0 = t_max[0], m1 = t_max[1], m2 = t_max[2];
-  // A ray crosses at most this many voxels; guards against rounding loops.
-  const long max_steps = 3L * static_cast<long>(std::ceil(length * grid.inverse)) + 3;
-  for (long i = 0; i < max_steps; ++i) {
-    if (m1 < m0 ? m2 < m1 : m2 < m0) {
+  // step.
+  double m0 = walk.t_max[0], m1 = walk.t_max[1], m2 = walk.t_max[2];
+  const double length = walk.length;
+  for (long i = 0; i < walk.max_steps; ++i) {
+    const int axis = nextAxis(m0, m1, m2);
+    if (axis == 2) {
       if (m2 > length) break;  // passed the end point (end voxel reached by rounding)
-      k2 += step[2];
-      m2 += t_delta[2];
-    } else if (m1 < m0) {
+      k2 += walk.step[2];
+      m2 += walk.t_delta[2];
+    } else if (axis == 1) {
       if (m1 > length) break;
-      k1 += step[1];
-      m1 += t_delta[1];
+      k1 += walk.step[1];
+      m1 += walk.t_delta[1];
     } else {
       if (m0 > length) break;
-      k0 += step[0];
-      m0 += t_delta[0];
+      k0 += walk.step[0];
+      m0 += walk.t_delta[0];
     }
     if (k0 == e0 && k1 == e1 && k2 == e2) break;
     visit(static_cast<std::uint16_t>(k0), static_cast<std::uint16_t>(k1),

@@ -115,6 +115,30 @@ TEST(FastPathTest, EightBitAndFloatProbabilityImagesGiveTheSameMap) {
   expectSameMaps(reference, floats);
 }
 
+// The vector kernels (AVX-512, AVX2) and the baseline instructions add the
+// same values in the same order: the maps agree to the last bit.
+TEST(FastPathTest, EveryKernelChoiceGivesTheSameBits) {
+  lom::test::TempDir dir;
+  const lom::Sequence sequence = generatedScene(dir, 13, 6, 3);
+  lom::FusionOptions fusion;
+  fusion.integration.threads = 2;
+  fusion.integration.kernels = lom::VectorKernels::Baseline;
+  const LabelMap baseline = lom::fuseSequence(sequence, fusion);
+  fusion.integration.kernels = lom::VectorKernels::UpToAvx2;
+  const LabelMap avx2 = lom::fuseSequence(sequence, fusion);
+  fusion.integration.kernels = lom::VectorKernels::Best;
+  const LabelMap best = lom::fuseSequence(sequence, fusion);
+  for (const LabelMap* other : {&avx2, &best}) {
+    Comparison result;
+    compareLeaves(baseline, *other, result);
+    compareLeaves(*other, baseline, result);
+    EXPECT_GT(result.checked, 1000u);
+    EXPECT_EQ(result.mismatched_state, 0u);
+    EXPECT_EQ(result.max_probability_difference, 0.0);
+    EXPECT_EQ(baseline.tree().size(), other->tree().size());
+  }
+}
+
 // Real recorded depth and poses, with probability images made up from colour.
 lom::ProbabilityImage madeUpProbabilities(const lom::ColorImage& color, int num_labels) {
   lom::ProbabilityImage proba;

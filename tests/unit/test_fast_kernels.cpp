@@ -1,13 +1,15 @@
-// The vectorised kernels of the fast integration path: row back-projection
-// and row logit, against the straightforward per-value computations.
+// The kernels of the fast integration path: row back-projection, row logit
+// and ray marking, against the straightforward computations.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
 
+#include "brick_set.hpp"
 #include "fusion_internal.hpp"
 
 namespace {
@@ -108,6 +110,46 @@ TEST(PixelProjectorTest, RowMatchesThePerPixelBackProjection) {
       }
     }
     if (!lom::cpuHasAvx2()) GTEST_LOG_(INFO) << "no AVX2 here: both calls ran the baseline build";
+  }
+}
+
+// The fast path marks each ray's voxels in bricks, stepping a voxel's index
+// inside its brick; the marked set must be exactly what traverseRay visits,
+// in every direction, across brick borders, along axes and for short rays.
+TEST(BrickSetTest, MarksExactlyTheVoxelsTraverseRayVisits) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> coordinate(-0.6, 0.6);
+  std::uniform_int_distribution<int> kind(0, 9);
+  for (const double resolution : {0.01, 0.005, 0.05}) {
+    const lom::grid::Grid grid(resolution);
+    for (int ray = 0; ray < 3000; ++ray) {
+      Eigen::Vector3d origin(coordinate(random), coordinate(random), coordinate(random));
+      Eigen::Vector3d end(coordinate(random), coordinate(random), coordinate(random));
+      const int k = kind(random);
+      if (k == 0) end[1] = origin[1];                     // in a plane
+      if (k == 1) end.tail<2>() = origin.tail<2>();       // along x
+      if (k == 2) end = origin + 0.3 * resolution * (end - origin).normalized();  // short
+      if (k == 3) origin = grid.centerOf(lom::grid::Key{32768, 32768, 32768});  // from a voxel centre
+      std::vector<std::uint64_t> visited;
+      lom::grid::traverseRay(grid, origin, end, [&](unsigned x, unsigned y, unsigned z) {
+        visited.push_back(lom::grid::mortonCode(static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
+                                                static_cast<std::uint16_t>(z)));
+      });
+      lom::BrickSet marks;
+      lom::grid::RayWalk walk;
+      ASSERT_TRUE(lom::grid::setUpRay(grid, origin, end, walk));
+      marks.markWalk(walk);
+      std::vector<lom::VoxelUpdate> misses;
+      marks.appendMisses(misses);
+      std::vector<std::uint64_t> marked;
+      for (const auto& miss : misses) {
+        marked.push_back(miss.morton);
+        ASSERT_EQ(miss.morton, lom::grid::mortonCode(miss.key[0], miss.key[1], miss.key[2]));
+      }
+      std::sort(visited.begin(), visited.end());
+      visited.erase(std::unique(visited.begin(), visited.end()), visited.end());
+      ASSERT_EQ(marked, visited) << "resolution " << resolution << ", ray " << ray;
+    }
   }
 }
 

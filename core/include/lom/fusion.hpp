@@ -66,9 +66,18 @@ enum class IntegrationPath {
   Reference,  // every pixel casts its own ray into a hash set; straightforward and slow
 };
 
+enum class VectorKernels {
+  Best,      // AVX-512 or AVX2 kernels where the processor has them
+  UpToAvx2,  // AVX2 at most
+  Baseline,  // the baseline x86-64 instructions only
+};
+
 struct IntegrationOptions {
   IntegrationPath path = IntegrationPath::Fast;
   int threads = 0;  // fast path worker threads; 0 = one per core
+  // Fast path: which vector kernels may run (where the processor has them).
+  // Every choice gives the same map to the last bit; the others are for checks.
+  VectorKernels kernels = VectorKernels::Best;
 };
 
 // Integrates one frame into `map` with the paper's rule (docs/fusion.md). Both
