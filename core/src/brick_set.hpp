@@ -23,6 +23,13 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
   // comparisons on the same doubles), tracking the voxel's index inside its
   // brick step by step: a step adds one to a coordinate's bits within the
   // Morton index, and only a step out of the brick looks a brick up.
+  // Unmarks everything, keeping the memory (for reuse from frame to frame).
+  void clear() {
+    index_.clear();
+    bricks_.clear();
+    keys_.clear();
+    cached_key_ = ~std::uint64_t{0};
+  }
   [[gnu::noinline]] void markWalk(const grid::RayWalk& w) {
     int k0 = w.key[0], k1 = w.key[1], k2 = w.key[2];
     const int e0 = w.end_key[0], e1 = w.end_key[1], e2 = w.end_key[2];

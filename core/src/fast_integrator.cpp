@@ -68,6 +68,15 @@ struct alignas(64) PixelGroups {  // own cache lines: threads write theirs per p
   std::array<std::uint32_t, 1u << kRecentBits> recent_group;
 
   explicit PixelGroups(size_t sums_stride = 0) : stride(sums_stride) { recent_key.fill(FlatIndex::kEmpty); }
+  // Empties the groups, keeping the memory (for reuse from frame to frame).
+  void clear(size_t sums_stride) {
+    index.clear();
+    groups.clear();
+    sums.clear();
+    stride = sums_stride;
+    valid_pixels = 0;
+    recent_key.fill(FlatIndex::kEmpty);
+  }
 
   float* sumsOf(size_t group) { return sums.data() + group * stride; }
   std::uint32_t groupFor(std::uint64_t voxel) {
@@ -100,8 +109,8 @@ constexpr std::uint32_t kNoGroup = ~std::uint32_t{0};
 // (no voxel, or beyond max range). Counts the pixels of every group; returns
 // the pixels with a voxel.
 size_t groupRow(PixelGroups& part, const std::uint64_t* voxels, int pixels, std::uint32_t* group_of) {
-  std::uint64_t run_voxel = kNoVoxel;
-  std::uint32_t run_pixels = 0, group = 0, target = kNoGroup;
+  // Every pixel looks its voxel up in the cache of recent voxels: no test for
+  // the end of a run, which depth noise makes unpredictable.
   size_t valid = 0;
   for (int u = 0; u < pixels; ++u) {
     const std::uint64_t voxel = voxels[u];
@@ -109,19 +118,12 @@ size_t groupRow(PixelGroups& part, const std::uint64_t* voxels, int pixels, std:
       group_of[u] = kNoGroup;
       continue;
     }
-    if (voxel != run_voxel) {
-      if (run_pixels) part.groups[group].pixels += run_pixels;
-      valid += run_pixels;
-      run_pixels = 0;
-      run_voxel = voxel;
-      group = part.cachedGroupFor(voxel);
-      target = (voxel & 1u) ? kNoGroup : group;  // beyond max range: misses only
-    }
-    ++run_pixels;
-    group_of[u] = target;
+    const std::uint32_t group = part.cachedGroupFor(voxel);
+    ++part.groups[group].pixels;
+    ++valid;
+    group_of[u] = (voxel & 1u) ? kNoGroup : group;  // beyond max range: misses only
   }
-  if (run_pixels) part.groups[group].pixels += run_pixels;
-  return valid + run_pixels;
+  return valid;
 }
 
 struct CodedRow {
@@ -171,6 +173,15 @@ inline void addInto(float* __restrict sums, const float* __restrict add, int wid
   for (int c = 0; c < width; ++c) sums[c] += add[c];
 }
 
+// Per-frame working memory, kept between the frames fused by one thread:
+// fresh tables and streams every frame would cost page faults and copies.
+struct FastScratch {
+  std::vector<PixelGroups> parts;
+  std::vector<BrickSet> marks;
+  std::vector<float> hit_values;
+  std::vector<VoxelUpdate> hits, misses, updates;
+};
+
 bool hasDuplicateChannels(const ProbabilityImage& proba) {
   std::vector<int> labels = proba.channel_labels;
   std::sort(labels.begin(), labels.end());
@@ -217,8 +228,10 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
                                                                   : nullptr;
   const PixelProjector projector(g, camera, T_world_camera, max_range);
   const size_t stride = coded_kernel ? kCodedStride : static_cast<size_t>(width);
-  std::vector<PixelGroups> parts;
-  for (int t = 0; t < threads; ++t) parts.emplace_back(stride);
+  thread_local FastScratch scratch;
+  std::vector<PixelGroups>& parts = scratch.parts;
+  parts.resize(static_cast<size_t>(threads));
+  for (PixelGroups& part : parts) part.clear(stride);
   runParts(threads, [&](int t) {
     PixelGroups& part = parts[static_cast<size_t>(t)];
     const size_t row_values = static_cast<size_t>(depth.width) * static_cast<size_t>(width);
@@ -296,7 +309,9 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   }
 
   // 2. One ray per end voxel.
-  std::vector<BrickSet> marks(static_cast<size_t>(threads));
+  std::vector<BrickSet>& marks = scratch.marks;
+  marks.resize(static_cast<size_t>(threads));
+  for (BrickSet& mark : marks) mark.clear();
   runParts(threads, [&](int t) {
     BrickSet& mark = marks[static_cast<size_t>(t)];
     for (size_t i = static_cast<size_t>(t); i < all.groups.size(); i += static_cast<size_t>(threads)) {
@@ -308,39 +323,57 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   });
   for (size_t t = 1; t < marks.size(); ++t) marks[0].mergeFrom(marks[t]);
 
-  // 3. Hits: full per-label log-odds; they are never also misses in this frame.
+  // 3. Hits: full per-label log-odds; they are never also misses in this
+  // frame. The hit stream and the miss stream are built at once.
   const float unlisted = clampedLogit(0.f);
-  std::vector<float> hit_values;
-  std::vector<VoxelUpdate> hits;
+  std::vector<float>& hit_values = scratch.hit_values;
+  std::vector<VoxelUpdate>& hits = scratch.hits;
+  std::vector<VoxelUpdate>& misses = scratch.misses;
+  hits.clear();
+  misses.clear();
   size_t hit_count = 0;
-  for (const auto& group : all.groups) hit_count += (group.voxel & 1u) ? 0 : 1;
-  hit_values.resize(hit_count * static_cast<size_t>(n));
-  hits.reserve(hit_count);
-  for (size_t i = 0; i < all.groups.size(); ++i) {
-    const auto& group = all.groups[i];
+  for (const auto& group : all.groups) {
     if (group.voxel & 1u) continue;  // beyond max range
-    const grid::Key key = unpackVoxel(group.voxel).end_key;
-    marks[0].clear(key);
-    float* values = hit_values.data() + hits.size() * static_cast<size_t>(n);
-    const float* sums = all.sumsOf(i);
-    if (direct) {
-      std::fill(values, values + n, unlisted * static_cast<float>(group.pixels));
-      for (int c = 0; c < width; ++c) values[direct->channel_labels[static_cast<size_t>(c)]] = sums[c];
-    } else {
-      std::copy(sums, sums + n, values);
-    }
-    VoxelUpdate update;
-    update.key = octomap::OcTreeKey(key[0], key[1], key[2]);
-    update.morton = grid::mortonCode(key[0], key[1], key[2]);
-    update.hit = values;
-    hits.push_back(update);
+    marks[0].clear(unpackVoxel(group.voxel).end_key);
+    ++hit_count;
   }
-  std::sort(hits.begin(), hits.end(),
-            [](const VoxelUpdate& a, const VoxelUpdate& b) { return a.morton < b.morton; });
-
-  std::vector<VoxelUpdate> misses;
-  marks[0].appendMisses(misses);
-  std::vector<VoxelUpdate> updates(hits.size() + misses.size());
+  auto buildHits = [&] {
+    hit_values.resize(hit_count * static_cast<size_t>(n));
+    hits.reserve(hit_count);
+    for (size_t i = 0; i < all.groups.size(); ++i) {
+      const auto& group = all.groups[i];
+      if (group.voxel & 1u) continue;
+      const grid::Key key = unpackVoxel(group.voxel).end_key;
+      float* values = hit_values.data() + hits.size() * static_cast<size_t>(n);
+      const float* sums = all.sumsOf(i);
+      if (direct) {
+        std::fill(values, values + n, unlisted * static_cast<float>(group.pixels));
+        for (int c = 0; c < width; ++c) values[direct->channel_labels[static_cast<size_t>(c)]] = sums[c];
+      } else {
+        std::copy(sums, sums + n, values);
+      }
+      VoxelUpdate update;
+      update.key = octomap::OcTreeKey(key[0], key[1], key[2]);
+      update.morton = grid::mortonCode(key[0], key[1], key[2]);
+      update.hit = values;
+      hits.push_back(update);
+    }
+    std::sort(hits.begin(), hits.end(),
+              [](const VoxelUpdate& a, const VoxelUpdate& b) { return a.morton < b.morton; });
+  };
+  if (threads > 1) {
+    runParts(2, [&](int part) {
+      if (part == 0)
+        buildHits();
+      else
+        marks[0].appendMisses(misses);
+    });
+  } else {
+    buildHits();
+    marks[0].appendMisses(misses);
+  }
+  std::vector<VoxelUpdate>& updates = scratch.updates;
+  updates.resize(hits.size() + misses.size());
   std::merge(hits.begin(), hits.end(), misses.begin(), misses.end(), updates.begin(),
              [](const VoxelUpdate& a, const VoxelUpdate& b) { return a.morton < b.morton; });
   tree.applySortedUpdates(updates, threads);

@@ -3,6 +3,7 @@
 // fast integration path's per-frame tables (pixel groups by end voxel, voxel
 // bricks). Linear probing over a power-of-two table, no per-entry allocation,
 // no erase; far cheaper per lookup than std::unordered_map for these sizes.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -20,6 +21,12 @@ class FlatIndex {
     while (capacity < 2 * expected) capacity *= 2;
     entries_.assign(capacity, Entry{});
     shift_ = 64 - log2(capacity);
+    size_ = 0;
+  }
+
+  // Empties the table, keeping its capacity (for reuse from frame to frame).
+  void clear() {
+    std::fill(entries_.begin(), entries_.end(), Entry{});
     size_ = 0;
   }
 

@@ -51,10 +51,6 @@ constexpr int kMaxLabels = 256;
 
 }  // namespace
 
-const LabelOcTreeNode::SparseLabels* LabelOcTreeNode::block() const {
-  return (data_ != 0 && !isSummary()) ? reinterpret_cast<const SparseLabels*>(data_) : nullptr;
-}
-
 void LabelOcTreeNode::release() {
   if (const SparseLabels* b = block()) ::operator delete(const_cast<SparseLabels*>(b));
   data_ = 0;
@@ -358,11 +354,6 @@ bool LabelOcTree::pruneSaturated(LabelOcTreeNode* node, long& node_delta) const 
   node->collapseChildren();
   node_delta -= 8;
   return true;
-}
-
-bool LabelOcTree::isSaturatedFree(const LabelOcTreeNode* node, bool created) const {
-  return !created && !nodeHasChildren(node) && node->isUniform() &&
-         node->getLogOdds() <= clamping_thres_min;
 }
 
 LabelOcTreeNode* LabelOcTree::childForUpdate(LabelOcTreeNode* node, unsigned pos, bool& created,

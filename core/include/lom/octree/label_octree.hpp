@@ -78,7 +78,9 @@ class LabelOcTreeNode : public octomap::OcTreeNode {
   void collapseChildren();                  // takes child 0's data, deletes the eight leaves
 
   struct SparseLabels;
-  [[nodiscard]] const SparseLabels* block() const;
+  [[nodiscard]] const SparseLabels* block() const {
+    return (data_ != 0 && !isSummary()) ? reinterpret_cast<const SparseLabels*>(data_) : nullptr;
+  }
   void release();
   // Either 0 (uniform leaf), a pointer to a SparseLabels block (even), or
   // (label << 1) | 1 for an inner node's summary.
@@ -165,7 +167,9 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   // Removed nodes are counted in `node_delta`.
   bool pruneSaturated(LabelOcTreeNode* node, long& node_delta) const;
   // A leaf (possibly pruned) of free space at the lower clamp, which a miss cannot change.
-  [[nodiscard]] bool isSaturatedFree(const LabelOcTreeNode* node, bool created) const;
+  [[nodiscard]] bool isSaturatedFree(const LabelOcTreeNode* node, bool created) const {
+    return !created && !nodeHasChildren(node) && node->isUniform() && node->getLogOdds() <= clamping_thres_min;
+  }
 
   LabelSet labels_;
   MapParameters parameters_;
