@@ -67,7 +67,7 @@ struct alignas(64) PixelGroups {  // own cache lines: threads write theirs per p
   std::array<std::uint64_t, 1u << kRecentBits> recent_key;
   std::array<std::uint32_t, 1u << kRecentBits> recent_group;
 
-  explicit PixelGroups(size_t sums_stride = 0) : stride(sums_stride) { recent_key.fill(FlatIndex::kEmpty); }
+  PixelGroups() { recent_key.fill(FlatIndex::kEmpty); }
   // Empties the groups, keeping the memory (for reuse from frame to frame).
   void clear(size_t sums_stride) {
     index.clear();
@@ -302,9 +302,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
       const auto& group = part.groups[i];
       const std::uint32_t target = all.groupFor(group.voxel);
       all.groups[target].pixels += group.pixels;
-      float* sums = all.sumsOf(target);
-      const float* add = part.sumsOf(i);
-      for (int c = 0; c < width; ++c) sums[c] += add[c];
+      addInto(all.sumsOf(target), part.sumsOf(i), width);
     }
   }
 

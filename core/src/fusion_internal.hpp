@@ -18,27 +18,26 @@ struct PixelRay {
 void checkFrameInputs(const LabelMap& map, const CameraIntrinsics& camera, const DepthImage& depth,
                       const FrameEvidence& evidence);
 
-// Whether the processor runs AVX2: the row kernels of the fast path
-// (pixel_projector.cpp, fast_logit.cpp) then use their AVX2 builds.
-inline bool cpuHasAvx2() {
+// What the processor runs, read once: with AVX2 the row kernels of the fast
+// path (pixel_projector.cpp, fast_logit.cpp) use their AVX2 builds; with
+// AVX-512 (F) 8-bit probability codes are summed a whole pixel per instruction.
+struct CpuFeatures {
+  bool avx2 = false;
+  bool avx512 = false;
+};
+inline const CpuFeatures& cpuFeatures() {
+  static const CpuFeatures features = [] {
+    CpuFeatures f;
 #if defined(__x86_64__) && defined(__GNUC__)
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has;
-#else
-  return false;
+    f.avx2 = __builtin_cpu_supports("avx2");
+    f.avx512 = __builtin_cpu_supports("avx512f");
 #endif
+    return f;
+  }();
+  return features;
 }
-
-// Whether the processor runs AVX-512 (F): the fast path then sums 8-bit
-// probability codes a whole pixel per instruction.
-inline bool cpuHasAvx512() {
-#if defined(__x86_64__) && defined(__GNUC__)
-  static const bool has = __builtin_cpu_supports("avx512f");
-  return has;
-#else
-  return false;
-#endif
-}
+inline bool cpuHasAvx2() { return cpuFeatures().avx2; }
+inline bool cpuHasAvx512() { return cpuFeatures().avx512; }
 
 // A pixel's end voxel packed in 64 bits: x << 33 | y << 17 | z << 1 | beyond
 // max range. kNoVoxel marks a pixel without a valid depth or outside the map's
