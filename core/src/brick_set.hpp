@@ -94,12 +94,30 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
       for (int w = 0; w < kWords; ++w) bits[static_cast<size_t>(w)] |= other.bricks_[i][static_cast<size_t>(w)];
     }
   }
-  // Appends every marked voxel as a miss, in Morton (depth-first) order.
-  void appendMisses(std::vector<VoxelUpdate>& out) const {
-    size_t marked = 0;
-    for (const Bits& bits : bricks_)
-      for (const std::uint64_t word : bits) marked += static_cast<size_t>(__builtin_popcountll(word));
-    out.reserve(out.size() + marked);
+  // Appends every marked voxel as a miss, in Morton (depth-first) order,
+  // except, given a tree, those of its saturated free 4^3 blocks (one word of
+  // a brick each), where a miss changes nothing; their marks are cleared.
+  // Returns how many voxels were marked, appended or not.
+  size_t appendMisses(std::vector<VoxelUpdate>& out, const LabelOcTree* tree = nullptr) {
+    size_t marked = 0, kept = 0;
+    for (size_t i = 0; i < bricks_.size(); ++i) {
+      const auto [bx, by, bz] = unpackBrick(keys_[i]);
+      const std::uint64_t saturated =
+          tree ? tree->saturatedFreeBlocks(octomap::OcTreeKey(static_cast<std::uint16_t>(bx << 4),
+                                                              static_cast<std::uint16_t>(by << 4),
+                                                              static_cast<std::uint16_t>(bz << 4)))
+               : 0;
+      Bits& bits = bricks_[i];
+      for (int w = 0; w < kWords; ++w) {
+        const size_t count = static_cast<size_t>(__builtin_popcountll(bits[static_cast<size_t>(w)]));
+        marked += count;
+        if ((saturated >> w) & 1u)
+          bits[static_cast<size_t>(w)] = 0;
+        else
+          kept += count;
+      }
+    }
+    out.reserve(out.size() + kept);
     std::vector<std::pair<std::uint64_t, size_t>> order;
     order.reserve(keys_.size());
     for (size_t i = 0; i < keys_.size(); ++i) {
@@ -127,6 +145,7 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
         }
       }
     }
+    return marked;
   }
 
  private:

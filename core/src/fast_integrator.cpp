@@ -6,15 +6,18 @@
 //     voxels in front of an open-addressing table); each group sums its
 //     pixels' log-odds. 8-bit probability images with up to 16 channels (what
 //     generated scenes and `segment --dtype uint8` write) go through a vector
-//     kernel that turns a whole pixel's codes into log-odds from a 256-entry
-//     table and adds them in registers (coded_row_kernel.inc); other 8-bit
+//     kernel that turns a whole pixel's codes (four pixels' with AVX-512 byte
+//     permutes) into log-odds from a 256-entry table and adds them in
+//     registers (coded_row_kernel.inc); other 8-bit
 //     images go through the same table a value at a time, and float images
 //     through the vectorised row logit (core/src/fast_logit.cpp).
 //  2. One ray per end voxel marks the crossed voxels in 16^3 bit bricks, so a
 //     voxel crossed by many rays costs one bit (threads mark their own
 //     bricks; brick_set.hpp).
 //  3. Hit voxels are removed from the marks; misses (read from the bricks in
-//     Morton order) and hits (sorted) merge into one depth-first update stream
+//     Morton order, leaving out the 4^3 blocks the tree holds as saturated
+//     free space, which a miss cannot change) and hits (sorted) merge into one
+//     depth-first update stream
 //     that the tree applies in one pass, cut in two halves that run at once
 //     (LabelOcTree::applySortedUpdates).
 // The parallel phases run on worker threads kept between frames
@@ -22,6 +25,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstring>
 #include <thread>
 
 #include <immintrin.h>
@@ -133,6 +137,7 @@ struct CodedRow {
   const std::uint8_t* codes_end;  // end of the image's codes: no load reaches past it
   int width;                      // channels per pixel, 1..16
   const float* table;             // log-odds of each code
+  const std::uint8_t* table_bytes; // byte b of table[c] at table_bytes[256 b + c]
   float* sums;                    // the groups' sums, kCodedStride apart, on cache lines
 };
 
@@ -149,22 +154,34 @@ inline __m128i loadCodes(const CodedRow& r, int u) {
 // lambdas return vectors; they are inlined, so the ABI note does not apply.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
+// g++ 12 reads the "undefined" pass-through register of some AVX-512
+// intrinsics (shuffles, byte permutes) as maybe uninitialised.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #pragma GCC push_options
 #pragma GCC target("avx2")
 #define LOM_CODED_ROW_KERNEL sumCodedRowAvx2
-#define LOM_CODED_ROW_AVX512 0
+#define LOM_CODED_ROW_KIND 0
 #include "coded_row_kernel.inc"
 #undef LOM_CODED_ROW_KERNEL
-#undef LOM_CODED_ROW_AVX512
+#undef LOM_CODED_ROW_KIND
 #pragma GCC pop_options
 
 #pragma GCC push_options
 #pragma GCC target("avx512f")
 #define LOM_CODED_ROW_KERNEL sumCodedRowAvx512
-#define LOM_CODED_ROW_AVX512 1
+#define LOM_CODED_ROW_KIND 1
 #include "coded_row_kernel.inc"
 #undef LOM_CODED_ROW_KERNEL
-#undef LOM_CODED_ROW_AVX512
+#undef LOM_CODED_ROW_KIND
+#pragma GCC pop_options
+
+#pragma GCC push_options
+#pragma GCC target("avx512f,avx512bw,avx512vbmi")
+#define LOM_CODED_ROW_KERNEL sumCodedRowAvx512Bytes
+#define LOM_CODED_ROW_KIND 2
+#include "coded_row_kernel.inc"
+#undef LOM_CODED_ROW_KERNEL
+#undef LOM_CODED_ROW_KIND
 #pragma GCC pop_options
 #pragma GCC diagnostic pop
 
@@ -216,16 +233,24 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   // row at a time with the vectorised logit (within 1e-6 of clampedLogit).
   const bool coded = direct && !direct->codes.empty() && direct->codes.size() == direct->values.size();
   std::array<float, 256> code_logit{};
+  std::array<std::uint8_t, 1024> code_logit_bytes{};  // byte b of code_logit[c] at 256 b + c
   if (coded)
-    for (int c = 0; c < 256; ++c)
-      code_logit[static_cast<size_t>(c)] = clampedLogit(probabilityOfCode(static_cast<std::uint8_t>(c)));
+    for (int c = 0; c < 256; ++c) {
+      const float value = clampedLogit(probabilityOfCode(static_cast<std::uint8_t>(c)));
+      code_logit[static_cast<size_t>(c)] = value;
+      std::uint32_t bits = 0;
+      std::memcpy(&bits, &value, sizeof bits);
+      for (int b = 0; b < 4; ++b) code_logit_bytes[static_cast<size_t>(256 * b + c)] = static_cast<std::uint8_t>(bits >> (8 * b));
+    }
   // Up to 16 channels of 8-bit codes: a pixel at a time in vector registers.
   void (*coded_kernel)(const CodedRow&) = nullptr;
   const std::uint8_t* codes_end = coded ? direct->codes.data() + direct->codes.size() : nullptr;
   if (coded && width <= 16 && vector_kernels)
-    coded_kernel = cpuHasAvx512() && kernels == VectorKernels::Best ? sumCodedRowAvx512
-                   : cpuHasAvx2()                                 ? sumCodedRowAvx2
-                                                                  : nullptr;
+    coded_kernel = cpuHasAvx512Bytes() && kernels == VectorKernels::Best ? sumCodedRowAvx512Bytes
+                   : cpuHasAvx512() && (kernels == VectorKernels::Best || kernels == VectorKernels::UpToAvx512F)
+                       ? sumCodedRowAvx512
+                   : cpuHasAvx2() ? sumCodedRowAvx2
+                                  : nullptr;
   const PixelProjector projector(g, camera, T_world_camera, max_range);
   const size_t stride = coded_kernel ? kCodedStride : static_cast<size_t>(width);
   thread_local FastScratch scratch;
@@ -260,7 +285,8 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
       }
       if (coded_kernel) {
         valid_pixels += groupRow(part, row.data(), depth.width, group_of.data());
-        coded_kernel({group_of.data(), depth.width, codes, codes_end, width, code_logit.data(), part.sums.data()});
+        coded_kernel({group_of.data(), depth.width, codes, codes_end, width, code_logit.data(), code_logit_bytes.data(),
+                      part.sums.data()});
         continue;
       }
       // Consecutive pixels often end in the same voxel (depth noise keeps
@@ -329,7 +355,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   std::vector<VoxelUpdate>& misses = scratch.misses;
   hits.clear();
   misses.clear();
-  size_t hit_count = 0;
+  size_t hit_count = 0, miss_count = 0;
   for (const auto& group : all.groups) {
     if (group.voxel & 1u) continue;  // beyond max range
     marks[0].clear(unpackVoxel(group.voxel).end_key);
@@ -364,11 +390,11 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
       if (part == 0)
         buildHits();
       else
-        marks[0].appendMisses(misses);
+        miss_count = marks[0].appendMisses(misses, &tree);
     });
   } else {
     buildHits();
-    marks[0].appendMisses(misses);
+    miss_count = marks[0].appendMisses(misses, &tree);
   }
   std::vector<VoxelUpdate>& updates = scratch.updates;
   updates.resize(hits.size() + misses.size());
@@ -379,7 +405,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   FrameStats stats;
   stats.valid_pixels = all.valid_pixels;
   stats.hit_voxels = hits.size();
-  stats.miss_voxels = misses.size();
+  stats.miss_voxels = miss_count;
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }

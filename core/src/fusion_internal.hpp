@@ -20,10 +20,12 @@ void checkFrameInputs(const LabelMap& map, const CameraIntrinsics& camera, const
 
 // What the processor runs, read once: with AVX2 the row kernels of the fast
 // path (pixel_projector.cpp, fast_logit.cpp) use their AVX2 builds; with
-// AVX-512 (F) 8-bit probability codes are summed a whole pixel per instruction.
+// AVX-512 (F) 8-bit probability codes are summed a whole pixel per
+// instruction, and with its byte permutes (BW, VBMI) four pixels at a time.
 struct CpuFeatures {
   bool avx2 = false;
   bool avx512 = false;
+  bool avx512_bytes = false;
 };
 inline const CpuFeatures& cpuFeatures() {
   static const CpuFeatures features = [] {
@@ -31,6 +33,7 @@ inline const CpuFeatures& cpuFeatures() {
 #if defined(__x86_64__) && defined(__GNUC__)
     f.avx2 = __builtin_cpu_supports("avx2");
     f.avx512 = __builtin_cpu_supports("avx512f");
+    f.avx512_bytes = f.avx512 && __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vbmi");
 #endif
     return f;
   }();
@@ -38,6 +41,7 @@ inline const CpuFeatures& cpuFeatures() {
 }
 inline bool cpuHasAvx2() { return cpuFeatures().avx2; }
 inline bool cpuHasAvx512() { return cpuFeatures().avx512; }
+inline bool cpuHasAvx512Bytes() { return cpuFeatures().avx512_bytes; }
 
 // A pixel's end voxel packed in 64 bits: x << 33 | y << 17 | z << 1 | beyond
 // max range. kNoVoxel marks a pixel without a valid depth or outside the map's

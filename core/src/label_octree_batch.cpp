@@ -114,6 +114,35 @@ LabelOcTree::SharedPath LabelOcTree::findCut(const std::vector<VoxelUpdate>& upd
   return shared;
 }
 
+std::uint64_t LabelOcTree::saturatedFreeBlocks(const octomap::OcTreeKey& corner) const {
+  constexpr int kBrickLevels = 4;  // a brick is the subtree of a node four levels above the leaves
+  const int depth_max = static_cast<int>(tree_depth);
+  const LabelOcTreeNode* node = root;
+  for (int d = 0; node && d < depth_max - kBrickLevels; ++d) {
+    if (isSaturatedFree(node, false)) return ~std::uint64_t{0};
+    if (!nodeHasChildren(node)) return 0;
+    const unsigned pos = octomap::computeChildIdx(corner, depth_max - 1 - d);
+    node = nodeChildExists(node, pos) ? getNodeChild(node, pos) : nullptr;
+  }
+  if (!node) return 0;
+  if (isSaturatedFree(node, false)) return ~std::uint64_t{0};
+  if (!nodeHasChildren(node)) return 0;
+  std::uint64_t blocks = 0;
+  for (unsigned c = 0; c < 8; ++c) {
+    if (!nodeChildExists(node, c)) continue;
+    const LabelOcTreeNode* child = getNodeChild(node, c);
+    if (isSaturatedFree(child, false)) {
+      blocks |= std::uint64_t{0xff} << (8 * c);
+      continue;
+    }
+    if (!nodeHasChildren(child)) continue;
+    for (unsigned g = 0; g < 8; ++g)
+      if (nodeChildExists(child, g) && isSaturatedFree(getNodeChild(child, g), false))
+        blocks |= std::uint64_t{1} << (8 * c + g);
+  }
+  return blocks;
+}
+
 int LabelOcTree::applySortedUpdates(const std::vector<VoxelUpdate>& updates, int threads) {
   if (updates.empty()) return 1;
   long node_delta = 0;

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <random>
 
 #include "lom/fusion.hpp"
 #include "lom/octree/label_octree.hpp"
@@ -126,9 +127,11 @@ TEST(FastPathTest, EveryKernelChoiceGivesTheSameBits) {
   const LabelMap baseline = lom::fuseSequence(sequence, fusion);
   fusion.integration.kernels = lom::VectorKernels::UpToAvx2;
   const LabelMap avx2 = lom::fuseSequence(sequence, fusion);
+  fusion.integration.kernels = lom::VectorKernels::UpToAvx512F;
+  const LabelMap avx512 = lom::fuseSequence(sequence, fusion);
   fusion.integration.kernels = lom::VectorKernels::Best;
   const LabelMap best = lom::fuseSequence(sequence, fusion);
-  for (const LabelMap* other : {&avx2, &best}) {
+  for (const LabelMap* other : {&avx2, &avx512, &best}) {
     Comparison result;
     compareLeaves(baseline, *other, result);
     compareLeaves(*other, baseline, result);
@@ -136,6 +139,68 @@ TEST(FastPathTest, EveryKernelChoiceGivesTheSameBits) {
     EXPECT_EQ(result.mismatched_state, 0u);
     EXPECT_EQ(result.max_probability_difference, 0.0);
     EXPECT_EQ(baseline.tree().size(), other->tree().size());
+  }
+}
+
+// The 8-bit kernels read a pixel's codes a whole register at a time (up to
+// four pixels at once): every channel count up to 16, an image width that is
+// not a multiple of four and the image's last pixel give the same bits with
+// every kernel choice.
+TEST(FastPathTest, EveryKernelChoiceGivesTheSameBitsAtEveryChannelCount) {
+  lom::test::TempDir dir;
+  lom::SynthOptions options;
+  options.seed = 8;
+  options.objects = 4;
+  options.frames = 3;
+  options.views = 3;
+  options.width = 163;  // odd: rows end inside a four-pixel load
+  options.height = 122;
+  lom::writeSyntheticScene(options, dir.path());
+  const lom::Sequence sequence = lom::loadSequence(dir.path());
+  const int n = sequence.labels.size();
+  std::vector<lom::FrameData> frames;
+  for (size_t i = 0; i < sequence.frames.size(); ++i) frames.push_back(lom::loadFrame(sequence, i));
+  for (const int channels : {1, 3, 7, 12, 15, 16}) {
+    // Codes drawn at random for the listed labels (a spread of labels).
+    std::vector<lom::ProbabilityImage> images;
+    std::mt19937 random(static_cast<unsigned>(channels));
+    std::uniform_int_distribution<int> code(0, 255);
+    for (const lom::FrameData& frame : frames) {
+      lom::ProbabilityImage proba;
+      proba.width = frame.depth.width;
+      proba.height = frame.depth.height;
+      proba.channels = channels;
+      for (int c = 0; c < channels; ++c) proba.channel_labels.push_back((c * 5) % n);
+      proba.codes.resize(static_cast<size_t>(proba.width) * proba.height * channels);
+      proba.values.resize(proba.codes.size());
+      for (size_t i = 0; i < proba.codes.size(); ++i) {
+        proba.codes[i] = static_cast<std::uint8_t>(code(random));
+        proba.values[i] = lom::probabilityOfCode(proba.codes[i]);
+      }
+      images.push_back(std::move(proba));
+    }
+    auto fuse = [&](lom::VectorKernels kernels) {
+      LabelMap map(sequence.labels, lom::MapParameters{});
+      lom::IntegrationOptions integration;
+      integration.threads = 2;
+      integration.kernels = kernels;
+      for (size_t i = 0; i < frames.size(); ++i) {
+        const lom::FrameEvidence evidence(n, &images[i], nullptr, std::nullopt, 0.9);
+        lom::integrateFrame(map, sequence.cameraOf(i), sequence.frames[i].T_world_camera, frames[i].depth,
+                            evidence, integration);
+      }
+      return map;
+    };
+    const LabelMap baseline = fuse(lom::VectorKernels::Baseline);
+    for (const auto kernels : {lom::VectorKernels::UpToAvx2, lom::VectorKernels::UpToAvx512F, lom::VectorKernels::Best}) {
+      const LabelMap other = fuse(kernels);
+      Comparison result;
+      compareLeaves(baseline, other, result);
+      compareLeaves(other, baseline, result);
+      EXPECT_GT(result.checked, 500u) << channels << " channels";
+      EXPECT_EQ(result.mismatched_state, 0u) << channels << " channels";
+      EXPECT_EQ(result.max_probability_difference, 0.0) << channels << " channels";
+    }
   }
 }
 

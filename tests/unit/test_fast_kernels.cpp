@@ -11,6 +11,8 @@
 
 #include "brick_set.hpp"
 #include "fusion_internal.hpp"
+#include "lom/label_map.hpp"
+#include "lom/labels.hpp"
 
 namespace {
 
@@ -151,6 +153,70 @@ TEST(BrickSetTest, MarksExactlyTheVoxelsTraverseRayVisits) {
       ASSERT_EQ(marked, visited) << "resolution " << resolution << ", ray " << ray;
     }
   }
+}
+
+// Misses on saturated free space change nothing: the 4^3 blocks of a brick
+// that the tree holds as saturated free space are left out of the miss
+// stream, and nothing else is.
+TEST(BrickSetTest, LeavesOutTheMissesOfSaturatedFreeBlocks) {
+  std::vector<lom::LabelInfo> list;
+  for (int i = 0; i < 3; ++i) list.push_back({i, "label" + std::to_string(i), lom::vocColor(i)});
+  lom::LabelMap map{lom::LabelSet(list)};
+  lom::LabelOcTree& tree = map.tree();
+  const unsigned corner = 32768;  // a brick's first key on every axis
+  auto miss = [&](unsigned x0, unsigned y0, unsigned z0, unsigned size, int times) {
+    std::vector<octomap::OcTreeKey> keys;
+    for (unsigned x = x0; x < x0 + size; ++x)
+      for (unsigned y = y0; y < y0 + size; ++y)
+        for (unsigned z = z0; z < z0 + size; ++z)
+          keys.emplace_back(static_cast<std::uint16_t>(corner + x), static_cast<std::uint16_t>(corner + y),
+                            static_cast<std::uint16_t>(corner + z));
+    for (int t = 0; t < times; ++t) {
+      for (const auto& key : keys) tree.applyMiss(key);
+      tree.refreshAncestors(keys);
+    }
+  };
+  miss(0, 0, 0, 4, 3);    // block 0: saturated
+  miss(8, 4, 0, 4, 3);    // block 10 (child 1, grandchild 2): saturated
+  miss(8, 8, 8, 8, 3);    // child 7, blocks 56-63: saturated
+  miss(0, 4, 0, 4, 3);    // block 2: saturated but for one voxel,
+  const octomap::OcTreeKey hit(static_cast<std::uint16_t>(corner + 1), static_cast<std::uint16_t>(corner + 5),
+                               static_cast<std::uint16_t>(corner + 2));
+  tree.applyHit(hit, std::vector<float>{0.5f, -0.5f, 0.f}.data());
+  tree.refreshAncestors({hit});
+  miss(4, 0, 0, 4, 2);    // block 1: missed twice, not saturated
+  const octomap::OcTreeKey first(corner, corner, corner);
+  EXPECT_EQ(tree.saturatedFreeBlocks(first), std::uint64_t{1} | std::uint64_t{1} << 10 | std::uint64_t{0xff} << 56);
+  EXPECT_EQ(tree.saturatedFreeBlocks(octomap::OcTreeKey(corner + 16, corner, corner)), 0u) << "unknown space";
+
+  // Rays through the brick along its edges and through the saturated blocks.
+  const lom::grid::Grid grid(tree.getResolution());
+  lom::BrickSet marks;
+  auto key = [&](unsigned x, unsigned y, unsigned z) {
+    return lom::grid::Key{static_cast<std::uint16_t>(corner + x), static_cast<std::uint16_t>(corner + y),
+                          static_cast<std::uint16_t>(corner + z)};
+  };
+  const std::pair<lom::grid::Key, lom::grid::Key> rays[] = {
+      {key(0, 0, 0), key(16, 0, 0)}, {key(0, 0, 0), key(0, 16, 0)},
+      {key(0, 4, 0), key(16, 4, 0)}, {key(8, 8, 0), key(8, 8, 16)}};
+  for (const auto& [from, to] : rays) {
+    lom::grid::RayWalk walk;
+    ASSERT_TRUE(lom::grid::setUpRay(grid, grid.centerOf(from), grid.centerOf(to), walk));
+    marks.markWalk(walk);
+  }
+  std::vector<lom::VoxelUpdate> misses;
+  EXPECT_EQ(marks.appendMisses(misses, &tree), 62u) << "every marked voxel is counted";
+  std::vector<std::array<unsigned, 3>> kept;
+  for (const auto& m : misses) kept.push_back({m.key[0] - corner, m.key[1] - corner, m.key[2] - corner});
+  std::vector<std::array<unsigned, 3>> expected;
+  for (unsigned x = 4; x < 16; ++x) expected.push_back({x, 0, 0});  // blocks 1, 8 and 9
+  for (unsigned y = 4; y < 16; ++y) expected.push_back({0, y, 0});  // blocks 2, 16 and 18
+  for (unsigned x = 1; x < 16; ++x)                                 // blocks 2, 3 and 11, not 10
+    if (x < 8 || x >= 12) expected.push_back({x, 4, 0});
+  for (unsigned z = 0; z < 8; ++z) expected.push_back({8, 8, z});   // blocks 24 and 28, not child 7
+  std::sort(kept.begin(), kept.end());
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(kept, expected);
 }
 
 }  // namespace

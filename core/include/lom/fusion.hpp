@@ -67,8 +67,9 @@ enum class IntegrationPath {
 };
 
 enum class VectorKernels {
-  Best,      // AVX-512 or AVX2 kernels where the processor has them
-  UpToAvx2,  // AVX2 at most
+  Best,         // AVX-512 (with byte permutes, VBMI) or AVX2 kernels where the processor has them
+  UpToAvx512F,  // AVX-512 foundation at most: no byte permutes
+  UpToAvx2,     // AVX2 at most
   Baseline,  // the baseline x86-64 instructions only
 };
 

@@ -130,6 +130,13 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   // Returns how many parts ran at once (1 or 2).
   int applySortedUpdates(const std::vector<VoxelUpdate>& updates, int threads = 1);
 
+  // Which 4 x 4 x 4 blocks of the 16 x 16 x 16 brick whose first key is
+  // `corner` (low four bits of each component zero) are saturated free space,
+  // a miss on any of their voxels changing nothing: bit 8c + g for the
+  // block at child g of the brick's child c (the blocks' depth-first order).
+  // Reads the tree only, so threads may call it at once.
+  [[nodiscard]] std::uint64_t saturatedFreeBlocks(const octomap::OcTreeKey& corner) const;
+
   [[nodiscard]] float missLogOdds() const { return prob_miss_log; }
   [[nodiscard]] float clampMinLogOdds() const { return clamping_thres_min; }
   [[nodiscard]] float clampMaxLogOdds() const { return clamping_thres_max; }
