@@ -269,7 +269,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     size_t valid_pixels = 0;  // counted here: part's fields are written per pixel
     for (int v = rows_begin; v < rows_end; ++v) {
       projector.projectRow(v, depth.metres.data() + static_cast<size_t>(v) * depth.width,
-                           depth.width, row.data(), vector_kernels);
+                           depth.width, row.data(), kernels);
       const std::uint8_t* codes =
           coded ? direct->codes.data() + static_cast<size_t>(v) * row_values : nullptr;
       if (!coded) {

@@ -77,10 +77,10 @@ class PixelProjector {
         max_range_squared_(max_range > 0.0 ? max_range * max_range : -1.0) {}
 
   // out[u] = packVoxel(end voxel of pixel (u, v)), or kNoVoxel. Vectorised
-  // with AVX2 where the processor has it; `allow_avx2 = false` forces the
-  // baseline instruction set (for tests: both give the same keys).
+  // with AVX-512 or AVX2 where the processor has them and `kernels` allows
+  // them (every choice gives the same keys).
   void projectRow(int v, const float* depth_row, int width, std::uint64_t* out,
-                  bool allow_avx2 = true) const;
+                  VectorKernels kernels = VectorKernels::Best) const;
   [[nodiscard]] const Eigen::Vector3d& origin() const { return origin_; }
 
  private:

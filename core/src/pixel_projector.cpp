@@ -63,12 +63,18 @@ template <bool kFloorInstruction>
                                             std::uint64_t* out) {
   projectRowKernel<true>(r, depth_row, width, out);
 }
+// Eight doubles per register. AVX-512 has fused multiply-adds: this file is
+// built with -ffp-contract=off (core/CMakeLists.txt), so none is used.
+[[gnu::target("avx512f,prefer-vector-width=512")]] void projectRowAvx512(const RowTerms& r, const float* depth_row,
+                                                                          int width, std::uint64_t* out) {
+  projectRowKernel<true>(r, depth_row, width, out);
+}
 #endif
 
 }  // namespace
 
 void PixelProjector::projectRow(int v, const float* depth_row, int width, std::uint64_t* out,
-                                bool allow_avx2) const {
+                                VectorKernels kernels) const {
   RowTerms r;
   const double y = (v - cy_) * inverse_fy_;
   for (int i = 0; i < 3; ++i) {
@@ -83,7 +89,9 @@ void PixelProjector::projectRow(int v, const float* depth_row, int width, std::u
   r.yy_plus_one = y * y + 1.0;
   r.max_range_squared = max_range_squared_;
 #if defined(__x86_64__) && defined(__GNUC__)
-  if (allow_avx2 && cpuHasAvx2()) return projectRowAvx2(r, depth_row, width, out);
+  if (kernels != VectorKernels::UpToAvx2 && kernels != VectorKernels::Baseline && cpuHasAvx512())
+    return projectRowAvx512(r, depth_row, width, out);
+  if (kernels != VectorKernels::Baseline && cpuHasAvx2()) return projectRowAvx2(r, depth_row, width, out);
 #endif
   projectRowKernel<false>(r, depth_row, width, out);
 }

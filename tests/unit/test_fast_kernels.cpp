@@ -91,10 +91,12 @@ TEST(PixelProjectorTest, RowMatchesThePerPixelBackProjection) {
     row[6] = -1.f;
     row[7] = 1e4f;
     for (int v = 0; v < camera.height; ++v) {
-      std::vector<std::uint64_t> packed(row.size()), baseline(row.size());
+      std::vector<std::uint64_t> packed(row.size()), avx2(row.size()), baseline(row.size());
       projector.projectRow(v, row.data(), camera.width, packed.data());
-      projector.projectRow(v, row.data(), camera.width, baseline.data(), false);
-      EXPECT_EQ(packed, baseline) << "the AVX2 and the baseline builds must agree";
+      projector.projectRow(v, row.data(), camera.width, avx2.data(), lom::VectorKernels::UpToAvx2);
+      projector.projectRow(v, row.data(), camera.width, baseline.data(), lom::VectorKernels::Baseline);
+      EXPECT_EQ(packed, baseline) << "the AVX-512 and the baseline builds must agree";
+      EXPECT_EQ(avx2, baseline) << "the AVX2 and the baseline builds must agree";
       for (int u = 0; u < camera.width; ++u) {
         const double z = row[static_cast<size_t>(u)];
         const double x = (u - camera.cx) / camera.fx, y = (v - camera.cy) / camera.fy;
