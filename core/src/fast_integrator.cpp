@@ -138,6 +138,10 @@ struct CodedRow {
   int width;                      // channels per pixel, 1..16
   const float* table;             // log-odds of each code
   const std::uint8_t* table_bytes; // byte b of table[c] at table_bytes[256 b + c]
+  // Four pixels' codes spread one per 16-byte lane: byte i of the lanes comes
+  // from byte spread[i] of the four pixels' codes (channels past the width
+  // repeat the last code; they land in the sums' padding).
+  const std::uint8_t* spread;
   float* sums;                    // the groups' sums, kCodedStride apart, on cache lines
 };
 
@@ -251,6 +255,10 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
                        ? sumCodedRowAvx512
                    : cpuHasAvx2() ? sumCodedRowAvx2
                                   : nullptr;
+  std::array<std::uint8_t, 64> code_spread{};
+  if (coded_kernel)
+    for (int i = 0; i < 64; ++i)
+      code_spread[static_cast<size_t>(i)] = static_cast<std::uint8_t>((i / 16) * width + std::min(i % 16, width - 1));
   const PixelProjector projector(g, camera, T_world_camera, max_range);
   const size_t stride = coded_kernel ? kCodedStride : static_cast<size_t>(width);
   thread_local FastScratch scratch;
@@ -286,7 +294,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
       if (coded_kernel) {
         valid_pixels += groupRow(part, row.data(), depth.width, group_of.data());
         coded_kernel({group_of.data(), depth.width, codes, codes_end, width, code_logit.data(), code_logit_bytes.data(),
-                      part.sums.data()});
+                      code_spread.data(), part.sums.data()});
         continue;
       }
       // Consecutive pixels often end in the same voxel (depth noise keeps

@@ -54,14 +54,15 @@ void expectSameMaps(const LabelMap& reference, const LabelMap& fast) {
 }
 
 // A generated 320x240 shelf-bin scene (8-bit probability images) in `dir`.
-lom::Sequence generatedScene(const lom::test::TempDir& dir, std::uint64_t seed, int objects, int frames) {
+lom::Sequence generatedScene(const lom::test::TempDir& dir, std::uint64_t seed, int objects, int frames,
+                             int width = 320, int height = 240) {
   lom::SynthOptions options;
   options.seed = seed;
   options.objects = objects;
   options.frames = frames;
   options.views = 3;
-  options.width = 320;
-  options.height = 240;
+  options.width = width;
+  options.height = height;
   lom::writeSyntheticScene(options, dir.path());
   return lom::loadSequence(dir.path());
 }
@@ -148,15 +149,7 @@ TEST(FastPathTest, EveryKernelChoiceGivesTheSameBits) {
 // every kernel choice.
 TEST(FastPathTest, EveryKernelChoiceGivesTheSameBitsAtEveryChannelCount) {
   lom::test::TempDir dir;
-  lom::SynthOptions options;
-  options.seed = 8;
-  options.objects = 4;
-  options.frames = 3;
-  options.views = 3;
-  options.width = 163;  // odd: rows end inside a four-pixel load
-  options.height = 122;
-  lom::writeSyntheticScene(options, dir.path());
-  const lom::Sequence sequence = lom::loadSequence(dir.path());
+  const lom::Sequence sequence = generatedScene(dir, 8, 4, 3, 163, 122);  // odd width: rows end inside a four-pixel load
   const int n = sequence.labels.size();
   std::vector<lom::FrameData> frames;
   for (size_t i = 0; i < sequence.frames.size(); ++i) frames.push_back(lom::loadFrame(sequence, i));

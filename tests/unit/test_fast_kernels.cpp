@@ -11,8 +11,7 @@
 
 #include "brick_set.hpp"
 #include "fusion_internal.hpp"
-#include "lom/label_map.hpp"
-#include "lom/labels.hpp"
+#include "test_mesh_checks.hpp"
 
 namespace {
 
@@ -161,9 +160,7 @@ TEST(BrickSetTest, MarksExactlyTheVoxelsTraverseRayVisits) {
 // that the tree holds as saturated free space are left out of the miss
 // stream, and nothing else is.
 TEST(BrickSetTest, LeavesOutTheMissesOfSaturatedFreeBlocks) {
-  std::vector<lom::LabelInfo> list;
-  for (int i = 0; i < 3; ++i) list.push_back({i, "label" + std::to_string(i), lom::vocColor(i)});
-  lom::LabelMap map{lom::LabelSet(list)};
+  lom::LabelMap map{lom::test::numberedLabels(3)};
   lom::LabelOcTree& tree = map.tree();
   const unsigned corner = 32768;  // a brick's first key on every axis
   auto miss = [&](unsigned x0, unsigned y0, unsigned z0, unsigned size, int times) {
