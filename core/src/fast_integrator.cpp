@@ -369,18 +369,32 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     marks[0].clear(unpackVoxel(group.voxel).end_key);
     ++hit_count;
   }
+  // With a probability image used as is, a hit lists its channels' labels
+  // (ascending) and then the log-odds every other label gets; else all labels.
+  HitLabels listed;
+  std::array<int, 256> channel_of_listed{};
+  if (direct) {
+    listed.count = width;
+    for (int c = 0; c < width; ++c) channel_of_listed[static_cast<size_t>(c)] = c;
+    std::sort(channel_of_listed.begin(), channel_of_listed.begin() + width, [&](int a, int b) {
+      return direct->channel_labels[static_cast<size_t>(a)] < direct->channel_labels[static_cast<size_t>(b)];
+    });
+    for (int i = 0; i < width; ++i)
+      listed.ids[i] = static_cast<std::uint8_t>(direct->channel_labels[static_cast<size_t>(channel_of_listed[static_cast<size_t>(i)])]);
+  }
+  const size_t hit_stride = direct ? static_cast<size_t>(width) + 1 : static_cast<size_t>(n);
   auto buildHits = [&] {
-    hit_values.resize(hit_count * static_cast<size_t>(n));
+    hit_values.resize(hit_count * hit_stride);
     hits.reserve(hit_count);
     for (size_t i = 0; i < all.groups.size(); ++i) {
       const auto& group = all.groups[i];
       if (group.voxel & 1u) continue;
       const grid::Key key = unpackVoxel(group.voxel).end_key;
-      float* values = hit_values.data() + hits.size() * static_cast<size_t>(n);
+      float* values = hit_values.data() + hits.size() * hit_stride;
       const float* sums = all.sumsOf(i);
       if (direct) {
-        std::fill(values, values + n, unlisted * static_cast<float>(group.pixels));
-        for (int c = 0; c < width; ++c) values[direct->channel_labels[static_cast<size_t>(c)]] = sums[c];
+        for (int c = 0; c < width; ++c) values[c] = sums[channel_of_listed[static_cast<size_t>(c)]];
+        values[width] = unlisted * static_cast<float>(group.pixels);
       } else {
         std::copy(sums, sums + n, values);
       }
@@ -408,7 +422,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   updates.resize(hits.size() + misses.size());
   std::merge(hits.begin(), hits.end(), misses.begin(), misses.end(), updates.begin(),
              [](const VoxelUpdate& a, const VoxelUpdate& b) { return a.morton < b.morton; });
-  tree.applySortedUpdates(updates, threads);
+  tree.applySortedUpdates(updates, threads, direct ? &listed : nullptr);
 
   FrameStats stats;
   stats.valid_pixels = all.valid_pixels;

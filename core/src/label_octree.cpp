@@ -146,13 +146,20 @@ void LabelOcTreeNode::setLabelLogOdds(int num_labels, const float* values) {
     low = std::min(low, values[k]);
     high = std::max(high, values[k]);
   }
+  std::uint8_t ids[kMaxLabels];
+  for (int k = 0; k < num_labels; ++k) ids[k] = static_cast<std::uint8_t>(k);
+  storeLabels(num_labels, low, high, ids, values, static_cast<unsigned>(num_labels));
+}
+
+void LabelOcTreeNode::storeLabels(int num_labels, float low, float high, const std::uint8_t* ids,
+                                  const float* values, unsigned count) {
   value = high;
   if (low == high) {
     release();
     return;
   }
   unsigned above = 0;
-  for (int k = 0; k < num_labels; ++k) above += values[k] > low ? 1u : 0u;
+  for (unsigned i = 0; i < count; ++i) above += values[i] > low ? 1u : 0u;
   // Re-hit voxels usually keep the same labels above the base: reuse the block.
   SparseLabels* b = const_cast<SparseLabels*>(block());
   if (!b || b->count != above || b->num_labels != num_labels) {
@@ -161,12 +168,12 @@ void LabelOcTreeNode::setLabelLogOdds(int num_labels, const float* values) {
     data_ = reinterpret_cast<std::uintptr_t>(b);
   }
   b->base = low;
-  unsigned i = 0;
-  for (int k = 0; k < num_labels; ++k) {
-    if (values[k] <= low) continue;
-    b->ids()[i] = static_cast<std::uint8_t>(k);
-    b->values()[i] = values[k];
-    ++i;
+  unsigned j = 0;
+  for (unsigned i = 0; i < count; ++i) {
+    if (values[i] <= low) continue;
+    b->ids()[j] = ids[i];
+    b->values()[j] = values[i];
+    ++j;
   }
 }
 
@@ -180,6 +187,51 @@ void LabelOcTreeNode::addLabelLogOdds(int num_labels, const float* update, float
   labelLogOdds(num_labels, values);
   for (int k = 0; k < num_labels; ++k) values[k] = std::clamp(values[k] + update[k], lo, hi);
   setLabelLogOdds(num_labels, values);
+}
+
+void LabelOcTreeNode::addListedLogOdds(int num_labels, int count, const std::uint8_t* ids, const float* values,
+                                       float rest, float lo, float hi) {
+  // The labels listed by the update or by the block, ascending, with their
+  // new values; every label in neither list had the block's base (or the
+  // uniform value) and gets `rest`.
+  const SparseLabels* b = block();
+  const float old_other = b ? b->base : value;
+  const unsigned block_count = b ? b->count : 0u;
+  const std::uint8_t* block_ids = b ? b->ids() : nullptr;
+  const float* block_values = b ? b->values() : nullptr;
+  std::uint8_t merged_ids[kMaxLabels];
+  float merged[kMaxLabels];
+  unsigned m = 0, i = 0, j = 0;
+  const unsigned listed = static_cast<unsigned>(count);
+  while (i < listed || j < block_count) {
+    const int a = i < listed ? ids[i] : kMaxLabels, c = j < block_count ? block_ids[j] : kMaxLabels;
+    float sum;
+    if (a < c) {
+      sum = old_other + values[i++];
+    } else if (c < a) {
+      sum = block_values[j++] + rest;
+    } else {
+      sum = block_values[j++] + values[i++];
+    }
+    merged_ids[m] = static_cast<std::uint8_t>(std::min(a, c));
+    merged[m++] = std::clamp(sum, lo, hi);
+  }
+  const bool others = m < static_cast<unsigned>(num_labels);
+  const float other = std::clamp(old_other + rest, lo, hi);
+  float low = others ? other : merged[0], high = low;
+  for (unsigned k = 0; k < m; ++k) {
+    low = std::min(low, merged[k]);
+    high = std::max(high, merged[k]);
+  }
+  if (others && other > low) {
+    // The other labels are not the smallest: write the update out.
+    float update[kMaxLabels];
+    std::fill(update, update + num_labels, rest);
+    for (unsigned k = 0; k < listed; ++k) update[ids[k]] = values[k];
+    addLabelLogOdds(num_labels, update, lo, hi);
+    return;
+  }
+  storeLabels(num_labels, low, high, merged_ids, merged, m);
 }
 
 void LabelOcTreeNode::addUniformLogOdds(float update, float lo, float hi) {

@@ -29,7 +29,7 @@ int sharedDepth(std::uint64_t a, std::uint64_t b, int depth_max) {
 }  // namespace
 
 long LabelOcTree::applyUpdateRange(const VoxelUpdate* first, const VoxelUpdate* last,
-                                   bool root_is_new, const SharedPath& shared) {
+                                   bool root_is_new, const SharedPath& shared, const HitLabels* listed) {
   const int depth_max = static_cast<int>(tree_depth);
   const int n = numLabels();
   long node_delta = 0;
@@ -68,7 +68,10 @@ long LabelOcTree::applyUpdateRange(const VoxelUpdate* first, const VoxelUpdate* 
     }
     valid_depth = d;
     if (skipped) continue;
-    if (update->hit)
+    if (update->hit && listed)
+      node->addListedLogOdds(n, listed->count, listed->ids, update->hit, update->hit[listed->count],
+                             clamping_thres_min, clamping_thres_max);
+    else if (update->hit)
       node->addLabelLogOdds(n, update->hit, clamping_thres_min, clamping_thres_max);
     else
       node->addUniformLogOdds(prob_miss_log, clamping_thres_min, clamping_thres_max);
@@ -143,7 +146,8 @@ std::uint64_t LabelOcTree::saturatedFreeBlocks(const octomap::OcTreeKey& corner)
   return blocks;
 }
 
-int LabelOcTree::applySortedUpdates(const std::vector<VoxelUpdate>& updates, int threads) {
+int LabelOcTree::applySortedUpdates(const std::vector<VoxelUpdate>& updates, int threads,
+                                    const HitLabels* listed) {
   if (updates.empty()) return 1;
   long node_delta = 0;
   bool root_is_new = false;
@@ -159,13 +163,13 @@ int LabelOcTree::applySortedUpdates(const std::vector<VoxelUpdate>& updates, int
   if (threads > 1 && !root_is_new && updates.size() >= kMinimumForTwo) shared = findCut(updates, cut);
 
   if (shared.depth < 0) {
-    node_delta += applyUpdateRange(updates.data(), updates.data() + updates.size(), root_is_new, shared);
+    node_delta += applyUpdateRange(updates.data(), updates.data() + updates.size(), root_is_new, shared, listed);
   } else {
     long deltas[2] = {0, 0};
     runParts(2, [&](int part) {
-      deltas[part] = part == 0 ? applyUpdateRange(updates.data(), updates.data() + cut, false, shared)
+      deltas[part] = part == 0 ? applyUpdateRange(updates.data(), updates.data() + cut, false, shared, listed)
                                : applyUpdateRange(updates.data() + cut, updates.data() + updates.size(),
-                                                  false, shared);
+                                                  false, shared, listed);
     });
     node_delta += deltas[0] + deltas[1];
     // The shared nodes, bottom-up, now that both halves are done.

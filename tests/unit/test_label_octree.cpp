@@ -137,6 +137,53 @@ TEST(LabelOcTreeTest, LeafBlocksKeepOnlyLabelsAboveTheSmallest) {
   EXPECT_EQ(node->argmaxLabel(40), 4);
 }
 
+// A hit that lists a few labels and gives every other label one value must
+// leave the node exactly as the same update written out for every label:
+// same values to the bit, same block (so operator== holds), from uniform
+// leaves and from leaves with blocks, with labels listed by both, by one or
+// by neither, clamped at either end, and when the other labels do not end up
+// the smallest.
+TEST(LabelOcTreeTest, ListedHitsGiveTheSameNodeAsHitsWrittenOut) {
+  std::mt19937 random(17);
+  std::uniform_real_distribution<float> log_odds(-3.f, 4.f);
+  const float lo = -2.f, hi = 3.5f;
+  for (const int n : {1, 2, 5, 40}) {
+    std::uniform_int_distribution<int> label(0, n - 1);
+    for (int trial = 0; trial < 2000; ++trial) {
+      LabelOcTreeNode dense, listed;
+      // A starting node: uniform, or the result of one or two written-out hits.
+      const int earlier = trial % 3;
+      for (int h = 0; h < earlier; ++h) {
+        std::vector<float> update(static_cast<size_t>(n), trial % 2 ? -30.f : log_odds(random));
+        for (int k = 0; k < 1 + trial % 4; ++k) update[static_cast<size_t>(label(random))] = log_odds(random);
+        dense.addLabelLogOdds(n, update.data(), lo, hi);
+        listed.addLabelLogOdds(n, update.data(), lo, hi);
+      }
+      if (earlier == 0) {
+        dense.setUniformLogOdds(log_odds(random));
+        listed.setUniformLogOdds(dense.getLogOdds());
+      }
+      ASSERT_TRUE(dense == listed);
+      // The listed update: distinct labels, ascending.
+      std::vector<std::uint8_t> ids;
+      for (int k = 0; k < n; ++k)
+        if (std::uniform_int_distribution<int>(0, 3)(random) == 0) ids.push_back(static_cast<std::uint8_t>(k));
+      std::vector<float> values;
+      for (size_t i = 0; i < ids.size(); ++i) values.push_back(log_odds(random));
+      // Mostly far below (the log-odds of labels without a channel), sometimes above the listed values.
+      const float rest = trial % 5 == 0 ? 2.f : -30.f + log_odds(random);
+      std::vector<float> update(static_cast<size_t>(n), rest);
+      for (size_t i = 0; i < ids.size(); ++i) update[ids[i]] = values[i];
+      dense.addLabelLogOdds(n, update.data(), lo, hi);
+      listed.addListedLogOdds(n, static_cast<int>(ids.size()), ids.data(), values.data(), rest, lo, hi);
+      ASSERT_TRUE(dense == listed) << "n " << n << ", trial " << trial;
+      EXPECT_EQ(dense.isUniform(), listed.isUniform());
+      EXPECT_EQ(dense.labelBytes(), listed.labelBytes());
+      for (int k = 0; k < n; ++k) ASSERT_EQ(dense.labelLogOdds(k), listed.labelLogOdds(k)) << "label " << k;
+    }
+  }
+}
+
 TEST(LabelOcTreeTest, MergesSaturatedFreeSpaceWhileFusing) {
   LabelMap map(labels(3));
   LabelOcTree& tree = map.tree();

@@ -58,6 +58,11 @@ class LabelOcTreeNode : public octomap::OcTreeNode {
   void addLabelLogOdds(int num_labels, const float* update, float lo, float hi);
   // Adds the same update to every label and clamps.
   void addUniformLogOdds(float update, float lo, float hi);
+  // Adds values[i] to label ids[i] (`count` ids, ascending) and `rest` to
+  // every other label, clamping each to [lo, hi]: the same values as
+  // addLabelLogOdds with that update written out, without writing it out.
+  void addListedLogOdds(int num_labels, int count, const std::uint8_t* ids, const float* values, float rest,
+                        float lo, float hi);
 
   // Inner nodes: the maximum over the existing children and its label.
   void updateOccupancyChildren();
@@ -78,6 +83,10 @@ class LabelOcTreeNode : public octomap::OcTreeNode {
   void collapseChildren();                  // takes child 0's data, deletes the eight leaves
 
   struct SparseLabels;
+  // Stores `count` labels (ids ascending) of which those above `low` are kept
+  // in the block and the others read as `low`; `high` is the largest value.
+  void storeLabels(int num_labels, float low, float high, const std::uint8_t* ids, const float* values,
+                   unsigned count);
   [[nodiscard]] const SparseLabels* block() const {
     return (data_ != 0 && !isSummary()) ? reinterpret_cast<const SparseLabels*>(data_) : nullptr;
   }
@@ -91,7 +100,16 @@ class LabelOcTreeNode : public octomap::OcTreeNode {
 struct VoxelUpdate {
   std::uint64_t morton = 0;     // grid::mortonCode of the key: depth-first order of the tree
   octomap::OcTreeKey key;
-  const float* hit = nullptr;   // summed per-label log-odds of a hit; nullptr for a miss
+  // A hit's summed log-odds (nullptr for a miss): one per label, or with
+  // HitLabels one per listed label and then the one every other label gets.
+  const float* hit = nullptr;
+};
+
+// The labels a frame's hits list (ascending): a frame whose probability
+// images have a few channels gives every other label the same log-odds.
+struct HitLabels {
+  int count = 0;
+  std::uint8_t ids[256] = {};
 };
 
 class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
@@ -128,7 +146,8 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   // the two keys at the cut part) already exist as inner nodes; those nodes
   // are refreshed after both halves are done. Same tree as one thread.
   // Returns how many parts ran at once (1 or 2).
-  int applySortedUpdates(const std::vector<VoxelUpdate>& updates, int threads = 1);
+  int applySortedUpdates(const std::vector<VoxelUpdate>& updates, int threads = 1,
+                         const HitLabels* listed = nullptr);
 
   // Which 4 x 4 x 4 blocks of the 16 x 16 x 16 brick whose first key is
   // `corner` (low four bits of each component zero) are saturated free space,
@@ -159,7 +178,7 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   // listed in `shared` (by depth, up to shared_depth) are left unfinished.
   struct SharedPath;
   long applyUpdateRange(const VoxelUpdate* first, const VoxelUpdate* last, bool root_is_new,
-                        const SharedPath& shared);
+                        const SharedPath& shared, const HitLabels* listed);
   // Where applySortedUpdates cuts the stream, and the nodes both halves share
   // (depth -1 when no usable cut was found).
   SharedPath findCut(const std::vector<VoxelUpdate>& updates, size_t& cut) const;
