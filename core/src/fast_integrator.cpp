@@ -16,8 +16,9 @@
 //     bricks; brick_set.hpp).
 //  3. Hit voxels are removed from the marks; misses (read from the bricks in
 //     Morton order, leaving out the 4^3 blocks the tree holds as saturated
-//     free space, which a miss cannot change) and hits (sorted) merge into one
-//     depth-first update stream
+//     free space, which a miss cannot change) and hits (sorted; with a
+//     probability image used as is, a hit lists its channels' labels and the
+//     one value every other label gets) merge into one depth-first update stream
 //     that the tree applies in one pass, cut in two halves that run at once
 //     (LabelOcTree::applySortedUpdates).
 // The parallel phases run on worker threads kept between frames
