@@ -380,8 +380,10 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     std::sort(channel_of_listed.begin(), channel_of_listed.begin() + width, [&](int a, int b) {
       return direct->channel_labels[static_cast<size_t>(a)] < direct->channel_labels[static_cast<size_t>(b)];
     });
-    for (int i = 0; i < width; ++i)
-      listed.ids[i] = static_cast<std::uint8_t>(direct->channel_labels[static_cast<size_t>(channel_of_listed[static_cast<size_t>(i)])]);
+    for (int i = 0; i < width; ++i) {
+      const int channel = channel_of_listed[static_cast<size_t>(i)];
+      listed.ids[i] = static_cast<std::uint8_t>(direct->channel_labels[static_cast<size_t>(channel)]);
+    }
   }
   const size_t hit_stride = direct ? static_cast<size_t>(width) + 1 : static_cast<size_t>(n);
   auto buildHits = [&] {

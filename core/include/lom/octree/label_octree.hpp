@@ -145,7 +145,9 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   // at once when the nodes the halves share (the path from the root to where
   // the two keys at the cut part) already exist as inner nodes; those nodes
   // are refreshed after both halves are done. Same tree as one thread.
-  // Returns how many parts ran at once (1 or 2).
+  // With `listed`, every hit holds the listed labels' log-odds and then the
+  // one every other label gets (LabelOcTreeNode::addListedLogOdds); without
+  // it, one per label. Returns how many parts ran at once (1 or 2).
   int applySortedUpdates(const std::vector<VoxelUpdate>& updates, int threads = 1,
                          const HitLabels* listed = nullptr);
 
