@@ -1,6 +1,7 @@
 #include "lom/octree/label_octree.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <istream>
@@ -48,6 +49,13 @@ struct LabelOcTreeNode::SparseLabels {
 namespace {
 
 constexpr int kMaxLabels = 256;
+
+// Label ids 0, 1, ..., 255: a dense label vector as a list of every label.
+constexpr std::array<std::uint8_t, kMaxLabels> kEveryLabel = [] {
+  std::array<std::uint8_t, kMaxLabels> ids{};
+  for (int k = 0; k < kMaxLabels; ++k) ids[static_cast<size_t>(k)] = static_cast<std::uint8_t>(k);
+  return ids;
+}();
 
 }  // namespace
 
@@ -146,9 +154,7 @@ void LabelOcTreeNode::setLabelLogOdds(int num_labels, const float* values) {
     low = std::min(low, values[k]);
     high = std::max(high, values[k]);
   }
-  std::uint8_t ids[kMaxLabels];
-  for (int k = 0; k < num_labels; ++k) ids[k] = static_cast<std::uint8_t>(k);
-  storeLabels(num_labels, low, high, ids, values, static_cast<unsigned>(num_labels));
+  storeLabels(num_labels, low, high, kEveryLabel.data(), values, static_cast<unsigned>(num_labels));
 }
 
 void LabelOcTreeNode::storeLabels(int num_labels, float low, float high, const std::uint8_t* ids,
