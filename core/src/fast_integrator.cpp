@@ -111,8 +111,9 @@ constexpr size_t kCodedStride = 16;
 constexpr std::uint32_t kNoGroup = ~std::uint32_t{0};
 
 // group_of[u] = the group of pixel u, or kNoGroup when it adds no log-odds
-// (no voxel, or beyond max range). Counts the pixels of every group; returns
-// the pixels with a voxel.
+// (no voxel, or beyond max range). Counts the pixels of every group when
+// `count` (else the kernel counts them); returns the pixels with a voxel.
+template <bool count>
 size_t groupRow(PixelGroups& part, const std::uint64_t* voxels, int pixels, std::uint32_t* group_of) {
   // Every pixel looks its voxel up in the cache of recent voxels: no test for
   // the end of a run, which depth noise makes unpredictable.
@@ -124,7 +125,7 @@ size_t groupRow(PixelGroups& part, const std::uint64_t* voxels, int pixels, std:
       continue;
     }
     const std::uint32_t group = part.cachedGroupFor(voxel);
-    ++part.groups[group].pixels;
+    if constexpr (count) ++part.groups[group].pixels;
     ++valid;
     group_of[u] = (voxel & 1u) ? kNoGroup : group;  // beyond max range: misses only
   }
@@ -144,6 +145,7 @@ struct CodedRow {
   // repeat the last code; they land in the sums' padding).
   const std::uint8_t* spread;
   float* sums;                    // the groups' sums, kCodedStride apart, on cache lines
+  bool count_pixels;              // width <= 15: lane 15 of the sums counts the pixels
 };
 
 // The 16 codes starting at a pixel's first; past the image's end, zeros.
@@ -201,7 +203,7 @@ struct FastScratch {
   std::vector<PixelGroups> parts;
   std::vector<BrickSet> marks;
   std::vector<float> hit_values;
-  std::vector<VoxelUpdate> hits, misses, updates;
+  std::vector<VoxelUpdate> hits, misses, updates, spare;
 };
 
 bool hasDuplicateChannels(const ProbabilityImage& proba) {
@@ -262,6 +264,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
       code_spread[static_cast<size_t>(i)] = static_cast<std::uint8_t>((i / 16) * width + std::min(i % 16, width - 1));
   const PixelProjector projector(g, camera, T_world_camera, max_range);
   const size_t stride = coded_kernel ? kCodedStride : static_cast<size_t>(width);
+  const bool count_in_kernel = coded_kernel && width < static_cast<int>(kCodedStride);
   thread_local FastScratch scratch;
   std::vector<PixelGroups>& parts = scratch.parts;
   parts.resize(static_cast<size_t>(threads));
@@ -293,9 +296,10 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
         logitRow(probabilities, row_values, row_logits.data(), vector_kernels);
       }
       if (coded_kernel) {
-        valid_pixels += groupRow(part, row.data(), depth.width, group_of.data());
+        valid_pixels += count_in_kernel ? groupRow<false>(part, row.data(), depth.width, group_of.data())
+                                         : groupRow<true>(part, row.data(), depth.width, group_of.data());
         coded_kernel({group_of.data(), depth.width, codes, codes_end, width, code_logit.data(), code_logit_bytes.data(),
-                      code_spread.data(), part.sums.data()});
+                      code_spread.data(), part.sums.data(), count_in_kernel});
         continue;
       }
       // Consecutive pixels often end in the same voxel (depth noise keeps
@@ -328,6 +332,9 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
       valid_pixels += run_pixels;
     }
     part.valid_pixels = valid_pixels;
+    if (count_in_kernel)  // the pixels of groups beyond max range are not needed
+      for (size_t i = 0; i < part.groups.size(); ++i)
+        part.groups[i].pixels = static_cast<std::uint32_t>(part.sumsOf(i)[kCodedStride - 1]);
   });
   PixelGroups& all = parts[0];
   for (size_t t = 1; t < parts.size(); ++t) {
@@ -362,6 +369,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   std::vector<float>& hit_values = scratch.hit_values;
   std::vector<VoxelUpdate>& hits = scratch.hits;
   std::vector<VoxelUpdate>& misses = scratch.misses;
+  std::vector<VoxelUpdate>& spare = scratch.spare;
   hits.clear();
   misses.clear();
   size_t hit_count = 0, miss_count = 0;
@@ -386,16 +394,22 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     }
   }
   const size_t hit_stride = direct ? static_cast<size_t>(width) + 1 : static_cast<size_t>(n);
+  // Hits can point at the groups' sums when the channels are already in label
+  // order and each group's row has a spare lane for the rest's value.
+  const bool in_place = direct && all.stride > static_cast<size_t>(width) &&
+                        std::is_sorted(channel_of_listed.begin(), channel_of_listed.begin() + width);
   auto buildHits = [&] {
-    hit_values.resize(hit_count * hit_stride);
+    hit_values.resize(in_place ? 0 : hit_count * hit_stride);
     hits.reserve(hit_count);
     for (size_t i = 0; i < all.groups.size(); ++i) {
       const auto& group = all.groups[i];
       if (group.voxel & 1u) continue;
       const grid::Key key = unpackVoxel(group.voxel).end_key;
-      float* values = hit_values.data() + hits.size() * hit_stride;
-      const float* sums = all.sumsOf(i);
-      if (direct) {
+      float* sums = all.sumsOf(i);
+      float* values = in_place ? sums : hit_values.data() + hits.size() * hit_stride;
+      if (in_place) {  // the sums already list the labels in order; a spare lane takes the rest
+        values[width] = unlisted * static_cast<float>(group.pixels);
+      } else if (direct) {
         for (int c = 0; c < width; ++c) values[c] = sums[channel_of_listed[static_cast<size_t>(c)]];
         values[width] = unlisted * static_cast<float>(group.pixels);
       } else {
@@ -407,8 +421,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
       update.hit = values;
       hits.push_back(update);
     }
-    std::sort(hits.begin(), hits.end(),
-              [](const VoxelUpdate& a, const VoxelUpdate& b) { return a.morton < b.morton; });
+    sortByMorton(hits, spare);
   };
   if (threads > 1) {
     runParts(2, [&](int part) {

@@ -2,6 +2,7 @@
 // on two halves of the stream at once.
 #include <algorithm>
 #include <array>
+#include <utility>
 
 #include "lom/octree/label_octree.hpp"
 #include "worker_pool.hpp"
@@ -87,11 +88,13 @@ long LabelOcTree::applyUpdateRange(const VoxelUpdate* first, const VoxelUpdate* 
 LabelOcTree::SharedPath LabelOcTree::findCut(const std::vector<VoxelUpdate>& updates, size_t& cut) const {
   const int depth_max = static_cast<int>(tree_depth);
   constexpr size_t kHitWeight = 8;
+  constexpr size_t kSampled = 16;  // the work is estimated from every 16th update (a serial scan)
   size_t total = 0;
-  for (const VoxelUpdate& u : updates) total += u.hit ? kHitWeight : 1;
+  for (size_t i = 0; i < updates.size(); i += kSampled) total += updates[i].hit ? kHitWeight : 1;
   size_t middle = 0;
-  for (size_t sum = 0; middle < updates.size() && 2 * sum < total; ++middle)
+  for (size_t sum = 0; middle < updates.size() && 2 * sum < total; middle += kSampled)
     sum += updates[middle].hit ? kHitWeight : 1;
+  middle = std::min(middle, updates.size() - 1);
   const long step = static_cast<long>(std::max<size_t>(1, updates.size() / 64));
   SharedPath shared;
   for (int attempt = 0; attempt < 16; ++attempt) {
@@ -115,6 +118,24 @@ LabelOcTree::SharedPath LabelOcTree::findCut(const std::vector<VoxelUpdate>& upd
     }
   }
   return shared;
+}
+
+// A least-significant-digit radix sort over the bytes in which the codes
+// differ, without the hard-to-predict comparisons of a comparison sort.
+void sortByMorton(std::vector<VoxelUpdate>& updates, std::vector<VoxelUpdate>& spare) {
+  if (updates.size() < 2) return;
+  std::uint64_t differ = 0;
+  for (const VoxelUpdate& u : updates) differ |= u.morton ^ updates[0].morton;
+  spare.resize(updates.size());
+  for (int shift = 0; shift < 64 && (differ >> shift) != 0; shift += 8) {
+    if (((differ >> shift) & 0xff) == 0) continue;  // the same byte everywhere
+    std::array<size_t, 256> start{};
+    for (const VoxelUpdate& u : updates) ++start[(u.morton >> shift) & 0xff];
+    size_t sum = 0;
+    for (size_t& s : start) sum += std::exchange(s, sum);
+    for (const VoxelUpdate& u : updates) spare[start[(u.morton >> shift) & 0xff]++] = u;
+    updates.swap(spare);
+  }
 }
 
 std::uint64_t LabelOcTree::saturatedFreeBlocks(const octomap::OcTreeKey& corner) const {

@@ -400,4 +400,38 @@ TEST(LabelOcTreeTest, TwoPartPassBuildsTheSameTreeAsOne) {
   expectSameTrees(one, two);
 }
 
+TEST(LabelOcTreeTest, SortByMortonGivesTheOrderOfAStableSort) {
+  std::mt19937 rng(11);
+  std::vector<float> tags(64);  // distinct addresses tell equal codes apart
+  std::vector<lom::VoxelUpdate> spare;
+  for (int round = 0; round < 60; ++round) {
+    // Keys in a small box across the middle of the key range (codes that
+    // differ in their high bytes too), anywhere, and in a box so small that
+    // codes repeat (the order of equal codes must be kept).
+    const int kind = round % 3;
+    const int size = kind == 0 ? 64 : kind == 1 ? 65536 : 3;
+    const int low = kind == 1 ? 0 : 32768 - size / 2;
+    std::uniform_int_distribution<int> coordinate(low, low + size - 1);
+    std::vector<lom::VoxelUpdate> updates(static_cast<size_t>(round * 37));
+    for (auto& u : updates) {
+      const auto x = static_cast<std::uint16_t>(coordinate(rng));
+      const auto y = static_cast<std::uint16_t>(coordinate(rng));
+      const auto z = static_cast<std::uint16_t>(coordinate(rng));
+      u.key = octomap::OcTreeKey(x, y, z);
+      u.morton = lom::grid::mortonCode(x, y, z);
+      u.hit = &tags[static_cast<size_t>(rng() % tags.size())];
+    }
+    std::vector<lom::VoxelUpdate> expected = updates;
+    std::stable_sort(expected.begin(), expected.end(),
+                     [](const lom::VoxelUpdate& a, const lom::VoxelUpdate& b) { return a.morton < b.morton; });
+    lom::sortByMorton(updates, spare);
+    ASSERT_EQ(updates.size(), expected.size());
+    for (size_t i = 0; i < updates.size(); ++i) {
+      ASSERT_EQ(updates[i].morton, expected[i].morton) << "round " << round << ", position " << i;
+      ASSERT_EQ(updates[i].key, expected[i].key);
+      ASSERT_EQ(updates[i].hit, expected[i].hit) << "round " << round << ": equal codes reordered";
+    }
+  }
+}
+
 }  // namespace

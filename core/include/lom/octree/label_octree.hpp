@@ -105,6 +105,10 @@ struct VoxelUpdate {
   const float* hit = nullptr;
 };
 
+// Sorts updates by Morton code, keeping the order of equal codes (`spare` is
+// scratch memory, kept by the caller from one call to the next).
+void sortByMorton(std::vector<VoxelUpdate>& updates, std::vector<VoxelUpdate>& spare);
+
 // The labels a frame's hits list (ascending): a frame whose probability
 // images have a few channels gives every other label the same log-odds.
 struct HitLabels {
