@@ -88,7 +88,9 @@ long LabelOcTree::applyUpdateRange(const VoxelUpdate* first, const VoxelUpdate* 
 LabelOcTree::SharedPath LabelOcTree::findCut(const std::vector<VoxelUpdate>& updates, size_t& cut) const {
   const int depth_max = static_cast<int>(tree_depth);
   constexpr size_t kHitWeight = 8;
-  constexpr size_t kSampled = 16;  // the work is estimated from every 16th update (a serial scan)
+  // The work is estimated from every 16th update: this scan runs before the
+  // halves start, on one thread.
+  constexpr size_t kSampled = 16;
   size_t total = 0;
   for (size_t i = 0; i < updates.size(); i += kSampled) total += updates[i].hit ? kHitWeight : 1;
   size_t middle = 0;
