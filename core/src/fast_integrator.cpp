@@ -145,8 +145,11 @@ struct CodedRow {
   // repeat the last code; they land in the sums' padding).
   const std::uint8_t* spread;
   float* sums;                    // the groups' sums, kCodedStride apart, on cache lines
-  bool count_pixels;              // width <= 15: lane 15 of the sums counts the pixels
 };
+
+// With fewer channels than lanes, the kernel counts each group's pixels in
+// the sums' last lane (else groupRow counts them).
+constexpr bool kernelCountsPixels(int width) { return width < static_cast<int>(kCodedStride); }
 
 // The 16 codes starting at a pixel's first; past the image's end, zeros.
 inline __m128i loadCodes(const CodedRow& r, int u) {
@@ -264,7 +267,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
       code_spread[static_cast<size_t>(i)] = static_cast<std::uint8_t>((i / 16) * width + std::min(i % 16, width - 1));
   const PixelProjector projector(g, camera, T_world_camera, max_range);
   const size_t stride = coded_kernel ? kCodedStride : static_cast<size_t>(width);
-  const bool count_in_kernel = coded_kernel && width < static_cast<int>(kCodedStride);
+  const bool count_in_kernel = coded_kernel && kernelCountsPixels(width);
   thread_local FastScratch scratch;
   std::vector<PixelGroups>& parts = scratch.parts;
   parts.resize(static_cast<size_t>(threads));
@@ -299,7 +302,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
         valid_pixels += count_in_kernel ? groupRow<false>(part, row.data(), depth.width, group_of.data())
                                          : groupRow<true>(part, row.data(), depth.width, group_of.data());
         coded_kernel({group_of.data(), depth.width, codes, codes_end, width, code_logit.data(), code_logit_bytes.data(),
-                      code_spread.data(), part.sums.data(), count_in_kernel});
+                      code_spread.data(), part.sums.data()});
         continue;
       }
       // Consecutive pixels often end in the same voxel (depth noise keeps
@@ -407,10 +410,9 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
       const grid::Key key = unpackVoxel(group.voxel).end_key;
       float* sums = all.sumsOf(i);
       float* values = in_place ? sums : hit_values.data() + hits.size() * hit_stride;
-      if (in_place) {  // the sums already list the labels in order; a spare lane takes the rest
-        values[width] = unlisted * static_cast<float>(group.pixels);
-      } else if (direct) {
-        for (int c = 0; c < width; ++c) values[c] = sums[channel_of_listed[static_cast<size_t>(c)]];
+      if (direct) {  // in place, the sums already list the labels in order; a spare lane takes the rest
+        if (!in_place)
+          for (int c = 0; c < width; ++c) values[c] = sums[channel_of_listed[static_cast<size_t>(c)]];
         values[width] = unlisted * static_cast<float>(group.pixels);
       } else {
         std::copy(sums, sums + n, values);
