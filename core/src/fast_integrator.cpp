@@ -25,6 +25,7 @@
 // (worker_pool.hpp). Per-thread state sits on its own cache lines.
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <thread>
@@ -207,7 +208,52 @@ struct FastScratch {
   std::vector<BrickSet> marks;
   std::vector<float> hit_values;
   std::vector<VoxelUpdate> hits, misses, updates, spare;
+  std::vector<size_t> ray_ends;
 };
+
+// Log-odds of each 8-bit code, the same for every frame.
+struct CodeTables {
+  std::array<float, 256> logit{};
+  std::array<std::uint8_t, 1024> logit_bytes{};  // byte b of logit[c] at 256 b + c
+};
+const CodeTables& codeTables() {
+  static const CodeTables tables = [] {
+    CodeTables t;
+    for (int c = 0; c < 256; ++c) {
+      const float value = clampedLogit(probabilityOfCode(static_cast<std::uint8_t>(c)));
+      t.logit[static_cast<size_t>(c)] = value;
+      std::uint32_t bits = 0;
+      std::memcpy(&bits, &value, sizeof bits);
+      for (int b = 0; b < 4; ++b)
+        t.logit_bytes[static_cast<size_t>(256 * b + c)] = static_cast<std::uint8_t>(bits >> (8 * b));
+    }
+    return t;
+  }();
+  return tables;
+}
+
+// Merges the hits and the misses (both sorted by Morton code, no code in
+// both) into `updates`, in two halves at once when `threads` > 1: the halves
+// split at the middle miss, so each merges about half of the stream.
+void mergeUpdates(const std::vector<VoxelUpdate>& hits, const std::vector<VoxelUpdate>& misses,
+                  std::vector<VoxelUpdate>& updates, int threads) {
+  updates.resize(hits.size() + misses.size());
+  auto byMorton = [](const VoxelUpdate& a, const VoxelUpdate& b) { return a.morton < b.morton; };
+  constexpr size_t kMinimumForTwo = 4096;  // below this, waking the other thread costs more than it saves
+  if (threads < 2 || misses.size() < kMinimumForTwo) {
+    std::merge(hits.begin(), hits.end(), misses.begin(), misses.end(), updates.begin(), byMorton);
+    return;
+  }
+  const auto miss_cut = misses.begin() + static_cast<std::ptrdiff_t>(misses.size() / 2);
+  const auto hit_cut = std::lower_bound(hits.begin(), hits.end(), *miss_cut, byMorton);
+  const auto out_cut = updates.begin() + ((hit_cut - hits.begin()) + (miss_cut - misses.begin()));
+  runParts(2, [&](int part) {
+    if (part == 0)
+      std::merge(hits.begin(), hit_cut, misses.begin(), miss_cut, updates.begin(), byMorton);
+    else
+      std::merge(hit_cut, hits.end(), miss_cut, misses.end(), out_cut, byMorton);
+  });
+}
 
 bool hasDuplicateChannels(const ProbabilityImage& proba) {
   std::vector<int> labels = proba.channel_labels;
@@ -242,16 +288,9 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   // clampedLogit the reference path calls, so the same bits); other images a
   // row at a time with the vectorised logit (within 1e-6 of clampedLogit).
   const bool coded = direct && !direct->codes.empty() && direct->codes.size() == direct->values.size();
-  std::array<float, 256> code_logit{};
-  std::array<std::uint8_t, 1024> code_logit_bytes{};  // byte b of code_logit[c] at 256 b + c
-  if (coded)
-    for (int c = 0; c < 256; ++c) {
-      const float value = clampedLogit(probabilityOfCode(static_cast<std::uint8_t>(c)));
-      code_logit[static_cast<size_t>(c)] = value;
-      std::uint32_t bits = 0;
-      std::memcpy(&bits, &value, sizeof bits);
-      for (int b = 0; b < 4; ++b) code_logit_bytes[static_cast<size_t>(256 * b + c)] = static_cast<std::uint8_t>(bits >> (8 * b));
-    }
+  const CodeTables& code_tables = codeTables();
+  const std::array<float, 256>& code_logit = code_tables.logit;
+  const std::array<std::uint8_t, 1024>& code_logit_bytes = code_tables.logit_bytes;
   // Up to 16 channels of 8-bit codes: a pixel at a time in vector registers.
   void (*coded_kernel)(const CodedRow&) = nullptr;
   const std::uint8_t* codes_end = coded ? direct->codes.data() + direct->codes.size() : nullptr;
@@ -271,9 +310,9 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   thread_local FastScratch scratch;
   std::vector<PixelGroups>& parts = scratch.parts;
   parts.resize(static_cast<size_t>(threads));
-  for (PixelGroups& part : parts) part.clear(stride);
   runParts(threads, [&](int t) {
     PixelGroups& part = parts[static_cast<size_t>(t)];
+    part.clear(stride);
     const size_t row_values = static_cast<size_t>(depth.width) * static_cast<size_t>(width);
     std::vector<float> row_probabilities(direct ? 0 : row_values, 0.f);
     std::vector<float> row_logits(coded ? 0 : row_values, 0.f);
@@ -339,32 +378,47 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
       for (size_t i = 0; i < part.groups.size(); ++i)
         part.groups[i].pixels = static_cast<std::uint32_t>(part.sumsOf(i)[kCodedStride - 1]);
   });
+  // 2. One ray per end voxel, while the other parts' groups are merged into
+  // the first's: thread 0 merges, then joins the rays. The rays come from
+  // each part's own groups, handed out in chunks; a voxel that two parts saw
+  // (pixels on both sides of their rows' border) casts its ray twice, which
+  // marks the same voxels again.
   PixelGroups& all = parts[0];
-  for (size_t t = 1; t < parts.size(); ++t) {
-    PixelGroups& part = parts[t];
-    all.valid_pixels += part.valid_pixels;
-    for (size_t i = 0; i < part.groups.size(); ++i) {
-      const auto& group = part.groups[i];
-      const std::uint32_t target = all.groupFor(group.voxel);
-      all.groups[target].pixels += group.pixels;
-      addInto(all.sumsOf(target), part.sumsOf(i), width);
-    }
-  }
-
-  // 2. One ray per end voxel.
+  std::vector<size_t>& ray_ends = scratch.ray_ends;  // part p's rays end at ray_ends[p]
+  ray_ends.clear();
+  for (const PixelGroups& part : parts) ray_ends.push_back((ray_ends.empty() ? 0 : ray_ends.back()) + part.groups.size());
+  // The merge appends to the first part's groups while rays read them: no reallocation.
+  all.groups.reserve(ray_ends.back());
   std::vector<BrickSet>& marks = scratch.marks;
   marks.resize(static_cast<size_t>(threads));
-  for (BrickSet& mark : marks) mark.clear();
+  std::atomic<size_t> next_ray{0};
   runParts(threads, [&](int t) {
+    if (t == 0)
+      for (size_t p = 1; p < parts.size(); ++p) {
+        PixelGroups& part = parts[p];
+        all.valid_pixels += part.valid_pixels;
+        for (size_t i = 0; i < part.groups.size(); ++i) {
+          const auto& group = part.groups[i];
+          const std::uint32_t target = all.groupFor(group.voxel);
+          all.groups[target].pixels += group.pixels;
+          addInto(all.sumsOf(target), part.sumsOf(i), width);
+        }
+      }
     BrickSet& mark = marks[static_cast<size_t>(t)];
-    for (size_t i = static_cast<size_t>(t); i < all.groups.size(); i += static_cast<size_t>(threads)) {
-      const PixelRay ray = unpackVoxel(all.groups[i].voxel);
-      const Eigen::Vector3d end = rayEnd(g, origin, ray.end_key, ray.beyond_range, max_range);
-      grid::RayWalk walk;
-      if (grid::setUpRay(g, origin, end, walk)) mark.markWalk(walk);
+    mark.clear();
+    constexpr size_t kChunk = 64;
+    for (size_t first = next_ray.fetch_add(kChunk); first < ray_ends.back(); first = next_ray.fetch_add(kChunk)) {
+      size_t p = 0;
+      for (size_t i = first; i < std::min(first + kChunk, ray_ends.back()); ++i) {
+        while (i >= ray_ends[p]) ++p;
+        const size_t index = i - (p == 0 ? 0 : ray_ends[p - 1]);
+        const PixelRay ray = unpackVoxel(parts[p].groups[index].voxel);
+        const Eigen::Vector3d end = rayEnd(g, origin, ray.end_key, ray.beyond_range, max_range);
+        grid::RayWalk walk;
+        if (grid::setUpRay(g, origin, end, walk)) mark.markWalk(walk);
+      }
     }
   });
-  for (size_t t = 1; t < marks.size(); ++t) marks[0].mergeFrom(marks[t]);
 
   // 3. Hits: full per-label log-odds; they are never also misses in this
   // frame. The hit stream and the miss stream are built at once.
@@ -375,12 +429,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   std::vector<VoxelUpdate>& spare = scratch.spare;
   hits.clear();
   misses.clear();
-  size_t hit_count = 0, miss_count = 0;
-  for (const auto& group : all.groups) {
-    if (group.voxel & 1u) continue;  // beyond max range
-    marks[0].clear(unpackVoxel(group.voxel).end_key);
-    ++hit_count;
-  }
+  size_t miss_count = 0;
   // With a probability image used as is, a hit lists its channels' labels
   // (ascending) and then the log-odds every other label gets; else all labels.
   HitLabels listed;
@@ -402,8 +451,8 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   const bool in_place = direct && all.stride > static_cast<size_t>(width) &&
                         std::is_sorted(channel_of_listed.begin(), channel_of_listed.begin() + width);
   auto buildHits = [&] {
-    hit_values.resize(in_place ? 0 : hit_count * hit_stride);
-    hits.reserve(hit_count);
+    hit_values.resize(in_place ? 0 : all.groups.size() * hit_stride);  // groups beyond max range leave theirs unused
+    hits.reserve(all.groups.size());
     for (size_t i = 0; i < all.groups.size(); ++i) {
       const auto& group = all.groups[i];
       if (group.voxel & 1u) continue;
@@ -425,21 +474,25 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     }
     sortByMorton(hits, spare);
   };
+  auto buildMisses = [&] {
+    for (size_t t = 1; t < marks.size(); ++t) marks[0].mergeFrom(marks[t]);
+    for (const auto& group : all.groups)
+      if (!(group.voxel & 1u)) marks[0].clear(unpackVoxel(group.voxel).end_key);  // a hit, not a miss
+    miss_count = marks[0].appendMisses(misses, &tree);
+  };
   if (threads > 1) {
     runParts(2, [&](int part) {
       if (part == 0)
         buildHits();
       else
-        miss_count = marks[0].appendMisses(misses, &tree);
+        buildMisses();
     });
   } else {
     buildHits();
-    miss_count = marks[0].appendMisses(misses, &tree);
+    buildMisses();
   }
   std::vector<VoxelUpdate>& updates = scratch.updates;
-  updates.resize(hits.size() + misses.size());
-  std::merge(hits.begin(), hits.end(), misses.begin(), misses.end(), updates.begin(),
-             [](const VoxelUpdate& a, const VoxelUpdate& b) { return a.morton < b.morton; });
+  mergeUpdates(hits, misses, updates, threads);
   tree.applySortedUpdates(updates, threads, direct ? &listed : nullptr);
 
   FrameStats stats;

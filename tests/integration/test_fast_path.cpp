@@ -87,6 +87,37 @@ TEST(FastPathTest, SameMapAsReferenceOnASyntheticScene) {
   expectSameMaps(reference_candidates, lom::fuseSequence(sequence, fusion));
 }
 
+// With several threads the rows' groups are merged while rays are cast from
+// every part's groups, and the hit and miss streams are merged in halves:
+// one, two and three threads all give the reference path's map.
+TEST(FastPathTest, EveryThreadCountGivesTheReferenceMap) {
+  lom::test::TempDir dir;
+  const lom::Sequence sequence = generatedScene(dir, 34, 6, 3);
+  const int n = sequence.labels.size();
+  auto fuse = [&](IntegrationPath path, int threads) {
+    LabelMap map(sequence.labels, lom::MapParameters{});
+    lom::IntegrationOptions integration;
+    integration.path = path;
+    integration.threads = threads;
+    size_t most_misses = 0;
+    for (size_t i = 0; i < sequence.frames.size(); ++i) {
+      const lom::FrameData frame = lom::loadFrame(sequence, i);
+      const lom::FrameEvidence evidence(n, &*frame.proba, nullptr, std::nullopt, 0.9);
+      const lom::FrameStats stats = lom::integrateFrame(map, sequence.cameraOf(i), sequence.frames[i].T_world_camera,
+                                                        frame.depth, evidence, integration);
+      most_misses = std::max(most_misses, stats.miss_voxels);
+    }
+    // Enough misses for the streams to be merged in two halves (4096 or more).
+    EXPECT_GT(most_misses, 8192u);
+    return map;
+  };
+  const LabelMap reference = fuse(IntegrationPath::Reference, 1);
+  for (const int threads : {1, 2, 3}) {
+    SCOPED_TRACE(std::to_string(threads) + " threads");
+    expectSameMaps(reference, fuse(IntegrationPath::Fast, threads));
+  }
+}
+
 // 8-bit probability images go through a log-odds table, other images through
 // the vectorised logit: both give the reference path's map.
 TEST(FastPathTest, EightBitAndFloatProbabilityImagesGiveTheSameMap) {
