@@ -13,14 +13,15 @@
 //     through the vectorised row logit (core/src/fast_logit.cpp).
 //  2. One ray per end voxel marks the crossed voxels in 16^3 bit bricks, so a
 //     voxel crossed by many rays costs one bit (threads mark their own
-//     bricks; brick_set.hpp).
+//     bricks; brick_set.hpp). The rays are handed out in chunks from every
+//     thread's groups while the first thread merges the groups.
 //  3. Hit voxels are removed from the marks; misses (read from the bricks in
 //     Morton order, leaving out the 4^3 blocks the tree holds as saturated
 //     free space, which a miss cannot change) and hits (sorted; with a
 //     probability image used as is, a hit lists its channels' labels and the
-//     one value every other label gets) merge into one depth-first update stream
-//     that the tree applies in one pass, cut in two halves that run at once
-//     (LabelOcTree::applySortedUpdates).
+//     one value every other label gets) are built at once and merge, in two
+//     halves, into one depth-first update stream that the tree applies in one
+//     pass, cut in two halves that run at once (LabelOcTree::applySortedUpdates).
 // The parallel phases run on worker threads kept between frames
 // (worker_pool.hpp). Per-thread state sits on its own cache lines.
 #include <algorithm>
@@ -225,7 +226,8 @@ const CodeTables& codeTables() {
       std::uint32_t bits = 0;
       std::memcpy(&bits, &value, sizeof bits);
       for (int b = 0; b < 4; ++b)
-        t.logit_bytes[static_cast<size_t>(256 * b + c)] = static_cast<std::uint8_t>(bits >> (8 * b));
+        t.logit_bytes[static_cast<size_t>(256 * b + c)] =
+            static_cast<std::uint8_t>(bits >> (8 * b));
     }
     return t;
   }();
@@ -239,7 +241,8 @@ void mergeUpdates(const std::vector<VoxelUpdate>& hits, const std::vector<VoxelU
                   std::vector<VoxelUpdate>& updates, int threads) {
   updates.resize(hits.size() + misses.size());
   auto byMorton = [](const VoxelUpdate& a, const VoxelUpdate& b) { return a.morton < b.morton; };
-  constexpr size_t kMinimumForTwo = 4096;  // below this, waking the other thread costs more than it saves
+  // Below this, waking the other thread costs more than it saves.
+  constexpr size_t kMinimumForTwo = 4096;
   if (threads < 2 || misses.size() < kMinimumForTwo) {
     std::merge(hits.begin(), hits.end(), misses.begin(), misses.end(), updates.begin(), byMorton);
     return;
@@ -386,9 +389,10 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   PixelGroups& all = parts[0];
   std::vector<size_t>& ray_ends = scratch.ray_ends;  // part p's rays end at ray_ends[p]
   ray_ends.clear();
-  for (const PixelGroups& part : parts) ray_ends.push_back((ray_ends.empty() ? 0 : ray_ends.back()) + part.groups.size());
+  size_t ray_count = 0;
+  for (const PixelGroups& part : parts) ray_ends.push_back(ray_count += part.groups.size());
   // The merge appends to the first part's groups while rays read them: no reallocation.
-  all.groups.reserve(ray_ends.back());
+  all.groups.reserve(ray_count);
   std::vector<BrickSet>& marks = scratch.marks;
   marks.resize(static_cast<size_t>(threads));
   std::atomic<size_t> next_ray{0};
@@ -407,9 +411,10 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     BrickSet& mark = marks[static_cast<size_t>(t)];
     mark.clear();
     constexpr size_t kChunk = 64;
-    for (size_t first = next_ray.fetch_add(kChunk); first < ray_ends.back(); first = next_ray.fetch_add(kChunk)) {
+    for (size_t first = next_ray.fetch_add(kChunk); first < ray_count;
+         first = next_ray.fetch_add(kChunk)) {
       size_t p = 0;
-      for (size_t i = first; i < std::min(first + kChunk, ray_ends.back()); ++i) {
+      for (size_t i = first; i < std::min(first + kChunk, ray_count); ++i) {
         while (i >= ray_ends[p]) ++p;
         const size_t index = i - (p == 0 ? 0 : ray_ends[p - 1]);
         const PixelRay ray = unpackVoxel(parts[p].groups[index].voxel);
@@ -451,7 +456,8 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   const bool in_place = direct && all.stride > static_cast<size_t>(width) &&
                         std::is_sorted(channel_of_listed.begin(), channel_of_listed.begin() + width);
   auto buildHits = [&] {
-    hit_values.resize(in_place ? 0 : all.groups.size() * hit_stride);  // groups beyond max range leave theirs unused
+    // At most one hit per group (groups beyond max range have none).
+    hit_values.resize(in_place ? 0 : all.groups.size() * hit_stride);
     hits.reserve(all.groups.size());
     for (size_t i = 0; i < all.groups.size(); ++i) {
       const auto& group = all.groups[i];
@@ -477,7 +483,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   auto buildMisses = [&] {
     for (size_t t = 1; t < marks.size(); ++t) marks[0].mergeFrom(marks[t]);
     for (const auto& group : all.groups)
-      if (!(group.voxel & 1u)) marks[0].clear(unpackVoxel(group.voxel).end_key);  // a hit, not a miss
+      if (!(group.voxel & 1u)) marks[0].clear(unpackVoxel(group.voxel).end_key);  // a hit
     miss_count = marks[0].appendMisses(misses, &tree);
   };
   if (threads > 1) {

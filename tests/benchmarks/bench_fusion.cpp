@@ -172,8 +172,9 @@ int printTable(int repeats, size_t frames, size_t reference_frames) {
     for (int r = 0; r < repeats; ++r) {
       const auto fast = fuse(s, c, lom::IntegrationPath::Fast, frames, &map);
       fast_times.insert(fast_times.end(), fast.begin(), fast.end());
+      const size_t both = std::min(reference_frames, fast.size());  // frames both paths fuse
       fast_reference_frames.insert(fast_reference_frames.end(), fast.begin(),
-                                   fast.begin() + static_cast<std::ptrdiff_t>(std::min(reference_frames, fast.size())));
+                                   fast.begin() + static_cast<std::ptrdiff_t>(both));
       const auto reference = fuse(s, c, lom::IntegrationPath::Reference, reference_frames);
       reference_times.insert(reference_times.end(), reference.begin(), reference.end());
       if (measure_octomap) {

@@ -103,8 +103,9 @@ TEST(FastPathTest, EveryThreadCountGivesTheReferenceMap) {
     for (size_t i = 0; i < sequence.frames.size(); ++i) {
       const lom::FrameData frame = lom::loadFrame(sequence, i);
       const lom::FrameEvidence evidence(n, &*frame.proba, nullptr, std::nullopt, 0.9);
-      const lom::FrameStats stats = lom::integrateFrame(map, sequence.cameraOf(i), sequence.frames[i].T_world_camera,
-                                                        frame.depth, evidence, integration);
+      const lom::FrameStats stats =
+          lom::integrateFrame(map, sequence.cameraOf(i), sequence.frames[i].T_world_camera,
+                              frame.depth, evidence, integration);
       most_misses = std::max(most_misses, stats.miss_voxels);
     }
     // Enough misses for the streams to be merged in two halves (4096 or more).
