@@ -209,7 +209,7 @@ struct FastScratch {
   std::vector<BrickSet> marks;
   std::vector<float> hit_values;
   std::vector<VoxelUpdate> hits, misses, updates, spare;
-  std::vector<size_t> ray_ends;
+  std::vector<size_t> ray_starts;
 };
 
 // Log-odds of each 8-bit code, the same for every frame.
@@ -387,27 +387,30 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   // (pixels on both sides of their rows' border) casts its ray twice, which
   // marks the same voxels again.
   PixelGroups& all = parts[0];
-  std::vector<size_t>& ray_ends = scratch.ray_ends;  // part p's rays end at ray_ends[p]
-  ray_ends.clear();
-  size_t ray_count = 0;
-  for (const PixelGroups& part : parts) ray_ends.push_back(ray_count += part.groups.size());
+  // Rays are numbered part after part: part p's from ray_starts[p] to ray_starts[p + 1].
+  std::vector<size_t>& ray_starts = scratch.ray_starts;
+  ray_starts.assign(1, 0);
+  for (const PixelGroups& part : parts) ray_starts.push_back(ray_starts.back() + part.groups.size());
+  const size_t ray_count = ray_starts.back();
   // The merge appends to the first part's groups while rays read them: no reallocation.
   all.groups.reserve(ray_count);
+  auto mergeGroups = [&] {
+    for (size_t p = 1; p < parts.size(); ++p) {
+      PixelGroups& part = parts[p];
+      all.valid_pixels += part.valid_pixels;
+      for (size_t i = 0; i < part.groups.size(); ++i) {
+        const auto& group = part.groups[i];
+        const std::uint32_t target = all.groupFor(group.voxel);
+        all.groups[target].pixels += group.pixels;
+        addInto(all.sumsOf(target), part.sumsOf(i), width);
+      }
+    }
+  };
   std::vector<BrickSet>& marks = scratch.marks;
   marks.resize(static_cast<size_t>(threads));
   std::atomic<size_t> next_ray{0};
   runParts(threads, [&](int t) {
-    if (t == 0)
-      for (size_t p = 1; p < parts.size(); ++p) {
-        PixelGroups& part = parts[p];
-        all.valid_pixels += part.valid_pixels;
-        for (size_t i = 0; i < part.groups.size(); ++i) {
-          const auto& group = part.groups[i];
-          const std::uint32_t target = all.groupFor(group.voxel);
-          all.groups[target].pixels += group.pixels;
-          addInto(all.sumsOf(target), part.sumsOf(i), width);
-        }
-      }
+    if (t == 0) mergeGroups();
     BrickSet& mark = marks[static_cast<size_t>(t)];
     mark.clear();
     constexpr size_t kChunk = 64;
@@ -415,9 +418,8 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
          first = next_ray.fetch_add(kChunk)) {
       size_t p = 0;
       for (size_t i = first; i < std::min(first + kChunk, ray_count); ++i) {
-        while (i >= ray_ends[p]) ++p;
-        const size_t index = i - (p == 0 ? 0 : ray_ends[p - 1]);
-        const PixelRay ray = unpackVoxel(parts[p].groups[index].voxel);
+        while (i >= ray_starts[p + 1]) ++p;
+        const PixelRay ray = unpackVoxel(parts[p].groups[i - ray_starts[p]].voxel);
         const Eigen::Vector3d end = rayEnd(g, origin, ray.end_key, ray.beyond_range, max_range);
         grid::RayWalk walk;
         if (grid::setUpRay(g, origin, end, walk)) mark.markWalk(walk);
