@@ -13,8 +13,9 @@
 //     through the vectorised row logit (core/src/fast_logit.cpp).
 //  2. One ray per end voxel marks the crossed voxels in 16^3 bit bricks, so a
 //     voxel crossed by many rays costs one bit (threads mark their own
-//     bricks; brick_set.hpp). The rays are handed out in chunks from every
-//     thread's groups while the first thread merges the groups.
+//     bricks; brick_set.hpp). Each thread starts on its own groups' rays as
+//     soon as its rows are done, in chunks, and then helps with the other
+//     threads' groups; the first thread merges the groups meanwhile.
 //  3. Hit voxels are removed from the marks; misses (read from the bricks in
 //     Morton order, leaving out the 4^3 blocks the tree holds as saturated
 //     free space, which a miss cannot change) and hits (sorted; with a
@@ -202,6 +203,25 @@ inline void addInto(float* __restrict sums, const float* __restrict add, int wid
   for (int c = 0; c < width; ++c) sums[c] += add[c];
 }
 
+// How far the rays of one part's groups are cast: `rays` is the number of its
+// groups once its pixels are grouped (until then kNotReady), `next` the first
+// group whose ray no thread has taken yet.
+struct alignas(64) RayProgress {  // own cache lines: every thread takes chunks
+  static constexpr size_t kNotReady = ~size_t{0};
+  std::atomic<size_t> rays{kNotReady};
+  std::atomic<size_t> next{0};
+};
+
+// Waits for another thread's part: a pause, and the processor to others
+// when the wait drags on (the other thread may not be running).
+inline void waitBriefly() {
+  static thread_local unsigned spins = 0;
+  if (++spins % 64 == 0)
+    std::this_thread::yield();
+  else
+    _mm_pause();
+}
+
 // Per-frame working memory, kept between the frames fused by one thread:
 // fresh tables and streams every frame would cost page faults and copies.
 struct FastScratch {
@@ -209,7 +229,6 @@ struct FastScratch {
   std::vector<BrickSet> marks;
   std::vector<float> hit_values;
   std::vector<VoxelUpdate> hits, misses, updates, spare;
-  std::vector<size_t> ray_starts;
 };
 
 // Log-odds of each 8-bit code, the same for every frame.
@@ -313,9 +332,10 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   thread_local FastScratch scratch;
   std::vector<PixelGroups>& parts = scratch.parts;
   parts.resize(static_cast<size_t>(threads));
-  runParts(threads, [&](int t) {
+  std::vector<BrickSet>& marks = scratch.marks;
+  marks.resize(static_cast<size_t>(threads));
+  auto groupPixels = [&](int t) {
     PixelGroups& part = parts[static_cast<size_t>(t)];
-    part.clear(stride);
     const size_t row_values = static_cast<size_t>(depth.width) * static_cast<size_t>(width);
     std::vector<float> row_probabilities(direct ? 0 : row_values, 0.f);
     std::vector<float> row_logits(coded ? 0 : row_values, 0.f);
@@ -380,20 +400,9 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     if (count_in_kernel)  // the pixels of groups beyond max range are not needed
       for (size_t i = 0; i < part.groups.size(); ++i)
         part.groups[i].pixels = static_cast<std::uint32_t>(part.sumsOf(i)[kCodedStride - 1]);
-  });
-  // 2. One ray per end voxel, while the other parts' groups are merged into
-  // the first's: thread 0 merges, then joins the rays. The rays come from
-  // each part's own groups, handed out in chunks; a voxel that two parts saw
-  // (pixels on both sides of their rows' border) casts its ray twice, which
-  // marks the same voxels again.
+  };
+  // The other parts' groups merged into the first's.
   PixelGroups& all = parts[0];
-  // Rays are numbered part after part: part p's from ray_starts[p] to ray_starts[p + 1].
-  std::vector<size_t>& ray_starts = scratch.ray_starts;
-  ray_starts.assign(1, 0);
-  for (const PixelGroups& part : parts) ray_starts.push_back(ray_starts.back() + part.groups.size());
-  const size_t ray_count = ray_starts.back();
-  // The merge appends to the first part's groups while rays read them: no reallocation.
-  all.groups.reserve(ray_count);
   auto mergeGroups = [&] {
     for (size_t p = 1; p < parts.size(); ++p) {
       PixelGroups& part = parts[p];
@@ -406,24 +415,62 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
       }
     }
   };
-  std::vector<BrickSet>& marks = scratch.marks;
-  marks.resize(static_cast<size_t>(threads));
-  std::atomic<size_t> next_ray{0};
+  // 1 and 2 in one parallel phase: each thread groups its rows' pixels, then
+  // casts one ray per end voxel, its own part's first, handed out in chunks,
+  // then those of the other parts as each is ready; so a thread that finishes
+  // its rows early does not wait. The first thread merges the other parts'
+  // groups into its own as soon as all are ready, while rays are still cast:
+  // a voxel that two parts saw (pixels on both sides of their rows' border)
+  // casts its ray twice, which marks the same voxels again.
+  std::vector<RayProgress> progress(static_cast<size_t>(threads));
+  auto allReady = [&] {
+    for (const RayProgress& p : progress)
+      if (p.rays.load(std::memory_order_acquire) == RayProgress::kNotReady) return false;
+    return true;
+  };
   runParts(threads, [&](int t) {
-    if (t == 0) mergeGroups();
+    PixelGroups& part = parts[static_cast<size_t>(t)];
+    part.clear(stride);
+    // The merge appends to the first part's groups while other threads cast
+    // their rays: room for every pixel's group, so they are never moved.
+    if (t == 0 && threads > 1)
+      part.groups.reserve(static_cast<size_t>(depth.width) * static_cast<size_t>(depth.height));
     BrickSet& mark = marks[static_cast<size_t>(t)];
     mark.clear();
-    constexpr size_t kChunk = 64;
-    for (size_t first = next_ray.fetch_add(kChunk); first < ray_count;
-         first = next_ray.fetch_add(kChunk)) {
-      size_t p = 0;
-      for (size_t i = first; i < std::min(first + kChunk, ray_count); ++i) {
-        while (i >= ray_starts[p + 1]) ++p;
-        const PixelRay ray = unpackVoxel(parts[p].groups[i - ray_starts[p]].voxel);
-        const Eigen::Vector3d end = rayEnd(g, origin, ray.end_key, ray.beyond_range, max_range);
-        grid::RayWalk walk;
-        if (grid::setUpRay(g, origin, end, walk)) mark.markWalk(walk);
+    RayProgress& own = progress[static_cast<size_t>(t)];
+    try {
+      groupPixels(t);
+    } catch (...) {  // the frame is abandoned; the other threads must not wait for this part
+      own.rays.store(0, std::memory_order_release);
+      throw;
+    }
+    own.rays.store(part.groups.size(), std::memory_order_release);
+    bool merged = t != 0 || threads == 1;
+    for (int k = 0; k < threads; ++k) {
+      const size_t p = static_cast<size_t>((t + k) % threads);
+      RayProgress& from = progress[p];
+      const std::vector<PixelGroups::Group>& groups = parts[p].groups;
+      size_t count;
+      while ((count = from.rays.load(std::memory_order_acquire)) == RayProgress::kNotReady)
+        waitBriefly();
+      constexpr size_t kChunk = 64;
+      for (size_t first = from.next.fetch_add(kChunk); first < count;
+           first = from.next.fetch_add(kChunk)) {
+        for (size_t i = first; i < std::min(first + kChunk, count); ++i) {
+          const PixelRay ray = unpackVoxel(groups[i].voxel);
+          const Eigen::Vector3d end = rayEnd(g, origin, ray.end_key, ray.beyond_range, max_range);
+          grid::RayWalk walk;
+          if (grid::setUpRay(g, origin, end, walk)) mark.markWalk(walk);
+        }
+        if (!merged && allReady()) {
+          mergeGroups();
+          merged = true;
+        }
       }
+    }
+    if (!merged) {
+      while (!allReady()) waitBriefly();
+      mergeGroups();
     }
   });
 

@@ -99,19 +99,15 @@ inline int nextAxis(double m0, double m1, double m2) {
   return m1 < m0 ? 1 : 0;
 }
 
-// Visits, in order, the voxels crossed by the segment from `origin` to `end`,
-// starting with the origin's voxel and stopping before the voxel that contains
-// `end` (a 3D DDA). Returns false (visiting nothing) when either end is
-// outside the key range. `visit(x, y, z)` gets the key's three components as
-// plain integers (a Key built per step and read back costs a stall per step).
+// Visits, in order, the voxels a walk crosses: its start voxel, then one per
+// step, stopping before its end voxel. `visit(x, y, z)` gets the key's three
+// components as plain integers (a Key built per step and read back costs a
+// stall per step).
 template <typename Visit>
-bool traverseRay(const Grid& grid, const Eigen::Vector3d& origin, const Eigen::Vector3d& end,
-                 Visit&& visit) {
-  RayWalk walk;
-  if (!setUpRay(grid, origin, end, walk)) return false;
+void walkRay(const RayWalk& walk, Visit&& visit) {
   int k0 = walk.key[0], k1 = walk.key[1], k2 = walk.key[2];
   const int e0 = walk.end_key[0], e1 = walk.end_key[1], e2 = walk.end_key[2];
-  if (k0 == e0 && k1 == e1 && k2 == e2) return true;
+  if (k0 == e0 && k1 == e1 && k2 == e2) return;
   visit(static_cast<std::uint16_t>(k0), static_cast<std::uint16_t>(k1), static_cast<std::uint16_t>(k2));
   // The key and the border distances stay in registers: writing a key
   // component to memory and reading the key back at once would stall each
@@ -137,6 +133,18 @@ bool traverseRay(const Grid& grid, const Eigen::Vector3d& origin, const Eigen::V
     visit(static_cast<std::uint16_t>(k0), static_cast<std::uint16_t>(k1),
           static_cast<std::uint16_t>(k2));
   }
+}
+
+// Visits, in order, the voxels crossed by the segment from `origin` to `end`,
+// starting with the origin's voxel and stopping before the voxel that contains
+// `end` (a 3D DDA). Returns false (visiting nothing) when either end is
+// outside the key range.
+template <typename Visit>
+bool traverseRay(const Grid& grid, const Eigen::Vector3d& origin, const Eigen::Vector3d& end,
+                 Visit&& visit) {
+  RayWalk walk;
+  if (!setUpRay(grid, origin, end, walk)) return false;
+  walkRay(walk, visit);
   return true;
 }
 

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <set>
 #include <vector>
 
 #include "brick_set.hpp"
@@ -116,16 +117,18 @@ TEST(PixelProjectorTest, RowMatchesThePerPixelBackProjection) {
   }
 }
 
-// The fast path marks each ray's voxels in bricks, stepping a voxel's index
-// inside its brick; the marked set must be exactly what traverseRay visits,
-// in every direction, across brick borders, along axes and for short rays.
+// The fast path marks each ray's voxels in bricks, in slices along the
+// axis with the closest borders, a step at a time where a slice could hold
+// two steps on one axis; the marked set must be exactly what traverseRay
+// visits, in every direction, across brick borders, along axes, for short
+// rays and along and near diagonals (where slices give way to single steps).
 TEST(BrickSetTest, MarksExactlyTheVoxelsTraverseRayVisits) {
   std::mt19937 random(11);
   std::uniform_real_distribution<double> coordinate(-0.6, 0.6);
   std::uniform_int_distribution<int> kind(0, 9);
   for (const double resolution : {0.01, 0.005, 0.05}) {
     const lom::grid::Grid grid(resolution);
-    for (int ray = 0; ray < 3000; ++ray) {
+    for (int ray = 0; ray < 4000; ++ray) {
       Eigen::Vector3d origin(coordinate(random), coordinate(random), coordinate(random));
       Eigen::Vector3d end(coordinate(random), coordinate(random), coordinate(random));
       const int k = kind(random);
@@ -133,6 +136,11 @@ TEST(BrickSetTest, MarksExactlyTheVoxelsTraverseRayVisits) {
       if (k == 1) end.tail<2>() = origin.tail<2>();       // along x
       if (k == 2) end = origin + 0.3 * resolution * (end - origin).normalized();  // short
       if (k == 3) origin = grid.centerOf(lom::grid::Key{32768, 32768, 32768});  // from a voxel centre
+      const double run = 0.5 * (end - origin).norm();
+      const double sx = end[0] < origin[0] ? -run : run, sy = end[1] < origin[1] ? -run : run;
+      if (k == 4) end = origin + Eigen::Vector3d(sx, sy, 0.3 * run);  // on a diagonal of x and y
+      if (k == 5) end = origin + Eigen::Vector3d(sx, sy * (1 + 1e-13), -0.2 * run);  // next to one
+      if (k == 6) end = origin + Eigen::Vector3d(sx, sy, sy);  // on the diagonal of the cube
       std::vector<std::uint64_t> visited;
       lom::grid::traverseRay(grid, origin, end, [&](unsigned x, unsigned y, unsigned z) {
         visited.push_back(lom::grid::mortonCode(static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
@@ -154,6 +162,63 @@ TEST(BrickSetTest, MarksExactlyTheVoxelsTraverseRayVisits) {
       ASSERT_EQ(marked, visited) << "resolution " << resolution << ", ray " << ray;
     }
   }
+}
+
+// Walks whose border distances tie (binary fractions, so the sums stay
+// exact), for every order of the axes by distance between borders and in
+// every direction: the slices must take tied steps in nextAxis's order (the
+// lower axis first), as the step-at-a-time walk does, also across bricks.
+TEST(BrickSetTest, BreaksTiesBetweenAxesAsTheWalkDoes) {
+  const double deltas[3] = {0.5, 0.75, 1.0};  // the slicing axis's, then the others'
+  const int orders[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+  std::mt19937 random(5);
+  std::uniform_int_distribution<int> quarter(1, 4), offset(0, 31);
+  size_t tied_walks = 0;
+  for (const auto& order : orders) {
+    for (int signs = 0; signs < 8; ++signs) {
+      for (int start = 0; start < 6; ++start) {
+        lom::grid::RayWalk walk;
+        walk.length = 100.1;  // no border at this distance: the end voxel is well defined
+        for (int i = 0; i < 3; ++i) {
+          const int a = order[i];
+          walk.step[a] = (signs >> a) & 1 ? -1 : 1;
+          walk.t_delta[a] = deltas[i];
+          walk.t_max[a] = start == 0 ? deltas[i] : deltas[i] * quarter(random) / 4.0;
+          walk.key[a] = 32768 + offset(random);
+          // The end voxel: one step per border before `length`.
+          const int borders = static_cast<int>(std::floor((walk.length - walk.t_max[a]) / walk.t_delta[a])) + 1;
+          walk.end_key[a] = walk.key[a] + walk.step[a] * borders;
+        }
+        walk.max_steps = 3 * 400 + 3;
+        std::vector<std::uint64_t> visited;
+        bool tied = false;
+        lom::grid::walkRay(walk, [&](unsigned x, unsigned y, unsigned z) {
+          visited.push_back(lom::grid::mortonCode(static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
+                                                  static_cast<std::uint16_t>(z)));
+        });
+        for (double t = 0; t < walk.length && !tied; t += 1.0 / 16) {
+          int at_t = 0;  // axes with a border at t
+          for (int a = 0; a < 3; ++a) {
+            const double k = (t - walk.t_max[a]) / walk.t_delta[a];
+            at_t += k >= 0 && k == std::floor(k);
+          }
+          tied = at_t > 1;
+        }
+        tied_walks += tied;
+        lom::BrickSet marks;
+        marks.markWalk(walk);
+        std::vector<lom::VoxelUpdate> misses;
+        marks.appendMisses(misses);
+        std::vector<std::uint64_t> marked;
+        for (const auto& miss : misses) marked.push_back(miss.morton);
+        std::sort(visited.begin(), visited.end());
+        ASSERT_EQ(visited.size(), std::set<std::uint64_t>(visited.begin(), visited.end()).size());
+        ASSERT_EQ(marked, visited) << "order " << order[0] << order[1] << order[2] << ", signs " << signs
+                                   << ", start " << start;
+      }
+    }
+  }
+  EXPECT_GT(tied_walks, 150u) << "most walks should have ties to break";
 }
 
 // Misses on saturated free space change nothing: the 4^3 blocks of a brick
