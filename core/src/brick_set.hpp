@@ -218,9 +218,11 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
         const unsigned qD2 = static_cast<unsigned>(spread[xd2 ^ flipD]) << D;
         // The voxels after A's and B's steps (the same voxel when neither
         // steps), after the first of two steps, and after D's step.
-        const unsigned before_d = qA2 | qB2 | qD;
-        const unsigned between = (cA & cB) ? (a_first ? qA2 | qB : qA | qB2) | qD : before_d;
-        const unsigned after_d = qA2 | qB2 | qD2;
+        const unsigned ab = qA2 | qB2;
+        const unsigned before_d = ab | qD, after_d = ab | qD2;
+        // (Picked in two steps: g++ turns a nested choice into a branch.)
+        const unsigned first_ab = a_first ? (qA2 | qB) : (qA | qB2);
+        const unsigned between = (cA & cB) ? (first_ab | qD) : before_d;
         bits[between >> 6] |= std::uint64_t{1} << (between & 63);
         bits[before_d >> 6] |= std::uint64_t{1} << (before_d & 63);
         if (xd2 == 0) {  // D's step leaves the brick
