@@ -71,7 +71,10 @@ struct alignas(64) PixelGroups {  // own cache lines: threads write theirs per p
   size_t valid_pixels = 0;
   // The groups of recently seen voxels, direct-mapped: runs of pixels in a
   // row alternate between a few voxels (depth noise), and mostly hit here.
-  static constexpr int kRecentBits = 8;
+  // 2048 slots (24 KiB, within the first-level cache): at 640x480 and 1 cm,
+  // 8,000 look-ups in the table per frame for 5,900 groups (21,000 with 256
+  // slots, whose misses cost a mispredicted branch and a table probe each).
+  static constexpr int kRecentBits = 11;
   std::array<std::uint64_t, 1u << kRecentBits> recent_key;
   std::array<std::uint32_t, 1u << kRecentBits> recent_group;
 
