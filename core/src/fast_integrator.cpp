@@ -471,10 +471,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
         }
       }
     }
-    if (!merged) {
-      while (!allReady()) waitBriefly();
-      mergeGroups();
-    }
+    if (!merged) mergeGroups();  // every part was ready before its rays were taken
   });
 
   // 3. Hits: full per-label log-odds; they are never also misses in this
