@@ -128,8 +128,10 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
     const int e0 = w.end_key[0], e1 = w.end_key[1], e2 = w.end_key[2];
     if (k0 == e0 && k1 == e1 && k2 == e2) return;
     std::uint64_t* bits = brick(packBrick(static_cast<unsigned>(k0), static_cast<unsigned>(k1),
-                                          static_cast<unsigned>(k2))).data();
-    unsigned local = localIndex(static_cast<unsigned>(k0), static_cast<unsigned>(k1), static_cast<unsigned>(k2));
+                                          static_cast<unsigned>(k2)))
+                              .data();
+    unsigned local =
+        localIndex(static_cast<unsigned>(k0), static_cast<unsigned>(k1), static_cast<unsigned>(k2));
     bits[local >> 6] |= std::uint64_t{1} << (local & 63);
     // Per axis: its bits in the local (Morton) index, what to add to them for
     // one step (a dilated +1 or -1), and their value right after leaving the brick.
@@ -164,7 +166,8 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
       local = (local & ~mask[axis]) | bits_a;
       if (k0 == e0 && k1 == e1 && k2 == e2) return -1;
       if (bits_a == wrapped[axis])
-        bits = bitsOf(packBrick(static_cast<unsigned>(k0), static_cast<unsigned>(k1), static_cast<unsigned>(k2)));
+        bits = bitsOf(packBrick(static_cast<unsigned>(k0), static_cast<unsigned>(k1),
+                                static_cast<unsigned>(k2)));
       bits[local >> 6] |= std::uint64_t{1} << (local & 63);
       return axis;
     };
@@ -199,8 +202,8 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
       unsigned qA = static_cast<unsigned>(spread[xa ^ flipA]) << A;
       unsigned qB = static_cast<unsigned>(spread[xb ^ flipB]) << B;
       unsigned qD = static_cast<unsigned>(spread[xd ^ flipD]) << D;
-      std::uint64_t brick_key =
-          packBrick(static_cast<unsigned>(k0), static_cast<unsigned>(k1), static_cast<unsigned>(k2));
+      std::uint64_t brick_key = packBrick(static_cast<unsigned>(k0), static_cast<unsigned>(k1),
+                                          static_cast<unsigned>(k2));
       __m128d vA = _mm_set_sd(mA), vB = _mm_set_sd(mB), vD = _mm_set_sd(mD);
       long done = 0;
       for (; done < left; ++done) {

@@ -391,7 +391,8 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
         if (voxel & 1u) continue;  // beyond max range: misses only
         const size_t first = static_cast<size_t>(u) * static_cast<size_t>(width);
         if (coded) {
-          for (int c = 0; c < width; ++c) sums[c] += code_logit[codes[first + static_cast<size_t>(c)]];
+          for (int c = 0; c < width; ++c)
+            sums[c] += code_logit[codes[first + static_cast<size_t>(c)]];
         } else {
           addInto(sums, row_logits.data() + first, width);
         }

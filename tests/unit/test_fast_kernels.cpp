@@ -186,14 +186,16 @@ TEST(BrickSetTest, BreaksTiesBetweenAxesAsTheWalkDoes) {
           walk.t_max[a] = start == 0 ? deltas[i] : deltas[i] * quarter(random) / 4.0;
           walk.key[a] = 32768 + offset(random);
           // The end voxel: one step per border before `length`.
-          const int borders = static_cast<int>(std::floor((walk.length - walk.t_max[a]) / walk.t_delta[a])) + 1;
+          const int borders =
+              static_cast<int>(std::floor((walk.length - walk.t_max[a]) / walk.t_delta[a])) + 1;
           walk.end_key[a] = walk.key[a] + walk.step[a] * borders;
         }
         walk.max_steps = 3 * 400 + 3;
         std::vector<std::uint64_t> visited;
         bool tied = false;
         lom::grid::walkRay(walk, [&](unsigned x, unsigned y, unsigned z) {
-          visited.push_back(lom::grid::mortonCode(static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
+          visited.push_back(lom::grid::mortonCode(static_cast<std::uint16_t>(x),
+                                                  static_cast<std::uint16_t>(y),
                                                   static_cast<std::uint16_t>(z)));
         });
         for (double t = 0; t < walk.length && !tied; t += 1.0 / 16) {
@@ -213,8 +215,8 @@ TEST(BrickSetTest, BreaksTiesBetweenAxesAsTheWalkDoes) {
         for (const auto& miss : misses) marked.push_back(miss.morton);
         std::sort(visited.begin(), visited.end());
         ASSERT_EQ(visited.size(), std::set<std::uint64_t>(visited.begin(), visited.end()).size());
-        ASSERT_EQ(marked, visited) << "order " << order[0] << order[1] << order[2] << ", signs " << signs
-                                   << ", start " << start;
+        ASSERT_EQ(marked, visited) << "order " << order[0] << order[1] << order[2] << ", signs "
+                                   << signs << ", start " << start;
       }
     }
   }
