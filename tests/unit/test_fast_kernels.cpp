@@ -121,7 +121,8 @@ TEST(PixelProjectorTest, RowMatchesThePerPixelBackProjection) {
 // axis with the closest borders, a step at a time where a slice could hold
 // two steps on one axis; the marked set must be exactly what traverseRay
 // visits, in every direction, across brick borders, along axes, for short
-// rays and along and near diagonals (where slices give way to single steps).
+// rays, on and next to diagonals (where slices give way to single steps),
+// and just far enough from one for slices.
 TEST(BrickSetTest, MarksExactlyTheVoxelsTraverseRayVisits) {
   std::mt19937 random(11);
   std::uniform_real_distribution<double> coordinate(-0.6, 0.6);
@@ -140,6 +141,7 @@ TEST(BrickSetTest, MarksExactlyTheVoxelsTraverseRayVisits) {
       const double sx = end[0] < origin[0] ? -run : run, sy = end[1] < origin[1] ? -run : run;
       if (k == 4) end = origin + Eigen::Vector3d(sx, sy, 0.3 * run);  // on a diagonal of x and y
       if (k == 5) end = origin + Eigen::Vector3d(sx, sy * (1 + 1e-13), -0.2 * run);  // next to one
+      if (k == 7) end = origin + Eigen::Vector3d(sx, sy * (1 + 1e-9), 0.1 * run);  // just sliced
       if (k == 6) end = origin + Eigen::Vector3d(sx, sy, sy);  // on the diagonal of the cube
       std::vector<std::uint64_t> visited;
       lom::grid::traverseRay(grid, origin, end, [&](unsigned x, unsigned y, unsigned z) {
