@@ -127,9 +127,8 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
     int k0 = w.key[0], k1 = w.key[1], k2 = w.key[2];
     const int e0 = w.end_key[0], e1 = w.end_key[1], e2 = w.end_key[2];
     if (k0 == e0 && k1 == e1 && k2 == e2) return;
-    std::uint64_t* bits = brick(packBrick(static_cast<unsigned>(k0), static_cast<unsigned>(k1),
-                                          static_cast<unsigned>(k2)))
-                              .data();
+    std::uint64_t* bits = bitsOf(
+        packBrick(static_cast<unsigned>(k0), static_cast<unsigned>(k1), static_cast<unsigned>(k2)));
     unsigned local =
         localIndex(static_cast<unsigned>(k0), static_cast<unsigned>(k1), static_cast<unsigned>(k2));
     bits[local >> 6] |= std::uint64_t{1} << (local & 63);
@@ -142,26 +141,13 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
       wrapped[a] = w.step[a] > 0 ? 0u : mask[a];
     }
     double m0 = w.t_max[0], m1 = w.t_max[1], m2 = w.t_max[2];
-    const double length = w.length;
     long i = 0;  // steps taken
     // One step, as traverseRay takes it; the axis stepped, or -1 at the end.
     auto step = [&]() -> int {
       if (i >= w.max_steps) return -1;
       ++i;
-      const int axis = grid::nextAxis(m0, m1, m2);
-      if (axis == 2) {
-        if (m2 > length) return -1;  // passed the end point (end voxel reached by rounding)
-        k2 += w.step[2];
-        m2 += w.t_delta[2];
-      } else if (axis == 1) {
-        if (m1 > length) return -1;
-        k1 += w.step[1];
-        m1 += w.t_delta[1];
-      } else {
-        if (m0 > length) return -1;
-        k0 += w.step[0];
-        m0 += w.t_delta[0];
-      }
+      const int axis = grid::stepWalk(w, k0, k1, k2, m0, m1, m2);
+      if (axis < 0) return -1;
       const unsigned bits_a = ((local & mask[axis]) + add[axis]) & mask[axis];
       local = (local & ~mask[axis]) | bits_a;
       if (k0 == e0 && k1 == e1 && k2 == e2) return -1;
@@ -183,7 +169,7 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
     long left = std::abs(pick<D>(e0, e1, e2) - kD) - 1;
     // At most one A step per slice needs t_delta[A] > t_delta[D] by more than
     // the rounding of the sums (a few ulps of `length`).
-    const double margin = 1e-12 * (length + w.t_delta[D]);
+    const double margin = 1e-12 * (w.length + w.t_delta[D]);
     if (!(w.t_delta[A] - w.t_delta[D] > margin && w.t_delta[B] - w.t_delta[D] > margin)) left = 0;
     if (i + 3 * left + 3 > w.max_steps) left = 0;  // slices take at most three steps
     // Coordinates inside the brick, mirrored on axes walked downwards so that

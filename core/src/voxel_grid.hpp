@@ -99,6 +99,29 @@ inline int nextAxis(double m0, double m1, double m2) {
   return m1 < m0 ? 1 : 0;
 }
 
+// One step of a walk from the key k and the border distances m: the axis
+// stepped (its key component and border distance advanced), or -1, changing
+// nothing, when that border lies past the end point (the end voxel reached by
+// rounding). Every walk steps through here, so all take the same steps.
+inline int stepWalk(const RayWalk& walk, int& k0, int& k1, int& k2, double& m0, double& m1,
+                    double& m2) {
+  const int axis = nextAxis(m0, m1, m2);
+  if (axis == 2) {
+    if (m2 > walk.length) return -1;
+    k2 += walk.step[2];
+    m2 += walk.t_delta[2];
+  } else if (axis == 1) {
+    if (m1 > walk.length) return -1;
+    k1 += walk.step[1];
+    m1 += walk.t_delta[1];
+  } else {
+    if (m0 > walk.length) return -1;
+    k0 += walk.step[0];
+    m0 += walk.t_delta[0];
+  }
+  return axis;
+}
+
 // Visits, in order, the voxels a walk crosses: its start voxel, then one per
 // step, stopping before its end voxel. `visit(x, y, z)` gets the key's three
 // components as plain integers (a Key built per step and read back costs a
@@ -113,22 +136,8 @@ void walkRay(const RayWalk& walk, Visit&& visit) {
   // component to memory and reading the key back at once would stall each
   // step.
   double m0 = walk.t_max[0], m1 = walk.t_max[1], m2 = walk.t_max[2];
-  const double length = walk.length;
   for (long i = 0; i < walk.max_steps; ++i) {
-    const int axis = nextAxis(m0, m1, m2);
-    if (axis == 2) {
-      if (m2 > length) break;  // passed the end point (end voxel reached by rounding)
-      k2 += walk.step[2];
-      m2 += walk.t_delta[2];
-    } else if (axis == 1) {
-      if (m1 > length) break;
-      k1 += walk.step[1];
-      m1 += walk.t_delta[1];
-    } else {
-      if (m0 > length) break;
-      k0 += walk.step[0];
-      m0 += walk.t_delta[0];
-    }
+    if (stepWalk(walk, k0, k1, k2, m0, m1, m2) < 0) break;
     if (k0 == e0 && k1 == e1 && k2 == e2) break;
     visit(static_cast<std::uint16_t>(k0), static_cast<std::uint16_t>(k1),
           static_cast<std::uint16_t>(k2));

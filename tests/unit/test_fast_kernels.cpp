@@ -117,6 +117,31 @@ TEST(PixelProjectorTest, RowMatchesThePerPixelBackProjection) {
   }
 }
 
+// The Morton codes of the voxels a walk visits, in the order it visits them.
+std::vector<std::uint64_t> visitedCodes(const lom::grid::RayWalk& walk) {
+  std::vector<std::uint64_t> visited;
+  lom::grid::walkRay(walk, [&](unsigned x, unsigned y, unsigned z) {
+    visited.push_back(lom::grid::mortonCode(static_cast<std::uint16_t>(x),
+                                            static_cast<std::uint16_t>(y),
+                                            static_cast<std::uint16_t>(z)));
+  });
+  return visited;
+}
+
+// The Morton codes of the voxels BrickSet::markWalk marks for a walk, ascending.
+std::vector<std::uint64_t> markedCodes(const lom::grid::RayWalk& walk) {
+  lom::BrickSet marks;
+  marks.markWalk(walk);
+  std::vector<lom::VoxelUpdate> misses;
+  marks.appendMisses(misses);
+  std::vector<std::uint64_t> marked;
+  for (const auto& miss : misses) {
+    marked.push_back(miss.morton);
+    EXPECT_EQ(miss.morton, lom::grid::mortonCode(miss.key[0], miss.key[1], miss.key[2]));
+  }
+  return marked;
+}
+
 // The fast path marks each ray's voxels in bricks, in slices along the
 // axis with the closest borders, a step at a time where a slice could hold
 // two steps on one axis; the marked set must be exactly what traverseRay
@@ -141,24 +166,13 @@ TEST(BrickSetTest, MarksExactlyTheVoxelsTraverseRayVisits) {
       const double sx = end[0] < origin[0] ? -run : run, sy = end[1] < origin[1] ? -run : run;
       if (k == 4) end = origin + Eigen::Vector3d(sx, sy, 0.3 * run);  // on a diagonal of x and y
       if (k == 5) end = origin + Eigen::Vector3d(sx, sy * (1 + 1e-13), -0.2 * run);  // next to one
-      if (k == 7) end = origin + Eigen::Vector3d(sx, sy * (1 + 1e-9), 0.1 * run);  // just sliced
       if (k == 6) end = origin + Eigen::Vector3d(sx, sy, sy);  // on the diagonal of the cube
-      std::vector<std::uint64_t> visited;
-      lom::grid::traverseRay(grid, origin, end, [&](unsigned x, unsigned y, unsigned z) {
-        visited.push_back(lom::grid::mortonCode(static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
-                                                static_cast<std::uint16_t>(z)));
-      });
-      lom::BrickSet marks;
+      if (k == 7) end = origin + Eigen::Vector3d(sx, sy * (1 + 1e-9), 0.1 * run);  // just sliced
+      // traverseRay's walk
       lom::grid::RayWalk walk;
       ASSERT_TRUE(lom::grid::setUpRay(grid, origin, end, walk));
-      marks.markWalk(walk);
-      std::vector<lom::VoxelUpdate> misses;
-      marks.appendMisses(misses);
-      std::vector<std::uint64_t> marked;
-      for (const auto& miss : misses) {
-        marked.push_back(miss.morton);
-        ASSERT_EQ(miss.morton, lom::grid::mortonCode(miss.key[0], miss.key[1], miss.key[2]));
-      }
+      std::vector<std::uint64_t> visited = visitedCodes(walk);
+      const std::vector<std::uint64_t> marked = markedCodes(walk);
       std::sort(visited.begin(), visited.end());
       visited.erase(std::unique(visited.begin(), visited.end()), visited.end());
       ASSERT_EQ(marked, visited) << "resolution " << resolution << ", ray " << ray;
@@ -193,13 +207,8 @@ TEST(BrickSetTest, BreaksTiesBetweenAxesAsTheWalkDoes) {
           walk.end_key[a] = walk.key[a] + walk.step[a] * borders;
         }
         walk.max_steps = 3 * 400 + 3;
-        std::vector<std::uint64_t> visited;
+        std::vector<std::uint64_t> visited = visitedCodes(walk);
         bool tied = false;
-        lom::grid::walkRay(walk, [&](unsigned x, unsigned y, unsigned z) {
-          visited.push_back(lom::grid::mortonCode(static_cast<std::uint16_t>(x),
-                                                  static_cast<std::uint16_t>(y),
-                                                  static_cast<std::uint16_t>(z)));
-        });
         for (double t = 0; t < walk.length && !tied; t += 1.0 / 16) {
           int at_t = 0;  // axes with a border at t
           for (int a = 0; a < 3; ++a) {
@@ -209,12 +218,7 @@ TEST(BrickSetTest, BreaksTiesBetweenAxesAsTheWalkDoes) {
           tied = at_t > 1;
         }
         tied_walks += tied;
-        lom::BrickSet marks;
-        marks.markWalk(walk);
-        std::vector<lom::VoxelUpdate> misses;
-        marks.appendMisses(misses);
-        std::vector<std::uint64_t> marked;
-        for (const auto& miss : misses) marked.push_back(miss.morton);
+        const std::vector<std::uint64_t> marked = markedCodes(walk);
         std::sort(visited.begin(), visited.end());
         ASSERT_EQ(visited.size(), std::set<std::uint64_t>(visited.begin(), visited.end()).size());
         ASSERT_EQ(marked, visited) << "order " << order[0] << order[1] << order[2] << ", signs "
