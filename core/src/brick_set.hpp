@@ -20,12 +20,11 @@ namespace lom {
 class alignas(64) BrickSet {  // own cache lines: each thread marks its own
  public:
   static constexpr int kWords = 64;  // 4096 bits
-  using Bits = std::array<std::uint64_t, kWords>;
 
   // Unmarks everything, keeping the memory (for reuse from frame to frame).
   void clear() {
     index_.clear();
-    bricks_.clear();
+    words_.clear();
     keys_.clear();
     cached_key_ = ~std::uint64_t{0};
   }
@@ -44,16 +43,27 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
     else
       markSlices<2>(w);
   }
+  // Marks the voxels of `count` walks, the same as markWalk on each. With
+  // `eight_at_once` (only on processors with AVX-512 F), eight walks advance
+  // together, one per vector lane (brick_march.cpp).
+  void markWalks(const grid::RayWalk* walks, size_t count, bool eight_at_once) {
+    if (eight_at_once) {
+      markWalksAvx512(walks, count);
+      return;
+    }
+    for (size_t i = 0; i < count; ++i) markWalk(walks[i]);
+  }
   void clear(const grid::Key& key) {
     const std::uint32_t* index = index_.find(packBrick(key[0], key[1], key[2]));
     if (!index) return;
     const unsigned local = localIndex(key[0], key[1], key[2]);
-    bricks_[*index][local >> 6] &= ~(std::uint64_t{1} << (local & 63));
+    bits(*index)[local >> 6] &= ~(std::uint64_t{1} << (local & 63));
   }
   void mergeFrom(const BrickSet& other) {
-    for (size_t i = 0; i < other.bricks_.size(); ++i) {
-      Bits& bits = brick(other.keys_[i]);
-      for (int w = 0; w < kWords; ++w) bits[static_cast<size_t>(w)] |= other.bricks_[i][static_cast<size_t>(w)];
+    for (size_t i = 0; i < other.keys_.size(); ++i) {
+      std::uint64_t* into = bitsOf(other.keys_[i]);
+      const std::uint64_t* from = other.bits(i);
+      for (int w = 0; w < kWords; ++w) into[w] |= from[w];
     }
   }
   // Appends every marked voxel as a miss, in Morton (depth-first) order,
@@ -62,19 +72,19 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
   // Returns how many voxels were marked, appended or not.
   size_t appendMisses(std::vector<VoxelUpdate>& out, const LabelOcTree* tree = nullptr) {
     size_t marked = 0, kept = 0;
-    for (size_t i = 0; i < bricks_.size(); ++i) {
+    for (size_t i = 0; i < keys_.size(); ++i) {
       const auto [bx, by, bz] = unpackBrick(keys_[i]);
       const std::uint64_t saturated =
           tree ? tree->saturatedFreeBlocks(octomap::OcTreeKey(static_cast<std::uint16_t>(bx << 4),
                                                               static_cast<std::uint16_t>(by << 4),
                                                               static_cast<std::uint16_t>(bz << 4)))
                : 0;
-      Bits& bits = bricks_[i];
+      std::uint64_t* words = bits(i);
       for (int w = 0; w < kWords; ++w) {
-        const size_t count = static_cast<size_t>(__builtin_popcountll(bits[static_cast<size_t>(w)]));
+        const size_t count = static_cast<size_t>(__builtin_popcountll(words[w]));
         marked += count;
         if ((saturated >> w) & 1u)
-          bits[static_cast<size_t>(w)] = 0;
+          words[w] = 0;
         else
           kept += count;
       }
@@ -90,9 +100,9 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
     const LocalTables& tables = tables_;
     for (const auto& [brick_morton, i] : order) {
       const auto [bx, by, bz] = unpackBrick(keys_[i]);
-      const Bits& bits = bricks_[i];
+      const std::uint64_t* words = bits(i);
       for (int w = 0; w < kWords; ++w) {
-        std::uint64_t word = bits[static_cast<size_t>(w)];
+        std::uint64_t word = words[w];
         while (word) {
           const int bit = __builtin_ctzll(word);
           word &= word - 1;
@@ -290,22 +300,25 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
     return {static_cast<std::uint16_t>(packed >> 24), static_cast<std::uint16_t>((packed >> 12) & 0xfff),
             static_cast<std::uint16_t>(packed & 0xfff)};
   }
-  [[gnu::noinline]] std::uint64_t* bitsOf(std::uint64_t packed) { return brick(packed).data(); }
-  Bits& brick(std::uint64_t packed) {
-    if (packed == cached_key_) return bricks_[cached_index_];
+  [[gnu::noinline]] std::uint64_t* bitsOf(std::uint64_t packed) { return bits(brickIndex(packed)); }
+  std::uint64_t* bits(size_t index) { return words_.data() + index * kWords; }
+  const std::uint64_t* bits(size_t index) const { return words_.data() + index * kWords; }
+  // The brick's index (a new, empty brick when it has none yet).
+  std::uint32_t brickIndex(std::uint64_t packed) {
+    if (packed == cached_key_) return cached_index_;
     bool inserted = false;
-    cached_index_ = index_.findOrInsert(packed, static_cast<std::uint32_t>(bricks_.size()), inserted);
+    cached_index_ = index_.findOrInsert(packed, static_cast<std::uint32_t>(keys_.size()), inserted);
     if (inserted) {
-      bricks_.emplace_back();
-      bricks_.back().fill(0);
+      words_.resize(words_.size() + kWords, 0);
       keys_.push_back(packed);
     }
     cached_key_ = packed;
-    return bricks_[cached_index_];
+    return cached_index_;
   }
+  void markWalksAvx512(const grid::RayWalk* walks, size_t count);  // brick_march.cpp
 
   FlatIndex index_{256};
-  std::vector<Bits> bricks_;
+  std::vector<std::uint64_t> words_;  // kWords per brick, in the order of keys_
   std::vector<std::uint64_t> keys_;
   std::uint64_t cached_key_ = ~std::uint64_t{0};
   std::uint32_t cached_index_ = 0;

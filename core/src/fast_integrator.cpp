@@ -13,7 +13,8 @@
 //     through the vectorised row logit (core/src/fast_logit.cpp).
 //  2. One ray per end voxel marks the crossed voxels in 16^3 bit bricks, so a
 //     voxel crossed by many rays costs one bit (threads mark their own
-//     bricks; brick_set.hpp). Each thread starts on its own groups' rays as
+//     bricks; brick_set.hpp); with AVX-512, eight rays at once, one per
+//     vector lane (brick_march.cpp). Each thread starts on its own groups' rays as
 //     soon as its rows are done, in chunks, and then helps with the other
 //     threads' groups; the first thread merges the groups meanwhile.
 //  3. Hit voxels are removed from the marks; misses (read from the bricks in
@@ -427,6 +428,11 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   // a voxel that two parts saw (pixels on both sides of their rows' border)
   // casts its ray twice, which marks the same voxels again.
   std::vector<RayProgress> progress(static_cast<size_t>(threads));
+  // Rays are handed out in chunks, and marked eight at a time where the
+  // processor has AVX-512 (a chunk ends with fewer walks than lanes).
+  constexpr size_t kRayChunk = 128;
+  const bool eight_walks_at_once =
+      vector_kernels && kernels != VectorKernels::UpToAvx2 && cpuHasAvx512();
   auto allReady = [&] {
     for (const RayProgress& p : progress)
       if (p.rays.load(std::memory_order_acquire) == RayProgress::kNotReady) return false;
@@ -442,6 +448,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     BrickSet& mark = marks[static_cast<size_t>(t)];
     mark.clear();
     RayProgress& own = progress[static_cast<size_t>(t)];
+    std::array<grid::RayWalk, kRayChunk> walks;
     try {
       groupPixels(t);
     } catch (...) {  // the frame is abandoned; the other threads must not wait for this part
@@ -457,15 +464,15 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
       size_t count;
       while ((count = from.rays.load(std::memory_order_acquire)) == RayProgress::kNotReady)
         waitBriefly();
-      constexpr size_t kChunk = 64;
-      for (size_t first = from.next.fetch_add(kChunk); first < count;
-           first = from.next.fetch_add(kChunk)) {
-        for (size_t i = first; i < std::min(first + kChunk, count); ++i) {
+      for (size_t first = from.next.fetch_add(kRayChunk); first < count;
+           first = from.next.fetch_add(kRayChunk)) {
+        size_t set_up = 0;
+        for (size_t i = first; i < std::min(first + kRayChunk, count); ++i) {
           const PixelRay ray = unpackVoxel(groups[i].voxel);
           const Eigen::Vector3d end = rayEnd(g, origin, ray.end_key, ray.beyond_range, max_range);
-          grid::RayWalk walk;
-          if (grid::setUpRay(g, origin, end, walk)) mark.markWalk(walk);
+          set_up += grid::setUpRay(g, origin, end, walks[set_up]);
         }
+        mark.markWalks(walks.data(), set_up, eight_walks_at_once);
         if (!merged && allReady()) {
           mergeGroups();
           merged = true;

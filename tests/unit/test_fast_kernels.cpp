@@ -128,10 +128,15 @@ std::vector<std::uint64_t> visitedCodes(const lom::grid::RayWalk& walk) {
   return visited;
 }
 
-// The Morton codes of the voxels BrickSet::markWalk marks for a walk, ascending.
-std::vector<std::uint64_t> markedCodes(const lom::grid::RayWalk& walk) {
+// The Morton codes of the voxels BrickSet marks for some walks, ascending:
+// markWalk on each, or markWalks eight at a time (where the processor can).
+std::vector<std::uint64_t> markedCodes(const std::vector<lom::grid::RayWalk>& walks,
+                                       bool eight_at_once) {
   lom::BrickSet marks;
-  marks.markWalk(walk);
+  if (eight_at_once)
+    marks.markWalks(walks.data(), walks.size(), true);
+  else
+    for (const auto& walk : walks) marks.markWalk(walk);
   std::vector<lom::VoxelUpdate> misses;
   marks.appendMisses(misses);
   std::vector<std::uint64_t> marked;
@@ -140,6 +145,30 @@ std::vector<std::uint64_t> markedCodes(const lom::grid::RayWalk& walk) {
     EXPECT_EQ(miss.morton, lom::grid::mortonCode(miss.key[0], miss.key[1], miss.key[2]));
   }
   return marked;
+}
+std::vector<std::uint64_t> markedCodes(const lom::grid::RayWalk& walk) {
+  return markedCodes({walk}, false);
+}
+
+// The voxels some walks visit, ascending, each once.
+std::vector<std::uint64_t> visitedSet(const std::vector<lom::grid::RayWalk>& walks) {
+  std::vector<std::uint64_t> all;
+  for (const auto& walk : walks) {
+    const std::vector<std::uint64_t> visited = visitedCodes(walk);
+    all.insert(all.end(), visited.begin(), visited.end());
+  }
+  std::sort(all.begin(), all.end());
+  all.erase(std::unique(all.begin(), all.end()), all.end());
+  return all;
+}
+
+// Checks the eight-lane marking against the walks: each walk alone (one lane)
+// and all together (lanes taking the next walk as theirs end).
+void expectEightLanesMarkWhatTheWalksVisit(const std::vector<lom::grid::RayWalk>& walks) {
+  if (!lom::cpuHasAvx512()) return;
+  for (size_t i = 0; i < walks.size(); ++i)
+    ASSERT_EQ(markedCodes({walks[i]}, true), visitedSet({walks[i]})) << "walk " << i << " alone";
+  ASSERT_EQ(markedCodes(walks, true), visitedSet(walks)) << walks.size() << " walks at once";
 }
 
 // The fast path marks each ray's voxels in bricks, in slices along the
@@ -154,6 +183,7 @@ TEST(BrickSetTest, MarksExactlyTheVoxelsTraverseRayVisits) {
   std::uniform_int_distribution<int> kind(0, 9);
   for (const double resolution : {0.01, 0.005, 0.05}) {
     const lom::grid::Grid grid(resolution);
+    std::vector<lom::grid::RayWalk> walks;
     for (int ray = 0; ray < 4000; ++ray) {
       Eigen::Vector3d origin(coordinate(random), coordinate(random), coordinate(random));
       Eigen::Vector3d end(coordinate(random), coordinate(random), coordinate(random));
@@ -176,8 +206,15 @@ TEST(BrickSetTest, MarksExactlyTheVoxelsTraverseRayVisits) {
       std::sort(visited.begin(), visited.end());
       visited.erase(std::unique(visited.begin(), visited.end()), visited.end());
       ASSERT_EQ(marked, visited) << "resolution " << resolution << ", ray " << ray;
+      walks.push_back(walk);
+      if (walks.size() == 37) {  // not a multiple of eight: lanes run dry at the end
+        expectEightLanesMarkWhatTheWalksVisit(walks);
+        walks.clear();
+      }
     }
+    expectEightLanesMarkWhatTheWalksVisit(walks);
   }
+  if (!lom::cpuHasAvx512()) GTEST_LOG_(INFO) << "no AVX-512 here: eight-lane marking not checked";
 }
 
 // Walks whose border distances tie (binary fractions, so the sums stay
@@ -190,6 +227,7 @@ TEST(BrickSetTest, BreaksTiesBetweenAxesAsTheWalkDoes) {
   std::mt19937 random(5);
   std::uniform_int_distribution<int> quarter(1, 4), offset(0, 31);
   size_t tied_walks = 0;
+  std::vector<lom::grid::RayWalk> walks;
   for (const auto& order : orders) {
     for (int signs = 0; signs < 8; ++signs) {
       for (int start = 0; start < 6; ++start) {
@@ -223,10 +261,32 @@ TEST(BrickSetTest, BreaksTiesBetweenAxesAsTheWalkDoes) {
         ASSERT_EQ(visited.size(), std::set<std::uint64_t>(visited.begin(), visited.end()).size());
         ASSERT_EQ(marked, visited) << "order " << order[0] << order[1] << order[2] << ", signs "
                                    << signs << ", start " << start;
+        walks.push_back(walk);
       }
     }
   }
   EXPECT_GT(tied_walks, 150u) << "most walks should have ties to break";
+  expectEightLanesMarkWhatTheWalksVisit(walks);
+}
+
+// Walks the lanes leave to markWalk: a batch reaching over too many bricks
+// (rays of a metre at 1 mm), and a walk whose step budget could end it early.
+TEST(BrickSetTest, EightLanesLeaveFarReachingAndBudgetedWalksToOneAtATime) {
+  if (!lom::cpuHasAvx512()) GTEST_SKIP() << "no AVX-512 here: eight-lane marking not used";
+  const lom::grid::Grid fine(0.001);
+  std::vector<lom::grid::RayWalk> far(3);
+  ASSERT_TRUE(lom::grid::setUpRay(fine, {0.01, 0.02, 0.03}, {0.61, -0.52, 0.43}, far[0]));
+  ASSERT_TRUE(lom::grid::setUpRay(fine, {0.01, 0.02, 0.03}, {-0.6, 0.4, -0.5}, far[1]));
+  ASSERT_TRUE(lom::grid::setUpRay(fine, {0.01, 0.02, 0.03}, {0.3, 0.5, -0.6}, far[2]));
+  EXPECT_EQ(markedCodes(far, true), visitedSet(far));
+
+  const lom::grid::Grid grid(0.01);
+  lom::grid::RayWalk budgeted;
+  ASSERT_TRUE(lom::grid::setUpRay(grid, {0.001, 0.002, 0.003}, {0.31, 0.22, -0.13}, budgeted));
+  budgeted.max_steps = 20;  // the walk stops after 20 steps, before its end voxel
+  const std::vector<std::uint64_t> visited = visitedSet({budgeted});
+  EXPECT_EQ(visited.size(), 21u);
+  EXPECT_EQ(markedCodes({budgeted}, true), visited);
 }
 
 // Misses on saturated free space change nothing: the 4^3 blocks of a brick
