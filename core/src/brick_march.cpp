@@ -250,14 +250,14 @@ void BrickSet::markWalksAvx512(const grid::RayWalk* walks, size_t count) {
           pending_bits = zero;
   __mmask8 active = take(0xff);
   while (active) {
-    // stepWalk's stop at a border past the end point. Lanes step whether or
-    // not they stop here (a stopped lane's state is not used again), so that
-    // the stop is off the chain from one step to the next.
     // nextAxis: x unless y is strictly closer, then z if strictly closer.
     const __mmask8 y_first = _mm512_cmp_pd_mask(m1, m0, _CMP_LT_OQ);
     const __m512d closer = _mm512_mask_blend_pd(y_first, m0, m1);
     const __mmask8 z_first = _mm512_cmp_pd_mask(m2, closer, _CMP_LT_OQ);
     const __m512d border = _mm512_mask_blend_pd(z_first, closer, m2);
+    // stepWalk's stop at a border past the end point. Every lane steps,
+    // stopping or not, idle or not (a stopped lane's state is not used
+    // again), so that the stop is off the chain from one step to the next.
     const __mmask8 past_end = _mm512_mask_cmp_pd_mask(active, border, length, _CMP_GT_OQ);
     const auto go2 = z_first;
     const auto go1 = static_cast<__mmask8>(y_first & ~z_first);
@@ -282,7 +282,8 @@ void BrickSet::markWalksAvx512(const grid::RayWalk* walks, size_t count) {
         _mm512_mask_blend_epi64(go2, _mm512_mask_blend_epi64(go1, stride0, stride1), stride2);
     brick = _mm512_mask_add_epi64(brick, crossed, brick,
                                   _mm512_mask_sub_epi64(stride, down, zero, stride));
-    // The end voxel is not marked.
+    // The end voxel is not marked. (`done` may also name idle lanes: they
+    // can take walks too.)
     const __mmask8 reached = _mm512_cmpeq_epi64_mask(key, end_key);
     const auto done = static_cast<__mmask8>(past_end | reached);
     const auto mark = static_cast<__mmask8>(active & ~done);

@@ -14,9 +14,9 @@
 //  2. One ray per end voxel marks the crossed voxels in 16^3 bit bricks, so a
 //     voxel crossed by many rays costs one bit (threads mark their own
 //     bricks; brick_set.hpp); with AVX-512, eight rays at once, one per
-//     vector lane (brick_march.cpp). Each thread starts on its own groups' rays as
-//     soon as its rows are done, in chunks, and then helps with the other
-//     threads' groups; the first thread merges the groups meanwhile.
+//     vector lane (brick_march.cpp). Each thread starts on its own groups'
+//     rays as soon as its rows are done, in chunks, and then helps with the
+//     other threads' groups; the first thread merges the groups meanwhile.
 //  3. Hit voxels are removed from the marks; misses (read from the bricks in
 //     Morton order, leaving out the 4^3 blocks the tree holds as saturated
 //     free space, which a miss cannot change) and hits (sorted; with a
@@ -428,8 +428,9 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   // a voxel that two parts saw (pixels on both sides of their rows' border)
   // casts its ray twice, which marks the same voxels again.
   std::vector<RayProgress> progress(static_cast<size_t>(threads));
-  // Rays are handed out in chunks, and marked eight at a time where the
-  // processor has AVX-512 (a chunk ends with fewer walks than lanes).
+  // Rays are handed out in chunks; where the processor has AVX-512 a chunk's
+  // rays are marked eight at a time (the lanes run dry at a chunk's end, so
+  // chunks are not small).
   constexpr size_t kRayChunk = 128;
   const bool eight_walks_at_once =
       vector_kernels && kernels != VectorKernels::UpToAvx2 && cpuHasAvx512();
