@@ -147,9 +147,11 @@ struct CodedRow {
   int width;                      // channels per pixel, 1..16
   const float* table;             // log-odds of each code
   const std::uint8_t* table_bytes; // byte b of table[c] at table_bytes[256 b + c]
-  // Four pixels' codes spread one per 16-byte lane: byte i of the lanes comes
-  // from byte spread[i] of the four pixels' codes (channels past the width
-  // repeat the last code; they land in the sums' padding).
+  // Four pixels' codes spread over the register so that the kernel's byte
+  // interleaving leaves one pixel per register: byte 16 L + 4 k + j comes
+  // from pixel k's channel 4 L + j (byte spread[i] of the four pixels'
+  // codes; channels past the width repeat the last code, and land in the
+  // sums' padding).
   const std::uint8_t* spread;
   float* sums;                    // the groups' sums, kCodedStride apart, on cache lines
 };
@@ -328,8 +330,10 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
                                   : nullptr;
   std::array<std::uint8_t, 64> code_spread{};
   if (coded_kernel)
-    for (int i = 0; i < 64; ++i)
-      code_spread[static_cast<size_t>(i)] = static_cast<std::uint8_t>((i / 16) * width + std::min(i % 16, width - 1));
+    for (int i = 0; i < 64; ++i) {
+      const int pixel = (i % 16) / 4, channel = 4 * (i / 16) + i % 4;
+      code_spread[static_cast<size_t>(i)] = static_cast<std::uint8_t>(pixel * width + std::min(channel, width - 1));
+    }
   const PixelProjector projector(g, camera, T_world_camera, max_range);
   const size_t stride = coded_kernel ? kCodedStride : static_cast<size_t>(width);
   const bool count_in_kernel = coded_kernel && kernelCountsPixels(width);
