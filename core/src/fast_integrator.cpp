@@ -433,8 +433,8 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   // casts its ray twice, which marks the same voxels again.
   std::vector<RayProgress> progress(static_cast<size_t>(threads));
   // Rays are handed out in chunks; where the processor has AVX-512 a chunk's
-  // rays are marked eight at a time (the lanes run dry at a chunk's end, so
-  // chunks are not small).
+  // rays are set up and marked eight at a time (the lanes run dry at a
+  // chunk's end, so chunks are not small).
   constexpr size_t kRayChunk = 128;
   const bool eight_walks_at_once =
       vector_kernels && kernels != VectorKernels::UpToAvx2 && cpuHasAvx512();
@@ -454,6 +454,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     mark.clear();
     RayProgress& own = progress[static_cast<size_t>(t)];
     std::array<grid::RayWalk, kRayChunk> walks;
+    std::array<std::uint64_t, kRayChunk> voxels;
     try {
       groupPixels(t);
     } catch (...) {  // the frame is abandoned; the other threads must not wait for this part
@@ -471,11 +472,17 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
         waitBriefly();
       for (size_t first = from.next.fetch_add(kRayChunk); first < count;
            first = from.next.fetch_add(kRayChunk)) {
+        const size_t last = std::min(first + kRayChunk, count);
         size_t set_up = 0;
-        for (size_t i = first; i < std::min(first + kRayChunk, count); ++i) {
-          const PixelRay ray = unpackVoxel(groups[i].voxel);
-          const Eigen::Vector3d end = rayEnd(g, origin, ray.end_key, ray.beyond_range, max_range);
-          set_up += grid::setUpRay(g, origin, end, walks[set_up]);
+        if (eight_walks_at_once) {
+          for (size_t i = first; i < last; ++i) voxels[i - first] = groups[i].voxel;
+          set_up = setUpRaysAvx512(g, origin, max_range, voxels.data(), last - first, walks.data());
+        } else {
+          for (size_t i = first; i < last; ++i) {
+            const PixelRay ray = unpackVoxel(groups[i].voxel);
+            const Eigen::Vector3d end = rayEnd(g, origin, ray.end_key, ray.beyond_range, max_range);
+            set_up += grid::setUpRay(g, origin, end, walks[set_up]);
+          }
         }
         mark.markWalks(walks.data(), set_up, eight_walks_at_once);
         if (!merged && allReady()) {

@@ -95,6 +95,12 @@ class PixelProjector {
 // discretized insertion), or the point at max range towards it.
 Eigen::Vector3d rayEnd(const grid::Grid& g, const Eigen::Vector3d& origin, const grid::Key& end_key,
                        bool beyond_range, double max_range);
+// rayEnd and grid::setUpRay for `count` packed end voxels, eight at a time
+// (AVX-512 F; core/src/ray_setup.cpp): the same walks to the last bit. Rays
+// setUpRay would refuse (an end outside the key range) are left out; returns
+// how many walks were written to `walks` (room for `count`).
+size_t setUpRaysAvx512(const grid::Grid& g, const Eigen::Vector3d& origin, double max_range,
+                       const std::uint64_t* voxels, size_t count, grid::RayWalk* walks);
 
 FrameStats integrateFrameReference(LabelMap& map, const CameraIntrinsics& camera,
                                    const Eigen::Isometry3d& T_world_camera,

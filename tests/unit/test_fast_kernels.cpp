@@ -26,6 +26,11 @@ std::uint32_t bitsOf(float f) {
   std::memcpy(&bits, &f, sizeof(bits));
   return bits;
 }
+std::uint64_t bitsOf64(double d) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &d, sizeof(bits));
+  return bits;
+}
 
 TEST(FastLogitTest, WithinAMillionthOfClampedLogitOverTheProbabilities) {
   // Every 61st float in [0, 1] (17 million values, all exponents), the clamp
@@ -287,6 +292,68 @@ TEST(BrickSetTest, EightLanesLeaveFarReachingAndBudgetedWalksToOneAtATime) {
   const std::vector<std::uint64_t> visited = visitedSet({budgeted});
   EXPECT_EQ(visited.size(), 21u);
   EXPECT_EQ(markedCodes({budgeted}, true), visited);
+}
+
+// The rays' set-up eight at a time gives setUpRay's walks to the last bit:
+// ends at voxel centres and at max range, along axes (zero steps), in the
+// origin's voxel, and outside the key range (left out).
+TEST(FastRaySetUpTest, EightAtATimeGivesSetUpRaysWalks) {
+  if (!lom::cpuHasAvx512()) GTEST_SKIP() << "no AVX-512 here: the rays are set up one at a time";
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> coordinate(-0.8, 0.8);
+  std::uniform_int_distribution<int> kind(0, 7), offset(-90, 90);
+  for (const double resolution : {0.01, 0.005, 0.037}) {
+    const lom::grid::Grid grid(resolution);
+    for (int frame = 0; frame < 40; ++frame) {
+      const Eigen::Vector3d origin(coordinate(random), coordinate(random), coordinate(random));
+      lom::grid::Key origin_key;
+      ASSERT_TRUE(grid.keyOf(origin, origin_key));
+      const double max_range = 0.2 + 0.01 * frame;
+      std::vector<std::uint64_t> voxels;
+      for (int i = 0; i < 203; ++i) {  // not a multiple of eight
+        lom::grid::Key key = origin_key;
+        const int k = kind(random);
+        for (int a = 0; a < 3; ++a)
+          if (!(k == 1 && a > 0) && !(k == 2 && a == 1))  // along x; in a plane
+            key[static_cast<size_t>(a)] =
+                static_cast<std::uint16_t>(key[static_cast<size_t>(a)] + offset(random));
+        if (k == 3) key = origin_key;  // the origin's own voxel
+        if (k == 4)
+          key[0] = static_cast<std::uint16_t>(65535 - (i % 3));  // the far end of the key range
+        voxels.push_back(lom::packVoxel(key, k >= 4 || i % 5 == 0));
+      }
+      std::vector<lom::grid::RayWalk> expected;
+      for (const std::uint64_t voxel : voxels) {
+        const lom::PixelRay ray = lom::unpackVoxel(voxel);
+        lom::grid::RayWalk walk;
+        if (lom::grid::setUpRay(grid, origin,
+                                lom::rayEnd(grid, origin, ray.end_key, ray.beyond_range, max_range),
+                                walk))
+          expected.push_back(walk);
+      }
+      std::vector<lom::grid::RayWalk> walks(voxels.size());
+      walks.resize(lom::setUpRaysAvx512(grid, origin, max_range, voxels.data(), voxels.size(),
+                                        walks.data()));
+      ASSERT_EQ(walks.size(), expected.size());
+      for (size_t i = 0; i < walks.size(); ++i) {
+        const lom::grid::RayWalk &a = walks[i], &b = expected[i];
+        for (int axis = 0; axis < 3; ++axis) {
+          ASSERT_EQ(a.key[axis], b.key[axis]) << "walk " << i;
+          ASSERT_EQ(a.end_key[axis], b.end_key[axis]) << "walk " << i;
+        }
+        if (std::equal(a.key, a.key + 3, a.end_key)) continue;  // nothing else is set
+        for (int axis = 0; axis < 3; ++axis) {
+          ASSERT_EQ(a.step[axis], b.step[axis]) << "walk " << i;
+          ASSERT_EQ(bitsOf64(a.t_max[axis]), bitsOf64(b.t_max[axis]))
+              << "walk " << i << " axis " << axis;
+          ASSERT_EQ(bitsOf64(a.t_delta[axis]), bitsOf64(b.t_delta[axis]))
+              << "walk " << i << " axis " << axis;
+        }
+        ASSERT_EQ(bitsOf64(a.length), bitsOf64(b.length)) << "walk " << i;
+        ASSERT_EQ(a.max_steps, b.max_steps) << "walk " << i;
+      }
+    }
+  }
 }
 
 // Misses on saturated free space change nothing: the 4^3 blocks of a brick
