@@ -15,7 +15,6 @@
 
 namespace lom {
 
-#if defined(__x86_64__) && defined(__GNUC__)
 // The lambdas return vectors but are inlined, so the ABI note does not
 // apply; g++ 12 reads the "undefined" pass-through register of some AVX-512
 // intrinsics as maybe uninitialised.
@@ -129,6 +128,5 @@ size_t setUpRaysAvx512(const grid::Grid& g, const Eigen::Vector3d& origin, doubl
 }
 #pragma GCC pop_options
 #pragma GCC diagnostic pop
-#endif
 
 }  // namespace lom
