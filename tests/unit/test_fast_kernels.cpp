@@ -296,7 +296,8 @@ TEST(BrickSetTest, EightLanesLeaveFarReachingAndBudgetedWalksToOneAtATime) {
 
 // The rays' set-up eight at a time gives setUpRay's walks to the last bit:
 // ends at voxel centres and at max range, along axes (zero steps), in the
-// origin's voxel, and outside the key range (left out).
+// origin's voxel, and outside the key range (left out, as setUpRay refuses
+// them).
 TEST(FastRaySetUpTest, EightAtATimeGivesSetUpRaysWalks) {
   if (!lom::cpuHasAvx512()) GTEST_SKIP() << "no AVX-512 here: the rays are set up one at a time";
   std::mt19937 random(3);
@@ -305,7 +306,11 @@ TEST(FastRaySetUpTest, EightAtATimeGivesSetUpRaysWalks) {
   for (const double resolution : {0.01, 0.005, 0.037}) {
     const lom::grid::Grid grid(resolution);
     for (int frame = 0; frame < 40; ++frame) {
-      const Eigen::Vector3d origin(coordinate(random), coordinate(random), coordinate(random));
+      Eigen::Vector3d origin(coordinate(random), coordinate(random), coordinate(random));
+      // Every tenth frame from 3 voxels below the top of the key range on x:
+      // rays beyond max range towards +x end outside it.
+      const bool at_edge = frame % 10 == 9;
+      if (at_edge) origin[0] = (lom::grid::kKeyOffset - 3) * resolution;
       lom::grid::Key origin_key;
       ASSERT_TRUE(grid.keyOf(origin, origin_key));
       const double max_range = 0.2 + 0.01 * frame;
@@ -320,6 +325,11 @@ TEST(FastRaySetUpTest, EightAtATimeGivesSetUpRaysWalks) {
         if (k == 3) key = origin_key;  // the origin's own voxel
         if (k == 4)
           key[0] = static_cast<std::uint16_t>(65535 - (i % 3));  // the far end of the key range
+        if (at_edge) {  // towards +x, ends inside the range
+          key = origin_key;
+          key[0] = static_cast<std::uint16_t>(origin_key[0] + 1 + i % 2);
+          key[1] = static_cast<std::uint16_t>(origin_key[1] + i % 3);
+        }
         voxels.push_back(lom::packVoxel(key, k >= 4 || i % 5 == 0));
       }
       std::vector<lom::grid::RayWalk> expected;
@@ -330,6 +340,9 @@ TEST(FastRaySetUpTest, EightAtATimeGivesSetUpRaysWalks) {
                                 lom::rayEnd(grid, origin, ray.end_key, ray.beyond_range, max_range),
                                 walk))
           expected.push_back(walk);
+      }
+      if (at_edge) {
+        EXPECT_LT(expected.size(), voxels.size()) << "some ends outside the key range";
       }
       std::vector<lom::grid::RayWalk> walks(voxels.size());
       walks.resize(lom::setUpRaysAvx512(grid, origin, max_range, voxels.data(), voxels.size(),
