@@ -414,12 +414,8 @@ bool LabelOcTree::pruneSaturated(LabelOcTreeNode* node, long& node_delta) const 
   return true;
 }
 
-LabelOcTreeNode* LabelOcTree::childForUpdate(LabelOcTreeNode* node, unsigned pos, bool& created,
-                                             long& node_delta) const {
-  if (nodeChildExists(node, pos)) {
-    created = false;
-    return getNodeChild(node, pos);
-  }
+LabelOcTreeNode* LabelOcTree::missingChildForUpdate(LabelOcTreeNode* node, unsigned pos,
+                                                    bool& created, long& node_delta) const {
   if (!nodeHasChildren(node) && !created) {
     // A childless node that is not new is a pruned leaf: its children inherit its data.
     node->expandChildren();

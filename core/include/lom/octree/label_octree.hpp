@@ -178,8 +178,20 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   // unknown; otherwise a childless node is a pruned leaf and is expanded).
   LabelOcTreeNode* childForUpdate(LabelOcTreeNode* node, unsigned pos, bool& created);
   // The same, counting created nodes in `node_delta` instead of tree_size.
+  // An existing child (almost every step of the fast path's tree pass) is
+  // found here, inline; the pass's file cannot inline across files.
   LabelOcTreeNode* childForUpdate(LabelOcTreeNode* node, unsigned pos, bool& created,
-                                  long& node_delta) const;
+                                  long& node_delta) const {
+    if (nodeChildExists(node, pos)) {
+      created = false;
+      return getNodeChild(node, pos);
+    }
+    return missingChildForUpdate(node, pos, created, node_delta);
+  }
+  // childForUpdate when the child does not exist: a pruned leaf is expanded,
+  // else the child is created.
+  LabelOcTreeNode* missingChildForUpdate(LabelOcTreeNode* node, unsigned pos, bool& created,
+                                         long& node_delta) const;
   // One part of applySortedUpdates: updates [first, last) from the root. Nodes
   // listed in `shared` (by depth, up to shared_depth) are left unfinished.
   struct SharedPath;
