@@ -165,7 +165,7 @@ void BrickSet::markWalksAvx512(const grid::RayWalk* walks, size_t count) {
     for (int a = 0; a < 3; ++a) {
       lanes.t_max[a][j] = w.t_max[a];
       lanes.t_delta[a][j] = w.t_delta[a];
-      if (w.step[a] < 0) flip |= 0x249u << a;
+      if (w.step[a] < 0) flip |= axisBits(a);
     }
     lanes.length[j] = w.length;
     lanes.key[j] = packLaneKey(w.key, w.step);
@@ -223,8 +223,8 @@ void BrickSet::markWalksAvx512(const grid::RayWalk* walks, size_t count) {
     return m;
   };
 
-  const __m512i mask0 = _mm512_set1_epi64(0x249), mask1 = _mm512_set1_epi64(0x492),
-                mask2 = _mm512_set1_epi64(0x924);
+  const __m512i mask0 = _mm512_set1_epi64(axisBits(0)), mask1 = _mm512_set1_epi64(axisBits(1)),
+                mask2 = _mm512_set1_epi64(axisBits(2));
   const __m512i key_step0 = _mm512_set1_epi64(1),
                 key_step1 = _mm512_set1_epi64(std::int64_t{1} << kFieldBits),
                 key_step2 = _mm512_set1_epi64(std::int64_t{1} << (2 * kFieldBits));

@@ -146,7 +146,7 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
     // one step (a dilated +1 or -1), and their value right after leaving the brick.
     unsigned mask[3], add[3], wrapped[3];
     for (int a = 0; a < 3; ++a) {
-      mask[a] = 0x249u << a;
+      mask[a] = axisBits(a);
       add[a] = w.step[a] > 0 ? 0u - mask[a] : ~0u;
       wrapped[a] = w.step[a] > 0 ? 0u : mask[a];
     }
@@ -289,6 +289,8 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
     }();
     return tables;
   }
+  // Axis a's bits in a voxel's local (Morton) index: every third bit from a.
+  static constexpr unsigned axisBits(int a) { return 0x249u << a; }
   [[nodiscard]] unsigned localIndex(unsigned x, unsigned y, unsigned z) const {
     const auto& spread = tables_.spread;
     return spread[x & 15u] | (spread[y & 15u] << 1) | (spread[z & 15u] << 2);
