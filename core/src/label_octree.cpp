@@ -260,11 +260,13 @@ void LabelOcTreeNode::updateOccupancyChildren() {
   for (unsigned i = 0; i < 8; ++i) {
     if (!children || !children[i]) continue;
     const auto* child = static_cast<const LabelOcTreeNode*>(children[i]);
-    const int label = child->argmaxLabel(0);
-    if (!any_child || child->value > best_value ||
-        (child->value == best_value && label < best_label)) {
+    // A child's label is read only when its value can win (a sparse leaf's
+    // label is a scan of its block).
+    if (!any_child || child->value > best_value) {
       best_value = child->value;
-      best_label = label;
+      best_label = child->argmaxLabel(0);
+    } else if (child->value == best_value) {
+      best_label = std::min(best_label, child->argmaxLabel(0));
     }
     any_child = true;
   }
@@ -407,8 +409,9 @@ void LabelOcTree::addToNodeCount(long node_delta) {
 }
 
 bool LabelOcTree::pruneSaturated(LabelOcTreeNode* node, long& node_delta) const {
+  // The cheap test first: most finished nodes hold no saturated free space.
+  if (!nodeChildExists(node, 0) || !isSaturatedFree(getNodeChild(node, 0), false)) return false;
   if (!isNodeCollapsible(node)) return false;
-  if (!isSaturatedFree(getNodeChild(node, 0), false)) return false;
   node->collapseChildren();
   node_delta -= 8;
   return true;

@@ -117,6 +117,25 @@ TEST(LabelOcTreeTest, InnerNodesCarryTheMaximumOfTheirChildrenAndItsLabel) {
   EXPECT_EQ(coarse, 1u);
 }
 
+TEST(LabelOcTreeTest, InnerNodesBreakTiesBetweenChildrenByTheLowerLabel) {
+  LabelMap map(labels(3));
+  LabelOcTree& tree = map.tree();
+  const auto a = keyAt(tree, 0.005, 0.005, 0.005);  // child 0 of its parent
+  const auto b = keyAt(tree, 0.015, 0.005, 0.005);  // child 1
+  const auto c = keyAt(tree, 0.005, 0.015, 0.005);  // child 2
+  const float hit_a[3] = {-1.f, -1.f, 1.5f};        // maximum 1.5, label 2
+  const float hit_b[3] = {-1.f, 1.5f, -1.f};        // the same maximum, label 1
+  const float hit_c[3] = {0.5f, -1.f, -1.f};        // a lower maximum, label 0
+  tree.applyHit(a, hit_a);
+  tree.applyHit(b, hit_b);
+  tree.applyHit(c, hit_c);
+  tree.refreshAncestors({a, b, c});
+  const LabelOcTreeNode* parent = tree.search(a, tree.getTreeDepth() - 1);
+  ASSERT_NE(parent, nullptr);
+  EXPECT_FLOAT_EQ(parent->getLogOdds(), 1.5f);
+  EXPECT_EQ(parent->argmaxLabel(3), 1);  // the lower of the two tied labels; not the lower-valued 0
+}
+
 TEST(LabelOcTreeTest, LeafBlocksKeepOnlyLabelsAboveTheSmallest) {
   LabelMap map(labels(40));
   LabelOcTree& tree = map.tree();
