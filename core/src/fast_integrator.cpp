@@ -91,7 +91,9 @@ struct alignas(64) PixelGroups {  // own cache lines: threads write theirs per p
   }
 
   float* sumsOf(size_t group) { return sums.data() + group * stride; }
-  std::uint32_t groupFor(std::uint64_t voxel) {
+  // Out of line: the rare way (a recent-voxel cache miss) must not take
+  // registers from groupRow's loop.
+  [[gnu::noinline]] std::uint32_t groupFor(std::uint64_t voxel) {
     bool inserted = false;
     const std::uint32_t group =
         index.findOrInsert(voxel, static_cast<std::uint32_t>(groups.size()), inserted);
@@ -120,8 +122,11 @@ constexpr std::uint32_t kNoGroup = ~std::uint32_t{0};
 // group_of[u] = the group of pixel u, or kNoGroup when it adds no log-odds
 // (no voxel, or beyond max range). Counts the pixels of every group when
 // `count` (else the kernel counts them); returns the pixels with a voxel.
+// Not inlined into the pixel phase's lambda: there, short of registers, g++
+// kept the loop's pointer and counter on the stack, a chain of memory
+// increments through every pixel.
 template <bool count>
-size_t groupRow(PixelGroups& part, const std::uint64_t* voxels, int pixels, std::uint32_t* group_of) {
+[[gnu::noinline]] size_t groupRow(PixelGroups& part, const std::uint64_t* voxels, int pixels, std::uint32_t* group_of) {
   // Every pixel looks its voxel up in the cache of recent voxels: no test for
   // the end of a run, which depth noise makes unpredictable.
   size_t valid = 0;
