@@ -214,6 +214,84 @@ inline void addInto(float* __restrict sums, const float* __restrict add, int wid
   for (int c = 0; c < width; ++c) sums[c] += add[c];
 }
 
+// One row's pixels added to their groups' sums, for the images the coded
+// kernel does not take (float probabilities, or more than 16 channels).
+// Consecutive pixels often end in the same voxel (depth noise keeps the runs
+// short, about two pixels at 640x480 and 1 cm): a run shares one group
+// look-up and one pixel count. `Run` adds a pixel's log-odds to the run's
+// group: start(sums), add(u), end(). Returns the pixels with a voxel. Not
+// inlined, as groupRow.
+template <class Run>
+[[gnu::noinline]] size_t sumRow(PixelGroups& part, const std::uint64_t* voxels, int pixels,
+                                Run run) {
+  size_t valid = 0;
+  std::uint64_t run_voxel = kNoVoxel;
+  std::uint32_t run_pixels = 0, group = 0;
+  for (int u = 0; u < pixels; ++u) {
+    const std::uint64_t voxel = voxels[u];
+    if (voxel == kNoVoxel) continue;
+    if (voxel != run_voxel) {
+      if (run_pixels) {
+        part.groups[group].pixels += run_pixels;
+        run.end();
+      }
+      valid += run_pixels;
+      run_pixels = 0;
+      run_voxel = voxel;
+      group = part.cachedGroupFor(voxel);
+      run.start(part.sumsOf(group));
+    }
+    ++run_pixels;
+    if (!(voxel & 1u)) run.add(u);  // beyond max range: misses only
+  }
+  if (run_pixels) {
+    part.groups[group].pixels += run_pixels;
+    run.end();
+  }
+  return valid + run_pixels;
+}
+
+// Log-odds of `width` channels per pixel, added in memory.
+struct FloatRun {
+  const float* logits;
+  int width;
+  float* sums = nullptr;
+  void start(float* group_sums) { sums = group_sums; }
+  void add(int u) {
+    addInto(sums, logits + static_cast<size_t>(u) * static_cast<size_t>(width), width);
+  }
+  void end() {}
+};
+
+// One channel (a single-label map): the run's sum stays in a register instead
+// of being read back from memory at every pixel (a chain of store and load).
+// The same additions in the same order.
+struct OneChannelRun {
+  const float* logits;
+  float* sum = nullptr;
+  float value = 0.f;
+  void start(float* group_sum) {
+    sum = group_sum;
+    value = *sum;
+  }
+  void add(int u) { value += logits[u]; }
+  void end() { *sum = value; }
+};
+
+// 8-bit codes of `width` channels per pixel, through the log-odds table.
+struct CodedRun {
+  const std::uint8_t* codes;
+  const float* code_logit;
+  int width;
+  float* sums = nullptr;
+  void start(float* group_sums) { sums = group_sums; }
+  void add(int u) {
+    const std::uint8_t* pixel = codes + static_cast<size_t>(u) * static_cast<size_t>(width);
+    for (int c = 0; c < width; ++c) sums[c] += code_logit[pixel[c]];
+  }
+  void end() {}
+};
+
 // How far the rays of one part's groups are cast: `rays` is the number of its
 // groups once its pixels are grouped (until then kNotReady), `next` the first
 // group whose ray no thread has taken yet.
@@ -380,35 +458,13 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
                       code_spread.data(), part.sums.data()});
         continue;
       }
-      // Consecutive pixels often end in the same voxel (depth noise keeps
-      // the runs short, about two pixels at 640x480 and 1 cm): a run shares
-      // one group look-up and one pixel count.
-      std::uint64_t run_voxel = kNoVoxel;
-      std::uint32_t run_pixels = 0, group = 0;
-      float* sums = nullptr;
-      for (int u = 0; u < depth.width; ++u) {
-        const std::uint64_t voxel = row[static_cast<size_t>(u)];
-        if (voxel == kNoVoxel) continue;
-        if (voxel != run_voxel) {
-          if (run_pixels) part.groups[group].pixels += run_pixels;
-          valid_pixels += run_pixels;
-          run_pixels = 0;
-          run_voxel = voxel;
-          group = part.cachedGroupFor(voxel);
-          sums = part.sumsOf(group);
-        }
-        ++run_pixels;
-        if (voxel & 1u) continue;  // beyond max range: misses only
-        const size_t first = static_cast<size_t>(u) * static_cast<size_t>(width);
-        if (coded) {
-          for (int c = 0; c < width; ++c)
-            sums[c] += code_logit[codes[first + static_cast<size_t>(c)]];
-        } else {
-          addInto(sums, row_logits.data() + first, width);
-        }
-      }
-      if (run_pixels) part.groups[group].pixels += run_pixels;
-      valid_pixels += run_pixels;
+      if (coded)
+        valid_pixels +=
+            sumRow(part, row.data(), depth.width, CodedRun{codes, code_logit.data(), width});
+      else if (width == 1)
+        valid_pixels += sumRow(part, row.data(), depth.width, OneChannelRun{row_logits.data()});
+      else
+        valid_pixels += sumRow(part, row.data(), depth.width, FloatRun{row_logits.data(), width});
     }
     part.valid_pixels = valid_pixels;
     if (count_in_kernel)  // the pixels of groups beyond max range are not needed

@@ -149,6 +149,38 @@ TEST(FastPathTest, EightBitAndFloatProbabilityImagesGiveTheSameMap) {
   expectSameMaps(reference, floats);
 }
 
+// A single float channel (a single-label map, or one label of many) sums each
+// run of pixels in a register: random probabilities per pixel, so that every
+// pixel of a voxel counts, give the reference path's map.
+TEST(FastPathTest, OneChannelFloatImagesGiveTheReferenceMap) {
+  lom::test::TempDir dir;
+  const lom::Sequence sequence = generatedScene(dir, 17, 4, 3);
+  const int n = sequence.labels.size();
+  std::mt19937 random(17);
+  std::uniform_real_distribution<float> probability(0.05f, 0.95f);
+  LabelMap reference(sequence.labels, lom::MapParameters{});
+  LabelMap fast(sequence.labels, lom::MapParameters{});
+  for (size_t i = 0; i < sequence.frames.size(); ++i) {
+    const lom::FrameData frame = lom::loadFrame(sequence, i);
+    lom::ProbabilityImage proba;
+    proba.width = frame.depth.width;
+    proba.height = frame.depth.height;
+    proba.channels = 1;
+    proba.channel_labels = {2};
+    proba.values.resize(static_cast<size_t>(proba.width) * proba.height);
+    for (float& value : proba.values) value = probability(random);
+    const lom::FrameEvidence evidence(n, &proba, nullptr, std::nullopt, 0.9);
+    lom::IntegrationOptions reference_path;
+    reference_path.path = IntegrationPath::Reference;
+    const lom::CameraIntrinsics camera = sequence.cameraOf(i);
+    const Eigen::Isometry3d& pose = sequence.frames[i].T_world_camera;
+    lom::integrateFrame(reference, camera, pose, frame.depth, evidence, reference_path);
+    lom::integrateFrame(fast, camera, pose, frame.depth, evidence);
+  }
+  expectSameMaps(reference, fast);
+  EXPECT_GT(fast.occupiedCountPerLabel()[2], 100u);
+}
+
 // The vector kernels (AVX-512, AVX2) and the baseline instructions add the
 // same values in the same order: the maps agree to the last bit.
 TEST(FastPathTest, EveryKernelChoiceGivesTheSameBits) {
