@@ -1,0 +1,64 @@
+// The map worker fuses on a thread of its own: the GUI thread only queues
+// work and hears back through its event loop, so fusion never blocks it.
+#include "lom/ui/map_worker.hpp"
+
+#include <gtest/gtest.h>
+
+#include <QTest>
+#include <atomic>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "demo_window_fixture.hpp"
+#include "lom/sequence.hpp"
+#include "lom/synth.hpp"
+#include "test_support.hpp"
+
+namespace lom::ui {
+namespace {
+
+TEST(MapWorkerTest, FusesOffTheGuiThreadAndReportsThroughItsEventLoop) {
+  test::TempDir temp;
+  const auto folder = temp.path() / "scene";
+  (void)writeSyntheticScene(fixture::smallDemo(), folder);
+  const auto sequence = std::make_shared<const Sequence>(loadSequence(folder));
+  const size_t frames = sequence->frames.size();
+  ASSERT_GT(frames, 1u);
+
+  MapWorker worker;
+  const std::thread::id gui_thread = std::this_thread::get_id();
+  std::vector<std::thread::id> progress_threads;
+  bool finished = false, completed = false;
+  QObject::connect(&worker, &MapWorker::fusionProgress, [&](int, int, double) {
+    progress_threads.push_back(std::this_thread::get_id());
+  });
+  QObject::connect(&worker, &MapWorker::fusionFinished, [&](bool done) {
+    finished = true;
+    completed = done;
+  });
+  std::atomic<std::thread::id> map_thread{};
+
+  worker.startFusion(sequence, FusionOptions{});
+  worker.withMap([&](const LabelMap*) { map_thread = std::this_thread::get_id(); });
+  // startFusion returned at once: nothing has been reported, since reports
+  // wait for this thread's event loop.
+  EXPECT_TRUE(worker.isFusing());
+  EXPECT_TRUE(progress_threads.empty());
+  EXPECT_FALSE(finished);
+
+  ASSERT_TRUE(QTest::qWaitFor([&] { return finished; }, fixture::kTimeoutMs));
+  EXPECT_TRUE(completed);
+  EXPECT_EQ(progress_threads.size(), frames);  // one report per frame ...
+  for (const std::thread::id id : progress_threads)
+    EXPECT_EQ(id, gui_thread);  // ... heard on the GUI thread
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return map_thread.load() != std::thread::id{}; }, fixture::kTimeoutMs));
+  EXPECT_NE(map_thread.load(), gui_thread);  // the map lives on the worker's thread
+  QTest::qWait(50);                          // the last snapshot arrives through the event loop
+  EXPECT_EQ(worker.snapshot()->frames_fused, frames);
+  EXPECT_FALSE(worker.isFusing());
+}
+
+}  // namespace
+}  // namespace lom::ui
