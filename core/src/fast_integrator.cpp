@@ -126,7 +126,8 @@ constexpr std::uint32_t kNoGroup = ~std::uint32_t{0};
 // kept the loop's pointer and counter on the stack, a chain of memory
 // increments through every pixel.
 template <bool count>
-[[gnu::noinline]] size_t groupRow(PixelGroups& part, const std::uint64_t* voxels, int pixels, std::uint32_t* group_of) {
+[[gnu::noinline]] size_t groupRow(PixelGroups& part, const std::uint64_t* voxels, int pixels,
+                                  std::uint32_t* group_of) {
   // Every pixel looks its voxel up in the cache of recent voxels: no test for
   // the end of a run, which depth noise makes unpredictable.
   size_t valid = 0;
