@@ -67,6 +67,20 @@ lom::Sequence generatedScene(const lom::test::TempDir& dir, std::uint64_t seed, 
   return lom::loadSequence(dir.path());
 }
 
+// Fuses frame `i` of `sequence` (its camera and pose) into `map`.
+lom::FrameStats integrate(LabelMap& map, const lom::Sequence& sequence, size_t i,
+                          const lom::DepthImage& depth, const lom::FrameEvidence& evidence,
+                          const lom::IntegrationOptions& options = {}) {
+  return lom::integrateFrame(map, sequence.cameraOf(i), sequence.frames[i].T_world_camera, depth,
+                             evidence, options);
+}
+
+lom::IntegrationOptions referencePath() {
+  lom::IntegrationOptions options;
+  options.path = IntegrationPath::Reference;
+  return options;
+}
+
 TEST(FastPathTest, SameMapAsReferenceOnASyntheticScene) {
   lom::test::TempDir dir;
   const lom::Sequence sequence = generatedScene(dir, 21, 5, 4);
@@ -103,9 +117,7 @@ TEST(FastPathTest, EveryThreadCountGivesTheReferenceMap) {
     for (size_t i = 0; i < sequence.frames.size(); ++i) {
       const lom::FrameData frame = lom::loadFrame(sequence, i);
       const lom::FrameEvidence evidence(n, &*frame.proba, nullptr, std::nullopt, 0.9);
-      const lom::FrameStats stats =
-          lom::integrateFrame(map, sequence.cameraOf(i), sequence.frames[i].T_world_camera,
-                              frame.depth, evidence, integration);
+      const lom::FrameStats stats = integrate(map, sequence, i, frame.depth, evidence, integration);
       most_misses = std::max(most_misses, stats.miss_voxels);
     }
     // Enough misses for the streams to be merged in two halves (4096 or more).
@@ -137,13 +149,9 @@ TEST(FastPathTest, EightBitAndFloatProbabilityImagesGiveTheSameMap) {
     const int n = sequence.labels.size();
     const lom::FrameEvidence with(n, &*frame.proba, nullptr, std::nullopt, 0.9);
     const lom::FrameEvidence without(n, &without_codes, nullptr, std::nullopt, 0.9);
-    lom::IntegrationOptions reference_path;
-    reference_path.path = IntegrationPath::Reference;
-    const lom::CameraIntrinsics camera = sequence.cameraOf(i);
-    const Eigen::Isometry3d& pose = sequence.frames[i].T_world_camera;
-    lom::integrateFrame(reference, camera, pose, frame.depth, with, reference_path);
-    lom::integrateFrame(coded, camera, pose, frame.depth, with);
-    lom::integrateFrame(floats, camera, pose, frame.depth, without);
+    integrate(reference, sequence, i, frame.depth, with, referencePath());
+    integrate(coded, sequence, i, frame.depth, with);
+    integrate(floats, sequence, i, frame.depth, without);
   }
   expectSameMaps(reference, coded);
   expectSameMaps(reference, floats);
@@ -170,12 +178,8 @@ TEST(FastPathTest, OneChannelFloatImagesGiveTheReferenceMap) {
     proba.values.resize(static_cast<size_t>(proba.width) * proba.height);
     for (float& value : proba.values) value = probability(random);
     const lom::FrameEvidence evidence(n, &proba, nullptr, std::nullopt, 0.9);
-    lom::IntegrationOptions reference_path;
-    reference_path.path = IntegrationPath::Reference;
-    const lom::CameraIntrinsics camera = sequence.cameraOf(i);
-    const Eigen::Isometry3d& pose = sequence.frames[i].T_world_camera;
-    lom::integrateFrame(reference, camera, pose, frame.depth, evidence, reference_path);
-    lom::integrateFrame(fast, camera, pose, frame.depth, evidence);
+    integrate(reference, sequence, i, frame.depth, evidence, referencePath());
+    integrate(fast, sequence, i, frame.depth, evidence);
   }
   expectSameMaps(reference, fast);
   EXPECT_GT(fast.occupiedCountPerLabel()[2], 100u);
@@ -243,8 +247,7 @@ TEST(FastPathTest, EveryKernelChoiceGivesTheSameBitsAtEveryChannelCount) {
       integration.kernels = kernels;
       for (size_t i = 0; i < frames.size(); ++i) {
         const lom::FrameEvidence evidence(n, &images[i], nullptr, std::nullopt, 0.9);
-        lom::integrateFrame(map, sequence.cameraOf(i), sequence.frames[i].T_world_camera, frames[i].depth,
-                            evidence, integration);
+        integrate(map, sequence, i, frames[i].depth, evidence, integration);
       }
       return map;
     };
