@@ -194,6 +194,8 @@ TEST_F(CliExportTest, RenderWithoutDisplaySaysHowToRunIt) {
   const auto r = runCli("render " + q(map()) + " --out " + q(out / "view.png"));
   if (!display.empty()) ::setenv("DISPLAY", display.c_str(), 1);
   EXPECT_EQ(r.exit_code, 3);
+  if (r.err.find("built without the VTK rendering library") != std::string::npos)
+    GTEST_SKIP() << "this labeloctomap cannot render at all (configured with LOM_BUILD_UI=OFF)";
   EXPECT_NE(r.err.find("X server"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("xvfb-run"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out / "view.png"));
