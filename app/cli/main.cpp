@@ -1,4 +1,5 @@
 // labeloctomap: the command-line program (needs no display).
+#include <algorithm>
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -43,7 +44,8 @@ const Command kCommands[] = {
     {"import", lom::cli::runImport,
      "import KIND SRC --out SEQ [--intrinsics fx,fy,cx,cy|FILE] [--every N] [--overwrite] ...\n"
      "                                convert a ROS bag or dataset folder to a sequence\n"
-     "                                (KIND: auto, rosbag, frames, tum, quaternion, scannet, apc-shelf;\n"
+     "                                (KIND: auto, rosbag, frames, tum, quaternion, scannet, "
+     "apc-shelf;\n"
      "                                all options: labeloctomap import --help)"},
     {"plan", lom::cli::runPlan,
      "plan MAP.ot --target LABEL [--approach x,y,z | --sequence SEQ] [--empty-bin c,c,c,d,d,d]\n"
@@ -72,6 +74,13 @@ int main(int argc, char** argv) {
   lom::cli::Words words(argv + 2, argv + argc);
   for (const auto& c : kCommands) {
     if (name != c.name) continue;
+    if (std::any_of(words.begin(), words.end(), lom::cli::isHelpWord)) {
+      if (name == "import")
+        std::cout << lom::cli::importHelp();
+      else
+        std::cout << "usage: labeloctomap " << c.usage << "\n";
+      return 0;
+    }
     try {
       return c.run(words);
     } catch (const lom::cli::UsageError& e) {

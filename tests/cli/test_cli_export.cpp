@@ -172,10 +172,10 @@ TEST_F(CliExportTest, MistakesGiveClearMessagesAndNoFile) {
   EXPECT_NE(r.err.find("labels"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("99"), std::string::npos) << r.err;
   r = runCli("export " + q(map()) + " --format ply --out " + q(out / "m.stl"));
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find(".ply"), std::string::npos) << r.err;
   r = runCli("export " + q(map()) + " --format pcd --smooth --out " + q(out / "m.pcd"));
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("smooth"), std::string::npos) << r.err;
   r = runCli("export " + q(map()) + " --voxels " + q(out / "v.pcd") + " --format ply");
   EXPECT_EQ(r.exit_code, 2);
@@ -227,8 +227,9 @@ TEST_F(CliExportTest, RenderWritesAPictureOfTheMap) {
 
   r = runCli("render " + q(map()) + " --out " + q(out / "x.png") + " --camera " +
              q(fs::path(scene().string() + ":99")));
-  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("frame index"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("which has 4 frames"), std::string::npos) << r.err;
 }
 
 TEST_F(CliExportTest, RenderUsageMistakes) {
