@@ -133,10 +133,18 @@ int runPlan(const Words& words) {
   }
 
   const LabelMap map = LabelMap::load(map_path);
+  if (map.numLabels() < 2)
+    throw Error(map_path.string(), "--target", "a map with object labels (1 and up) to plan for",
+                "a map whose only label is the background (0), so it has no objects");
   const int target = resolveObjectLabel(map.labels(), target_text, map_path.string(), "--target");
   if (const auto candidates = args.option("candidates"))
     options.objects.labels = parseCandidates(*candidates, map.labels(), map_path.string());
   const PickPlan plan = planPick(map, target, options);
+  if (plan.approach_source == ApproachSource::FreeSpace)
+    std::cerr << "note: the approach direction was guessed from the map's observed free space "
+                 "(no --approach or --sequence given); it can point the wrong way when the cameras "
+                 "went round the objects. --sequence SEQ uses the recorded cameras' viewing "
+                 "direction, --approach x,y,z sets it\n";
   std::cout << planTable(plan);
   if (out) {
     writePlanJson(plan, *out, map_path.string());

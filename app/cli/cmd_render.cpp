@@ -114,6 +114,31 @@ RenderRequest parseRequest(const Words& words) {
 
 #ifdef LOM_HAVE_RENDER
 
+namespace {
+
+// The labels to render must exist and hold occupied voxels.
+void checkSomethingToRender(const LabelMap& map, const fs::path& map_path,
+                            const std::optional<std::set<int>>& labels) {
+  const auto counts = map.occupiedCountPerLabel();
+  if (!labels) {
+    if (counts.empty())
+      throw Error(map_path.string(), "map", "at least one occupied voxel to render",
+                  "no occupied voxel");
+    return;
+  }
+  for (const int label : *labels)
+    if (!map.labels().contains(label))
+      throw Error(map_path.string(), "--labels",
+                  "label ids of the map, 0 to " + std::to_string(map.numLabels() - 1),
+                  std::to_string(label));
+  for (const int label : *labels)
+    if (counts.count(label)) return;
+  throw Error(map_path.string(), "--labels", "labels with occupied voxels in the map",
+              "no occupied voxel of the selected labels");
+}
+
+}  // namespace
+
 int runRender(const Words& words) {
   const RenderRequest request = parseRequest(words);
   render::RenderOptions options;
@@ -137,7 +162,15 @@ int runRender(const Words& words) {
     return 3;
   }
   const LabelMap map = LabelMap::load(request.map);
-  render::renderMapToPng(map, options, request.out);
+  checkSomethingToRender(map, request.map, options.labels);
+  try {
+    render::renderMapToPng(map, options, request.out);
+  } catch (const Error& e) {
+    if (!e.problem().file.empty()) throw;
+    Problem problem = e.problem();
+    problem.file = request.map.string();
+    throw Error(problem);
+  }
   std::cout << "wrote " << options.width << "x" << options.height << " picture to "
             << request.out.string() << "\n";
   return 0;

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cstring>
 #include <iostream>
+#include <new>
 #include <string>
 
 #include "args.hpp"
@@ -17,7 +18,7 @@ struct Command {
 };
 
 const Command kCommands[] = {
-    {"info", lom::cli::runInfo, "info SEQ                      summary of a sequence"},
+    {"info", lom::cli::runInfo, "info SEQ | info MAP.ot        summary of a sequence or a map"},
     {"validate", lom::cli::runValidate,
      "validate SEQ                  check every file of a sequence; non-zero exit on problems"},
     {"synth", lom::cli::runSynth,
@@ -57,6 +58,13 @@ const Command kCommands[] = {
      "                                write probability images from a segmentation network"},
 };
 
+// "labeloctomap fuse scene --out m.ot" as typed (without quoting).
+std::string commandLine(int argc, char** argv) {
+  std::string line = "labeloctomap";
+  for (int i = 1; i < argc; ++i) line += std::string(" ") + argv[i];
+  return line;
+}
+
 void printUsage(std::ostream& out) {
   out << "usage: labeloctomap COMMAND [ARGS]\n\ncommands:\n";
   for (const auto& c : kCommands) out << "  " << c.usage << "\n";
@@ -83,6 +91,11 @@ int main(int argc, char** argv) {
     }
     try {
       return c.run(words);
+    } catch (const std::bad_alloc&) {
+      std::cerr << "labeloctomap " << name << ": out of memory while running '"
+                << commandLine(argc, argv)
+                << "' (smaller option values, e.g. a coarser --resolution, need less memory)\n";
+      return 1;
     } catch (const lom::cli::UsageError& e) {
       std::cerr << "labeloctomap " << name << ": " << e.what() << "\nusage: labeloctomap "
                 << c.usage << "\n";

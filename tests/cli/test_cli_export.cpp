@@ -230,6 +230,18 @@ TEST_F(CliExportTest, RenderWritesAPictureOfTheMap) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("frame index"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("which has 4 frames"), std::string::npos) << r.err;
+
+  // Labels without voxels: the map and the option are named.
+  const auto counts = lom::LabelMap::load(map()).occupiedCountPerLabel();
+  int empty = 1;
+  while (counts.count(empty)) ++empty;
+  r = runCli("render " + q(map()) + " --out " + q(out / "empty.png") + " --labels " +
+             std::to_string(empty));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find(map().string() + ": --labels: expected labels with occupied voxels"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(out / "empty.png"));
 }
 
 TEST_F(CliExportTest, RenderUsageMistakes) {
