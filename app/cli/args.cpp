@@ -1,5 +1,7 @@
 #include "args.hpp"
 
+#include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <sstream>
 
@@ -41,6 +43,7 @@ std::optional<std::string> Args::option(const std::string& name) const {
 std::string Args::required(const std::string& name) const {
   auto value = option(name);
   if (!value) throw UsageError("missing option --" + name);
+  if (value->empty()) throw UsageError("option --" + name + " expects a value, got an empty one");
   return *value;
 }
 
@@ -51,16 +54,22 @@ double Args::number(const std::string& name, double fallback) const {
   const double parsed = std::strtod(value->c_str(), &end);
   if (value->empty() || *end != '\0')
     throw UsageError("option --" + name + " expects a number, got '" + *value + "'");
+  if (!std::isfinite(parsed))
+    throw UsageError("option --" + name + " expects a finite number, got '" + *value + "'");
   return parsed;
 }
 
-long Args::integer(const std::string& name, long fallback) const {
+long Args::integer(const std::string& name, long fallback, long low, long high) const {
   auto value = option(name);
   if (!value) return fallback;
   char* end = nullptr;
+  errno = 0;
   const long parsed = std::strtol(value->c_str(), &end, 10);
   if (value->empty() || *end != '\0')
     throw UsageError("option --" + name + " expects an integer, got '" + *value + "'");
+  if (errno == ERANGE || parsed < low || parsed > high)
+    throw UsageError("option --" + name + " expects an integer from " + std::to_string(low) +
+                     " to " + std::to_string(high) + ", got '" + *value + "'");
   return parsed;
 }
 
@@ -73,20 +82,27 @@ void Args::expectOnly(const std::set<std::string>& known, size_t max_positionals
     throw UsageError("unexpected argument '" + positionals_[max_positionals] + "'");
 }
 
-std::vector<int> parseIntList(const std::string& text, const std::string& option) {
+std::vector<int> parseLabelList(const std::string& text, const std::string& option) {
   std::vector<int> values;
   std::stringstream stream(text);
   std::string item;
   while (std::getline(stream, item, ',')) {
     char* end = nullptr;
+    errno = 0;
     const long v = std::strtol(item.c_str(), &end, 10);
     if (item.empty() || *end != '\0')
       throw UsageError("option --" + option + " expects a comma-separated list of integers, got '" +
                        text + "'");
+    if (errno == ERANGE || v < 0 || v > kMaxLabelId)
+      throw UsageError("option --" + option + " expects label ids from 0 to " +
+                       std::to_string(kMaxLabelId) + " (a map holds at most " +
+                       std::to_string(kMaxLabelId + 1) + " labels), got " + item);
     values.push_back(static_cast<int>(v));
   }
   if (values.empty()) throw UsageError("option --" + option + " expects at least one integer");
   return values;
 }
+
+bool isHelpWord(const std::string& word) { return word == "--help" || word == "-h"; }
 
 }  // namespace lom::cli

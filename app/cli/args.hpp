@@ -1,6 +1,7 @@
 #pragma once
 // Minimal command-line parsing for the labeloctomap subcommands:
 // positionals, "--name value" options and "--flag" switches.
+#include <climits>
 #include <optional>
 #include <set>
 #include <stdexcept>
@@ -24,9 +25,14 @@ class Args {
   [[nodiscard]] const std::string& positional(size_t i, const std::string& what) const;
   [[nodiscard]] bool flag(const std::string& name) const { return flags_set_.count(name) > 0; }
   [[nodiscard]] std::optional<std::string> option(const std::string& name) const;
+  // The value of --name; throws UsageError when it is absent or empty.
   [[nodiscard]] std::string required(const std::string& name) const;
+  // A finite number (NaN and infinities are refused; no option means either).
   [[nodiscard]] double number(const std::string& name, double fallback) const;
-  [[nodiscard]] long integer(const std::string& name, long fallback) const;
+  // An integer from `low` to `high` (by default the range of int), checked before any
+  // narrowing so that a value such as 4294967302 is refused instead of wrapping around.
+  [[nodiscard]] long integer(const std::string& name, long fallback, long low = INT_MIN,
+                             long high = INT_MAX) const;
   // Throws UsageError for any option not in `known` and for extra positionals.
   void expectOnly(const std::set<std::string>& known, size_t max_positionals) const;
 
@@ -37,7 +43,12 @@ class Args {
   std::set<std::string> flags_set_;
 };
 
-// "0,8,19" -> {0, 8, 19}; throws UsageError naming `option` otherwise.
-std::vector<int> parseIntList(const std::string& text, const std::string& option);
+// A list of label ids, "0,8,19" -> {0, 8, 19}: each from 0 to kMaxLabelId (a map holds at
+// most 256 labels); throws UsageError naming `option` otherwise.
+inline constexpr int kMaxLabelId = 255;
+std::vector<int> parseLabelList(const std::string& text, const std::string& option);
+
+// Whether the word asks for a command's usage (--help or -h).
+bool isHelpWord(const std::string& word);
 
 }  // namespace lom::cli

@@ -1,22 +1,179 @@
 // labeloctomap export: meshes, point clouds, octrees and object boxes for other tools.
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
 #include <iostream>
+#include <new>
 #include <system_error>
 
 #include "args.hpp"
 #include "commands.hpp"
+#include "lom/error.hpp"
 #include "lom/export.hpp"
 #include "lom/label_map.hpp"
+#include "output_paths.hpp"
 
 namespace lom::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Keeps stderr quiet while it lives: OctoMap's binary writer prints progress of its own there.
+class QuietStderr {
+ public:
+  QuietStderr() {
+    std::fflush(stderr);
+    saved_ = ::dup(STDERR_FILENO);
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (saved_ >= 0 && null >= 0) ::dup2(null, STDERR_FILENO);
+    if (null >= 0) ::close(null);
+  }
+  ~QuietStderr() {
+    std::fflush(stderr);
+    if (saved_ < 0) return;
+    ::dup2(saved_, STDERR_FILENO);
+    ::close(saved_);
+  }
+  QuietStderr(const QuietStderr&) = delete;
+  QuietStderr& operator=(const QuietStderr&) = delete;
+
+ private:
+  int saved_ = -1;
+};
+
+std::string extensionOf(ExportFormat format) {
+  return format == ExportFormat::Objects ? ".json" : std::string(".") + exportFormatName(format);
+}
+
+bool isMesh(const ExportOptions& o) {
+  return o.format == ExportFormat::Obj || o.format == ExportFormat::Stl ||
+         (o.format == ExportFormat::Ply && !o.points);
+}
+
+bool isPointCloud(const ExportOptions& o) {
+  return o.format == ExportFormat::Pcd || (o.format == ExportFormat::Ply && o.points);
+}
+
+// Switches that do not apply to the format are mistakes in the call, found before the map is read.
+void checkSwitches(const ExportOptions& o) {
+  const std::string format = exportFormatName(o.format);
+  if (o.smooth && !isMesh(o))
+    throw UsageError("option --smooth applies to the mesh formats (ply, obj, stl), not to format " +
+                     format + (o.points ? " with --points" : ""));
+  if (o.per_label && !isMesh(o) && !isPointCloud(o))
+    throw UsageError(
+        "option --per-label applies to the mesh and point cloud formats (ply, obj, "
+        "stl, pcd), not to format " +
+        format);
+  if (o.points && o.format != ExportFormat::Ply)
+    throw UsageError(
+        "option --points applies to format ply (pcd is always points), not to format " + format);
+  if (o.native && o.format != ExportFormat::Ot)
+    throw UsageError("option --native applies to format ot, not to format " + format);
+  if (o.native && o.labels)
+    throw UsageError(
+        "option --labels does not go with --native (the native map keeps every label)");
+}
+
+// The files that a per-label export writes into `folder` for the labels with voxels.
+std::vector<fs::path> perLabelFiles(const LabelMap& map, const ExportOptions& options,
+                                    const std::map<int, size_t>& counts, const fs::path& folder) {
+  std::vector<fs::path> files;
+  for (const auto& [label, count] : counts) {
+    if (options.labels && !options.labels->count(label)) continue;
+    const fs::path file = folder / (labelFileStem(map.labels().at(label), map.numLabels()) +
+                                    extensionOf(options.format));
+    files.push_back(file);
+    if (options.format == ExportFormat::Obj)
+      files.push_back(fs::path(file).replace_extension(".mtl"));
+  }
+  return files;
+}
+
+std::string labelNames(const LabelMap& map, const std::set<int>& labels) {
+  std::string text;
+  for (const int label : labels) {
+    if (!text.empty()) text += ", ";
+    text += std::to_string(label) + " (" + map.labels().at(label).name + ")";
+  }
+  return text;
+}
+
+// Meshes, point clouds and objects need occupied voxels of the selected labels; says which
+// of the map's voxels there are when there are none.
+void checkSomethingToExport(const LabelMap& map, const fs::path& map_path,
+                            const ExportOptions& options, const std::map<int, size_t>& counts) {
+  if (options.labels)
+    for (const int label : *options.labels)
+      if (!map.labels().contains(label))
+        throw Error(map_path.string(), "--labels",
+                    "label ids of the map, 0 to " + std::to_string(map.numLabels() - 1),
+                    std::to_string(label));
+  if (options.format == ExportFormat::Ot || options.format == ExportFormat::Bt) return;
+  size_t occupied = 0;
+  for (const auto& [label, count] : counts) occupied += count;
+  if (options.labels) {
+    for (const int label : *options.labels)
+      if (counts.count(label)) return;
+    std::string present;
+    for (const auto& [label, count] : counts)
+      present += (present.empty() ? "" : ", ") + std::to_string(label);
+    throw Error(map_path.string(), "--labels",
+                "labels with occupied voxels in the map" +
+                    (present.empty() ? std::string(" (the map has none)") : " (" + present + ")"),
+                (options.labels->size() == 1 ? "label " : "labels ") +
+                    labelNames(map, *options.labels) + " without any occupied voxel");
+  }
+  if (occupied == 0)
+    throw Error(map_path.string(), "map", "at least one occupied voxel to export",
+                "no occupied voxel");
+  if (options.format == ExportFormat::Objects && counts.size() == 1 && counts.count(0))
+    throw Error(map_path.string(), "map", "occupied voxels of object labels (1 and up)",
+                std::to_string(occupied) +
+                    " occupied voxels, all of the background (label 0), which the objects export "
+                    "leaves out; add --labels 0 to export the background as an object");
+}
+
+// Runs the export; failures of the writers that do not name the output are made to.
+ExportSummary runExportTo(const LabelMap& map, const ExportOptions& options, const fs::path& out,
+                          const std::string& option) {
+  const std::string format = exportFormatName(options.format);
+  try {
+    if (options.format == ExportFormat::Bt) {
+      const QuietStderr quiet;
+      return exportMap(map, options, out);
+    }
+    return exportMap(map, options, out);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const fs::filesystem_error& e) {
+    throw Error(out.string(), "--" + option,
+                options.per_label ? "a folder that can be created for the per-label files"
+                                  : "a writable " + format + " file",
+                e.code().message() + (e.path1().empty() ? "" : " (" + e.path1().string() + ")"));
+  } catch (const std::exception& e) {
+    std::string message = e.what();
+    const auto start = message.find_first_not_of(": ");
+    message = start == std::string::npos ? "an unknown failure" : message.substr(start);
+    throw Error(out.string(), "--" + option, "a writable " + format + " file", message);
+  }
+}
+
+}  // namespace
 
 int runExport(const Words& words) {
   const Args args(words, {"per-label", "smooth", "points", "native", "no-merge"});
   args.expectOnly(
       {"voxels", "format", "out", "labels", "per-label", "smooth", "points", "native", "no-merge"},
       1);
-  const std::filesystem::path map_path = args.positional(0, "MAP.ot");
+  const fs::path map_path = args.positional(0, "MAP.ot");
   auto format_name = args.option("format");
   auto out = args.option("out");
+  std::string out_option = "out";
   // The older spelling of a PCD export.
   if (const auto voxels = args.option("voxels")) {
     if (out) throw UsageError("give either --voxels OUT.pcd or --out PATH, not both");
@@ -26,6 +183,7 @@ int runExport(const Words& words) {
           *format_name);
     format_name = "pcd";
     out = voxels;
+    out_option = "voxels";
   }
   if (!format_name)
     throw UsageError("missing option --format (ply, obj, stl, pcd, ot, bt or objects)");
@@ -34,9 +192,7 @@ int runExport(const Words& words) {
     throw UsageError("option --format expects ply, obj, stl, pcd, ot, bt or objects, got '" +
                      *format_name + "'");
   if (!out) throw UsageError("missing option --out PATH");
-  std::error_code ec;
-  if (std::filesystem::equivalent(map_path, *out, ec))
-    throw UsageError("--out " + *out + " is the input map itself; choose another path");
+  const fs::path out_path = *out;
 
   ExportOptions options;
   options.format = *format;
@@ -46,12 +202,31 @@ int runExport(const Words& words) {
   options.native = args.flag("native");
   options.merge_coplanar = !args.flag("no-merge");
   if (const auto labels = args.option("labels")) {
-    const auto list = parseIntList(*labels, "labels");
+    const auto list = parseLabelList(*labels, "labels");
     options.labels = std::set<int>(list.begin(), list.end());
+  }
+  checkSwitches(options);
+
+  CommandInputs inputs;
+  inputs.addFile(map_path, "the input map");
+  const std::string format_text = std::string("format ") + exportFormatName(*format);
+  if (options.per_label) {
+    checkOutputFolder(out_path, out_option, "the per-label files", inputs);
+  } else {
+    checkOutputFile(out_path, out_option, extensionOf(*format), format_text, inputs);
+    if (*format == ExportFormat::Obj)
+      checkOutputFile(fs::path(out_path).replace_extension(".mtl"), out_option, ".mtl",
+                      "the OBJ materials", inputs);
   }
 
   const LabelMap map = LabelMap::load(map_path);
-  const ExportSummary summary = exportMap(map, options, *out);
+  const auto counts = map.occupiedCountPerLabel();
+  checkSomethingToExport(map, map_path, options, counts);
+  if (options.per_label)
+    for (const auto& file : perLabelFiles(map, options, counts, out_path))
+      checkOutputInFolder(file, out_option, inputs);
+
+  const ExportSummary summary = runExportTo(map, options, out_path, out_option);
   for (const int label : summary.empty_labels)
     std::cerr << "note: label " << label << " (" << map.labels().at(label).name
               << ") has no occupied voxel; nothing written for it\n";

@@ -2,22 +2,29 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 #include "args.hpp"
 #include "commands.hpp"
 #include "lom/error.hpp"
 #include "lom/fusion.hpp"
+#include "output_paths.hpp"
 #include "segmenter_option.hpp"
 
 namespace lom::cli {
 
 namespace {
 
-// "A:B", "A:", ":B" -> [A, B) frame indices.
+constexpr size_t kToTheEnd = static_cast<size_t>(-1);
+
+// "A:B", "A:", ":B" -> [A, B) frame indices; an absent B means "to the end".
 void parseFrameRange(const std::string& text, FusionOptions& options) {
   const auto colon = text.find(':');
   if (colon == std::string::npos)
@@ -26,15 +33,22 @@ void parseFrameRange(const std::string& text, FusionOptions& options) {
   auto parse = [&](const std::string& part, size_t fallback) -> size_t {
     if (part.empty()) return fallback;
     char* end = nullptr;
+    errno = 0;
     const long value = std::strtol(part.c_str(), &end, 10);
-    if (*end != '\0' || value < 0)
+    if (*end != '\0' || value < 0 || errno == ERANGE)
       throw UsageError("option --frames expects non-negative frame indices A:B, got '" + text + "'");
     return static_cast<size_t>(value);
   };
   options.first_frame = parse(text.substr(0, colon), 0);
-  options.last_frame = parse(text.substr(colon + 1), static_cast<size_t>(-1));
+  options.last_frame = parse(text.substr(colon + 1), kToTheEnd);
   if (options.last_frame <= options.first_frame)
     throw UsageError("option --frames: the end frame must come after the first, got '" + text + "'");
+}
+
+std::string number(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
 }
 
 void drawProgress(const FusionProgress& progress, double seconds_per_frame) {
@@ -51,11 +65,22 @@ void drawProgress(const FusionProgress& progress, double seconds_per_frame) {
 FusionOptions fusionOptionsFromArgs(const Args& args) {
   FusionOptions options;
   options.map.resolution = args.number("resolution", options.map.resolution);
+  if (options.map.resolution < kMinResolution || options.map.resolution > kMaxResolution)
+    throw UsageError("option --resolution expects a voxel size from " + number(kMinResolution) +
+                     " to " + number(kMaxResolution) + " m, got " + number(options.map.resolution) +
+                     " (docs/fusion.md, \"Limits\")");
   options.map.max_range = args.number("max-range", options.map.max_range);
+  if (options.map.max_range / options.map.resolution > kMaxVoxelsPerRay)
+    throw UsageError("option --max-range " + number(options.map.max_range) + " with --resolution " +
+                     number(options.map.resolution) + " makes rays " +
+                     number(std::ceil(options.map.max_range / options.map.resolution)) +
+                     " voxels long; at most " + number(kMaxVoxelsPerRay) +
+                     " voxels are allowed (a coarser --resolution or a shorter --max-range; "
+                     "docs/fusion.md, \"Limits\")");
   options.map.p_miss = args.number("p-miss", options.map.p_miss);
   options.map.occupancy_threshold = args.number("threshold", options.map.occupancy_threshold);
   if (auto candidates = args.option("candidates"); candidates && *candidates != "none")
-    options.candidates = parseIntList(*candidates, "candidates");
+    options.candidates = parseLabelList(*candidates, "candidates");
   if (auto frames = args.option("frames")) parseFrameRange(*frames, options);
   try {
     checkMapParameters(options.map);
@@ -67,8 +92,50 @@ FusionOptions fusionOptionsFromArgs(const Args& args) {
     throw UsageError("option --" + option + " expects " + e.problem().expected + ", got " +
                      e.problem().found);
   }
-  options.segmenter = segmenterFromArgs(args);
+  if (!(options.map.p_miss < 0.5))
+    throw UsageError(
+        "option --p-miss expects a probability below 0.5 (a miss must lower the "
+        "occupancy of the voxels a ray crosses), got " +
+        number(options.map.p_miss));
   return options;
+}
+
+void checkOccupancyThreshold(double threshold, const MapParameters& map,
+                             const std::string& map_file) {
+  const std::string clamping = "[" + number(map.clamp_min) + ", " + number(map.clamp_max) + "]";
+  const std::string of_map = map_file.empty() ? "" : " of " + map_file;
+  if (threshold > map.clamp_max)
+    throw UsageError("option --threshold expects at most " + number(map.clamp_max) +
+                     ", the upper clamping bound" + of_map + " (probabilities are clamped to " +
+                     clamping + ", so above it no voxel can ever be occupied), got " +
+                     number(threshold));
+  if (threshold <= map.clamp_min)
+    throw UsageError("option --threshold expects more than " + number(map.clamp_min) +
+                     ", the lower clamping bound" + of_map + " (probabilities are clamped to " +
+                     clamping +
+                     ", so at or below it every observed voxel, free space included, "
+                     "would be occupied), got " +
+                     number(threshold));
+}
+
+void checkFusionOptionsForSequence(const FusionOptions& options, const Sequence& sequence) {
+  const std::string file = (sequence.root / "sequence.json").string();
+  if (options.candidates)
+    for (int id : *options.candidates)
+      if (!sequence.labels.contains(id))
+        throw UsageError("option --candidates: label " + std::to_string(id) + " is not in " + file +
+                         " (labels 0.." + std::to_string(sequence.labels.size() - 1) + ")");
+  const size_t count = sequence.frames.size();
+  const bool past_end = options.first_frame >= count ||
+                        (options.last_frame != kToTheEnd && options.last_frame > count);
+  if (past_end) {
+    const std::string range =
+        std::to_string(options.first_frame) + ":" +
+        (options.last_frame == kToTheEnd ? std::string() : std::to_string(options.last_frame));
+    throw UsageError("option --frames " + range + " goes past the end of " + file + ", which has " +
+                     std::to_string(count) + (count == 1 ? " frame" : " frames") +
+                     " (A:B takes frames A to B-1; A: takes every frame from A)");
+  }
 }
 
 int runFuse(const Words& words) {
@@ -79,23 +146,20 @@ int runFuse(const Words& words) {
   const std::string sequence_path = args.positional(0, "SEQ (a sequence folder)");
   const std::filesystem::path out = args.required("out");
   FusionOptions options = fusionOptionsFromArgs(args);
+  checkOccupancyThreshold(options.map.occupancy_threshold, options.map, "");
 
-  // Fail before the long part if the result could not be written.
-  const auto out_folder = out.has_parent_path() ? out.parent_path() : std::filesystem::path(".");
-  if (!std::filesystem::is_directory(out_folder))
-    throw Error(out.string(), "--out", "a path in an existing folder",
-                "folder " + out_folder.string() + " does not exist");
-
+  // Fail before the long part if the result could not be written, or would replace an input.
+  CommandInputs inputs;
+  inputs.addSequencePath(sequence_path);
+  if (const auto model = args.option(kSegmenterOption))
+    inputs.addFile(*model, "the segmenter model");
+  const std::string what = "the LabelOctoMap map";
+  checkOutputFile(out, "out", ".ot", what, inputs);
+  options.segmenter = segmenterFromArgs(args);
   const Sequence sequence = loadSequence(sequence_path);
-  if (options.candidates)
-    for (int id : *options.candidates)
-      if (!sequence.labels.contains(id))
-        throw UsageError("option --candidates: label " + std::to_string(id) +
-                         " is not in the sequence (labels 0.." +
-                         std::to_string(sequence.labels.size() - 1) + ")");
-  if (options.first_frame >= sequence.frames.size())
-    throw UsageError("option --frames: the sequence has only " +
-                     std::to_string(sequence.frames.size()) + " frames");
+  inputs.addSequence(sequence);
+  checkOutputFile(out, "out", ".ot", what, inputs);
+  checkFusionOptionsForSequence(options, sequence);
 
   const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
   std::vector<double> frame_seconds;

@@ -4,11 +4,13 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
 
 #include "args.hpp"
 #include "commands.hpp"
 #include "lom/error.hpp"
 #include "lom/import.hpp"
+#include "output_paths.hpp"
 
 namespace lom::cli {
 
@@ -48,9 +50,11 @@ const char* const kHelp =
 LabelSet readLabelList(const std::string& value) {
   if (value == "apc2016") return apc2016Labels();
   std::ifstream in(value);
-  if (!in)
-    throw UsageError("option --labels expects 'apc2016' or a readable file of label names, got '" +
-                     value + "'");
+  if (!in) {
+    std::error_code ec;
+    throw Error(value, "--labels", "'apc2016' or a readable file of label names",
+                std::filesystem::exists(value, ec) ? "a file that cannot be read" : "no such file");
+  }
   std::vector<LabelInfo> labels;
   std::string line;
   while (std::getline(in, line)) {
@@ -62,34 +66,60 @@ LabelSet readLabelList(const std::string& value) {
     labels.push_back({id, line.substr(first), vocColor(id)});
   }
   if (labels.empty() || labels.size() > 256)
-    throw UsageError("option --labels: " + value + " must list 1 to 256 label names, found " +
-                     std::to_string(labels.size()));
+    throw Error(value, "--labels", "a list of 1 to 256 label names, one per line",
+                std::to_string(labels.size()) + " names");
   return LabelSet(std::move(labels));
 }
 
 size_t nonNegative(const Args& args, const std::string& name, size_t fallback) {
-  const long value = args.integer(name, static_cast<long>(fallback));
-  if (value < 0) throw UsageError("option --" + name + " expects a non-negative integer");
-  return static_cast<size_t>(value);
+  return static_cast<size_t>(
+      args.integer(name, static_cast<long>(fallback), 0, std::numeric_limits<long>::max()));
+}
+
+// True when `text` can only have been meant as fx,fy,cx,cy (digits, signs, points,
+// exponents, commas and blanks), not as a file name.
+bool looksLikeNumbers(const std::string& text) {
+  return !text.empty() && text.find_first_not_of("0123456789+-.eE, \t") == std::string::npos;
+}
+
+// --intrinsics: numbers that do not fit are a mistake in the call; a file that is
+// missing or does not hold a camera matrix is an input problem.
+CameraIntrinsics intrinsicsOption(const std::string& value) {
+  std::error_code ec;
+  if (std::filesystem::exists(value, ec) || !looksLikeNumbers(value)) {
+    if (!std::filesystem::exists(value, ec))
+      throw Error(value, "--intrinsics", "fx,fy,cx,cy or an existing camera matrix file",
+                  "no such file");
+    return parseIntrinsics(value);
+  }
+  try {
+    return parseIntrinsics(value);
+  } catch (const Error& e) {
+    throw UsageError("option --intrinsics expects fx,fy,cx,cy or a camera matrix file: " +
+                     std::string(e.what()));
+  }
 }
 
 }  // namespace
 
+const char* importHelp() { return kHelp; }
+
 int runImport(const Words& words) {
-  const Args args(words, {"no-flying-filter", "no-color", "overwrite", "quiet", "help"});
-  if (args.flag("help")) {
-    std::cout << kHelp;
-    return 0;
-  }
-  args.expectOnly({"out", "intrinsics", "depth-scale", "min-depth", "max-depth", "flying-ratio",
-                   "flying-radius", "no-flying-filter", "bilateral", "labels", "label-confidence",
-                   "first", "every", "max-frames", "time-tolerance", "time-offset", "depth-topic",
-                   "color-topic", "camera-info-topic", "proba-topic", "label-topic", "fixed-frame",
-                   "camera-frame", "no-color", "overwrite", "quiet", "help"},
+  const Args args(words, {"no-flying-filter", "no-color", "overwrite", "quiet"});
+  args.expectOnly({"out",         "intrinsics",   "depth-scale",       "min-depth",
+                   "max-depth",   "flying-ratio", "flying-radius",     "no-flying-filter",
+                   "bilateral",   "labels",       "label-confidence",  "first",
+                   "every",       "max-frames",   "time-tolerance",    "time-offset",
+                   "depth-topic", "color-topic",  "camera-info-topic", "proba-topic",
+                   "label-topic", "fixed-frame",  "camera-frame",      "no-color",
+                   "overwrite",   "quiet"},
                   2);
   const std::string kind_name = args.positional(0, "KIND (auto, rosbag, frames, tum, quaternion, scannet, apc-shelf)");
   const std::string source = args.positional(1, "SRC (a bag file or dataset folder)");
   const std::string out = args.required("out");
+  CommandInputs inputs;
+  inputs.addFile(source, "the import source");
+  checkOutputFolder(out, "out", "the sequence", inputs);
 
   std::optional<SourceKind> kind;
   if (kind_name != "auto") {
@@ -100,14 +130,6 @@ int runImport(const Words& words) {
   }
 
   ImportOptions options;
-  if (auto value = args.option("intrinsics")) {
-    try {
-      options.intrinsics = parseIntrinsics(*value);
-    } catch (const Error& e) {
-      throw UsageError("option --intrinsics expects fx,fy,cx,cy or a camera matrix file: " +
-                       std::string(e.what()));
-    }
-  }
   if (args.option("depth-scale")) options.depth_scale = args.number("depth-scale", 0.001);
   auto& filter = options.depth_filter;
   filter.min_depth = args.number("min-depth", filter.min_depth);
@@ -117,7 +139,6 @@ int runImport(const Words& words) {
       static_cast<int>(args.integer("flying-radius", filter.flying_pixel_radius));
   filter.flying_pixels = !args.flag("no-flying-filter");
   filter.bilateral_radius = static_cast<int>(args.integer("bilateral", filter.bilateral_radius));
-  if (auto value = args.option("labels")) options.labels = readLabelList(*value);
   options.label_confidence = args.number("label-confidence", options.label_confidence);
   options.first_frame = nonNegative(args, "first", 0);
   options.frame_step = nonNegative(args, "every", 1);
@@ -134,6 +155,9 @@ int runImport(const Words& words) {
   options.rosbag.camera_frame = args.option("camera-frame").value_or("");
   options.write_color = !args.flag("no-color");
   options.overwrite = args.flag("overwrite");
+  // Files named by options are read once the call itself is known to be right.
+  if (auto value = args.option("intrinsics")) options.intrinsics = intrinsicsOption(*value);
+  if (auto value = args.option("labels")) options.labels = readLabelList(*value);
 
   const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
   ImportReport report;

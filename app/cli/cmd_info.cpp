@@ -1,5 +1,6 @@
 // labeloctomap info / validate: look at a sequence without fusing it.
 #include <algorithm>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -8,6 +9,7 @@
 
 #include "args.hpp"
 #include "commands.hpp"
+#include "lom/label_map.hpp"
 #include "lom/sequence.hpp"
 
 namespace lom::cli {
@@ -111,13 +113,57 @@ void printInfo(const Sequence& sequence, std::ostream& out) {
   printCameraPath(sequence, out);
 }
 
+// A file that starts like an OctoMap tree file (.ot or .bt), whatever its name.
+bool isMapFile(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
+  std::ifstream in(path, std::ios::binary);
+  std::string first_line;
+  std::getline(in, first_line);
+  return first_line.rfind("# Octomap OcTree", 0) == 0;
+}
+
+void printMapInfo(const std::filesystem::path& path, std::ostream& out) {
+  const LabelMap map = LabelMap::load(path);
+  const MapParameters& p = map.parameters();
+  out << std::setprecision(6);
+  out << "map:              " << path.string() << "\n";
+  out << "resolution:       " << p.resolution << " m\n";
+  out << "labels:           " << map.numLabels()
+      << (map.labels() == apc2016Labels() ? " (the APC 2016 set)" : "") << "\n";
+  out << "parameters:       p_miss " << p.p_miss << "  threshold " << p.occupancy_threshold
+      << "  clamping [" << p.clamp_min << ", " << p.clamp_max << "]  max range "
+      << (p.max_range > 0.0 ? std::to_string(p.max_range) + " m" : std::string("unlimited"))
+      << "\n";
+  out << "tree:             " << map.numNodes() << " nodes, " << map.numLeaves() << " leaves, "
+      << map.memoryBytes() / 1024 << " KiB\n";
+  if (const auto bounds = map.bounds()) {
+    out << "known voxels:     ";
+    const char* axes = "xyz";
+    for (int k = 0; k < 3; ++k)
+      out << (k ? "  " : "") << axes[k] << " " << bounds->first[k] << " .. " << bounds->second[k];
+    out << " m\n";
+  }
+  const auto counts = map.occupiedCountPerLabel();
+  size_t occupied = 0;
+  for (const auto& [label, count] : counts) occupied += count;
+  out << "occupied voxels:  " << occupied << "\n";
+  for (const auto& [label, count] : counts)
+    out << "  " << std::setw(5) << label << "  " << std::left << std::setw(36)
+        << map.labels().at(label).name << std::right << std::setw(8) << count << "\n";
+}
+
 }  // namespace
 
 int runInfo(const Words& words) {
   const Args args(words, {});
   args.expectOnly({}, 1);
-  const Sequence sequence =
-      loadSequence(args.positional(0, "SEQ (a sequence folder or sequence.json)"));
+  const std::string path = args.positional(0, "SEQ (a sequence folder or sequence.json) or MAP.ot");
+  if (isMapFile(path)) {
+    printMapInfo(path, std::cout);
+    return 0;
+  }
+  const Sequence sequence = loadSequence(path);
   printInfo(sequence, std::cout);
   return 0;
 }
@@ -129,6 +175,11 @@ int runValidate(const Words& words) {
   std::vector<Problem> problems;
   size_t frames = 0;
   try {
+    if (isMapFile(path))
+      throw Error(path, "",
+                  "a sequence folder or sequence.json (validate checks sequences; "
+                  "labeloctomap info MAP.ot describes a map)",
+                  "a map file");
     const Sequence sequence = loadSequence(path);
     frames = sequence.frames.size();
     problems = validateSequence(sequence);

@@ -11,12 +11,17 @@
 #include "lom/label_map.hpp"
 #include "lom/planning.hpp"
 #include "lom/sequence.hpp"
+#include "output_paths.hpp"
 
 namespace lom::cli {
 
 namespace {
 
 namespace fs = std::filesystem;
+
+// Voxels farther apart than this are never one object: the clustering looks at every
+// voxel within the tolerance of each voxel, a count that grows with its cube.
+constexpr double kMaxClusterTolerance = 20.0;
 
 // "a,b,c,..." -> exactly `count` finite numbers; throws UsageError naming the option.
 std::vector<double> parseNumbers(const std::string& text, size_t count, const std::string& option,
@@ -38,12 +43,16 @@ std::vector<double> parseNumbers(const std::string& text, size_t count, const st
 }
 
 Eigen::Vector3d parseApproach(const std::string& text) {
-  const auto v = parseNumbers(text, 3, "approach", "a direction x,y,z of three numbers, not all zero");
+  const std::string expected = "a direction x,y,z of three finite numbers, not all zero";
+  const auto v = parseNumbers(text, 3, "approach", expected);
+  // Scaled by the largest component first, so that neither huge nor tiny components
+  // overflow or vanish when the length is taken.
   const Eigen::Vector3d direction(v[0], v[1], v[2]);
-  if (direction.norm() <= 1e-12)
-    throw UsageError("option --approach expects a direction x,y,z of three numbers, not all zero, got '" + text +
-                     "'");
-  return direction;
+  const double largest = direction.cwiseAbs().maxCoeff();
+  const Eigen::Vector3d unit = largest > 0.0 ? (direction / largest).normalized() : direction;
+  if (!(largest > 0.0) || !unit.allFinite() || !(unit.norm() > 0.5))
+    throw UsageError("option --approach expects " + expected + ", got '" + text + "'");
+  return unit;
 }
 
 OrientedBox parseBin(const std::string& text) {
@@ -80,10 +89,13 @@ int runPlan(const Words& words) {
   PlanOptions options;
   options.objects.map_file = map_path.string();
   options.objects.all_clusters = args.flag("all-clusters");
-  options.objects.cluster_tolerance_voxels = args.number("cluster-tolerance", options.objects.cluster_tolerance_voxels);
-  if (!(options.objects.cluster_tolerance_voxels > 0.0))
-    throw UsageError("option --cluster-tolerance expects a number of voxel edges > 0, got '" +
-                     *args.option("cluster-tolerance") + "'");
+  options.objects.cluster_tolerance_voxels =
+      args.number("cluster-tolerance", options.objects.cluster_tolerance_voxels);
+  if (!(options.objects.cluster_tolerance_voxels > 0.0) ||
+      options.objects.cluster_tolerance_voxels > kMaxClusterTolerance)
+    throw UsageError("option --cluster-tolerance expects a number of voxel edges above 0 and " +
+                     ("at most " + std::to_string(static_cast<int>(kMaxClusterTolerance))) +
+                     ", got '" + *args.option("cluster-tolerance") + "' (docs/planning.md)");
   const long min_voxels = args.integer("min-cluster-voxels", 1);
   if (min_voxels < 1)
     throw UsageError("option --min-cluster-voxels expects an integer >= 1, got '" +
@@ -105,21 +117,34 @@ int runPlan(const Words& words) {
     options.approach_source = ApproachSource::Given;
   }
   const std::optional<std::string> out = args.option("out");
-  if (out && fs::is_directory(*out))
-    throw Error(*out, "--out", "a file name for the plan (plan.json)", "a folder");
+  CommandInputs inputs;
+  inputs.addFile(map_path, "the input map");
+  if (const auto sequence_path = args.option("sequence")) inputs.addSequenceJson(*sequence_path);
+  const std::string what = "the plan";
+  if (out) checkOutputFile(*out, "out", ".json", what, inputs);
 
   // The sequence is read before the map: it is the cheaper file to get wrong.
   if (const auto sequence_path = args.option("sequence")) {
-    options.approach = meanViewingDirection(loadSequence(*sequence_path));
+    const Sequence sequence = loadSequence(*sequence_path);
+    inputs.addSequenceFiles(sequence);
+    if (out) checkOutputFile(*out, "out", ".json", what, inputs);
+    options.approach = meanViewingDirection(sequence);
     options.approach_source = ApproachSource::Sequence;
   }
 
   const LabelMap map = LabelMap::load(map_path);
+  if (map.numLabels() < 2)
+    throw Error(map_path.string(), "--target", "a map with object labels (1 and up) to plan for",
+                "a map whose only label is the background (0), so it has no objects");
   const int target = resolveObjectLabel(map.labels(), target_text, map_path.string(), "--target");
   if (const auto candidates = args.option("candidates"))
     options.objects.labels = parseCandidates(*candidates, map.labels(), map_path.string());
-
   const PickPlan plan = planPick(map, target, options);
+  if (plan.approach_source == ApproachSource::FreeSpace)
+    std::cerr << "note: the approach direction was guessed from the map's observed free space "
+                 "(no --approach or --sequence given); it can point the wrong way when the cameras "
+                 "went round the objects. --sequence SEQ uses the recorded cameras' viewing "
+                 "direction, --approach x,y,z sets it\n";
   std::cout << planTable(plan);
   if (out) {
     writePlanJson(plan, *out, map_path.string());

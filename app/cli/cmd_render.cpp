@@ -1,24 +1,40 @@
 // labeloctomap render: a picture of a map, rendered offscreen to a PNG.
+#include <cerrno>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <set>
 #include <tuple>
 
 #include "args.hpp"
 #include "commands.hpp"
 #include "lom/error.hpp"
+#include "lom/sequence.hpp"
+#include "output_paths.hpp"
 
 #ifdef LOM_HAVE_RENDER
 #include "lom/label_map.hpp"
 #include "lom/render/map_render.hpp"
-#include "lom/sequence.hpp"
 #endif
 
 namespace lom::cli {
 
-#ifdef LOM_HAVE_RENDER
-
 namespace {
+
+namespace fs = std::filesystem;
+
+// The command line of render, checked whether or not this build can render.
+struct RenderRequest {
+  fs::path map;
+  fs::path out;
+  double azimuth_deg = 210.0;
+  double elevation_deg = 30.0;
+  bool shading = true;
+  std::optional<std::set<int>> labels;
+  std::optional<Sequence> camera_sequence;  // --camera SEQ:INDEX
+  size_t camera_frame = 0;
+  std::optional<std::pair<int, int>> size;
+};
 
 // "1280x960" -> (1280, 960).
 std::pair<int, int> parseSize(const std::string& text) {
@@ -36,78 +52,134 @@ std::pair<int, int> parseSize(const std::string& text) {
                    "'");
 }
 
-// "SEQ:INDEX": the camera of frame INDEX of the sequence folder (or sequence.json) SEQ.
-render::PinholeView parseCamera(const std::string& text) {
+// "SEQ:INDEX": a sequence folder (or sequence.json) and a frame index.
+std::pair<fs::path, size_t> parseCamera(const std::string& text) {
   const auto colon = text.rfind(':');
   char* end = nullptr;
+  errno = 0;
   const long index =
       colon == std::string::npos ? -1 : std::strtol(text.substr(colon + 1).c_str(), &end, 10);
   if (colon == std::string::npos || colon == 0 || colon + 1 == text.size() || *end != '\0' ||
-      index < 0)
+      index < 0 || errno == ERANGE)
     throw UsageError(
         "option --camera expects SEQ:INDEX (a sequence folder and a frame index), got '" + text +
         "'");
-  const std::string folder = text.substr(0, colon);
-  const Sequence sequence = loadSequence(folder);
-  if (static_cast<size_t>(index) >= sequence.frames.size())
-    throw Error((sequence.root / "sequence.json").string(), "frames",
-                "a frame index below " + std::to_string(sequence.frames.size()),
-                std::to_string(index));
-  render::PinholeView view;
-  view.intrinsics = sequence.cameraOf(static_cast<size_t>(index));
-  view.T_world_camera = sequence.frames[static_cast<size_t>(index)].T_world_camera;
-  return view;
+  return {text.substr(0, colon), static_cast<size_t>(index)};
+}
+
+RenderRequest parseRequest(const Words& words) {
+  const Args args(words, {"flat"});
+  args.expectOnly({"out", "camera", "azimuth", "elevation", "size", "labels", "flat"}, 1);
+  RenderRequest request;
+  request.map = args.positional(0, "MAP.ot");
+  request.out = args.required("out");
+  if (args.option("camera") && (args.option("azimuth") || args.option("elevation")))
+    throw UsageError("give either --camera SEQ:INDEX or --azimuth/--elevation, not both");
+  request.azimuth_deg = args.number("azimuth", request.azimuth_deg);
+  request.elevation_deg = args.number("elevation", request.elevation_deg);
+  if (request.elevation_deg < -90.0 || request.elevation_deg > 90.0)
+    throw UsageError("option --elevation expects degrees from -90 to 90, got '" +
+                     *args.option("elevation") + "'");
+  request.shading = !args.flag("flat");
+  if (const auto labels = args.option("labels")) {
+    const auto list = parseLabelList(*labels, "labels");
+    request.labels = std::set<int>(list.begin(), list.end());
+  }
+  std::optional<std::pair<fs::path, size_t>> camera;
+  if (const auto text = args.option("camera")) camera = parseCamera(*text);
+  if (const auto size = args.option("size")) request.size = parseSize(*size);
+
+  CommandInputs inputs;
+  inputs.addFile(request.map, "the input map");
+  if (camera) inputs.addSequenceJson(camera->first);
+  checkOutputFile(request.out, "out", ".png", "the picture", inputs);
+  if (camera) {
+    Sequence sequence = loadSequence(camera->first);
+    const size_t count = sequence.frames.size();
+    if (camera->second >= count)
+      throw UsageError("option --camera: frame " + std::to_string(camera->second) +
+                       " is past the end of " + (sequence.root / "sequence.json").string() +
+                       ", which has " + std::to_string(count) +
+                       (count == 1 ? " frame" : " frames") + " (a frame index below " +
+                       std::to_string(count) + ")");
+    inputs.addSequenceFiles(sequence);
+    checkOutputFile(request.out, "out", ".png", "the picture", inputs);
+    request.camera_sequence = std::move(sequence);
+    request.camera_frame = camera->second;
+  }
+  return request;
+}
+
+}  // namespace
+
+#ifdef LOM_HAVE_RENDER
+
+namespace {
+
+// The labels to render must exist and hold occupied voxels.
+void checkSomethingToRender(const LabelMap& map, const fs::path& map_path,
+                            const std::optional<std::set<int>>& labels) {
+  const auto counts = map.occupiedCountPerLabel();
+  if (!labels) {
+    if (counts.empty())
+      throw Error(map_path.string(), "map", "at least one occupied voxel to render",
+                  "no occupied voxel");
+    return;
+  }
+  for (const int label : *labels)
+    if (!map.labels().contains(label))
+      throw Error(map_path.string(), "--labels",
+                  "label ids of the map, 0 to " + std::to_string(map.numLabels() - 1),
+                  std::to_string(label));
+  for (const int label : *labels)
+    if (counts.count(label)) return;
+  throw Error(map_path.string(), "--labels", "labels with occupied voxels in the map",
+              "no occupied voxel of the selected labels");
 }
 
 }  // namespace
 
 int runRender(const Words& words) {
-  const Args args(words, {"flat"});
-  args.expectOnly({"out", "camera", "azimuth", "elevation", "size", "labels", "flat"}, 1);
-  const std::filesystem::path map_path = args.positional(0, "MAP.ot");
-  const std::filesystem::path out = args.required("out");
-  if (args.option("camera") && (args.option("azimuth") || args.option("elevation")))
-    throw UsageError("give either --camera SEQ:INDEX or --azimuth/--elevation, not both");
-
+  const RenderRequest request = parseRequest(words);
   render::RenderOptions options;
-  options.azimuth_deg = args.number("azimuth", options.azimuth_deg);
-  options.elevation_deg = args.number("elevation", options.elevation_deg);
-  if (options.elevation_deg < -90.0 || options.elevation_deg > 90.0)
-    throw UsageError("option --elevation expects degrees from -90 to 90");
-  options.shading = !args.flag("flat");
-  if (const auto labels = args.option("labels")) {
-    const auto list = parseIntList(*labels, "labels");
-    options.labels = std::set<int>(list.begin(), list.end());
-  }
-  if (const auto camera = args.option("camera")) {
-    options.camera = parseCamera(*camera);
+  options.azimuth_deg = request.azimuth_deg;
+  options.elevation_deg = request.elevation_deg;
+  options.shading = request.shading;
+  options.labels = request.labels;
+  if (request.camera_sequence) {
+    const Sequence& sequence = *request.camera_sequence;
+    options.camera = render::PinholeView{};
+    options.camera->intrinsics = sequence.cameraOf(request.camera_frame);
+    options.camera->T_world_camera = sequence.frames[request.camera_frame].T_world_camera;
     options.width = options.camera->intrinsics.width;
     options.height = options.camera->intrinsics.height;
   }
-  if (const auto size = args.option("size"))
-    std::tie(options.width, options.height) = parseSize(*size);
+  if (request.size) std::tie(options.width, options.height) = *request.size;
 
   // Say so before loading a large map when there is no display.
   if (const auto problem = render::displayProblem()) {
     std::cerr << "labeloctomap render: " << *problem << "\n";
     return 3;
   }
-  const LabelMap map = LabelMap::load(map_path);
-  if (options.labels)
-    for (const int label : *options.labels)
-      if (!map.labels().contains(label))
-        throw Error(map_path.string(), "labels",
-                    "label ids of the map, 0 to " + std::to_string(map.numLabels() - 1),
-                    std::to_string(label));
-  render::renderMapToPng(map, options, out);
-  std::cout << "wrote " << options.width << "x" << options.height << " picture to " << out.string()
-            << "\n";
+  const LabelMap map = LabelMap::load(request.map);
+  checkSomethingToRender(map, request.map, options.labels);
+  try {
+    render::renderMapToPng(map, options, request.out);
+  } catch (const Error& e) {
+    if (!e.problem().file.empty()) throw;
+    Problem problem = e.problem();
+    problem.file = request.map.string();
+    throw Error(problem);
+  }
+  std::cout << "wrote " << options.width << "x" << options.height << " picture to "
+            << request.out.string() << "\n";
   return 0;
 }
 
 #else
 
-int runRender(const Words&) {
+int runRender(const Words& words) {
+  (void)parseRequest(words);  // mistakes in the call are reported as everywhere else
   std::cerr << "labeloctomap render: unavailable: this labeloctomap was built without the VTK "
                "rendering library (configure with -DLOM_BUILD_UI=ON to get it)\n";
   return 3;

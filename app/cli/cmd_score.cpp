@@ -7,10 +7,13 @@
 
 #include "args.hpp"
 #include "commands.hpp"
-#include "segmenter_option.hpp"
 #include "lom/error.hpp"
 #include "lom/evaluation.hpp"
+#include "lom/fusion.hpp"
+#include "lom/label_map.hpp"
 #include "lom/report.hpp"
+#include "output_paths.hpp"
+#include "segmenter_option.hpp"
 
 namespace lom::cli {
 
@@ -27,24 +30,33 @@ EvaluationProgressFn progressPrinter(bool enabled, const std::string& prefix) {
   };
 }
 
-// Options that only make sense against a given sequence.
-void checkOptionsForSequence(const fs::path& sequence_path, const EvaluationOptions& options) {
+// Options that only make sense against a given sequence; the sequence's files become inputs.
+void checkOptionsForSequence(const fs::path& sequence_path, const EvaluationOptions& options,
+                             CommandInputs& inputs) {
   const Sequence sequence = loadSequence(sequence_path);
-  if (options.fusion.candidates)
-    for (int id : *options.fusion.candidates)
-      if (!sequence.labels.contains(id))
-        throw UsageError("option --candidates: label " + std::to_string(id) + " is not in " +
-                         (sequence.root / "sequence.json").string() + " (labels 0.." +
-                         std::to_string(sequence.labels.size() - 1) + ")");
-  if (options.fusion.first_frame >= sequence.frames.size())
-    throw UsageError("option --frames: " + (sequence.root / "sequence.json").string() + " has only " +
-                     std::to_string(sequence.frames.size()) + " frames");
+  checkFusionOptionsForSequence(options.fusion, sequence);
+  inputs.addSequence(sequence);
 }
 
-void checkOutFolder(const fs::path& out) {
-  std::error_code ec;
-  if (fs::exists(out, ec) && !fs::is_directory(out, ec))
-    throw Error(out.string(), "--out", "a folder for the reports (created when missing)", "an existing file");
+// --threshold against the clamping of the map it applies to: the given map, or the
+// map fused with the options.
+void checkThresholdFor(const std::optional<double>& threshold, const std::optional<fs::path>& map,
+                       const EvaluationOptions& options) {
+  if (!threshold) return;
+  if (!map) return checkOccupancyThreshold(*threshold, options.fusion.map, "");
+  checkOccupancyThreshold(*threshold, LabelMap::load(*map).parameters(), map->string());
+}
+
+void addScoreInputs(const ScoreInputs& score, CommandInputs& inputs) {
+  inputs.addSequencePath(score.sequence);
+  inputs.addFile(score.annotations, "the annotations file");
+  if (score.map) inputs.addFile(*score.map, "the input map");
+}
+
+// Everything a report folder receives.
+void checkReportFolder(const fs::path& dir, const CommandInputs& inputs) {
+  for (const char* name : {"report.json", "report.csv", "report.md", "report.svg"})
+    checkOutputInFolder(dir / name, "out", inputs);
 }
 
 void noteResolution(const Args& args, const EvaluationReport& report, const fs::path& map) {
@@ -71,14 +83,27 @@ int runScore(const Words& words) {
   std::optional<double> threshold;
   if (args.option("threshold")) threshold = options.fusion.map.occupancy_threshold;
   const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
-  checkOutFolder(out);
+  const std::string what = "the reports";
 
   if (const auto batch = args.option("batch")) {
     if (args.positionalCount() > 0 || args.option("annotations") || args.option("map"))
       throw UsageError("--batch takes the sequences, annotations and maps from the list; "
                        "give no SEQ, --annotations or --map with it");
+    CommandInputs read;
+    read.addFile(*batch, "the batch list");
+    checkOutputFolder(out, "out", what, read);
     const std::vector<BatchEntry> entries = readBatchList(*batch);
-    for (const auto& entry : entries) checkOptionsForSequence(entry.inputs.sequence, options);
+    for (const auto& entry : entries) addScoreInputs(entry.inputs, read);
+    checkOutputFolder(out, "out", what, read);
+    for (const auto& entry : entries) {
+      checkOptionsForSequence(entry.inputs.sequence, options, read);
+      checkThresholdFor(threshold, entry.inputs.map, options);
+    }
+    checkOutputFolder(out, "out", what, read);
+    for (const auto& entry : entries) checkReportFolder(out / entry.name, read);
+    for (const char* name : {"aggregate.json", "aggregate.md", "aggregate.svg"})
+      checkOutputInFolder(out / name, "out", read);
+    options.fusion.segmenter = segmenterFromArgs(args);
     // Every sequence is scored before anything is written, so a failure leaves DIR as it was.
     std::vector<EvaluationReport> reports;
     for (size_t i = 0; i < entries.size(); ++i) {
@@ -110,7 +135,14 @@ int runScore(const Words& words) {
   inputs.annotations = args.required("annotations");
   if (const auto map = args.option("map")) inputs.map = *map;
   inputs.occupancy_threshold = threshold;
-  checkOptionsForSequence(inputs.sequence, options);
+  CommandInputs read;
+  addScoreInputs(inputs, read);
+  checkOutputFolder(out, "out", what, read);
+  checkOptionsForSequence(inputs.sequence, options, read);
+  checkThresholdFor(threshold, inputs.map, options);
+  checkOutputFolder(out, "out", what, read);
+  checkReportFolder(out, read);
+  options.fusion.segmenter = segmenterFromArgs(args);
   EvaluationReport report;
   try {
     report = scoreSequence(inputs, options, progressPrinter(show_progress, ""));

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <sstream>
 
 #include "args.hpp"
@@ -14,6 +15,7 @@
 #include "lom/npy.hpp"
 #include "lom/segmenter.hpp"
 #include "lom/sequence.hpp"
+#include "output_paths.hpp"
 #include "segmenter_option.hpp"
 
 namespace lom::cli {
@@ -38,6 +40,56 @@ std::string frameList(const std::vector<size_t>& frames) {
   for (size_t i = 0; i < frames.size() && i < 8; ++i) text << (i ? ", " : "") << frames[i];
   if (frames.size() > 8) text << ", ... (" << frames.size() << " frames)";
   return text.str();
+}
+
+std::string probaFileName(size_t frame) {
+  char name[32];
+  std::snprintf(name, sizeof name, "%06zu.npy", frame);
+  return name;
+}
+
+// The probability images of `frames` go to `folder`: it must be a folder (or absent), and
+// no image may land on a folder, a device, or a file of the sequence other than the
+// proba image it replaces (--all).
+void checkOutputs(const Sequence& sequence, const std::vector<size_t>& frames,
+                  const fs::path& folder) {
+  std::error_code ec;
+  if (fs::exists(folder, ec) && !fs::is_directory(folder, ec))
+    throw UsageError("--out-dir " + folder.string() +
+                     " is an existing file; expected a folder for the probability images "
+                     "(created when missing)");
+  if (!fs::is_directory(folder, ec)) return;  // nothing can be in the way yet
+  struct Named {
+    size_t frame;
+    const char* field;
+  };
+  std::map<fs::path, Named> named;  // canonical path of every file the sequence names
+  for (size_t j = 0; j < sequence.frames.size(); ++j) {
+    const FrameRecord& frame = sequence.frames[j];
+    const std::pair<const std::string*, const char*> fields[] = {{&frame.depth, "depth"},
+                                                                 {&frame.color, "color"},
+                                                                 {&frame.proba, "proba"},
+                                                                 {&frame.label, "label"}};
+    for (const auto& [name, field] : fields) {
+      if (name->empty()) continue;
+      const fs::path path = fs::canonical(sequence.pathOf(*name), ec);
+      if (!ec) named.emplace(path, Named{j, field});
+    }
+  }
+  CommandInputs none;
+  for (const size_t i : frames) {
+    const fs::path target = folder / probaFileName(i);
+    checkOutputInFolder(target, "out-dir", none);
+    const fs::path path = fs::canonical(target, ec);
+    if (ec) continue;  // not there yet
+    const auto found = named.find(path);
+    if (found == named.end()) continue;
+    const auto& [frame, field] = found->second;
+    if (frame == i && std::string(field) == "proba") continue;  // replaced on purpose
+    throw UsageError("--out-dir: writing " + target.string() + " for frame " + std::to_string(i) +
+                     " would overwrite frames[" + std::to_string(frame) + "]." + field + " of " +
+                     (sequence.root / "sequence.json").string() + "; choose another --out-dir");
+  }
 }
 
 bool allLabelsInOrder(const std::vector<int>& channel_labels, int num_labels) {
@@ -87,6 +139,7 @@ int runSegment(const Words& words) {
   }
 
   const fs::path folder = out_dir.is_absolute() ? out_dir : sequence.root / out_dir;
+  checkOutputs(sequence, frames, folder);
   auto makeFolder = [&] {
     std::error_code ec;
     fs::create_directories(folder, ec);
@@ -110,8 +163,7 @@ int runSegment(const Words& words) {
     }
     const ProbabilityImage proba = segmentFrame(sequence, i, color, *segmenter);
     if (n == 0) makeFolder();  // only once the network has produced something
-    char name[32];
-    std::snprintf(name, sizeof name, "%06zu.npy", i);
+    const std::string name = probaFileName(i);
     writeProbabilityNpy(folder / name, proba, dtype);
     record.proba = (out_dir / name).generic_string();
     record.proba_labels = allLabelsInOrder(proba.channel_labels, sequence.labels.size())

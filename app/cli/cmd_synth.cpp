@@ -8,6 +8,7 @@
 #include "args.hpp"
 #include "commands.hpp"
 #include "lom/synth.hpp"
+#include "output_paths.hpp"
 
 namespace lom::cli {
 
@@ -46,7 +47,7 @@ int runSynth(const Words& words) {
                    "perfect-segmenter"},
                   0);
   const std::string out = args.required("out");
-  if (out.empty()) throw UsageError("option --out expects a folder");
+  checkOutputFolder(out, "out", "the scene", {});
   SynthOptions options;
   options.seed = parseSeed(args);
   options.objects = boundedInteger(args, "objects", options.objects, 1, kSynthMaxObjects,

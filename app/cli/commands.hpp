@@ -7,6 +7,8 @@
 
 namespace lom {
 struct FusionOptions;
+struct MapParameters;
+struct Sequence;
 }
 
 namespace lom::cli {
@@ -23,10 +25,28 @@ int runExport(const Words& words);    // cmd_export.cpp
 int runScore(const Words& words);     // cmd_score.cpp
 int runRender(const Words& words);    // cmd_render.cpp
 int runImport(const Words& words);    // cmd_import.cpp
+const char* importHelp();             // cmd_import.cpp: every option of import
 int runPlan(const Words& words);      // cmd_plan.cpp
 int runSegment(const Words& words);   // cmd_segment.cpp
 
-// --resolution --max-range --p-miss --threshold --candidates --frames (cmd_fuse.cpp).
+// Voxel sizes that fuse and score accept, in metres, and the longest ray, in voxels
+// (max range / resolution), that they accept; both bound the memory a frame needs
+// (docs/fusion.md, "Limits").
+inline constexpr double kMinResolution = 0.002;
+inline constexpr double kMaxResolution = 1.0;
+inline constexpr double kMaxVoxelsPerRay = 1000.0;
+
+// --resolution --max-range --p-miss --threshold --candidates --frames (cmd_fuse.cpp); throws
+// UsageError for values out of range. The segmenter (--segmenter) is left to the caller.
 FusionOptions fusionOptionsFromArgs(const Args& args);
+
+// Throws UsageError unless clamp_min < threshold <= clamp_max of `map` (a threshold
+// outside can never make a voxel occupied, or makes every observed voxel occupied).
+// `map_file` names the map whose clamping applies, when there is one.
+void checkOccupancyThreshold(double threshold, const MapParameters& map,
+                             const std::string& map_file);
+
+// Throws UsageError for --candidates not in the sequence and --frames past its end.
+void checkFusionOptionsForSequence(const FusionOptions& options, const Sequence& sequence);
 
 }  // namespace lom::cli

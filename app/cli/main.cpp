@@ -1,6 +1,8 @@
 // labeloctomap: the command-line program (needs no display).
+#include <algorithm>
 #include <cstring>
 #include <iostream>
+#include <new>
 #include <string>
 
 #include "args.hpp"
@@ -16,7 +18,7 @@ struct Command {
 };
 
 const Command kCommands[] = {
-    {"info", lom::cli::runInfo, "info SEQ                      summary of a sequence"},
+    {"info", lom::cli::runInfo, "info SEQ | info MAP.ot        summary of a sequence or a map"},
     {"validate", lom::cli::runValidate,
      "validate SEQ                  check every file of a sequence; non-zero exit on problems"},
     {"synth", lom::cli::runSynth,
@@ -43,7 +45,8 @@ const Command kCommands[] = {
     {"import", lom::cli::runImport,
      "import KIND SRC --out SEQ [--intrinsics fx,fy,cx,cy|FILE] [--every N] [--overwrite] ...\n"
      "                                convert a ROS bag or dataset folder to a sequence\n"
-     "                                (KIND: auto, rosbag, frames, tum, quaternion, scannet, apc-shelf;\n"
+     "                                (KIND: auto, rosbag, frames, tum, quaternion, scannet, "
+     "apc-shelf;\n"
      "                                all options: labeloctomap import --help)"},
     {"plan", lom::cli::runPlan,
      "plan MAP.ot --target LABEL [--approach x,y,z | --sequence SEQ] [--empty-bin c,c,c,d,d,d]\n"
@@ -54,6 +57,13 @@ const Command kCommands[] = {
      "        [--quiet]\n"
      "                                write probability images from a segmentation network"},
 };
+
+// "labeloctomap fuse scene --out m.ot" as typed (without quoting).
+std::string commandLine(int argc, char** argv) {
+  std::string line = "labeloctomap";
+  for (int i = 1; i < argc; ++i) line += std::string(" ") + argv[i];
+  return line;
+}
 
 void printUsage(std::ostream& out) {
   out << "usage: labeloctomap COMMAND [ARGS]\n\ncommands:\n";
@@ -72,8 +82,20 @@ int main(int argc, char** argv) {
   lom::cli::Words words(argv + 2, argv + argc);
   for (const auto& c : kCommands) {
     if (name != c.name) continue;
+    if (std::any_of(words.begin(), words.end(), lom::cli::isHelpWord)) {
+      if (name == "import")
+        std::cout << lom::cli::importHelp();
+      else
+        std::cout << "usage: labeloctomap " << c.usage << "\n";
+      return 0;
+    }
     try {
       return c.run(words);
+    } catch (const std::bad_alloc&) {
+      std::cerr << "labeloctomap " << name << ": out of memory while running '"
+                << commandLine(argc, argv)
+                << "' (smaller option values, e.g. a coarser --resolution, need less memory)\n";
+      return 1;
     } catch (const lom::cli::UsageError& e) {
       std::cerr << "labeloctomap " << name << ": " << e.what() << "\nusage: labeloctomap "
                 << c.usage << "\n";

@@ -193,8 +193,10 @@ TEST_F(CliPlanTest, MissingFilesFailNamingThem) {
   r = runCli("plan " + map() + " --target 19 --sequence " + quoted(out / "no_sequence"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("no_sequence"), std::string::npos) << r.err;
-  r = runCli("plan " + map() + " --target 19 --approach 1,0,0 --out " + quoted(out.path()));
+  r = runCli("plan " + map() + " --target 19 --approach 1,0,0 --out " +
+             quoted(out / "no_folder" / "plan.json"));
   EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("no_folder"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("--out"), std::string::npos) << r.err;
 }
 

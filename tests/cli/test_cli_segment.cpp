@@ -153,6 +153,32 @@ TEST_F(CliSegmentTest, ErrorsAreClearAndLeaveTheSequenceAlone) {
   EXPECT_NE(r.err.find("a sequence without colour images"), std::string::npos) << r.err;
 }
 
+TEST_F(CliSegmentTest, NeverWritesOverAnotherFileOfTheSequence) {
+  const std::string segment =
+      "segment " + quoted(dir_ / "seq") + " --segmenter " + quoted(model_) + " --out-dir ";
+  ASSERT_EQ(runCli(segment + "net").exit_code, 0);
+  // Frame 0 now reads the image that frame 1 would get; frame 1 has none, so it is segmented.
+  lom::Sequence sequence = lom::loadSequence(dir_ / "seq");
+  sequence.frames[0].proba = "net/000001.npy";
+  sequence.frames[1].proba.clear();
+  lom::saveSequence(sequence, dir_ / "seq");
+  const std::string json = slurp(dir_ / "seq" / "sequence.json");
+  const std::string image = slurp(dir_ / "seq" / "net" / "000001.npy");
+  auto r = runCli(segment + "net");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("would overwrite frames[0].proba"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(dir_ / "seq" / "net" / "000001.npy"), image);
+  EXPECT_EQ(slurp(dir_ / "seq" / "sequence.json"), json);
+
+  // A file where the folder should be.
+  std::ofstream(dir_ / "seq" / "notes") << "keep";
+  r = runCli(segment + "notes");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("is an existing file; expected a folder"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(dir_ / "seq" / "notes"), "keep");
+  EXPECT_EQ(slurp(dir_ / "seq" / "sequence.json"), json);
+}
+
 TEST_F(CliSegmentTest, FuseRunsTheSegmenterOnFramesWithoutProba) {
   const auto r = runCli("fuse " + quoted(dir_ / "seq") + " --out " + quoted(dir_ / "m.ot") +
                         " --resolution 0.05 --max-range 5 --frames 0:1 --segmenter " + quoted(model_));

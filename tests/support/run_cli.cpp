@@ -17,12 +17,15 @@ std::string slurp(const std::filesystem::path& path) {
 }
 }  // namespace
 
-CliResult runCli(const std::string& args) {
+CliResult runCli(const std::string& args, const CliLimits& limits) {
   TempDir dir;
   const auto out = dir / "stdout.txt";
   const auto err = dir / "stderr.txt";
-  const std::string command = std::string("'") + LOM_CLI_PATH + "' " + args + " >'" +
-                              out.string() + "' 2>'" + err.string() + "' </dev/null";
+  std::string limit;
+  if (limits.memory_kib > 0) limit += "ulimit -v " + std::to_string(limits.memory_kib) + " && ";
+  if (limits.cpu_seconds > 0) limit += "ulimit -t " + std::to_string(limits.cpu_seconds) + " && ";
+  const std::string command = limit + "'" + LOM_CLI_PATH + "' " + args + " >'" + out.string() +
+                              "' 2>'" + err.string() + "' </dev/null";
   const int status = std::system(command.c_str());
   CliResult result;
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

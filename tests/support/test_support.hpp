@@ -48,6 +48,12 @@ struct CliResult {
   std::string out;
   std::string err;
 };
-CliResult runCli(const std::string& args);
+// Limits of the process (0: none): virtual memory (ulimit -v), so that an allocation beyond it
+// fails, and processor time (ulimit -t), after which it is killed.
+struct CliLimits {
+  long memory_kib = 0;
+  long cpu_seconds = 0;
+};
+CliResult runCli(const std::string& args, const CliLimits& limits = {});
 
 }  // namespace lom::test

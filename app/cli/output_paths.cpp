@@ -1,0 +1,148 @@
+#include "output_paths.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <system_error>
+
+#include "args.hpp"
+#include "lom/error.hpp"
+#include "lom/sequence.hpp"
+
+namespace lom::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string lower(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return text;
+}
+
+// Absolute, with symbolic links of the existing part resolved and no trailing separator.
+fs::path resolved(const fs::path& path) {
+  std::error_code ec;
+  fs::path absolute = fs::absolute(path, ec);
+  if (ec) absolute = path;
+  fs::path result = fs::weakly_canonical(absolute, ec);
+  if (ec) result = absolute.lexically_normal();
+  if (!result.has_filename() && result.has_parent_path()) result = result.parent_path();
+  return result;
+}
+
+bool isInside(const fs::path& path, const fs::path& folder) {
+  const fs::path inner = resolved(path), outer = resolved(folder);
+  const auto [outer_end, inner_end] =
+      std::mismatch(outer.begin(), outer.end(), inner.begin(), inner.end());
+  return outer_end == outer.end();
+}
+
+// What an existing path is when it is not a regular file; empty otherwise (and when absent).
+std::string notARegularFile(const fs::path& path) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (ec || status.type() == fs::file_type::not_found || fs::is_regular_file(status)) return {};
+  if (fs::is_directory(status)) return "an existing folder";
+  if (fs::is_character_file(status) || fs::is_block_file(status)) return "a device";
+  if (fs::is_fifo(status)) return "a FIFO";
+  if (fs::is_socket(status)) return "a socket";
+  return "an existing file that is not a regular file";
+}
+
+void checkNotAnInput(const fs::path& out, const std::string& option, const CommandInputs& inputs) {
+  std::error_code ec;
+  for (const auto& input : inputs.files)
+    if (fs::equivalent(out, input.path, ec))
+      throw UsageError("--" + option + " " + out.string() + " is " + input.what + " " +
+                       input.path.string() + " itself; choose another path");
+}
+
+}  // namespace
+
+void CommandInputs::addSequenceFiles(const Sequence& sequence) {
+  addFile(sequence.root / "sequence.json", "the sequence file");
+  for (const auto& frame : sequence.frames)
+    for (const std::string* name : {&frame.depth, &frame.color, &frame.proba, &frame.label})
+      if (!name->empty()) addFile(sequence.pathOf(*name), "the frame file");
+}
+
+void CommandInputs::addSequence(const Sequence& sequence) {
+  addSequenceFiles(sequence);
+  folders.push_back(sequence.root);
+}
+
+void CommandInputs::addSequenceJson(const fs::path& folder_or_json) {
+  std::error_code ec;
+  if (fs::is_directory(folder_or_json, ec))
+    addFile(folder_or_json / "sequence.json", "the sequence file");
+  else if (fs::is_regular_file(folder_or_json, ec))
+    addFile(folder_or_json, "the sequence file");
+}
+
+void CommandInputs::addSequencePath(const fs::path& folder_or_json) {
+  addSequenceJson(folder_or_json);
+  std::error_code ec;
+  if (fs::is_directory(folder_or_json, ec))
+    folders.push_back(folder_or_json);
+  else if (fs::is_regular_file(folder_or_json, ec))
+    folders.push_back(resolved(folder_or_json).parent_path());
+}
+
+void requireExtension(const fs::path& out, const std::string& option, const std::string& extension,
+                      const std::string& what) {
+  if (out.empty()) throw UsageError("option --" + option + " expects a file name, got none");
+  if (lower(out.extension().string()) != lower(extension))
+    throw UsageError("option --" + option + " expects a file name ending in " + extension + " (" +
+                     what + "), got '" + out.string() + "'");
+}
+
+void checkOutputFile(const fs::path& out, const std::string& option, const std::string& extension,
+                     const std::string& what, const CommandInputs& inputs) {
+  if (out.empty()) throw UsageError("option --" + option + " expects a file name, got none");
+  if (!extension.empty()) requireExtension(out, option, extension, what);
+  if (const std::string kind = notARegularFile(out); !kind.empty())
+    throw UsageError("--" + option + " " + out.string() + " is " + kind +
+                     "; expected a file name for " + what);
+  checkNotAnInput(out, option, inputs);
+  for (const auto& folder : inputs.folders)
+    if (isInside(out, folder))
+      throw UsageError("--" + option + " " + out.string() +
+                       " lies inside the input sequence folder " + folder.string() + "; write " +
+                       what + " outside it");
+  const fs::path folder = out.has_parent_path() ? out.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec))
+    throw Error(out.string(), "--" + option, "a path in an existing folder",
+                "folder " + folder.string() + " does not exist");
+}
+
+void checkOutputFolder(const fs::path& out, const std::string& option, const std::string& what,
+                       const CommandInputs& inputs) {
+  if (out.empty()) throw UsageError("option --" + option + " expects a folder, got none");
+  std::error_code ec;
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec))
+    throw UsageError("--" + option + " " + out.string() +
+                     " is an existing file; expected a folder for " + what +
+                     " (created when missing)");
+  checkNotAnInput(out, option, inputs);
+  for (const auto& folder : inputs.folders)
+    if (isInside(out, folder))
+      throw UsageError("--" + option + " " + out.string() +
+                       " lies inside the input sequence folder " + folder.string() + "; write " +
+                       what + " outside it");
+}
+
+void checkOutputInFolder(const fs::path& file, const std::string& option,
+                         const CommandInputs& inputs) {
+  if (const std::string kind = notARegularFile(file); !kind.empty())
+    throw UsageError("--" + option + ": " + file.string() + " is " + kind +
+                     "; expected a regular file or nothing there");
+  std::error_code ec;
+  for (const auto& input : inputs.files)
+    if (fs::equivalent(file, input.path, ec))
+      throw UsageError("--" + option + ": writing " + file.string() + " would overwrite " +
+                       input.what + " " + input.path.string() + "; choose another folder");
+}
+
+}  // namespace lom::cli

@@ -1,0 +1,66 @@
+#pragma once
+// Checks on the paths a command writes, made before any work is done so that a
+// command never overwrites one of its own inputs, never writes into a device, a
+// FIFO or a folder given as a file, and never writes a file under a misleading
+// extension. Failures are usage mistakes (UsageError, exit 2), except an output
+// folder that does not exist (lom::Error, exit 1), which names the option.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace lom {
+struct Sequence;
+}
+
+namespace lom::cli {
+
+// What a command reads: no output may be one of `files` (compared with
+// std::filesystem::equivalent, so links and other spellings count) or lie inside
+// one of `folders` (the sequence folders that fuse and score read).
+struct CommandInputs {
+  struct File {
+    std::filesystem::path path;
+    std::string what;  // for messages, e.g. "the input map"
+  };
+  std::vector<File> files;
+  std::vector<std::filesystem::path> folders;
+
+  void addFile(const std::filesystem::path& path, const std::string& what) {
+    files.push_back({path, what});
+  }
+  // sequence.json and every frame file the sequence names.
+  void addSequenceFiles(const Sequence& sequence);
+  // The same, and the sequence folder itself.
+  void addSequence(const Sequence& sequence);
+  // A sequence given on the command line (a folder or its sequence.json), before it is
+  // loaded: its sequence.json (nothing when the path does not exist).
+  void addSequenceJson(const std::filesystem::path& folder_or_json);
+  // The same, and the sequence folder itself.
+  void addSequencePath(const std::filesystem::path& folder_or_json);
+};
+
+// Throws UsageError unless `out`, given with --`option`, is not empty and ends in
+// `extension` (compared without regard to case; `what` says what is written, e.g.
+// "a LabelOctoMap map (.ot)").
+void requireExtension(const std::filesystem::path& out, const std::string& option,
+                      const std::string& extension, const std::string& what);
+
+// Checks an output file given with --`option`: not empty, `extension` when not
+// empty (see requireExtension), not an existing folder, device or FIFO, not one of
+// the inputs or inside an input folder, and its folder exists (lom::Error otherwise).
+void checkOutputFile(const std::filesystem::path& out, const std::string& option,
+                     const std::string& extension, const std::string& what,
+                     const CommandInputs& inputs);
+
+// Checks an output folder given with --`option`: not empty, not an existing file,
+// not one of the inputs, not an input folder nor inside one.
+void checkOutputFolder(const std::filesystem::path& out, const std::string& option,
+                       const std::string& what, const CommandInputs& inputs);
+
+// Checks a file that a command writes inside its output folder (e.g. DIR/report.json):
+// not an existing folder, device or FIFO and not one of the inputs. `option` names
+// the option that chose the folder.
+void checkOutputInFolder(const std::filesystem::path& file, const std::string& option,
+                         const CommandInputs& inputs);
+
+}  // namespace lom::cli

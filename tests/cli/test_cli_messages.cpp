@@ -1,0 +1,159 @@
+// Messages of failures and notes: each names the file and the option at fault and says what
+// was expected, in the product's own terms (no raw library text, no internal field names).
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "lom/label_map.hpp"
+#include "lom/objects.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using lom::test::runCli;
+using lom::test::TempDir;
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+
+class CliMessageTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir();
+    auto r = runCli("synth --out " + q(scene()) +
+                    " --seed 4 --objects 4 --frames 3 --views 3 --width 160 --height 120");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = runCli("fuse " + q(scene()) + " --out " + q(map()) + " --quiet");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static fs::path scene() { return dir_->path() / "scene"; }
+  static fs::path map() { return dir_->path() / "map.ot"; }
+  static std::map<int, size_t> counts() {
+    return lom::LabelMap::load(map()).occupiedCountPerLabel();
+  }
+  static TempDir* dir_;
+};
+TempDir* CliMessageTest::dir_ = nullptr;
+
+TEST_F(CliMessageTest, RunningOutOfMemoryIsReportedPlainly) {
+  TempDir out;
+  // 2 mm voxels need more than 600 MB here; the program itself starts in less.
+  const auto r = runCli("fuse " + q(scene()) + " --out " + q(out / "m.ot") +
+                            " --resolution 0.002 --max-range 2 --quiet",
+                        {600 * 1024, 120});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("labeloctomap fuse: out of memory while running"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find(scene().string()), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("std::bad_alloc"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_empty(out.path()));
+}
+
+TEST_F(CliMessageTest, WriteFailuresNameTheOutput) {
+  // /proc takes no new files, not even from root.
+  auto r = runCli("export " + q(map()) + " --format pcd --out /proc/lom-test-voxels.pcd");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("/proc/lom-test-voxels.pcd: --out: expected a writable pcd file"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("error: :"), std::string::npos) << r.err;
+  r = runCli("export " + q(map()) + " --format ply --per-label --out /proc/lom-test-meshes");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("/proc/lom-test-meshes: --out: expected a folder that can be created"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("filesystem error"), std::string::npos) << r.err;
+}
+
+TEST_F(CliMessageTest, AnEmptyLabelSelectionNamesTheMapAndTheOption) {
+  TempDir out;
+  const auto present = counts();
+  int empty = 1;
+  while (present.count(empty)) ++empty;
+  const auto r = runCli("export " + q(map()) + " --labels " + std::to_string(empty) +
+                        " --format ply --out " + q(out / "b.ply"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find(map().string() + ": --labels: expected labels with occupied voxels"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("label " + std::to_string(empty) + " ("), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("b.ply"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_empty(out.path()));
+}
+
+TEST_F(CliMessageTest, ObjectsOfABackgroundOnlyMapSayWhatIsThere) {
+  TempDir out;
+  // With the background as the only candidate, every occupied voxel is background.
+  auto r = runCli("fuse " + q(scene()) + " --candidates 0 --out " + q(out / "bg.ot") + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const size_t background = lom::LabelMap::load(out / "bg.ot").occupiedCountPerLabel().at(0);
+  r = runCli("export " + q(out / "bg.ot") + " --format objects --out " + q(out / "objects.json"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find((out / "bg.ot").string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(std::to_string(background) + " occupied voxels, all of the background"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("--labels 0"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out / "objects.json"));
+  r = runCli("export " + q(out / "bg.ot") + " --format objects --labels 0 --out " +
+             q(out / "objects.json"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
+TEST_F(CliMessageTest, PlanOnAMapWithoutObjectLabelsSaysSo) {
+  TempDir out;
+  lom::LabelMap background(
+      lom::LabelSet(std::vector<lom::LabelInfo>{{0, "__background__", {0, 0, 0}}}));
+  lom::OrientedBox box;
+  box.center = {0.0, 0.0, 0.05};
+  box.size = {0.1, 0.1, 0.1};
+  lom::rasterizeBox(background, box, 0);
+  background.save(out / "background.ot");
+  const auto r = runCli("plan " + q(out / "background.ot") + " --target 0 --approach 1,0,0");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find((out / "background.ot").string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("only label is the background"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("1..0"), std::string::npos) << r.err;
+}
+
+TEST_F(CliMessageTest, InfoDescribesAMapAndValidateSaysItIsOne) {
+  auto r = runCli("info " + q(map()));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("resolution:       0.01 m"), std::string::npos) << r.out;
+  size_t occupied = 0;
+  for (const auto& [label, count] : counts()) occupied += count;
+  EXPECT_NE(r.out.find("occupied voxels:  " + std::to_string(occupied)), std::string::npos)
+      << r.out;
+  EXPECT_EQ(r.err.find("JSON"), std::string::npos) << r.err;
+  r = runCli("validate " + q(map()));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.out.find("found a map file"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("JSON"), std::string::npos) << r.out;
+}
+
+TEST_F(CliMessageTest, BinaryOctreeExportLeavesStderrQuiet) {
+  TempDir out;
+  const auto r = runCli("export " + q(map()) + " --format bt --out " + q(out / "map.bt"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  EXPECT_TRUE(fs::exists(out / "map.bt"));
+}
+
+TEST_F(CliMessageTest, PlanSaysWhenItGuessedTheApproach) {
+  const auto present = counts();
+  const std::string target = std::to_string(std::prev(present.end())->first);
+  auto r = runCli("plan " + q(map()) + " --target " + target);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("note: the approach direction was guessed"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--sequence SEQ"), std::string::npos) << r.err;
+  r = runCli("plan " + q(map()) + " --target " + target + " --sequence " + q(scene()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("guessed"), std::string::npos) << r.err;
+}
+
+}  // namespace

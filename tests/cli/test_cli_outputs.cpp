@@ -1,0 +1,203 @@
+// What the commands write: never one of their own inputs, never into a sequence folder they
+// read (fuse, score), never a folder, device or FIFO given as a file, and only under the
+// extension of what is written. Each refusal is a usage mistake (exit 2) made before any work.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "lom/label_map.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using lom::test::runCli;
+using lom::test::TempDir;
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+class CliOutputTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir();
+    auto r = runCli("synth --out " + q(scene()) +
+                    " --seed 4 --objects 4 --frames 3 --views 3 --width 160 --height 120");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    r = runCli("fuse " + q(scene()) + " --out " + q(map()) + " --quiet");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static fs::path scene() { return dir_->path() / "scene"; }
+  static fs::path map() { return dir_->path() / "map.ot"; }
+  // An object label of the map, for plan's --target.
+  static std::string target() {
+    const auto counts = lom::LabelMap::load(map()).occupiedCountPerLabel();
+    return std::to_string(std::prev(counts.end())->first);
+  }
+  static TempDir* dir_;
+};
+TempDir* CliOutputTest::dir_ = nullptr;
+
+void expectUsage(const lom::test::CliResult& r, const std::string& text) {
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find(text), std::string::npos) << r.err;
+}
+
+TEST_F(CliOutputTest, FuseNeverWritesIntoTheSequenceItReads) {
+  TempDir out;
+  const fs::path copy = out / "scene";
+  fs::copy(scene(), copy, fs::copy_options::recursive);
+  const std::string sequence = slurp(copy / "sequence.json");
+  const std::string proba = slurp(copy / "proba" / "000000.npy");
+
+  expectUsage(runCli("fuse " + q(copy) + " --out " + q(copy / "sequence.json") + " --quiet"),
+              "ending in .ot");
+  expectUsage(runCli("fuse " + q(copy) + " --out " + q(copy / "proba" / "000000.npy") + " --quiet"),
+              "ending in .ot");
+  expectUsage(
+      runCli("fuse " + q(copy / "sequence.json") + " --out " + q(copy / "map.ot") + " --quiet"),
+      "lies inside the input sequence folder");
+  expectUsage(runCli("fuse " + q(copy) + " --out " + q(copy / "proba" / "map.ot") + " --quiet"),
+              "lies inside the input sequence folder");
+  // A frame file outside the sequence folder is an input too.
+  fs::rename(copy / "proba" / "000001.npy", out / "frame1.ot");
+  std::string text = sequence;
+  const std::string name = "proba/000001.npy";
+  text.replace(text.find(name), name.size(), "../frame1.ot");
+  std::ofstream(copy / "sequence.json") << text;
+  const std::string frame1 = slurp(out / "frame1.ot");
+  expectUsage(runCli("fuse " + q(copy) + " --out " + q(out / "frame1.ot") + " --quiet"),
+              "is the frame file");
+  EXPECT_EQ(slurp(out / "frame1.ot"), frame1);
+
+  EXPECT_EQ(slurp(copy / "proba" / "000000.npy"), proba);
+  EXPECT_FALSE(fs::exists(copy / "map.ot"));
+  EXPECT_FALSE(fs::exists(copy / "proba" / "map.ot"));
+}
+
+TEST_F(CliOutputTest, FuseWritesOnlyOtFiles) {
+  TempDir out;
+  const auto r = runCli("fuse " + q(scene()) + " --out " + q(out / "x.map") + " --quiet");
+  expectUsage(r, "--out expects a file name ending in .ot");
+  EXPECT_NE(r.err.find("x.map"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_empty(out.path()));
+  // Any case of the extension will do.
+  EXPECT_EQ(runCli("fuse " + q(scene()) + " --out " + q(out / "m.OT") + " --quiet").exit_code, 0);
+}
+
+TEST_F(CliOutputTest, OutputsThatAreNotRegularFilesAreRefused) {
+  TempDir out;
+  fs::create_directory(out / "folder.ot");
+  expectUsage(runCli("fuse " + q(scene()) + " --out " + q(out / "folder.ot") + " --quiet"),
+              "is an existing folder");
+  ASSERT_EQ(::mkfifo((out / "pipe.ot").c_str(), 0600), 0);
+  expectUsage(runCli("fuse " + q(scene()) + " --out " + q(out / "pipe.ot") + " --quiet"),
+              "is a FIFO");
+  EXPECT_TRUE(fs::is_fifo(out / "pipe.ot"));
+  expectUsage(runCli("fuse " + q(scene()) + " --out /dev/full --quiet"), "--out");
+  expectUsage(runCli("export " + q(map()) + " --format ply --out " + q(out / "folder.ot")),
+              "ending in .ply");
+  fs::create_directory(out / "folder.ply");
+  expectUsage(runCli("export " + q(map()) + " --format ply --out " + q(out / "folder.ply")),
+              "is an existing folder");
+  expectUsage(runCli("export " + q(map()) + " --format ot --out " + q(out / "pipe.ot")),
+              "is a FIFO");
+  std::ofstream(out / "file") << "keep";
+  expectUsage(runCli("export " + q(map()) + " --format ply --per-label --out " + q(out / "file")),
+              "is an existing file; expected a folder");
+  expectUsage(runCli("plan " + q(map()) + " --target " + target() + " --approach 1,0,0 --out " +
+                     q(out.path())),
+              "--out");
+  expectUsage(runCli("synth --out " + q(out / "file")), "is an existing file; expected a folder");
+  EXPECT_EQ(slurp(out / "file"), "keep");
+  EXPECT_TRUE(fs::is_directory(out / "folder.ot"));
+  EXPECT_TRUE(fs::is_empty(out / "folder.ot"));
+}
+
+TEST_F(CliOutputTest, PlanAndExportNeverReplaceTheInputMap) {
+  TempDir out;
+  fs::copy_file(map(), out / "m.ot");
+  const std::string before = slurp(out / "m.ot");
+  // Another name of the same file.
+  fs::create_symlink(out / "m.ot", out / "plan.json");
+  fs::create_symlink(out / "m.ot", out / "m2.ot");
+  expectUsage(runCli("plan " + q(out / "m.ot") + " --target " + target() +
+                     " --approach 1,0,0 --out " + q(out / "plan.json")),
+              "is the input map");
+  expectUsage(runCli("plan " + q(out / "m.ot") + " --target " + target() +
+                     " --approach 1,0,0 --out " + q(out / "m.ot")),
+              "ending in .json");
+  expectUsage(
+      runCli("export " + q(out / "m.ot") + " --format ot --native --out " + q(out / "m2.ot")),
+      "is the input map");
+  EXPECT_EQ(slurp(out / "m.ot"), before);
+  EXPECT_TRUE(fs::is_symlink(out / "plan.json"));
+}
+
+TEST_F(CliOutputTest, PlanNeverReplacesTheSequenceItReads) {
+  TempDir out;
+  const fs::path copy = out / "scene";
+  fs::copy(scene(), copy, fs::copy_options::recursive);
+  const std::string before = slurp(copy / "sequence.json");
+  expectUsage(runCli("plan " + q(map()) + " --target " + target() + " --sequence " + q(copy) +
+                     " --out " + q(copy / "sequence.json")),
+              "is the sequence file");
+  EXPECT_EQ(slurp(copy / "sequence.json"), before);
+}
+
+TEST_F(CliOutputTest, ScoreNeverWritesIntoTheSequenceItReads) {
+  TempDir out;
+  const fs::path copy = out / "scene";
+  fs::copy(scene(), copy, fs::copy_options::recursive);
+  const std::string args = "score " + q(copy) + " --annotations " + q(copy / "annotations.json");
+  expectUsage(runCli(args + " --out " + q(copy) + " --quiet"), "lies inside the input sequence");
+  expectUsage(runCli(args + " --out " + q(copy / "reports") + " --quiet"),
+              "lies inside the input sequence");
+  EXPECT_FALSE(fs::exists(copy / "report.json"));
+  EXPECT_FALSE(fs::exists(copy / "reports"));
+  // Reports beside the annotations they would replace.
+  fs::copy_file(copy / "annotations.json", out / "report.json");
+  const auto r = runCli("score " + q(copy) + " --annotations " + q(out / "report.json") +
+                        " --out " + q(out.path()) + " --quiet");
+  expectUsage(r, "would overwrite the annotations file");
+  EXPECT_EQ(slurp(out / "report.json"), slurp(copy / "annotations.json"));
+  std::ofstream(out / "file") << "keep";
+  expectUsage(runCli(args + " --out " + q(out / "file") + " --quiet"),
+              "is an existing file; expected a folder");
+}
+
+TEST_F(CliOutputTest, RenderWritesOnlyPngFilesAndNeverItsInputs) {
+  TempDir out;
+  expectUsage(runCli("render " + q(map()) + " --out " + q(out / "view.jpg")), "ending in .png");
+  fs::copy_file(scene() / "color" / "000001.png", out / "frame.png");
+  fs::create_symlink(scene() / "color" / "000001.png", out / "link.png");
+  expectUsage(runCli("render " + q(map()) + " --camera " + q(fs::path(scene().string() + ":1")) +
+                     " --out " + q(out / "link.png")),
+              "is the frame file");
+  EXPECT_EQ(slurp(scene() / "color" / "000001.png"), slurp(out / "frame.png"));
+}
+
+TEST_F(CliOutputTest, ImportNeverWritesOverItsSource) {
+  TempDir out;
+  std::ofstream(out / "recording.bag") << "not a bag";
+  expectUsage(
+      runCli("import rosbag " + q(out / "recording.bag") + " --out " + q(out / "recording.bag")),
+      "is an existing file; expected a folder");
+  expectUsage(runCli("import frames " + q(scene()) + " --out " + q(scene())),
+              "is the import source");
+  EXPECT_EQ(slurp(out / "recording.bag"), "not a bag");
+}
+
+}  // namespace
