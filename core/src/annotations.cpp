@@ -15,6 +15,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "file_checks.hpp"
+#include "json_text.hpp"
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 
@@ -187,9 +189,8 @@ class YamlReader {
 };
 
 YAML::Node loadYamlFile(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    throw Error(path.string(), "", "an existing YAML box file", "no such file");
+  if (const std::string why = notARegularFile(path); !why.empty())
+    throw Error(path.string(), "", "an existing YAML box file", why);
   try {
     return YAML::LoadFile(path.string());
   } catch (const YAML::ParserException& e) {

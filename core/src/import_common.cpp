@@ -9,7 +9,9 @@
 #include <iomanip>
 #include <sstream>
 
+#include "file_checks.hpp"
 #include "import_internal.hpp"
+#include "lom/geometry.hpp"
 
 namespace lom::import_detail {
 
@@ -20,8 +22,8 @@ std::string formatNumber(double value, int precision) {
 }
 
 std::string readText(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw Error(path.string(), "", "an existing text file", "no such file");
+  if (const std::string why = notARegularFile(path); !why.empty())
+    throw Error(path.string(), "", "an existing text file", why);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path.string(), "", "a readable text file", "it cannot be opened");
   std::ostringstream buffer;
