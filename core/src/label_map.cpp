@@ -63,6 +63,9 @@ LabelMap::LabelMap(LabelSet labels, const MapParameters& parameters)
   checkMapParameters(parameters_);
   if (labels_.empty() || labels_.size() > 256)
     throw Error("", "labels", "between 1 and 256 labels", std::to_string(labels_.size()));
+  for (const auto& label : labels_.all())
+    if (const std::string problem = labelNameProblem(label.name); !problem.empty())
+      throw Error("", "labels[" + std::to_string(label.id) + "].name", kLabelNameRule, problem);
   tree_ = std::make_unique<LabelOcTree>(labels_, parameters_);
 }
 
@@ -179,6 +182,12 @@ size_t LabelMap::memoryBytes() const { return tree_->memoryUsage() + tree_->labe
 void LabelMap::prune() { tree_->prune(); }
 
 void LabelMap::save(const std::filesystem::path& path) const {
+  // The file stores a name's length in 16 bits: never write a map that cannot be read back.
+  for (const auto& label : labels_.all())
+    if (label.name.size() > 65535)
+      throw Error(path.string(), "labels[" + std::to_string(label.id) + "].name",
+                  "a label name of at most 65535 bytes (the map file's limit)",
+                  "a name of " + std::to_string(label.name.size()) + " bytes");
   writeFileAtomically(path, [&](std::ostream& out) {
     if (!tree_->write(out)) throw Error(path.string(), "map", "a complete write", "write failed");
   });

@@ -87,7 +87,7 @@ void writeMeshesPly(const std::vector<SurfaceMesh>& meshes, const LabelSet& labe
     out << "ply\nformat binary_little_endian 1.0\n"
         << "comment labeloctomap voxel surface; vertex label = label id\n";
     for (const auto& m : meshes)
-      out << "comment label " << m.label << " " << nameOf(labels, m.label) << "\n";
+      out << "comment label " << m.label << " " << singleLineText(nameOf(labels, m.label)) << "\n";
     out << "element vertex " << vertex_count << "\n"
         << "property float x\nproperty float y\nproperty float z\n"
         << "property uchar red\nproperty uchar green\nproperty uchar blue\n"

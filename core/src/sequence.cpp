@@ -156,6 +156,8 @@ LabelSet parseLabels(const Reader& in, const Json& value) {
     label.id = id;
     label.name =
         in.text(in.required(list[i], field, "name"), join(field, "name"), "a non-empty string");
+    if (const std::string problem = labelNameProblem(label.name); !problem.empty())
+      in.fail(join(field, "name"), kLabelNameRule, problem);
     const auto [previous, inserted] = name_field.emplace(label.name, join(field, "name"));
     if (!inserted)
       in.fail(join(field, "name"), "a unique name",
@@ -504,10 +506,15 @@ void saveSequence(const Sequence& sequence, const fs::path& folder) {
   root["version"] = kVersion;
   root["frame_id"] = sequence.frame_id.empty() ? std::string("world") : sequence.frame_id;
   OrderedJson labels = OrderedJson::array();
-  for (const auto& label : sequence.labels.all())
+  for (const auto& label : sequence.labels.all()) {
+    // Never write a sequence that loadSequence would refuse.
+    if (const std::string problem = labelNameProblem(label.name); !problem.empty())
+      throw Error(file.string(), "labels[" + std::to_string(label.id) + "].name", kLabelNameRule,
+                  problem);
     labels.push_back(OrderedJson{{"id", label.id},
                                  {"name", label.name},
                                  {"color", {label.color[0], label.color[1], label.color[2]}}});
+  }
   root["labels"] = labels;
   root["camera"] = cameraJson(sequence.camera);
   OrderedJson frames = OrderedJson::array();
