@@ -158,13 +158,28 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
     return summary;
   }
 
-  const auto voxels = occupiedVoxelsByLabel(map, selected);
+  std::map<int, std::vector<VoxelKey>> voxels;
+  try {
+    voxels = occupiedVoxelsByLabel(map, selected);
+  } catch (const Error& e) {
+    Problem problem = e.problem();
+    if (problem.file.empty()) problem.file = file;
+    throw Error(problem);
+  }
   if (options.labels)
     for (const int label : *options.labels)
       if (!voxels.count(label)) summary.empty_labels.push_back(label);
-  if (voxels.empty())
-    throw Error(file, "map", "at least one occupied voxel to export",
-                options.labels ? "no occupied voxel of the selected labels" : "no occupied voxel");
+  if (voxels.empty()) {
+    std::string found =
+        options.labels ? "no occupied voxel of the selected labels" : "no occupied voxel";
+    // Objects leave out the background: say so when only background is occupied.
+    if (!options.labels && options.format == ExportFormat::Objects &&
+        map.occupiedCountPerLabel().count(0))
+      found =
+          "no occupied voxel of a label other than the background (label 0); objects leave "
+          "out the background unless --labels names it";
+    throw Error(file, "map", "at least one occupied voxel to export", found);
+  }
 
   if (options.format == ExportFormat::Objects) {
     ObjectOptions object_options;
