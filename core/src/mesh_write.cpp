@@ -117,7 +117,10 @@ void writeMeshesObj(const std::vector<SurfaceMesh>& meshes, const LabelSet& labe
     return labels.contains(label) ? labelFileStem(labels.at(label), labels.size())
                                   : "label_" + std::to_string(label);
   };
-  writeFileAtomically(
+  // Both files are complete before either replaces an old one: an old OBJ is
+  // never left beside a new MTL (or the other way round).
+  StagedFiles files;
+  files.add(
       mtl_path,
       [&](std::ostream& out) {
         out << "# labeloctomap label materials\n";
@@ -130,7 +133,7 @@ void writeMeshesObj(const std::vector<SurfaceMesh>& meshes, const LabelSet& labe
         }
       },
       false);
-  writeFileAtomically(
+  files.add(
       obj_path,
       [&](std::ostream& out) {
         out << "# labeloctomap voxel surface, one object per label\n"
@@ -146,6 +149,7 @@ void writeMeshesObj(const std::vector<SurfaceMesh>& meshes, const LabelSet& labe
         }
       },
       false);
+  files.commit();
 }
 
 }  // namespace lom
