@@ -3,8 +3,6 @@
 // original experiments.
 #include "lom/annotations.hpp"
 
-#include "json_text.hpp"
-
 #include <yaml-cpp/yaml.h>
 
 #include <cctype>
@@ -60,15 +58,15 @@ struct BoxChecker {
   }
 
   Eigen::Quaterniond rotation(const Eigen::Vector4d& xyzw, const std::string& where) const {
-    const double norm = xyzw.norm();
-    if (!std::isfinite(norm) || norm < 1e-9) {
+    const std::optional<Eigen::Quaterniond> unit = unitQuaternion(xyzw);
+    if (!unit) {
       std::ostringstream found;
       found << "[" << xyzw[0] << ", " << xyzw[1] << ", " << xyzw[2] << ", " << xyzw[3] << "]";
       throw Error(file, where, "a non-zero quaternion [qx, qy, qz, qw]", found.str());
     }
-    Eigen::Quaterniond q(xyzw[3], xyzw[0], xyzw[1], xyzw[2]);
-    if (std::abs(norm - 1.0) > kAlreadyUnit) q.normalize();
-    return q;
+    if (std::abs(xyzw.norm() - 1.0) <= kAlreadyUnit)
+      return Eigen::Quaterniond(xyzw[3], xyzw[0], xyzw[1], xyzw[2]);
+    return *unit;
   }
 };
 
