@@ -163,15 +163,27 @@ int runFuse(const Words& words) {
 
   const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
   std::vector<double> frame_seconds;
+  FrameStats totals;
   const auto start = std::chrono::steady_clock::now();
   LabelMap map = fuseSequence(sequence, options, [&](const FusionProgress& progress) {
     frame_seconds.push_back(progress.stats.seconds);
+    totals = progress.totals;
     if (show_progress) drawProgress(progress, progress.stats.seconds);
     return true;
   });
   const double total_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (show_progress) std::fprintf(stderr, "\n");
+  // Max range drops farther surfaces without a trace: say so when it took most of the depths.
+  const size_t beyond = std::min(totals.beyond_range_pixels, totals.valid_pixels);
+  if (options.map.max_range > 0.0 && 2 * beyond > totals.valid_pixels)
+    std::fprintf(stderr,
+                 "warning: %zu of %zu valid depth pixels (%.1f%%) were beyond the max range of "
+                 "%g m: they only cleared free space and mapped nothing. The depths reach %.1f m; "
+                 "fuse with --max-range %.1f to map them\n",
+                 beyond, totals.valid_pixels, 100.0 * beyond / totals.valid_pixels,
+                 options.map.max_range, totals.farthest_range,
+                 std::ceil(totals.farthest_range * 10.0) / 10.0);
   map.prune();
   map.save(out);
 

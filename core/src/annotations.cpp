@@ -3,8 +3,6 @@
 // original experiments.
 #include "lom/annotations.hpp"
 
-#include "json_text.hpp"
-
 #include <yaml-cpp/yaml.h>
 
 #include <cctype>
@@ -15,6 +13,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "file_checks.hpp"
+#include "json_text.hpp"
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 
@@ -58,15 +58,15 @@ struct BoxChecker {
   }
 
   Eigen::Quaterniond rotation(const Eigen::Vector4d& xyzw, const std::string& where) const {
-    const double norm = xyzw.norm();
-    if (!std::isfinite(norm) || norm < 1e-9) {
+    const std::optional<Eigen::Quaterniond> unit = unitQuaternion(xyzw);
+    if (!unit) {
       std::ostringstream found;
       found << "[" << xyzw[0] << ", " << xyzw[1] << ", " << xyzw[2] << ", " << xyzw[3] << "]";
       throw Error(file, where, "a non-zero quaternion [qx, qy, qz, qw]", found.str());
     }
-    Eigen::Quaterniond q(xyzw[3], xyzw[0], xyzw[1], xyzw[2]);
-    if (std::abs(norm - 1.0) > kAlreadyUnit) q.normalize();
-    return q;
+    if (std::abs(xyzw.norm() - 1.0) <= kAlreadyUnit)
+      return Eigen::Quaterniond(xyzw[3], xyzw[0], xyzw[1], xyzw[2]);
+    return *unit;
   }
 };
 
@@ -187,9 +187,8 @@ class YamlReader {
 };
 
 YAML::Node loadYamlFile(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    throw Error(path.string(), "", "an existing YAML box file", "no such file");
+  if (const std::string why = notARegularFile(path); !why.empty())
+    throw Error(path.string(), "", "an existing YAML box file", why);
   try {
     return YAML::LoadFile(path.string());
   } catch (const YAML::ParserException& e) {

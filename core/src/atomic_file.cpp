@@ -29,10 +29,28 @@ void checkFolder(const fs::path& target) {
                 "folder " + folder.string() + " does not exist");
 }
 
+void writeStream(const fs::path& target, const fs::path& temporary,
+                 const std::function<void(std::ostream&)>& write, bool binary) {
+  std::ofstream out(temporary, binary ? std::ios::binary | std::ios::out : std::ios::out);
+  if (!out) throw Error(target.string(), "output", "a writable location", "cannot create file");
+  write(out);
+  out.flush();
+  if (!out) throw Error(target.string(), "output", "a complete write", "write failed (disk full?)");
+  out.close();
+  if (!out) throw Error(target.string(), "output", "a complete write", "write failed (disk full?)");
+}
+
 }  // namespace
 
-void writePathAtomically(const fs::path& target,
-                         const std::function<void(const fs::path&)>& write) {
+StagedFiles::~StagedFiles() {
+  for (const auto& [target, temporary] : staged_) {
+    std::error_code ignored;
+    fs::remove(temporary, ignored);
+  }
+}
+
+void StagedFiles::addPath(const fs::path& target,
+                          const std::function<void(const fs::path&)>& write) {
   checkFolder(target);
   const fs::path temporary = temporaryPathFor(target);
   try {
@@ -40,26 +58,44 @@ void writePathAtomically(const fs::path& target,
     std::error_code ec;
     if (!fs::exists(temporary, ec))
       throw Error(target.string(), "output", "the writer to produce the file", "nothing written");
-    fs::rename(temporary, target, ec);
-    if (ec)
-      throw Error(target.string(), "output", "a writable location", "rename failed: " + ec.message());
   } catch (...) {
     std::error_code ignored;
     fs::remove(temporary, ignored);
     throw;
   }
+  staged_.emplace_back(target, temporary);
+}
+
+void StagedFiles::add(const fs::path& target, const std::function<void(std::ostream&)>& write,
+                      bool binary) {
+  addPath(target,
+          [&](const fs::path& temporary) { writeStream(target, temporary, write, binary); });
+}
+
+void StagedFiles::commit() {
+  while (!staged_.empty()) {
+    const auto [target, temporary] = staged_.front();
+    std::error_code ec;
+    fs::rename(temporary, target, ec);
+    if (ec)
+      throw Error(target.string(), "output", "a writable location",
+                  "rename failed: " + ec.message());
+    staged_.erase(staged_.begin());
+  }
+}
+
+void writePathAtomically(const fs::path& target,
+                         const std::function<void(const fs::path&)>& write) {
+  StagedFiles files;
+  files.addPath(target, write);
+  files.commit();
 }
 
 void writeFileAtomically(const fs::path& target, const std::function<void(std::ostream&)>& write,
                          bool binary) {
-  writePathAtomically(target, [&](const fs::path& temporary) {
-    std::ofstream out(temporary, binary ? std::ios::binary | std::ios::out : std::ios::out);
-    if (!out)
-      throw Error(target.string(), "output", "a writable location", "cannot create file");
-    write(out);
-    out.flush();
-    if (!out) throw Error(target.string(), "output", "a complete write", "write failed (disk full?)");
-  });
+  StagedFiles files;
+  files.add(target, write, binary);
+  files.commit();
 }
 
 void writeTextFileAtomically(const fs::path& target, const std::string& text) {

@@ -1,6 +1,9 @@
 // exportMap: one entry point for every export format (the CLI's `export`).
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
+#include <random>
 
 #include "lom/error.hpp"
 #include "lom/export.hpp"
@@ -112,6 +115,55 @@ void writeMeshes(const std::vector<SurfaceMesh>& meshes, const LabelMap& map, Ex
   files.push_back(path);
 }
 
+// Per-label files are written into a hidden folder inside the output folder
+// and moved into place only once every one of them is complete, so that a
+// failure (a full disk) never leaves new files of some labels beside old
+// files of others. The folder is removed in any case.
+class StagingFolder {
+ public:
+  explicit StagingFolder(const fs::path& out) : out_(out) {
+    std::error_code ec;
+    fs::create_directories(out, ec);
+    if (ec)
+      throw Error(out.string(), "output path", "a folder for the per-label files",
+                  "a folder that cannot be created: " + ec.message());
+    std::random_device random;
+    path_ = out / (".labeloctomap-export-" + std::to_string(::getpid()) + "-" +
+                   std::to_string(random() % 1000000));
+    if (!fs::create_directory(path_, ec) || ec)
+      throw Error(
+          out.string(), "output path", "a writable folder for the per-label files",
+          "a folder where no file can be created" + (ec ? ": " + ec.message() : std::string()));
+  }
+  StagingFolder(const StagingFolder&) = delete;
+  StagingFolder& operator=(const StagingFolder&) = delete;
+  ~StagingFolder() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+
+  [[nodiscard]] const fs::path& path() const { return path_; }
+
+  // Moves the staged files into the output folder; returns their new paths.
+  std::vector<fs::path> publish(const std::vector<fs::path>& staged) const {
+    std::vector<fs::path> published;
+    for (const fs::path& file : staged) {
+      const fs::path target = out_ / file.filename();
+      std::error_code ec;
+      fs::rename(file, target, ec);
+      if (ec)
+        throw Error(target.string(), "output", "a writable location",
+                    "rename failed: " + ec.message());
+      published.push_back(target);
+    }
+    return published;
+  }
+
+ private:
+  fs::path out_;
+  fs::path path_;
+};
+
 }  // namespace
 
 std::optional<ExportFormat> parseExportFormat(const std::string& name) {
@@ -158,13 +210,28 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
     return summary;
   }
 
-  const auto voxels = occupiedVoxelsByLabel(map, selected);
+  std::map<int, std::vector<VoxelKey>> voxels;
+  try {
+    voxels = occupiedVoxelsByLabel(map, selected);
+  } catch (const Error& e) {
+    Problem problem = e.problem();
+    if (problem.file.empty()) problem.file = file;
+    throw Error(problem);
+  }
   if (options.labels)
     for (const int label : *options.labels)
       if (!voxels.count(label)) summary.empty_labels.push_back(label);
-  if (voxels.empty())
-    throw Error(file, "map", "at least one occupied voxel to export",
-                options.labels ? "no occupied voxel of the selected labels" : "no occupied voxel");
+  if (voxels.empty()) {
+    std::string found =
+        options.labels ? "no occupied voxel of the selected labels" : "no occupied voxel";
+    // Objects leave out the background: say so when only background is occupied.
+    if (!options.labels && options.format == ExportFormat::Objects &&
+        map.occupiedCountPerLabel().count(0))
+      found =
+          "no occupied voxel of a label other than the background (label 0); objects leave "
+          "out the background unless --labels names it";
+    throw Error(file, "map", "at least one occupied voxel to export", found);
+  }
 
   if (options.format == ExportFormat::Objects) {
     ObjectOptions object_options;
@@ -178,10 +245,11 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
     return summary;
   }
 
-  if (options.per_label) fs::create_directories(out);
+  std::optional<StagingFolder> staging;
+  if (options.per_label) staging.emplace(out);
   const auto pathFor = [&](int label) {
-    return out / (labelFileStem(map.labels().at(label), map.numLabels()) +
-                  infoOf(options.format).extension);
+    return staging->path() / (labelFileStem(map.labels().at(label), map.numLabels()) +
+                              infoOf(options.format).extension);
   };
 
   if (isPointCloud(options)) {
@@ -195,6 +263,7 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
       write(selected, out);
     } else {
       for (const auto& [label, keys] : voxels) write({label}, pathFor(label));
+      summary.files = staging->publish(summary.files);
     }
     return summary;
   }
@@ -214,6 +283,7 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
     }
   }
   if (!options.per_label) writeMeshes(meshes, map, options.format, out, summary.files);
+  if (options.per_label) summary.files = staging->publish(summary.files);
   return summary;
 }
 

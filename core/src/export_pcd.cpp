@@ -67,7 +67,14 @@ size_t writePcd(const LabelMap& map, const std::optional<std::set<int>>& labels,
                 const std::filesystem::path& path) {
   const auto cloud = voxelCloud(map, labels, path);
   writePathAtomically(path, [&](const std::filesystem::path& temporary) {
-    if (pcl::io::savePCDFileBinary(temporary.string(), cloud) != 0)
+    int result = -1;
+    try {
+      result = pcl::io::savePCDFileBinary(temporary.string(), cloud);
+    } catch (const pcl::PCLException& e) {  // e.g. no room for the file
+      throw Error(path.string(), "output", "a writable PCD file",
+                  std::string("PCL could not write it: ") + e.what());
+    }
+    if (result != 0)
       throw Error(path.string(), "output", "a writable PCD file", "PCL could not write it");
   });
   return cloud.size();
@@ -91,9 +98,16 @@ size_t writeVoxelsPly(const LabelMap& map, const std::set<int>& labels,
   pcl::toPCLPointCloud2(cloud, blob);
   writePathAtomically(path, [&](const std::filesystem::path& temporary) {
     pcl::PLYWriter writer;
-    // No camera element: a plain vertex list that every PLY reader accepts.
-    if (writer.write(temporary.string(), blob, Eigen::Vector4f::Zero(),
-                     Eigen::Quaternionf::Identity(), /*binary=*/true, /*use_camera=*/false) != 0)
+    int result = -1;
+    try {
+      // No camera element: a plain vertex list that every PLY reader accepts.
+      result = writer.write(temporary.string(), blob, Eigen::Vector4f::Zero(),
+                            Eigen::Quaternionf::Identity(), /*binary=*/true, /*use_camera=*/false);
+    } catch (const pcl::PCLException& e) {
+      throw Error(path.string(), "output", "a writable PLY file",
+                  std::string("PCL could not write it: ") + e.what());
+    }
+    if (result != 0)
       throw Error(path.string(), "output", "a writable PLY file", "PCL could not write it");
   });
   return cloud.size();

@@ -3,13 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 #include <unordered_set>
 
+#include "fusion_internal.hpp"
 #include "lom/error.hpp"
 #include "lom/octree/label_octree.hpp"
 #include "lom/segmenter.hpp"
-#include "fusion_internal.hpp"
 
 namespace lom {
 
@@ -208,6 +209,43 @@ FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
 // ---------------------------------------------------------------------------
 // Sequences
 
+DepthRanges countDepthRanges(const CameraIntrinsics& camera, const DepthImage& depth,
+                             double max_range) {
+  DepthRanges ranges;
+  if (depth.width <= 0 || depth.height <= 0) return ranges;
+  // The same terms as the back-projection (PixelProjector), so that a pixel
+  // counts as beyond exactly when fusion treats it so.
+  const double inverse_fx = 1.0 / camera.fx;
+  const double inverse_fy = 1.0 / camera.fy;
+  const double limit =
+      max_range > 0.0 ? max_range * max_range : std::numeric_limits<double>::infinity();
+  std::vector<double> xx(static_cast<size_t>(depth.width));
+  for (int u = 0; u < depth.width; ++u) {
+    const double x = (u - camera.cx) * inverse_fx;
+    xx[static_cast<size_t>(u)] = x * x;
+  }
+  double farthest_squared = 0.0;
+  for (int v = 0; v < depth.height; ++v) {
+    const double y = (v - camera.cy) * inverse_fy;
+    const double yy_plus_one = y * y + 1.0;
+    const float* row = depth.metres.data() + static_cast<size_t>(v) * depth.width;
+    size_t measured = 0, beyond = 0;
+    for (int u = 0; u < depth.width; ++u) {
+      const float d = row[u];
+      if (!(d > 0.f && d <= std::numeric_limits<float>::max())) continue;  // no NaN, no inf
+      const double z = d;
+      const double squared = z * z * (xx[static_cast<size_t>(u)] + yy_plus_one);
+      ++measured;
+      beyond += squared > limit ? 1 : 0;
+      farthest_squared = std::max(farthest_squared, squared);
+    }
+    ranges.measured += measured;
+    ranges.beyond += beyond;
+  }
+  ranges.farthest = std::sqrt(farthest_squared);
+  return ranges;
+}
+
 FrameEvidence makeEvidence(const Sequence& sequence, size_t index, const FrameData& frame,
                            const FusionOptions& options) {
   const std::string frame_field = "frames[" + std::to_string(index) + "]";
@@ -245,6 +283,18 @@ LabelMap fuseSequence(const Sequence& sequence, const FusionOptions& options,
       p.field = "frames[" + std::to_string(i) + "]." + p.field;
       throw Error(p);
     }
+    // How much of the frame max range cut off, for the caller to warn about
+    // (counted apart from the integration, which keeps to its own work).
+    const DepthRanges ranges =
+        countDepthRanges(sequence.cameraOf(i), frame.depth, map.parameters().max_range);
+    report.stats.beyond_range_pixels = ranges.beyond;
+    report.stats.farthest_range = ranges.farthest;
+    report.totals.valid_pixels += report.stats.valid_pixels;
+    report.totals.beyond_range_pixels += report.stats.beyond_range_pixels;
+    report.totals.farthest_range = std::max(report.totals.farthest_range, ranges.farthest);
+    report.totals.hit_voxels += report.stats.hit_voxels;
+    report.totals.miss_voxels += report.stats.miss_voxels;
+    report.totals.seconds += report.stats.seconds;
     report.frame_index = i;
     ++report.done;
     if (progress && !progress(report)) break;

@@ -3,11 +3,17 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <set>
 
+#include "file_checks.hpp"
+#include "image_header.hpp"
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 #include "lom/npy.hpp"
@@ -42,11 +48,39 @@ std::string describeMat(const cv::Mat& mat) {
   return bits + ", " + std::to_string(channels) + (channels == 1 ? " channel" : " channels");
 }
 
+bool isSpace(int c) {
+  return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
+}
+
+// One decimal number of a PNM header, after white space and '#' comments.
+std::optional<std::uint64_t> pnmNumber(std::istream& in) {
+  int c = in.get();
+  while (c != EOF && (isSpace(c) || c == '#')) {
+    if (c == '#')
+      while (c != EOF && c != '\n' && c != '\r') c = in.get();
+    c = in.get();
+  }
+  if (c == EOF || c < '0' || c > '9') return std::nullopt;
+  std::uint64_t value = 0;
+  for (int digits = 0; c != EOF && c >= '0' && c <= '9'; c = in.get(), ++digits) {
+    if (digits >= 12) return std::nullopt;
+    value = value * 10 + static_cast<std::uint64_t>(c - '0');
+  }
+  return value;
+}
+
 cv::Mat readImage(const fs::path& path) {
   const std::string file = path.string();
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    throw Error(file, "", "an existing image file", "no such file");
+  if (const std::string why = notARegularFile(path); !why.empty())
+    throw Error(file, "", "an existing image file", why);
+  // A few kilobytes of PNG can declare billions of pixels: refuse before decoding.
+  if (const auto size = readImageHeaderSize(path);
+      size &&
+      (size->width == 0 || size->height == 0 || size->width > kMaxImagePixels / size->height))
+    throw Error(file, "image size",
+                "an image of at most " + std::to_string(kMaxImagePixels) + " pixels",
+                std::to_string(size->width) + " x " + std::to_string(size->height) +
+                    " pixels (declared in the " + size->format + " header)");
   cv::Mat mat;
   try {
     mat = cv::imread(file, cv::IMREAD_UNCHANGED);
@@ -124,6 +158,39 @@ void checkPixelCount(const fs::path& path, int width, int height, size_t values,
 }
 
 }  // namespace
+
+std::optional<ImageHeaderSize> readImageHeaderSize(const fs::path& path) {
+  // Never open a named pipe or a device here: opening a pipe waits for a writer.
+  if (!notARegularFile(path).empty()) return std::nullopt;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  unsigned char head[24] = {};
+  in.read(reinterpret_cast<char*>(head), 2);
+  if (!in) return std::nullopt;
+  if (head[0] == 0x89 && head[1] == 'P') {
+    // PNG: signature, then the IHDR chunk (length, "IHDR", width, height big-endian).
+    in.read(reinterpret_cast<char*>(head) + 2, 22);
+    static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    if (!in || std::memcmp(head, kSignature, 8) != 0 || std::memcmp(head + 12, "IHDR", 4) != 0)
+      return std::nullopt;
+    const auto big = [&](int at) {
+      return (std::uint64_t{head[at]} << 24) | (std::uint64_t{head[at + 1]} << 16) |
+             (std::uint64_t{head[at + 2]} << 8) | std::uint64_t{head[at + 3]};
+    };
+    return ImageHeaderSize{big(16), big(20), "PNG"};
+  }
+  if (head[0] == 'P' && head[1] >= '1' && head[1] <= '6') {
+    // PNM: "P5", then width and height as decimal text between white space and comments.
+    const char* format = (head[1] == '1' || head[1] == '4')   ? "PBM"
+                         : (head[1] == '2' || head[1] == '5') ? "PGM"
+                                                              : "PPM";
+    const auto width = pnmNumber(in);
+    const auto height = width ? pnmNumber(in) : std::nullopt;
+    if (!width || !height) return std::nullopt;
+    return ImageHeaderSize{*width, *height, format};
+  }
+  return std::nullopt;
+}
 
 DepthImage readDepthImage(const fs::path& path, double depth_scale) {
   if (lowerExtension(path) == ".npy") return readDepthNpy(path);

@@ -9,7 +9,9 @@
 #include <iomanip>
 #include <sstream>
 
+#include "file_checks.hpp"
 #include "import_internal.hpp"
+#include "lom/geometry.hpp"
 
 namespace lom::import_detail {
 
@@ -20,8 +22,8 @@ std::string formatNumber(double value, int precision) {
 }
 
 std::string readText(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw Error(path.string(), "", "an existing text file", "no such file");
+  if (const std::string why = notARegularFile(path); !why.empty())
+    throw Error(path.string(), "", "an existing text file", why);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path.string(), "", "a readable text file", "it cannot be opened");
   std::ostringstream buffer;
@@ -118,14 +120,14 @@ CameraIntrinsics intrinsicsFromNumbers(const std::vector<double>& n, const std::
 }
 
 Eigen::Matrix4d poseFromQuaternion(const double* p) {
-  Eigen::Quaterniond q(p[6], p[3], p[4], p[5]);
+  const std::optional<Eigen::Quaterniond> q =
+      unitQuaternion(Eigen::Vector4d(p[3], p[4], p[5], p[6]));
   Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();
-  const double norm = q.norm();
-  if (!std::isfinite(norm) || norm < 1e-9) {
+  if (!q) {
     pose(0, 0) = NAN;
     return pose;
   }
-  pose.topLeftCorner<3, 3>() = q.normalized().toRotationMatrix();
+  pose.topLeftCorner<3, 3>() = q->toRotationMatrix();
   pose.topRightCorner<3, 1>() = Eigen::Vector3d(p[0], p[1], p[2]);
   return pose;
 }

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "import_internal.hpp"
+#include "lom/geometry.hpp"
 
 namespace lom::import_detail {
 
@@ -95,10 +96,9 @@ std::vector<TimedPose> readTumPoses(const fs::path& path) {
     TimedPose pose;
     pose.stamp = n[0];
     pose.t = Eigen::Vector3d(n[1], n[2], n[3]);
-    pose.q = Eigen::Quaterniond(n[7], n[4], n[5], n[6]);
-    const double norm = pose.q.norm();
-    if (!pose.t.allFinite() || !std::isfinite(norm) || norm < 1e-9) continue;  // mocap dropout
-    pose.q.normalize();
+    const auto q = unitQuaternion(Eigen::Vector4d(n[4], n[5], n[6], n[7]));
+    if (!pose.t.allFinite() || !q) continue;  // mocap dropout
+    pose.q = *q;
     poses.push_back(pose);
   }
   std::stable_sort(poses.begin(), poses.end(),

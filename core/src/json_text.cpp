@@ -2,48 +2,260 @@
 
 #include <fstream>
 #include <sstream>
+#include <utility>
+#include <vector>
 
+#include "file_checks.hpp"
 #include "lom/error.hpp"
 
 namespace lom::json_text {
 
-std::string describe(const nlohmann::json& value) {
-  std::string text = value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  if (text.size() > 60) text = text.substr(0, 57) + "...";
+namespace {
+
+using Json = nlohmann::json;
+
+constexpr size_t kDescribeLength = 60;
+
+// Drops nlohmann's "[json.exception.parse_error.101] " prefix.
+std::string withoutExceptionId(std::string message) {
+  const auto bracket = message.find("] ");
+  if (message.rfind("[json.exception", 0) == 0 && bracket != std::string::npos)
+    message = message.substr(bracket + 2);
+  return message;
+}
+
+// "line 3, column 12" of the byte `offset` (lines and columns from 1, as nlohmann counts them).
+std::string positionText(const std::string& text, size_t offset) {
+  offset = std::min(offset, text.size());
+  size_t line = 1;
+  size_t line_start = 0;
+  for (size_t i = 0; i < offset; ++i)
+    if (text[i] == '\n') {
+      ++line;
+      line_start = i + 1;
+    }
+  return "line " + std::to_string(line) + ", column " + std::to_string(offset - line_start + 1);
+}
+
+// Refuses nesting deeper than kMaxNesting before the parser builds anything.
+void checkNesting(const std::string& text, const std::string& file) {
+  size_t depth = 0;
+  bool in_string = false;
+  bool escaped = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (escaped) {
+        escaped = false;
+      } else if (c == '\\') {
+        escaped = true;
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxNesting)
+        throw Error(file, "",
+                    "JSON with arrays and objects nested at most " + std::to_string(kMaxNesting) +
+                        " levels deep",
+                    "deeper nesting at " + positionText(text, i));
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+}
+
+// Builds the tree with nlohmann's own DOM builder and keeps track of where in
+// the tree the parser is, so that a number too large for a double is reported
+// with its field ("frames[0].pose[3]") and position instead of an exception.
+class TrackingBuilder {
+ public:
+  explicit TrackingBuilder(Json& result) : dom_(result, false) {}
+
+  bool null() { return value() && dom_.null(); }
+  bool boolean(bool v) { return value() && dom_.boolean(v); }
+  bool number_integer(Json::number_integer_t v) { return value() && dom_.number_integer(v); }
+  bool number_unsigned(Json::number_unsigned_t v) { return value() && dom_.number_unsigned(v); }
+  bool number_float(Json::number_float_t v, const Json::string_t& s) {
+    return value() && dom_.number_float(v, s);
+  }
+  bool string(Json::string_t& v) { return value() && dom_.string(v); }
+  bool binary(Json::binary_t& v) { return value() && dom_.binary(v); }
+  bool start_object(std::size_t size) {
+    if (!value()) return false;
+    path_.push_back({false, 0, {}});
+    return dom_.start_object(size);
+  }
+  bool key(Json::string_t& k) {
+    path_.back().key = k;
+    return dom_.key(k);
+  }
+  bool end_object() {
+    path_.pop_back();
+    return dom_.end_object();
+  }
+  bool start_array(std::size_t size) {
+    if (!value()) return false;
+    path_.push_back({true, 0, {}});
+    return dom_.start_array(size);
+  }
+  bool end_array() {
+    path_.pop_back();
+    return dom_.end_array();
+  }
+  bool parse_error(std::size_t position, const std::string& token,
+                   const nlohmann::detail::exception& e) {
+    error_position_ = position;
+    error_token_ = token;
+    error_id_ = e.id;
+    error_message_ = e.what();
+    error_field_ = nextField();
+    return false;
+  }
+
+  [[nodiscard]] size_t errorPosition() const { return error_position_; }
+  [[nodiscard]] const std::string& errorToken() const { return error_token_; }
+  [[nodiscard]] int errorId() const { return error_id_; }
+  [[nodiscard]] const std::string& errorMessage() const { return error_message_; }
+  [[nodiscard]] const std::string& errorField() const { return error_field_; }
+
+ private:
+  struct Level {
+    bool array;
+    size_t count;     // values seen so far (arrays)
+    std::string key;  // the current key (objects)
+  };
+
+  // Every value advances the index of the array holding it.
+  bool value() {
+    if (!path_.empty() && path_.back().array) ++path_.back().count;
+    return true;
+  }
+
+  // The field of the value the parser reads next (or has just started).
+  std::string nextField() const {
+    std::string text;
+    for (size_t i = 0; i < path_.size(); ++i) {
+      const Level& level = path_[i];
+      const bool last = i + 1 == path_.size();
+      if (level.array) {
+        // Inner levels were counted when they started; the last one counts
+        // the value being read only once it is complete.
+        const size_t index = last ? level.count : level.count - 1;
+        text = indexed(text, index);
+      } else {
+        text = field(text, level.key);
+      }
+    }
+    return text;
+  }
+
+  nlohmann::detail::json_sax_dom_parser<Json> dom_;
+  std::vector<Level> path_;
+  size_t error_position_ = 0;
+  std::string error_token_;
+  int error_id_ = 0;
+  std::string error_message_;
+  std::string error_field_;
+};
+
+void appendScalar(const Json& value, std::string& out) {
+  if (value.is_string()) {
+    const std::string& s = value.get_ref<const std::string&>();
+    // Only the start of a long string can be shown; cut it before dumping.
+    out += Json(s.size() > kDescribeLength ? s.substr(0, kDescribeLength) : s)
+               .dump(-1, ' ', false, Json::error_handler_t::replace);
+    return;
+  }
+  out += value.dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
+// Compact JSON text of `value` (as dump() writes it), stopping once `out` is
+// longer than `limit`: an explicit stack instead of recursion.
+void appendPrefix(const Json& value, size_t limit, std::string& out) {
+  struct Open {
+    const Json* container;
+    Json::const_iterator next;
+    bool first;
+  };
+  std::vector<Open> stack;
+  const Json* pending = &value;
+  while (out.size() <= limit) {
+    if (pending) {
+      if (pending->is_structured()) {
+        out += pending->is_array() ? '[' : '{';
+        stack.push_back({pending, pending->cbegin(), true});
+      } else {
+        appendScalar(*pending, out);
+      }
+      pending = nullptr;
+    }
+    if (stack.empty()) return;
+    Open& open = stack.back();
+    if (open.next == open.container->cend()) {
+      out += open.container->is_array() ? ']' : '}';
+      stack.pop_back();
+      continue;
+    }
+    if (!open.first) out += ',';
+    open.first = false;
+    if (open.container->is_object())
+      out += Json(open.next.key()).dump(-1, ' ', false, Json::error_handler_t::replace) + ":";
+    pending = &*open.next;
+    ++open.next;
+  }
+}
+
+}  // namespace
+
+std::string describe(const Json& value) {
+  std::string text;
+  appendPrefix(value, kDescribeLength, text);
+  if (text.size() > kDescribeLength) text = text.substr(0, kDescribeLength - 3) + "...";
   switch (value.type()) {
-    case nlohmann::json::value_t::string:
+    case Json::value_t::string:
       return "the string " + text;
-    case nlohmann::json::value_t::boolean:
+    case Json::value_t::boolean:
       return "the boolean " + text;
-    case nlohmann::json::value_t::null:
+    case Json::value_t::null:
       return "null";
-    case nlohmann::json::value_t::array:
+    case Json::value_t::array:
       return "an array " + text;
-    case nlohmann::json::value_t::object:
+    case Json::value_t::object:
       return "an object " + text;
     default:
       return "the number " + text;
   }
 }
 
-nlohmann::json parseFile(const std::filesystem::path& path, const std::string& what) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw Error(path.string(), "", "an existing file (" + what + ")", "no such file");
+Json parseText(const std::string& text, const std::string& file) {
+  checkNesting(text, file);
+  Json result;
+  TrackingBuilder builder(result);
+  if (Json::sax_parse(text, &builder, Json::input_format_t::json, /*strict=*/true)) return result;
+  // 406: a number that does not fit a double ("1e999"); nlohmann reports it
+  // as out of range, and as the parser's error only to a SAX handler. The
+  // position is where the number ends: report where it starts.
+  if (builder.errorId() == 406) {
+    const size_t end = builder.errorPosition();
+    const size_t length = builder.errorToken().size();
+    const std::string where = positionText(text, end >= length ? end - length : end);
+    throw Error(file, builder.errorField(),
+                "a finite number (JSON numbers here must fit a double, at most about 1.8e308)",
+                "'" + builder.errorToken() + "' at " + where);
+  }
+  throw Error(file, "", "valid JSON", withoutExceptionId(builder.errorMessage()));
+}
+
+Json parseFile(const std::filesystem::path& path, const std::string& what) {
+  if (const std::string why = notARegularFile(path); !why.empty())
+    throw Error(path.string(), "", "an existing file (" + what + ")", why);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path.string(), "", what, "cannot open it");
   std::stringstream text;
   text << in.rdbuf();
-  try {
-    return nlohmann::json::parse(text.str());
-  } catch (const nlohmann::json::parse_error& e) {
-    // Drop nlohmann's "[json.exception.parse_error.101] " prefix.
-    std::string message = e.what();
-    const auto bracket = message.find("] ");
-    if (message.rfind("[json.exception", 0) == 0 && bracket != std::string::npos)
-      message = message.substr(bracket + 2);
-    throw Error(path.string(), "", "valid JSON", message);
-  }
+  return parseText(text.str(), path.string());
 }
 
 std::string inlineJson(const nlohmann::ordered_json& value) {

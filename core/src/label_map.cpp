@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "file_checks.hpp"
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 #include "lom/octree/label_octree.hpp"
@@ -18,6 +19,10 @@ std::string str(double v) {
   std::ostringstream out;
   out << v;
   return out.str();
+}
+
+std::string resolutionRange() {
+  return "a voxel size from " + str(kMinResolution) + " to " + str(kMaxResolution) + " metres";
 }
 
 void requireProbability(double p, const char* field) {
@@ -45,8 +50,8 @@ VoxelState stateOf(const LabelOcTree& tree, const LabelOcTreeNode* node) {
 }  // namespace
 
 void checkMapParameters(const MapParameters& p) {
-  if (!(p.resolution > 0.0 && std::isfinite(p.resolution)))
-    throw Error("", "resolution", "a positive voxel size in metres", str(p.resolution));
+  if (!(p.resolution >= kMinResolution && p.resolution <= kMaxResolution))
+    throw Error("", "resolution", resolutionRange(), str(p.resolution));
   requireProbability(p.p_miss, "p_miss");
   requireProbability(p.occupancy_threshold, "occupancy_threshold");
   requireProbability(p.clamp_min, "clamp_min");
@@ -63,6 +68,9 @@ LabelMap::LabelMap(LabelSet labels, const MapParameters& parameters)
   checkMapParameters(parameters_);
   if (labels_.empty() || labels_.size() > 256)
     throw Error("", "labels", "between 1 and 256 labels", std::to_string(labels_.size()));
+  for (const auto& label : labels_.all())
+    if (const std::string problem = labelNameProblem(label.name); !problem.empty())
+      throw Error("", "labels[" + std::to_string(label.id) + "].name", kLabelNameRule, problem);
   tree_ = std::make_unique<LabelOcTree>(labels_, parameters_);
 }
 
@@ -130,8 +138,35 @@ std::vector<VoxelKey> LabelMap::voxelsOfLabel(int label) const {
   return by_label.empty() ? std::vector<VoxelKey>{} : std::move(by_label.begin()->second);
 }
 
+size_t LabelMap::expandableOccupiedVoxels(const std::optional<std::set<int>>& only) const {
+  const int n = numLabels();
+  const unsigned max_depth = tree_->getTreeDepth();
+  // Counted in double: the leaves of a hand-made file may stand for more than 2^64 voxels.
+  double total = 0.0;
+  unsigned shallowest = max_depth;
+  for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it) {
+    if (!tree_->isNodeOccupied(*it)) continue;
+    if (only && !only->count(it->argmaxLabel(n))) continue;
+    total += std::pow(8.0, static_cast<double>(max_depth - it.getDepth()));
+    shallowest = std::min(shallowest, it.getDepth());
+  }
+  if (total > static_cast<double>(kMaxExpandedVoxels)) {
+    const double edge =
+        parameters_.resolution * std::ldexp(1.0, static_cast<int>(max_depth - shallowest));
+    throw Error(source_file_.string(), "map",
+                "at most " + std::to_string(kMaxExpandedVoxels) +
+                    " occupied voxels at the map's resolution (occupied leaves larger than a "
+                    "voxel stand for all their voxels)",
+                str(total) + " voxels; the largest occupied leaf is " + str(edge) +
+                    " m a side (depth " + std::to_string(shallowest) + " of " +
+                    std::to_string(max_depth) + ")");
+  }
+  return static_cast<size_t>(total);
+}
+
 std::map<int, std::vector<VoxelKey>> LabelMap::voxelsByLabel(
     const std::optional<std::set<int>>& only) const {
+  (void)expandableOccupiedVoxels(only);
   std::map<int, std::vector<VoxelKey>> voxels;
   const int n = numLabels();
   const unsigned max_depth = tree_->getTreeDepth();
@@ -179,6 +214,12 @@ size_t LabelMap::memoryBytes() const { return tree_->memoryUsage() + tree_->labe
 void LabelMap::prune() { tree_->prune(); }
 
 void LabelMap::save(const std::filesystem::path& path) const {
+  // The file stores a name's length in 16 bits: never write a map that cannot be read back.
+  for (const auto& label : labels_.all())
+    if (label.name.size() > 65535)
+      throw Error(path.string(), "labels[" + std::to_string(label.id) + "].name",
+                  "a label name of at most 65535 bytes (the map file's limit)",
+                  "a name of " + std::to_string(label.name.size()) + " bytes");
   writeFileAtomically(path, [&](std::ostream& out) {
     if (!tree_->write(out)) throw Error(path.string(), "map", "a complete write", "write failed");
   });
@@ -186,6 +227,8 @@ void LabelMap::save(const std::filesystem::path& path) const {
 
 LabelMap LabelMap::load(const std::filesystem::path& path) {
   const std::string file = path.string();
+  if (const std::string why = notARegularFile(path); !why.empty())
+    throw Error(file, "map file", "a readable LabelOctoMap .ot file", why);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(file, "map file", "a readable LabelOctoMap .ot file", "cannot open");
   std::string line;
@@ -194,8 +237,9 @@ LabelMap LabelMap::load(const std::filesystem::path& path) {
     throw Error(file, "header", "an OctoMap .ot file starting with '# Octomap OcTree file'",
                 line.empty() ? "an empty first line" : "'" + line.substr(0, 40) + "'");
   std::string id;
-  double resolution = 0.0;
+  std::string res;
   bool has_size = false;
+  bool has_data = false;
   while (std::getline(in, line)) {
     if (line.empty() || line[0] == '#') continue;
     std::istringstream words(line);
@@ -204,27 +248,49 @@ LabelMap LabelMap::load(const std::filesystem::path& path) {
     if (token == "id") {
       words >> id;
     } else if (token == "res") {
-      words >> resolution;
+      words >> res;
     } else if (token == "size") {
       has_size = true;
     } else if (token == "data") {
+      has_data = true;
       break;
     } else {
-      throw Error(file, "header", "one of the keys id, size, res, data", "'" + token + "'");
+      throw Error(file, "header", "one of the keys id, size, res, data",
+                  "'" + token.substr(0, 40) + "'");
     }
   }
   if (id != "LabelOcTree")
     throw Error(file, "id", "tree type LabelOcTree (a labelled map written by labeloctomap)",
-                id.empty() ? "no id" : "tree type " + id);
-  if (!has_size || !(resolution > 0.0) || line.rfind("data", 0) != 0)
-    throw Error(file, "header", "size, a positive res and a data line", "an incomplete header");
+                id.empty() ? "no id" : "tree type " + id.substr(0, 40));
+  if (!has_size || res.empty() || !has_data)
+    throw Error(file, "header", "the lines id, size, res and data",
+                std::string("no ") +
+                    (!has_size     ? "size"
+                     : res.empty() ? "res"
+                                   : "data") +
+                    " line");
+  double resolution = 0.0;
+  {
+    std::istringstream number(res);
+    number >> resolution;
+    if (!number || !number.eof() || !std::isfinite(resolution) || resolution < kMinResolution ||
+        resolution > kMaxResolution)
+      throw Error(file, "res", resolutionRange(), "'" + res.substr(0, 40) + "'");
+  }
   auto tree = std::make_unique<LabelOcTree>(resolution);
-  tree->readData(in);
-  if (!in) throw Error(file, "data", "a complete LabelOcTree node stream", "truncated or corrupt data");
+  try {
+    tree->readLabelledData(in);
+  } catch (const Error& e) {
+    Problem problem = e.problem();
+    problem.file = file;
+    throw Error(problem);
+  }
   LabelSet labels = tree->labels();
   MapParameters parameters = tree->parameters();
   parameters.resolution = resolution;
-  return LabelMap(std::move(labels), parameters, std::move(tree));
+  LabelMap map(std::move(labels), parameters, std::move(tree));
+  map.source_file_ = path;
+  return map;
 }
 
 }  // namespace lom

@@ -6,6 +6,9 @@
 #include <cstring>
 #include <istream>
 #include <ostream>
+#include <string>
+
+#include "lom/error.hpp"
 
 namespace lom {
 
@@ -529,25 +532,47 @@ std::ostream& LabelOcTree::writeData(std::ostream& s) const {
 }
 
 std::istream& LabelOcTree::readData(std::istream& s) {
-  char magic[4] = {};
-  std::uint32_t version = 0;
-  std::uint16_t count = 0;
-  s.read(magic, sizeof(magic));
-  if (!s || std::memcmp(magic, kMagic, sizeof(kMagic)) != 0 || !readPod(s, version) ||
-      version != kFileVersion || !readPod(s, count) || count == 0) {
+  try {
+    readLabelledData(s);
+  } catch (const Error&) {
     s.setstate(std::ios::failbit);
-    return s;
   }
+  return s;
+}
+
+void LabelOcTree::readLabelledData(std::istream& s) {
+  const auto truncated = [](const std::string& field, const std::string& expected) {
+    throw Error("", field, expected, "the end of the file (truncated data)");
+  };
+  char magic[4] = {};
+  s.read(magic, sizeof(magic));
+  if (!s) truncated("data", "LabelOcTree data starting with 'LOMT'");
+  if (std::memcmp(magic, kMagic, sizeof(kMagic)) != 0)
+    throw Error("", "data", "LabelOcTree data starting with 'LOMT'", "other bytes");
+  std::uint32_t version = 0;
+  if (!readPod(s, version)) truncated("data version", "a data version");
+  if (version != kFileVersion)
+    throw Error("", "data version",
+                "version " + std::to_string(kFileVersion) +
+                    " (the only LabelOcTree data version this program reads)",
+                "version " + std::to_string(version) +
+                    (version > kFileVersion ? " (written by a newer program?)" : ""));
+  std::uint16_t count = 0;
+  if (!readPod(s, count)) truncated("label count", "a label count");
+  if (count == 0 || count > kMaxLabels)
+    throw Error("", "label count", "1 to " + std::to_string(kMaxLabels) + " labels",
+                std::to_string(count));
   std::vector<LabelInfo> labels;
   for (std::uint16_t id = 0; id < count; ++id) {
+    const std::string field = "labels[" + std::to_string(id) + "]";
     std::uint16_t length = 0;
-    if (!readPod(s, length)) return s;
+    if (!readPod(s, length)) truncated(field, "a name length");
     LabelInfo label;
     label.id = id;
     label.name.resize(length);
     s.read(label.name.data(), length);
     s.read(reinterpret_cast<char*>(label.color.data()), 3);
-    if (!s) return s;
+    if (!s) truncated(field, "a name of " + std::to_string(length) + " bytes and a colour");
     labels.push_back(std::move(label));
   }
   MapParameters parameters;
@@ -555,27 +580,60 @@ std::istream& LabelOcTree::readData(std::istream& s) {
   if (!readPod(s, parameters.p_miss) || !readPod(s, parameters.occupancy_threshold) ||
       !readPod(s, parameters.clamp_min) || !readPod(s, parameters.clamp_max) ||
       !readPod(s, parameters.max_range))
-    return s;
+    truncated("parameters", "p_miss, occupancy_threshold, clamp_min, clamp_max, max_range");
+  checkMapParameters(parameters);
   std::uint8_t has_nodes = 0;
-  if (!readPod(s, has_nodes) || has_nodes > 1) {
-    s.setstate(std::ios::failbit);
-    return s;
-  }
+  if (!readPod(s, has_nodes)) truncated("nodes", "a node flag");
+  if (has_nodes > 1)
+    throw Error("", "nodes", "a node flag 0 (empty map) or 1", std::to_string(has_nodes));
+  if (root) throw Error("", "nodes", "a map to read into that is empty", "a map with nodes");
   labels_ = LabelSet(std::move(labels));
   parameters_ = parameters;
   applyParameters();
-  if (!has_nodes) return s;
-  octomap::OccupancyOcTreeBase<LabelOcTreeNode>::readData(s);
-  if (!s) return s;
-  // Every label block must have the tree's label count.
-  for (auto it = begin_tree(), end = end_tree(); it != end; ++it) {
-    if (it->isUniform() || it->isSummary()) continue;
-    if (it->block()->num_labels != count) {
-      s.setstate(std::ios::failbit);
-      break;
-    }
+  if (!has_nodes) return;
+  root = new LabelOcTreeNode();
+  try {
+    readNodes(root, 0, s);
+  } catch (...) {
+    clear();
+    throw;
   }
-  return s;
+  tree_size = calcNumNodes();
+  size_changed = true;
+}
+
+void LabelOcTree::readNodes(LabelOcTreeNode* node, unsigned depth, std::istream& s) {
+  node->readData(s);
+  if (!s)
+    throw Error("", "nodes",
+                "a complete node stream (value, kind and labels of every node at depth " +
+                    std::to_string(depth) + ")",
+                s.eof() ? "the end of the file (truncated data)" : "corrupt node data");
+  if (!std::isfinite(node->getValue()))
+    throw Error("", "nodes", "finite log-odds in every node",
+                std::to_string(node->getValue()) + " at depth " + std::to_string(depth));
+
+  const int n = numLabels();
+  const std::string where = " at depth " + std::to_string(depth);
+  if (const auto* b = node->block(); b && b->num_labels != n)
+    throw Error("", "label count",
+                std::to_string(n) + " labels in every node (the label count of the header)",
+                "a node with " + std::to_string(b->num_labels) + " labels" + where);
+  if (node->isSummary() && static_cast<int>(node->data_ >> 1) >= n)
+    throw Error(
+        "", "label count",
+        "labels below " + std::to_string(n) + " in every node (the label count of the header)",
+        "a node of label " + std::to_string(node->data_ >> 1) + where);
+  char children = 0;
+  if (!s.read(&children, 1))
+    throw Error("", "nodes", "a complete node stream (the children of every node)",
+                "the end of the file (truncated data)");
+  if (children != 0 && depth >= tree_depth)
+    throw Error("", "nodes", "a tree at most " + std::to_string(tree_depth) + " levels deep",
+                "children below the finest depth");
+  for (unsigned i = 0; i < 8; ++i)
+    if ((static_cast<unsigned char>(children) >> i) & 1u)
+      readNodes(createNodeChild(node, i), depth + 1, s);
 }
 
 }  // namespace lom

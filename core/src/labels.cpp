@@ -12,6 +12,36 @@ LabelSet::LabelSet(std::vector<LabelInfo> labels) : labels_(std::move(labels)) {
                                   std::to_string(labels_[i].id));
 }
 
+namespace {
+bool isControl(unsigned char c) { return c < 0x20 || c == 0x7f; }
+}  // namespace
+
+std::string labelNameProblem(const std::string& name) {
+  if (name.empty()) return "an empty name";
+  if (name.size() > kMaxLabelNameBytes)
+    return "a name of " + std::to_string(name.size()) + " bytes";
+  for (size_t i = 0; i < name.size(); ++i) {
+    const auto c = static_cast<unsigned char>(name[i]);
+    if (!isControl(c)) continue;
+    const char* what = c == '\n'   ? "a line feed"
+                       : c == '\r' ? "a carriage return"
+                       : c == '\t' ? "a tab"
+                       : c == 0    ? "a NUL character"
+                                   : "a control character";
+    static const char kHex[] = "0123456789abcdef";
+    return std::string(what) + " (0x" + kHex[c >> 4] + kHex[c & 15] + ") at byte " +
+           std::to_string(i);
+  }
+  return {};
+}
+
+std::string singleLineText(const std::string& text) {
+  std::string out = text;
+  for (char& c : out)
+    if (isControl(static_cast<unsigned char>(c))) c = '_';
+  return out;
+}
+
 const LabelInfo& LabelSet::at(int id) const {
   if (!contains(id)) throw std::out_of_range("label id " + std::to_string(id) + " not in label set");
   return labels_[static_cast<size_t>(id)];

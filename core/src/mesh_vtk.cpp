@@ -134,7 +134,7 @@ void writeMeshesStl(const std::vector<SurfaceMesh>& meshes, const LabelSet& labe
       const vtkIdType ids[3] = {offset + t[0], offset + t[1], offset + t[2]};
       triangles->InsertNextCell(3, ids);
     }
-    header += " " + (labels.contains(mesh.label) ? labels.at(mesh.label).name
+    header += " " + (labels.contains(mesh.label) ? singleLineText(labels.at(mesh.label).name)
                                                  : std::to_string(mesh.label));
   }
   if (triangles->GetNumberOfCells() == 0)

@@ -87,7 +87,7 @@ void writeMeshesPly(const std::vector<SurfaceMesh>& meshes, const LabelSet& labe
     out << "ply\nformat binary_little_endian 1.0\n"
         << "comment labeloctomap voxel surface; vertex label = label id\n";
     for (const auto& m : meshes)
-      out << "comment label " << m.label << " " << nameOf(labels, m.label) << "\n";
+      out << "comment label " << m.label << " " << singleLineText(nameOf(labels, m.label)) << "\n";
     out << "element vertex " << vertex_count << "\n"
         << "property float x\nproperty float y\nproperty float z\n"
         << "property uchar red\nproperty uchar green\nproperty uchar blue\n"
@@ -117,7 +117,10 @@ void writeMeshesObj(const std::vector<SurfaceMesh>& meshes, const LabelSet& labe
     return labels.contains(label) ? labelFileStem(labels.at(label), labels.size())
                                   : "label_" + std::to_string(label);
   };
-  writeFileAtomically(
+  // Both files are complete before either replaces an old one: an old OBJ is
+  // never left beside a new MTL (or the other way round).
+  StagedFiles files;
+  files.add(
       mtl_path,
       [&](std::ostream& out) {
         out << "# labeloctomap label materials\n";
@@ -130,7 +133,7 @@ void writeMeshesObj(const std::vector<SurfaceMesh>& meshes, const LabelSet& labe
         }
       },
       false);
-  writeFileAtomically(
+  files.add(
       obj_path,
       [&](std::ostream& out) {
         out << "# labeloctomap voxel surface, one object per label\n"
@@ -146,6 +149,7 @@ void writeMeshesObj(const std::vector<SurfaceMesh>& meshes, const LabelSet& labe
         }
       },
       false);
+  files.commit();
 }
 
 }  // namespace lom

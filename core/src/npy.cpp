@@ -9,9 +9,10 @@
 #include <limits>
 #include <map>
 
+#include "file_checks.hpp"
 #include "lom/atomic_file.hpp"
-#include "lom/images.hpp"
 #include "lom/error.hpp"
+#include "lom/images.hpp"
 
 namespace lom {
 
@@ -207,8 +208,8 @@ std::string numpyTypeName(char kind, const std::string& size) {
   if (kind == 'U' || kind == 'S' || kind == 'V') return it->second + " of length " + size;
   try {
     const int bytes = std::stoi(size);
-    const int bits = kind == 'c' ? bytes * 4 : bytes * 8;
-    return it->second + std::to_string(bits);
+    // NumPy names every number type by its total bits: '<c8' is complex64.
+    return it->second + std::to_string(bytes * 8);
   } catch (const std::exception&) {
     return it->second;
   }
@@ -337,9 +338,8 @@ std::vector<float> NpyArray::toFloat(bool scale_integers) const {
 
 NpyArray readNpy(const fs::path& path) {
   const std::string file = path.string();
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
-    throw Error(file, "", "an existing .npy file", "no such file");
+  if (const std::string why = notARegularFile(path); !why.empty())
+    throw Error(file, "", "an existing .npy file", why);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(file, "", "a readable .npy file", "cannot open it");
   const std::vector<std::uint8_t> raw((std::istreambuf_iterator<char>(in)),

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iterator>
 #include <map>
+#include <set>
 #include <utility>
 
 #include "lom/box_fit.hpp"
@@ -43,7 +44,19 @@ struct LabelledKey {
 };
 
 // One pass over the leaves: the occupied voxels of every wanted label (pruned leaves expanded).
-std::map<int, std::vector<LabelledKey>> occupiedByLabel(const LabelMap& map, const std::vector<bool>& wanted) {
+std::map<int, std::vector<LabelledKey>> occupiedByLabel(const LabelMap& map,
+                                                        const std::vector<bool>& wanted,
+                                                        const std::string& map_file) {
+  std::set<int> labels;
+  for (size_t id = 0; id < wanted.size(); ++id)
+    if (wanted[id]) labels.insert(static_cast<int>(id));
+  try {
+    (void)map.expandableOccupiedVoxels(labels);
+  } catch (const Error& e) {
+    Problem problem = e.problem();
+    if (problem.file.empty()) problem.file = map_file;
+    throw Error(problem);
+  }
   std::map<int, std::vector<LabelledKey>> by_label;
   const LabelOcTree& tree = map.tree();
   const int n = map.numLabels();
@@ -147,7 +160,7 @@ std::vector<ObjectInstance> extractObjects(const LabelMap& map, const ObjectOpti
   }
 
   std::vector<ObjectInstance> objects;
-  for (const auto& [label, list] : occupiedByLabel(map, wanted)) {
+  for (const auto& [label, list] : occupiedByLabel(map, wanted, options.map_file)) {
     std::vector<VoxelKey> keys;
     keys.reserve(list.size());
     for (const auto& v : list) keys.push_back(v.key);

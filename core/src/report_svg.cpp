@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "lom/labels.hpp"
 #include "lom/report.hpp"
 
 namespace lom {
@@ -26,7 +27,7 @@ std::string number(double value, int decimals = 1) {
 
 std::string xml(const std::string& text) {
   std::string out;
-  for (char c : text) {
+  for (char c : singleLineText(text)) {  // XML allows no control characters
     switch (c) {
       case '&': out += "&amp;"; break;
       case '<': out += "&lt;"; break;

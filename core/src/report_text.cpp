@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "lom/labels.hpp"
 #include "lom/report.hpp"
 
 namespace lom {
@@ -42,7 +43,7 @@ std::vector<std::string> markBest(const MethodScores& scores) {
 
 std::string markdownText(const std::string& text) {
   std::string out;
-  for (char c : text) {
+  for (char c : singleLineText(text)) {  // a line break would end the table row
     if (c == '|' || c == '*' || c == '_' || c == '\\' || c == '`') out += '\\';
     out += c;
   }
@@ -50,7 +51,7 @@ std::string markdownText(const std::string& text) {
 }
 
 std::string csvText(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
   std::string out = "\"";
   for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
   return out + "\"";

@@ -84,12 +84,7 @@ fs::path segmenterConfigPath(const fs::path& model) {
 
 SegmenterConfig parseSegmenterConfig(const std::string& json_text, const std::string& file_name) {
   const Reader in(file_name);
-  Json root;
-  try {
-    root = Json::parse(json_text);
-  } catch (const Json::parse_error& e) {
-    in.fail("(file)", "valid JSON", e.what());
-  }
+  const Json root = lom::json_text::parseText(json_text, file_name);
   if (!root.is_object()) in.fail("(top level)", "a JSON object", describe(root));
 
   static const std::set<std::string> kKnown = {"input_width", "input_height", "scale", "mean",

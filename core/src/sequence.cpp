@@ -11,6 +11,8 @@
 #include <set>
 #include <sstream>
 
+#include "file_checks.hpp"
+#include "image_header.hpp"
 #include "json_text.hpp"
 #include "lom/atomic_file.hpp"
 
@@ -106,6 +108,16 @@ class Reader {
     return value.get<std::string>();
   }
 
+  // A file path: a non-empty string without NUL characters (a NUL would end
+  // the path early when it is handed to the system).
+  std::string path(const Json& value, const std::string& field, const std::string& what) const {
+    std::string path = text(value, field, what);
+    if (const size_t nul = path.find('\0'); nul != std::string::npos)
+      fail(field, what + ", without NUL characters",
+           "a NUL character (\\u0000) at position " + std::to_string(nul));
+    return path;
+  }
+
   bool boolean(const Json& value, const std::string& field) const {
     if (!value.is_boolean()) fail(field, "true or false", describe(value));
     return value.get<bool>();
@@ -144,6 +156,8 @@ LabelSet parseLabels(const Reader& in, const Json& value) {
     label.id = id;
     label.name =
         in.text(in.required(list[i], field, "name"), join(field, "name"), "a non-empty string");
+    if (const std::string problem = labelNameProblem(label.name); !problem.empty())
+      in.fail(join(field, "name"), kLabelNameRule, problem);
     const auto [previous, inserted] = name_field.emplace(label.name, join(field, "name"));
     if (!inserted)
       in.fail(join(field, "name"), "a unique name",
@@ -260,13 +274,13 @@ FrameRecord parseFrame(const Reader& in, const Json& value, size_t index,
   if (const Json* v = Reader::optional(value, "stamp"))
     frame.stamp = in.number(*v, join(field, "stamp"));
   frame.T_world_camera = parsePose(in, in.required(value, field, "pose"), join(field, "pose"));
-  frame.depth = in.text(in.required(value, field, "depth"), join(field, "depth"), path_what);
+  frame.depth = in.path(in.required(value, field, "depth"), join(field, "depth"), path_what);
   if (const Json* v = Reader::optional(value, "color"))
-    frame.color = in.text(*v, join(field, "color"), path_what);
+    frame.color = in.path(*v, join(field, "color"), path_what);
   if (const Json* v = Reader::optional(value, "proba"))
-    frame.proba = in.text(*v, join(field, "proba"), path_what);
+    frame.proba = in.path(*v, join(field, "proba"), path_what);
   if (const Json* v = Reader::optional(value, "label"))
-    frame.label = in.text(*v, join(field, "label"), path_what);
+    frame.label = in.path(*v, join(field, "label"), path_what);
   if (const Json* v = Reader::optional(value, "proba_labels")) {
     if (frame.proba.empty())
       in.fail(join(field, "proba_labels"),
@@ -286,10 +300,10 @@ fs::path sequenceJsonPath(const fs::path& folder_or_json) {
   fs::path path =
       fs::is_directory(folder_or_json, ec) ? folder_or_json / "sequence.json" : folder_or_json;
   path = fs::absolute(path, ec).lexically_normal();
-  if (!fs::is_regular_file(path, ec))
+  if (const std::string why = notARegularFile(path); !why.empty())
     throw Error(path.string(), "",
                 "a sequence folder holding sequence.json, or the path of a sequence.json file",
-                "no such file");
+                why);
   return path;
 }
 
@@ -375,15 +389,25 @@ std::optional<Image> readPart(const Sequence& sequence, const std::string& relat
                               const std::string& field, const CameraIntrinsics& camera, Read read,
                               std::vector<Problem>& problems) {
   const fs::path path = sequence.pathOf(relative);
+  const auto wrongSize = [&](std::uint64_t width, std::uint64_t height) {
+    if (width == static_cast<std::uint64_t>(camera.width) &&
+        height == static_cast<std::uint64_t>(camera.height))
+      return false;
+    problems.push_back({path.string(), field + " (image size)",
+                        std::to_string(camera.width) + " x " + std::to_string(camera.height) +
+                            " pixels (the frame's camera width x height)",
+                        std::to_string(width) + " x " + std::to_string(height)});
+    return true;
+  };
   try {
-    Image image = read(path);
-    if (image.width != camera.width || image.height != camera.height) {
-      problems.push_back({path.string(), field + " (image size)",
-                          std::to_string(camera.width) + " x " + std::to_string(camera.height) +
-                              " pixels (the frame's camera width x height)",
-                          std::to_string(image.width) + " x " + std::to_string(image.height)});
+    // The size a header declares is checked before decoding anything: a small
+    // compressed file can declare an image of gigabytes.
+    if (const auto size = readImageHeaderSize(path); size && wrongSize(size->width, size->height))
       return std::nullopt;
-    }
+    Image image = read(path);
+    if (wrongSize(static_cast<std::uint64_t>(image.width),
+                  static_cast<std::uint64_t>(image.height)))
+      return std::nullopt;
     return image;
   } catch (const Error& e) {
     Problem problem = e.problem();
@@ -482,10 +506,15 @@ void saveSequence(const Sequence& sequence, const fs::path& folder) {
   root["version"] = kVersion;
   root["frame_id"] = sequence.frame_id.empty() ? std::string("world") : sequence.frame_id;
   OrderedJson labels = OrderedJson::array();
-  for (const auto& label : sequence.labels.all())
+  for (const auto& label : sequence.labels.all()) {
+    // Never write a sequence that loadSequence would refuse.
+    if (const std::string problem = labelNameProblem(label.name); !problem.empty())
+      throw Error(file.string(), "labels[" + std::to_string(label.id) + "].name", kLabelNameRule,
+                  problem);
     labels.push_back(OrderedJson{{"id", label.id},
                                  {"name", label.name},
                                  {"color", {label.color[0], label.color[1], label.color[2]}}});
+  }
   root["labels"] = labels;
   root["camera"] = cameraJson(sequence.camera);
   OrderedJson frames = OrderedJson::array();

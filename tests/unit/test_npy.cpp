@@ -285,3 +285,22 @@ TEST_F(NpyTest, ProbabilityImageScalesIntegersAndChecksChannelsAndRange) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST_F(NpyTest, NamesComplexAndOtherDtypesAsNumpyDoes) {
+  const auto name = [&](const std::string& descr, size_t bytes) {
+    const auto path = file("{'descr': '" + descr + "', 'fortran_order': False, 'shape': (1,), }",
+                           std::string(bytes, '\0'));
+    return errorOf([&] { (void)lom::readNpy(path); });
+  };
+  // NumPy names a number type by its total bits: '<c8' is complex64, '<c16' complex128.
+  EXPECT_NE(name("<c8", 8).find("(complex64)"), std::string::npos) << name("<c8", 8);
+  EXPECT_NE(name("<c16", 16).find("(complex128)"), std::string::npos) << name("<c16", 16);
+  EXPECT_NE(name("<i8", 8).find("(int64)"), std::string::npos);
+  EXPECT_NE(name("|i1", 1).find("(int8)"), std::string::npos);
+  EXPECT_NE(name("<u4", 4).find("(uint32)"), std::string::npos);
+  EXPECT_NE(name("|b1", 1).find("(bool)"), std::string::npos);
+}
+
+}  // namespace

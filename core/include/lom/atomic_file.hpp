@@ -5,6 +5,8 @@
 #include <functional>
 #include <iosfwd>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace lom {
 
@@ -20,5 +22,29 @@ void writePathAtomically(const std::filesystem::path& target,
                          const std::function<void(const std::filesystem::path&)>& write);
 
 void writeTextFileAtomically(const std::filesystem::path& target, const std::string& text);
+
+// Files that belong together (an OBJ and its MTL): each is written to a
+// temporary file beside its target, and commit() renames them into place, in
+// the order added, only once every one is complete. Until then no target is
+// touched: a failure while writing any of them leaves all the old files as
+// they were. Temporary files not committed are removed on destruction.
+class StagedFiles {
+ public:
+  StagedFiles() = default;
+  StagedFiles(const StagedFiles&) = delete;
+  StagedFiles& operator=(const StagedFiles&) = delete;
+  ~StagedFiles();
+
+  // Throws lom::Error naming `target` as writeFileAtomically does.
+  void add(const std::filesystem::path& target, const std::function<void(std::ostream&)>& write,
+           bool binary = true);
+  void addPath(const std::filesystem::path& target,
+               const std::function<void(const std::filesystem::path&)>& write);
+  void commit();
+
+ private:
+  // Target and temporary file of each output, in the order added.
+  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged_;
+};
 
 }  // namespace lom

@@ -56,6 +56,12 @@ class FrameEvidence {
 
 struct FrameStats {
   size_t valid_pixels = 0;
+  // Valid pixels farther from the camera than max range: their rays only
+  // clear free space up to max range and add no hit. Counted by fuseSequence
+  // (countDepthRanges), outside the integration; integrateFrame leaves it 0.
+  size_t beyond_range_pixels = 0;
+  // The largest distance from the camera of a measured pixel, in metres (fuseSequence).
+  double farthest_range = 0.0;
   size_t hit_voxels = 0;
   size_t miss_voxels = 0;
   double seconds = 0.0;
@@ -81,6 +87,17 @@ struct IntegrationOptions {
   VectorKernels kernels = VectorKernels::Best;
 };
 
+// Distances of a depth image's measured pixels from the camera, as fusion
+// measures them against max range: pixel (u, v) at depth z is the point
+// ((u - cx) z / fx, (v - cy) z / fy, z), at distance z sqrt(x^2 + y^2 + 1).
+struct DepthRanges {
+  size_t measured = 0;  // pixels with a finite depth > 0
+  size_t beyond = 0;    // ... farther than max range (none when max range <= 0, unlimited)
+  double farthest = 0.0;
+};
+[[nodiscard]] DepthRanges countDepthRanges(const CameraIntrinsics& camera, const DepthImage& depth,
+                                           double max_range);
+
 // Integrates one frame into `map` with the paper's rule (docs/fusion.md). Both
 // paths give the same map (the fast one may differ in the last float bits of
 // summed log-odds).
@@ -104,6 +121,8 @@ struct FusionProgress {
   size_t done = 0;
   size_t total = 0;
   FrameStats stats;
+  // The frames fused so far: counts and seconds summed, farthest_range their maximum.
+  FrameStats totals;
 };
 
 // Builds the evidence of a loaded frame (proba if present, else label image).

@@ -29,8 +29,15 @@ struct MapParameters {
   double max_range = 1.0;             // metres from the camera; <= 0 means unlimited
 };
 
+// Voxel sizes a map may have, in metres: 0.1 mm to 10 m. Finer voxels would
+// leave the map (65536 voxels a side) smaller than a room; coarser ones map no
+// object, and sizes far beyond would overflow the map's coordinates.
+inline constexpr double kMinResolution = 1e-4;
+inline constexpr double kMaxResolution = 10.0;
+
 // Throws lom::Error naming the parameter when a value is out of range
-// (resolution > 0; probabilities strictly between 0 and 1; clamp_min < clamp_max).
+// (resolution from kMinResolution to kMaxResolution; probabilities strictly
+// between 0 and 1; clamp_min < clamp_max; max_range finite).
 void checkMapParameters(const MapParameters& parameters);
 
 // OctoMap key of a finest-resolution voxel.
@@ -41,6 +48,13 @@ struct VoxelKey {
     return x != o.x ? x < o.x : (y != o.y ? y < o.y : z < o.z);
   }
 };
+
+// Occupied leaves larger than the resolution (pruned, or written so by another
+// program) stand for all their finest-resolution voxels. Listing them one by
+// one (voxelsByLabel, exports, objects, evaluation) stops with lom::Error
+// beyond this many voxels instead of allocating without bound: a single leaf at
+// the root of a 1 cm map stands for 65536^3 voxels, 655 m a side.
+inline constexpr size_t kMaxExpandedVoxels = size_t{1} << 24;
 
 struct OccupiedVoxel {
   Eigen::Vector3d center;
@@ -80,7 +94,13 @@ class LabelMap {
 
   // Visits occupied leaves (pruned leaves once, with their larger size).
   void forEachOccupied(const std::function<void(const OccupiedVoxel&)>& visit) const;
-  // Finest-resolution keys of the voxels occupied by `label` (pruned leaves expanded), sorted.
+  // Number of finest-resolution voxels of the occupied leaves of the labels in
+  // `only` (every label when absent). Throws lom::Error (field "map") when it
+  // exceeds kMaxExpandedVoxels, naming the count and the largest such leaf.
+  [[nodiscard]] size_t expandableOccupiedVoxels(
+      const std::optional<std::set<int>>& only = std::nullopt) const;
+  // Finest-resolution keys of the voxels occupied by `label` (pruned leaves
+  // expanded, at most kMaxExpandedVoxels), sorted.
   [[nodiscard]] std::vector<VoxelKey> voxelsOfLabel(int label) const;
   // The same for every label in one pass (only those in `only`, when given);
   // labels without occupied voxels are absent.
@@ -98,8 +118,12 @@ class LabelMap {
 
   // Native .ot file (OctoMap's format, tree type "LabelOcTree"), written atomically.
   void save(const std::filesystem::path& path) const;
-  // Throws lom::Error naming the file for unreadable files and trees of another type.
+  // Throws lom::Error naming the file for unreadable files, trees of another
+  // type and header values out of range (docs/fusion.md, "The .ot file").
   [[nodiscard]] static LabelMap load(const std::filesystem::path& path);
+  // The file the map was loaded from (empty for a map made in memory); errors
+  // about the map's content name it.
+  [[nodiscard]] const std::filesystem::path& sourceFile() const { return source_file_; }
 
   [[nodiscard]] LabelOcTree& tree() { return *tree_; }
   [[nodiscard]] const LabelOcTree& tree() const { return *tree_; }
@@ -109,6 +133,7 @@ class LabelMap {
   LabelSet labels_;
   MapParameters parameters_;
   std::unique_ptr<LabelOcTree> tree_;
+  std::filesystem::path source_file_;
 };
 
 }  // namespace lom

@@ -1,5 +1,6 @@
 #pragma once
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -33,6 +34,22 @@ class LabelSet {
  private:
   std::vector<LabelInfo> labels_;
 };
+
+// Label names are 1 to kMaxLabelNameBytes bytes of UTF-8 without ASCII
+// control characters (docs/sequence-format.md): a name must fit on one line of
+// a text header or report and in the map file.
+inline constexpr std::size_t kMaxLabelNameBytes = 255;
+inline constexpr const char* kLabelNameRule =
+    "a label name of 1 to 255 bytes without control characters (line breaks, tabs, NUL)";
+
+// What is wrong with `name` as a label name ("a name of 300 bytes", "a line
+// feed (0x0a) at byte 5"); empty when it is a valid name.
+[[nodiscard]] std::string labelNameProblem(const std::string& name);
+
+// `text` with every ASCII control character (line breaks, tabs, NUL, DEL)
+// replaced by '_': safe on one line of a text header (PLY comments) or of a
+// report, whatever the label names of a map hold.
+[[nodiscard]] std::string singleLineText(const std::string& text);
 
 // The 39 Amazon Picking Challenge 2016 objects in the paper's numbering 1..39
 // plus "__background__" as 0, coloured with the PASCAL VOC palette.

@@ -168,11 +168,20 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   [[nodiscard]] size_t labelArrayBytes() const;
 
   // The file carries the label set and the parameters before OctoMap's node stream.
+  // readData (OctoMap's interface) reports any problem as a failed stream.
   std::istream& readData(std::istream& s) override;
   std::ostream& writeData(std::ostream& s) const override;
+  // Reads what writeData writes into this (empty) tree. Throws lom::Error
+  // naming the field for an unknown data version, a label count out of range
+  // or disagreeing with the nodes, parameters out of range
+  // (checkMapParameters) and truncated or corrupt node data.
+  void readLabelledData(std::istream& s);
 
  private:
   void applyParameters();
+  // One node and its subtree, at most down to the finest depth (no recursion
+  // deeper than the tree's 16 levels, whatever the file says).
+  void readNodes(LabelOcTreeNode* node, unsigned depth, std::istream& s);
   // The child at `pos` for an update, created when missing. `created` says
   // whether `node` itself was created by this descent (then its children start
   // unknown; otherwise a childless node is a pruned leaf and is expanded).

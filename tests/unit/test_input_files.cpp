@@ -1,0 +1,114 @@
+// Frame files that are not what they claim: folders, pipes and devices given
+// as files, NUL characters in paths, images whose headers declare sizes that
+// would take gigabytes to decode. Each is reported naming the file and field.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+
+#include <nlohmann/json.hpp>
+
+#include "lom/annotations.hpp"
+#include "lom/npy.hpp"
+#include "test_input_helpers.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+using lom::test::errorOf;
+using lom::test::writeSequence;
+using lom::test::writeText;
+
+TEST(FramePathTest, NulCharacterInAPathIsRefusedNamingTheField) {
+  lom::test::TempDir dir;
+  writeSequence(dir.path());
+  Json json = Json::parse(std::ifstream(dir / "sequence.json"));
+  json["frames"][0]["depth"] = std::string("depth/0.png\0.exr", 16);
+  std::ofstream(dir / "sequence.json") << json.dump();
+  const lom::Problem problem = errorOf([&] { (void)lom::loadSequence(dir.path()); });
+  EXPECT_EQ(problem.field, "frames[0].depth");
+  EXPECT_NE(problem.found.find("NUL character"), std::string::npos) << problem.message();
+  EXPECT_NE(problem.found.find("position 11"), std::string::npos) << problem.message();
+}
+
+TEST(FramePathTest, FramesThatAreNotRegularFilesSayWhatTheyAre) {
+  lom::test::TempDir dir;
+  lom::Sequence sequence = lom::loadSequence(writeSequence(dir.path()).root);
+  fs::create_directories(dir / "folder.png");
+  ASSERT_EQ(::mkfifo((dir / "pipe.png").c_str(), 0600), 0);
+  const auto foundFor = [&](const std::string& depth) {
+    sequence.frames[0].depth = depth;
+    const auto problems = lom::validateSequence(sequence);
+    EXPECT_EQ(problems.size(), 1u) << depth;
+    return problems.empty() ? std::string() : problems[0].found;
+  };
+  EXPECT_EQ(foundFor("folder.png"), "a directory, not a file");
+  EXPECT_EQ(foundFor("pipe.png"), "a named pipe (FIFO), not a regular file");  // no hang
+  EXPECT_EQ(foundFor("/dev/zero"), "a character device, not a regular file");
+  EXPECT_EQ(foundFor("missing.png"), "no such file");
+  fs::create_symlink(dir / "gone.png", dir / "link.png");
+  EXPECT_EQ(foundFor("link.png"), "no such file (a symbolic link to a missing target)");
+
+  sequence.frames[0].depth = "depth/0.png";
+  sequence.frames[0].label = "/dev/zero";
+  sequence.frames[0].proba = "pipe.png";
+  const auto problems = lom::validateSequence(sequence);
+  ASSERT_EQ(problems.size(), 2u);
+  EXPECT_EQ(problems[0].found, "a named pipe (FIFO), not a regular file");
+  EXPECT_EQ(problems[1].found, "a character device, not a regular file");
+
+  EXPECT_EQ(errorOf([&] { (void)lom::loadSequence(dir / "pipe.png"); }).found,
+            "a named pipe (FIFO), not a regular file");
+  EXPECT_EQ(errorOf([&] { (void)lom::loadAnnotations(dir / "folder.png"); }).found,
+            "a directory, not a file");
+  EXPECT_EQ(errorOf([&] { (void)lom::readNpy("/dev/zero"); }).found,
+            "a character device, not a regular file");
+}
+
+// A PNG whose header declares width x height; only the signature and IHDR
+// are real (a decoder would fail later, or allocate the whole image first).
+std::string pngHeader(std::uint32_t width, std::uint32_t height) {
+  std::string bytes("\x89PNG\r\n\x1a\n", 8);
+  bytes += std::string("\0\0\0\x0d", 4) + "IHDR";
+  for (std::uint32_t v : {width, height})
+    for (int shift = 24; shift >= 0; shift -= 8) bytes += static_cast<char>((v >> shift) & 0xff);
+  bytes += std::string("\x10\0\0\0", 4);  // 16-bit grey
+  return bytes + std::string(4, '\0') + std::string(1000, '\0');
+}
+
+TEST(ImageHeaderTest, DepthPngOfTheWrongDeclaredSizeIsRefusedBeforeDecoding) {
+  lom::test::TempDir dir;
+  const lom::Sequence sequence = lom::loadSequence(writeSequence(dir.path()).root);
+  writeText(dir / "depth/0.png", pngHeader(30000, 30000));
+  const auto problems = lom::validateSequence(sequence);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].file, (dir / "depth/0.png").string());
+  EXPECT_EQ(problems[0].field, "frames[0].depth (image size)");
+  EXPECT_EQ(problems[0].found, "30000 x 30000");
+  EXPECT_NE(problems[0].expected.find("4 x 3"), std::string::npos);
+}
+
+TEST(ImageHeaderTest, PgmOfTheWrongDeclaredSizeIsRefusedBeforeDecoding) {
+  lom::test::TempDir dir;
+  lom::Sequence sequence = lom::loadSequence(writeSequence(dir.path()).root);
+  writeText(dir / "depth/0.pgm", "P5\n# a comment\n40000 30000\n65535\n" + std::string(64, '\0'));
+  sequence.frames[0].depth = "depth/0.pgm";
+  const auto problems = lom::validateSequence(sequence);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_EQ(problems[0].field, "frames[0].depth (image size)");
+  EXPECT_EQ(problems[0].found, "40000 x 30000");
+}
+
+TEST(ImageHeaderTest, ReadersRefuseImagesDeclaringTooManyPixels) {
+  lom::test::TempDir dir;
+  writeText(dir / "huge.png", pngHeader(60000, 60000));
+  const lom::Problem problem = errorOf([&] { (void)lom::readDepthImage(dir / "huge.png", 0.001); });
+  EXPECT_EQ(problem.file, (dir / "huge.png").string());
+  EXPECT_EQ(problem.field, "image size");
+  EXPECT_EQ(problem.found, "60000 x 60000 pixels (declared in the PNG header)");
+  writeText(dir / "huge.pgm", "P5 70000 70000 255\n");
+  EXPECT_EQ(errorOf([&] { (void)lom::readLabelImage(dir / "huge.pgm"); }).found,
+            "70000 x 70000 pixels (declared in the PGM header)");
+}
+
+}  // namespace

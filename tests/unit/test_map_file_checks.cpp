@@ -1,0 +1,337 @@
+// Map files as another program (or a damaged disk) may leave them: header
+// values out of range, unknown data versions, label counts that disagree with
+// the nodes, occupied leaves far above the finest depth, label names that
+// would break text headers. Loading names the file and the field; every
+// consumer either handles the map or refuses it with lom::Error.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <sstream>
+
+#include "lom/error.hpp"
+#include "lom/export.hpp"
+#include "lom/label_map.hpp"
+#include "lom/objects.hpp"
+#include "lom/octree/label_octree.hpp"
+#include "test_mesh_checks.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using lom::test::blockKeys;
+
+std::string readBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void writeBytes(const fs::path& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+template <class T>
+void put(std::string& out, T value) {
+  out.append(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+
+template <class T>
+T get(const std::string& bytes, size_t at) {
+  T value;
+  std::memcpy(&value, bytes.data() + at, sizeof(T));
+  return value;
+}
+
+// A native map file split into its parts, to be changed and put together again.
+struct MapFile {
+  std::string text;  // "# Octomap OcTree file ... data\n"
+  std::uint32_t version = 0;
+  std::vector<std::pair<std::string, lom::Rgb>> labels;
+  double parameters[5] = {};  // p_miss, threshold, clamp_min, clamp_max, max_range
+  std::string nodes;          // the node flag and OctoMap's node stream
+
+  static MapFile read(const fs::path& path) {
+    const std::string bytes = readBytes(path);
+    MapFile file;
+    size_t at = bytes.find("\ndata\n") + 6;
+    file.text = bytes.substr(0, at);
+    EXPECT_EQ(bytes.substr(at, 4), "LOMT");
+    file.version = get<std::uint32_t>(bytes, at + 4);
+    const auto count = get<std::uint16_t>(bytes, at + 8);
+    at += 10;
+    for (int i = 0; i < count; ++i) {
+      const auto length = get<std::uint16_t>(bytes, at);
+      lom::Rgb color;
+      std::memcpy(color.data(), bytes.data() + at + 2 + length, 3);
+      file.labels.emplace_back(bytes.substr(at + 2, length), color);
+      at += 2u + length + 3u;
+    }
+    for (double& p : file.parameters) {
+      p = get<double>(bytes, at);
+      at += 8;
+    }
+    file.nodes = bytes.substr(at);
+    return file;
+  }
+
+  void write(const fs::path& path, int count = -1) const {
+    std::string bytes = text + "LOMT";
+    put(bytes, version);
+    put(bytes, static_cast<std::uint16_t>(count < 0 ? static_cast<int>(labels.size()) : count));
+    for (const auto& [name, color] : labels) {
+      put(bytes, static_cast<std::uint16_t>(name.size()));
+      bytes += name;
+      bytes.append(reinterpret_cast<const char*>(color.data()), 3);
+    }
+    for (const double p : parameters) put(bytes, p);
+    writeBytes(path, bytes + nodes);
+  }
+};
+
+lom::LabelMap sampleMap() {
+  return lom::test::MapBuilder(3, 0.02)
+      .occupy(blockKeys(0, 3, 0, 3, 0, 3), 1)
+      .occupy(blockKeys(3, 5, 0, 2, 0, 2), 2)
+      .clear(blockKeys(-1, 6, -1, 4, -1, 0))
+      .build();
+}
+
+lom::Problem loadError(const fs::path& path) {
+  try {
+    (void)lom::LabelMap::load(path);
+  } catch (const lom::Error& e) {
+    return e.problem();
+  }
+  ADD_FAILURE() << "loaded " << path;
+  return {};
+}
+
+class MapFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override { sampleMap().save(dir / "map.ot"); }
+  fs::path changed(const std::function<void(MapFile&)>& change, int count = -1) {
+    MapFile file = MapFile::read(dir / "map.ot");
+    change(file);
+    file.write(dir / "changed.ot", count);
+    return dir / "changed.ot";
+  }
+  lom::test::TempDir dir;
+};
+
+TEST_F(MapFileTest, TheUnchangedFileLoads) {
+  const fs::path path = changed([](MapFile&) {});
+  EXPECT_EQ(readBytes(path), readBytes(dir / "map.ot"));
+  EXPECT_EQ(lom::LabelMap::load(path).occupiedCountPerLabel().at(1), 27u);
+}
+
+TEST_F(MapFileTest, ParametersOutOfRangeNameTheFieldAndTheRange) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  struct Case {
+    int index;
+    double value;
+    const char* field;
+  };
+  for (const Case& c :
+       {Case{1, nan, "occupancy_threshold"}, Case{1, -1.0, "occupancy_threshold"},
+        Case{1, 1e300, "occupancy_threshold"}, Case{0, nan, "p_miss"}, Case{2, nan, "clamp_min"},
+        Case{3, 1.5, "clamp_max"}, Case{4, nan, "max_range"}}) {
+    const fs::path path = changed([&](MapFile& f) { f.parameters[c.index] = c.value; });
+    const lom::Problem problem = loadError(path);
+    EXPECT_EQ(problem.file, path.string());
+    EXPECT_EQ(problem.field, c.field) << problem.message();
+    if (std::string(c.field) != "max_range") {
+      EXPECT_NE(problem.expected.find("strictly between 0 and 1"), std::string::npos)
+          << problem.message();
+    }
+  }
+  const lom::Problem order =
+      loadError(changed([](MapFile& f) { std::swap(f.parameters[2], f.parameters[3]); }));
+  EXPECT_EQ(order.field, "clamp_min");
+  EXPECT_EQ(order.expected, "clamp_min < clamp_max");
+}
+
+TEST_F(MapFileTest, ResolutionOutOfRangeIsRefused) {
+  for (const char* res : {"1e300", "nan", "-0.01", "0", "abc", "0.01x"}) {
+    const fs::path path = changed([&](MapFile& f) {
+      const size_t at = f.text.find("\nres ") + 5;
+      f.text.replace(at, f.text.find('\n', at) - at, res);
+    });
+    const lom::Problem problem = loadError(path);
+    EXPECT_EQ(problem.file, path.string());
+    EXPECT_EQ(problem.field, "res") << res;
+    EXPECT_EQ(problem.expected, "a voxel size from 0.0001 to 10 metres");
+    EXPECT_EQ(problem.found, "'" + std::string(res) + "'");
+  }
+}
+
+TEST_F(MapFileTest, AnUnknownDataVersionIsNamed) {
+  const lom::Problem problem = loadError(changed([](MapFile& f) { f.version = 2; }));
+  EXPECT_EQ(problem.field, "data version");
+  EXPECT_EQ(problem.found, "version 2 (written by a newer program?)");
+  EXPECT_NE(problem.expected.find("version 1"), std::string::npos);
+}
+
+TEST_F(MapFileTest, LabelCountsOutOfRangeOrDisagreeingWithTheNodesAreNamed) {
+  const lom::Problem none = loadError(changed([](MapFile& f) { f.labels.clear(); }));
+  EXPECT_EQ(none.field, "label count");
+  EXPECT_EQ(none.found, "0");
+  // The header lists two labels, the nodes hold blocks of three.
+  const lom::Problem fewer = loadError(changed([](MapFile& f) { f.labels.pop_back(); }));
+  EXPECT_EQ(fewer.field, "label count");
+  EXPECT_NE(fewer.expected.find("the label count of the header"), std::string::npos)
+      << fewer.message();
+}
+
+TEST_F(MapFileTest, TruncatedNodesSayWhereTheFileEnds) {
+  const fs::path path = changed([](MapFile& f) { f.nodes.resize(f.nodes.size() - 7); });
+  const lom::Problem problem = loadError(path);
+  EXPECT_EQ(problem.file, path.string());
+  EXPECT_EQ(problem.field, "nodes");
+  EXPECT_NE(problem.found.find("truncated"), std::string::npos) << problem.message();
+  // The node flag and the tree: children below the finest depth are refused
+  // instead of recursing as deep as the file says.
+  const fs::path deep = changed([](MapFile& f) {
+    f.nodes = std::string(1, '\1');
+    for (int depth = 0; depth < 40; ++depth) {
+      put(f.nodes, 1.0f);
+      f.nodes += '\2';  // an inner node's summary
+      put(f.nodes, std::uint16_t{1});
+      f.nodes += '\1';  // one child
+    }
+  });
+  EXPECT_EQ(loadError(deep).found, "children below the finest depth");
+}
+
+// A map whose only node is an occupied leaf at `depth` (0 = the root), of label 1.
+fs::path mapWithOneLeaf(const fs::path& folder, unsigned depth, int leaf_label = 1) {
+  lom::MapParameters parameters;
+  lom::LabelMap(lom::LabelSet({{0, "__background__", {0, 0, 0}}, {1, "box", {9, 9, 9}}}),
+                parameters)
+      .save(folder / "empty.ot");
+  MapFile file = MapFile::read(folder / "empty.ot");
+  file.nodes = std::string(1, '\1');
+  for (unsigned d = 0; d < depth; ++d) {
+    put(file.nodes, 2.0f);
+    file.nodes += '\2';
+    put(file.nodes, static_cast<std::uint16_t>(leaf_label));
+    file.nodes += '\1';
+  }
+  put(file.nodes, 2.0f);
+  if (leaf_label == 0) {
+    file.nodes += '\0';  // uniform: every label 2.0, the argmax label 0
+  } else {
+    file.nodes += '\1';  // sparse: label 1 at 2.0 above a base of -2.0
+    put(file.nodes, std::uint16_t{2});
+    put(file.nodes, std::uint16_t{1});
+    put(file.nodes, -2.0f);
+    file.nodes += '\1';
+    put(file.nodes, 2.0f);
+  }
+  file.nodes += '\0';  // no children
+  const fs::path path = folder / ("leaf" + std::to_string(depth) + ".ot");
+  file.write(path);
+  return path;
+}
+
+TEST(CoarseLeafTest, AnOccupiedInnerLeafStandsForAllItsVoxels) {
+  lom::test::TempDir dir;
+  const lom::LabelMap map = lom::LabelMap::load(mapWithOneLeaf(dir.path(), 12));
+  EXPECT_EQ(map.occupiedCountPerLabel().at(1), 4096u);  // 16^3
+  EXPECT_EQ(map.voxelsOfLabel(1).size(), 4096u);
+
+  lom::ExportOptions ply;
+  ply.format = lom::ExportFormat::Pcd;
+  EXPECT_EQ(lom::exportMap(map, ply, dir / "leaf.pcd").items, 4096u);
+  lom::ExportOptions mesh;
+  mesh.format = lom::ExportFormat::Ply;
+  EXPECT_EQ(lom::exportMap(map, mesh, dir / "leaf.ply").items, 12u);  // one merged cube
+  lom::ExportOptions objects;
+  objects.format = lom::ExportFormat::Objects;
+  EXPECT_EQ(lom::exportMap(map, objects, dir / "objects.json").items, 1u);
+  const auto found = lom::extractObjects(map, {});
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].voxelCount(), 4096u);
+  EXPECT_NEAR(found[0].box.size.x(), 0.16, 1e-9);
+}
+
+TEST(CoarseLeafTest, ARootLeafIsRefusedInsteadOfExpandedWithoutBound) {
+  lom::test::TempDir dir;
+  const fs::path path = mapWithOneLeaf(dir.path(), 0);
+  const lom::LabelMap map = lom::LabelMap::load(path);
+  size_t leaves = 0;
+  map.forEachOccupied([&](const lom::OccupiedVoxel& v) {
+    ++leaves;
+    EXPECT_NEAR(v.size, 655.36, 1e-6);
+  });
+  EXPECT_EQ(leaves, 1u);
+  EXPECT_EQ(map.occupiedCountPerLabel().at(1), size_t{1} << 48);
+
+  for (const auto format : {lom::ExportFormat::Ply, lom::ExportFormat::Pcd,
+                            lom::ExportFormat::Objects, lom::ExportFormat::Stl}) {
+    lom::ExportOptions options;
+    options.format = format;
+    const fs::path out =
+        dir / (std::string("out.") +
+               (format == lom::ExportFormat::Objects ? "json" : lom::exportFormatName(format)));
+    try {
+      (void)lom::exportMap(map, options, out);
+      ADD_FAILURE() << "exported " << out;
+    } catch (const lom::Error& e) {
+      EXPECT_EQ(e.problem().field, "map");
+      EXPECT_EQ(e.problem().file, path.string());  // the map at fault, not the output
+      EXPECT_NE(e.problem().expected.find("at most 16777216 occupied voxels"), std::string::npos)
+          << e.what();
+      EXPECT_NE(e.problem().found.find("655.36 m a side (depth 0 of 16)"), std::string::npos)
+          << e.what();
+    }
+    EXPECT_FALSE(fs::exists(out));
+  }
+  lom::ObjectOptions objects;
+  objects.map_file = path.string();
+  try {
+    (void)lom::extractObjects(map, objects);
+    ADD_FAILURE() << "extracted objects";
+  } catch (const lom::Error& e) {
+    EXPECT_EQ(e.problem().file, path.string());
+  }
+  EXPECT_THROW((void)map.voxelsOfLabel(1), lom::Error);
+}
+
+TEST(CoarseLeafTest, ObjectsOfABackgroundOnlyMapSayWhyThereIsNone) {
+  lom::test::TempDir dir;
+  const lom::LabelMap map = lom::LabelMap::load(mapWithOneLeaf(dir.path(), 14, 0));
+  lom::ExportOptions options;
+  options.format = lom::ExportFormat::Objects;
+  try {
+    (void)lom::exportMap(map, options, dir / "objects.json");
+    ADD_FAILURE() << "exported objects";
+  } catch (const lom::Error& e) {
+    EXPECT_NE(e.problem().found.find("background"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(MapFileTest, LabelNamesFromAMapFileCannotBreakAPlyHeader) {
+  const fs::path path =
+      changed([](MapFile& f) { f.labels[1].first = "box\nend_header\nelement vertex 1\r\t\x7f"; });
+  const lom::LabelMap map = lom::LabelMap::load(path);
+  lom::ExportOptions options;
+  options.format = lom::ExportFormat::Ply;
+  (void)lom::exportMap(map, options, dir / "mesh.ply");
+  const std::string ply = readBytes(dir / "mesh.ply");
+  const std::string header = ply.substr(0, ply.find("end_header\n") + 11);
+  EXPECT_EQ(header.find("\nelement vertex 1\n"), std::string::npos) << header;
+  EXPECT_NE(header.find("comment label 1 box_end_header_element vertex 1___\n"), std::string::npos)
+      << header;
+  std::istringstream lines(header);
+  std::string line;
+  int elements = 0;
+  while (std::getline(lines, line)) elements += line.rfind("element ", 0) == 0 ? 1 : 0;
+  EXPECT_EQ(elements, 2);
+}
+
+}  // namespace

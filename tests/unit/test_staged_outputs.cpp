@@ -1,0 +1,162 @@
+// Outputs made of several files (an OBJ and its MTL, per-label folders)
+// replace the old files only once every new one is complete. A full disk is
+// simulated with a file size limit: writes beyond it fail as they would on a
+// full disk.
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+
+#include <csignal>
+#include <fstream>
+#include <set>
+
+#include "lom/atomic_file.hpp"
+#include "lom/error.hpp"
+#include "lom/export.hpp"
+#include "test_mesh_checks.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using lom::test::blockKeys;
+
+std::string readText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::set<std::string> namesIn(const fs::path& folder) {
+  std::set<std::string> names;
+  for (const auto& entry : fs::directory_iterator(folder))
+    names.insert(entry.path().filename().string());
+  return names;
+}
+
+// Files written while this lives cannot grow beyond `bytes` (EFBIG instead of SIGXFSZ).
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    getrlimit(RLIMIT_FSIZE, &old_);
+    old_handler_ = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit limit = old_;
+    limit.rlim_cur = bytes;
+    setrlimit(RLIMIT_FSIZE, &limit);
+  }
+  ~FileSizeLimit() {
+    setrlimit(RLIMIT_FSIZE, &old_);
+    std::signal(SIGXFSZ, old_handler_);
+  }
+  FileSizeLimit(const FileSizeLimit&) = delete;
+  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
+
+ private:
+  rlimit old_{};
+  void (*old_handler_)(int) = SIG_DFL;
+};
+
+// Label 1: one voxel (small files); label 2: a 20^3 block (large files
+// without coplanar merging).
+lom::LabelMap smallAndLargeLabels() {
+  return lom::test::MapBuilder(3, 0.01)
+      .occupy(blockKeys(-5, -4, 0, 1, 0, 1), 1)
+      .occupy(blockKeys(0, 20, 0, 20, 0, 20), 2)
+      .build();
+}
+
+TEST(StagedOutputs, AFailedObjLeavesTheOldObjAndMtlTogether) {
+  lom::test::TempDir dir;
+  std::ofstream(dir / "map.obj") << "old obj\n";
+  std::ofstream(dir / "map.mtl") << "old mtl\n";
+  const lom::LabelMap map = smallAndLargeLabels();
+  lom::ExportOptions options;
+  options.format = lom::ExportFormat::Obj;
+  options.merge_coplanar = false;
+  {
+    const FileSizeLimit limit(16 * 1024);  // room for the MTL, not for the OBJ
+    EXPECT_THROW((void)lom::exportMap(map, options, dir / "map.obj"), lom::Error);
+  }
+  EXPECT_EQ(readText(dir / "map.obj"), "old obj\n");
+  EXPECT_EQ(readText(dir / "map.mtl"), "old mtl\n");
+  EXPECT_EQ(namesIn(dir.path()), (std::set<std::string>{"map.obj", "map.mtl"}));
+
+  // Without the limit both are replaced.
+  (void)lom::exportMap(map, options, dir / "map.obj");
+  EXPECT_NE(readText(dir / "map.mtl").find("newmtl"), std::string::npos);
+  EXPECT_NE(readText(dir / "map.obj").find("mtllib map.mtl"), std::string::npos);
+}
+
+TEST(StagedOutputs, WriteMeshesObjTouchesNoFileWhenTheObjCannotBeWritten) {
+  lom::test::TempDir dir;
+  std::ofstream(dir / "m.mtl") << "old mtl\n";
+  lom::SurfaceMesh mesh = lom::voxelSurface(blockKeys(0, 1, 0, 1, 0, 1), 0.01);
+  mesh.label = 1;
+  const lom::LabelSet labels({{0, "bg", {0, 0, 0}}, {1, "one", {1, 2, 3}}});
+  EXPECT_THROW(lom::writeMeshesObj({mesh}, labels, dir / "missing" / "m.obj", dir / "m.mtl"),
+               lom::Error);
+  EXPECT_EQ(readText(dir / "m.mtl"), "old mtl\n");
+  EXPECT_EQ(namesIn(dir.path()), (std::set<std::string>{"m.mtl"}));
+}
+
+TEST(StagedOutputs, PerLabelFilesAreReplacedAllOrNone) {
+  lom::test::TempDir dir;
+  const lom::LabelMap map = smallAndLargeLabels();
+  const std::string one = lom::labelFileStem(map.labels().at(1), map.numLabels()) + ".ply";
+  const std::string two = lom::labelFileStem(map.labels().at(2), map.numLabels()) + ".ply";
+  fs::create_directories(dir / "out");
+  std::ofstream(dir / "out" / one) << "old 1\n";
+  std::ofstream(dir / "out" / two) << "old 2\n";
+  lom::ExportOptions options;
+  options.format = lom::ExportFormat::Ply;
+  options.per_label = true;
+  options.merge_coplanar = false;
+  {
+    const FileSizeLimit limit(16 * 1024);  // label 1's file fits, label 2's does not
+    EXPECT_THROW((void)lom::exportMap(map, options, dir / "out"), lom::Error);
+  }
+  EXPECT_EQ(readText(dir / "out" / one), "old 1\n");
+  EXPECT_EQ(readText(dir / "out" / two), "old 2\n");
+  EXPECT_EQ(namesIn(dir / "out"), (std::set<std::string>{one, two}));  // nothing left behind
+
+  const lom::ExportSummary summary = lom::exportMap(map, options, dir / "out");
+  ASSERT_EQ(summary.files.size(), 2u);
+  EXPECT_EQ(summary.files[0], dir / "out" / one);
+  EXPECT_EQ(summary.files[1], dir / "out" / two);
+  EXPECT_EQ(readText(dir / "out" / one).rfind("ply\n", 0), 0u);
+  EXPECT_EQ(namesIn(dir / "out"), (std::set<std::string>{one, two}));
+}
+
+TEST(StagedOutputs, PerLabelPointCloudsAreReplacedAllOrNone) {
+  lom::test::TempDir dir;
+  const lom::LabelMap map = smallAndLargeLabels();
+  const std::string one = lom::labelFileStem(map.labels().at(1), map.numLabels()) + ".pcd";
+  fs::create_directories(dir / "out");
+  std::ofstream(dir / "out" / one) << "old 1\n";
+  lom::ExportOptions options;
+  options.format = lom::ExportFormat::Pcd;
+  options.per_label = true;
+  {
+    const FileSizeLimit limit(16 * 1024);  // 8000 points of label 2 need about 160 KB
+    EXPECT_THROW((void)lom::exportMap(map, options, dir / "out"), lom::Error);
+  }
+  EXPECT_EQ(readText(dir / "out" / one), "old 1\n");
+  EXPECT_EQ(namesIn(dir / "out"), (std::set<std::string>{one}));
+}
+
+TEST(StagedOutputs, StagedFilesNotCommittedAreRemoved) {
+  lom::test::TempDir dir;
+  {
+    lom::StagedFiles files;
+    files.add(dir / "a.txt", [](std::ostream& out) { out << "a"; });
+    files.add(dir / "b.txt", [](std::ostream& out) { out << "b"; });
+    EXPECT_EQ(namesIn(dir.path()).size(), 2u);  // the temporary files
+  }
+  EXPECT_TRUE(fs::is_empty(dir.path()));
+  lom::StagedFiles files;
+  files.add(dir / "a.txt", [](std::ostream& out) { out << "a"; });
+  files.add(dir / "b.txt", [](std::ostream& out) { out << "b"; });
+  files.commit();
+  EXPECT_EQ(namesIn(dir.path()), (std::set<std::string>{"a.txt", "b.txt"}));
+  EXPECT_EQ(readText(dir / "b.txt"), "b");
+}
+
+}  // namespace
