@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "lom/annotations.hpp"
 #include "lom/sequence.hpp"
 #include "lom/ui/frame_images_view.hpp"
 #include "lom/ui/image_pane.hpp"
@@ -20,6 +21,7 @@
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/scene_view.hpp"
 #include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/studio_session.hpp"
 #include "lom/ui/window_capture.hpp"
 #include "test_support.hpp"
 #include "tiny_sequence.hpp"
@@ -222,6 +224,30 @@ TEST_F(StudioWindowTest, RememberedAsRecentAndOpenedByDrop) {
   QDropEvent drop(QPointF(40, 40), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
   QApplication::sendEvent(&window_, &drop);
   EXPECT_EQ(window_.controller().sequenceName(), "dropped_shelf");
+  EXPECT_TRUE(errors_.empty());
+}
+
+// The views still show the open sequence's frame while the new one is being
+// set up (its boxes choose the label of the heat map before its first frame
+// is shown): they must not read the freed sequence then.
+TEST_F(StudioWindowTest, OpensASequenceWhoseBoxesChooseAnotherLabel) {
+  ASSERT_TRUE(openTiny());
+  ASSERT_EQ(window_.session().selectedLabel(), test::kSquareLabel);
+  for (int round = 0; round < 3; ++round) {
+    const auto other = test::writeTinySequence(temp_ / ("cup_shelf" + std::to_string(round)));
+    Annotations boxes;
+    GroundTruthBox cup;
+    cup.label = 2;
+    cup.name = "blue_cup";
+    cup.box.center = {0.1, 0.1, 0.6};
+    cup.box.size = {0.05, 0.05, 0.05};
+    boxes.boxes.push_back(cup);
+    saveAnnotations(boxes, other.folder / "annotations.json");
+    ASSERT_TRUE(window_.controller().openSequence(qPath(other.folder)));
+    EXPECT_EQ(window_.session().selectedLabel(), 2);
+    ASSERT_TRUE(openTiny());
+    EXPECT_EQ(window_.session().selectedLabel(), test::kSquareLabel);
+  }
   EXPECT_TRUE(errors_.empty());
 }
 

@@ -121,6 +121,8 @@ MainWindow::MainWindow(QWidget* parent)
 
   connect(controller_, &SequenceController::errorOccurred, this,
           [this](const QString& title, const QString& message) { report_error_(title, message); });
+  connect(controller_, &SequenceController::sequenceAboutToChange, frame_images_,
+          &FrameImagesView::clear);
   connect(controller_, &SequenceController::sequenceChanged, this, &MainWindow::onSequenceChanged);
   connect(controller_, &SequenceController::currentFrameChanged, this,
           &MainWindow::onCurrentFrameChanged);

@@ -34,15 +34,18 @@ SequenceController::~SequenceController() = default;
 bool SequenceController::openSequence(const QString& folder_or_json) {
   if (hasUnsavedWork() && discard_guard_ && !discard_guard_()) return false;
   const QString absolute = QFileInfo(folder_or_json).absoluteFilePath();
+  std::unique_ptr<Sequence> loaded;
   try {
     // A sequence opens as it is; a ROS bag or a dataset folder that the importer
     // recognises is converted once into the import cache and opened from there.
-    auto loaded = std::make_unique<Sequence>(openSource(toPath(absolute)).sequence);
-    sequence_ = std::move(loaded);
+    loaded = std::make_unique<Sequence>(openSource(toPath(absolute)).sequence);
   } catch (const std::exception& error) {
     emit errorOccurred(tr("Cannot open sequence"), describeFailure(error, absolute));
     return false;
   }
+  // Views holding the old sequence or frame let go of them before they are freed.
+  emit sequenceAboutToChange();
+  sequence_ = std::move(loaded);
   sequence_path_ = absolute;
   reported_broken_frames_.clear();
   current_frame_ = sequence_->frames.empty() ? -1 : 0;

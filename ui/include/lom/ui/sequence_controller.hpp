@@ -49,6 +49,9 @@ class SequenceController : public QObject {
   void stepFrames(int delta);
 
  signals:
+  // A newly loaded sequence is about to replace the open one (and its frame):
+  // references to them must be dropped now.
+  void sequenceAboutToChange();
   void sequenceChanged();
   void currentFrameChanged(int index);
   void errorOccurred(const QString& title, const QString& message);
