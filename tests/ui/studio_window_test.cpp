@@ -89,24 +89,8 @@ TEST_F(StudioWindowTest, OpeningSetsTheTimelineAndStatus) {
 // A folder in the frame-folder layout of many RGB-D tools (frame-NNNNNN.color.png,
 // .depth.png in mm, .pose.txt, intrinsics.K.txt) opens like a sequence.
 TEST_F(StudioWindowTest, OpensADatasetFolderByConvertingIt) {
-  const Sequence tiny = loadSequence(tiny_.folder);
   const auto folder = temp_ / "frames_layout";
-  std::filesystem::create_directories(folder);
-  const CameraIntrinsics& camera = tiny.camera;
-  std::ofstream(folder / "intrinsics.K.txt") << camera.fx << " 0 " << camera.cx << "\n0 "
-                                              << camera.fy << " " << camera.cy << "\n0 0 1\n";
-  for (size_t i = 0; i < tiny.frames.size(); ++i) {
-    char stem[32];
-    std::snprintf(stem, sizeof(stem), "frame-%06zu", i);
-    const FrameData frame = loadFrame(tiny, i);
-    writeDepthPng(folder / (std::string(stem) + ".depth.png"), frame.depth, 0.001);
-    ASSERT_TRUE(frame.color.has_value());
-    writeColorPng(folder / (std::string(stem) + ".color.png"), *frame.color);
-    std::ofstream pose(folder / (std::string(stem) + ".pose.txt"));
-    pose.precision(17);
-    const Eigen::Matrix4d m = tiny.frames[i].T_world_camera.matrix();
-    for (int r = 0; r < 4; ++r) pose << m(r, 0) << " " << m(r, 1) << " " << m(r, 2) << " " << m(r, 3) << "\n";
-  }
+  test::writeFramesLayout(tiny_, folder);
   ASSERT_TRUE(window_.controller().openSequence(qPath(folder)))
       << (errors_.empty() ? std::string() : errors_.back().message.toStdString());
   EXPECT_TRUE(errors_.empty());

@@ -34,19 +34,20 @@ SequenceController::~SequenceController() = default;
 bool SequenceController::openSequence(const QString& folder_or_json) {
   if (hasUnsavedWork() && discard_guard_ && !discard_guard_()) return false;
   const QString absolute = QFileInfo(folder_or_json).absoluteFilePath();
-  std::unique_ptr<Sequence> loaded;
+  OpenedSource opened;
   try {
     // A sequence opens as it is; a ROS bag or a dataset folder that the importer
     // recognises is converted once into the import cache and opened from there.
-    loaded = std::make_unique<Sequence>(openSource(toPath(absolute)).sequence);
+    opened = openSource(toPath(absolute));
   } catch (const std::exception& error) {
     emit errorOccurred(tr("Cannot open sequence"), describeFailure(error, absolute));
     return false;
   }
   // Views holding the old sequence or frame let go of them before they are freed.
   emit sequenceAboutToChange();
-  sequence_ = std::move(loaded);
+  sequence_ = std::make_unique<Sequence>(std::move(opened.sequence));
   sequence_path_ = absolute;
+  converted_ = opened.converted;
   reported_broken_frames_.clear();
   current_frame_ = sequence_->frames.empty() ? -1 : 0;
   loadCurrentFrame();

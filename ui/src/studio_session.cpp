@@ -1,8 +1,7 @@
 #include "lom/ui/studio_session.hpp"
 
-#include <filesystem>
-
 #include "lom/annotations.hpp"
+#include "lom/ui/annotation_files.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/sequence_controller.hpp"
@@ -27,22 +26,9 @@ void StudioSession::onSequenceChanged() {
   picked_point_.reset();
   emit hiddenLabelsChanged();
 
-  // The boxes beside the sequence, when there are any, are the ones to edit.
-  Annotations boxes;
-  boxes.frame_id = sequence_->frame_id;
-  QString path;
-  const auto beside = sequence_->root / "annotations.json";
-  std::error_code ec;
-  if (std::filesystem::exists(beside, ec)) {
-    try {
-      boxes = loadAnnotations(beside);
-      path = QString::fromStdString(beside.string());
-    } catch (const std::exception& error) {
-      emit controller_->errorOccurred(tr("Cannot load the annotations"),
-                                      QString::fromStdString(error.what()));
-    }
-  }
-  annotations_->reset(boxes, path);
+  // The boxes of the sequence, when there are any, are the ones to edit.
+  loadSequenceBoxes(*this);
+  const Annotations& boxes = annotations_->annotations();
   // New boxes get the first boxed label (else the first object label) until
   // another is chosen.
   setSelectedLabel(!boxes.boxes.empty() ? boxes.boxes.front().label

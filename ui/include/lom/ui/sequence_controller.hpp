@@ -26,7 +26,12 @@ class SequenceController : public QObject {
 
   [[nodiscard]] bool hasSequence() const { return sequence_ != nullptr; }
   [[nodiscard]] const Sequence& sequence() const { return *sequence_; }  // needs hasSequence()
+  // The path it was opened from, made absolute: the sequence folder or its
+  // sequence.json, or the ROS bag or dataset folder that was converted.
   [[nodiscard]] QString sequencePath() const { return sequence_path_; }
+  // Whether the open sequence is the conversion of a bag or dataset folder
+  // (its folder is then in the import cache, not beside the recording).
+  [[nodiscard]] bool isConverted() const { return converted_; }
   [[nodiscard]] QString sequenceName() const;
   [[nodiscard]] int frameCount() const;
   [[nodiscard]] int currentFrame() const { return current_frame_; }  // -1 without a sequence
@@ -63,6 +68,7 @@ class SequenceController : public QObject {
   std::function<bool()> unsaved_work_;
   std::unique_ptr<Sequence> sequence_;
   QString sequence_path_;
+  bool converted_ = false;
   int current_frame_ = -1;
   std::optional<FrameData> frame_data_;
   std::optional<LabelImage> frame_labels_;
