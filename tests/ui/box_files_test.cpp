@@ -1,7 +1,8 @@
 // The boxes' files: an unreadable annotations.json is never overwritten
 // unasked, the boxes of a converted recording outlive its import cache entry,
-// recovery files follow the sequence however its path is typed, unknown
-// labels are reported, and a replaced file keeps its permissions.
+// recovery files follow the sequence (however its path is typed) and the
+// state of the boxes in memory, unknown labels are reported, and a replaced
+// file keeps its permissions.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
@@ -212,6 +213,61 @@ TEST_F(BoxFilesTest, RecoveryFileDoesNotDependOnHowThePathIsTyped) {
   next.session().setAutoFuse(false);
   ASSERT_TRUE(next.controller().openSequence(folder + "/sequence.json"));
   EXPECT_EQ(offered, QStringList{expected});
+}
+
+TEST_F(BoxFilesTest, RecoveryFileGoesWhenTheBoxesAreCleanAgain) {
+  ASSERT_TRUE(open(tiny_.folder));
+  const QString recovery = window_.autosave().currentRecoveryPath();
+  boxes().addBox(boxOf(1, "square_box"));
+  window_.autosave().writeNow();
+  ASSERT_TRUE(QFileInfo::exists(recovery));
+  boxes().undoStack().undo();  // back to the saved state
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_FALSE(QFileInfo::exists(recovery));
+
+  // Open Boxes… replaces the unsaved boxes: their recovery file goes too.
+  Annotations other;
+  other.boxes.push_back(boxOf(2, "blue_cup"));
+  saveAnnotations(other, temp_ / "other.json");
+  boxes().addBox(boxOf(1, "square_box"));
+  window_.autosave().writeNow();
+  ASSERT_TRUE(QFileInfo::exists(recovery));
+  {
+    test::DialogAnswerer answer("Discard", qPath(temp_ / "other.json"));
+    window_.findAction("Open Boxes…")->trigger();
+    EXPECT_EQ(answer.questions.size(), 1);
+  }
+  ASSERT_EQ(boxes().boxCount(), 1);
+  EXPECT_EQ(boxes().box(0).label, 2);
+  EXPECT_FALSE(QFileInfo::exists(recovery));
+
+  // Nothing stale is offered when the sequence opens again.
+  accept_offer_ = true;
+  ASSERT_TRUE(open(tiny_.folder));
+  EXPECT_TRUE(offered_.isEmpty()) << offered_.join(", ").toStdString();
+}
+
+TEST_F(BoxFilesTest, RecoveryFileStaysWhenTheOtherSequenceFailsToOpen) {
+  ASSERT_TRUE(open(tiny_.folder));
+  boxes().addBox(boxOf(1, "square_box"));
+  window_.autosave().writeNow();
+  const QString recovery = window_.autosave().currentRecoveryPath();
+  ASSERT_TRUE(QFileInfo::exists(recovery));
+  {
+    test::DialogAnswerer answer("Discard");
+    EXPECT_FALSE(open(temp_ / "no_such_sequence"));
+    EXPECT_EQ(answer.questions.size(), 1);
+  }
+  EXPECT_TRUE(boxes().isDirty());  // still the boxes being worked on
+  EXPECT_TRUE(QFileInfo::exists(recovery));
+
+  // Once another sequence has really replaced them, their recovery file goes.
+  const auto other = lom::test::writeTinySequence(temp_ / "other_shelf");
+  {
+    test::DialogAnswerer answer("Discard");
+    ASSERT_TRUE(open(other.folder));
+  }
+  EXPECT_FALSE(QFileInfo::exists(recovery));
 }
 
 TEST_F(BoxFilesTest, BoxesWithUnknownLabelsAreReportedByFileAndIndex) {

@@ -173,6 +173,11 @@ BoxesAutosave::BoxesAutosave(StudioSession& session, std::function<bool(const QS
   timer_->start();
   connect(&session_.controller(), &SequenceController::sequenceChanged, this,
           &BoxesAutosave::onSequenceChanged);
+  // Clean boxes need no recovery: a file left behind would offer boxes that
+  // were saved, undone or discarded.
+  connect(&session_.annotations(), &AnnotationsModel::dirtyChanged, this, [this](bool dirty) {
+    if (!dirty && !restoring_) discard();
+  });
   connect(&session_.annotations(), &AnnotationsModel::saved, this, &BoxesAutosave::discard);
 }
 
@@ -180,29 +185,28 @@ QString BoxesAutosave::recoveryPath(const QString& sequence_path) {
   return perSourceFile("recovery", sequence_path);
 }
 
-QString BoxesAutosave::currentRecoveryPath() const {
-  if (!session_.controller().hasSequence()) return {};
-  return recoveryPath(session_.controller().sequencePath());
-}
-
 void BoxesAutosave::writeNow() {
-  const QString path = currentRecoveryPath();
-  if (path.isEmpty() || !session_.annotations().isDirty()) return;
-  QDir().mkpath(QFileInfo(path).path());
+  if (recovery_path_.isEmpty() || !session_.annotations().isDirty()) return;
+  QDir().mkpath(QFileInfo(recovery_path_).path());
   try {
-    saveAnnotations(boxesToSave(session_), toPath(path));
+    saveAnnotations(boxesToSave(session_), toPath(recovery_path_));
   } catch (const std::exception&) {
     // A failed recovery copy must not interrupt the work; the next tick retries.
   }
 }
 
 void BoxesAutosave::discard() {
-  const QString path = currentRecoveryPath();
-  if (!path.isEmpty()) QFile::remove(path);
+  if (!recovery_path_.isEmpty()) QFile::remove(recovery_path_);
 }
 
 void BoxesAutosave::onSequenceChanged() {
-  const QString path = currentRecoveryPath();
+  // The previous sequence's boxes were discarded (or clean) when the new one
+  // replaced them, which removed its recovery file; from now on the file is
+  // the new sequence's.
+  recovery_path_ = session_.controller().hasSequence()
+                       ? recoveryPath(session_.controller().sequencePath())
+                       : QString();
+  const QString path = recovery_path_;
   if (path.isEmpty() || !QFileInfo::exists(path)) return;
   if (!offer_ || !offer_(path)) {
     QFile::remove(path);
@@ -212,6 +216,7 @@ void BoxesAutosave::onSequenceChanged() {
   const QString saved_path = model.path();
   const QString unreadable_path = model.unreadablePath();
   const QString unreadable_error = model.unreadableError();
+  restoring_ = true;
   try {
     // The real file stays the save target; the restored boxes are unsaved.
     const Annotations restored = loadAnnotations(toPath(path));
@@ -224,6 +229,7 @@ void BoxesAutosave::onSequenceChanged() {
   } catch (const std::exception&) {
     QFile::remove(path);  // unreadable: nothing to restore
   }
+  restoring_ = false;
 }
 
 }  // namespace lom::ui

@@ -204,9 +204,9 @@ void MainWindow::createAnnotateMenu() {
 }
 
 bool MainWindow::confirmDiscard() {
-  if (!confirmDiscardUnsavedWork(this)) return false;
-  autosave_->discard();
-  return true;
+  // The recovery file stays until the boxes are really replaced: when the
+  // other sequence fails to open, they are still the ones being worked on.
+  return confirmDiscardUnsavedWork(this);
 }
 
 void MainWindow::setRecoveryOffer(std::function<bool(const QString&)> offer) {
@@ -369,10 +369,12 @@ void MainWindow::onCurrentFrameChanged() {
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
-  if (controller_->hasUnsavedWork() && !confirmDiscard()) {
+  const bool unsaved = controller_->hasUnsavedWork();
+  if (unsaved && !confirmDiscard()) {
     event->ignore();
     return;
   }
+  if (unsaved) autosave_->discard();  // the user chose to drop the boxes
   event->accept();
 }
 

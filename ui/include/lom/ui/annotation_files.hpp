@@ -56,8 +56,10 @@ void loadSequenceBoxes(StudioSession& session);
                                            const QString& file);
 
 // Writes the unsaved boxes of the open sequence to a recovery file every
-// `interval_ms` (and removes it once they are saved or discarded). Opening a
-// sequence with a recovery file asks `offer` whether to restore it.
+// `interval_ms`, and removes it as soon as the boxes in memory are clean
+// again (saved, undone back to the saved state, replaced by other boxes, or
+// discarded with the sequence once another one opened). Opening a sequence
+// with a recovery file asks `offer` whether to restore it.
 class BoxesAutosave : public QObject {
   Q_OBJECT
 
@@ -67,7 +69,7 @@ class BoxesAutosave : public QObject {
                 int interval_ms = 60'000);
   // perSourceFile("recovery", sequence_path)
   [[nodiscard]] static QString recoveryPath(const QString& sequence_path);
-  [[nodiscard]] QString currentRecoveryPath() const;
+  [[nodiscard]] QString currentRecoveryPath() const { return recovery_path_; }
   void setOffer(std::function<bool(const QString&)> offer) { offer_ = std::move(offer); }
   void writeNow();
   void discard();  // removes the recovery file of the open sequence
@@ -78,6 +80,8 @@ class BoxesAutosave : public QObject {
   StudioSession& session_;
   std::function<bool(const QString&)> offer_;
   QTimer* timer_;
+  QString recovery_path_;  // of the open sequence
+  bool restoring_ = false;
 };
 
 }  // namespace lom::ui
