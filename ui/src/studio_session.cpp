@@ -33,6 +33,7 @@ void StudioSession::onSequenceChanged() {
   // another is chosen.
   setSelectedLabel(!boxes.boxes.empty() ? boxes.boxes.front().label
                                         : (sequence_->labels.size() > 1 ? 1 : -1));
+  ++map_generation_;
   worker_->reset();
   if (auto_fuse_) fuse();
 }
@@ -52,11 +53,15 @@ void StudioSession::setOccupancyThreshold(double threshold) {
 
 void StudioSession::fuse() {
   if (!sequence_) return;
+  ++map_generation_;
   worker_->setOccupancyThreshold(options_.map.occupancy_threshold);
   worker_->startFusion(sequence_, options_);
 }
 
-void StudioSession::resetMap() { worker_->reset(); }
+void StudioSession::resetMap() {
+  ++map_generation_;
+  worker_->reset();
+}
 
 void StudioSession::setSelectedLabel(int label) {
   if (label == selected_label_) return;
