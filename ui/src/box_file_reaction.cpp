@@ -9,6 +9,7 @@
 
 #include "lom/ui/annotation_files.hpp"
 #include "lom/ui/annotations_model.hpp"
+#include "lom/ui/pending_edits.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
 
@@ -69,6 +70,7 @@ bool BoxFileReaction::confirmTarget(QString& path) {
 }
 
 void BoxFileReaction::onTriggered() {
+  commitPendingEdits();  // a value still being typed belongs to the boxes
   const QString start = defaultBoxesPath(session_);
   const QString json_filter = tr("Annotations (*.json)");
   QString path;

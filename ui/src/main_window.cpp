@@ -401,7 +401,7 @@ void MainWindow::onCurrentFrameChanged() {
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
-  const bool unsaved = controller_->hasUnsavedWork();
+  const bool unsaved = controller_->hasUnsavedWork();  // commits a value being typed first
   if ((unsaved && !confirmDiscard()) || !confirmStopWork()) {
     event->ignore();
     return;

@@ -4,6 +4,7 @@
 #include "lom/ui/annotation_files.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/map_worker.hpp"
+#include "lom/ui/pending_edits.hpp"
 #include "lom/ui/sequence_controller.hpp"
 
 namespace lom::ui {
@@ -13,7 +14,10 @@ StudioSession::StudioSession(QObject* parent)
       controller_(new SequenceController(this)),
       worker_(new MapWorker(this)),
       annotations_(new AnnotationsModel(this)) {
-  controller_->setUnsavedWorkCheck([this] { return annotations_->isDirty(); });
+  controller_->setUnsavedWorkCheck([this] {
+    commitPendingEdits();  // a value still being typed is part of the work
+    return annotations_->isDirty();
+  });
   connect(controller_, &SequenceController::sequenceChanged, this,
           &StudioSession::onSequenceChanged);
 }
