@@ -1,6 +1,7 @@
 // Work queued behind fusion on the demo scene: a box fit keeps one box per
 // label and belongs to the map it was asked for, the status bar says the work
-// waits, and closing the window asks before dropping it.
+// waits, closing the window asks before dropping it, and reports and objects
+// of a map that is gone cannot be used.
 #include <gtest/gtest.h>
 
 #include <QAction>
@@ -17,7 +18,9 @@
 #include "demo_window_fixture.hpp"
 #include "dialog_answerer.hpp"
 #include "lom/ui/annotations_model.hpp"
+#include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/export_map_reaction.hpp"
+#include "lom/ui/objects_panel.hpp"
 
 namespace lom::ui {
 namespace {
@@ -151,6 +154,41 @@ TEST_F(QueuedWorkTest, ClosingAnywayStopsTheWork) {
   test::DialogAnswerer answer("Close Anyway");
   EXPECT_TRUE(window_.close());
   EXPECT_EQ(answer.questions.size(), 1);
+}
+
+TEST_F(QueuedWorkTest, ReportAndObjectsOfAMapThatIsGoneCannotBeUsed) {
+  openAndFuse();
+  EvaluationPanel& scores = window_.evaluationPanel();
+  ObjectsPanel& objects = window_.objectsPanel();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !scores.isBusy() && scores.canExport(); }, kTimeoutMs))
+      << scores.summaryText().toStdString();
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return !objects.isBusy() && !objects.objects().empty(); }, kTimeoutMs));
+  EXPECT_TRUE(objects.planButton().isEnabled());
+
+  window_.findAction("Reset Map")->trigger();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return session().worker().snapshot()->frames_fused == 0; },
+                              kTimeoutMs));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !scores.isBusy(); }, kTimeoutMs));
+  const auto out = temp_.path() / "report";
+  EXPECT_FALSE(scores.canExport());
+  EXPECT_NE(scores.exportReport(qPath(out)), QString());
+  EXPECT_FALSE(std::filesystem::exists(out / "report.json"));
+  EXPECT_TRUE(objects.objects().empty());
+  EXPECT_FALSE(objects.planButton().isEnabled());
+  EXPECT_FALSE(objects.plan().has_value());
+
+  // Fused again, then another sequence opens: the old report goes at once.
+  window_.findAction("Fuse Sequence")->trigger();
+  waitForFusion();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !scores.isBusy() && scores.canExport(); }, kTimeoutMs));
+  const auto tiny = temp_.path() / "tiny";
+  prepareDemoScene(qPath(tiny), smallDemo());
+  ASSERT_TRUE(window_.controller().openSequence(qPath(tiny)));
+  EXPECT_FALSE(scores.canExport());
+  EXPECT_NE(scores.exportReport(qPath(out)), QString());
+  EXPECT_TRUE(objects.objects().empty());
+  waitForFusion();
 }
 
 }  // namespace
