@@ -6,7 +6,6 @@
 #include <utility>
 
 #include "lom/error.hpp"
-#include "lom/import.hpp"
 #include "lom/ui/frame_labels.hpp"
 
 namespace lom::ui {
@@ -25,6 +24,17 @@ QString describeFailure(const std::exception& error, const QString& path) {
   return path + ": " + QString::fromStdString(error.what());
 }
 
+// The importer's messages name its command-line options; say how to give them
+// to the studio.
+QString withStudioHint(QString message) {
+  if (message.contains("--intrinsics"))
+    message += QObject::tr(
+        "\n\nThe studio takes the same option when it starts: labeloctomap-studio --intrinsics "
+        "fx,fy,cx,cy (or a file with the camera matrix) PATH. Or convert the recording first with "
+        "labeloctomap import and open the sequence it writes.");
+  return message;
+}
+
 }  // namespace
 
 SequenceController::SequenceController(QObject* parent) : QObject(parent) {}
@@ -38,9 +48,10 @@ bool SequenceController::openSequence(const QString& folder_or_json) {
   try {
     // A sequence opens as it is; a ROS bag or a dataset folder that the importer
     // recognises is converted once into the import cache and opened from there.
-    opened = openSource(toPath(absolute));
+    opened = openSource(toPath(absolute), import_options_);
   } catch (const std::exception& error) {
-    emit errorOccurred(tr("Cannot open sequence"), describeFailure(error, absolute));
+    emit errorOccurred(tr("Cannot open sequence"),
+                       withStudioHint(describeFailure(error, absolute)));
     return false;
   }
   // Views holding the old sequence or frame let go of them before they are freed.

@@ -8,6 +8,7 @@
 #include <optional>
 #include <set>
 
+#include "lom/import.hpp"
 #include "lom/sequence.hpp"
 
 namespace lom::ui {
@@ -32,6 +33,10 @@ class SequenceController : public QObject {
   // Whether the open sequence is the conversion of a bag or dataset folder
   // (its folder is then in the import cache, not beside the recording).
   [[nodiscard]] bool isConverted() const { return converted_; }
+  // Options of the conversion of bags and dataset folders (the camera
+  // intrinsics of a layout without them, for instance).
+  [[nodiscard]] const ImportOptions& importOptions() const { return import_options_; }
+  void setImportOptions(const ImportOptions& options) { import_options_ = options; }
   [[nodiscard]] QString sequenceName() const;
   [[nodiscard]] int frameCount() const;
   [[nodiscard]] int currentFrame() const { return current_frame_; }  // -1 without a sequence
@@ -69,6 +74,7 @@ class SequenceController : public QObject {
   std::unique_ptr<Sequence> sequence_;
   QString sequence_path_;
   bool converted_ = false;
+  ImportOptions import_options_;
   int current_frame_ = -1;
   std::optional<FrameData> frame_data_;
   std::optional<LabelImage> frame_labels_;
