@@ -21,6 +21,7 @@
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/scene_view.hpp"
 #include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/sequence_drop_handler.hpp"
 #include "lom/ui/studio_session.hpp"
 #include "lom/ui/window_capture.hpp"
 #include "test_support.hpp"
@@ -233,6 +234,25 @@ TEST_F(StudioWindowTest, OpensASequenceWhoseBoxesChooseAnotherLabel) {
     EXPECT_EQ(window_.session().selectedLabel(), test::kSquareLabel);
   }
   EXPECT_TRUE(errors_.empty());
+}
+
+// README says ROS bags open like sequences; dropping one must too.
+TEST_F(StudioWindowTest, DroppedRosBagIsAccepted) {
+  const auto bag = temp_ / "recording.bag";
+  std::ofstream(bag) << "#ROSBAG V2.0\n";
+  QMimeData mime;
+  mime.setUrls({QUrl::fromLocalFile(qPath(bag))});
+  EXPECT_EQ(SequenceDropHandler::droppedSequencePath(&mime), qPath(bag));
+  QDragEnterEvent enter(QPoint(40, 40), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+  QApplication::sendEvent(&window_, &enter);
+  EXPECT_TRUE(enter.isAccepted());
+
+  // Other files are still refused.
+  const auto text = temp_ / "notes.txt";
+  std::ofstream(text) << "notes\n";
+  QMimeData other;
+  other.setUrls({QUrl::fromLocalFile(qPath(text))});
+  EXPECT_EQ(SequenceDropHandler::droppedSequencePath(&other), QString());
 }
 
 bool isNear(QRgb pixel, const Rgb& color, int tolerance) {
