@@ -1,25 +1,60 @@
 // labeloctomap-studio: the desktop window.
-//   labeloctomap-studio [SEQ | --demo]
-//   labeloctomap-studio --screenshot OUT.png [--frame N] [--fuse] (SEQ | --demo)
+//   labeloctomap-studio [--intrinsics K] [SEQ | --demo]
+//   labeloctomap-studio --screenshot OUT.png [--frame N] [--fuse] [--intrinsics K] (SEQ | --demo)
+// Exit codes: 0 success, 1 unreadable or invalid input, 2 a mistake in the
+// call, 3 no display to show the window on.
 #include <QAction>
 #include <QApplication>
 #include <QCommandLineParser>
-#include <QImage>
 #include <QElapsedTimer>
+#include <QFileInfo>
+#include <QImage>
 #include <QThread>
 #include <iostream>
+#include <optional>
+#include <string>
 
+#include "lom/import.hpp"
+#include "lom/render/map_render.hpp"
 #include "lom/ui/about_reaction.hpp"
 #include "lom/ui/demo_scene.hpp"
 #include "lom/ui/evaluation_panel.hpp"
-#include "lom/ui/map_worker.hpp"
-#include "lom/ui/studio_session.hpp"
 #include "lom/ui/main_window.hpp"
+#include "lom/ui/map_worker.hpp"
 #include "lom/ui/scene_view.hpp"
 #include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/studio_session.hpp"
 #include "lom/ui/window_capture.hpp"
 
 namespace {
+
+constexpr const char* kUsage =
+    "usage: labeloctomap-studio [--intrinsics K] [SEQ | --demo]\n"
+    "       labeloctomap-studio --screenshot OUT.png [--frame N] [--fuse] [--intrinsics K] "
+    "(SEQ | --demo)\n";
+
+constexpr const char* kHelp =
+    "LabelOctoMap Studio: view recorded RGB-D label sequences, fuse them into a labelled map,\n"
+    "draw ground-truth boxes and score the map.\n"
+    "\n"
+    "Arguments:\n"
+    "  SEQ                  Sequence folder or its sequence.json to open; a ROS bag or a dataset\n"
+    "                       folder that `labeloctomap import` recognises is converted first.\n"
+    "\n"
+    "Options:\n"
+    "  --demo               Generate (once, in the cache folder) and open a synthetic shelf-bin\n"
+    "                       scene.\n"
+    "  --intrinsics K       Camera of a dataset folder or bag that does not store it: fx,fy,cx,cy\n"
+    "                       or a file with the 3x3 camera matrix (as `labeloctomap import`).\n"
+    "  --screenshot OUT.png Open SEQ, save a picture of the window to OUT.png and exit.\n"
+    "  --frame N            Frame to show, as the index N of frames[N] in sequence.json\n"
+    "                       (default 0).\n"
+    "  --fuse               With --screenshot: fuse the whole sequence before taking the picture.\n"
+    "  -h, --help           Show this help and exit.\n"
+    "  -v, --version        Show the version and exit.\n"
+    "\n"
+    "Qt's own options (-platform, -display, -style, ...) are accepted too.\n"
+    "Exit codes: 0 success, 1 unreadable or invalid input, 2 wrong call, 3 no display.\n";
 
 struct StudioArguments {
   QString sequence;
@@ -27,51 +62,129 @@ struct StudioArguments {
   int frame = 0;
   bool demo = false;
   bool fuse = false;
+  std::optional<lom::CameraIntrinsics> intrinsics;
+  QString platform;  // -platform, when given
+  QString display;   // -display, when given
 };
 
-int usageError(const QString& message) {
-  std::cerr << "labeloctomap-studio: " << message.toStdString()
-            << "\nusage: labeloctomap-studio [SEQ | --demo]\n"
-               "       labeloctomap-studio --screenshot OUT.png [--frame N] [--fuse] (SEQ | --demo)\n";
+enum class Request { Run, Help, Version };
+
+// An exit code for the caller, or what to do.
+struct Parsed {
+  std::optional<int> exit_code;
+  Request request = Request::Run;
+};
+
+int usageError(const std::string& message) {
+  std::cerr << "labeloctomap-studio: " << message << "\n" << kUsage;
   return 2;
 }
 
-// Returns an exit code when the arguments are unusable.
-std::optional<int> parseArguments(const QApplication& app, StudioArguments& arguments) {
+// Parsed before the QApplication exists, so that --help, --version and
+// mistakes in the call are answered without a display.
+Parsed parseArguments(const QStringList& words, StudioArguments& arguments) {
   QCommandLineParser parser;
-  parser.setApplicationDescription("LabelOctoMap Studio: view recorded RGB-D label sequences.");
-  parser.addHelpOption();
-  parser.addVersionOption();
-  parser.addPositionalArgument("SEQ", "Sequence folder or its sequence.json to open.", "[SEQ]");
-  const QCommandLineOption screenshot_option(
-      "screenshot", "Open SEQ, save a picture of the window to OUT.png and exit.", "OUT.png");
-  const QCommandLineOption frame_option(
-      "frame", "Frame to show, as the index N of frames[N] in sequence.json (default 0).", "N");
-  const QCommandLineOption demo_option(
-      "demo", "Generate (once, in the cache folder) and open a synthetic shelf-bin scene.");
-  const QCommandLineOption fuse_option(
-      "fuse", "With --screenshot: fuse the whole sequence before taking the picture.");
-  parser.addOptions({screenshot_option, frame_option, demo_option, fuse_option});
-  parser.process(app);  // exits itself on --help, --version and unknown options
+  // Qt's options are single-dash words (-platform xcb): read them as long names.
+  parser.setSingleDashWordOptionMode(QCommandLineParser::ParseAsLongOptions);
+  const QCommandLineOption help_option(QStringList{"h", "help", "?"});
+  const QCommandLineOption version_option(QStringList{"v", "version"});
+  const QCommandLineOption screenshot_option("screenshot", "", "OUT.png");
+  const QCommandLineOption frame_option("frame", "", "N");
+  const QCommandLineOption demo_option("demo");
+  const QCommandLineOption fuse_option("fuse");
+  const QCommandLineOption intrinsics_option("intrinsics", "", "K");
+  const QCommandLineOption platform_option("platform", "", "NAME");
+  const QCommandLineOption display_option("display", "", "NAME");
+  parser.addOptions({help_option, version_option, screenshot_option, frame_option, demo_option,
+                     fuse_option, intrinsics_option, platform_option, display_option});
+  // The rest of QGuiApplication's and QApplication's options: QApplication
+  // takes them, here they only must not count as mistakes.
+  for (const char* name : {"platformpluginpath", "platformtheme", "plugin", "qwindowgeometry",
+                           "geometry", "qwindowtitle", "title", "qwindowicon", "windowicon", "name",
+                           "session", "style", "stylesheet", "qmljsdebugger"})
+    parser.addOption(QCommandLineOption(name, "", "VALUE"));
+  for (const char* name :
+       {"reverse", "nograb", "dograb", "sync", "widgetcount", "testability", "qwindowsystem"})
+    parser.addOption(QCommandLineOption(name));
+
+  if (!parser.parse(words)) return {usageError(parser.errorText().toStdString()), Request::Run};
+  if (parser.isSet(help_option)) return {std::nullopt, Request::Help};
+  if (parser.isSet(version_option)) return {std::nullopt, Request::Version};
 
   const QStringList positional = parser.positionalArguments();
-  if (positional.size() > 1) return usageError("expected at most one sequence");
+  if (positional.size() > 1) return {usageError("expected at most one sequence"), Request::Run};
   if (!positional.isEmpty()) arguments.sequence = positional.front();
   arguments.demo = parser.isSet(demo_option);
   arguments.fuse = parser.isSet(fuse_option);
+  arguments.platform = parser.value(platform_option);
+  arguments.display = parser.value(display_option);
   if (arguments.demo && !arguments.sequence.isEmpty())
-    return usageError("give either a sequence or --demo, not both");
+    return {usageError("give either a sequence or --demo, not both"), Request::Run};
   arguments.screenshot = parser.value(screenshot_option);
+  if (parser.isSet(screenshot_option) && arguments.screenshot.isEmpty())
+    return {usageError("--screenshot: expected the picture's file name"), Request::Run};
   if (parser.isSet(frame_option)) {
     bool ok = false;
     arguments.frame = parser.value(frame_option).toInt(&ok);
     if (!ok || arguments.frame < 0)
-      return usageError("--frame: expected a frame index >= 0, found '" +
-                        parser.value(frame_option) + "'");
+      return {usageError("--frame: expected a frame index >= 0, found '" +
+                         parser.value(frame_option).toStdString() + "'"),
+              Request::Run};
   }
   if (parser.isSet(screenshot_option) && arguments.sequence.isEmpty() && !arguments.demo)
-    return usageError("--screenshot needs a sequence to show");
-  return std::nullopt;
+    return {usageError("--screenshot needs a sequence to show"), Request::Run};
+  if (parser.isSet(intrinsics_option)) {
+    const QString value = parser.value(intrinsics_option);
+    try {
+      arguments.intrinsics = lom::parseIntrinsics(value.toStdString());
+    } catch (const std::exception& error) {
+      // A file that cannot be read is bad input; anything else a wrong call.
+      if (QFileInfo(value).isFile()) {
+        std::cerr << "labeloctomap-studio: --intrinsics: " << error.what() << "\n";
+        return {1, Request::Run};
+      }
+      return {usageError(std::string("--intrinsics: ") + error.what()), Request::Run};
+    }
+  }
+  return {};
+}
+
+constexpr const char* kDisplayHint =
+    "run it on a display or under a virtual X server, e.g. "
+    "xvfb-run -a -s \"-screen 0 1280x1024x24\" labeloctomap-studio ... "
+    "(for a picture of a fused map without the window, "
+    "`labeloctomap render` does the same under xvfb-run)";
+
+// Empty when Qt will find a display for the window; else why not. Qt aborts
+// the process when its platform cannot connect, so this is asked first.
+std::optional<std::string> displayProblem(const StudioArguments& arguments) {
+  QString platforms = arguments.platform;
+  if (platforms.isEmpty()) platforms = qEnvironmentVariable("QT_QPA_PLATFORM");
+  if (platforms.isEmpty()) platforms = QStringLiteral("xcb");  // Qt 5's default on Linux
+  const std::string display =
+      (arguments.display.isEmpty() ? qEnvironmentVariable("DISPLAY") : arguments.display)
+          .toStdString();
+  std::string problem;
+  for (const QString& entry : platforms.split(';', Qt::SkipEmptyParts)) {
+    const QString name = entry.section(':', 0, 0).trimmed();
+    if (name == QLatin1String("xcb")) {
+      if (display.empty()) {
+        problem = "the studio needs a display and DISPLAY is not set";
+        continue;
+      }
+      if (lom::render::canOpenDisplay(display)) return std::nullopt;
+      problem = "the studio needs a display and cannot open display '" + display + "'";
+    } else if (name.startsWith(QLatin1String("wayland"))) {
+      if (!qEnvironmentVariable("WAYLAND_DISPLAY").isEmpty()) return std::nullopt;
+      problem = "the studio needs a display and WAYLAND_DISPLAY is not set";
+    } else if (name == QLatin1String("offscreen") || name == QLatin1String("minimal")) {
+      problem = "the studio's 3D view needs OpenGL, which the Qt platform '" + name.toStdString() +
+                "' (QT_QPA_PLATFORM or -platform) does not give";
+    } else {
+      return std::nullopt;  // vnc, eglfs, linuxfb...: a platform chosen on purpose
+    }
+  }
+  return problem + "; " + kDisplayHint;
 }
 
 // Returns false when the demo scene cannot be written.
@@ -86,23 +199,31 @@ bool resolveDemo(StudioArguments& arguments) {
   return true;
 }
 
-void waitForFusion(lom::ui::MainWindow& window) {
+constexpr qint64 kFusionTimeoutMs = 30 * 60 * 1000;
+
+// False when fusion did not end in time.
+bool waitForFusion(lom::ui::MainWindow& window) {
   QElapsedTimer timer;
   timer.start();
-  while (window.session().worker().isFusing() && timer.elapsed() < 30 * 60 * 1000) {
+  while (window.session().worker().isFusing() && timer.elapsed() < kFusionTimeoutMs) {
     QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
     QThread::msleep(10);
   }
+  if (window.session().worker().isFusing()) return false;
   // Let the last snapshot and the evaluation it triggers reach the views.
   for (int i = 0; i < 50 || window.evaluationPanel().isBusy(); ++i) {
     QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
     QThread::msleep(10);
-    if (timer.elapsed() > 30 * 60 * 1000) break;
+    if (timer.elapsed() > kFusionTimeoutMs) break;
   }
   window.sceneView().zoomToMap();
+  return true;
 }
 
-int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments) {
+// `failed` turns true when the window reports an error (an unreadable frame or
+// boxes file, fusion stopped): the picture would not show what was asked for.
+int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments,
+                   const bool& failed) {
   auto& controller = window.controller();
   window.session().setAutoFuse(arguments.fuse);
   if (!controller.openSequence(arguments.sequence)) return 1;
@@ -117,15 +238,23 @@ int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments
     // A picture of the fused map: the map's voxels without the frame's points.
     if (QAction* points = window.findAction("Show Frame Points"); points && points->isChecked())
       points->trigger();
-    waitForFusion(window);
+    if (!waitForFusion(window)) {
+      std::cerr << "labeloctomap-studio: fusion did not finish within 30 minutes; no picture "
+                   "written\n";
+      return 1;
+    }
   }
   if (!lom::ui::waitUntilExposed(window))
     std::cerr << "labeloctomap-studio: warning: the window was not shown on screen in time\n";
+  if (failed) {
+    std::cerr << "labeloctomap-studio: no picture written to " << arguments.screenshot.toStdString()
+              << " because of the error above\n";
+    return 1;
+  }
   const QImage shot = lom::ui::captureWindow(window, window.sceneView());
-  if (!shot.save(arguments.screenshot)) {
-    std::cerr << "labeloctomap-studio: cannot write " << arguments.screenshot.toStdString()
-              << " (check the folder exists and is writable, and the extension is an image "
-                 "format such as .png)\n";
+  const QString error = lom::ui::saveImageAtomically(shot, arguments.screenshot);
+  if (!error.isEmpty()) {
+    std::cerr << "labeloctomap-studio: " << error.toStdString() << "\n";
     return 1;
   }
   std::cout << "saved " << arguments.screenshot.toStdString() << "\n";
@@ -135,25 +264,47 @@ int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments
 }  // namespace
 
 int main(int argc, char** argv) {
+  QStringList words;
+  for (int i = 0; i < argc; ++i) words << QString::fromLocal8Bit(argv[i]);
+  StudioArguments arguments;
+  const Parsed parsed = parseArguments(words, arguments);
+  if (parsed.exit_code) return *parsed.exit_code;
+  if (parsed.request == Request::Help) {
+    std::cout << kUsage << "\n" << kHelp;
+    return 0;
+  }
+  if (parsed.request == Request::Version) {
+    std::cout << "labeloctomap-studio " << lom::ui::studioVersion().toStdString() << "\n";
+    return 0;
+  }
+  if (const auto problem = displayProblem(arguments)) {
+    std::cerr << "labeloctomap-studio: " << *problem << "\n";
+    return 3;
+  }
+
   lom::ui::setDefaultSurfaceFormat();
   QApplication app(argc, argv);
   QApplication::setOrganizationName("LabelOctoMap");
   QApplication::setApplicationName("LabelOctoMap Studio");
   QApplication::setApplicationVersion(lom::ui::studioVersion());
-
-  StudioArguments arguments;
-  if (const auto exit_code = parseArguments(app, arguments)) return *exit_code;
   if (!resolveDemo(arguments)) return 1;
 
   lom::ui::MainWindow window;
+  if (arguments.intrinsics) {
+    lom::ImportOptions import = window.controller().importOptions();
+    import.intrinsics = arguments.intrinsics;
+    window.controller().setImportOptions(import);
+  }
   if (!arguments.screenshot.isEmpty()) {
     // No one is there to close a dialog: errors go to stderr and the exit code.
-    window.setErrorReporter([](const QString& title, const QString& message) {
+    bool failed = false;
+    window.setErrorReporter([&failed](const QString& title, const QString& message) {
       std::cerr << "labeloctomap-studio: " << title.toStdString() << ": " << message.toStdString()
                 << "\n";
+      failed = true;
     });
     window.show();
-    return saveScreenshot(window, arguments);
+    return saveScreenshot(window, arguments, failed);
   }
 
   window.show();

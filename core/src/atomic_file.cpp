@@ -1,7 +1,11 @@
 #include "lom/atomic_file.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <random>
 
@@ -21,12 +25,51 @@ fs::path temporaryPathFor(const fs::path& target) {
                    std::to_string(rng() % 1000000) + target.extension().string());
 }
 
+fs::path folderOf(const fs::path& target) {
+  return target.has_parent_path() ? target.parent_path() : fs::path(".");
+}
+
 void checkFolder(const fs::path& target) {
-  const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const fs::path folder = folderOf(target);
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
     throw Error(target.string(), "output path", "an existing, writable folder",
                 "folder " + folder.string() + " does not exist");
+}
+
+// Flushes the written file to the disk, so that the rename never publishes a
+// file whose content is still only in memory (a power cut would leave it empty).
+void syncFile(const fs::path& temporary, const fs::path& target) {
+  const int fd = ::open(temporary.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0)
+    throw Error(target.string(), "output", "a written file",
+                "cannot reopen it to flush: " + std::string(std::strerror(errno)));
+  const bool synced = ::fsync(fd) == 0;
+  const int sync_errno = errno;
+  const bool closed = ::close(fd) == 0;
+  if (!synced || !closed)
+    throw Error(
+        target.string(), "output", "a complete write",
+        "flushing to disk failed: " + std::string(std::strerror(synced ? errno : sync_errno)));
+}
+
+// A replaced file keeps its permission bits (a file only its owner may read
+// stays so); a new file gets the writer's defaults.
+void keepPermissions(const fs::path& temporary, const fs::path& target) {
+  struct stat existing {};
+  if (::stat(target.c_str(), &existing) != 0 || !S_ISREG(existing.st_mode)) return;
+  if (::chmod(temporary.c_str(), existing.st_mode & 07777) != 0)
+    throw Error(target.string(), "output", "the permissions of the file it replaces",
+                "chmod failed: " + std::string(std::strerror(errno)));
+}
+
+// Makes the rename itself durable. Best effort: some file systems refuse to
+// sync a folder, and the file is in place either way.
+void syncFolder(const fs::path& target) {
+  const int fd = ::open(folderOf(target).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  (void)::fsync(fd);
+  (void)::close(fd);
 }
 
 void writeStream(const fs::path& target, const fs::path& temporary,
@@ -36,8 +79,10 @@ void writeStream(const fs::path& target, const fs::path& temporary,
   write(out);
   out.flush();
   if (!out) throw Error(target.string(), "output", "a complete write", "write failed (disk full?)");
+  // Closing writes what the stream still buffers: a failure there is a lost write too.
   out.close();
-  if (!out) throw Error(target.string(), "output", "a complete write", "write failed (disk full?)");
+  if (out.fail())
+    throw Error(target.string(), "output", "a complete write", "closing failed (disk full?)");
 }
 
 }  // namespace
@@ -58,6 +103,8 @@ void StagedFiles::addPath(const fs::path& target,
     std::error_code ec;
     if (!fs::exists(temporary, ec))
       throw Error(target.string(), "output", "the writer to produce the file", "nothing written");
+    syncFile(temporary, target);
+    keepPermissions(temporary, target);
   } catch (...) {
     std::error_code ignored;
     fs::remove(temporary, ignored);
@@ -81,6 +128,7 @@ void StagedFiles::commit() {
       throw Error(target.string(), "output", "a writable location",
                   "rename failed: " + ec.message());
     staged_.erase(staged_.begin());
+    syncFolder(target);
   }
 }
 

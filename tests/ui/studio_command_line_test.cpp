@@ -4,6 +4,9 @@
 #include <QImage>
 #include <QProcess>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
 
 #include "test_support.hpp"
 #include "tiny_sequence.hpp"
@@ -11,19 +14,37 @@
 namespace {
 
 struct StudioRun {
-  int exit_code = -1;
+  int exit_code = -1;  // -1 also for a crash
   QString err;
+  QString out;
 };
 
-StudioRun runStudio(const QStringList& arguments) {
+StudioRun runStudio(const QStringList& arguments, const QProcessEnvironment& environment =
+                                                      QProcessEnvironment::systemEnvironment()) {
   QProcess studio;
+  studio.setProcessEnvironment(environment);
   studio.start(LOM_STUDIO_PATH, arguments);
   if (!studio.waitForFinished(120000)) {
     studio.kill();
     return {};
   }
   return {studio.exitStatus() == QProcess::NormalExit ? studio.exitCode() : -1,
-          QString::fromLocal8Bit(studio.readAllStandardError())};
+          QString::fromLocal8Bit(studio.readAllStandardError()),
+          QString::fromLocal8Bit(studio.readAllStandardOutput())};
+}
+
+// As on a server or in CI without X: no display of any kind.
+QProcessEnvironment withoutDisplay() {
+  QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
+  environment.remove("DISPLAY");
+  environment.remove("WAYLAND_DISPLAY");
+  environment.remove("QT_QPA_PLATFORM");
+  return environment;
+}
+
+std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 QString qPath(const std::filesystem::path& path) { return QString::fromStdString(path.string()); }
@@ -55,6 +76,106 @@ TEST(StudioCommandLine, FrameOutOfRangeIsAUsageError) {
       runStudio({"--screenshot", qPath(temp / "x.png"), "--frame", "9", qPath(tiny.folder)});
   EXPECT_EQ(run.exit_code, 2);
   EXPECT_TRUE(run.err.contains("--frame 9")) << run.err.toStdString();
+}
+
+TEST(StudioCommandLine, HelpAndVersionNeedNoDisplay) {
+  const StudioRun help = runStudio({"--help"}, withoutDisplay());
+  EXPECT_EQ(help.exit_code, 0) << help.err.toStdString();
+  EXPECT_TRUE(help.out.contains("--screenshot")) << help.out.toStdString();
+  EXPECT_TRUE(help.out.contains("--intrinsics")) << help.out.toStdString();
+  const StudioRun version = runStudio({"--version"}, withoutDisplay());
+  EXPECT_EQ(version.exit_code, 0) << version.err.toStdString();
+  EXPECT_TRUE(version.out.startsWith("labeloctomap-studio ")) << version.out.toStdString();
+}
+
+TEST(StudioCommandLine, WithoutADisplayItSaysHowToGetOneAndExits3) {
+  lom::test::TempDir temp;
+  const auto out = temp / "x.png";
+  for (const QStringList& arguments :
+       {QStringList{"--screenshot", qPath(out), "--demo"}, QStringList{}}) {
+    const StudioRun run = runStudio(arguments, withoutDisplay());
+    EXPECT_EQ(run.exit_code, 3) << run.err.toStdString();
+    EXPECT_TRUE(run.err.contains("DISPLAY is not set")) << run.err.toStdString();
+    EXPECT_TRUE(run.err.contains("xvfb-run")) << run.err.toStdString();
+  }
+  // Qt's offscreen platform would start, but with an empty 3D view.
+  QProcessEnvironment offscreen = withoutDisplay();
+  offscreen.insert("QT_QPA_PLATFORM", "offscreen");
+  const StudioRun run = runStudio({"--screenshot", qPath(out), "--demo"}, offscreen);
+  EXPECT_EQ(run.exit_code, 3) << run.err.toStdString();
+  EXPECT_TRUE(run.err.contains("offscreen")) << run.err.toStdString();
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(StudioCommandLine, MistakesInTheCallExit2EvenWithoutADisplay) {
+  for (const QStringList& arguments :
+       {QStringList{"--no-such-option"}, QStringList{"--frame", "-1", "seq"},
+        QStringList{"--intrinsics", "1,2,3", "seq"}, QStringList{"a", "b"}}) {
+    const StudioRun run = runStudio(arguments, withoutDisplay());
+    EXPECT_EQ(run.exit_code, 2) << arguments.join(' ').toStdString() << ": "
+                                << run.err.toStdString();
+    EXPECT_TRUE(run.err.contains("usage:")) << run.err.toStdString();
+  }
+}
+
+TEST(StudioCommandLine, UnreadableFrameExits1WithoutAPicture) {
+  lom::test::TempDir temp;
+  const auto tiny = lom::test::writeTinySequence(temp / "seq");
+  std::filesystem::remove(tiny.folder / "depth_0.png");
+  const auto out = temp / "x.png";
+  const StudioRun run = runStudio({"--screenshot", qPath(out), qPath(tiny.folder)});
+  EXPECT_EQ(run.exit_code, 1) << run.err.toStdString();
+  EXPECT_TRUE(run.err.contains("depth_0.png")) << run.err.toStdString();
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(StudioCommandLine, FusionStoppedExits1WithoutAPicture) {
+  lom::test::TempDir temp;
+  const auto tiny = lom::test::writeTinySequence(temp / "seq");
+  std::ofstream(tiny.folder / "depth_2.png", std::ios::trunc) << "not a png";
+  const auto out = temp / "x.png";
+  const StudioRun run = runStudio({"--screenshot", qPath(out), "--fuse", qPath(tiny.folder)});
+  EXPECT_EQ(run.exit_code, 1) << run.err.toStdString();
+  EXPECT_TRUE(run.err.contains("Fusion stopped")) << run.err.toStdString();
+  EXPECT_TRUE(run.err.contains("depth_2.png")) << run.err.toStdString();
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(StudioCommandLine, FailedScreenshotLeavesTheExistingFileAlone) {
+  lom::test::TempDir temp;
+  const auto tiny = lom::test::writeTinySequence(temp / "seq");
+  const auto out = temp / "shot.unknown-format";
+  std::ofstream(out) << "an earlier file";
+  const StudioRun run = runStudio({"--screenshot", qPath(out), qPath(tiny.folder)});
+  EXPECT_EQ(run.exit_code, 1) << run.err.toStdString();
+  EXPECT_TRUE(run.err.contains("shot.unknown-format")) << run.err.toStdString();
+  EXPECT_EQ(slurp(out), "an earlier file");
+  // Nothing else is left in the folder (no temporary file).
+  size_t entries = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(temp.path())) {
+    (void)entry;
+    ++entries;
+  }
+  EXPECT_EQ(entries, 2u);  // seq/ and the file
+}
+
+// A dataset layout without stored intrinsics (pose.txt, color/N.png,
+// depth/N.pgm) opens when the studio is given them.
+TEST(StudioCommandLine, DatasetFolderNeedingIntrinsicsOpensWithTheOption) {
+  LOM_REQUIRE_SHARED_DATA("kinect-room-5");
+  const QString room = qPath(lom::test::sharedDataDir() / "kinect-room-5");
+  lom::test::TempDir temp;
+  const auto out = temp / "room.png";
+  const StudioRun without = runStudio({"--screenshot", qPath(out), room});
+  EXPECT_EQ(without.exit_code, 1) << without.err.toStdString();
+  EXPECT_TRUE(without.err.contains("labeloctomap-studio --intrinsics"))
+      << without.err.toStdString();
+  EXPECT_FALSE(std::filesystem::exists(out));
+
+  const StudioRun with =
+      runStudio({"--screenshot", qPath(out), "--intrinsics", "518,519,325.5,253.5", room});
+  EXPECT_EQ(with.exit_code, 0) << with.err.toStdString();
+  EXPECT_FALSE(QImage(qPath(out)).isNull());
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "lom/annotations.hpp"
 #include "lom/sequence.hpp"
 #include "lom/ui/frame_images_view.hpp"
 #include "lom/ui/image_pane.hpp"
@@ -20,6 +21,8 @@
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/scene_view.hpp"
 #include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/sequence_drop_handler.hpp"
+#include "lom/ui/studio_session.hpp"
 #include "lom/ui/window_capture.hpp"
 #include "test_support.hpp"
 #include "tiny_sequence.hpp"
@@ -87,24 +90,8 @@ TEST_F(StudioWindowTest, OpeningSetsTheTimelineAndStatus) {
 // A folder in the frame-folder layout of many RGB-D tools (frame-NNNNNN.color.png,
 // .depth.png in mm, .pose.txt, intrinsics.K.txt) opens like a sequence.
 TEST_F(StudioWindowTest, OpensADatasetFolderByConvertingIt) {
-  const Sequence tiny = loadSequence(tiny_.folder);
   const auto folder = temp_ / "frames_layout";
-  std::filesystem::create_directories(folder);
-  const CameraIntrinsics& camera = tiny.camera;
-  std::ofstream(folder / "intrinsics.K.txt") << camera.fx << " 0 " << camera.cx << "\n0 "
-                                              << camera.fy << " " << camera.cy << "\n0 0 1\n";
-  for (size_t i = 0; i < tiny.frames.size(); ++i) {
-    char stem[32];
-    std::snprintf(stem, sizeof(stem), "frame-%06zu", i);
-    const FrameData frame = loadFrame(tiny, i);
-    writeDepthPng(folder / (std::string(stem) + ".depth.png"), frame.depth, 0.001);
-    ASSERT_TRUE(frame.color.has_value());
-    writeColorPng(folder / (std::string(stem) + ".color.png"), *frame.color);
-    std::ofstream pose(folder / (std::string(stem) + ".pose.txt"));
-    pose.precision(17);
-    const Eigen::Matrix4d m = tiny.frames[i].T_world_camera.matrix();
-    for (int r = 0; r < 4; ++r) pose << m(r, 0) << " " << m(r, 1) << " " << m(r, 2) << " " << m(r, 3) << "\n";
-  }
+  test::writeFramesLayout(tiny_, folder);
   ASSERT_TRUE(window_.controller().openSequence(qPath(folder)))
       << (errors_.empty() ? std::string() : errors_.back().message.toStdString());
   EXPECT_TRUE(errors_.empty());
@@ -223,6 +210,49 @@ TEST_F(StudioWindowTest, RememberedAsRecentAndOpenedByDrop) {
   QApplication::sendEvent(&window_, &drop);
   EXPECT_EQ(window_.controller().sequenceName(), "dropped_shelf");
   EXPECT_TRUE(errors_.empty());
+}
+
+// The views still show the open sequence's frame while the new one is being
+// set up (its boxes choose the label of the heat map before its first frame
+// is shown): they must not read the freed sequence then.
+TEST_F(StudioWindowTest, OpensASequenceWhoseBoxesChooseAnotherLabel) {
+  ASSERT_TRUE(openTiny());
+  ASSERT_EQ(window_.session().selectedLabel(), test::kSquareLabel);
+  for (int round = 0; round < 3; ++round) {
+    const auto other = test::writeTinySequence(temp_ / ("cup_shelf" + std::to_string(round)));
+    Annotations boxes;
+    GroundTruthBox cup;
+    cup.label = 2;
+    cup.name = "blue_cup";
+    cup.box.center = {0.1, 0.1, 0.6};
+    cup.box.size = {0.05, 0.05, 0.05};
+    boxes.boxes.push_back(cup);
+    saveAnnotations(boxes, other.folder / "annotations.json");
+    ASSERT_TRUE(window_.controller().openSequence(qPath(other.folder)));
+    EXPECT_EQ(window_.session().selectedLabel(), 2);
+    ASSERT_TRUE(openTiny());
+    EXPECT_EQ(window_.session().selectedLabel(), test::kSquareLabel);
+  }
+  EXPECT_TRUE(errors_.empty());
+}
+
+// README says ROS bags open like sequences; dropping one must too.
+TEST_F(StudioWindowTest, DroppedRosBagIsAccepted) {
+  const auto bag = temp_ / "recording.bag";
+  std::ofstream(bag) << "#ROSBAG V2.0\n";
+  QMimeData mime;
+  mime.setUrls({QUrl::fromLocalFile(qPath(bag))});
+  EXPECT_EQ(SequenceDropHandler::droppedSequencePath(&mime), qPath(bag));
+  QDragEnterEvent enter(QPoint(40, 40), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+  QApplication::sendEvent(&window_, &enter);
+  EXPECT_TRUE(enter.isAccepted());
+
+  // Other files are still refused.
+  const auto text = temp_ / "notes.txt";
+  std::ofstream(text) << "notes\n";
+  QMimeData other;
+  other.setUrls({QUrl::fromLocalFile(qPath(text))});
+  EXPECT_EQ(SequenceDropHandler::droppedSequencePath(&other), QString());
 }
 
 bool isNear(QRgb pixel, const Rgb& color, int tolerance) {

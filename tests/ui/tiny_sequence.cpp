@@ -1,6 +1,9 @@
 #include "tiny_sequence.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <stdexcept>
 #include <string>
 
 #include "lom/sequence.hpp"
@@ -87,6 +90,27 @@ TinySequence writeTinySequence(const std::filesystem::path& folder) {
   }
   saveSequence(sequence, folder);
   return tiny;
+}
+
+void writeFramesLayout(const TinySequence& tiny, const std::filesystem::path& folder) {
+  const Sequence sequence = loadSequence(tiny.folder);
+  std::filesystem::create_directories(folder);
+  const CameraIntrinsics& camera = sequence.camera;
+  std::ofstream(folder / "intrinsics.K.txt")
+      << camera.fx << " 0 " << camera.cx << "\n0 " << camera.fy << " " << camera.cy << "\n0 0 1\n";
+  for (size_t i = 0; i < sequence.frames.size(); ++i) {
+    char stem[32];
+    std::snprintf(stem, sizeof(stem), "frame-%06zu", i);
+    const FrameData frame = loadFrame(sequence, i);
+    writeDepthPng(folder / (std::string(stem) + ".depth.png"), frame.depth, 0.001);
+    if (!frame.color) throw std::runtime_error("the tiny sequence has no colour");
+    writeColorPng(folder / (std::string(stem) + ".color.png"), *frame.color);
+    std::ofstream pose(folder / (std::string(stem) + ".pose.txt"));
+    pose.precision(17);
+    const Eigen::Matrix4d m = sequence.frames[i].T_world_camera.matrix();
+    for (int r = 0; r < 4; ++r)
+      pose << m(r, 0) << " " << m(r, 1) << " " << m(r, 2) << " " << m(r, 3) << "\n";
+  }
 }
 
 size_t countValidDepth(const DepthImage& depth) {

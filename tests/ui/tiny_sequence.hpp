@@ -23,6 +23,11 @@ struct TinySequence {
 
 TinySequence writeTinySequence(const std::filesystem::path& folder);
 
+// The tiny sequence's frames in the frame-folder layout of many RGB-D tools
+// (frame-NNNNNN.color.png, .depth.png in mm, .pose.txt, intrinsics.K.txt): a
+// dataset folder the studio converts when it opens it.
+void writeFramesLayout(const TinySequence& tiny, const std::filesystem::path& folder);
+
 // Pixels with a finite, positive depth.
 size_t countValidDepth(const DepthImage& depth);
 

@@ -26,10 +26,7 @@ void AddBoxReaction::updateEnabled() {
   action()->setEnabled(label && (mode_ == Mode::FitLabelVoxels || session_.pickedPoint()));
 }
 
-void AddBoxReaction::onTriggered() {
-  const auto sequence = session_.sequence();
-  const int label = session_.selectedLabel();
-  if (!sequence || !sequence->labels.contains(label)) return;
+bool AddBoxReaction::selectExistingBox(int label) {
   // One box per object: a label that has one gets it selected instead.
   AnnotationsModel& model = session_.annotations();
   for (int i = 0; i < model.boxCount(); ++i)
@@ -37,9 +34,17 @@ void AddBoxReaction::onTriggered() {
       model.select(i);
       emit failed(tr("Label already boxed"),
                   tr("%1 has a box already (selected now): edit or delete it.")
-                      .arg(QString::fromStdString(sequence->labels.at(label).name)));
-      return;
+                      .arg(QString::fromStdString(model.box(i).name)));
+      return true;
     }
+  return false;
+}
+
+void AddBoxReaction::onTriggered() {
+  const auto sequence = session_.sequence();
+  const int label = session_.selectedLabel();
+  if (!sequence || !sequence->labels.contains(label)) return;
+  if (selectExistingBox(label)) return;
   GroundTruthBox box;
   box.label = label;
   box.name = sequence->labels.at(label).name;
@@ -52,30 +57,52 @@ void AddBoxReaction::onTriggered() {
   }
   QPointer<AddBoxReaction> self(this);
   MapWorker* worker = &session_.worker();  // outlives its thread's jobs
-  worker->withMap([self, worker, box](const LabelMap* map) mutable {
-    std::vector<VoxelKey> keys;
-    double resolution = 0.0;
-    if (map) {
-      keys = largestCluster(map->voxelsOfLabel(box.label), 2.0);
-      resolution = map->parameters().resolution;
-    }
-    if (!keys.empty()) box.box = fitOrientedBox(keys, resolution);
-    const bool fitted = !keys.empty();
-    QMetaObject::invokeMethod(
-        worker,
-        [self, box, fitted] {
-          if (!self) return;
-          if (!fitted) {
-            emit self->failed(tr("No voxels to fit"),
-                              tr("The map has no voxels of %1. Fuse the sequence first, or "
-                                 "click a point in the 3D view and add a box there.")
-                                  .arg(QString::fromStdString(box.name)));
-            return;
-          }
-          self->session_.annotations().addBox(box);
-        },
-        Qt::QueuedConnection);
-  });
+  const unsigned generation = session_.mapGeneration();
+  const QString name = QString::fromStdString(box.name);
+  if (worker->isFusing())
+    emit status(tr("Box for %1 queued: it is fitted when fusion finishes (Fusion ▸ Cancel Fusion "
+                   "ends it now).")
+                    .arg(name));
+  worker->withMap(
+      [self, worker, box, generation](const LabelMap* map) mutable {
+        std::vector<VoxelKey> keys;
+        double resolution = 0.0;
+        if (map) {
+          keys = largestCluster(map->voxelsOfLabel(box.label), 2.0);
+          resolution = map->parameters().resolution;
+        }
+        if (!keys.empty()) box.box = fitOrientedBox(keys, resolution);
+        const bool fitted = !keys.empty();
+        QMetaObject::invokeMethod(
+            worker,
+            [self, box, fitted, generation] {
+              if (self) self->addFitted(box, fitted, generation);
+            },
+            Qt::QueuedConnection);
+      },
+      tr("box fit for %1").arg(name));
+}
+
+void AddBoxReaction::addFitted(const GroundTruthBox& box, bool fitted, unsigned generation) {
+  const QString name = QString::fromStdString(box.name);
+  emit status(QString());
+  if (generation != session_.mapGeneration()) {
+    emit status(tr("Box for %1 dropped: it was fitted to a map that has since been replaced "
+                   "(another sequence, a new fusion or Reset Map). Press B again.")
+                    .arg(name));
+    return;
+  }
+  if (!fitted) {
+    emit failed(tr("No voxels to fit"),
+                tr("The map has no voxels of %1. Fuse the sequence first, or click a point in "
+                   "the 3D view and add a box there.")
+                    .arg(name));
+    return;
+  }
+  // The label may have got a box while the fit waited (B pressed twice, or a
+  // box added by hand).
+  if (selectExistingBox(box.label)) return;
+  session_.annotations().addBox(box);
 }
 
 }  // namespace lom::ui

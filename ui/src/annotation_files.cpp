@@ -7,7 +7,6 @@
 #include <QTimer>
 #include <filesystem>
 
-#include "lom/annotations.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
@@ -22,15 +21,35 @@ Annotations boxesToSave(StudioSession& session) {
   if (session.sequence()) annotations.frame_id = session.sequence()->frame_id;
   return annotations;
 }
+
+QString studioDataFolder() {
+  QString base = QStandardPaths::writableLocation(QStandardPaths::AppDataLocation);
+  if (base.isEmpty()) base = QDir::tempPath() + "/labeloctomap-studio";
+  return base;
+}
+
+void reportUnknownLabels(StudioSession& session, const Annotations& boxes, const QString& file) {
+  if (!session.sequence()) return;
+  const QString message = unknownLabelsMessage(boxes, session.sequence()->labels, file);
+  if (!message.isEmpty())
+    emit session.controller().errorOccurred(QObject::tr("Boxes with unknown labels"), message);
+}
+
+bool isSequenceJson(const QFileInfo& info) {
+  return info.isFile() && info.fileName() == QLatin1String("sequence.json");
+}
 }  // namespace
 
 QString saveBoxes(StudioSession& session, const QString& path) {
+  const QString absolute = QFileInfo(path).absoluteFilePath();
+  // The studio's own boxes folder is created on first use.
+  if (absolute == boxesFileOf(session.controller())) QDir().mkpath(QFileInfo(absolute).path());
   try {
     saveAnnotations(boxesToSave(session), toPath(path));
   } catch (const std::exception& error) {
     return QString::fromStdString(error.what());
   }
-  session.annotations().markSaved(QFileInfo(path).absoluteFilePath());
+  session.annotations().markSaved(absolute);
   return {};
 }
 
@@ -38,6 +57,7 @@ QString loadBoxes(StudioSession& session, const QString& path) {
   try {
     const Annotations loaded = loadAnnotations(toPath(path));
     session.annotations().reset(loaded, QFileInfo(path).absoluteFilePath());
+    reportUnknownLabels(session, loaded, path);
   } catch (const std::exception& error) {
     return QString::fromStdString(error.what());
   }
@@ -51,6 +71,7 @@ QString importYamlBoxes(StudioSession& session, const QString& path) {
     if (session.sequence()) imported.frame_id = session.sequence()->frame_id;
     session.annotations().reset(imported, QString());
     session.annotations().undoStack().resetClean();
+    reportUnknownLabels(session, imported, path);
   } catch (const std::exception& error) {
     return QString::fromStdString(error.what());
   }
@@ -59,8 +80,89 @@ QString importYamlBoxes(StudioSession& session, const QString& path) {
 
 QString defaultBoxesPath(StudioSession& session) {
   if (!session.annotations().path().isEmpty()) return session.annotations().path();
-  if (!session.sequence()) return {};
-  return QString::fromStdString((session.sequence()->root / "annotations.json").string());
+  return boxesFileOf(session.controller());
+}
+
+QString canonicalSourcePath(const QString& opened_path) {
+  QFileInfo info(QDir::cleanPath(QFileInfo(opened_path).absoluteFilePath()));
+  if (isSequenceJson(info)) info = QFileInfo(info.absolutePath());
+  const QString canonical = info.canonicalFilePath();
+  return canonical.isEmpty() ? info.absoluteFilePath() : canonical;
+}
+
+QString perSourceFile(const QString& folder, const QString& opened_path) {
+  const QString source = canonicalSourcePath(opened_path);
+  const QString hash = QString::fromLatin1(
+      QCryptographicHash::hash(source.toUtf8(), QCryptographicHash::Sha1).toHex().left(12));
+  const QFileInfo info(source);
+  QString name = info.isDir() ? info.fileName() : info.completeBaseName();
+  if (name.isEmpty()) name = QStringLiteral("sequence");
+  return studioDataFolder() + "/" + folder + "/" + name + "-" + hash + ".json";
+}
+
+QString boxesFileOf(const SequenceController& controller) {
+  if (!controller.hasSequence()) return {};
+  if (controller.isConverted()) return perSourceFile("annotations", controller.sequencePath());
+  return QString::fromStdString((controller.sequence().root / "annotations.json").string());
+}
+
+QString legacyBoxesFileOf(const SequenceController& controller) {
+  if (!controller.hasSequence() || !controller.isConverted()) return {};
+  return QString::fromStdString((controller.sequence().root / "annotations.json").string());
+}
+
+void loadSequenceBoxes(StudioSession& session) {
+  SequenceController& controller = session.controller();
+  Annotations empty;
+  if (session.sequence()) empty.frame_id = session.sequence()->frame_id;
+  QString file = boxesFileOf(controller);
+  const QString legacy = legacyBoxesFileOf(controller);
+  if (!legacy.isEmpty() && !QFileInfo::exists(file) && QFileInfo::exists(legacy)) {
+    // Boxes saved in the import cache by earlier versions move to the durable place.
+    try {
+      const Annotations old = loadAnnotations(toPath(legacy));
+      QDir().mkpath(QFileInfo(file).path());
+      saveAnnotations(old, toPath(file));
+    } catch (const std::exception&) {
+      file = legacy;  // unreadable or not copied: it stays the file of these boxes
+    }
+  }
+  if (file.isEmpty() || !QFileInfo::exists(file)) {
+    session.annotations().reset(empty, QString());
+    return;
+  }
+  try {
+    const Annotations loaded = loadAnnotations(toPath(file));
+    session.annotations().reset(loaded, file);
+    reportUnknownLabels(session, loaded, file);
+  } catch (const std::exception& error) {
+    const QString message = QString::fromStdString(error.what());
+    session.annotations().resetUnreadable(empty, file, message);
+    emit controller.errorOccurred(
+        QObject::tr("Cannot load the annotations"),
+        QObject::tr("%1\n\nThe studio starts with no boxes and will not overwrite %2 without "
+                    "asking.")
+            .arg(message, file));
+  }
+}
+
+QString unknownLabelsMessage(const Annotations& annotations, const LabelSet& labels,
+                             const QString& file) {
+  QStringList problems;
+  for (size_t i = 0; i < annotations.boxes.size(); ++i) {
+    const int label = annotations.boxes[i].label;
+    if (labels.contains(label)) continue;
+    problems << QObject::tr("%1: boxes[%2]: label %3 is not a label of the sequence (0 to %4)")
+                    .arg(file)
+                    .arg(i)
+                    .arg(label)
+                    .arg(labels.size() - 1);
+  }
+  if (problems.isEmpty()) return {};
+  return problems.join('\n') +
+         QObject::tr(
+             "\n\nThese boxes are kept but cannot be scored: change their label or delete "
+             "them.");
 }
 
 BoxesAutosave::BoxesAutosave(StudioSession& session, std::function<bool(const QString&)> offer,
@@ -71,56 +173,63 @@ BoxesAutosave::BoxesAutosave(StudioSession& session, std::function<bool(const QS
   timer_->start();
   connect(&session_.controller(), &SequenceController::sequenceChanged, this,
           &BoxesAutosave::onSequenceChanged);
+  // Clean boxes need no recovery: a file left behind would offer boxes that
+  // were saved, undone or discarded.
+  connect(&session_.annotations(), &AnnotationsModel::dirtyChanged, this, [this](bool dirty) {
+    if (!dirty && !restoring_) discard();
+  });
   connect(&session_.annotations(), &AnnotationsModel::saved, this, &BoxesAutosave::discard);
 }
 
 QString BoxesAutosave::recoveryPath(const QString& sequence_path) {
-  QString base = QStandardPaths::writableLocation(QStandardPaths::AppDataLocation);
-  if (base.isEmpty()) base = QDir::tempPath() + "/labeloctomap-studio";
-  const QString absolute = QFileInfo(sequence_path).absoluteFilePath();
-  const QString hash = QString::fromLatin1(
-      QCryptographicHash::hash(absolute.toUtf8(), QCryptographicHash::Sha1).toHex().left(12));
-  QString name = QFileInfo(absolute).fileName();
-  if (name == "sequence.json") name = QFileInfo(QFileInfo(absolute).path()).fileName();
-  return base + "/recovery/" + name + "-" + hash + ".json";
-}
-
-QString BoxesAutosave::currentRecoveryPath() const {
-  if (!session_.controller().hasSequence()) return {};
-  return recoveryPath(session_.controller().sequencePath());
+  return perSourceFile("recovery", sequence_path);
 }
 
 void BoxesAutosave::writeNow() {
-  const QString path = currentRecoveryPath();
-  if (path.isEmpty() || !session_.annotations().isDirty()) return;
-  QDir().mkpath(QFileInfo(path).path());
+  if (recovery_path_.isEmpty() || !session_.annotations().isDirty()) return;
+  QDir().mkpath(QFileInfo(recovery_path_).path());
   try {
-    saveAnnotations(boxesToSave(session_), toPath(path));
+    saveAnnotations(boxesToSave(session_), toPath(recovery_path_));
   } catch (const std::exception&) {
     // A failed recovery copy must not interrupt the work; the next tick retries.
   }
 }
 
 void BoxesAutosave::discard() {
-  const QString path = currentRecoveryPath();
-  if (!path.isEmpty()) QFile::remove(path);
+  if (!recovery_path_.isEmpty()) QFile::remove(recovery_path_);
 }
 
 void BoxesAutosave::onSequenceChanged() {
-  const QString path = currentRecoveryPath();
+  // The previous sequence's boxes were discarded (or clean) when the new one
+  // replaced them, which removed its recovery file; from now on the file is
+  // the new sequence's.
+  recovery_path_ = session_.controller().hasSequence()
+                       ? recoveryPath(session_.controller().sequencePath())
+                       : QString();
+  const QString path = recovery_path_;
   if (path.isEmpty() || !QFileInfo::exists(path)) return;
   if (!offer_ || !offer_(path)) {
     QFile::remove(path);
     return;
   }
-  const QString saved_path = session_.annotations().path();
+  AnnotationsModel& model = session_.annotations();
+  const QString saved_path = model.path();
+  const QString unreadable_path = model.unreadablePath();
+  const QString unreadable_error = model.unreadableError();
+  restoring_ = true;
   try {
     // The real file stays the save target; the restored boxes are unsaved.
-    session_.annotations().reset(loadAnnotations(toPath(path)), saved_path);
-    session_.annotations().undoStack().resetClean();
+    const Annotations restored = loadAnnotations(toPath(path));
+    if (unreadable_path.isEmpty())
+      model.reset(restored, saved_path);
+    else
+      model.resetUnreadable(restored, unreadable_path, unreadable_error);
+    model.undoStack().resetClean();
+    reportUnknownLabels(session_, restored, path);
   } catch (const std::exception&) {
     QFile::remove(path);  // unreadable: nothing to restore
   }
+  restoring_ = false;
 }
 
 }  // namespace lom::ui

@@ -92,14 +92,26 @@ void AnnotationsModel::reset(const Annotations& annotations, const QString& path
   undo_stack_.clear();
   annotations_ = annotations;
   path_ = path;
+  unreadable_path_.clear();
+  unreadable_error_.clear();
   selected_ = annotations_.boxes.empty() ? -1 : 0;
   emit boxesChanged();
   emit selectionChanged(selected_);
   if (was_dirty) emit dirtyChanged(false);
 }
 
+void AnnotationsModel::resetUnreadable(const Annotations& annotations,
+                                       const QString& unreadable_path, const QString& error) {
+  reset(annotations, QString());
+  unreadable_path_ = unreadable_path;
+  unreadable_error_ = error;
+}
+
 void AnnotationsModel::markSaved(const QString& path) {
   path_ = path;
+  // Saved elsewhere (or over it after confirmation): the boxes have a file now.
+  unreadable_path_.clear();
+  unreadable_error_.clear();
   undo_stack_.setClean();
   emit saved();
 }

@@ -188,8 +188,9 @@ void BoxEditorPanel::onFieldEdited() {
   } else if (i < 6) {
     box.box.size[i - 3] = value;
   } else {
-    Eigen::Vector3d angles;
-    for (int a = 0; a < 3; ++a) angles[a] = fields_[static_cast<size_t>(6 + a)]->value() / kDegrees;
+    // The other two angles come from the box, not from their rounded fields.
+    Eigen::Vector3d angles = rollPitchYaw(box.box.rotation);
+    angles[i - 6] = value / kDegrees;
     box.box.rotation = fromRollPitchYaw(angles);
   }
   model.setBox(model.selected(), box, tr("Edit box"));

@@ -1,15 +1,40 @@
 #include "lom/ui/box_file_reaction.hpp"
 
 #include <QAction>
+#include <QDir>
 #include <QFileDialog>
+#include <QFileInfo>
 #include <QMessageBox>
+#include <QPushButton>
 
 #include "lom/ui/annotation_files.hpp"
 #include "lom/ui/annotations_model.hpp"
+#include "lom/ui/pending_edits.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
 
 namespace lom::ui {
+
+namespace {
+
+bool sameFile(const QString& a, const QString& b) {
+  const QFileInfo first(a), second(b);
+  if (first.exists() && second.exists())
+    return first.canonicalFilePath() == second.canonicalFilePath();
+  return first.absoluteFilePath() == second.absoluteFilePath();
+}
+
+// "annotations-2.json" (or -3, ...) beside `path`: a name nothing uses yet.
+QString freeNameBeside(const QString& path) {
+  const QFileInfo info(path);
+  for (int n = 2;; ++n) {
+    const QString candidate =
+        info.absolutePath() + "/" + info.completeBaseName() + "-" + QString::number(n) + ".json";
+    if (!QFileInfo::exists(candidate)) return candidate;
+  }
+}
+
+}  // namespace
 
 BoxFileReaction::BoxFileReaction(QAction* action, Kind kind, StudioSession& session,
                                  QWidget* parent, const ErrorReporter& report)
@@ -19,7 +44,33 @@ BoxFileReaction::BoxFileReaction(QAction* action, Kind kind, StudioSession& sess
   update();
 }
 
+bool BoxFileReaction::confirmTarget(QString& path) {
+  const AnnotationsModel& model = session_.annotations();
+  const QString json_filter = tr("Annotations (*.json)");
+  while (!model.unreadablePath().isEmpty() && sameFile(path, model.unreadablePath())) {
+    QMessageBox question(QMessageBox::Warning, tr("Overwrite an unreadable boxes file?"),
+                         tr("%1 could not be read when the sequence was opened:\n\n%2\n\n"
+                            "Saving there replaces it, and the boxes it holds are lost. Save the "
+                            "boxes under another name instead?")
+                             .arg(QDir::toNativeSeparators(path), model.unreadableError()),
+                         QMessageBox::Cancel, parent_);
+    QPushButton* save_as = question.addButton(tr("Save As…"), QMessageBox::AcceptRole);
+    QPushButton* overwrite = question.addButton(tr("Overwrite %1").arg(QFileInfo(path).fileName()),
+                                                QMessageBox::DestructiveRole);
+    question.setDefaultButton(save_as);
+    question.setEscapeButton(QMessageBox::Cancel);
+    question.exec();
+    if (question.clickedButton() == overwrite) return true;
+    if (question.clickedButton() != save_as) return false;
+    path =
+        QFileDialog::getSaveFileName(parent_, tr("Save Boxes"), freeNameBeside(path), json_filter);
+    if (path.isEmpty()) return false;
+  }
+  return true;
+}
+
 void BoxFileReaction::onTriggered() {
+  commitPendingEdits();  // a value still being typed belongs to the boxes
   const QString start = defaultBoxesPath(session_);
   const QString json_filter = tr("Annotations (*.json)");
   QString path;
@@ -44,6 +95,7 @@ void BoxFileReaction::onTriggered() {
       break;
   }
   if (path.isEmpty()) return;
+  if ((kind_ == Kind::Save || kind_ == Kind::SaveAs) && !confirmTarget(path)) return;
   QString error;
   if (kind_ == Kind::Open)
     error = loadBoxes(session_, path);

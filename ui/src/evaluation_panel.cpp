@@ -14,6 +14,7 @@
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/score_chart.hpp"
+#include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
 
 namespace lom::ui {
@@ -78,8 +79,17 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   connect(&worker, &MapWorker::snapshotChanged, this, [this] {
     if (!session_.worker().isFusing()) requestUpdate();  // re-thresholded or reset
   });
+  // A report belongs to one map and one set of boxes: once either changes it
+  // cannot be exported until it is recomputed.
+  connect(&worker, &MapWorker::stateChanged, this, [this](MapWorker::State state) {
+    if (state == MapWorker::State::Fusing && report_)
+      clearReport(tr("Fusing: the map is scored when fusion finishes."));
+  });
+  connect(&session_.controller(), &SequenceController::sequenceChanged, this,
+          [this] { clearReport(tr("Fuse the sequence to score the map.")); });
   connect(&worker, &MapWorker::evaluationFinished, this, &EvaluationPanel::show);
-  connect(&worker, &MapWorker::evaluationFailed, this, &EvaluationPanel::showMessage);
+  connect(&worker, &MapWorker::evaluationFailed, this,
+          [this](const QString& message) { clearReport(message); });
   connect(export_, &QPushButton::clicked, this, [this] {
     const QString dir = QFileDialog::getExistingDirectory(this, tr("Export Report To"));
     if (dir.isEmpty()) return;
@@ -93,7 +103,22 @@ bool EvaluationPanel::isBusy() const {
   return debounce_->isActive() || session_.worker().isEvaluating();
 }
 
-void EvaluationPanel::requestUpdate() { debounce_->start(); }
+void EvaluationPanel::requestUpdate() {
+  // The scores shown are out of date until the new ones arrive.
+  stale_ = true;
+  export_->setEnabled(false);
+  debounce_->start();
+}
+
+void EvaluationPanel::clearReport(const QString& message) {
+  report_.reset();
+  stale_ = true;
+  awaiting_ = false;  // results of evaluations asked for before are dropped
+  table_->setRowCount(0);
+  chart_->setObjects({});
+  export_->setEnabled(false);
+  showMessage(message);
+}
 
 void EvaluationPanel::evaluateNow() {
   const auto sequence = session_.sequence();
@@ -101,15 +126,11 @@ void EvaluationPanel::evaluateNow() {
   if (session_.worker().isFusing()) return;  // fusionFinished asks again
   const Annotations& boxes = session_.annotations().annotations();
   if (boxes.boxes.empty()) {
-    report_.reset();
-    table_->setRowCount(0);
-    chart_->setObjects({});
-    export_->setEnabled(false);
-    summary_->setText(tr("No boxes: add one (Annotate menu) to score the map."));
+    clearReport(tr("No boxes: add one (Annotate menu) to score the map."));
     return;
   }
   if (!session_.worker().snapshot() || session_.worker().snapshot()->frames_fused == 0) {
-    showMessage(tr("Fuse the sequence to score the map."));
+    clearReport(tr("Fuse the sequence to score the map."));
     return;
   }
   EvaluationOptions options;
@@ -117,11 +138,15 @@ void EvaluationPanel::evaluateNow() {
   Annotations annotations = boxes;
   annotations.frame_id = sequence->frame_id;
   summary_->setText(tr("Scoring…"));
+  awaiting_ = true;
   session_.worker().evaluate(sequence, annotations, options);
 }
 
 void EvaluationPanel::show(const EvaluationReport& report) {
+  if (!awaiting_) return;  // asked for before the map or sequence changed
   report_ = report;
+  // Boxes changed again while scoring: newer scores are on their way.
+  stale_ = debounce_->isActive() || session_.worker().isEvaluating();
   table_->setSortingEnabled(false);
   table_->setRowCount(static_cast<int>(report.objects.size()));
   for (int row = 0; row < table_->rowCount(); ++row) {
@@ -146,7 +171,7 @@ void EvaluationPanel::show(const EvaluationReport& report) {
                         .arg(s.box_iou.labeloctomap * 100.0, 0, 'f', 1)
                         .arg(s.labeloctomap_beats_projection_max));
   chart_->setObjects(report.objects);
-  export_->setEnabled(true);
+  export_->setEnabled(!stale_);
   emit reportShown();
 }
 
@@ -158,6 +183,10 @@ QString EvaluationPanel::summaryText() const { return summary_->text(); }
 
 QString EvaluationPanel::exportReport(const QString& dir) const {
   if (!report_) return tr("Nothing to export yet.");
+  if (stale_)
+    return tr(
+        "The scores shown are out of date (the boxes or the map changed): wait for the "
+        "new scores, then export.");
   try {
     writeReport(*report_, std::filesystem::path(dir.toStdString()));
   } catch (const std::exception& error) {

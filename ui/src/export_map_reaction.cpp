@@ -2,6 +2,7 @@
 
 #include <QAction>
 #include <QFileDialog>
+#include <QFileInfo>
 #include <QMetaObject>
 #include <QPointer>
 
@@ -38,29 +39,35 @@ void ExportMapReaction::exportTo(const QString& path) {
   QPointer<ExportMapReaction> self(this);
   MapWorker* worker = &session_.worker();
   const ExportOptions options = options_;
-  worker->withMap([self, worker, options, path](const LabelMap* map) {
-    QString message;
-    bool ok = false;
-    if (!map) {
-      message = tr("Fuse the sequence first.");
-    } else {
-      try {
-        const ExportSummary summary = exportMap(*map, options, path.toStdString());
-        message = tr("Wrote %1 %2 to %3")
-                      .arg(summary.items)
-                      .arg(QString::fromStdString(summary.item_name), path);
-        ok = true;
-      } catch (const std::exception& error) {
-        message = QString::fromStdString(error.what());
-      }
-    }
-    QMetaObject::invokeMethod(
-        worker,
-        [self, message, ok] {
-          if (self) emit self->finished(message, ok);
-        },
-        Qt::QueuedConnection);
-  });
+  if (worker->isFusing())
+    emit queued(tr("Export to %1 queued: it runs when fusion finishes (Fusion ▸ Cancel Fusion "
+                   "ends it now).")
+                    .arg(QFileInfo(path).fileName()));
+  worker->withMap(
+      [self, worker, options, path](const LabelMap* map) {
+        QString message;
+        bool ok = false;
+        if (!map) {
+          message = tr("Fuse the sequence first.");
+        } else {
+          try {
+            const ExportSummary summary = exportMap(*map, options, path.toStdString());
+            message = tr("Wrote %1 %2 to %3")
+                          .arg(summary.items)
+                          .arg(QString::fromStdString(summary.item_name), path);
+            ok = true;
+          } catch (const std::exception& error) {
+            message = QString::fromStdString(error.what());
+          }
+        }
+        QMetaObject::invokeMethod(
+            worker,
+            [self, message, ok] {
+              if (self) emit self->finished(message, ok);
+            },
+            Qt::QueuedConnection);
+      },
+      tr("export of the map to %1").arg(path));
 }
 
 }  // namespace lom::ui

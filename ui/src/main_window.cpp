@@ -7,38 +7,39 @@
 #include <QLabel>
 #include <QMenuBar>
 #include <QMessageBox>
+#include <QPushButton>
 #include <QSplitter>
 #include <QStatusBar>
 #include <QStyle>
 #include <QVBoxLayout>
 
 #include "lom/ui/about_reaction.hpp"
-#include "lom/ui/frame_images_view.hpp"
-#include "lom/ui/frame_step_reaction.hpp"
 #include "lom/ui/add_box_reaction.hpp"
 #include "lom/ui/annotation_files.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/box_editor_panel.hpp"
 #include "lom/ui/box_file_reaction.hpp"
-#include "lom/ui/export_map_reaction.hpp"
-#include "lom/ui/picked_voxel_view.hpp"
-#include "lom/ui/save_screenshot_reaction.hpp"
-#include "lom/ui/scene_view_reaction.hpp"
 #include "lom/ui/evaluation_panel.hpp"
-#include "lom/ui/objects_panel.hpp"
-#include "lom/ui/shortcuts_help_reaction.hpp"
+#include "lom/ui/export_map_reaction.hpp"
+#include "lom/ui/frame_images_view.hpp"
+#include "lom/ui/frame_step_reaction.hpp"
 #include "lom/ui/fusion_panel.hpp"
 #include "lom/ui/fusion_reactions.hpp"
 #include "lom/ui/fusion_status.hpp"
 #include "lom/ui/map_legend_panel.hpp"
 #include "lom/ui/map_worker.hpp"
-#include "lom/ui/studio_session.hpp"
+#include "lom/ui/objects_panel.hpp"
 #include "lom/ui/open_sequence_reaction.hpp"
+#include "lom/ui/picked_voxel_view.hpp"
 #include "lom/ui/recent_sequences_reaction.hpp"
 #include "lom/ui/reset_camera_reaction.hpp"
+#include "lom/ui/save_screenshot_reaction.hpp"
 #include "lom/ui/scene_view.hpp"
+#include "lom/ui/scene_view_reaction.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/sequence_drop_handler.hpp"
+#include "lom/ui/shortcuts_help_reaction.hpp"
+#include "lom/ui/studio_session.hpp"
 
 // Resources compiled into a static library are only registered on request;
 // Q_INIT_RESOURCE must be used outside any namespace.
@@ -121,6 +122,8 @@ MainWindow::MainWindow(QWidget* parent)
 
   connect(controller_, &SequenceController::errorOccurred, this,
           [this](const QString& title, const QString& message) { report_error_(title, message); });
+  connect(controller_, &SequenceController::sequenceAboutToChange, frame_images_,
+          &FrameImagesView::clear);
   connect(controller_, &SequenceController::sequenceChanged, this, &MainWindow::onSequenceChanged);
   connect(controller_, &SequenceController::currentFrameChanged, this,
           &MainWindow::onCurrentFrameChanged);
@@ -193,6 +196,12 @@ void MainWindow::createAnnotateMenu() {
     auto* reaction = new AddBoxReaction(action, mode, *session_);
     connect(reaction, &AddBoxReaction::failed, this,
             [this](const QString& title, const QString& message) { report_error_(title, message); });
+    connect(reaction, &AddBoxReaction::status, this, [this](const QString& message) {
+      if (message.isEmpty())
+        statusBar()->clearMessage();
+      else
+        statusBar()->showMessage(message);
+    });
   };
   add_box(tr("Add Box from Label Voxels"), AddBoxReaction::Mode::FitLabelVoxels, Qt::Key_B);
   add_box(tr("Add Box at Clicked Point"), AddBoxReaction::Mode::AtPickedPoint, Qt::SHIFT + Qt::Key_B);
@@ -202,9 +211,29 @@ void MainWindow::createAnnotateMenu() {
 }
 
 bool MainWindow::confirmDiscard() {
-  if (!confirmDiscardUnsavedWork(this)) return false;
-  autosave_->discard();
-  return true;
+  // The recovery file stays until the boxes are really replaced: when the
+  // other sequence fails to open, they are still the ones being worked on.
+  return confirmDiscardUnsavedWork(this);
+}
+
+bool MainWindow::confirmStopWork() {
+  const MapWorker& worker = session_->worker();
+  QStringList work;
+  if (worker.isFusing())
+    work << (worker.state() == MapWorker::State::Paused ? tr("fusion of %1 (paused)")
+                                                        : tr("fusion of %1"))
+                .arg(controller_->sequenceName());
+  work << worker.pendingWork();
+  if (work.isEmpty()) return true;
+  QMessageBox question(QMessageBox::Question, tr("Stop the work in progress?"),
+                       tr("Closing the studio now stops:\n\n• %1\n\nWhat has not finished is "
+                          "dropped.")
+                           .arg(work.join("\n• ")),
+                       QMessageBox::Cancel, this);
+  QPushButton* close = question.addButton(tr("Close Anyway"), QMessageBox::DestructiveRole);
+  question.setDefaultButton(QMessageBox::Cancel);
+  question.exec();
+  return question.clickedButton() == close;
 }
 
 void MainWindow::setRecoveryOffer(std::function<bool(const QString&)> offer) {
@@ -294,8 +323,13 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
     options.format = format;
     auto* reaction = new ExportMapReaction(export_menu->addAction(text), options, *session_, this,
                                            report_error_);
+    connect(reaction, &ExportMapReaction::queued, this,
+            [this](const QString& message) { statusBar()->showMessage(message); });
     connect(reaction, &ExportMapReaction::finished, this, [this](const QString& message, bool ok) {
-      if (ok) statusBar()->showMessage(message, 8000);
+      if (ok)
+        statusBar()->showMessage(message, 8000);
+      else
+        statusBar()->clearMessage();
     });
   };
   export_action(tr("Voxel Mesh (PLY)…"), ExportFormat::Ply);
@@ -367,10 +401,12 @@ void MainWindow::onCurrentFrameChanged() {
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
-  if (controller_->hasUnsavedWork() && !confirmDiscard()) {
+  const bool unsaved = controller_->hasUnsavedWork();  // commits a value being typed first
+  if ((unsaved && !confirmDiscard()) || !confirmStopWork()) {
     event->ignore();
     return;
   }
+  if (unsaved) autosave_->discard();  // the user chose to drop the boxes
   event->accept();
 }
 

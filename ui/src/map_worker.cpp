@@ -1,10 +1,11 @@
-#include "lom/segmenter.hpp"
 #include "lom/ui/map_worker.hpp"
 
 #include <QMetaObject>
+#include <algorithm>
 #include <chrono>
 
 #include "lom/error.hpp"
+#include "lom/segmenter.hpp"
 
 namespace lom::ui {
 
@@ -261,8 +262,25 @@ void MapWorker::evaluate(std::shared_ptr<const Sequence> sequence, const Annotat
       false);
 }
 
-void MapWorker::withMap(std::function<void(const LabelMap*)> job) {
-  post([this, job = std::move(job)] { job(map_.get()); }, false);
+void MapWorker::withMap(std::function<void(const LabelMap*)> job, const QString& description) {
+  const unsigned id = ++map_job_id_;
+  if (!description.isEmpty()) pending_work_.emplace_back(id, description);
+  post(
+      [this, id, job = std::move(job)] {
+        job(map_.get());
+        inGui([this, id] {
+          pending_work_.erase(std::remove_if(pending_work_.begin(), pending_work_.end(),
+                                             [id](const auto& work) { return work.first == id; }),
+                              pending_work_.end());
+        });
+      },
+      false);
+}
+
+QStringList MapWorker::pendingWork() const {
+  QStringList work;
+  for (const auto& entry : pending_work_) work << entry.second;
+  return work;
 }
 
 }  // namespace lom::ui

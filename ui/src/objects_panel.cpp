@@ -93,15 +93,21 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
 
   MapWorker& worker = session_.worker();
   connect(&worker, &MapWorker::fusionFinished, this, [this](bool) { refresh(); });
-  connect(&session_.controller(), &SequenceController::sequenceChanged, this, [this] {
-    ++generation_;
-    objects_.clear();
-    table_->setRowCount(0);
-    target_->clear();
-    plan_button_->setEnabled(false);
-    clearPlan();
-    emitBoxes();
-    showMessage(tr("Fuse the sequence to extract its objects."));
+  connect(&session_.controller(), &SequenceController::sequenceChanged, this,
+          [this] { clearObjects(tr("Fuse the sequence to extract its objects.")); });
+  // The objects (and a plan made from them) belong to one map: a new fusion
+  // or Reset Map drops them, a re-thresholded map is extracted again.
+  connect(&worker, &MapWorker::stateChanged, this, [this](MapWorker::State state) {
+    if (state == MapWorker::State::Fusing)
+      clearObjects(tr("Fusing: the objects are listed when fusion finishes."));
+  });
+  connect(&worker, &MapWorker::snapshotChanged, this, [this] {
+    if (session_.worker().isFusing()) return;  // fusionFinished refreshes
+    const auto snapshot = session_.worker().snapshot();
+    if (!snapshot || snapshot->frames_fused == 0)
+      clearObjects(tr("The map is empty: fuse the sequence to list its objects."));
+    else
+      refresh();
   });
   connect(refresh_, &QPushButton::clicked, this, &ObjectsPanel::refresh);
   connect(plan_button_, &QPushButton::clicked, this, &ObjectsPanel::planPick);
@@ -150,6 +156,17 @@ void ObjectsPanel::refresh() {
   });
 }
 
+void ObjectsPanel::clearObjects(const QString& message) {
+  ++generation_;  // an extraction under way is of the old map
+  objects_.clear();
+  table_->setRowCount(0);
+  target_->clear();
+  plan_button_->setEnabled(false);
+  clearPlan();
+  emitBoxes();
+  showMessage(message);
+}
+
 void ObjectsPanel::showObjects(std::vector<ObjectInstance> objects) {
   objects_ = std::move(objects);
   clearPlan();
@@ -179,6 +196,7 @@ void ObjectsPanel::showObjects(std::vector<ObjectInstance> objects) {
 void ObjectsPanel::planPick() {
   const auto sequence = session_.sequence();
   if (!sequence || objects_.empty() || target_->currentIndex() < 0) return;
+  if (session_.worker().isFusing()) return;  // the objects are of the previous map
   const int target = target_->currentData().toInt();
   try {
     PlanOptions options;

@@ -17,10 +17,8 @@ void SaveScreenshotReaction::onTriggered() {
                                                     tr("Images (*.png *.jpg)"));
   if (path.isEmpty()) return;
   const QImage shot = captureWindow(window_, scene_);
-  if (!shot.save(path))
-    QMessageBox::warning(&window_, tr("Save Screenshot"),
-                         tr("Cannot write %1 (check the folder is writable and the extension "
-                            "is .png or .jpg).").arg(path));
+  const QString error = saveImageAtomically(shot, path);
+  if (!error.isEmpty()) QMessageBox::warning(&window_, tr("Save Screenshot"), error);
 }
 
 }  // namespace lom::ui

@@ -6,7 +6,6 @@
 #include <utility>
 
 #include "lom/error.hpp"
-#include "lom/import.hpp"
 #include "lom/ui/frame_labels.hpp"
 
 namespace lom::ui {
@@ -25,6 +24,17 @@ QString describeFailure(const std::exception& error, const QString& path) {
   return path + ": " + QString::fromStdString(error.what());
 }
 
+// The importer's messages name its command-line options; say how to give them
+// to the studio.
+QString withStudioHint(QString message) {
+  if (message.contains("--intrinsics"))
+    message += QObject::tr(
+        "\n\nThe studio takes the same option when it starts: labeloctomap-studio --intrinsics "
+        "fx,fy,cx,cy (or a file with the camera matrix) PATH. Or convert the recording first with "
+        "labeloctomap import and open the sequence it writes.");
+  return message;
+}
+
 }  // namespace
 
 SequenceController::SequenceController(QObject* parent) : QObject(parent) {}
@@ -34,16 +44,21 @@ SequenceController::~SequenceController() = default;
 bool SequenceController::openSequence(const QString& folder_or_json) {
   if (hasUnsavedWork() && discard_guard_ && !discard_guard_()) return false;
   const QString absolute = QFileInfo(folder_or_json).absoluteFilePath();
+  OpenedSource opened;
   try {
     // A sequence opens as it is; a ROS bag or a dataset folder that the importer
     // recognises is converted once into the import cache and opened from there.
-    auto loaded = std::make_unique<Sequence>(openSource(toPath(absolute)).sequence);
-    sequence_ = std::move(loaded);
+    opened = openSource(toPath(absolute), import_options_);
   } catch (const std::exception& error) {
-    emit errorOccurred(tr("Cannot open sequence"), describeFailure(error, absolute));
+    emit errorOccurred(tr("Cannot open sequence"),
+                       withStudioHint(describeFailure(error, absolute)));
     return false;
   }
+  // Views holding the old sequence or frame let go of them before they are freed.
+  emit sequenceAboutToChange();
+  sequence_ = std::make_unique<Sequence>(std::move(opened.sequence));
   sequence_path_ = absolute;
+  converted_ = opened.converted;
   reported_broken_frames_.clear();
   current_frame_ = sequence_->frames.empty() ? -1 : 0;
   loadCurrentFrame();

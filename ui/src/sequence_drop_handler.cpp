@@ -22,7 +22,9 @@ QString SequenceDropHandler::droppedSequencePath(const QMimeData* mime) {
   for (const QUrl& url : mime->urls()) {
     if (!url.isLocalFile()) continue;
     const QFileInfo info(url.toLocalFile());
-    if (info.isDir() || info.suffix().compare("json", Qt::CaseInsensitive) == 0)
+    // A sequence folder or its sequence.json, a dataset folder, or a ROS bag.
+    if (info.isDir() || info.suffix().compare("json", Qt::CaseInsensitive) == 0 ||
+        info.suffix().compare("bag", Qt::CaseInsensitive) == 0)
       return info.absoluteFilePath();
   }
   return {};

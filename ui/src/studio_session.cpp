@@ -1,10 +1,10 @@
 #include "lom/ui/studio_session.hpp"
 
-#include <filesystem>
-
 #include "lom/annotations.hpp"
+#include "lom/ui/annotation_files.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/map_worker.hpp"
+#include "lom/ui/pending_edits.hpp"
 #include "lom/ui/sequence_controller.hpp"
 
 namespace lom::ui {
@@ -14,7 +14,10 @@ StudioSession::StudioSession(QObject* parent)
       controller_(new SequenceController(this)),
       worker_(new MapWorker(this)),
       annotations_(new AnnotationsModel(this)) {
-  controller_->setUnsavedWorkCheck([this] { return annotations_->isDirty(); });
+  controller_->setUnsavedWorkCheck([this] {
+    commitPendingEdits();  // a value still being typed is part of the work
+    return annotations_->isDirty();
+  });
   connect(controller_, &SequenceController::sequenceChanged, this,
           &StudioSession::onSequenceChanged);
 }
@@ -27,26 +30,14 @@ void StudioSession::onSequenceChanged() {
   picked_point_.reset();
   emit hiddenLabelsChanged();
 
-  // The boxes beside the sequence, when there are any, are the ones to edit.
-  Annotations boxes;
-  boxes.frame_id = sequence_->frame_id;
-  QString path;
-  const auto beside = sequence_->root / "annotations.json";
-  std::error_code ec;
-  if (std::filesystem::exists(beside, ec)) {
-    try {
-      boxes = loadAnnotations(beside);
-      path = QString::fromStdString(beside.string());
-    } catch (const std::exception& error) {
-      emit controller_->errorOccurred(tr("Cannot load the annotations"),
-                                      QString::fromStdString(error.what()));
-    }
-  }
-  annotations_->reset(boxes, path);
+  // The boxes of the sequence, when there are any, are the ones to edit.
+  loadSequenceBoxes(*this);
+  const Annotations& boxes = annotations_->annotations();
   // New boxes get the first boxed label (else the first object label) until
   // another is chosen.
   setSelectedLabel(!boxes.boxes.empty() ? boxes.boxes.front().label
                                         : (sequence_->labels.size() > 1 ? 1 : -1));
+  ++map_generation_;
   worker_->reset();
   if (auto_fuse_) fuse();
 }
@@ -66,11 +57,15 @@ void StudioSession::setOccupancyThreshold(double threshold) {
 
 void StudioSession::fuse() {
   if (!sequence_) return;
+  ++map_generation_;
   worker_->setOccupancyThreshold(options_.map.occupancy_threshold);
   worker_->startFusion(sequence_, options_);
 }
 
-void StudioSession::resetMap() { worker_->reset(); }
+void StudioSession::resetMap() {
+  ++map_generation_;
+  worker_->reset();
+}
 
 void StudioSession::setSelectedLabel(int label) {
   if (label == selected_label_) return;

@@ -2,11 +2,14 @@
 
 #include <QCoreApplication>
 #include <QElapsedTimer>
+#include <QImageWriter>
 #include <QPainter>
 #include <QThread>
 #include <QWidget>
 #include <QWindow>
 
+#include "lom/atomic_file.hpp"
+#include "lom/error.hpp"
 #include "lom/ui/scene_view.hpp"
 
 namespace lom::ui {
@@ -35,6 +38,24 @@ QImage captureWindow(QWidget& window, SceneView& scene) {
     painter.drawImage(area, rendered);
   }
   return shot;
+}
+
+QString saveImageAtomically(const QImage& image, const QString& path) {
+  const QString target = path;
+  try {
+    lom::writePathAtomically(std::filesystem::path(path.toStdString()),
+                             [&](const std::filesystem::path& temporary) {
+                               QImageWriter writer(QString::fromStdString(temporary.string()));
+                               if (!writer.write(image))
+                                 throw Error(target.toStdString(), "image",
+                                             "an image format such as .png or .jpg and a "
+                                             "writable folder",
+                                             writer.errorString().toStdString());
+                             });
+  } catch (const std::exception& error) {
+    return QString::fromStdString(error.what());
+  }
+  return {};
 }
 
 }  // namespace lom::ui

@@ -1,6 +1,7 @@
 #pragma once
-// Outputs are written to a temporary file beside the target and renamed into
-// place, so a failure never leaves half a file and never destroys the old one.
+// Outputs are written to a temporary file beside the target, flushed to the disk
+// and renamed into place, so a failure (or a power cut) never leaves half a file
+// and never destroys the old one. A replaced file keeps its permissions.
 #include <filesystem>
 #include <functional>
 #include <iosfwd>

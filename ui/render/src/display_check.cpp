@@ -44,11 +44,13 @@ Display* openDisplayOnce(const std::string& name) {
 
 }  // namespace
 
+bool canOpenDisplay(const std::string& name) { return openDisplayOnce(name) != nullptr; }
+
 std::optional<std::string> displayProblem() {
   const char* name = std::getenv("DISPLAY");
   if (!name || !*name)
     return std::string("render needs an X server and DISPLAY is not set; ") + kXvfbHint;
-  if (!openDisplayOnce(name))
+  if (!canOpenDisplay(name))
     return std::string("render needs an X server and cannot open display '") + name + "'; " +
            kXvfbHint;
   return std::nullopt;

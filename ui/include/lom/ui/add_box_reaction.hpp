@@ -1,7 +1,10 @@
 #pragma once
 // Annotate > Add Box: for the selected label, either fitted to that label's
 // voxels (the same oriented-box fit as the evaluation) or with a default size
-// at the last clicked point.
+// at the last clicked point. The fit runs on the map worker once fusion has
+// ended; the box is added only if its label still has no box and the map it
+// was fitted to is still the session's (not another sequence's or a reset one).
+#include "lom/annotations.hpp"
 #include "lom/ui/reaction.hpp"
 
 namespace lom::ui {
@@ -19,12 +22,18 @@ class AddBoxReaction : public Reaction {
 
  signals:
   void failed(const QString& title, const QString& message);
+  // Progress worth a status-bar line ("queued until fusion finishes"); an
+  // empty message clears it.
+  void status(const QString& message);
 
  protected:
   void onTriggered() override;
 
  private:
   void updateEnabled();
+  // Selects the label's box and says so; false when the label has none.
+  bool selectExistingBox(int label);
+  void addFitted(const GroundTruthBox& box, bool fitted, unsigned generation);
 
   Mode mode_;
   StudioSession& session_;

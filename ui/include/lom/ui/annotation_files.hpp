@@ -1,28 +1,65 @@
 #pragma once
 // Saving and loading the session's ground-truth boxes (annotations v1 JSON,
-// written atomically), importing the original experiments' YAML boxes, and
-// the crash-recovery copy written by the autosave.
+// written atomically), importing the original experiments' YAML boxes, where
+// a sequence's boxes live, and the crash-recovery copy written by the autosave.
 #include <QObject>
 #include <QString>
 #include <functional>
+
+#include "lom/annotations.hpp"
+#include "lom/labels.hpp"
 
 class QTimer;
 
 namespace lom::ui {
 
+class SequenceController;
 class StudioSession;
 
 // Each returns an empty string on success, else a message naming the file.
 QString saveBoxes(StudioSession& session, const QString& path);
-QString loadBoxes(StudioSession& session, const QString& path);   // replaces, clean state
+// Replaces the boxes (clean state); boxes whose label the sequence does not
+// have are loaded too and reported through the controller's errorOccurred.
+QString loadBoxes(StudioSession& session, const QString& path);
 QString importYamlBoxes(StudioSession& session, const QString& path);  // replaces, unsaved
-// Where boxes are saved by default: the file they came from, else
-// annotations.json beside sequence.json.
+// Where boxes are saved by default: the file they came from, else the
+// sequence's boxes file (boxesFileOf).
 [[nodiscard]] QString defaultBoxesPath(StudioSession& session);
 
+// What was opened, independent of how its path was typed: the canonical path
+// of the sequence folder (also when its sequence.json was named, with or
+// without a trailing slash, through a symbolic link or a relative path), or of
+// the ROS bag or dataset folder that was converted.
+[[nodiscard]] QString canonicalSourcePath(const QString& opened_path);
+// <AppDataLocation>/<folder>/<name>-<hash of canonicalSourcePath>.json: a file
+// of the studio's own that belongs to one sequence or recording.
+[[nodiscard]] QString perSourceFile(const QString& folder, const QString& opened_path);
+// The boxes of the open sequence: annotations.json beside its sequence.json,
+// or for a converted bag or dataset folder (whose sequence is only a cache
+// entry, rebuilt whenever the recording changes) the per-source file under
+// <AppDataLocation>/annotations. Empty without a sequence.
+[[nodiscard]] QString boxesFileOf(const SequenceController& controller);
+// Where earlier versions kept the boxes of a converted recording: beside the
+// converted sequence in the import cache (empty for a plain sequence).
+[[nodiscard]] QString legacyBoxesFileOf(const SequenceController& controller);
+
+// Loads the open sequence's boxes file into the session: empty boxes when it
+// has none; when it cannot be read, empty boxes that remember the file as
+// unreadable (so it is not overwritten unasked). A converted recording whose
+// boxes are still in the legacy place gets them copied to boxesFileOf first.
+// Problems go to the controller's errorOccurred.
+void loadSequenceBoxes(StudioSession& session);
+
+// "FILE: boxes[i]: label N is not a label of the sequence ..." for each box
+// whose label `labels` does not have; empty when all are known.
+[[nodiscard]] QString unknownLabelsMessage(const Annotations& annotations, const LabelSet& labels,
+                                           const QString& file);
+
 // Writes the unsaved boxes of the open sequence to a recovery file every
-// `interval_ms` (and removes it once they are saved or discarded). Opening a
-// sequence with a recovery file asks `offer` whether to restore it.
+// `interval_ms`, and removes it as soon as the boxes in memory are clean
+// again (saved, undone back to the saved state, replaced by other boxes, or
+// discarded with the sequence once another one opened). Opening a sequence
+// with a recovery file asks `offer` whether to restore it.
 class BoxesAutosave : public QObject {
   Q_OBJECT
 
@@ -30,9 +67,9 @@ class BoxesAutosave : public QObject {
   // offer(recovery_file) returns true to restore.
   BoxesAutosave(StudioSession& session, std::function<bool(const QString&)> offer,
                 int interval_ms = 60'000);
-  // <AppDataLocation>/recovery/<folder name>-<hash of the sequence path>.json
+  // perSourceFile("recovery", sequence_path)
   [[nodiscard]] static QString recoveryPath(const QString& sequence_path);
-  [[nodiscard]] QString currentRecoveryPath() const;
+  [[nodiscard]] QString currentRecoveryPath() const { return recovery_path_; }
   void setOffer(std::function<bool(const QString&)> offer) { offer_ = std::move(offer); }
   void writeNow();
   void discard();  // removes the recovery file of the open sequence
@@ -43,6 +80,8 @@ class BoxesAutosave : public QObject {
   StudioSession& session_;
   std::function<bool(const QString&)> offer_;
   QTimer* timer_;
+  QString recovery_path_;  // of the open sequence
+  bool restoring_ = false;
 };
 
 }  // namespace lom::ui

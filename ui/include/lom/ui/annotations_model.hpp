@@ -24,9 +24,17 @@ class AnnotationsModel : public QObject {
   [[nodiscard]] bool isDirty() const { return !undo_stack_.isClean(); }
   // The file the boxes were loaded from or last saved to (empty when new).
   [[nodiscard]] QString path() const { return path_; }
+  // The boxes file of the sequence that exists but could not be read (empty
+  // when there is none), and why. It is never written without the user's
+  // explicit confirmation: the boxes in it would be lost.
+  [[nodiscard]] QString unreadablePath() const { return unreadable_path_; }
+  [[nodiscard]] QString unreadableError() const { return unreadable_error_; }
 
   // Replaces everything, clears the undo history and marks the state clean.
   void reset(const Annotations& annotations, const QString& path);
+  // Starts with `annotations` (no file) because `unreadable_path` failed to load.
+  void resetUnreadable(const Annotations& annotations, const QString& unreadable_path,
+                       const QString& error);
   void markSaved(const QString& path);
   void select(int index);  // clamped; -1 clears
   void selectNext(int step = 1);
@@ -53,6 +61,8 @@ class AnnotationsModel : public QObject {
   Annotations annotations_;
   int selected_ = -1;
   QString path_;
+  QString unreadable_path_;
+  QString unreadable_error_;
   QUndoStack undo_stack_;
 };
 

@@ -1,5 +1,10 @@
 #pragma once
 // File > Save Boxes / Save Boxes As… / Open Boxes… / Import YAML Boxes….
+// A boxes file that could not be read is never overwritten unasked: saving to
+// it asks first, naming the file and why it could not be read, and offers to
+// save under another name instead.
+#include <QString>
+
 #include "lom/ui/error_reporter.hpp"
 #include "lom/ui/reaction.hpp"
 
@@ -21,6 +26,10 @@ class BoxFileReaction : public Reaction {
   void onTriggered() override;
 
  private:
+  // Confirms saving to `path`; may replace it by another name the user picks.
+  // False cancels the save.
+  bool confirmTarget(QString& path);
+
   Kind kind_;
   StudioSession& session_;
   QWidget* parent_;

@@ -32,7 +32,10 @@ class EvaluationPanel : public QWidget {
   [[nodiscard]] const std::optional<EvaluationReport>& report() const { return report_; }
   [[nodiscard]] QString summaryText() const;
   [[nodiscard]] bool isBusy() const;
-  // Writes report.json/csv/md/svg into `dir`; returns an error message or "".
+  // Whether the report can be exported: it is of the current map and boxes.
+  [[nodiscard]] bool canExport() const { return report_ && !stale_; }
+  // Writes report.json/csv/md/svg into `dir`; returns an error message or ""
+  // (an error when the report is missing or out of date).
   QString exportReport(const QString& dir) const;
 
  public slots:
@@ -45,6 +48,7 @@ class EvaluationPanel : public QWidget {
   void evaluateNow();
   void show(const EvaluationReport& report);
   void showMessage(const QString& message);
+  void clearReport(const QString& message);
 
   StudioSession& session_;
   QTableWidget* table_;
@@ -53,6 +57,8 @@ class EvaluationPanel : public QWidget {
   QPushButton* export_;
   QTimer* debounce_;
   std::optional<EvaluationReport> report_;
+  bool stale_ = true;      // report_ is not of the current map and boxes
+  bool awaiting_ = false;  // an evaluation was asked for since the last clear
 };
 
 }  // namespace lom::ui

@@ -18,9 +18,11 @@ class ExportMapReaction : public Reaction {
   ExportMapReaction(QAction* action, ExportOptions options, StudioSession& session,
                     QWidget* parent, const ErrorReporter& report);
   // Exports to `path` without asking; the result arrives through finished().
+  // While fusion runs the export waits for it to end, which queued() says.
   void exportTo(const QString& path);
 
  signals:
+  void queued(const QString& message);
   void finished(const QString& message, bool ok);
 
  protected:

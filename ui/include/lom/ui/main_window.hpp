@@ -62,6 +62,9 @@ class MainWindow : public QMainWindow {
   void createDocks();
   void createAnnotateMenu();
   [[nodiscard]] bool confirmDiscard();
+  // Asks before closing drops a running fusion or queued map work (exports,
+  // box fits); true when there is none or the user agrees.
+  [[nodiscard]] bool confirmStopWork();
   void connectScene();
   void updateTitle();
   void onSequenceChanged();

@@ -5,6 +5,7 @@
 // calls, so it never waits for the map.
 #include <QObject>
 #include <QString>
+#include <QStringList>
 #include <atomic>
 #include <condition_variable>
 #include <deque>
@@ -12,6 +13,8 @@
 #include <memory>
 #include <mutex>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "lom/evaluation.hpp"
 #include "lom/fusion.hpp"
@@ -40,8 +43,12 @@ class MapWorker : public QObject {
   // Newer requests supersede older ones that have not finished.
   void evaluate(std::shared_ptr<const Sequence> sequence, const Annotations& annotations,
                 const EvaluationOptions& options);
-  // Runs `job` with the map (null when there is none) on the worker thread.
-  void withMap(std::function<void(const LabelMap*)> job);
+  // Runs `job` with the map (null when there is none) on the worker thread,
+  // after the fusion in progress (also a paused one) has ended. A non-empty
+  // `description` ("export to map.ply") lists the job in pendingWork() until it
+  // has run: work the user asked for that closing the window would drop.
+  void withMap(std::function<void(const LabelMap*)> job, const QString& description = {});
+  [[nodiscard]] QStringList pendingWork() const;
 
   [[nodiscard]] State state() const { return state_; }
   [[nodiscard]] bool isFusing() const { return state_ != State::Idle; }
@@ -96,6 +103,8 @@ class MapWorker : public QObject {
   unsigned fusion_id_ = 0;                          // latest started fusion
   std::shared_ptr<std::atomic<bool>> fusion_cancel_;  // its cancel flag
   int evaluations_pending_ = 0;
+  unsigned map_job_id_ = 0;
+  std::vector<std::pair<unsigned, QString>> pending_work_;  // described withMap jobs
 
   std::thread thread_;
 };

@@ -57,6 +57,7 @@ class ObjectsPanel : public QWidget {
 
  private:
   void showObjects(std::vector<ObjectInstance> objects);
+  void clearObjects(const QString& message);
   void showPlan(PickPlan plan);
   void showMessage(const QString& message);
   void clearPlan();

@@ -8,6 +8,7 @@
 #include <optional>
 #include <set>
 
+#include "lom/import.hpp"
 #include "lom/sequence.hpp"
 
 namespace lom::ui {
@@ -26,7 +27,16 @@ class SequenceController : public QObject {
 
   [[nodiscard]] bool hasSequence() const { return sequence_ != nullptr; }
   [[nodiscard]] const Sequence& sequence() const { return *sequence_; }  // needs hasSequence()
+  // The path it was opened from, made absolute: the sequence folder or its
+  // sequence.json, or the ROS bag or dataset folder that was converted.
   [[nodiscard]] QString sequencePath() const { return sequence_path_; }
+  // Whether the open sequence is the conversion of a bag or dataset folder
+  // (its folder is then in the import cache, not beside the recording).
+  [[nodiscard]] bool isConverted() const { return converted_; }
+  // Options of the conversion of bags and dataset folders (the camera
+  // intrinsics of a layout without them, for instance).
+  [[nodiscard]] const ImportOptions& importOptions() const { return import_options_; }
+  void setImportOptions(const ImportOptions& options) { import_options_ = options; }
   [[nodiscard]] QString sequenceName() const;
   [[nodiscard]] int frameCount() const;
   [[nodiscard]] int currentFrame() const { return current_frame_; }  // -1 without a sequence
@@ -49,6 +59,9 @@ class SequenceController : public QObject {
   void stepFrames(int delta);
 
  signals:
+  // A newly loaded sequence is about to replace the open one (and its frame):
+  // references to them must be dropped now.
+  void sequenceAboutToChange();
   void sequenceChanged();
   void currentFrameChanged(int index);
   void errorOccurred(const QString& title, const QString& message);
@@ -60,6 +73,8 @@ class SequenceController : public QObject {
   std::function<bool()> unsaved_work_;
   std::unique_ptr<Sequence> sequence_;
   QString sequence_path_;
+  bool converted_ = false;
+  ImportOptions import_options_;
   int current_frame_ = -1;
   std::optional<FrameData> frame_data_;
   std::optional<LabelImage> frame_labels_;

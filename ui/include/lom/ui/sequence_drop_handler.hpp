@@ -1,5 +1,6 @@
 #pragma once
-// Opens a sequence folder or sequence.json dropped onto the watched widget.
+// Opens what is dropped onto the watched widget: a sequence folder or its
+// sequence.json, a dataset folder, or a ROS bag (.bag).
 #include <QObject>
 #include <QString>
 
@@ -16,7 +17,7 @@ class SequenceDropHandler : public QObject {
   // Installs itself as an event filter of `target` and enables drops on it.
   SequenceDropHandler(QWidget* target, SequenceController& controller);
 
-  // The local folder or .json of a drag, empty when it holds none.
+  // The local folder, .json or .bag of a drag, empty when it holds none.
   [[nodiscard]] static QString droppedSequencePath(const QMimeData* mime);
 
  protected:

@@ -38,6 +38,9 @@ class StudioSession : public QObject {
 
   void fuse();        // (re)starts fusion of the whole sequence
   void resetMap();    // cancels and drops the map
+  // Changes whenever the map is replaced (another sequence, a new fusion, a
+  // reset): results computed from an older map are stale.
+  [[nodiscard]] unsigned mapGeneration() const { return map_generation_; }
 
   // The label new boxes get and the heat map shows (-1 for none).
   [[nodiscard]] int selectedLabel() const { return selected_label_; }
@@ -65,6 +68,7 @@ class StudioSession : public QObject {
   std::shared_ptr<const Sequence> sequence_;
   FusionOptions options_;
   bool auto_fuse_ = true;
+  unsigned map_generation_ = 0;
   std::set<int> hidden_labels_;
   int selected_label_ = -1;
   std::optional<Eigen::Vector3d> picked_point_;

@@ -16,4 +16,10 @@ bool waitUntilExposed(QWidget& window, int timeout_ms = 5000);
 // from its framebuffer (grab() alone may leave the GL area black).
 [[nodiscard]] QImage captureWindow(QWidget& window, SceneView& scene);
 
+// Writes `image` to `path` in the format its extension names, through a
+// temporary file renamed into place (an existing file is only replaced by a
+// complete picture). Returns an empty string on success, else a message
+// naming the file.
+[[nodiscard]] QString saveImageAtomically(const QImage& image, const QString& path);
+
 }  // namespace lom::ui

@@ -48,6 +48,10 @@ struct RenderOptions {
 // xvfb-run command line that works around it.
 [[nodiscard]] std::optional<std::string> displayProblem();
 
+// Whether the X display `name` accepts a connection (kept open for the life of
+// the process, which also keeps a virtual X server from resetting).
+[[nodiscard]] bool canOpenDisplay(const std::string& name);
+
 // Throws RenderUnavailable without a display, lom::Error when the selection
 // has no occupied voxel or the size is not positive.
 [[nodiscard]] ColorImage renderMap(const LabelMap& map, const RenderOptions& options);

@@ -1,0 +1,89 @@
+// The Boxes panel's numeric fields: a value still being typed counts as an
+// edit for every decision about unsaved boxes, and editing one angle leaves
+// the other two exactly as they were.
+#include <gtest/gtest.h>
+
+#include <QAction>
+#include <QApplication>
+#include <QDoubleSpinBox>
+#include <QTest>
+#include <cmath>
+
+#include "demo_window_fixture.hpp"
+#include "dialog_answerer.hpp"
+#include "lom/ui/annotations_model.hpp"
+#include "lom/ui/box_editor_panel.hpp"
+#include "lom/ui/box_math.hpp"
+
+namespace lom::ui {
+namespace {
+
+using fixture::qPath;
+
+class BoxEditorTest : public fixture::DemoWindowTest {
+ protected:
+  void SetUp() override {
+    DemoWindowTest::SetUp();
+    window_.session().setAutoFuse(false);  // the fields need no map
+    ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+    ASSERT_GT(boxes().boxCount(), 0);
+    boxes().select(0);
+  }
+  void TearDown() override { boxes().undoStack().setClean(); }
+  AnnotationsModel& boxes() { return window_.session().annotations(); }
+
+  // Types `text` into centre x without pressing Enter or leaving the field.
+  void typeIntoCentreX(const QString& text) {
+    window_.activateWindow();
+    ASSERT_TRUE(QTest::qWaitForWindowActive(&window_));
+    QDoubleSpinBox& field = window_.boxEditor().field(0);
+    field.setFocus();
+    ASSERT_TRUE(QTest::qWaitFor([&] { return field.hasFocus(); }, 5000));
+    field.selectAll();
+    QTest::keyClicks(QApplication::focusWidget(), text);
+    ASSERT_FALSE(boxes().isDirty());  // not committed yet
+  }
+};
+
+TEST_F(BoxEditorTest, ValueBeingTypedIsNotLostWhenTheWindowCloses) {
+  typeIntoCentreX("0.777");
+  test::DialogAnswerer answer("Cancel");
+  EXPECT_FALSE(window_.close());
+  EXPECT_EQ(answer.questions.size(), 1);
+  EXPECT_TRUE(boxes().isDirty());
+  EXPECT_NEAR(boxes().box(0).box.center.x(), 0.777, 1e-12);
+}
+
+TEST_F(BoxEditorTest, ValueBeingTypedIsSaved) {
+  typeIntoCentreX("0.321");
+  window_.findAction("Save Boxes")->trigger();
+  EXPECT_FALSE(boxes().isDirty());
+  const Annotations saved = loadAnnotations(folder_ / "annotations.json");
+  EXPECT_NEAR(saved.boxes.front().box.center.x(), 0.321, 1e-12);
+}
+
+TEST_F(BoxEditorTest, ValueBeingTypedCountsBeforeAnotherSequenceOpens) {
+  typeIntoCentreX("0.555");
+  test::DialogAnswerer answer("Cancel");
+  EXPECT_FALSE(window_.controller().openSequence(qPath(folder_)));
+  EXPECT_EQ(answer.questions.size(), 1);
+  EXPECT_NEAR(boxes().box(0).box.center.x(), 0.555, 1e-12);
+}
+
+TEST_F(BoxEditorTest, EditingOneAngleKeepsTheOthersAtFullPrecision) {
+  GroundTruthBox box = boxes().box(0);
+  const double roll = 0.01234;   // 0.707°: the field shows 0.7
+  const double pitch = -0.2345;  // -13.436°: the field shows -13.4
+  const double yaw = 0.3;
+  box.box.rotation = fromRollPitchYaw({roll, pitch, yaw});
+  boxes().setBox(0, box, "set rotation");
+  QDoubleSpinBox& yaw_field = window_.boxEditor().field(8);
+  yaw_field.setValue(yaw_field.value() + 1.0);
+  const Eigen::Vector3d after = rollPitchYaw(boxes().box(0).box.rotation);
+  EXPECT_NEAR(after.x(), roll, 1e-9);
+  EXPECT_NEAR(after.y(), pitch, 1e-9);
+  EXPECT_NEAR(after.z(), (std::round(yaw * 1800.0 / M_PI) / 10.0 + 1.0) * M_PI / 180.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace lom::ui

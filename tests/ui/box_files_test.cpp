@@ -1,0 +1,308 @@
+// The boxes' files: an unreadable annotations.json is never overwritten
+// unasked, the boxes of a converted recording outlive its import cache entry,
+// recovery files follow the sequence (however its path is typed) and the
+// state of the boxes in memory, unknown labels are reported, and a replaced
+// file keeps its permissions.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <QAction>
+#include <QDir>
+#include <QFile>
+#include <QFileInfo>
+#include <QStandardPaths>
+#include <QTest>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "dialog_answerer.hpp"
+#include "lom/annotations.hpp"
+#include "lom/ui/annotation_files.hpp"
+#include "lom/ui/annotations_model.hpp"
+#include "lom/ui/main_window.hpp"
+#include "lom/ui/map_worker.hpp"
+#include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/studio_session.hpp"
+#include "test_support.hpp"
+#include "tiny_sequence.hpp"
+
+namespace lom::ui {
+namespace {
+
+namespace fs = std::filesystem;
+
+QString qPath(const fs::path& path) { return QString::fromStdString(path.string()); }
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+GroundTruthBox boxOf(int label, const std::string& name) {
+  GroundTruthBox box;
+  box.label = label;
+  box.name = name;
+  box.box.center = {0.1, 0.0, 0.6};
+  box.box.size = {0.05, 0.05, 0.05};
+  return box;
+}
+
+class BoxFilesTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    tiny_ = lom::test::writeTinySequence(temp_ / "tiny_shelf");
+    window_.setErrorReporter([this](const QString& title, const QString& message) {
+      errors_ << title + ": " + message;
+    });
+    window_.setRecoveryOffer([this](const QString& file) {
+      offered_ << file;
+      return accept_offer_;
+    });
+    window_.session().setAutoFuse(false);
+    window_.resize(1280, 800);
+    window_.show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(&window_));
+  }
+  void TearDown() override { boxes().undoStack().setClean(); }
+
+  AnnotationsModel& boxes() { return window_.session().annotations(); }
+  bool open(const fs::path& path) { return window_.controller().openSequence(qPath(path)); }
+
+  lom::test::TempDir temp_;
+  lom::test::TinySequence tiny_;
+  MainWindow window_;
+  QStringList errors_;
+  QStringList offered_;
+  bool accept_offer_ = false;
+};
+
+TEST_F(BoxFilesTest, UnreadableBoxesFileIsOnlyReplacedAfterAnExplicitConfirmation) {
+  const fs::path file = tiny_.folder / "annotations.json";
+  std::ofstream(file) << "{\"format\": \"labeloctomap-annotations\", \"boxes\": [ {\"label\": ";
+  const std::string before = slurp(file);
+  ASSERT_TRUE(open(tiny_.folder));
+  ASSERT_FALSE(errors_.isEmpty());
+  EXPECT_TRUE(errors_.front().contains("annotations.json")) << errors_.front().toStdString();
+  EXPECT_EQ(boxes().boxCount(), 0);
+  EXPECT_EQ(QFileInfo(boxes().unreadablePath()), QFileInfo(qPath(file)));
+  boxes().addBox(boxOf(1, "square_box"));
+  QAction* save = window_.findAction("Save Boxes");
+  ASSERT_NE(save, nullptr);
+
+  {  // Ctrl+S asks, naming the file and why it could not be read; Cancel keeps it.
+    test::DialogAnswerer answer("Cancel");
+    save->trigger();
+    ASSERT_EQ(answer.questions.size(), 1);
+    EXPECT_TRUE(answer.questions.front().contains(QDir::toNativeSeparators(qPath(file))));
+    EXPECT_TRUE(answer.questions.front().contains(boxes().unreadableError()));
+    EXPECT_FALSE(boxes().unreadableError().isEmpty());
+  }
+  EXPECT_EQ(slurp(file), before);
+  EXPECT_TRUE(boxes().isDirty());
+
+  {  // Save As… proposes a free name beside it; the unreadable file stays as it was.
+    test::DialogAnswerer answer("Save As", qPath(tiny_.folder / "annotations-2.json"));
+    save->trigger();
+    ASSERT_EQ(answer.proposed_files.size(), 1);
+    EXPECT_EQ(QFileInfo(answer.proposed_files.front()).fileName(), "annotations-2.json");
+  }
+  EXPECT_EQ(slurp(file), before);
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_EQ(loadAnnotations(tiny_.folder / "annotations-2.json").boxes.size(), 1u);
+
+  // Later saves go to the new file without asking.
+  boxes().addBox(boxOf(2, "blue_cup"));
+  {
+    test::DialogAnswerer answer("Cancel");
+    save->trigger();
+    EXPECT_TRUE(answer.questions.isEmpty());
+  }
+  EXPECT_EQ(slurp(file), before);
+  EXPECT_EQ(loadAnnotations(tiny_.folder / "annotations-2.json").boxes.size(), 2u);
+}
+
+TEST_F(BoxFilesTest, UnreadableBoxesFileIsReplacedWhenTheUserConfirms) {
+  const fs::path file = tiny_.folder / "annotations.json";
+  std::ofstream(file) << "not json at all";
+  ASSERT_TRUE(open(tiny_.folder));
+  boxes().addBox(boxOf(1, "square_box"));
+  test::DialogAnswerer answer("Overwrite");
+  window_.findAction("Save Boxes")->trigger();
+  EXPECT_EQ(answer.questions.size(), 1);
+  EXPECT_EQ(loadAnnotations(file).boxes.size(), 1u);
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_TRUE(boxes().unreadablePath().isEmpty());
+}
+
+// The import cache entry of a recording is rebuilt whenever the recording's
+// folder changes; its boxes must not go with it.
+TEST_F(BoxFilesTest, BoxesOfAConvertedRecordingSurviveAChangeOfItsFolder) {
+  const fs::path source = temp_ / "frames_layout";
+  lom::test::writeFramesLayout(tiny_, source);
+  ASSERT_TRUE(open(source)) << errors_.join('\n').toStdString();
+  ASSERT_TRUE(window_.controller().isConverted());
+  const fs::path first_cache = window_.session().sequence()->root;
+  boxes().addBox(boxOf(1, "square_box"));
+  window_.findAction("Save Boxes")->trigger();
+  EXPECT_TRUE(errors_.isEmpty()) << errors_.join('\n').toStdString();
+  ASSERT_FALSE(boxes().isDirty());
+  const QString saved = boxes().path();
+  EXPECT_FALSE(saved.startsWith(qPath(first_cache))) << saved.toStdString();
+  EXPECT_TRUE(saved.startsWith(QStandardPaths::writableLocation(QStandardPaths::AppDataLocation)))
+      << saved.toStdString();
+
+  std::ofstream(source / "notes.txt") << "a note beside the recording\n";
+  ASSERT_TRUE(open(source));
+  EXPECT_NE(window_.session().sequence()->root, first_cache);  // a new cache entry
+  EXPECT_EQ(boxes().boxCount(), 1);
+  EXPECT_EQ(boxes().path(), saved);
+  // Opened by another spelling of its path, it is the same recording.
+  ASSERT_TRUE(open(fs::path(qPath(source).toStdString() + "/")));
+  EXPECT_EQ(boxes().boxCount(), 1);
+}
+
+TEST_F(BoxFilesTest, BoxesInTheImportCacheMoveToTheStudiosOwnFolder) {
+  const fs::path source = temp_ / "frames_layout";
+  lom::test::writeFramesLayout(tiny_, source);
+  ASSERT_TRUE(open(source));
+  // Where boxes of converted recordings used to be saved.
+  const fs::path legacy = window_.session().sequence()->root / "annotations.json";
+  Annotations old;
+  old.boxes.push_back(boxOf(2, "blue_cup"));
+  saveAnnotations(old, legacy);
+
+  ASSERT_TRUE(open(source));
+  ASSERT_EQ(boxes().boxCount(), 1);
+  EXPECT_EQ(boxes().box(0).label, 2);
+  const QString durable = perSourceFile("annotations", qPath(source));
+  EXPECT_TRUE(durable.startsWith(QStandardPaths::writableLocation(QStandardPaths::AppDataLocation)))
+      << durable.toStdString();
+  EXPECT_EQ(boxesFileOf(window_.controller()), durable);
+  EXPECT_EQ(boxes().path(), durable);
+  ASSERT_TRUE(QFileInfo::exists(durable));
+  EXPECT_EQ(loadAnnotations(durable.toStdString()).boxes.size(), 1u);
+  EXPECT_TRUE(fs::exists(legacy));  // copied, not moved: nothing is lost if the copy is
+}
+
+TEST_F(BoxFilesTest, RecoveryFileDoesNotDependOnHowThePathIsTyped) {
+  const QString folder = qPath(tiny_.folder);
+  const QString expected = BoxesAutosave::recoveryPath(folder);
+  EXPECT_TRUE(QFileInfo(expected).fileName().startsWith("tiny_shelf-")) << expected.toStdString();
+  EXPECT_EQ(BoxesAutosave::recoveryPath(folder + "/"), expected);
+  EXPECT_EQ(BoxesAutosave::recoveryPath(folder + "/sequence.json"), expected);
+  EXPECT_EQ(BoxesAutosave::recoveryPath(folder + "/../tiny_shelf/."), expected);
+  const fs::path link = temp_ / "linked_shelf";
+  fs::create_directory_symlink(tiny_.folder, link);
+  EXPECT_EQ(BoxesAutosave::recoveryPath(qPath(link)), expected);
+
+  // Unsaved boxes of the folder opened with a trailing slash are offered back
+  // when it is opened through its sequence.json.
+  ASSERT_TRUE(window_.controller().openSequence(folder + "/"));
+  boxes().addBox(boxOf(1, "square_box"));
+  window_.autosave().writeNow();
+  ASSERT_TRUE(QFileInfo::exists(expected));
+  MainWindow next;
+  next.setErrorReporter([](const QString&, const QString&) {});
+  QStringList offered;
+  next.setRecoveryOffer([&](const QString& file) {
+    offered << file;
+    return false;
+  });
+  next.session().setAutoFuse(false);
+  ASSERT_TRUE(next.controller().openSequence(folder + "/sequence.json"));
+  EXPECT_EQ(offered, QStringList{expected});
+}
+
+TEST_F(BoxFilesTest, RecoveryFileGoesWhenTheBoxesAreCleanAgain) {
+  ASSERT_TRUE(open(tiny_.folder));
+  const QString recovery = window_.autosave().currentRecoveryPath();
+  boxes().addBox(boxOf(1, "square_box"));
+  window_.autosave().writeNow();
+  ASSERT_TRUE(QFileInfo::exists(recovery));
+  boxes().undoStack().undo();  // back to the saved state
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_FALSE(QFileInfo::exists(recovery));
+
+  // Open Boxes… replaces the unsaved boxes: their recovery file goes too.
+  Annotations other;
+  other.boxes.push_back(boxOf(2, "blue_cup"));
+  saveAnnotations(other, temp_ / "other.json");
+  boxes().addBox(boxOf(1, "square_box"));
+  window_.autosave().writeNow();
+  ASSERT_TRUE(QFileInfo::exists(recovery));
+  {
+    test::DialogAnswerer answer("Discard", qPath(temp_ / "other.json"));
+    window_.findAction("Open Boxes…")->trigger();
+    EXPECT_EQ(answer.questions.size(), 1);
+  }
+  ASSERT_EQ(boxes().boxCount(), 1);
+  EXPECT_EQ(boxes().box(0).label, 2);
+  EXPECT_FALSE(QFileInfo::exists(recovery));
+
+  // Nothing stale is offered when the sequence opens again.
+  accept_offer_ = true;
+  ASSERT_TRUE(open(tiny_.folder));
+  EXPECT_TRUE(offered_.isEmpty()) << offered_.join(", ").toStdString();
+}
+
+TEST_F(BoxFilesTest, RecoveryFileStaysWhenTheOtherSequenceFailsToOpen) {
+  ASSERT_TRUE(open(tiny_.folder));
+  boxes().addBox(boxOf(1, "square_box"));
+  window_.autosave().writeNow();
+  const QString recovery = window_.autosave().currentRecoveryPath();
+  ASSERT_TRUE(QFileInfo::exists(recovery));
+  {
+    test::DialogAnswerer answer("Discard");
+    EXPECT_FALSE(open(temp_ / "no_such_sequence"));
+    EXPECT_EQ(answer.questions.size(), 1);
+  }
+  EXPECT_TRUE(boxes().isDirty());  // still the boxes being worked on
+  EXPECT_TRUE(QFileInfo::exists(recovery));
+
+  // Once another sequence has really replaced them, their recovery file goes.
+  const auto other = lom::test::writeTinySequence(temp_ / "other_shelf");
+  {
+    test::DialogAnswerer answer("Discard");
+    ASSERT_TRUE(open(other.folder));
+  }
+  EXPECT_FALSE(QFileInfo::exists(recovery));
+}
+
+TEST_F(BoxFilesTest, BoxesWithUnknownLabelsAreReportedByFileAndIndex) {
+  Annotations annotations;
+  annotations.boxes.push_back(boxOf(1, "square_box"));
+  annotations.boxes.push_back(boxOf(999, "mystery"));
+  saveAnnotations(annotations, tiny_.folder / "annotations.json");
+  ASSERT_TRUE(open(tiny_.folder));
+  EXPECT_EQ(boxes().boxCount(), 2);  // kept, so they can be fixed
+  ASSERT_EQ(errors_.size(), 1) << errors_.join('\n').toStdString();
+  EXPECT_TRUE(errors_.front().contains("annotations.json")) << errors_.front().toStdString();
+  EXPECT_TRUE(errors_.front().contains("boxes[1]")) << errors_.front().toStdString();
+  EXPECT_TRUE(errors_.front().contains("999")) << errors_.front().toStdString();
+
+  errors_.clear();
+  saveAnnotations(annotations, temp_ / "other.json");
+  EXPECT_EQ(loadBoxes(window_.session(), qPath(temp_ / "other.json")), QString());
+  ASSERT_EQ(errors_.size(), 1);
+  EXPECT_TRUE(errors_.front().contains("other.json: boxes[1]")) << errors_.front().toStdString();
+}
+
+TEST_F(BoxFilesTest, SavingKeepsThePermissionsOfTheFileItReplaces) {
+  Annotations annotations;
+  annotations.boxes.push_back(boxOf(1, "square_box"));
+  const fs::path file = tiny_.folder / "annotations.json";
+  saveAnnotations(annotations, file);
+  fs::permissions(file, fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+  ASSERT_TRUE(open(tiny_.folder));
+  boxes().addBox(boxOf(2, "blue_cup"));
+  window_.findAction("Save Boxes")->trigger();
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_EQ(loadAnnotations(file).boxes.size(), 2u);
+  EXPECT_EQ(fs::status(file).permissions() & fs::perms::mask,
+            fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+}
+
+}  // namespace
+}  // namespace lom::ui

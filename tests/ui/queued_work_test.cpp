@@ -1,0 +1,195 @@
+// Work queued behind fusion on the demo scene: a box fit keeps one box per
+// label and belongs to the map it was asked for, the status bar says the work
+// waits, closing the window asks before dropping it, and reports and objects
+// of a map that is gone cannot be used.
+#include <gtest/gtest.h>
+
+#include <QAction>
+#include <QPushButton>
+#include <QStatusBar>
+#include <QTest>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <thread>
+
+#include "demo_window_fixture.hpp"
+#include "dialog_answerer.hpp"
+#include "lom/ui/annotations_model.hpp"
+#include "lom/ui/evaluation_panel.hpp"
+#include "lom/ui/export_map_reaction.hpp"
+#include "lom/ui/objects_panel.hpp"
+
+namespace lom::ui {
+namespace {
+
+using fixture::kTimeoutMs;
+using fixture::qPath;
+using fixture::smallDemo;
+
+class QueuedWorkTest : public fixture::DemoWindowTest {
+ protected:
+  void TearDown() override {
+    session().worker().setPaused(false);
+    session().annotations().undoStack().setClean();
+  }
+  StudioSession& session() { return window_.session(); }
+  AnnotationsModel& boxes() { return session().annotations(); }
+  // Opens `folder` with its fusion paused before the first frame. (The small
+  // demo fuses faster than the window opens it, so the worker is held until
+  // the pause is in place.)
+  void openPaused(const std::filesystem::path& folder) {
+    session().setAutoFuse(false);
+    ASSERT_TRUE(window_.controller().openSequence(qPath(folder)));
+    auto gate = std::make_shared<std::atomic<bool>>(false);
+    session().worker().withMap([gate](const LabelMap*) {
+      while (!*gate) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    });
+    session().fuse();
+    session().worker().setPaused(true);
+    *gate = true;
+    session().setAutoFuse(true);
+    ASSERT_EQ(session().worker().state(), MapWorker::State::Paused);
+    QTest::qWait(200);
+    ASSERT_EQ(session().worker().state(), MapWorker::State::Paused);
+    ASSERT_EQ(session().worker().snapshot()->frames_fused, 0u);
+  }
+  void removeBoxOf(int label) {
+    for (int i = boxes().boxCount() - 1; i >= 0; --i)
+      if (boxes().box(i).label == label) boxes().removeBox(i);
+  }
+  [[nodiscard]] int boxesOf(int label) {
+    int count = 0;
+    for (int i = 0; i < boxes().boxCount(); ++i) count += boxes().box(i).label == label;
+    return count;
+  }
+  void waitForQueuedWork() {
+    ASSERT_TRUE(
+        QTest::qWaitFor([&] { return session().worker().pendingWork().isEmpty(); }, kTimeoutMs));
+    QTest::qWait(50);  // the result arrives through the event loop
+  }
+};
+
+TEST_F(QueuedWorkTest, BoxFitAskedTwiceDuringFusionAddsOneBox) {
+  openPaused(folder_);
+  const int label = *visibleObjectLabels().begin();
+  removeBoxOf(label);
+  session().setSelectedLabel(label);
+  QAction* add = window_.findAction("Add Box from Label Voxels");
+  ASSERT_NE(add, nullptr);
+  add->trigger();
+  EXPECT_TRUE(window_.statusBar()->currentMessage().contains("queued"))
+      << window_.statusBar()->currentMessage().toStdString();
+  add->trigger();
+  EXPECT_EQ(session().worker().pendingWork().size(), 2);
+
+  session().worker().setPaused(false);
+  waitForFusion();
+  waitForQueuedWork();
+  EXPECT_EQ(boxesOf(label), 1);
+  EXPECT_TRUE(std::any_of(errors_.begin(), errors_.end(),
+                          [](const QString& e) { return e.contains("already"); }));
+}
+
+TEST_F(QueuedWorkTest, BoxFittedToAPreviousSequencesMapIsDropped) {
+  const int label = *visibleObjectLabels().begin();
+  // Another scene whose boxes lack that label, so only the map tells them apart.
+  const auto other = temp_.path() / "other_shelf";
+  prepareDemoScene(qPath(other), smallDemo());
+  Annotations other_boxes = loadAnnotations(other / "annotations.json");
+  other_boxes.boxes.erase(
+      std::remove_if(other_boxes.boxes.begin(), other_boxes.boxes.end(),
+                     [&](const GroundTruthBox& box) { return box.label == label; }),
+      other_boxes.boxes.end());
+  saveAnnotations(other_boxes, other / "annotations.json");
+
+  window_.controller().setDiscardGuard([] { return true; });
+  openAndFuse();
+  removeBoxOf(label);
+  session().setSelectedLabel(label);
+  // The fit runs on this map; its result arrives after the other scene opened.
+  window_.findAction("Add Box from Label Voxels")->trigger();
+  ASSERT_TRUE(window_.controller().openSequence(qPath(other)));
+  waitForFusion();
+  waitForQueuedWork();
+  EXPECT_EQ(boxes().boxCount(), static_cast<int>(other_boxes.boxes.size()));
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_TRUE(window_.statusBar()->currentMessage().contains("dropped"))
+      << window_.statusBar()->currentMessage().toStdString();
+}
+
+TEST_F(QueuedWorkTest, ClosingDuringFusionOrAPendingExportAsksFirst) {
+  openPaused(folder_);
+  auto* exporter = window_.findAction("Point Cloud (PCD)…")->findChild<ExportMapReaction*>();
+  ASSERT_NE(exporter, nullptr);
+  const auto pcd = temp_.path() / "map.pcd";
+  exporter->exportTo(qPath(pcd));
+  EXPECT_TRUE(window_.statusBar()->currentMessage().contains("queued"));
+  {
+    test::DialogAnswerer answer("Cancel");
+    EXPECT_FALSE(window_.close());
+    ASSERT_EQ(answer.questions.size(), 1);
+    EXPECT_TRUE(answer.questions.front().contains("fusion of demo_shelf"))
+        << answer.questions.front().toStdString();
+    EXPECT_TRUE(answer.questions.front().contains("map.pcd"))
+        << answer.questions.front().toStdString();
+  }
+  EXPECT_TRUE(window_.isVisible());
+  EXPECT_TRUE(session().worker().isFusing());  // Cancel keeps working
+
+  // Once everything has finished, closing does not ask.
+  session().worker().setPaused(false);
+  waitForFusion();
+  waitForQueuedWork();
+  EXPECT_TRUE(std::filesystem::exists(pcd));
+  test::DialogAnswerer answer("Cancel");
+  EXPECT_TRUE(window_.close());
+  EXPECT_TRUE(answer.questions.isEmpty());
+}
+
+TEST_F(QueuedWorkTest, ClosingAnywayStopsTheWork) {
+  openPaused(folder_);
+  test::DialogAnswerer answer("Close Anyway");
+  EXPECT_TRUE(window_.close());
+  EXPECT_EQ(answer.questions.size(), 1);
+}
+
+TEST_F(QueuedWorkTest, ReportAndObjectsOfAMapThatIsGoneCannotBeUsed) {
+  openAndFuse();
+  EvaluationPanel& scores = window_.evaluationPanel();
+  ObjectsPanel& objects = window_.objectsPanel();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !scores.isBusy() && scores.canExport(); }, kTimeoutMs))
+      << scores.summaryText().toStdString();
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return !objects.isBusy() && !objects.objects().empty(); }, kTimeoutMs));
+  EXPECT_TRUE(objects.planButton().isEnabled());
+
+  window_.findAction("Reset Map")->trigger();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return session().worker().snapshot()->frames_fused == 0; },
+                              kTimeoutMs));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !scores.isBusy(); }, kTimeoutMs));
+  const auto out = temp_.path() / "report";
+  EXPECT_FALSE(scores.canExport());
+  EXPECT_NE(scores.exportReport(qPath(out)), QString());
+  EXPECT_FALSE(std::filesystem::exists(out / "report.json"));
+  EXPECT_TRUE(objects.objects().empty());
+  EXPECT_FALSE(objects.planButton().isEnabled());
+  EXPECT_FALSE(objects.plan().has_value());
+
+  // Fused again, then another sequence opens: the old report goes at once.
+  window_.findAction("Fuse Sequence")->trigger();
+  waitForFusion();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !scores.isBusy() && scores.canExport(); }, kTimeoutMs));
+  const auto tiny = temp_.path() / "tiny";
+  prepareDemoScene(qPath(tiny), smallDemo());
+  ASSERT_TRUE(window_.controller().openSequence(qPath(tiny)));
+  EXPECT_FALSE(scores.canExport());
+  EXPECT_NE(scores.exportReport(qPath(out)), QString());
+  EXPECT_TRUE(objects.objects().empty());
+  waitForFusion();
+}
+
+}  // namespace
+}  // namespace lom::ui
