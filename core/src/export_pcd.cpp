@@ -31,6 +31,13 @@ namespace lom {
 
 namespace {
 
+// PCL's message without the empty file name it starts with (": [pcl::...").
+std::string pclReason(const pcl::PCLException& e) {
+  std::string reason = e.what();
+  const size_t start = reason.find_first_not_of(": ");
+  return start == std::string::npos ? reason : reason.substr(start);
+}
+
 pcl::PointCloud<LabelledVoxelPoint> voxelCloud(const LabelMap& map,
                                                const std::optional<std::set<int>>& labels,
                                                const std::filesystem::path& path) {
@@ -72,7 +79,7 @@ size_t writePcd(const LabelMap& map, const std::optional<std::set<int>>& labels,
       result = pcl::io::savePCDFileBinary(temporary.string(), cloud);
     } catch (const pcl::PCLException& e) {  // e.g. no room for the file
       throw Error(path.string(), "output", "a writable PCD file",
-                  std::string("PCL could not write it: ") + e.what());
+                  "PCL could not write it: " + pclReason(e));
     }
     if (result != 0)
       throw Error(path.string(), "output", "a writable PCD file", "PCL could not write it");
@@ -105,7 +112,7 @@ size_t writeVoxelsPly(const LabelMap& map, const std::set<int>& labels,
                             Eigen::Quaternionf::Identity(), /*binary=*/true, /*use_camera=*/false);
     } catch (const pcl::PCLException& e) {
       throw Error(path.string(), "output", "a writable PLY file",
-                  std::string("PCL could not write it: ") + e.what());
+                  "PCL could not write it: " + pclReason(e));
     }
     if (result != 0)
       throw Error(path.string(), "output", "a writable PLY file", "PCL could not write it");

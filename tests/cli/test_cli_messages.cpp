@@ -58,14 +58,13 @@ TEST_F(CliMessageTest, WriteFailuresNameTheOutput) {
   // /proc takes no new files, not even from root.
   auto r = runCli("export " + q(map()) + " --format pcd --out /proc/lom-test-voxels.pcd");
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("/proc/lom-test-voxels.pcd: --out: expected a writable pcd file"),
+  EXPECT_NE(r.err.find("/proc/lom-test-voxels.pcd: output: expected a writable PCD file"),
             std::string::npos)
       << r.err;
-  EXPECT_EQ(r.err.find("error: :"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find(": :"), std::string::npos) << r.err;
   r = runCli("export " + q(map()) + " --format ply --per-label --out /proc/lom-test-meshes");
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("/proc/lom-test-meshes: --out: expected a folder that can be created"),
-            std::string::npos)
+  EXPECT_NE(r.err.find("/proc/lom-test-meshes: output path: expected a folder"), std::string::npos)
       << r.err;
   EXPECT_EQ(r.err.find("filesystem error"), std::string::npos) << r.err;
 }
