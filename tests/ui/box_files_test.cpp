@@ -121,6 +121,16 @@ TEST_F(BoxFilesTest, UnreadableBoxesFileIsOnlyReplacedAfterAnExplicitConfirmatio
   }
   EXPECT_EQ(slurp(file), before);
   EXPECT_EQ(loadAnnotations(tiny_.folder / "annotations-2.json").boxes.size(), 2u);
+
+  // Choosing the unreadable file in Save Boxes As… still asks, after the file
+  // dialog's own "replace?".
+  {
+    test::DialogAnswerer answer(QStringList{"Yes", "Cancel"}, qPath(file));
+    window_.findAction("Save Boxes As…")->trigger();
+    ASSERT_EQ(answer.questions.size(), 2);
+    EXPECT_TRUE(answer.questions.back().contains(boxes().unreadableError()));
+  }
+  EXPECT_EQ(slurp(file), before);
 }
 
 TEST_F(BoxFilesTest, UnreadableBoxesFileIsReplacedWhenTheUserConfirms) {

@@ -1,12 +1,16 @@
 #pragma once
 // Answers the modal dialogs the studio opens while a test runs: every message
-// box gets the button whose text (without '&') starts with `button`, and every
-// file dialog gets `file` chosen (or is cancelled when `file` is empty). What
-// was asked is recorded for the test to check.
+// box gets the button whose text (without '&') starts with `button` (or with
+// the next of `buttons`, the last one repeating), and every file dialog gets
+// `file` chosen (or is cancelled when `file` is empty). What was asked is
+// recorded for the test to check.
 #include <QAbstractButton>
 #include <QApplication>
 #include <QFileDialog>
+#include <QList>
 #include <QMessageBox>
+#include <QMetaObject>
+#include <QPointer>
 #include <QString>
 #include <QStringList>
 #include <QTimer>
@@ -16,7 +20,9 @@ namespace lom::ui::test {
 class DialogAnswerer {
  public:
   explicit DialogAnswerer(QString button, QString file = {})
-      : button_(std::move(button)), file_(std::move(file)) {
+      : DialogAnswerer(QStringList{std::move(button)}, std::move(file)) {}
+  explicit DialogAnswerer(QStringList buttons, QString file = {})
+      : buttons_(std::move(buttons)), file_(std::move(file)) {
     timer_.setInterval(20);
     QObject::connect(&timer_, &QTimer::timeout, [this] { answer(); });
     timer_.start();
@@ -27,39 +33,48 @@ class DialogAnswerer {
   // The file each file dialog proposed when it opened.
   QStringList proposed_files;
 
-  void setButton(const QString& button) { button_ = button; }
   void setFile(const QString& file) { file_ = file; }
 
  private:
+  // The answers are queued, not given from the timer: a dialog may ask
+  // another question while it closes, and a timer is not re-entered.
   void answer() {
+    // A message box first: it may be asked on top of a file dialog.
     for (QWidget* widget : QApplication::topLevelWidgets()) {
-      if (!widget->isVisible()) continue;
-      if (auto* box = qobject_cast<QMessageBox*>(widget)) {
-        questions << box->text();
-        for (QAbstractButton* candidate : box->buttons())
-          if (candidate->text().remove('&').startsWith(button_)) {
-            candidate->click();
-            return;
-          }
-        box->reject();  // no such button: as Escape would
-        return;
-      }
-      if (auto* dialog = qobject_cast<QFileDialog*>(widget)) {
-        const QStringList selected = dialog->selectedFiles();
-        proposed_files << (selected.isEmpty() ? QString() : selected.front());
-        if (file_.isEmpty()) {
-          dialog->reject();
-        } else {
-          dialog->selectFile(file_);
-          static_cast<QDialog*>(dialog)->accept();  // as the Save/Open button does
+      auto* box = qobject_cast<QMessageBox*>(widget);
+      if (!box || !box->isVisible()) continue;
+      if (answered_.contains(box)) continue;
+      answered_ << box;
+      questions << box->text();
+      const QString button = buttons_.size() > 1 ? buttons_.takeFirst() : buttons_.front();
+      for (QAbstractButton* candidate : box->buttons())
+        if (candidate->text().remove('&').startsWith(button)) {
+          QMetaObject::invokeMethod(candidate, "click", Qt::QueuedConnection);
+          return;
         }
-        return;
+      QMetaObject::invokeMethod(box, "reject", Qt::QueuedConnection);  // as Escape would
+      return;
+    }
+    for (QWidget* widget : QApplication::topLevelWidgets()) {
+      auto* dialog = qobject_cast<QFileDialog*>(widget);
+      if (!dialog || !dialog->isVisible() || answered_.contains(dialog)) continue;
+      answered_ << dialog;
+      const QStringList selected = dialog->selectedFiles();
+      proposed_files << (selected.isEmpty() ? QString() : selected.front());
+      if (file_.isEmpty()) {
+        QMetaObject::invokeMethod(dialog, "reject", Qt::QueuedConnection);
+      } else {
+        dialog->selectFile(file_);
+        // As the Save/Open button does.
+        QMetaObject::invokeMethod(dialog, "accept", Qt::QueuedConnection);
       }
+      return;
     }
   }
 
-  QString button_;
+  QStringList buttons_;
   QString file_;
+  QList<QPointer<QDialog>> answered_;  // each dialog is answered once
   QTimer timer_;
 };
 

@@ -1,5 +1,6 @@
 #include "lom/ui/annotations_model.hpp"
 
+#include <QFileInfo>
 #include <QUndoCommand>
 #include <algorithm>
 
@@ -109,9 +110,12 @@ void AnnotationsModel::resetUnreadable(const Annotations& annotations,
 
 void AnnotationsModel::markSaved(const QString& path) {
   path_ = path;
-  // Saved elsewhere (or over it after confirmation): the boxes have a file now.
-  unreadable_path_.clear();
-  unreadable_error_.clear();
+  // Replaced after the user's confirmation: it is a readable boxes file now.
+  // (Saved elsewhere, it still holds the boxes that could not be read.)
+  if (QFileInfo(path) == QFileInfo(unreadable_path_)) {
+    unreadable_path_.clear();
+    unreadable_error_.clear();
+  }
   undo_stack_.setClean();
   emit saved();
 }

@@ -26,7 +26,8 @@ class AnnotationsModel : public QObject {
   [[nodiscard]] QString path() const { return path_; }
   // The boxes file of the sequence that exists but could not be read (empty
   // when there is none), and why. It is never written without the user's
-  // explicit confirmation: the boxes in it would be lost.
+  // explicit confirmation: the boxes in it would be lost. Other boxes being
+  // loaded, or saving over it, ends this.
   [[nodiscard]] QString unreadablePath() const { return unreadable_path_; }
   [[nodiscard]] QString unreadableError() const { return unreadable_error_; }
 
