@@ -21,6 +21,7 @@
 #include "lom/annotations.hpp"
 #include "lom/ui/annotation_files.hpp"
 #include "lom/ui/annotations_model.hpp"
+#include "lom/ui/box_file_reaction.hpp"
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/sequence_controller.hpp"
@@ -122,13 +123,14 @@ TEST_F(BoxFilesTest, UnreadableBoxesFileIsOnlyReplacedAfterAnExplicitConfirmatio
   EXPECT_EQ(slurp(file), before);
   EXPECT_EQ(loadAnnotations(tiny_.folder / "annotations-2.json").boxes.size(), 2u);
 
-  // Choosing the unreadable file in Save Boxes As… still asks, after the file
-  // dialog's own "replace?".
+  // Choosing the unreadable file in Save Boxes As… still asks.
+  auto* save_as = window_.findAction("Save Boxes As…")->findChild<BoxFileReaction*>();
+  ASSERT_NE(save_as, nullptr);
   {
-    test::DialogAnswerer answer(QStringList{"Yes", "Cancel"}, qPath(file));
-    window_.findAction("Save Boxes As…")->trigger();
-    ASSERT_EQ(answer.questions.size(), 2);
-    EXPECT_TRUE(answer.questions.back().contains(boxes().unreadableError()));
+    test::DialogAnswerer answer("Cancel");
+    save_as->saveTo(qPath(file));
+    ASSERT_EQ(answer.questions.size(), 1);
+    EXPECT_TRUE(answer.questions.front().contains(boxes().unreadableError()));
   }
   EXPECT_EQ(slurp(file), before);
 }

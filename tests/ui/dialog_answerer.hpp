@@ -1,9 +1,8 @@
 #pragma once
 // Answers the modal dialogs the studio opens while a test runs: every message
-// box gets the button whose text (without '&') starts with `button` (or with
-// the next of `buttons`, the last one repeating), and every file dialog gets
-// `file` chosen (or is cancelled when `file` is empty). What was asked is
-// recorded for the test to check.
+// box gets the button whose text (without '&') starts with `button`, and every
+// file dialog gets `file` chosen (or is cancelled when `file` is empty). What
+// was asked is recorded for the test to check.
 #include <QAbstractButton>
 #include <QApplication>
 #include <QFileDialog>
@@ -20,9 +19,7 @@ namespace lom::ui::test {
 class DialogAnswerer {
  public:
   explicit DialogAnswerer(QString button, QString file = {})
-      : DialogAnswerer(QStringList{std::move(button)}, std::move(file)) {}
-  explicit DialogAnswerer(QStringList buttons, QString file = {})
-      : buttons_(std::move(buttons)), file_(std::move(file)) {
+      : button_(std::move(button)), file_(std::move(file)) {
     timer_.setInterval(20);
     QObject::connect(&timer_, &QTimer::timeout, [this] { answer(); });
     timer_.start();
@@ -32,8 +29,6 @@ class DialogAnswerer {
   QStringList questions;
   // The file each file dialog proposed when it opened.
   QStringList proposed_files;
-
-  void setFile(const QString& file) { file_ = file; }
 
  private:
   // The answers are queued, not given from the timer: a dialog may ask
@@ -46,9 +41,8 @@ class DialogAnswerer {
       if (answered_.contains(box)) continue;
       answered_ << box;
       questions << box->text();
-      const QString button = buttons_.size() > 1 ? buttons_.takeFirst() : buttons_.front();
       for (QAbstractButton* candidate : box->buttons())
-        if (candidate->text().remove('&').startsWith(button)) {
+        if (candidate->text().remove('&').startsWith(button_)) {
           QMetaObject::invokeMethod(candidate, "click", Qt::QueuedConnection);
           return;
         }
@@ -72,7 +66,7 @@ class DialogAnswerer {
     }
   }
 
-  QStringList buttons_;
+  QString button_;
   QString file_;
   QList<QPointer<QDialog>> answered_;  // each dialog is answered once
   QTimer timer_;

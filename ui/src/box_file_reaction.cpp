@@ -95,14 +95,16 @@ void BoxFileReaction::onTriggered() {
       break;
   }
   if (path.isEmpty()) return;
-  if ((kind_ == Kind::Save || kind_ == Kind::SaveAs) && !confirmTarget(path)) return;
-  QString error;
-  if (kind_ == Kind::Open)
-    error = loadBoxes(session_, path);
-  else if (kind_ == Kind::ImportYaml)
-    error = importYamlBoxes(session_, path);
-  else
-    error = saveBoxes(session_, path);
+  if (kind_ == Kind::Save || kind_ == Kind::SaveAs) return saveTo(path);
+  const QString error =
+      kind_ == Kind::Open ? loadBoxes(session_, path) : importYamlBoxes(session_, path);
+  if (!error.isEmpty()) report_(tr("Boxes"), error);
+}
+
+void BoxFileReaction::saveTo(QString path) {
+  commitPendingEdits();  // a value still being typed belongs to the boxes
+  if (!confirmTarget(path)) return;
+  const QString error = saveBoxes(session_, path);
   if (!error.isEmpty()) report_(tr("Boxes"), error);
 }
 

@@ -21,6 +21,10 @@ class BoxFileReaction : public Reaction {
   enum class Kind { Save, SaveAs, Open, ImportYaml };
   BoxFileReaction(QAction* action, Kind kind, StudioSession& session, QWidget* parent,
                   const ErrorReporter& report);
+  // Saves the boxes to `path` as Save Boxes does once the file is known: an
+  // unreadable boxes file is only replaced after the user confirms (or they
+  // choose another name). Errors go to the reporter.
+  void saveTo(QString path);
 
  protected:
   void onTriggered() override;
