@@ -5,40 +5,18 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli_scene_fixture.hpp"
 #include "lom/label_map.hpp"
 #include "lom/objects.hpp"
-#include "test_support.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using lom::test::q;
 using lom::test::runCli;
 using lom::test::TempDir;
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
-
-class CliMessageTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = new TempDir();
-    auto r = runCli("synth --out " + q(scene()) +
-                    " --seed 4 --objects 4 --frames 3 --views 3 --width 160 --height 120");
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    r = runCli("fuse " + q(scene()) + " --out " + q(map()) + " --quiet");
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-  }
-  static void TearDownTestSuite() {
-    delete dir_;
-    dir_ = nullptr;
-  }
-  static fs::path scene() { return dir_->path() / "scene"; }
-  static fs::path map() { return dir_->path() / "map.ot"; }
-  static std::map<int, size_t> counts() {
-    return lom::LabelMap::load(map()).occupiedCountPerLabel();
-  }
-  static TempDir* dir_;
-};
-TempDir* CliMessageTest::dir_ = nullptr;
+class CliMessageTest : public lom::test::CliSceneTest {};
 
 TEST_F(CliMessageTest, RunningOutOfMemoryIsReportedPlainly) {
   TempDir out;

@@ -7,47 +7,18 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli_scene_fixture.hpp"
 #include "lom/label_map.hpp"
-#include "test_support.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using lom::test::q;
 using lom::test::runCli;
+using lom::test::slurp;
 using lom::test::TempDir;
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-class CliOptionTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = new TempDir();
-    auto r = runCli("synth --out " + q(scene()) +
-                    " --seed 4 --objects 4 --frames 3 --views 3 --width 160 --height 120");
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-    r = runCli("fuse " + q(scene()) + " --out " + q(map()) + " --quiet");
-    ASSERT_EQ(r.exit_code, 0) << r.err;
-  }
-  static void TearDownTestSuite() {
-    delete dir_;
-    dir_ = nullptr;
-  }
-  static fs::path scene() { return dir_->path() / "scene"; }
-  static fs::path map() { return dir_->path() / "map.ot"; }
-  static std::string target() {
-    const auto counts = lom::LabelMap::load(map()).occupiedCountPerLabel();
-    return std::to_string(std::prev(counts.end())->first);
-  }
-  static TempDir* dir_;
-};
-TempDir* CliOptionTest::dir_ = nullptr;
+class CliOptionTest : public lom::test::CliSceneTest {};
 
 // Exit 2, the option named, the usage shown.
 void expectUsage(const lom::test::CliResult& r, const std::string& option,
