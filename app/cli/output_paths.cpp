@@ -58,6 +58,17 @@ void checkNotAnInput(const fs::path& out, const std::string& option, const Comma
                        input.path.string() + " itself; choose another path");
 }
 
+// Neither one of the inputs nor inside an input sequence folder.
+void checkOutsideInputs(const fs::path& out, const std::string& option, const std::string& what,
+                        const CommandInputs& inputs) {
+  checkNotAnInput(out, option, inputs);
+  for (const auto& folder : inputs.folders)
+    if (isInside(out, folder))
+      throw UsageError("--" + option + " " + out.string() +
+                       " lies inside the input sequence folder " + folder.string() + "; write " +
+                       what + " outside it");
+}
+
 }  // namespace
 
 void CommandInputs::addSequenceFiles(const Sequence& sequence) {
@@ -104,12 +115,7 @@ void checkOutputFile(const fs::path& out, const std::string& option, const std::
   if (const std::string kind = notARegularFile(out); !kind.empty())
     throw UsageError("--" + option + " " + out.string() + " is " + kind +
                      "; expected a file name for " + what);
-  checkNotAnInput(out, option, inputs);
-  for (const auto& folder : inputs.folders)
-    if (isInside(out, folder))
-      throw UsageError("--" + option + " " + out.string() +
-                       " lies inside the input sequence folder " + folder.string() + "; write " +
-                       what + " outside it");
+  checkOutsideInputs(out, option, what, inputs);
   const fs::path folder = out.has_parent_path() ? out.parent_path() : fs::path(".");
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
@@ -125,12 +131,7 @@ void checkOutputFolder(const fs::path& out, const std::string& option, const std
     throw UsageError("--" + option + " " + out.string() +
                      " is an existing file; expected a folder for " + what +
                      " (created when missing)");
-  checkNotAnInput(out, option, inputs);
-  for (const auto& folder : inputs.folders)
-    if (isInside(out, folder))
-      throw UsageError("--" + option + " " + out.string() +
-                       " lies inside the input sequence folder " + folder.string() + "; write " +
-                       what + " outside it");
+  checkOutsideInputs(out, option, what, inputs);
 }
 
 void checkOutputInFolder(const fs::path& file, const std::string& option,
