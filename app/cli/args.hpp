@@ -1,6 +1,7 @@
 #pragma once
 // Minimal command-line parsing for the labeloctomap subcommands:
 // positionals, "--name value" options and "--flag" switches.
+#include <Eigen/Core>
 #include <climits>
 #include <optional>
 #include <set>
@@ -47,6 +48,14 @@ class Args {
 // most 256 labels); throws UsageError naming `option` otherwise.
 inline constexpr int kMaxLabelId = 255;
 std::vector<int> parseLabelList(const std::string& text, const std::string& option);
+
+// "a,b,c,..." -> exactly `count` finite numbers; throws UsageError naming --option and
+// what was `expected`.
+std::vector<double> parseNumbers(const std::string& text, size_t count, const std::string& option,
+                                 const std::string& expected);
+// "x,y,z" -> a unit direction; throws UsageError naming --option for anything but three
+// finite numbers, not all zero.
+Eigen::Vector3d parseDirection(const std::string& text, const std::string& option);
 
 // Whether the word asks for a command's usage (--help or -h).
 bool isHelpWord(const std::string& word);

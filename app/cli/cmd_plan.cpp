@@ -23,38 +23,6 @@ namespace fs = std::filesystem;
 // voxel within the tolerance of each voxel, a count that grows with its cube.
 constexpr double kMaxClusterTolerance = 20.0;
 
-// "a,b,c,..." -> exactly `count` finite numbers; throws UsageError naming the option.
-std::vector<double> parseNumbers(const std::string& text, size_t count, const std::string& option,
-                                 const std::string& expected) {
-  std::vector<double> values;
-  std::stringstream stream(text);
-  std::string item;
-  const auto fail = [&]() {
-    return UsageError("option --" + option + " expects " + expected + ", got '" + text + "'");
-  };
-  while (std::getline(stream, item, ',')) {
-    char* end = nullptr;
-    const double v = std::strtod(item.c_str(), &end);
-    if (item.empty() || *end != '\0' || !std::isfinite(v)) throw fail();
-    values.push_back(v);
-  }
-  if (values.size() != count || (!text.empty() && text.back() == ',')) throw fail();
-  return values;
-}
-
-Eigen::Vector3d parseApproach(const std::string& text) {
-  const std::string expected = "a direction x,y,z of three finite numbers, not all zero";
-  const auto v = parseNumbers(text, 3, "approach", expected);
-  // Scaled by the largest component first, so that neither huge nor tiny components
-  // overflow or vanish when the length is taken.
-  const Eigen::Vector3d direction(v[0], v[1], v[2]);
-  const double largest = direction.cwiseAbs().maxCoeff();
-  const Eigen::Vector3d unit = largest > 0.0 ? (direction / largest).normalized() : direction;
-  if (!(largest > 0.0) || !unit.allFinite() || !(unit.norm() > 0.5))
-    throw UsageError("option --approach expects " + expected + ", got '" + text + "'");
-  return unit;
-}
-
 OrientedBox parseBin(const std::string& text) {
   const std::string expected = "an axis-aligned box cx,cy,cz,dx,dy,dz (centre and sizes in metres, sizes > 0)";
   const auto v = parseNumbers(text, 6, "empty-bin", expected);
@@ -113,7 +81,7 @@ int runPlan(const Words& words) {
   if (args.option("approach") && args.option("sequence"))
     throw UsageError("give either --approach or --sequence, not both");
   if (const auto approach = args.option("approach")) {
-    options.approach = parseApproach(*approach);
+    options.approach = parseDirection(*approach, "approach");
     options.approach_source = ApproachSource::Given;
   }
   const std::optional<std::string> out = args.option("out");

@@ -34,6 +34,7 @@ struct RenderRequest {
   std::optional<Sequence> camera_sequence;  // --camera SEQ:INDEX
   size_t camera_frame = 0;
   std::optional<std::pair<int, int>> size;
+  std::optional<Eigen::Vector3d> up;  // --up
 };
 
 // "1280x960" -> (1280, 960).
@@ -69,12 +70,14 @@ std::pair<fs::path, size_t> parseCamera(const std::string& text) {
 
 RenderRequest parseRequest(const Words& words) {
   const Args args(words, {"flat"});
-  args.expectOnly({"out", "camera", "azimuth", "elevation", "size", "labels", "flat"}, 1);
+  args.expectOnly({"out", "camera", "azimuth", "elevation", "up", "size", "labels", "flat"}, 1);
   RenderRequest request;
   request.map = args.positional(0, "MAP.ot");
   request.out = args.required("out");
-  if (args.option("camera") && (args.option("azimuth") || args.option("elevation")))
-    throw UsageError("give either --camera SEQ:INDEX or --azimuth/--elevation, not both");
+  if (args.option("camera") &&
+      (args.option("azimuth") || args.option("elevation") || args.option("up")))
+    throw UsageError("give either --camera SEQ:INDEX or --azimuth/--elevation/--up, not both");
+  if (const auto up = args.option("up")) request.up = parseDirection(*up, "up");
   request.azimuth_deg = args.number("azimuth", request.azimuth_deg);
   request.elevation_deg = args.number("elevation", request.elevation_deg);
   if (request.elevation_deg < -90.0 || request.elevation_deg > 90.0)
@@ -146,6 +149,7 @@ int runRender(const Words& words) {
   options.elevation_deg = request.elevation_deg;
   options.shading = request.shading;
   options.labels = request.labels;
+  options.up = request.up;
   if (request.camera_sequence) {
     const Sequence& sequence = *request.camera_sequence;
     options.camera = render::PinholeView{};
@@ -173,6 +177,17 @@ int runRender(const Words& words) {
   }
   std::cout << "wrote " << options.width << "x" << options.height << " picture to "
             << request.out.string() << "\n";
+  if (!options.camera) {
+    const Eigen::Vector3d up = render::orbitUp(map, options);
+    std::cout << "up in the picture: (" << up.x() << ", " << up.y() << ", " << up.z() << "), "
+              << (options.up ? std::string("given with --up")
+                  : map.upDirection()
+                      ? "the mean up direction of the map's " +
+                            std::to_string(map.cameraUpRecord().views) + " camera views"
+                      : std::string("world +z (the map records no camera views that agree "
+                                    "on up; --up x,y,z sets it)"))
+              << "\n";
+  }
   return 0;
 }
 

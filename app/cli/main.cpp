@@ -40,7 +40,7 @@ const Command kCommands[] = {
      "       [--smooth] --out PATH | export MAP.ot --voxels OUT.pcd\n"
      "                                write meshes, point clouds, octrees or object boxes"},
     {"render", lom::cli::runRender,
-     "render MAP.ot --out view.png [--camera SEQ:INDEX | --azimuth A --elevation E]\n"
+     "render MAP.ot --out view.png [--camera SEQ:INDEX | --azimuth A --elevation E --up X,Y,Z]\n"
      "       [--size 1280x960]        render the map offscreen to a PNG (needs X or Xvfb)"},
     {"import", lom::cli::runImport,
      "import KIND SRC --out SEQ [--intrinsics fx,fy,cx,cy|FILE] [--every N] [--overwrite] ...\n"

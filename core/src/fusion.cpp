@@ -200,10 +200,13 @@ FrameStats integrateFrameReference(LabelMap& map, const CameraIntrinsics& camera
 FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
                           const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
                           const FrameEvidence& evidence, const IntegrationOptions& integration) {
-  if (integration.path == IntegrationPath::Reference)
-    return integrateFrameReference(map, camera, T_world_camera, depth, evidence);
-  return integrateFrameFast(map, camera, T_world_camera, depth, evidence, integration.threads,
-                            integration.kernels);
+  const FrameStats stats =
+      integration.path == IntegrationPath::Reference
+          ? integrateFrameReference(map, camera, T_world_camera, depth, evidence)
+          : integrateFrameFast(map, camera, T_world_camera, depth, evidence, integration.threads,
+                               integration.kernels);
+  map.noteCameraView(T_world_camera.linear());
+  return stats;
 }
 
 // ---------------------------------------------------------------------------

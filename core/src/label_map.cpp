@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "file_checks.hpp"
@@ -95,6 +96,27 @@ void LabelMap::setIntegrationParameters(double p_miss, double max_range) {
   checkMapParameters(changed);
   parameters_ = changed;
   tree_->setIntegrationParameters(p_miss, max_range);
+}
+
+void LabelMap::noteCameraView(const Eigen::Matrix3d& R_world_camera) {
+  const Eigen::Vector3d up = -R_world_camera.col(1);
+  if (!up.allFinite()) return;
+  CameraUpRecord record = tree_->cameraUp();
+  if (record.views == std::numeric_limits<std::uint32_t>::max()) return;  // enough views
+  for (int a = 0; a < 3; ++a) record.sum[a] += up[a];
+  ++record.views;
+  tree_->setCameraUp(record);
+}
+
+const CameraUpRecord& LabelMap::cameraUpRecord() const { return tree_->cameraUp(); }
+
+std::optional<Eigen::Vector3d> LabelMap::upDirection() const {
+  const CameraUpRecord& record = tree_->cameraUp();
+  if (record.views == 0) return std::nullopt;
+  const Eigen::Vector3d sum(record.sum[0], record.sum[1], record.sum[2]);
+  const double length = sum.norm();
+  if (!std::isfinite(length) || length < 0.5 * record.views) return std::nullopt;
+  return Eigen::Vector3d(sum / length);
 }
 
 VoxelKey LabelMap::keyOf(const Eigen::Vector3d& p) const {

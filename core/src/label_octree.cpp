@@ -498,7 +498,8 @@ size_t LabelOcTree::labelArrayBytes() const {
 namespace {
 
 constexpr char kMagic[4] = {'L', 'O', 'M', 'T'};
-constexpr std::uint32_t kFileVersion = 1;
+// 1: labels, parameters, nodes. 2: and the cameras' up record after the parameters.
+constexpr std::uint32_t kFileVersion = 2;
 
 template <typename T>
 void writePod(std::ostream& s, const T& v) {
@@ -526,6 +527,8 @@ std::ostream& LabelOcTree::writeData(std::ostream& s) const {
   writePod(s, parameters_.clamp_min);
   writePod(s, parameters_.clamp_max);
   writePod(s, parameters_.max_range);
+  for (const double component : camera_up_.sum) writePod(s, component);
+  writePod(s, camera_up_.views);
   // OctoMap's node stream cannot express an empty tree, so say whether one follows.
   writePod(s, static_cast<std::uint8_t>(root != nullptr));
   return octomap::OccupancyOcTreeBase<LabelOcTreeNode>::writeData(s);
@@ -551,10 +554,10 @@ void LabelOcTree::readLabelledData(std::istream& s) {
     throw Error("", "data", "LabelOcTree data starting with 'LOMT'", "other bytes");
   std::uint32_t version = 0;
   if (!readPod(s, version)) truncated("data version", "a data version");
-  if (version != kFileVersion)
+  if (version != 1 && version != kFileVersion)
     throw Error("", "data version",
-                "version " + std::to_string(kFileVersion) +
-                    " (the only LabelOcTree data version this program reads)",
+                "version 1 or " + std::to_string(kFileVersion) +
+                    " (the LabelOcTree data versions this program reads)",
                 "version " + std::to_string(version) +
                     (version > kFileVersion ? " (written by a newer program?)" : ""));
   std::uint16_t count = 0;
@@ -582,6 +585,22 @@ void LabelOcTree::readLabelledData(std::istream& s) {
       !readPod(s, parameters.max_range))
     truncated("parameters", "p_miss, occupancy_threshold, clamp_min, clamp_max, max_range");
   checkMapParameters(parameters);
+  CameraUpRecord camera_up;
+  if (version >= 2) {
+    for (double& component : camera_up.sum)
+      if (!readPod(s, component))
+        truncated("camera up", "three summed up directions and a view count");
+    if (!readPod(s, camera_up.views))
+      truncated("camera up", "three summed up directions and a view count");
+    const Eigen::Vector3d sum(camera_up.sum[0], camera_up.sum[1], camera_up.sum[2]);
+    // Each view adds a unit vector: the sum is at most as long as the count.
+    if (!sum.allFinite() || sum.norm() > camera_up.views * (1.0 + 1e-6))
+      throw Error("", "camera up",
+                  "summed up directions no longer than their view count (" +
+                      std::to_string(camera_up.views) + ")",
+                  "(" + std::to_string(sum.x()) + ", " + std::to_string(sum.y()) + ", " +
+                      std::to_string(sum.z()) + ")");
+  }
   std::uint8_t has_nodes = 0;
   if (!readPod(s, has_nodes)) truncated("nodes", "a node flag");
   if (has_nodes > 1)
@@ -589,6 +608,7 @@ void LabelOcTree::readLabelledData(std::istream& s) {
   if (root) throw Error("", "nodes", "a map to read into that is empty", "a map with nodes");
   labels_ = LabelSet(std::move(labels));
   parameters_ = parameters;
+  camera_up_ = camera_up;
   applyParameters();
   if (!has_nodes) return;
   root = new LabelOcTreeNode();

@@ -216,6 +216,13 @@ TEST_F(CliExportTest, RenderWritesAPictureOfTheMap) {
   for (size_t i = 0; i < orbit.rgb.size(); i += 3)
     not_background += !(orbit.rgb[i] == 255 && orbit.rgb[i + 1] == 255 && orbit.rgb[i + 2] == 255);
   EXPECT_GT(not_background, orbit.rgb.size() / 3 / 20);
+  // The map was fused from the generated scene's cameras, whose world has z up.
+  EXPECT_NE(r.out.find("the mean up direction of the map's 4 camera views"), std::string::npos)
+      << r.out;
+  r = runCli("render " + q(map()) + " --out " + q(out / "up.png") + " --size 320x240 --up 0,-2,0");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("up in the picture: (0, -1, 0), given with --up"), std::string::npos)
+      << r.out;
 
   // A recorded camera: the picture has that camera's size.
   r = runCli("render " + q(map()) + " --out " + q(out / "frame.png") + " --camera " +
@@ -249,6 +256,15 @@ TEST_F(CliExportTest, RenderUsageMistakes) {
   auto r =
       runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --camera x:1 --azimuth 10");
   EXPECT_EQ(r.exit_code, 2);
+  for (const char* up : {"0,0,0", "1,2", "1,nan,0", "x,y,z"}) {
+    r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --up " + up);
+    EXPECT_EQ(r.exit_code, 2) << up;
+    EXPECT_NE(r.err.find("option --up expects a direction x,y,z"), std::string::npos) << r.err;
+  }
+  r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --camera x:1 --up 0,0,1");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--up"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out / "v.png"));
   r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --size 640");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("WIDTHxHEIGHT"), std::string::npos) << r.err;

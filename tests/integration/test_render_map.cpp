@@ -3,6 +3,7 @@
 // Needs an X server (the test run goes under xvfb-run); skips without one.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cstdlib>
 #include <string>
 
@@ -200,6 +201,56 @@ TEST(RenderMap, RecordedCameraViewMatchesTheGroundTruthLabels) {
     }
   ASSERT_GT(objects, 500u);
   EXPECT_GT(static_cast<double>(agree) / objects, 0.8) << agree << " of " << objects;
+  // Fusion recorded the cameras: the generated scene's world has z up.
+  EXPECT_EQ(map.cameraUpRecord().views, sequence.frames.size());
+  ASSERT_TRUE(map.upDirection());
+  EXPECT_GT(map.upDirection()->z(), 0.9) << map.upDirection()->transpose();
+}
+
+// Mean picture row of the pixels of a colour (-1 when there are none).
+double meanRow(const lom::ColorImage& image, const std::array<int, 3>& colour) {
+  double sum = 0.0;
+  size_t n = 0;
+  for (int v = 0; v < image.height; ++v)
+    for (int u = 0; u < image.width; ++u)
+      if (pixel(image, u, v) == colour) {
+        sum += v;
+        ++n;
+      }
+  return n ? sum / static_cast<double>(n) : -1.0;
+}
+
+TEST(RenderMap, OrbitViewHasTheCamerasUpUpInThePicture) {
+  LOM_REQUIRE_DISPLAY();
+  // Label 2 lies along +y of label 1, label 3 along -y.
+  lom::LabelMap map = sampleMap();
+  const std::array<int, 3> plus_y = rgb(map.labels().at(2).color);
+  const std::array<int, 3> minus_y = rgb(map.labels().at(3).color);
+  lom::render::RenderOptions options;
+  options.width = 200;
+  options.height = 200;
+  options.shading = false;
+  options.elevation_deg = 10.0;
+  // Cameras with the world as their own frame (image y down): -y is up.
+  map.noteCameraView(Eigen::Matrix3d::Identity());
+  map.noteCameraView(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()).toRotationMatrix());
+  EXPECT_LT((lom::render::orbitUp(map, options) - Eigen::Vector3d(0, -1, 0)).norm(), 1e-9);
+  const lom::ColorImage upright = lom::render::renderMap(map, options);
+  ASSERT_GE(meanRow(upright, minus_y), 0.0);
+  ASSERT_GE(meanRow(upright, plus_y), 0.0);
+  EXPECT_LT(meanRow(upright, minus_y) + 40, meanRow(upright, plus_y));
+  // --up overrides the map's cameras.
+  options.up = Eigen::Vector3d(0, 3, 0);
+  const lom::ColorImage turned = lom::render::renderMap(map, options);
+  EXPECT_LT(meanRow(turned, plus_y) + 40, meanRow(turned, minus_y));
+  options.up = Eigen::Vector3d::Zero();
+  EXPECT_THROW((void)lom::render::renderMap(map, options), lom::Error);
+  // Cameras that disagree on up: world +z.
+  map.noteCameraView(Eigen::AngleAxisd(3.14159, Eigen::Vector3d::UnitZ()).toRotationMatrix());
+  map.noteCameraView(Eigen::AngleAxisd(3.14159, Eigen::Vector3d::UnitZ()).toRotationMatrix());
+  options.up.reset();
+  EXPECT_FALSE(map.upDirection());
+  EXPECT_LT((lom::render::orbitUp(map, options) - Eigen::Vector3d::UnitZ()).norm(), 1e-12);
 }
 
 TEST(RenderMap, PngOnDiskMatchesThePicture) {

@@ -5,6 +5,7 @@
 // consumer either handles the map or refuses it with lom::Error.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -53,6 +54,8 @@ struct MapFile {
   std::uint32_t version = 0;
   std::vector<std::pair<std::string, lom::Rgb>> labels;
   double parameters[5] = {};  // p_miss, threshold, clamp_min, clamp_max, max_range
+  double up_sum[3] = {};      // data version 2: the cameras' summed up directions
+  std::uint32_t up_views = 0;
   std::string nodes;          // the node flag and OctoMap's node stream
 
   static MapFile read(const fs::path& path) {
@@ -75,6 +78,14 @@ struct MapFile {
       p = get<double>(bytes, at);
       at += 8;
     }
+    if (file.version >= 2) {
+      for (double& u : file.up_sum) {
+        u = get<double>(bytes, at);
+        at += 8;
+      }
+      file.up_views = get<std::uint32_t>(bytes, at);
+      at += 4;
+    }
     file.nodes = bytes.substr(at);
     return file;
   }
@@ -89,6 +100,10 @@ struct MapFile {
       bytes.append(reinterpret_cast<const char*>(color.data()), 3);
     }
     for (const double p : parameters) put(bytes, p);
+    if (version >= 2) {
+      for (const double u : up_sum) put(bytes, u);
+      put(bytes, up_views);
+    }
     writeBytes(path, bytes + nodes);
   }
 };
@@ -170,10 +185,56 @@ TEST_F(MapFileTest, ResolutionOutOfRangeIsRefused) {
 }
 
 TEST_F(MapFileTest, AnUnknownDataVersionIsNamed) {
-  const lom::Problem problem = loadError(changed([](MapFile& f) { f.version = 2; }));
+  const lom::Problem problem = loadError(changed([](MapFile& f) { f.version = 3; }));
   EXPECT_EQ(problem.field, "data version");
-  EXPECT_EQ(problem.found, "version 2 (written by a newer program?)");
-  EXPECT_NE(problem.expected.find("version 1"), std::string::npos);
+  EXPECT_EQ(problem.found, "version 3 (written by a newer program?)");
+  EXPECT_NE(problem.expected.find("version 1 or 2"), std::string::npos);
+}
+
+TEST_F(MapFileTest, VersionOneMapsWithoutTheCameraUpRecordStillLoad) {
+  const fs::path path = changed([](MapFile& f) {
+    EXPECT_EQ(f.version, 2u);
+    f.version = 1;
+  });
+  const lom::LabelMap map = lom::LabelMap::load(path);
+  EXPECT_EQ(map.occupiedCountPerLabel().at(1), 27u);
+  EXPECT_EQ(map.cameraUpRecord().views, 0u);
+  EXPECT_FALSE(map.upDirection());
+}
+
+TEST_F(MapFileTest, CameraViewsAreSavedWithTheMap) {
+  lom::LabelMap map = sampleMap();
+  EXPECT_FALSE(map.upDirection());
+  const Eigen::Matrix3d tilted =
+      Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  map.noteCameraView(Eigen::Matrix3d::Identity());
+  map.noteCameraView(tilted);
+  map.save(dir / "viewed.ot");
+  const lom::LabelMap loaded = lom::LabelMap::load(dir / "viewed.ot");
+  EXPECT_EQ(loaded.cameraUpRecord().views, 2u);
+  ASSERT_TRUE(loaded.upDirection());
+  const Eigen::Vector3d expected = (-Eigen::Vector3d::UnitY() - tilted.col(1)).normalized();
+  EXPECT_LT((*loaded.upDirection() - expected).norm(), 1e-12);
+}
+
+TEST_F(MapFileTest, TheCameraUpRecordIsReadBackAndChecked) {
+  const fs::path path = changed([](MapFile& f) {
+    f.up_sum[1] = -3.0;
+    f.up_views = 4;
+  });
+  const lom::LabelMap map = lom::LabelMap::load(path);
+  EXPECT_EQ(map.cameraUpRecord().views, 4u);
+  ASSERT_TRUE(map.upDirection());
+  EXPECT_NEAR((*map.upDirection() - Eigen::Vector3d(0, -1, 0)).norm(), 0.0, 1e-12);
+  // Unit vectors cannot sum to more than their count.
+  const lom::Problem longer = loadError(changed([](MapFile& f) {
+    f.up_sum[2] = 5.0;
+    f.up_views = 4;
+  }));
+  EXPECT_EQ(longer.field, "camera up");
+  const lom::Problem nan = loadError(
+      changed([](MapFile& f) { f.up_sum[0] = std::numeric_limits<double>::quiet_NaN(); }));
+  EXPECT_EQ(nan.field, "camera up");
 }
 
 TEST_F(MapFileTest, LabelCountsOutOfRangeOrDisagreeingWithTheNodesAreNamed) {

@@ -63,6 +63,13 @@ struct OccupiedVoxel {
   float probability = 0.f;  // probability of that label
 };
 
+// The up directions of the cameras a map was fused from: each view adds its
+// camera's up (the negated image y axis) in world coordinates.
+struct CameraUpRecord {
+  double sum[3] = {0.0, 0.0, 0.0};
+  std::uint32_t views = 0;
+};
+
 struct VoxelState {
   bool known = false;       // observed at least once
   bool occupied = false;
@@ -82,6 +89,15 @@ class LabelMap {
   [[nodiscard]] const LabelSet& labels() const { return labels_; }
   [[nodiscard]] int numLabels() const { return labels_.size(); }
   [[nodiscard]] const MapParameters& parameters() const { return parameters_; }
+  // Records a fused view's camera (integrateFrame does, for every frame).
+  void noteCameraView(const Eigen::Matrix3d& R_world_camera);
+  [[nodiscard]] const CameraUpRecord& cameraUpRecord() const;
+  // Which way is up in the map's world, as its cameras saw it: the mean of
+  // their up directions, normalised, when they agree (the mean is at least
+  // half a unit long); nullopt when no view was recorded (maps fused before
+  // data version 2, or built without cameras) or when the views disagree.
+  [[nodiscard]] std::optional<Eigen::Vector3d> upDirection() const;
+
   // Re-thresholds the whole map at once (no re-fusion needed).
   void setOccupancyThreshold(double threshold);
   // Changes max range and p_miss for later fusion (resolution and clamping are fixed).

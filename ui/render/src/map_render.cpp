@@ -79,28 +79,45 @@ void placePinhole(vtkCamera* camera, const PinholeView& view, int width, int hei
   camera->SetWindowCenter(1.0 - 2.0 * cx / width, 2.0 * cy / height - 1.0);
 }
 
-void placeOrbit(vtkCamera* camera, const double bounds[6], double azimuth_deg,
-                double elevation_deg) {
+void placeOrbit(vtkCamera* camera, const double bounds[6], double azimuth_deg, double elevation_deg,
+                const Eigen::Vector3d& up) {
   const Eigen::Vector3d lo(bounds[0], bounds[2], bounds[4]), hi(bounds[1], bounds[3], bounds[5]);
   const Eigen::Vector3d centre = 0.5 * (lo + hi);
   const double radius = std::max(0.5 * (hi - lo).norm(), 1e-3);
   const double view_angle = 30.0;
   const double distance = 1.05 * radius / std::sin(0.5 * view_angle * kPi / 180.0);
   const double az = azimuth_deg * kPi / 180.0, el = elevation_deg * kPi / 180.0;
-  const Eigen::Vector3d direction(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
-                                  std::sin(el));
+  // Azimuth 0 lies along world x laid flat across up (z when x is nearly up).
+  Eigen::Vector3d front = Eigen::Vector3d::UnitX() - up.x() * up;
+  if (front.norm() < 0.1) front = Eigen::Vector3d::UnitZ() - up.z() * up;
+  front.normalize();
+  const Eigen::Vector3d side = up.cross(front);
+  const Eigen::Vector3d direction =
+      std::cos(el) * (std::cos(az) * front + std::sin(az) * side) + std::sin(el) * up;
   const Eigen::Vector3d eye = centre + distance * direction;
   camera->SetFocalPoint(centre.data());
   camera->SetPosition(eye.data());
   camera->SetViewAngle(view_angle);
-  // Straight down or up: "up" in the picture is the horizontal direction away from the camera.
+  // Straight down or up: "up" in the picture is the direction across up away from the camera.
+  Eigen::Vector3d view_up = up;
   if (std::abs(std::cos(el)) < 1e-6)
-    camera->SetViewUp(-std::cos(az) * std::sin(el), -std::sin(az) * std::sin(el), 0.0);
-  else
-    camera->SetViewUp(0.0, 0.0, 1.0);
+    view_up = -std::sin(el) * (std::cos(az) * front + std::sin(az) * side);
+  camera->SetViewUp(view_up.data());
 }
 
 }  // namespace
+
+Eigen::Vector3d orbitUp(const LabelMap& map, const RenderOptions& options) {
+  if (options.up) {
+    const double length = options.up->norm();
+    if (!std::isfinite(length) || length < 1e-9)
+      throw Error("", "up", "a finite, non-zero direction",
+                  "(" + std::to_string(options.up->x()) + ", " + std::to_string(options.up->y()) +
+                      ", " + std::to_string(options.up->z()) + ")");
+    return *options.up / length;
+  }
+  return map.upDirection().value_or(Eigen::Vector3d::UnitZ());
+}
 
 ColorImage renderMap(const LabelMap& map, const RenderOptions& options) {
   if (options.width <= 0 || options.height <= 0 || options.width > 16384 || options.height > 16384)
@@ -136,7 +153,8 @@ ColorImage renderMap(const LabelMap& map, const RenderOptions& options) {
   if (options.camera) {
     placePinhole(camera, *options.camera, options.width, options.height);
   } else {
-    placeOrbit(camera, surfaces->GetBounds(), options.azimuth_deg, options.elevation_deg);
+    placeOrbit(camera, surfaces->GetBounds(), options.azimuth_deg, options.elevation_deg,
+               orbitUp(map, options));
   }
   renderer->ResetCameraClippingRange();
 

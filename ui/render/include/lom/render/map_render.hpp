@@ -31,11 +31,17 @@ struct PinholeView {
 struct RenderOptions {
   int width = 1280;
   int height = 960;
-  // Orbit view (world z up): the camera looks at the centre of the rendered
-  // voxels from this direction; azimuth counter-clockwise about +z from +x,
-  // elevation above the x-y plane, distance such that everything fits.
+  // Orbit view: the camera looks at the centre of the rendered voxels from
+  // this direction, with `up` (see orbitUp) up in the picture; azimuth
+  // counter-clockwise about up, from the world x axis (z when x is up or
+  // down) laid flat; elevation above the plane across up; distance such that
+  // everything fits. With up = +z: azimuth about +z from +x, elevation above
+  // the x-y plane.
   double azimuth_deg = 210.0;
   double elevation_deg = 30.0;
+  // Up in the orbit view; when absent, the map's own (LabelMap::upDirection:
+  // the cameras it was fused from), else +z.
+  std::optional<Eigen::Vector3d> up;
   // Replaces the orbit view. Its intrinsics are scaled to width x height.
   std::optional<PinholeView> camera;
   std::optional<std::set<int>> labels;  // default: every label
@@ -43,6 +49,11 @@ struct RenderOptions {
   bool shading = true;
   Rgb background{255, 255, 255};
 };
+
+// The orbit view's up direction for `map` (unit length): options.up, else the
+// map's cameras' up, else +z. Throws lom::Error (field "up") for a zero or
+// non-finite options.up.
+[[nodiscard]] Eigen::Vector3d orbitUp(const LabelMap& map, const RenderOptions& options);
 
 // Empty when an X display can be opened; otherwise the reason, with the
 // xvfb-run command line that works around it.
