@@ -114,6 +114,7 @@ class OctreeCopy {
 };
 
 // Copies the map into a new `Tree` and writes it with `write(tree, stream)`.
+// Returns the number of leaves written.
 template <class Tree, class Write>
 size_t writeOctree(const LabelMap& map, const std::filesystem::path& path,
                    const OctreeExportOptions& options, const char* what, Write write) {
@@ -124,7 +125,8 @@ size_t writeOctree(const LabelMap& map, const std::filesystem::path& path,
   writeFileAtomically(path, [&](std::ostream& out) {
     if (!write(tree, out)) throw Error(path.string(), "output", what, "OctoMap could not write it");
   });
-  return leaves;
+  // The leaves the file holds: writing a binary tree prunes it first.
+  return tree.getNumLeafNodes();
 }
 
 }  // namespace

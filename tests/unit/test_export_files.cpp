@@ -372,6 +372,8 @@ TEST(ExportFiles, BinaryOcTreeReadsBackWithOctomap) {
   ASSERT_TRUE(tree.readBinary((dir / "map.bt").string()));
   EXPECT_DOUBLE_EQ(tree.getResolution(), kRes);
   EXPECT_EQ(occupiedKeys(tree), mapOccupied(map));
+  // The count reported is what the file holds (OctoMap prunes when writing it).
+  EXPECT_EQ(summary.items, tree.getNumLeafNodes());
   const auto* free_node = tree.search(octomap::OcTreeKey(32768, 32768, 32767));
   ASSERT_NE(free_node, nullptr);
   EXPECT_FALSE(tree.isNodeOccupied(free_node));

@@ -102,6 +102,8 @@ struct OctreeExportOptions {
 size_t writeColorOcTree(const LabelMap& map, const std::filesystem::path& path,
                         const OctreeExportOptions& options = {});
 // An OctoMap OcTree in the compact binary format (.bt, occupied / free only).
+// Returns the number of leaves written (after OctoMap merges the eight equal
+// children of a node, which it does when writing this format).
 size_t writeBinaryOcTree(const LabelMap& map, const std::filesystem::path& path,
                          const OctreeExportOptions& options = {});
 
