@@ -14,12 +14,12 @@ inline constexpr std::uint64_t kMaxImagePixels = std::uint64_t{1} << 27;
 struct ImageHeaderSize {
   std::uint64_t width = 0;
   std::uint64_t height = 0;
-  const char* format = "";  // "PNG", "PGM", ...
+  const char* format = "";  // "PNG", "PGM", "JPEG", "TIFF", ...
 };
 
-// The width and height a PNG (IHDR) or PNM (PBM, PGM, PPM) file declares in its
-// header; nullopt for other formats and for files whose header cannot be read
-// (the decoder reports those).
+// The width and height a PNG (IHDR), PNM (PBM, PGM, PPM), JPEG (frame header),
+// TIFF (first image's tags) or BMP file declares in its header; nullopt for other formats and for
+// files whose header cannot be read (the decoder reports those).
 [[nodiscard]] std::optional<ImageHeaderSize> readImageHeaderSize(const std::filesystem::path& path);
 
 }  // namespace lom

@@ -159,6 +159,65 @@ void checkPixelCount(const fs::path& path, int width, int height, size_t values,
 
 }  // namespace
 
+namespace {
+
+// JPEG: the frame header (SOF0 to SOF15, not DHT, JPG or DAC) after the start
+// of image; other segments are skipped by their length, until the scan starts.
+std::optional<ImageHeaderSize> jpegSize(std::istream& in) {
+  for (int segments = 0; segments < 1024; ++segments) {
+    int c = in.get();
+    if (c != 0xff) return std::nullopt;
+    while (c == 0xff) c = in.get();                               // fill bytes
+    if (c == EOF || c == 0xda || c == 0xd9) return std::nullopt;  // scan or end: no frame header
+    if (c == 0x01 || (c >= 0xd0 && c <= 0xd7)) continue;          // markers without a segment
+    unsigned char segment[7] = {};
+    in.read(reinterpret_cast<char*>(segment), 2);
+    if (!in) return std::nullopt;
+    const unsigned length = (unsigned{segment[0]} << 8) | segment[1];
+    if (length < 2) return std::nullopt;
+    if (c >= 0xc0 && c <= 0xcf && c != 0xc4 && c != 0xc8 && c != 0xcc) {
+      in.read(reinterpret_cast<char*>(segment) + 2, 5);  // precision, height, width
+      if (!in) return std::nullopt;
+      return ImageHeaderSize{(std::uint64_t{segment[5]} << 8) | segment[6],
+                             (std::uint64_t{segment[3]} << 8) | segment[4], "JPEG"};
+    }
+    in.seekg(length - 2, std::ios::cur);
+    if (!in) return std::nullopt;
+  }
+  return std::nullopt;
+}
+
+// TIFF: the first image's ImageWidth (256) and ImageLength (257) tags.
+std::optional<ImageHeaderSize> tiffSize(std::istream& in, bool little_endian) {
+  const auto number = [&](const unsigned char* bytes, int size) {
+    std::uint64_t value = 0;
+    for (int i = 0; i < size; ++i)
+      value |= std::uint64_t{bytes[little_endian ? i : size - 1 - i]} << (8 * i);
+    return value;
+  };
+  unsigned char head[6] = {};
+  in.read(reinterpret_cast<char*>(head), 6);  // 42, then the first directory's offset
+  if (!in || number(head, 2) != 42) return std::nullopt;
+  in.seekg(static_cast<std::streamoff>(number(head + 2, 4)));
+  unsigned char count_bytes[2] = {};
+  in.read(reinterpret_cast<char*>(count_bytes), 2);
+  if (!in) return std::nullopt;
+  std::optional<std::uint64_t> width, height;
+  for (std::uint64_t i = 0, count = number(count_bytes, 2); i < count && !(width && height); ++i) {
+    unsigned char entry[12] = {};
+    in.read(reinterpret_cast<char*>(entry), 12);
+    if (!in) return std::nullopt;
+    const std::uint64_t tag = number(entry, 2), type = number(entry + 2, 2);
+    if (tag != 256 && tag != 257) continue;
+    if (type != 3 && type != 4) return std::nullopt;  // SHORT or LONG only
+    (tag == 256 ? width : height) = number(entry + 8, type == 3 ? 2 : 4);
+  }
+  if (!width || !height) return std::nullopt;
+  return ImageHeaderSize{*width, *height, "TIFF"};
+}
+
+}  // namespace
+
 std::optional<ImageHeaderSize> readImageHeaderSize(const fs::path& path) {
   // Never open a named pipe or a device here: opening a pipe waits for a writer.
   if (!notARegularFile(path).empty()) return std::nullopt;
@@ -188,6 +247,24 @@ std::optional<ImageHeaderSize> readImageHeaderSize(const fs::path& path) {
     const auto height = width ? pnmNumber(in) : std::nullopt;
     if (!width || !height) return std::nullopt;
     return ImageHeaderSize{*width, *height, format};
+  }
+  if (head[0] == 0xff && head[1] == 0xd8) return jpegSize(in);
+  if ((head[0] == 'I' && head[1] == 'I') || (head[0] == 'M' && head[1] == 'M'))
+    return tiffSize(in, head[0] == 'I');
+  if (head[0] == 'B' && head[1] == 'M') {
+    // BMP: the info header's width and height (little-endian, height negative when top-down).
+    unsigned char info[24] = {};
+    in.read(reinterpret_cast<char*>(info), sizeof(info));
+    if (!in) return std::nullopt;
+    const auto little = [&](int at) {
+      return static_cast<std::int32_t>(
+          std::uint32_t{info[at]} | (std::uint32_t{info[at + 1]} << 8) |
+          (std::uint32_t{info[at + 2]} << 16) | (std::uint32_t{info[at + 3]} << 24));
+    };
+    // File header (14 bytes, 2 read), then the info header's size, width, height.
+    const std::int64_t width = little(16), height = little(20);
+    return ImageHeaderSize{static_cast<std::uint64_t>(width < 0 ? -width : width),
+                           static_cast<std::uint64_t>(height < 0 ? -height : height), "BMP"};
   }
   return std::nullopt;
 }

@@ -6,6 +6,7 @@
 #include <sys/types.h>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "lom/annotations.hpp"
 #include "lom/npy.hpp"
@@ -109,6 +110,67 @@ TEST(ImageHeaderTest, ReadersRefuseImagesDeclaringTooManyPixels) {
   writeText(dir / "huge.pgm", "P5 70000 70000 255\n");
   EXPECT_EQ(errorOf([&] { (void)lom::readLabelImage(dir / "huge.pgm"); }).found,
             "70000 x 70000 pixels (declared in the PGM header)");
+}
+
+std::string bigEndian16(unsigned v) {
+  return {static_cast<char>((v >> 8) & 0xff), static_cast<char>(v & 0xff)};
+}
+
+// A TIFF whose first directory declares width x height (SHORT or LONG tags).
+std::string tiffHeader(bool little, std::uint32_t width, std::uint32_t height, bool longs) {
+  const auto number = [&](std::uint32_t v, int size) {
+    std::string bytes;
+    for (int i = 0; i < size; ++i) {
+      const int shift = 8 * (little ? i : size - 1 - i);
+      bytes += static_cast<char>((v >> shift) & 0xff);
+    }
+    return bytes;
+  };
+  std::string bytes = little ? "II" : "MM";
+  bytes += number(42, 2) + number(8, 4) + number(3, 2);
+  bytes += number(254, 2) + number(4, 2) + number(1, 4) + number(0, 4);  // NewSubfileType
+  for (const auto& [tag, value] : {std::pair{256u, width}, std::pair{257u, height}}) {
+    bytes += number(tag, 2) + number(longs ? 4 : 3, 2) + number(1, 4);
+    bytes += longs ? number(value, 4) : number(value, 2) + number(0, 2);
+  }
+  return bytes + number(0, 4) + std::string(100, '\0');
+}
+
+TEST(ImageHeaderTest, JpegTiffAndBmpDeclaringTooManyPixelsAreRefusedBeforeDecoding) {
+  lom::test::TempDir dir;
+  // JPEG: start of image, an APP0 segment to skip, then the frame header.
+  writeText(dir / "huge.jpg", std::string("\xff\xd8\xff\xe0", 4) + bigEndian16(16) +
+                                  std::string(14, 'J') + std::string("\xff\xc0", 2) +
+                                  bigEndian16(17) + '\x08' + bigEndian16(50000) +
+                                  bigEndian16(60000) + std::string(200, '\0'));
+  EXPECT_EQ(errorOf([&] { (void)lom::readColorImage(dir / "huge.jpg"); }).found,
+            "60000 x 50000 pixels (declared in the JPEG header)");
+  for (const bool little : {true, false})
+    for (const bool longs : {true, false}) {
+      writeText(dir / "huge.tif", tiffHeader(little, 65000, 40000, longs));
+      const lom::Problem problem = errorOf([&] { (void)lom::readColorImage(dir / "huge.tif"); });
+      EXPECT_EQ(problem.field, "image size");
+      EXPECT_EQ(problem.found, "65000 x 40000 pixels (declared in the TIFF header)")
+          << little << longs;
+    }
+  std::string bmp = "BM" + std::string(12, '\0');  // file size, reserved, pixel offset
+  for (const std::int32_t v : {40, 70000, -70000})
+    for (int i = 0; i < 4; ++i)
+      bmp += static_cast<char>((static_cast<std::uint32_t>(v) >> (8 * i)) & 0xff);
+  writeText(dir / "huge.bmp", bmp + std::string(100, '\0'));
+  EXPECT_EQ(errorOf([&] { (void)lom::readColorImage(dir / "huge.bmp"); }).found,
+            "70000 x 70000 pixels (declared in the BMP header)");
+}
+
+TEST(ImageHeaderTest, RealJpegTiffAndBmpFilesStillRead) {
+  lom::test::TempDir dir;
+  cv::Mat bgr(3, 5, CV_8UC3, cv::Scalar(10, 20, 30));
+  for (const char* name : {"c.jpg", "c.tif", "c.bmp", "c.png"}) {
+    ASSERT_TRUE(cv::imwrite((dir / name).string(), bgr)) << name;
+    const lom::ColorImage image = lom::readColorImage(dir / name);
+    EXPECT_EQ(image.width, 5) << name;
+    EXPECT_EQ(image.height, 3) << name;
+  }
 }
 
 }  // namespace
