@@ -135,10 +135,10 @@ void printMapInfo(const std::filesystem::path& path, std::ostream& out) {
       << "  clamping [" << p.clamp_min << ", " << p.clamp_max << "]  max range "
       << (p.max_range > 0.0 ? std::to_string(p.max_range) + " m" : std::string("unlimited"))
       << "\n";
-  out << "camera views:     " << map.cameraUpRecord().views;
+  out << "camera views:     " << map.cameraViews().views;
   if (const auto up = map.upDirection())
     out << ", mean up (" << up->x() << ", " << up->y() << ", " << up->z() << ")";
-  else if (map.cameraUpRecord().views > 0)
+  else if (map.cameraViews().views > 0)
     out << ", their up directions disagree";
   out << "\n";
   out << "tree:             " << map.numNodes() << " nodes, " << map.numLeaves() << " leaves, "

@@ -110,9 +110,9 @@ int runPlan(const Words& words) {
   const PickPlan plan = planPick(map, target, options);
   if (plan.approach_source == ApproachSource::FreeSpace)
     std::cerr << "note: the approach direction was guessed from the map's observed free space "
-                 "(no --approach or --sequence given); it can point the wrong way when the cameras "
-                 "went round the objects. --sequence SEQ uses the recorded cameras' viewing "
-                 "direction, --approach x,y,z sets it\n";
+                 "(no --approach or --sequence given, and the map records no camera views); it can "
+                 "point the wrong way when the cameras went round the objects. --sequence SEQ uses "
+                 "the recorded cameras' viewing direction, --approach x,y,z sets it\n";
   std::cout << planTable(plan);
   if (out) {
     writePlanJson(plan, *out, map_path.string());

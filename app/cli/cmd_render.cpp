@@ -183,7 +183,7 @@ int runRender(const Words& words) {
               << (options.up ? std::string("given with --up")
                   : map.upDirection()
                       ? "the mean up direction of the map's " +
-                            std::to_string(map.cameraUpRecord().views) + " camera views"
+                            std::to_string(map.cameraViews().views) + " camera views"
                       : std::string("world +z (the map records no camera views that agree "
                                     "on up; --up x,y,z sets it)"))
               << "\n";

@@ -99,23 +99,35 @@ void LabelMap::setIntegrationParameters(double p_miss, double max_range) {
 }
 
 void LabelMap::noteCameraView(const Eigen::Matrix3d& R_world_camera) {
-  const Eigen::Vector3d up = -R_world_camera.col(1);
-  if (!up.allFinite()) return;
-  CameraUpRecord record = tree_->cameraUp();
+  const Eigen::Vector3d up = -R_world_camera.col(1), forward = R_world_camera.col(2);
+  if (!up.allFinite() || !forward.allFinite()) return;
+  CameraViewRecord record = tree_->cameraViews();
   if (record.views == std::numeric_limits<std::uint32_t>::max()) return;  // enough views
-  for (int a = 0; a < 3; ++a) record.sum[a] += up[a];
+  for (int a = 0; a < 3; ++a) {
+    record.up_sum[a] += up[a];
+    record.forward_sum[a] += forward[a];
+  }
   ++record.views;
-  tree_->setCameraUp(record);
+  tree_->setCameraViews(record);
 }
 
-const CameraUpRecord& LabelMap::cameraUpRecord() const { return tree_->cameraUp(); }
+const CameraViewRecord& LabelMap::cameraViews() const { return tree_->cameraViews(); }
 
 std::optional<Eigen::Vector3d> LabelMap::upDirection() const {
-  const CameraUpRecord& record = tree_->cameraUp();
+  const CameraViewRecord& record = tree_->cameraViews();
   if (record.views == 0) return std::nullopt;
-  const Eigen::Vector3d sum(record.sum[0], record.sum[1], record.sum[2]);
+  const Eigen::Vector3d sum(record.up_sum[0], record.up_sum[1], record.up_sum[2]);
   const double length = sum.norm();
   if (!std::isfinite(length) || length < 0.5 * record.views) return std::nullopt;
+  return Eigen::Vector3d(sum / length);
+}
+
+std::optional<Eigen::Vector3d> LabelMap::meanViewingDirection() const {
+  const CameraViewRecord& record = tree_->cameraViews();
+  const Eigen::Vector3d sum(record.forward_sum[0], record.forward_sum[1], record.forward_sum[2]);
+  const double length = sum.norm();
+  if (record.views == 0 || !std::isfinite(length) || !(length > 1e-9 * record.views))
+    return std::nullopt;
   return Eigen::Vector3d(sum / length);
 }
 

@@ -498,7 +498,7 @@ size_t LabelOcTree::labelArrayBytes() const {
 namespace {
 
 constexpr char kMagic[4] = {'L', 'O', 'M', 'T'};
-// 1: labels, parameters, nodes. 2: and the cameras' up record after the parameters.
+// 1: labels, parameters, nodes. 2: and the camera view record after the parameters.
 constexpr std::uint32_t kFileVersion = 2;
 
 template <typename T>
@@ -527,8 +527,9 @@ std::ostream& LabelOcTree::writeData(std::ostream& s) const {
   writePod(s, parameters_.clamp_min);
   writePod(s, parameters_.clamp_max);
   writePod(s, parameters_.max_range);
-  for (const double component : camera_up_.sum) writePod(s, component);
-  writePod(s, camera_up_.views);
+  for (const double component : camera_views_.up_sum) writePod(s, component);
+  for (const double component : camera_views_.forward_sum) writePod(s, component);
+  writePod(s, camera_views_.views);
   // OctoMap's node stream cannot express an empty tree, so say whether one follows.
   writePod(s, static_cast<std::uint8_t>(root != nullptr));
   return octomap::OccupancyOcTreeBase<LabelOcTreeNode>::writeData(s);
@@ -585,21 +586,24 @@ void LabelOcTree::readLabelledData(std::istream& s) {
       !readPod(s, parameters.max_range))
     truncated("parameters", "p_miss, occupancy_threshold, clamp_min, clamp_max, max_range");
   checkMapParameters(parameters);
-  CameraUpRecord camera_up;
+  CameraViewRecord camera_views;
   if (version >= 2) {
-    for (double& component : camera_up.sum)
-      if (!readPod(s, component))
-        truncated("camera up", "three summed up directions and a view count");
-    if (!readPod(s, camera_up.views))
-      truncated("camera up", "three summed up directions and a view count");
-    const Eigen::Vector3d sum(camera_up.sum[0], camera_up.sum[1], camera_up.sum[2]);
-    // Each view adds a unit vector: the sum is at most as long as the count.
-    if (!sum.allFinite() || sum.norm() > camera_up.views * (1.0 + 1e-6))
-      throw Error("", "camera up",
-                  "summed up directions no longer than their view count (" +
-                      std::to_string(camera_up.views) + ")",
-                  "(" + std::to_string(sum.x()) + ", " + std::to_string(sum.y()) + ", " +
-                      std::to_string(sum.z()) + ")");
+    const std::string expected = "summed up and viewing directions and a view count";
+    for (double& component : camera_views.up_sum)
+      if (!readPod(s, component)) truncated("camera views", expected);
+    for (double& component : camera_views.forward_sum)
+      if (!readPod(s, component)) truncated("camera views", expected);
+    if (!readPod(s, camera_views.views)) truncated("camera views", expected);
+    // Each view adds unit vectors: a sum is at most as long as the count.
+    for (const double* summed : {camera_views.up_sum, camera_views.forward_sum}) {
+      const Eigen::Vector3d sum(summed[0], summed[1], summed[2]);
+      if (!sum.allFinite() || sum.norm() > camera_views.views * (1.0 + 1e-6))
+        throw Error("", "camera views",
+                    "summed directions no longer than their view count (" +
+                        std::to_string(camera_views.views) + ")",
+                    "(" + std::to_string(sum.x()) + ", " + std::to_string(sum.y()) + ", " +
+                        std::to_string(sum.z()) + ")");
+    }
   }
   std::uint8_t has_nodes = 0;
   if (!readPod(s, has_nodes)) truncated("nodes", "a node flag");
@@ -608,7 +612,7 @@ void LabelOcTree::readLabelledData(std::istream& s) {
   if (root) throw Error("", "nodes", "a map to read into that is empty", "a map with nodes");
   labels_ = LabelSet(std::move(labels));
   parameters_ = parameters;
-  camera_up_ = camera_up;
+  camera_views_ = camera_views;
   applyParameters();
   if (!has_nodes) return;
   root = new LabelOcTreeNode();

@@ -57,6 +57,8 @@ const char* approachSourceName(ApproachSource source) {
   switch (source) {
     case ApproachSource::Given: return "given";
     case ApproachSource::Sequence: return "sequence";
+    case ApproachSource::MapCameras:
+      return "map-cameras";
     case ApproachSource::FreeSpace: return "free-space";
   }
   return "given";
@@ -315,6 +317,9 @@ PickPlan planPick(const LabelMap& map, int target_label, const PlanOptions& opti
   Eigen::Vector3d approach;
   if (effective.approach) {
     approach = *effective.approach;
+  } else if (const auto viewing = map.meanViewingDirection()) {
+    approach = *viewing;
+    effective.approach_source = ApproachSource::MapCameras;
   } else {
     // Without the target there is nothing to plan; say so before blaming the approach.
     const bool has_target = std::any_of(objects.begin(), objects.end(),

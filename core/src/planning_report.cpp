@@ -72,6 +72,8 @@ const char* approachExplanation(ApproachSource source) {
   switch (source) {
     case ApproachSource::Given: return "given";
     case ApproachSource::Sequence: return "mean viewing direction of the sequence";
+    case ApproachSource::MapCameras:
+      return "mean viewing direction of the map's cameras";
     case ApproachSource::FreeSpace: return "from the map's free space toward the objects";
   }
   return "given";

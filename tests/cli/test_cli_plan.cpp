@@ -126,6 +126,27 @@ TEST_F(CliPlanTest, SequenceGivesTheMeanViewingDirection) {
   EXPECT_EQ(plan["steps"].size(), 1u);
 }
 
+TEST_F(CliPlanTest, WithoutApproachTheMapsRecordedCamerasGiveIt) {
+  TempDir out;
+  // The same map, fused (as it were) by cameras looking along -y, as the side sequence.
+  lom::LabelMap map = lom::LabelMap::load(path("bin.ot"));
+  const Eigen::Matrix3d looking_along_minus_y =
+      Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  ASSERT_LT((looking_along_minus_y.col(2) - Eigen::Vector3d(0, -1, 0)).norm(), 1e-12);
+  map.noteCameraView(looking_along_minus_y);
+  map.noteCameraView(looking_along_minus_y);
+  map.save(out / "viewed.ot");
+  const auto r = runCli("plan " + quoted(out / "viewed.ot") + " --target 19 --out " +
+                        quoted(out / "plan.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("guessed"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("mean viewing direction of the map's cameras"), std::string::npos) << r.out;
+  const Json plan = Json::parse(slurp(out / "plan.json"));
+  EXPECT_EQ(plan["approach"]["source"], "map-cameras");
+  EXPECT_NEAR(plan["approach"]["direction"][1].get<double>(), -1.0, 1e-9);
+  EXPECT_TRUE(plan["occluders"].empty());
+}
+
 TEST_F(CliPlanTest, EmptyBinCandidatesAndAllClusters) {
   TempDir out;
   const auto r = runCli("plan " + map() + " --target 19 --approach 1,0,0 --empty-bin 0,0.6,0.1,0.4,0.3,0.2"

@@ -202,7 +202,7 @@ TEST(RenderMap, RecordedCameraViewMatchesTheGroundTruthLabels) {
   ASSERT_GT(objects, 500u);
   EXPECT_GT(static_cast<double>(agree) / objects, 0.8) << agree << " of " << objects;
   // Fusion recorded the cameras: the generated scene's world has z up.
-  EXPECT_EQ(map.cameraUpRecord().views, sequence.frames.size());
+  EXPECT_EQ(map.cameraViews().views, sequence.frames.size());
   ASSERT_TRUE(map.upDirection());
   EXPECT_GT(map.upDirection()->z(), 0.9) << map.upDirection()->transpose();
 }

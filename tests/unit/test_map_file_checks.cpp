@@ -54,8 +54,9 @@ struct MapFile {
   std::uint32_t version = 0;
   std::vector<std::pair<std::string, lom::Rgb>> labels;
   double parameters[5] = {};  // p_miss, threshold, clamp_min, clamp_max, max_range
-  double up_sum[3] = {};      // data version 2: the cameras' summed up directions
-  std::uint32_t up_views = 0;
+  double up_sum[3] = {};      // data version 2: the cameras' summed up directions,
+  double forward_sum[3] = {};  // their summed viewing directions
+  std::uint32_t up_views = 0;  // and the count
   std::string nodes;          // the node flag and OctoMap's node stream
 
   static MapFile read(const fs::path& path) {
@@ -79,10 +80,11 @@ struct MapFile {
       at += 8;
     }
     if (file.version >= 2) {
-      for (double& u : file.up_sum) {
-        u = get<double>(bytes, at);
-        at += 8;
-      }
+      for (double* sums : {file.up_sum, file.forward_sum})
+        for (int i = 0; i < 3; ++i) {
+          sums[i] = get<double>(bytes, at);
+          at += 8;
+        }
       file.up_views = get<std::uint32_t>(bytes, at);
       at += 4;
     }
@@ -102,6 +104,7 @@ struct MapFile {
     for (const double p : parameters) put(bytes, p);
     if (version >= 2) {
       for (const double u : up_sum) put(bytes, u);
+      for (const double f : forward_sum) put(bytes, f);
       put(bytes, up_views);
     }
     writeBytes(path, bytes + nodes);
@@ -191,15 +194,16 @@ TEST_F(MapFileTest, AnUnknownDataVersionIsNamed) {
   EXPECT_NE(problem.expected.find("version 1 or 2"), std::string::npos);
 }
 
-TEST_F(MapFileTest, VersionOneMapsWithoutTheCameraUpRecordStillLoad) {
+TEST_F(MapFileTest, VersionOneMapsWithoutTheCameraViewRecordStillLoad) {
   const fs::path path = changed([](MapFile& f) {
     EXPECT_EQ(f.version, 2u);
     f.version = 1;
   });
   const lom::LabelMap map = lom::LabelMap::load(path);
   EXPECT_EQ(map.occupiedCountPerLabel().at(1), 27u);
-  EXPECT_EQ(map.cameraUpRecord().views, 0u);
+  EXPECT_EQ(map.cameraViews().views, 0u);
   EXPECT_FALSE(map.upDirection());
+  EXPECT_FALSE(map.meanViewingDirection());
 }
 
 TEST_F(MapFileTest, CameraViewsAreSavedWithTheMap) {
@@ -211,19 +215,22 @@ TEST_F(MapFileTest, CameraViewsAreSavedWithTheMap) {
   map.noteCameraView(tilted);
   map.save(dir / "viewed.ot");
   const lom::LabelMap loaded = lom::LabelMap::load(dir / "viewed.ot");
-  EXPECT_EQ(loaded.cameraUpRecord().views, 2u);
+  EXPECT_EQ(loaded.cameraViews().views, 2u);
   ASSERT_TRUE(loaded.upDirection());
   const Eigen::Vector3d expected = (-Eigen::Vector3d::UnitY() - tilted.col(1)).normalized();
   EXPECT_LT((*loaded.upDirection() - expected).norm(), 1e-12);
+  ASSERT_TRUE(loaded.meanViewingDirection());
+  const Eigen::Vector3d viewing = (Eigen::Vector3d::UnitZ() + tilted.col(2)).normalized();
+  EXPECT_LT((*loaded.meanViewingDirection() - viewing).norm(), 1e-12);
 }
 
-TEST_F(MapFileTest, TheCameraUpRecordIsReadBackAndChecked) {
+TEST_F(MapFileTest, TheCameraViewRecordIsReadBackAndChecked) {
   const fs::path path = changed([](MapFile& f) {
     f.up_sum[1] = -3.0;
     f.up_views = 4;
   });
   const lom::LabelMap map = lom::LabelMap::load(path);
-  EXPECT_EQ(map.cameraUpRecord().views, 4u);
+  EXPECT_EQ(map.cameraViews().views, 4u);
   ASSERT_TRUE(map.upDirection());
   EXPECT_NEAR((*map.upDirection() - Eigen::Vector3d(0, -1, 0)).norm(), 0.0, 1e-12);
   // Unit vectors cannot sum to more than their count.
@@ -231,10 +238,15 @@ TEST_F(MapFileTest, TheCameraUpRecordIsReadBackAndChecked) {
     f.up_sum[2] = 5.0;
     f.up_views = 4;
   }));
-  EXPECT_EQ(longer.field, "camera up");
+  EXPECT_EQ(longer.field, "camera views");
   const lom::Problem nan = loadError(
       changed([](MapFile& f) { f.up_sum[0] = std::numeric_limits<double>::quiet_NaN(); }));
-  EXPECT_EQ(nan.field, "camera up");
+  EXPECT_EQ(nan.field, "camera views");
+  const lom::Problem forward = loadError(changed([](MapFile& f) {
+    f.forward_sum[0] = 2.5;
+    f.up_views = 2;
+  }));
+  EXPECT_EQ(forward.field, "camera views");
 }
 
 TEST_F(MapFileTest, LabelCountsOutOfRangeOrDisagreeingWithTheNodesAreNamed) {

@@ -63,10 +63,12 @@ struct OccupiedVoxel {
   float probability = 0.f;  // probability of that label
 };
 
-// The up directions of the cameras a map was fused from: each view adds its
-// camera's up (the negated image y axis) in world coordinates.
-struct CameraUpRecord {
-  double sum[3] = {0.0, 0.0, 0.0};
+// The cameras a map was fused from: each fused view adds its camera's up (the
+// negated image y axis) and viewing direction (the z axis), in world
+// coordinates, and counts one view.
+struct CameraViewRecord {
+  double up_sum[3] = {0.0, 0.0, 0.0};
+  double forward_sum[3] = {0.0, 0.0, 0.0};
   std::uint32_t views = 0;
 };
 
@@ -91,12 +93,16 @@ class LabelMap {
   [[nodiscard]] const MapParameters& parameters() const { return parameters_; }
   // Records a fused view's camera (integrateFrame does, for every frame).
   void noteCameraView(const Eigen::Matrix3d& R_world_camera);
-  [[nodiscard]] const CameraUpRecord& cameraUpRecord() const;
+  [[nodiscard]] const CameraViewRecord& cameraViews() const;
   // Which way is up in the map's world, as its cameras saw it: the mean of
   // their up directions, normalised, when they agree (the mean is at least
-  // half a unit long); nullopt when no view was recorded (maps fused before
-  // data version 2, or built without cameras) or when the views disagree.
+  // half a unit long); nullopt when no view was recorded (maps of data
+  // version 1, or built without cameras) or when the views disagree.
   [[nodiscard]] std::optional<Eigen::Vector3d> upDirection() const;
+  // The cameras' mean viewing direction, normalised (the same as
+  // meanViewingDirection of the fused sequence); nullopt without recorded
+  // views or when the directions cancel out.
+  [[nodiscard]] std::optional<Eigen::Vector3d> meanViewingDirection() const;
 
   // Re-thresholds the whole map at once (no re-fusion needed).
   void setOccupancyThreshold(double threshold);

@@ -22,13 +22,17 @@ namespace lom {
 enum class ApproachSource {
   Given,       // set by the caller (--approach)
   Sequence,    // the mean viewing direction of a sequence's frames (--sequence)
+  MapCameras,  // the mean viewing direction of the cameras the map was fused from
   FreeSpace,   // estimated from the map: from the observed free space toward the objects
 };
-[[nodiscard]] const char* approachSourceName(ApproachSource source);  // "given" | "sequence" | "free-space"
+// "given" | "sequence" | "map-cameras" | "free-space"
+[[nodiscard]] const char* approachSourceName(ApproachSource source);
 
 struct PlanOptions {
   ObjectOptions objects;  // objects.labels (candidates) always gets the target added
-  // Unit or not (it is normalised); the map's free-space estimate when absent.
+  // Unit or not (it is normalised). When absent: the mean viewing direction of
+  // the cameras the map records (LabelMap::meanViewingDirection), else the
+  // map's free-space estimate.
   std::optional<Eigen::Vector3d> approach;
   ApproachSource approach_source = ApproachSource::Given;  // reported when `approach` is set
   // Boxes overlap across the approach when their projections onto the plane

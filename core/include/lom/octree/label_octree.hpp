@@ -131,11 +131,10 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   [[nodiscard]] const MapParameters& parameters() const { return parameters_; }
   void setOccupancyThreshold(double threshold);
   void setIntegrationParameters(double p_miss, double max_range);
-  // The cameras' up directions (the negated y axis of each fused view, in
-  // world coordinates), summed, and how many views were summed; written with
-  // the map (data version 2).
-  [[nodiscard]] const CameraUpRecord& cameraUp() const { return camera_up_; }
-  void setCameraUp(const CameraUpRecord& record) { camera_up_ = record; }
+  // The fused views' cameras (LabelMap::noteCameraView); written with the
+  // map (data version 2).
+  [[nodiscard]] const CameraViewRecord& cameraViews() const { return camera_views_; }
+  void setCameraViews(const CameraViewRecord& record) { camera_views_ = record; }
 
   // Finest-depth leaf for `key`, created (and pruned ancestors expanded) when
   // needed. Inner nodes are not refreshed: call refreshAncestors afterwards.
@@ -231,7 +230,7 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
 
   LabelSet labels_;
   MapParameters parameters_;
-  CameraUpRecord camera_up_;
+  CameraViewRecord camera_views_;
 
   // Registers the tree type with OctoMap's factory so AbstractOcTree::read works.
   class StaticMemberInitializer {
