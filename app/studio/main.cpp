@@ -310,5 +310,8 @@ int main(int argc, char** argv) {
   window.show();
   if (!arguments.sequence.isEmpty() && window.controller().openSequence(arguments.sequence))
     window.controller().setCurrentFrame(arguments.frame);
+  // Closed while the recording was being converted: there is nothing left to
+  // run (Qt quits on the last window only once its event loop runs).
+  if (!window.isVisible()) return 0;
   return QApplication::exec();
 }

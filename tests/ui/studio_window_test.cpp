@@ -208,6 +208,9 @@ TEST_F(StudioWindowTest, RememberedAsRecentAndOpenedByDrop) {
   EXPECT_TRUE(enter.isAccepted());
   QDropEvent drop(QPointF(40, 40), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
   QApplication::sendEvent(&window_, &drop);
+  // Opened just after the drop event has been answered.
+  EXPECT_TRUE(
+      QTest::qWaitFor([&] { return window_.controller().sequenceName() == "dropped_shelf"; }));
   EXPECT_EQ(window_.controller().sequenceName(), "dropped_shelf");
   EXPECT_TRUE(errors_.empty());
 }

@@ -19,6 +19,7 @@
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/box_editor_panel.hpp"
 #include "lom/ui/box_file_reaction.hpp"
+#include "lom/ui/conversion_progress.hpp"
 #include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/export_map_reaction.hpp"
 #include "lom/ui/frame_images_view.hpp"
@@ -118,10 +119,16 @@ MainWindow::MainWindow(QWidget* parent)
   createMenus(step_actions);
   connectScene();
   new SequenceDropHandler(this, *controller_);
+  new ConversionProgress(this, *controller_);
   controller_->setDiscardGuard([this] { return confirmDiscard(); });
 
   connect(controller_, &SequenceController::errorOccurred, this,
           [this](const QString& title, const QString& message) { report_error_(title, message); });
+  connect(controller_, &SequenceController::conversionFinished, this,
+          [this](const QString& name, bool cancelled) {
+            if (cancelled)
+              statusBar()->showMessage(tr("Conversion of %1 cancelled").arg(name), 8000);
+          });
   connect(controller_, &SequenceController::sequenceAboutToChange, frame_images_,
           &FrameImagesView::clear);
   connect(controller_, &SequenceController::sequenceChanged, this, &MainWindow::onSequenceChanged);
@@ -219,6 +226,8 @@ bool MainWindow::confirmDiscard() {
 bool MainWindow::confirmStopWork() {
   const MapWorker& worker = session_->worker();
   QStringList work;
+  if (controller_->isConverting())
+    work << tr("conversion of %1").arg(controller_->conversionName());
   if (worker.isFusing())
     work << (worker.state() == MapWorker::State::Paused ? tr("fusion of %1 (paused)")
                                                         : tr("fusion of %1"))
@@ -407,6 +416,9 @@ void MainWindow::closeEvent(QCloseEvent* event) {
     return;
   }
   if (unsaved) autosave_->discard();  // the user chose to drop the boxes
+  // A conversion under way stops after its current frame; the open that
+  // waits for it then returns without touching the window.
+  controller_->cancelConversion();
   event->accept();
 }
 

@@ -1,8 +1,16 @@
 #include "lom/ui/sequence_controller.hpp"
 
+#include <QDir>
+#include <QEventLoop>
 #include <QFileInfo>
+#include <QMetaObject>
+#include <QTimer>
 #include <algorithm>
+#include <atomic>
+#include <climits>
+#include <exception>
 #include <filesystem>
+#include <thread>
 #include <utility>
 
 #include "lom/error.hpp"
@@ -35,20 +43,61 @@ QString withStudioHint(QString message) {
   return message;
 }
 
+int clampToInt(size_t value) {
+  return static_cast<int>(std::min<size_t>(value, static_cast<size_t>(INT_MAX)));
+}
+
+// Resets a flag when the scope ends, however it ends.
+class FlagGuard {
+ public:
+  explicit FlagGuard(bool& flag) : flag_(flag) { flag_ = true; }
+  ~FlagGuard() { flag_ = false; }
+  FlagGuard(const FlagGuard&) = delete;
+  FlagGuard& operator=(const FlagGuard&) = delete;
+
+ private:
+  bool& flag_;
+};
+
 }  // namespace
+
+// What the GUI thread and the conversion's worker thread share.
+struct SequenceController::Conversion {
+  std::atomic<bool> cancel{false};
+  std::atomic<size_t> done{0};
+  std::atomic<size_t> total{0};
+  // A progress call is queued to the GUI thread and has not run yet: later
+  // progress is picked up by it instead of queuing another.
+  std::atomic<bool> progress_queued{false};
+};
 
 SequenceController::SequenceController(QObject* parent) : QObject(parent) {}
 
-SequenceController::~SequenceController() = default;
+SequenceController::~SequenceController() {
+  if (conversion_) conversion_->cancel = true;
+}
+
+void SequenceController::cancelConversion() {
+  if (conversion_) conversion_->cancel = true;
+}
 
 bool SequenceController::openSequence(const QString& folder_or_json) {
+  if (opening_) return false;
+  const FlagGuard opening(opening_);
   if (hasUnsavedWork() && discard_guard_ && !discard_guard_()) return false;
   const QString absolute = QFileInfo(folder_or_json).absoluteFilePath();
   OpenedSource opened;
   try {
     // A sequence opens as it is; a ROS bag or a dataset folder that the importer
     // recognises is converted once into the import cache and opened from there.
-    opened = openSource(toPath(absolute), import_options_);
+    const std::optional<SourceKind> kind = detectSource(toPath(absolute)).kind;
+    if (kind && *kind != SourceKind::Sequence) {
+      std::optional<OpenedSource> converted = convert(absolute);
+      if (!converted) return false;  // cancelled: the open sequence stays
+      opened = std::move(*converted);
+    } else {
+      opened = openSource(toPath(absolute), import_options_);
+    }
   } catch (const std::exception& error) {
     emit errorOccurred(tr("Cannot open sequence"),
                        withStudioHint(describeFailure(error, absolute)));
@@ -65,6 +114,106 @@ bool SequenceController::openSequence(const QString& folder_or_json) {
   emit sequenceChanged();
   emit currentFrameChanged(current_frame_);
   return true;
+}
+
+std::optional<OpenedSource> SequenceController::convert(const QString& path) {
+  const auto conversion = std::make_shared<Conversion>();
+  conversion_ = conversion;
+  conversion_name_ = QFileInfo(QDir::cleanPath(path)).fileName();
+  const QString name = conversion_name_;
+
+  // The worker's calls arrive through `receiver`, on this thread; the worker
+  // is joined before any of these locals goes.
+  QEventLoop loop;
+  bool finished = false;
+  bool delay_passed = progress_delay_ms_ <= 0;
+  OpenedSource opened;
+  std::exception_ptr failure;
+  QObject receiver;
+  const SourceOpener opener =
+      source_opener_ ? source_opener_
+                     : [](const std::filesystem::path& source, const ImportOptions& options,
+                          const ImportProgressCallback& progress) {
+                         return openSource(source, options, {}, progress);
+                       };
+  const ImportProgressCallback progress = [this, conversion,
+                                           &receiver](const ImportProgress& step) {
+    conversion->done = step.done;
+    conversion->total = step.total;
+    if (!conversion->progress_queued.exchange(true))
+      QMetaObject::invokeMethod(
+          &receiver,
+          [this, conversion] {
+            conversion->progress_queued = false;
+            emit conversionProgress(clampToInt(conversion->done), clampToInt(conversion->total));
+          },
+          Qt::QueuedConnection);
+    return !conversion->cancel;
+  };
+  auto run = [&, opener, progress, source = toPath(path), options = import_options_] {
+    try {
+      opened = opener(source, options, progress);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    QMetaObject::invokeMethod(
+        &receiver,
+        [&] {
+          finished = true;
+          loop.quit();
+        },
+        Qt::QueuedConnection);
+  };
+  std::thread worker;
+  // However this returns, the worker has stopped before the locals it uses go.
+  struct Stopper {
+    SequenceController& controller;
+    Conversion& conversion;
+    std::thread& worker;
+    ~Stopper() {
+      if (worker.joinable()) {
+        conversion.cancel = true;
+        worker.join();
+      }
+      controller.conversion_.reset();
+    }
+  } stopper{*this, *conversion, worker};
+  worker = std::thread(std::move(run));
+
+  QTimer delay;
+  delay.setSingleShot(true);
+  connect(&delay, &QTimer::timeout, &loop, [&] {
+    delay_passed = true;
+    loop.quit();
+  });
+  if (delay_passed)
+    emit conversionStarted(name);
+  else
+    delay.start(progress_delay_ms_);
+  while (!finished) {
+    // Until the progress is shown, clicks and keys wait: the open sequence
+    // must not change under a conversion that replaces it.
+    const bool before_delay = !delay_passed;
+    loop.exec(before_delay ? QEventLoop::ExcludeUserInputEvents : QEventLoop::AllEvents);
+    if (finished) break;
+    if (before_delay && delay_passed) {
+      emit conversionStarted(name);
+      continue;
+    }
+    // The wait was ended from outside (the application quits): stop converting.
+    conversion->cancel = true;
+    break;
+  }
+  worker.join();
+  conversion_.reset();
+
+  // A cancel the conversion no longer saw still keeps the open sequence (the
+  // finished conversion stays in the cache for the next open).
+  const bool cancelled = conversion->cancel || (!failure && opened.report.cancelled);
+  emit conversionFinished(name, cancelled);
+  if (cancelled) return std::nullopt;
+  if (failure) std::rethrow_exception(failure);
+  return opened;
 }
 
 QString SequenceController::sequenceName() const {

@@ -4,6 +4,7 @@
 #include <QDropEvent>
 #include <QFileInfo>
 #include <QMimeData>
+#include <QTimer>
 #include <QUrl>
 #include <QWidget>
 
@@ -41,7 +42,10 @@ bool SequenceDropHandler::eventFilter(QObject* watched, QEvent* event) {
     const QString path = droppedSequencePath(drop->mimeData());
     if (path.isEmpty()) return false;
     drop->acceptProposedAction();
-    controller_.openSequence(path);
+    // Opened once the drop has been answered: a recording's conversion shows
+    // a modal dialog, and the application the drag came from must not wait
+    // for it.
+    QTimer::singleShot(0, this, [this, path] { controller_.openSequence(path); });
     return true;
   }
   return QObject::eventFilter(watched, event);

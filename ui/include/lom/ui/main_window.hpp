@@ -62,8 +62,8 @@ class MainWindow : public QMainWindow {
   void createDocks();
   void createAnnotateMenu();
   [[nodiscard]] bool confirmDiscard();
-  // Asks before closing drops a running fusion or queued map work (exports,
-  // box fits); true when there is none or the user agrees.
+  // Asks before closing drops a conversion, a running fusion or queued map
+  // work (exports, box fits); true when there is none or the user agrees.
   [[nodiscard]] bool confirmStopWork();
   void connectScene();
   void updateTitle();

@@ -3,6 +3,7 @@
 // through its signals.
 #include <QObject>
 #include <QString>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -20,9 +21,22 @@ class SequenceController : public QObject {
   explicit SequenceController(QObject* parent = nullptr);
   ~SequenceController() override;
 
+  // How a ROS bag or a dataset folder is converted and opened; called on a
+  // worker thread with a progress callback (false from it cancels).
+  using SourceOpener = std::function<OpenedSource(
+      const std::filesystem::path&, const ImportOptions&, const ImportProgressCallback&)>;
+
   // Loads `folder/sequence.json` (or the json itself) and goes to frame 0.
   // On failure emits errorOccurred with the core's message (which names the
   // file and field), keeps the previous sequence and returns false.
+  //
+  // A ROS bag or a dataset folder is converted (into the import cache) on a
+  // worker thread while this waits in a local event loop, so the windows keep
+  // repainting; it returns when the conversion has ended. Input to the windows
+  // waits for the first progressDelay() ms; a conversion still running then
+  // emits conversionStarted (the window shows its progress, modally). A
+  // cancelled conversion keeps the previous sequence, reports no error and
+  // returns false. While one open is under way, others are refused (false).
   bool openSequence(const QString& folder_or_json);
 
   [[nodiscard]] bool hasSequence() const { return sequence_ != nullptr; }
@@ -41,6 +55,17 @@ class SequenceController : public QObject {
   [[nodiscard]] int frameCount() const;
   [[nodiscard]] int currentFrame() const { return current_frame_; }  // -1 without a sequence
 
+  // Whether a bag or dataset folder is being converted (inside openSequence).
+  [[nodiscard]] bool isConverting() const { return conversion_ != nullptr; }
+  // The name (file or folder) of the recording being or last converted.
+  [[nodiscard]] QString conversionName() const { return conversion_name_; }
+  // How long a conversion runs before its progress is shown (300 ms by
+  // default: a conversion found in the cache opens without a flash).
+  [[nodiscard]] int progressDelay() const { return progress_delay_ms_; }
+  void setProgressDelay(int ms) { progress_delay_ms_ = ms; }
+  // Replaces lom::openSource into the default import cache (tests).
+  void setSourceOpener(SourceOpener opener) { source_opener_ = std::move(opener); }
+
   // Null when the current frame's files could not be read.
   [[nodiscard]] const FrameData* currentFrameData() const {
     return frame_data_ ? &*frame_data_ : nullptr;
@@ -57,6 +82,8 @@ class SequenceController : public QObject {
  public slots:
   void setCurrentFrame(int index);  // clamped to the sequence
   void stepFrames(int delta);
+  // Stops the conversion under way at the next frame; nothing without one.
+  void cancelConversion();
 
  signals:
   // A newly loaded sequence is about to replace the open one (and its frame):
@@ -65,8 +92,18 @@ class SequenceController : public QObject {
   void sequenceChanged();
   void currentFrameChanged(int index);
   void errorOccurred(const QString& title, const QString& message);
+  // A conversion has run for progressDelay(): show its progress now.
+  void conversionStarted(const QString& name);
+  // Frames converted (or skipped) so far; total is 0 while still unknown.
+  void conversionProgress(int done, int total);
+  // Every conversion ends with this (before an error is reported).
+  void conversionFinished(const QString& name, bool cancelled);
 
  private:
+  struct Conversion;
+  // Runs the conversion of `path` on a worker thread and waits for it.
+  // Rethrows the conversion's error; nullopt when it was cancelled.
+  [[nodiscard]] std::optional<OpenedSource> convert(const QString& path);
   void loadCurrentFrame();
 
   std::function<bool()> discard_guard_;
@@ -75,6 +112,11 @@ class SequenceController : public QObject {
   QString sequence_path_;
   bool converted_ = false;
   ImportOptions import_options_;
+  SourceOpener source_opener_;
+  bool opening_ = false;
+  std::shared_ptr<Conversion> conversion_;
+  QString conversion_name_;
+  int progress_delay_ms_ = 300;
   int current_frame_ = -1;
   std::optional<FrameData> frame_data_;
   std::optional<LabelImage> frame_labels_;

@@ -1,6 +1,6 @@
 #pragma once
 // Opens what is dropped onto the watched widget: a sequence folder or its
-// sequence.json, a dataset folder, or a ROS bag (.bag).
+// sequence.json, a dataset folder, or a ROS bag (.bag), just after the drop.
 #include <QObject>
 #include <QString>
 

@@ -1,0 +1,381 @@
+// Opening a recording that needs converting: the conversion runs beside the
+// event loop with a modal progress dialog, Cancel keeps the open sequence,
+// errors are reported as ever, a second open and closing the window while it
+// runs are handled, and without a window it still converts.
+#include <gtest/gtest.h>
+
+#include <QApplication>
+#include <QEvent>
+#include <QProgressBar>
+#include <QProgressDialog>
+#include <QPushButton>
+#include <QSignalSpy>
+#include <QStatusBar>
+#include <QTest>
+#include <QTimer>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <filesystem>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dialog_answerer.hpp"
+#include "lom/error.hpp"
+#include "lom/import.hpp"
+#include "lom/ui/main_window.hpp"
+#include "lom/ui/sequence_controller.hpp"
+#include "test_support.hpp"
+#include "tiny_sequence.hpp"
+
+namespace lom::ui {
+namespace {
+
+namespace fs = std::filesystem;
+
+QString qPath(const fs::path& path) { return QString::fromStdString(path.string()); }
+
+// Holds a conversion after its first frame until the test lets it go on, so
+// that what the window does meanwhile is certain (not a matter of speed). A
+// test that never lets go is let go after a while instead of hanging.
+class FirstFrameGate {
+ public:
+  // Converts into the default import cache as the studio does, holding at
+  // the first frame.
+  SequenceController::SourceOpener opener() {
+    return [this](const fs::path& source, const ImportOptions& options,
+                  const ImportProgressCallback& progress) {
+      return openSource(source, options, {}, [this, &progress](const ImportProgress& step) {
+        const bool go_on = progress(step);
+        if (step.done == 1) hold();
+        return go_on;
+      });
+    };
+  }
+  [[nodiscard]] bool holding() const { return holding_; }
+  void release() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      released_ = true;
+    }
+    released_changed_.notify_all();
+  }
+
+ private:
+  void hold() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    holding_ = true;
+    released_changed_.wait_for(lock, std::chrono::seconds(60), [this] { return released_; });
+    holding_ = false;
+  }
+
+  std::mutex mutex_;
+  std::condition_variable released_changed_;
+  bool released_ = false;
+  std::atomic<bool> holding_{false};
+};
+
+// The progress dialog on screen, null when there is none.
+QProgressDialog* visibleProgressDialog() {
+  for (QWidget* widget : QApplication::topLevelWidgets())
+    if (auto* dialog = qobject_cast<QProgressDialog*>(widget); dialog && dialog->isVisible())
+      return dialog;
+  return nullptr;
+}
+
+QString barText(const QProgressDialog& dialog) {
+  const auto* bar = dialog.findChild<QProgressBar*>();
+  return bar ? bar->text() : QString();
+}
+
+QPushButton* cancelButton(const QProgressDialog& dialog) {
+  for (QPushButton* button : dialog.findChildren<QPushButton*>())
+    if (button->text().remove('&') == "Cancel") return button;
+  return nullptr;
+}
+
+// Calls `step` every 10 ms (while an open waits, too) until it returns true.
+class Poller {
+ public:
+  explicit Poller(std::function<bool()> step) : step_(std::move(step)) {
+    timer_.setInterval(10);
+    QObject::connect(&timer_, &QTimer::timeout, [this] {
+      ++ticks;
+      if (step_()) timer_.stop();
+    });
+    timer_.start();
+  }
+  int ticks = 0;
+
+ private:
+  std::function<bool()> step_;
+  QTimer timer_;
+};
+
+// Counts the paint events a widget receives.
+class PaintCounter : public QObject {
+ public:
+  explicit PaintCounter(QWidget* widget) { widget->installEventFilter(this); }
+  int paints = 0;
+
+ protected:
+  bool eventFilter(QObject* watched, QEvent* event) override {
+    if (event->type() == QEvent::Paint) ++paints;
+    return QObject::eventFilter(watched, event);
+  }
+};
+
+class ConversionProgressTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    tiny_ = lom::test::writeTinySequence(temp_ / "tiny_shelf");
+    window_.setErrorReporter([this](const QString& title, const QString& message) {
+      errors_.push_back({title, message});
+    });
+    window_.setRecoveryOffer([](const QString&) { return false; });
+    window_.resize(1280, 800);
+    window_.show();
+    ASSERT_TRUE(QTest::qWaitForWindowExposed(&window_));
+    // The sequence a conversion would replace.
+    ASSERT_TRUE(controller().openSequence(qPath(tiny_.folder)));
+    controller().setCurrentFrame(1);
+  }
+  void TearDown() override { gate_.release(); }
+
+  SequenceController& controller() { return window_.controller(); }
+  fs::path framesLayout(const std::string& name) {
+    const fs::path folder = temp_ / name;
+    lom::test::writeFramesLayout(tiny_, folder);
+    return folder;
+  }
+  // Whether the previous sequence is still the open one, on its frame.
+  void expectTinyStillOpen() {
+    EXPECT_FALSE(controller().isConverting());
+    EXPECT_EQ(controller().sequenceName(), "tiny_shelf");
+    EXPECT_EQ(controller().currentFrame(), 1);
+    EXPECT_EQ(controller().frameCount(), lom::test::kTinyFrames);
+    EXPECT_TRUE(window_.windowTitle().contains("tiny_shelf"))
+        << window_.windowTitle().toStdString();
+  }
+  // Entries of the import cache that belong to the source folder `name`, and
+  // conversions that were never finished.
+  static std::vector<std::string> cacheLeftovers(const std::string& name) {
+    std::vector<std::string> found;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(defaultImportCacheRoot(), ec)) {
+      const std::string file = entry.path().filename().string();
+      if (file.rfind(name + "-", 0) == 0 || file.rfind(".partial-", 0) == 0) found.push_back(file);
+    }
+    return found;
+  }
+
+  struct ReportedError {
+    QString title;
+    QString message;
+  };
+  lom::test::TempDir temp_;
+  lom::test::TinySequence tiny_;
+  MainWindow window_;
+  std::vector<ReportedError> errors_;
+  FirstFrameGate gate_;
+};
+
+TEST_F(ConversionProgressTest, ShowsProgressWhileTheWindowKeepsRunning) {
+  const fs::path folder = framesLayout("frames_layout");
+  controller().setSourceOpener(gate_.opener());
+  std::vector<std::pair<int, int>> progress;
+  QObject::connect(&controller(), &SequenceController::conversionProgress,
+                   [&](int done, int total) { progress.emplace_back(done, total); });
+
+  // Runs while the open waits: without its own event loop the conversion
+  // would wait for the gate in vain.
+  QString label, bar;
+  bool modal = false;
+  int paints_before = -1;
+  PaintCounter status_paints(window_.statusBar());
+  Poller poll([&] {
+    QProgressDialog* dialog = visibleProgressDialog();
+    if (!gate_.holding() || !dialog || dialog->value() != 1) return false;
+    if (paints_before < 0) {
+      label = dialog->labelText();
+      bar = barText(*dialog);
+      modal =
+          dialog->windowModality() != Qt::NonModal && QApplication::activeModalWidget() == dialog;
+      // The window under the dialog must still repaint (when uncovered, say).
+      paints_before = status_paints.paints;
+      window_.statusBar()->showMessage("changed while converting");
+      return false;
+    }
+    if (status_paints.paints == paints_before) return false;
+    gate_.release();
+    return true;
+  });
+  ASSERT_TRUE(controller().openSequence(qPath(folder)))
+      << (errors_.empty() ? std::string() : errors_.back().message.toStdString());
+  EXPECT_GT(poll.ticks, 0);
+  EXPECT_EQ(label, "Converting frames_layout…");
+  EXPECT_EQ(bar, "1 of 3 frames");
+  EXPECT_TRUE(modal);
+  EXPECT_GT(status_paints.paints, paints_before);
+  ASSERT_FALSE(progress.empty());
+  EXPECT_EQ(progress.back(), std::make_pair(lom::test::kTinyFrames, lom::test::kTinyFrames));
+
+  EXPECT_TRUE(errors_.empty());
+  EXPECT_FALSE(controller().isConverting());
+  EXPECT_TRUE(controller().isConverted());
+  EXPECT_EQ(controller().frameCount(), lom::test::kTinyFrames);
+  EXPECT_EQ(controller().currentFrame(), 0);
+  EXPECT_EQ(visibleProgressDialog(), nullptr);
+}
+
+TEST_F(ConversionProgressTest, CancelKeepsTheOpenSequenceAndReportsNoError) {
+  const fs::path folder = framesLayout("cancelled_frames");
+  controller().setSourceOpener(gate_.opener());
+  QSignalSpy changed(&controller(), &SequenceController::sequenceChanged);
+  QString label_after_cancel;
+  bool still_shown = false;
+  Poller poll([&] {
+    QProgressDialog* dialog = visibleProgressDialog();
+    if (!gate_.holding() || !dialog) return false;
+    QPushButton* cancel = cancelButton(*dialog);
+    if (!cancel) return false;
+    cancel->click();
+    // Until the importer has stopped, the dialog says so.
+    label_after_cancel = dialog->labelText();
+    still_shown = dialog->isVisible() && !cancel->isEnabled();
+    gate_.release();
+    return true;
+  });
+
+  EXPECT_FALSE(controller().openSequence(qPath(folder)));
+  EXPECT_EQ(label_after_cancel, "Cancelling…");
+  EXPECT_TRUE(still_shown);
+  EXPECT_TRUE(errors_.empty()) << errors_.front().message.toStdString();
+  EXPECT_EQ(changed.count(), 0);
+  expectTinyStillOpen();
+  EXPECT_EQ(visibleProgressDialog(), nullptr);
+  EXPECT_TRUE(window_.statusBar()->currentMessage().contains("cancelled"))
+      << window_.statusBar()->currentMessage().toStdString();
+  // Nothing of the cancelled conversion is left in the cache ...
+  EXPECT_EQ(cacheLeftovers("cancelled_frames"), std::vector<std::string>());
+
+  // ... and the recording opens normally afterwards.
+  controller().setSourceOpener({});
+  ASSERT_TRUE(controller().openSequence(qPath(folder)));
+  EXPECT_EQ(controller().sequenceName().toStdString().rfind("cancelled_frames-", 0), 0u)
+      << controller().sequenceName().toStdString();
+  EXPECT_TRUE(errors_.empty());
+}
+
+// A dataset folder without its camera: the importer's message, with the
+// studio's hint on how to give the camera, as when the studio converted on
+// the GUI thread.
+TEST_F(ConversionProgressTest, ConversionErrorIsReportedAsBefore) {
+  const fs::path folder = framesLayout("no_camera");
+  fs::remove(folder / "intrinsics.K.txt");
+  std::string core_message;
+  try {
+    (void)openSource(folder, {}, temp_ / "direct_cache");
+  } catch (const Error& error) {
+    core_message = error.what();
+  }
+  ASSERT_FALSE(core_message.empty());
+  QSignalSpy finished(&controller(), &SequenceController::conversionFinished);
+
+  EXPECT_FALSE(controller().openSequence(qPath(folder)));
+  ASSERT_EQ(errors_.size(), 1u);
+  EXPECT_EQ(errors_[0].title, "Cannot open sequence");
+  EXPECT_TRUE(errors_[0].message.startsWith(QString::fromStdString(core_message)))
+      << errors_[0].message.toStdString();
+  EXPECT_TRUE(errors_[0].message.contains("labeloctomap-studio --intrinsics"))
+      << errors_[0].message.toStdString();
+  ASSERT_EQ(finished.count(), 1);
+  EXPECT_FALSE(finished.front().at(1).toBool());  // not a cancel
+  expectTinyStillOpen();
+  EXPECT_EQ(visibleProgressDialog(), nullptr);
+  EXPECT_EQ(cacheLeftovers("no_camera"), std::vector<std::string>());
+}
+
+TEST_F(ConversionProgressTest, SecondOpenWhileConvertingIsRefused) {
+  const fs::path folder = framesLayout("first_frames");
+  const auto other = lom::test::writeTinySequence(temp_ / "other_shelf");
+  controller().setSourceOpener(gate_.opener());
+  bool second_opened = true, asked = false;
+  Poller poll([&] {
+    if (!gate_.holding()) return false;
+    asked = true;
+    second_opened = controller().openSequence(qPath(other.folder));
+    gate_.release();
+    return true;
+  });
+
+  ASSERT_TRUE(controller().openSequence(qPath(folder)));
+  EXPECT_TRUE(asked);
+  EXPECT_FALSE(second_opened);
+  EXPECT_TRUE(errors_.empty());
+  EXPECT_EQ(controller().sequenceName().toStdString().rfind("first_frames-", 0), 0u)
+      << controller().sequenceName().toStdString();
+}
+
+TEST_F(ConversionProgressTest, ClosingTheWindowWhileConvertingAsksAndStopsIt) {
+  const fs::path folder = framesLayout("closing_frames");
+  controller().setSourceOpener(gate_.opener());
+  test::DialogAnswerer answer("Close Anyway");
+  bool closed = false;
+  Poller poll([&] {
+    if (!gate_.holding() || !visibleProgressDialog()) return false;
+    closed = window_.close();
+    gate_.release();
+    return true;
+  });
+
+  EXPECT_FALSE(controller().openSequence(qPath(folder)));
+  EXPECT_TRUE(closed);
+  EXPECT_FALSE(window_.isVisible());
+  ASSERT_EQ(answer.questions.size(), 1);
+  EXPECT_TRUE(answer.questions[0].contains("conversion of closing_frames"))
+      << answer.questions[0].toStdString();
+  EXPECT_TRUE(errors_.empty());
+  expectTinyStillOpen();
+  EXPECT_EQ(visibleProgressDialog(), nullptr);
+  EXPECT_EQ(cacheLeftovers("closing_frames"), std::vector<std::string>());
+}
+
+TEST_F(ConversionProgressTest, PlainSequenceOpensWithoutConversion) {
+  const auto other = lom::test::writeTinySequence(temp_ / "other_shelf");
+  QSignalSpy started(&controller(), &SequenceController::conversionStarted);
+  QSignalSpy finished(&controller(), &SequenceController::conversionFinished);
+  controller().setProgressDelay(0);  // a conversion would show its dialog at once
+  ASSERT_TRUE(controller().openSequence(qPath(other.folder)));
+  EXPECT_EQ(controller().sequenceName(), "other_shelf");
+  EXPECT_EQ(started.count(), 0);
+  EXPECT_EQ(finished.count(), 0);
+  EXPECT_FALSE(controller().isConverted());
+}
+
+// Batch use without a window: the conversion still runs (and ends) with no
+// one to show a dialog to.
+TEST(ConversionWithoutWindowTest, ControllerAloneConverts) {
+  lom::test::TempDir temp;
+  const auto tiny = lom::test::writeTinySequence(temp / "tiny_shelf");
+  lom::test::writeFramesLayout(tiny, temp / "headless_frames");
+  SequenceController controller;
+  controller.setProgressDelay(0);
+  QSignalSpy started(&controller, &SequenceController::conversionStarted);
+  bool dialog_seen = false;
+  Poller poll([&] {
+    dialog_seen = dialog_seen || visibleProgressDialog() != nullptr;
+    return false;
+  });
+  ASSERT_TRUE(controller.openSequence(qPath(temp / "headless_frames")));
+  EXPECT_EQ(started.count(), 1);
+  EXPECT_FALSE(dialog_seen);
+  EXPECT_TRUE(controller.isConverted());
+  EXPECT_EQ(controller.frameCount(), lom::test::kTinyFrames);
+}
+
+}  // namespace
+}  // namespace lom::ui
