@@ -124,13 +124,29 @@ TEST_F(CliMessageTest, BinaryOctreeExportLeavesStderrQuiet) {
 TEST_F(CliMessageTest, PlanSaysWhenItGuessedTheApproach) {
   const auto present = counts();
   const std::string target = std::to_string(std::prev(present.end())->first);
+  // A fused map records its cameras: their viewing direction, nothing guessed.
   auto r = runCli("plan " + q(map()) + " --target " + target);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.err.find("note: the approach direction was guessed"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("--sequence SEQ"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("guessed"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("mean viewing direction of the map's cameras"), std::string::npos) << r.out;
   r = runCli("plan " + q(map()) + " --target " + target + " --sequence " + q(scene()));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err.find("guessed"), std::string::npos) << r.err;
+  // A map made without cameras: the direction is guessed, and the note says so.
+  TempDir out;
+  lom::LabelMap drawn(lom::LabelMap::load(map()).labels());
+  lom::OrientedBox object, free_space;
+  object.center = {0.3, 0.0, 0.05};
+  object.size = {0.1, 0.1, 0.1};
+  free_space.center = {-0.25, 0.0, 0.1};
+  free_space.size = {0.5, 0.4, 0.25};
+  lom::rasterizeBox(drawn, object, std::stoi(target));
+  lom::rasterizeFreeBox(drawn, free_space);
+  drawn.save(out / "drawn.ot");
+  r = runCli("plan " + q(out / "drawn.ot") + " --target " + target);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("note: the approach direction was guessed"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--sequence SEQ"), std::string::npos) << r.err;
 }
 
 }  // namespace
