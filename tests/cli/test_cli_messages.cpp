@@ -8,6 +8,7 @@
 #include "cli_scene_fixture.hpp"
 #include "lom/label_map.hpp"
 #include "lom/objects.hpp"
+#include "lom/sequence.hpp"
 
 namespace {
 
@@ -102,6 +103,11 @@ TEST_F(CliMessageTest, InfoDescribesAMapAndValidateSaysItIsOne) {
   auto r = runCli("info " + q(map()));
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("resolution:       0.01 m"), std::string::npos) << r.out;
+  // The fused frames' cameras, recorded in the map (the generated scene has z up).
+  EXPECT_NE(r.out.find("camera views:     " +
+                       std::to_string(lom::loadSequence(scene()).frames.size()) + ", mean up ("),
+            std::string::npos)
+      << r.out;
   size_t occupied = 0;
   for (const auto& [label, count] : counts()) occupied += count;
   EXPECT_NE(r.out.find("occupied voxels:  " + std::to_string(occupied)), std::string::npos)
