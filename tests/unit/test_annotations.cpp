@@ -5,23 +5,15 @@
 
 #include "lom/annotations.hpp"
 #include "lom/error.hpp"
+#include "test_input_helpers.hpp"
 #include "test_support.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-void writeText(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
-
-lom::Problem errorOf(const std::function<void()>& action) {
-  try {
-    action();
-  } catch (const lom::Error& e) {
-    return e.problem();
-  }
-  ADD_FAILURE() << "no lom::Error thrown";
-  return {};
-}
+using lom::test::errorOf;
+using lom::test::writeText;
 
 std::string annotationsWithBoxes(const std::string& boxes) {
   return R"({"format": "labeloctomap-annotations", "version": 1, "frame_id": "base", "boxes": [)" +
