@@ -9,6 +9,7 @@
 #include "args.hpp"
 #include "commands.hpp"
 #include "lom/error.hpp"
+#include "lom/height_colours.hpp"
 #include "lom/sequence.hpp"
 #include "output_paths.hpp"
 
@@ -35,6 +36,7 @@ struct RenderRequest {
   size_t camera_frame = 0;
   std::optional<std::pair<int, int>> size;
   std::optional<Eigen::Vector3d> up;  // --up
+  std::optional<VoxelColouring> colouring;  // --colour
 };
 
 // "1280x960" -> (1280, 960).
@@ -70,7 +72,8 @@ std::pair<fs::path, size_t> parseCamera(const std::string& text) {
 
 RenderRequest parseRequest(const Words& words) {
   const Args args(words, {"flat"});
-  args.expectOnly({"out", "camera", "azimuth", "elevation", "up", "size", "labels", "flat"}, 1);
+  args.expectOnly(
+      {"out", "camera", "azimuth", "elevation", "up", "size", "labels", "flat", "colour"}, 1);
   RenderRequest request;
   request.map = args.positional(0, "MAP.ot");
   request.out = args.required("out");
@@ -84,6 +87,14 @@ RenderRequest parseRequest(const Words& words) {
     throw UsageError("option --elevation expects degrees from -90 to 90, got '" +
                      *args.option("elevation") + "'");
   request.shading = !args.flag("flat");
+  if (const auto colour = args.option("colour")) {
+    if (*colour == "labels")
+      request.colouring = VoxelColouring::Labels;
+    else if (*colour == "height")
+      request.colouring = VoxelColouring::Height;
+    else
+      throw UsageError("option --colour expects labels or height, got '" + *colour + "'");
+  }
   if (const auto labels = args.option("labels")) {
     const auto list = parseLabelList(*labels, "labels");
     request.labels = std::set<int>(list.begin(), list.end());
@@ -150,6 +161,7 @@ int runRender(const Words& words) {
   options.shading = request.shading;
   options.labels = request.labels;
   options.up = request.up;
+  options.colouring = request.colouring;
   if (request.camera_sequence) {
     const Sequence& sequence = *request.camera_sequence;
     options.camera = render::PinholeView{};
@@ -177,6 +189,14 @@ int runRender(const Words& words) {
   }
   std::cout << "wrote " << options.width << "x" << options.height << " picture to "
             << request.out.string() << "\n";
+  if (render::colouringFor(map, options) == VoxelColouring::Height) {
+    const Eigen::Vector3d up = render::orbitUp(map, options);
+    std::cout << "colours: height along (" << up.x() << ", " << up.y() << ", " << up.z()
+              << "), blue lowest to red highest"
+              << (options.colouring ? ""
+                                    : " (the map has a single label; --colour labels paints it)")
+              << "\n";
+  }
   if (!options.camera) {
     const Eigen::Vector3d up = render::orbitUp(map, options);
     std::cout << "up in the picture: (" << up.x() << ", " << up.y() << ", " << up.z() << "), "

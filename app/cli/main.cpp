@@ -41,7 +41,8 @@ const Command kCommands[] = {
      "                                write meshes, point clouds, octrees or object boxes"},
     {"render", lom::cli::runRender,
      "render MAP.ot --out view.png [--camera SEQ:INDEX | --azimuth A --elevation E --up X,Y,Z]\n"
-     "       [--size 1280x960]        render the map offscreen to a PNG (needs X or Xvfb)"},
+     "       [--size 1280x960] [--labels 8,19] [--flat] [--colour labels|height]\n"
+     "                                render the map offscreen to a PNG (needs X or Xvfb)"},
     {"import", lom::cli::runImport,
      "import KIND SRC --out SEQ [--intrinsics fx,fy,cx,cy|FILE] [--every N] [--overwrite] ...\n"
      "                                convert a ROS bag or dataset folder to a sequence\n"

@@ -223,6 +223,19 @@ TEST_F(CliExportTest, RenderWritesAPictureOfTheMap) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("up in the picture: (0, -1, 0), given with --up"), std::string::npos)
       << r.out;
+  // A labelled map keeps its label colours unless height is asked for.
+  EXPECT_EQ(r.out.find("colours: height"), std::string::npos) << r.out;
+  r = runCli("render " + q(map()) + " --out " + q(out / "height.png") +
+             " --size 320x240 --colour height --flat");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Along the picture's up (the cameras' mean up), asked for: no note about the default.
+  EXPECT_NE(r.out.find("colours: height along ("), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("), blue lowest to red highest\n"), std::string::npos) << r.out;
+  const lom::ColorImage height = lom::readColorImage(out / "height.png");
+  size_t red = 0;
+  for (size_t i = 0; i < height.rgb.size(); i += 3)
+    red += height.rgb[i] == 215 && height.rgb[i + 1] == 48 && height.rgb[i + 2] == 39;
+  EXPECT_GT(red, 20u) << "no face at the top of the ramp";
 
   // A recorded camera: the picture has that camera's size.
   r = runCli("render " + q(map()) + " --out " + q(out / "frame.png") + " --camera " +
@@ -265,6 +278,10 @@ TEST_F(CliExportTest, RenderUsageMistakes) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--up"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out / "v.png"));
+  r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --colour purple");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("option --colour expects labels or height, got 'purple'"), std::string::npos)
+      << r.err;
   r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --size 640");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("WIDTHxHEIGHT"), std::string::npos) << r.err;

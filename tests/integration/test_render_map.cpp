@@ -8,6 +8,7 @@
 #include <string>
 
 #include "lom/fusion.hpp"
+#include "lom/height_colours.hpp"
 #include "lom/sequence.hpp"
 #include "lom/synth.hpp"
 #include "test_support.hpp"
@@ -251,6 +252,54 @@ TEST(RenderMap, OrbitViewHasTheCamerasUpUpInThePicture) {
   options.up.reset();
   EXPECT_FALSE(map.upDirection());
   EXPECT_LT((lom::render::orbitUp(map, options) - Eigen::Vector3d::UnitZ()).norm(), 1e-12);
+}
+
+TEST(RenderMap, SingleLabelMapIsColouredByHeightFromBlueToRed) {
+  LOM_REQUIRE_DISPLAY();
+  // Geometry without labels: one label, a column 20 voxels high along +z (the
+  // map records no cameras, so up is +z).
+  const lom::LabelMap map =
+      lom::test::MapBuilder(1, kRes).occupy(blockKeys(0, 4, 0, 4, 0, 20), 0).build();
+  lom::render::RenderOptions options;
+  options.width = 200;
+  options.height = 200;
+  options.shading = false;
+  options.elevation_deg = 20.0;
+  EXPECT_EQ(lom::render::colouringFor(map, options), lom::VoxelColouring::Height);
+  const lom::ColorImage image = lom::render::renderMap(map, options);
+  // The top face is the highest: red. The side faces of the lowest layer have
+  // their centres half a voxel up a 20-voxel span: 1/40 of the ramp.
+  const auto top = rgb(lom::heightRampColour(1.0));
+  const auto bottom_layer = rgb(lom::heightRampColour(0.5 / 20.0));
+  const auto middle_layer = rgb(lom::heightRampColour(10.5 / 20.0));
+  EXPECT_GT(countColour(image, top), 50u);
+  EXPECT_GT(countColour(image, bottom_layer), 50u);
+  EXPECT_GT(countColour(image, middle_layer), 50u);
+  EXPECT_LT(meanRow(image, top) + 40, meanRow(image, middle_layer));
+  EXPECT_LT(meanRow(image, middle_layer) + 40, meanRow(image, bottom_layer));
+  EXPECT_EQ(countColour(image, rgb(map.labels().at(0).color)), 0u);
+
+  // Asked for label colours: the label's colour, no ramp.
+  options.colouring = lom::VoxelColouring::Labels;
+  const lom::ColorImage labelled = lom::render::renderMap(map, options);
+  EXPECT_GT(countColour(labelled, rgb(map.labels().at(0).color)), 500u);
+  EXPECT_EQ(countColour(labelled, top), 0u);
+}
+
+TEST(RenderMap, LabelledMapKeepsLabelColoursUnlessHeightIsAsked) {
+  LOM_REQUIRE_DISPLAY();
+  const lom::LabelMap map = sampleMap();
+  lom::render::RenderOptions options;
+  options.width = 160;
+  options.height = 120;
+  options.shading = false;
+  EXPECT_EQ(lom::render::colouringFor(map, options), lom::VoxelColouring::Labels);
+  options.colouring = lom::VoxelColouring::Height;
+  const lom::ColorImage image = lom::render::renderMap(map, options);
+  for (int label = 1; label <= 3; ++label)
+    EXPECT_EQ(countColour(image, rgb(map.labels().at(label).color)), 0u) << "label " << label;
+  // Label 1's block is the tallest (6 voxels, from z = 0): its top is red.
+  EXPECT_GT(countColour(image, rgb(lom::heightRampColour(1.0))), 50u);
 }
 
 TEST(RenderMap, PngOnDiskMatchesThePicture) {

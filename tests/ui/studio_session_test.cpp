@@ -1,6 +1,8 @@
 // The studio's session end to end on the synthetic demo scene: live fusion,
 // the map legend, box editing with undo and files, the evaluation panel and
 // a screenshot after fusion.
+#include "lom/ui/studio_session.hpp"
+
 #include <gtest/gtest.h>
 
 #include <QAction>
@@ -14,8 +16,10 @@
 #include <filesystem>
 #include <set>
 
+#include "demo_window_fixture.hpp"
 #include "lom/annotations.hpp"
 #include "lom/evaluation.hpp"
+#include "lom/height_colours.hpp"
 #include "lom/ui/annotation_files.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/demo_scene.hpp"
@@ -24,16 +28,14 @@
 #include "lom/ui/frame_images_view.hpp"
 #include "lom/ui/fusion_panel.hpp"
 #include "lom/ui/image_pane.hpp"
-#include "lom/ui/picked_voxel_view.hpp"
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/map_legend_panel.hpp"
 #include "lom/ui/map_worker.hpp"
+#include "lom/ui/picked_voxel_view.hpp"
 #include "lom/ui/scene_view.hpp"
 #include "lom/ui/sequence_controller.hpp"
-#include "lom/ui/studio_session.hpp"
 #include "lom/ui/window_capture.hpp"
 #include "onnx_model_builder.hpp"
-#include "demo_window_fixture.hpp"
 #include "test_support.hpp"
 
 namespace lom::ui {
@@ -332,6 +334,59 @@ TEST_F(StudioSessionTest, ScreenshotAfterFusionShowsLabelColours) {
   size_t labels_seen = 0;
   for (int label : visibleObjectLabels()) labels_seen += pixels_per_label[label] > 20;
   EXPECT_GE(labels_seen, 2u) << "label colours are missing from the 3D view";
+}
+
+// Pixels of the 3D view whose hue is that of the height ramp's low third and
+// high third (shading scales a colour; the ramp is sampled finely enough that
+// every voxel's colour is near a sample).
+std::pair<size_t, size_t> lowAndHighRampPixels(const QImage& shot, const QRect& area) {
+  size_t low = 0, high = 0;
+  for (int y = area.top(); y <= area.bottom(); y += 2)
+    for (int x = area.left(); x <= area.right(); x += 2) {
+      const QRgb pixel = shot.pixel(x, y);
+      // Dark pixels (the view's background, faces turned away) match any hue.
+      if (std::max({qRed(pixel), qGreen(pixel), qBlue(pixel)}) < 90) continue;
+      for (int i = 0; i <= 40; ++i) {
+        const double t = i / 40.0;
+        if (t > 0.3 && t < 0.7) continue;
+        const Rgb c = heightRampColour(t);
+        const double scale = std::max({qRed(pixel), qGreen(pixel), qBlue(pixel), 1}) /
+                             std::max({double(c[0]), double(c[1]), double(c[2]), 1.0});
+        if (std::abs(qRed(pixel) - c[0] * scale) < 8 &&
+            std::abs(qGreen(pixel) - c[1] * scale) < 8 &&
+            std::abs(qBlue(pixel) - c[2] * scale) < 8) {
+          ++(t <= 0.3 ? low : high);
+          break;
+        }
+      }
+    }
+  return {low, high};
+}
+
+TEST_F(StudioSessionTest, ColourByHeightPaintsLowVoxelsBlueAndHighOnesRed) {
+  openAndFuse();
+  window_.sceneView().setFrameCloudVisible(false);  // only the map's voxels
+  QAction* by_height = window_.findAction("Colour by Height");
+  ASSERT_NE(by_height, nullptr);
+  ASSERT_TRUE(by_height->isCheckable());
+  EXPECT_EQ(window_.sceneView().voxelColouring(), VoxelColouring::Labels);
+  const QRect area(window_.sceneView().mapTo(&window_, QPoint(0, 0)), window_.sceneView().size());
+  const auto [low_before, high_before] =
+      lowAndHighRampPixels(captureWindow(window_, window_.sceneView()), area);
+
+  by_height->trigger();
+  EXPECT_EQ(window_.sceneView().voxelColouring(), VoxelColouring::Height);
+  const size_t voxels = window_.sceneView().voxelCount();
+  EXPECT_GT(voxels, 0u);
+  const QImage shot = captureWindow(window_, window_.sceneView());
+  ASSERT_FALSE(shot.isNull());
+  const auto [low, high] = lowAndHighRampPixels(shot, area);
+  EXPECT_GT(low, 4 * low_before + 50) << "no blue low voxels";
+  EXPECT_GT(high, 4 * high_before + 50) << "no red high voxels";
+
+  by_height->trigger();  // back to label colours, the same voxels
+  EXPECT_EQ(window_.sceneView().voxelColouring(), VoxelColouring::Labels);
+  EXPECT_EQ(window_.sceneView().voxelCount(), voxels);
 }
 
 }  // namespace

@@ -377,6 +377,7 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
                QKeySequence());
   scene_action(tr("&Opacity by Probability"), SceneViewReaction::Kind::OpacityByProbability,
                QKeySequence());
+  scene_action(tr("Colour by &Height"), SceneViewReaction::Kind::ColourByHeight, QKeySequence());
 
   createAnnotateMenu();
   QMenu* help = menuBar()->addMenu(tr("&Help"));

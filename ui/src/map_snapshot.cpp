@@ -9,6 +9,7 @@ MapSnapshotPtr takeSnapshot(const LabelMap& map, size_t frames_fused) {
   snapshot->resolution = map.parameters().resolution;
   snapshot->occupancy_threshold = map.parameters().occupancy_threshold;
   snapshot->frames_fused = frames_fused;
+  snapshot->up = map.upDirection();
   return snapshot;
 }
 

@@ -43,7 +43,8 @@ VoxelLayer::VoxelLayer() {
 }
 
 size_t VoxelLayer::show(const MapSnapshot& snapshot, const LabelSet& labels,
-                        const std::set<int>& hidden, bool opacity_by_probability) {
+                        const std::set<int>& hidden, bool opacity_by_probability,
+                        VoxelColouring colouring) {
   auto points = vtkSmartPointer<vtkPoints>::New();
   points->SetDataTypeToFloat();
   auto sizes = vtkSmartPointer<vtkFloatArray>::New();
@@ -52,12 +53,23 @@ size_t VoxelLayer::show(const MapSnapshot& snapshot, const LabelSet& labels,
   colors->SetName("colors");
   colors->SetNumberOfComponents(4);
   const double low = snapshot.occupancy_threshold;
+  const bool by_height = colouring == VoxelColouring::Height;
+  std::vector<Eigen::Vector3d> centres;
+  if (by_height)
+    for (const OccupiedVoxel& voxel : snapshot.voxels)
+      if (!hidden.count(voxel.label)) centres.push_back(voxel.center);
+  const HeightColours heights =
+      HeightColours::spanning(centres, snapshot.up.value_or(Eigen::Vector3d::UnitZ()));
   for (const OccupiedVoxel& voxel : snapshot.voxels) {
     if (hidden.count(voxel.label)) continue;
     points->InsertNextPoint(voxel.center.x(), voxel.center.y(), voxel.center.z());
     sizes->InsertNextValue(static_cast<float>(voxel.size * 0.96));
     // The background's palette colour is black; grey keeps the shelf readable.
-    const QColor c = voxel.label == 0 ? QColor(150, 150, 160) : labelColor(labels, voxel.label);
+    QColor c = voxel.label == 0 ? QColor(150, 150, 160) : labelColor(labels, voxel.label);
+    if (by_height) {
+      const Rgb rgb = heights.colour(voxel.center);
+      c = QColor(rgb[0], rgb[1], rgb[2]);
+    }
     double alpha = 1.0;
     if (opacity_by_probability && low < 1.0)
       alpha = 0.15 + 0.85 * std::clamp((voxel.probability - low) / (1.0 - low), 0.0, 1.0);

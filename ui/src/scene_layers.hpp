@@ -9,14 +9,14 @@
 #include <vtkPolyDataMapper.h>
 #include <vtkSmartPointer.h>
 
+#include <Eigen/Core>
+#include <QColor>
 #include <functional>
 #include <set>
 #include <vector>
 
-#include <QColor>
-#include <Eigen/Core>
-
 #include "lom/annotations.hpp"
+#include "lom/height_colours.hpp"
 #include "lom/labels.hpp"
 #include "lom/ui/map_snapshot.hpp"
 
@@ -25,14 +25,15 @@ class vtkRenderWindowInteractor;
 
 namespace lom::ui::scene {
 
-// Occupied voxels as instanced cubes coloured by label.
+// Occupied voxels as instanced cubes coloured by label or by height.
 class VoxelLayer {
  public:
   VoxelLayer();
   [[nodiscard]] vtkActor* actor() { return actor_; }
   // Returns the number of voxels drawn.
+  // Height colours span the drawn voxels along the snapshot's up (+z when it has none).
   size_t show(const MapSnapshot& snapshot, const LabelSet& labels, const std::set<int>& hidden,
-              bool opacity_by_probability);
+              bool opacity_by_probability, VoxelColouring colouring = VoxelColouring::Labels);
 
  private:
   vtkNew<vtkGlyph3DMapper> mapper_;

@@ -104,6 +104,7 @@ struct SceneView::Scene {
   LabelSet labels;
   std::set<int> hidden;
   bool opacity_by_probability = false;
+  VoxelColouring colouring = VoxelColouring::Labels;
   bool cloud_visible = true;
   size_t voxel_count = 0;
   vtkNew<vtkAxesActor> axes;
@@ -290,8 +291,8 @@ void SceneView::showVoxels(const MapSnapshot& snapshot, const LabelSet& labels,
   scene_->snapshot = snapshot;
   scene_->labels = labels;
   scene_->hidden = hidden;
-  scene_->voxel_count =
-      scene_->voxels.show(snapshot, labels, hidden, scene_->opacity_by_probability);
+  scene_->voxel_count = scene_->voxels.show(snapshot, labels, hidden,
+                                            scene_->opacity_by_probability, scene_->colouring);
   if (first_voxels && !scene_->home_viewpoint) resetCamera();
   render();
 }
@@ -300,6 +301,13 @@ void SceneView::setOpacityByProbability(bool on) {
   scene_->opacity_by_probability = on;
   showVoxels(MapSnapshot(scene_->snapshot), scene_->labels, scene_->hidden);
 }
+
+void SceneView::setVoxelColouring(VoxelColouring colouring) {
+  scene_->colouring = colouring;
+  showVoxels(MapSnapshot(scene_->snapshot), scene_->labels, scene_->hidden);
+}
+
+VoxelColouring SceneView::voxelColouring() const { return scene_->colouring; }
 
 void SceneView::setFrameCloudVisible(bool on) {
   scene_->cloud_visible = on;

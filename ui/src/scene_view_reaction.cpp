@@ -38,6 +38,10 @@ void SceneViewReaction::onTriggered() {
     case Kind::OpacityByProbability:
       scene_.setOpacityByProbability(action()->isChecked());
       break;
+    case Kind::ColourByHeight:
+      scene_.setVoxelColouring(action()->isChecked() ? VoxelColouring::Height
+                                                     : VoxelColouring::Labels);
+      break;
     case Kind::ProjectionVoxels:
       showProjection();
       break;

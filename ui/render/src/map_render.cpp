@@ -3,6 +3,7 @@
 #include <vtkActor.h>
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
+#include <vtkCellData.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -29,32 +30,57 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// The voxel surfaces of the selected labels, coloured per vertex.
-vtkSmartPointer<vtkPolyData> labelSurfaces(const LabelMap& map, const RenderOptions& options) {
+// The centre of the unit square a triangle of an unmerged voxel surface is half
+// of: the middle of its longest side (the square's diagonal).
+Eigen::Vector3d faceCentre(const SurfaceMesh& mesh, const std::array<std::uint32_t, 3>& t) {
+  const Eigen::Vector3d& a = mesh.vertices[t[0]];
+  const Eigen::Vector3d& b = mesh.vertices[t[1]];
+  const Eigen::Vector3d& c = mesh.vertices[t[2]];
+  const double ab = (a - b).squaredNorm(), bc = (b - c).squaredNorm(), ca = (c - a).squaredNorm();
+  if (ab >= bc && ab >= ca) return 0.5 * (a + b);
+  return bc >= ca ? 0.5 * (b + c) : 0.5 * (c + a);
+}
+
+// The voxel surfaces of the selected labels, coloured per triangle: by label,
+// or by the height of the triangle's centre (unit faces, so that colours
+// change from one voxel layer to the next).
+vtkSmartPointer<vtkPolyData> labelSurfaces(const LabelMap& map, const RenderOptions& options,
+                                           VoxelColouring colouring) {
   auto points = vtkSmartPointer<vtkPoints>::New();
   auto triangles = vtkSmartPointer<vtkCellArray>::New();
   auto colors = vtkSmartPointer<vtkUnsignedCharArray>::New();
   colors->SetNumberOfComponents(3);
-  colors->SetName("label colour");
+  colors->SetName("voxel colour");
+  const bool by_height = colouring == VoxelColouring::Height;
+  std::vector<SurfaceMesh> meshes;
   for (const auto& [label, keys] : occupiedVoxelsByLabel(map, options.labels)) {
-    const SurfaceMesh mesh = voxelSurface(keys, map.parameters().resolution);
-    Rgb color = map.labels().at(label).color;
+    VoxelSurfaceOptions surface;
+    surface.merge_coplanar = !by_height;
+    meshes.push_back(voxelSurface(keys, map.parameters().resolution, surface));
+    meshes.back().label = label;
+  }
+  std::vector<Eigen::Vector3d> all_vertices;
+  if (by_height)
+    for (const SurfaceMesh& mesh : meshes)
+      all_vertices.insert(all_vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
+  const HeightColours heights = HeightColours::spanning(all_vertices, orbitUp(map, options));
+  for (const SurfaceMesh& mesh : meshes) {
+    Rgb color = map.labels().at(mesh.label).color;
     // Black (the background label of the VOC palette) would hide all shading.
     if (options.shading && color == Rgb{0, 0, 0}) color = {96, 96, 96};
     const vtkIdType offset = points->GetNumberOfPoints();
-    for (const auto& v : mesh.vertices) {
-      points->InsertNextPoint(v.x(), v.y(), v.z());
-      colors->InsertNextTypedTuple(color.data());
-    }
+    for (const auto& v : mesh.vertices) points->InsertNextPoint(v.x(), v.y(), v.z());
     for (const auto& t : mesh.triangles) {
       const vtkIdType ids[3] = {offset + t[0], offset + t[1], offset + t[2]};
       triangles->InsertNextCell(3, ids);
+      if (by_height) color = heights.colour(faceCentre(mesh, t));
+      colors->InsertNextTypedTuple(color.data());
     }
   }
   auto poly = vtkSmartPointer<vtkPolyData>::New();
   poly->SetPoints(points);
   poly->SetPolys(triangles);
-  poly->GetPointData()->SetScalars(colors);
+  poly->GetCellData()->SetScalars(colors);
   return poly;
 }
 
@@ -119,19 +145,25 @@ Eigen::Vector3d orbitUp(const LabelMap& map, const RenderOptions& options) {
   return map.upDirection().value_or(Eigen::Vector3d::UnitZ());
 }
 
+VoxelColouring colouringFor(const LabelMap& map, const RenderOptions& options) {
+  if (options.colouring) return *options.colouring;
+  return map.numLabels() == 1 ? VoxelColouring::Height : VoxelColouring::Labels;
+}
+
 ColorImage renderMap(const LabelMap& map, const RenderOptions& options) {
   if (options.width <= 0 || options.height <= 0 || options.width > 16384 || options.height > 16384)
     throw Error("", "size", "a picture size from 1x1 to 16384x16384",
                 std::to_string(options.width) + "x" + std::to_string(options.height));
   if (const auto problem = displayProblem()) throw RenderUnavailable(*problem);
-  const vtkSmartPointer<vtkPolyData> surfaces = labelSurfaces(map, options);
+  const vtkSmartPointer<vtkPolyData> surfaces =
+      labelSurfaces(map, options, colouringFor(map, options));
   if (surfaces->GetNumberOfPolys() == 0)
     throw Error("", "map", "at least one occupied voxel to render",
                 options.labels ? "no occupied voxel of the selected labels" : "an empty map");
 
   vtkNew<vtkPolyDataMapper> mapper;
   mapper->SetInputData(surfaces);
-  mapper->SetScalarModeToUsePointData();
+  mapper->SetScalarModeToUseCellData();
   mapper->SetColorModeToDirectScalars();
   mapper->ScalarVisibilityOn();
   vtkNew<vtkActor> actor;

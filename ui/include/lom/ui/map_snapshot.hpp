@@ -1,9 +1,11 @@
 #pragma once
 // What the GUI thread sees of the map: a copy of its occupied voxels and
 // per-label counts, made by the map worker (the only thread touching the map).
+#include <Eigen/Core>
 #include <cstddef>
 #include <map>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "lom/label_map.hpp"
@@ -16,6 +18,8 @@ struct MapSnapshot {
   double resolution = 0.0;
   double occupancy_threshold = 0.5;
   size_t frames_fused = 0;
+  // The map's up direction (LabelMap::upDirection: its cameras' mean up).
+  std::optional<Eigen::Vector3d> up;
 
   [[nodiscard]] bool empty() const { return voxels.empty(); }
 };

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "lom/annotations.hpp"
+#include "lom/height_colours.hpp"
 #include "lom/objects.hpp"
 #include "lom/planning.hpp"
 #include "lom/sequence.hpp"
@@ -45,6 +46,9 @@ class SceneView : public QWidget {
 
   void showVoxels(const MapSnapshot& snapshot, const LabelSet& labels, const std::set<int>& hidden);
   void setOpacityByProbability(bool on);
+  // Voxels in their label colours or by height along the map's up (blue low, red high).
+  void setVoxelColouring(VoxelColouring colouring);
+  [[nodiscard]] VoxelColouring voxelColouring() const;
   // Extra, smaller cubes (e.g. a single view's projection); null hides them.
   void showProjectionVoxels(const MapSnapshot* voxels, const LabelSet& labels);
   [[nodiscard]] size_t projectionVoxelCount() const;

@@ -1,7 +1,7 @@
 #pragma once
 // View menu items that change the 3D view: look from the current frame's
 // camera, show the frame's points, show the projection-baseline voxels of the
-// current view, opacity by probability.
+// current view, opacity by probability, colour by height.
 #include "lom/ui/reaction.hpp"
 
 namespace lom::ui {
@@ -13,7 +13,14 @@ class SceneViewReaction : public Reaction {
   Q_OBJECT
 
  public:
-  enum class Kind { LookFromFrame, ZoomToMap, FramePoints, ProjectionVoxels, OpacityByProbability };
+  enum class Kind {
+    LookFromFrame,
+    ZoomToMap,
+    FramePoints,
+    ProjectionVoxels,
+    OpacityByProbability,
+    ColourByHeight
+  };
   SceneViewReaction(QAction* action, Kind kind, StudioSession& session, SceneView& scene);
 
  protected:

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "lom/camera.hpp"
+#include "lom/height_colours.hpp"
 #include "lom/images.hpp"
 #include "lom/label_map.hpp"
 #include "lom/labels.hpp"
@@ -45,8 +46,11 @@ struct RenderOptions {
   // Replaces the orbit view. Its intrinsics are scaled to width x height.
   std::optional<PinholeView> camera;
   std::optional<std::set<int>> labels;  // default: every label
-  // Headlight shading; false paints every pixel exactly in its label's colour.
+  // Headlight shading; false paints every pixel exactly in its voxel face's colour.
   bool shading = true;
+  // Label colours, or height along the orbit's up (orbitUp, also with a
+  // camera view); when absent, see colouringFor.
+  std::optional<VoxelColouring> colouring;
   Rgb background{255, 255, 255};
 };
 
@@ -54,6 +58,10 @@ struct RenderOptions {
 // map's cameras' up, else +z. Throws lom::Error (field "up") for a zero or
 // non-finite options.up.
 [[nodiscard]] Eigen::Vector3d orbitUp(const LabelMap& map, const RenderOptions& options);
+
+// options.colouring, else height for a map with a single label (geometry
+// without labels: one colour would hide its shape), else label colours.
+[[nodiscard]] VoxelColouring colouringFor(const LabelMap& map, const RenderOptions& options);
 
 // Empty when an X display can be opened; otherwise the reason, with the
 // xvfb-run command line that works around it.

@@ -1,0 +1,49 @@
+#pragma once
+// Colours by height, for maps whose voxels carry no useful label (geometry
+// imported without label images has the single label __background__, which
+// would paint everything one colour and hide the shape).
+#include <Eigen/Core>
+#include <cstddef>
+#include <vector>
+
+#include "lom/labels.hpp"
+
+namespace lom {
+
+// How voxel surfaces are coloured in pictures and in the studio.
+enum class VoxelColouring {
+  Labels,  // each voxel in its label's colour
+  Height,  // by height along the map's up direction (HeightColours)
+};
+
+// A colour ramp from low (blue) through cyan, green and yellow to high (red);
+// t is clamped to [0, 1].
+[[nodiscard]] Rgb heightRampColour(double t);
+
+// Heights along `up`, from `lowest` to `highest`, mapped onto the ramp.
+class HeightColours {
+ public:
+  // `up` need not be unit length; a zero or non-finite up means +z.
+  HeightColours(const Eigen::Vector3d& up, double lowest, double highest);
+  // The range spanned by `points`: all of them below kPercentileMinimum points,
+  // else from the 1st to the 99th percentile of their heights (heights
+  // beyond get the end colours). The middle of the ramp for a flat or empty set.
+  static constexpr size_t kPercentileMinimum = 200;
+  [[nodiscard]] static HeightColours spanning(const std::vector<Eigen::Vector3d>& points,
+                                              const Eigen::Vector3d& up);
+
+  [[nodiscard]] double height(const Eigen::Vector3d& point) const { return up_.dot(point); }
+  // Where `point` lies between lowest (0) and highest (1); 0.5 when they coincide.
+  [[nodiscard]] double fraction(const Eigen::Vector3d& point) const;
+  [[nodiscard]] Rgb colour(const Eigen::Vector3d& point) const {
+    return heightRampColour(fraction(point));
+  }
+  [[nodiscard]] const Eigen::Vector3d& up() const { return up_; }
+
+ private:
+  Eigen::Vector3d up_;
+  double lowest_;
+  double highest_;
+};
+
+}  // namespace lom
