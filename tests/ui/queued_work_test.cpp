@@ -1,5 +1,6 @@
-// Work queued behind fusion on the demo scene: a box fit keeps one box per
-// label and belongs to the map it was asked for, the status bar says the work
+// Work queued behind fusion on the demo scene: a box fit during fusion uses
+// the voxels fused so far, keeps one box per label and belongs to the map it
+// was asked for, the status bar says the work
 // waits, closing the window asks before dropping it, and reports and objects
 // of a map that is gone cannot be used.
 #include <gtest/gtest.h>
@@ -80,10 +81,13 @@ TEST_F(QueuedWorkTest, BoxFitAskedTwiceDuringFusionAddsOneBox) {
   QAction* add = window_.findAction("Add Box from Label Voxels");
   ASSERT_NE(add, nullptr);
   add->trigger();
-  EXPECT_TRUE(window_.statusBar()->currentMessage().contains("queued"))
+  EXPECT_TRUE(window_.statusBar()->currentMessage().contains("when fusion finishes"))
       << window_.statusBar()->currentMessage().toStdString();
   add->trigger();
+  // Paused before the first frame: no voxels yet, so both fits wait for the fusion's end.
+  QTest::qWait(200);
   EXPECT_EQ(session().worker().pendingWork().size(), 2);
+  EXPECT_EQ(boxesOf(label), 0);
 
   session().worker().setPaused(false);
   waitForFusion();
@@ -91,6 +95,47 @@ TEST_F(QueuedWorkTest, BoxFitAskedTwiceDuringFusionAddsOneBox) {
   EXPECT_EQ(boxesOf(label), 1);
   EXPECT_TRUE(std::any_of(errors_.begin(), errors_.end(),
                           [](const QString& e) { return e.contains("already"); }));
+}
+
+TEST_F(QueuedWorkTest, BoxFitDuringFusionUsesTheVoxelsFusedSoFar) {
+  // The worker waits after each of its first three frames until released.
+  struct Gate {
+    std::atomic<size_t> reached{0};
+    std::atomic<size_t> released{0};
+  };
+  auto gate = std::make_shared<Gate>();
+  session().worker().setFrameFusedHook([gate](size_t frames) {
+    gate->reached = frames;
+    while (frames <= 3 && gate->released < frames)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  });
+  // Whatever happens below, the worker is not left waiting.
+  const std::shared_ptr<void> open_gate(nullptr, [gate](void*) { gate->released = 1000; });
+  auto waitUntilReached = [&](size_t frames) {
+    return QTest::qWaitFor([&] { return gate->reached == frames; }, kTimeoutMs);
+  };
+
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  ASSERT_TRUE(waitUntilReached(1));
+  gate->released = 1;
+  ASSERT_TRUE(waitUntilReached(2));
+  // Held after two frames: the fit is asked for now and runs before the third.
+  const int label = *visibleObjectLabels().begin();
+  removeBoxOf(label);
+  session().setSelectedLabel(label);
+  window_.findAction("Add Box from Label Voxels")->trigger();
+  EXPECT_TRUE(window_.statusBar()->currentMessage().contains("voxels fused so far"))
+      << window_.statusBar()->currentMessage().toStdString();
+  gate->released = 2;
+  ASSERT_TRUE(waitUntilReached(3));
+  // Held after the third frame: the box has arrived while fusion still runs.
+  EXPECT_TRUE(QTest::qWaitFor([&] { return boxesOf(label) == 1; }, 10'000));
+  EXPECT_TRUE(session().worker().isFusing());
+  EXPECT_TRUE(session().worker().pendingWork().isEmpty());
+  gate->released = 3;
+  waitForFusion();
+  session().worker().setFrameFusedHook({});
+  EXPECT_EQ(boxesOf(label), 1);
 }
 
 TEST_F(QueuedWorkTest, BoxFittedToAPreviousSequencesMapIsDropped) {

@@ -60,17 +60,18 @@ void AddBoxReaction::onTriggered() {
   const unsigned generation = session_.mapGeneration();
   const QString name = QString::fromStdString(box.name);
   if (worker->isFusing())
-    emit status(tr("Box for %1 queued: it is fitted when fusion finishes (Fusion ▸ Cancel Fusion "
-                   "ends it now).")
+    emit status(tr("Box for %1: fitted to the voxels fused so far; if there are none yet, when "
+                   "fusion finishes.")
                     .arg(name));
-  worker->withMap(
-      [self, worker, box, generation](const LabelMap* map) mutable {
+  worker->withCurrentMap(
+      [self, worker, box, generation](const LabelMap* map, bool final) mutable {
         std::vector<VoxelKey> keys;
         double resolution = 0.0;
         if (map) {
           keys = largestCluster(map->voxelsOfLabel(box.label), 2.0);
           resolution = map->parameters().resolution;
         }
+        if (keys.empty() && !final) return false;  // fusion may still bring some
         if (!keys.empty()) box.box = fitOrientedBox(keys, resolution);
         const bool fitted = !keys.empty();
         QMetaObject::invokeMethod(
@@ -79,6 +80,7 @@ void AddBoxReaction::onTriggered() {
               if (self) self->addFitted(box, fitted, generation);
             },
             Qt::QueuedConnection);
+        return true;
       },
       tr("box fit for %1").arg(name));
 }

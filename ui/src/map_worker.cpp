@@ -120,6 +120,12 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
   }
   frames_fused_ = 0;
   publish(takeSnapshot(*map_, 0));
+  std::function<void(size_t)> frame_fused_hook;
+  {
+    std::lock_guard lock(mutex_);
+    frame_fused_hook = frame_fused_hook_;
+  }
+  fusing_now_ = true;
   const size_t first = std::min(fusion.first_frame, sequence->frames.size());
   const size_t last = std::min(fusion.last_frame, sequence->frames.size());
   const int total = static_cast<int>(last > first ? last - first : 0);
@@ -160,6 +166,7 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
       break;
     }
     ++frames_fused_;
+    if (frame_fused_hook) frame_fused_hook(frames_fused_);
     const int done = static_cast<int>(i + 1 - first);
     const double busy = std::max(1e-6, secondsSince(start) - paused_seconds);
     const double rate = done / busy;
@@ -170,6 +177,7 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
     }
     inGui([this, done, total, rate] { emit fusionProgress(done, total, rate); });
   }
+  fusing_now_ = false;
   publish(takeSnapshot(*map_, frames_fused_));
   finish(completed);
 }
@@ -262,19 +270,54 @@ void MapWorker::evaluate(std::shared_ptr<const Sequence> sequence, const Annotat
       false);
 }
 
-void MapWorker::withMap(std::function<void(const LabelMap*)> job, const QString& description) {
+unsigned MapWorker::listWork(const QString& description) {
+  if (description.isEmpty()) return 0;
   const unsigned id = ++map_job_id_;
-  if (!description.isEmpty()) pending_work_.emplace_back(id, description);
+  pending_work_.emplace_back(id, description);
+  return id;
+}
+
+void MapWorker::forgetWork(unsigned id) {
+  if (id == 0) return;
+  inGui([this, id] {
+    pending_work_.erase(std::remove_if(pending_work_.begin(), pending_work_.end(),
+                                       [id](const auto& work) { return work.first == id; }),
+                        pending_work_.end());
+  });
+}
+
+void MapWorker::withMap(std::function<void(const LabelMap*)> job, const QString& description) {
+  const unsigned id = listWork(description);
   post(
       [this, id, job = std::move(job)] {
         job(map_.get());
-        inGui([this, id] {
-          pending_work_.erase(std::remove_if(pending_work_.begin(), pending_work_.end(),
-                                             [id](const auto& work) { return work.first == id; }),
-                              pending_work_.end());
-        });
+        forgetWork(id);
       },
       false);
+}
+
+void MapWorker::withCurrentMap(std::function<bool(const LabelMap*, bool)> job,
+                               const QString& description) {
+  const unsigned id = listWork(description);
+  post(
+      [this, id, job = std::move(job)] {
+        if (!fusing_now_ || job(map_.get(), false)) {
+          if (!fusing_now_) job(map_.get(), true);
+          return forgetWork(id);
+        }
+        post(  // nothing to work on yet: again once the fusion has ended
+            [this, id, job] {
+              job(map_.get(), true);
+              forgetWork(id);
+            },
+            false);
+      },
+      true);
+}
+
+void MapWorker::setFrameFusedHook(std::function<void(size_t)> hook) {
+  std::lock_guard lock(mutex_);
+  frame_fused_hook_ = std::move(hook);
 }
 
 QStringList MapWorker::pendingWork() const {

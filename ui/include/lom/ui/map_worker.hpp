@@ -48,6 +48,13 @@ class MapWorker : public QObject {
   // `description` ("export to map.ply") lists the job in pendingWork() until it
   // has run: work the user asked for that closing the window would drop.
   void withMap(std::function<void(const LabelMap*)> job, const QString& description = {});
+  // Runs `job` on the worker thread with the map as it is now: between two
+  // fused frames (also while paused) when fusing, at once otherwise. `final`
+  // is false while a fusion is in progress; a job that then returns false
+  // (the map has nothing for it yet) runs again with `final` true once the
+  // fusion has ended. Listed in pendingWork() as withMap's jobs are.
+  void withCurrentMap(std::function<bool(const LabelMap* map, bool final)> job,
+                      const QString& description = {});
   [[nodiscard]] QStringList pendingWork() const;
 
   [[nodiscard]] State state() const { return state_; }
@@ -55,6 +62,9 @@ class MapWorker : public QObject {
   [[nodiscard]] MapSnapshotPtr snapshot() const { return snapshot_; }
   [[nodiscard]] bool isEvaluating() const { return evaluations_pending_ > 0; }
   void setSnapshotInterval(int ms) { snapshot_interval_ms_ = ms; }
+  // For tests: called on the worker thread after every fused frame with the
+  // number of frames fused so far (taken when a fusion starts).
+  void setFrameFusedHook(std::function<void(size_t frames_fused)> hook);
 
  signals:
   void stateChanged(lom::ui::MapWorker::State state);
@@ -81,10 +91,14 @@ class MapWorker : public QObject {
   void applyPendingThreshold();
   void inGui(std::function<void()> call);
   void setState(State state);
+  // Lists a described job in pendingWork() (0 when not listed); forget removes it.
+  unsigned listWork(const QString& description);
+  void forgetWork(unsigned id);
 
   // Worker thread only.
   std::unique_ptr<LabelMap> map_;
   size_t frames_fused_ = 0;
+  bool fusing_now_ = false;  // inside fuse(): quick jobs run between its frames
 
   // Shared.
   std::mutex mutex_;
@@ -96,6 +110,7 @@ class MapWorker : public QObject {
   std::atomic<double> threshold_{0.5};
   std::atomic<unsigned> evaluation_generation_{0};
   std::atomic<int> snapshot_interval_ms_{200};
+  std::function<void(size_t)> frame_fused_hook_;  // guarded by mutex_
 
   // GUI thread only.
   State state_ = State::Idle;
