@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -18,6 +19,7 @@
 #include "lom/error.hpp"
 #include "lom/npy.hpp"
 #include "lom/sequence.hpp"
+#include "png_check.hpp"
 
 namespace lom {
 
@@ -69,6 +71,29 @@ std::optional<std::uint64_t> pnmNumber(std::istream& in) {
   return value;
 }
 
+// The whole file when it is a PNG, nullopt for other formats (OpenCV reads
+// those from the path as before). PNGs are checked chunk by chunk and then
+// decoded from these bytes, so the file is read once.
+std::optional<std::vector<std::uint8_t>> pngFileBytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) return std::nullopt;  // OpenCV reports a file it cannot open
+  const std::streamoff size = in.tellg();
+  std::vector<std::uint8_t> bytes(8);
+  in.seekg(0);
+  if (size < 8 || !in.read(reinterpret_cast<char*>(bytes.data()), 8) ||
+      !hasPngSignature(bytes.data(), bytes.size()))
+    return std::nullopt;
+  // cv::imdecode takes at most INT_MAX bytes; no camera image comes near.
+  if (size > std::numeric_limits<int>::max())
+    throw Error(path.string(), "file size", "a PNG file of less than 2 GiB",
+                std::to_string(size) + " bytes");
+  bytes.resize(static_cast<size_t>(size));
+  in.read(reinterpret_cast<char*>(bytes.data()) + 8, size - 8);
+  // A file that shrank while being read is reported as truncated by the check.
+  bytes.resize(8 + static_cast<size_t>(in.gcount()));
+  return bytes;
+}
+
 cv::Mat readImage(const fs::path& path) {
   const std::string file = path.string();
   if (const std::string why = notARegularFile(path); !why.empty())
@@ -81,9 +106,11 @@ cv::Mat readImage(const fs::path& path) {
                 "an image of at most " + std::to_string(kMaxImagePixels) + " pixels",
                 std::to_string(size->width) + " x " + std::to_string(size->height) +
                     " pixels (declared in the " + size->format + " header)");
+  const auto png = pngFileBytes(path);
+  if (png) checkPngChunks(png->data(), png->size(), file);
   cv::Mat mat;
   try {
-    mat = cv::imread(file, cv::IMREAD_UNCHANGED);
+    mat = png ? cv::imdecode(*png, cv::IMREAD_UNCHANGED) : cv::imread(file, cv::IMREAD_UNCHANGED);
   } catch (const cv::Exception& e) {
     throw Error(file, "", "a readable PNG image", "OpenCV failed: " + std::string(e.what()));
   }

@@ -25,6 +25,8 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "png_check.hpp"
+
 // Header-only views of image messages: the first pass reads stamps and
 // encodings without copying pixel data.
 namespace lom_rosbag {
@@ -260,8 +262,12 @@ DepthImage decodeDepth(const sensor_msgs::Image& image, double millimetre_scale)
   return depth;
 }
 
+// Throws lom::Error (field "PNG data", no file: the caller names the topic) for
+// a damaged PNG before libpng can print about it; other formats are only decoded.
 cv::Mat decodeBytes(const std::vector<std::uint8_t>& data, size_t offset, int flags) {
   if (data.size() <= offset) return {};
+  if (hasPngSignature(data.data() + offset, data.size() - offset))
+    checkPngChunks(data.data() + offset, data.size() - offset, "");
   const cv::Mat buffer(1, static_cast<int>(data.size() - offset), CV_8UC1,
                        const_cast<std::uint8_t*>(data.data() + offset));
   try {
@@ -933,8 +939,11 @@ void importRosbag(const fs::path& source, const ImportOptions& options, Sequence
                               : decodeColor(*load<sensor_msgs::Image>(cm));
             frame.color_camera = color_camera;
           } catch (const Error& e) {
+            // Named by topic like the depth, probability and label errors.
+            const Error named(color_topic->name, "colour " + e.problem().field,
+                              e.problem().expected, e.problem().found);
             writer.note("colour images that could not be decoded were left out (" +
-                        std::string(e.what()) + ")");
+                        std::string(named.what()) + ")");
           }
         } else {
           writer.note("depth images without a colour image within the time tolerance were "

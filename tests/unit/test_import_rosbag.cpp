@@ -104,7 +104,22 @@ struct BagSpec {
   int frames = 5;
   int proba_width = kW;  // probabilities of another resolution than depth
   int proba_height = kH;
+  bool compressed_depth = false;     // compressedDepth: a 12-byte header, then a 16-bit PNG
+  int flipped_depth_png_frame = -1;  // this frame's depth PNG has one byte flipped in IDAT
+  int cut_color_png_frame = -1;      // this frame's colour PNG ends inside IDAT
 };
+
+// The offset and length of the first IDAT chunk's data in PNG bytes.
+std::pair<size_t, size_t> firstImageData(const std::vector<std::uint8_t>& png) {
+  for (size_t at = 8; at + 12 <= png.size();) {
+    const size_t length = (size_t{png[at]} << 24) | (size_t{png[at + 1]} << 16) |
+                          (size_t{png[at + 2]} << 8) | png[at + 3];
+    if (std::memcmp(png.data() + at + 4, "IDAT", 4) == 0) return {at + 8, length};
+    at += length + 12;
+  }
+  ADD_FAILURE() << "no IDAT chunk";
+  return {0, 0};
+}
 
 void writeBag(const fs::path& path, const BagSpec& spec) {
   rosbag::Bag bag(path.string(), rosbag::bagmode::Write);
@@ -143,7 +158,23 @@ void writeBag(const fs::path& path, const BagSpec& spec) {
         }
       }
     if (spec.bad_step_in_frame_2 && f == 2) depth.step = 7;
-    bag.write("/camera/depth/image_rect_raw", stamp, depth);
+    if (spec.compressed_depth) {
+      sensor_msgs::CompressedImage compressed;
+      compressed.header = depth.header;
+      compressed.format = "16UC1; compressedDepth png";
+      const cv::Mat mm(kH, kW, CV_16UC1, depth.data.data());
+      std::vector<std::uint8_t> png;
+      cv::imencode(".png", mm, png);
+      if (f == spec.flipped_depth_png_frame) {
+        const auto [data, length] = firstImageData(png);
+        png[data + length / 2] ^= 0x10;
+      }
+      compressed.data.assign(12, 0);  // format 0, quantisation parameters 0 (unused for mm)
+      compressed.data.insert(compressed.data.end(), png.begin(), png.end());
+      bag.write("/camera/depth/image_rect_raw/compressedDepth", stamp, compressed);
+    } else {
+      bag.write("/camera/depth/image_rect_raw", stamp, depth);
+    }
     if (spec.second_depth_topic) bag.write("/camera/depth/image_raw", stamp, depth);
 
     if (spec.camera_info) {
@@ -164,6 +195,10 @@ void writeBag(const fs::path& path, const BagSpec& spec) {
         cv::Mat bgr(kH, kW, CV_8UC3, cv::Scalar(10 * f, 100, 200));
         std::vector<std::uint8_t> png;
         cv::imencode(".png", bgr, png);
+        if (f == spec.cut_color_png_frame) {
+          const auto [data, length] = firstImageData(png);
+          png.resize(data + length / 2);
+        }
         image.data = png;
         bag.write("/camera/color/image_raw/compressed", color_stamp, image);
       } else {
@@ -314,6 +349,42 @@ TEST(ImportRosbag, FloatDepthCompressedColourAndLabelImages) {
   EXPECT_NEAR(frame.proba->pixel(0, kH - 1)[0], 0.25f, 1e-3);
   ASSERT_TRUE(frame.label.has_value());
   EXPECT_EQ(frame.label->at(0, kH - 1), 19);
+}
+
+TEST(ImportRosbag, DamagedPngPayloadsAreReportedByTopicWithoutDecoderMessages) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.compressed_depth = true;
+  spec.compressed_color = true;
+  spec.proba_channels = 0;
+  spec.flipped_depth_png_frame = 1;
+  spec.cut_color_png_frame = 2;
+  writeBag(dir / "rec.bag", spec);
+  ImportOptions options;
+  options.depth_filter.flying_pixels = false;
+  testing::internal::CaptureStderr();
+  const ImportReport report =
+      importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq", options);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  // Frame 1 is skipped (its depth is damaged), frame 4 has no pose; frame 2 has no colour.
+  EXPECT_EQ(report.frames_written, 3u) << report.text();
+  bool depth_reported = false;
+  for (const auto& s : report.skipped)
+    depth_reported |=
+        s.frame == "depth@10.100" &&
+        s.reason.find(
+            "/camera/depth/image_rect_raw/compressedDepth: depth PNG data: expected a "
+            "complete PNG file, found chunk ") != std::string::npos &&
+        s.reason.find(" (IDAT) fails its CRC check") != std::string::npos;
+  EXPECT_TRUE(depth_reported) << report.text();
+  EXPECT_TRUE(anyNote(report,
+                      "(/camera/color/image_raw/compressed: colour PNG data: expected a "
+                      "complete PNG file, found the PNG ends inside chunk "))
+      << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_NEAR(loadFrame(sequence, 0).depth.at(4, 3), depthAt(4, 3, 0), 1e-6);
+  EXPECT_TRUE(loadFrame(sequence, 0).color.has_value());
+  EXPECT_FALSE(loadFrame(sequence, 1).color.has_value()) << "frame 2's colour PNG is cut";
 }
 
 TEST(ImportRosbag, ClockOffsetIsReportedAndCorrectedByTheOffsetOption) {
