@@ -1,10 +1,10 @@
 // labeloctomap fuse / export end to end on a generated sequence.
 #include <gtest/gtest.h>
-
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>
 
 #include <fstream>
+#include <string>
 
 #include "lom/label_map.hpp"
 #include "test_support.hpp"
@@ -39,6 +39,16 @@ TEST_F(CliFuseTest, FusesAndPrintsASummary) {
   EXPECT_NE(r.out.find("fused 4 frames"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("occupied voxels"), std::string::npos);
   EXPECT_NE(r.out.find("__background__"), std::string::npos);
+  // The run's peak memory, at least the map's own bytes (printed in KiB above it).
+  const auto map_line = r.out.find("map: resolution");
+  const auto peak_line = r.out.find("memory: peak resident ");
+  ASSERT_NE(map_line, std::string::npos) << r.out;
+  ASSERT_NE(peak_line, std::string::npos) << r.out;
+  const auto kib_end = r.out.find(" KiB\n", map_line);
+  const long map_kib = std::stol(r.out.substr(r.out.rfind(' ', kib_end - 1) + 1));
+  const long peak_mib = std::stol(r.out.substr(peak_line + 22));
+  EXPECT_GT(peak_mib, 0);
+  EXPECT_GE(peak_mib * 1024 + 512, map_kib) << r.out;
   const lom::LabelMap map = lom::LabelMap::load(map_path);
   EXPECT_DOUBLE_EQ(map.parameters().resolution, 0.02);
   EXPECT_EQ(map.numLabels(), 40);

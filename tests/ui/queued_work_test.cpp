@@ -1,8 +1,8 @@
 // Work queued behind fusion on the demo scene: a box fit during fusion uses
 // the voxels fused so far, keeps one box per label and belongs to the map it
-// was asked for, the status bar says the work
-// waits, closing the window asks before dropping it, and reports and objects
-// of a map that is gone cannot be used.
+// was asked for; the status bar says when work waits, closing the window asks
+// before dropping it, and reports and objects of a map that is gone cannot be
+// used.
 #include <gtest/gtest.h>
 
 #include <QAction>
