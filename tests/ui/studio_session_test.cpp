@@ -97,6 +97,46 @@ TEST_F(StudioSessionTest, ThresholdReThresholdsAtOnceAndOtherParametersOfferReFu
 
 // Frames without probability images fuse once a segmentation network is
 // chosen in the Fusion panel.
+TEST_F(StudioSessionTest, MostDepthsBeyondMaxRangeOfferARefuseThatReachesThem) {
+  StudioSession& session = window_.session();
+  openAndFuse();
+  FusionPanel& panel = window_.fusionPanel();
+  EXPECT_TRUE(panel.extendRangeButton().isHidden());  // 1 m reaches the shelf
+  panel.maxRangeBox().setValue(0.3);  // the demo's shelf stands 0.5 to 0.9 m from the cameras
+  panel.refuseButton().click();
+  waitForFusion();
+  EXPECT_TRUE(panel.noteText().contains("beyond the max range of 0.30 m and mapped nothing"))
+      << panel.noteText().toStdString();
+  ASSERT_FALSE(panel.extendRangeButton().isHidden());
+  EXPECT_TRUE(panel.extendRangeButton().text().startsWith("Re-fuse up to "))
+      << panel.extendRangeButton().text().toStdString();
+  const size_t voxels_before = session.worker().snapshot()->voxels.size();
+
+  panel.extendRangeButton().click();
+  waitForFusion();
+  EXPECT_GT(session.fusionOptions().map.max_range, 0.8);
+  EXPECT_DOUBLE_EQ(session.fusionOptions().map.resolution,
+                   0.01);  // 1 m rays need no coarser voxels
+  EXPECT_DOUBLE_EQ(panel.maxRangeBox().value(), session.fusionOptions().map.max_range);
+  EXPECT_TRUE(panel.extendRangeButton().isHidden());
+  EXPECT_FALSE(panel.noteText().contains("beyond")) << panel.noteText().toStdString();
+  EXPECT_GT(session.worker().snapshot()->voxels.size(), 10 * voxels_before + 100);
+
+  // Depths that reach 10 m (a room): rays of at most 250 voxels, so 4 cm ones.
+  DepthRanges room;
+  room.measured = 1000;
+  room.beyond = 999;
+  room.farthest = 9.93;
+  panel.showDepthRanges(room, 1.0);
+  EXPECT_TRUE(panel.noteText().contains("99% of the depths lay beyond the max range of 1.00 m"))
+      << panel.noteText().toStdString();
+  EXPECT_EQ(panel.extendRangeButton().text(), "Re-fuse up to 10.0 m, 4.0 cm voxels");
+  room.beyond = 400;  // most depths mapped: nothing to offer
+  panel.showDepthRanges(room, 1.0);
+  EXPECT_TRUE(panel.extendRangeButton().isHidden());
+  EXPECT_FALSE(panel.noteText().contains("beyond"));
+}
+
 TEST_F(StudioSessionTest, SegmenterChosenInTheFusionPanelFusesFramesWithoutProba) {
   const auto wall = temp_ / "wall";
   (void)test::writeColourWallSequence(wall, 1);

@@ -101,6 +101,16 @@ TEST_F(StudioWindowTest, OpensADatasetFolderByConvertingIt) {
   const size_t original = test::countValidDepth(tiny_.depths[0]);
   EXPECT_LE(window_.sceneView().framePointCount(), original);
   EXPECT_GE(window_.sceneView().framePointCount(), original * 8 / 10);
+  // Without label images the sequence has one label: its voxels are coloured by height.
+  EXPECT_EQ(window_.controller().sequence().labels.size(), 1);
+  ASSERT_NE(menuAction("Colour by Height"), nullptr);
+  EXPECT_TRUE(menuAction("Colour by Height")->isChecked());
+  EXPECT_EQ(window_.sceneView().voxelColouring(), VoxelColouring::Height);
+  // A labelled sequence opens in label colours.
+  window_.controller().setDiscardGuard([] { return true; });
+  ASSERT_TRUE(openTiny());
+  EXPECT_FALSE(menuAction("Colour by Height")->isChecked());
+  EXPECT_EQ(window_.sceneView().voxelColouring(), VoxelColouring::Labels);
 }
 
 TEST_F(StudioWindowTest, StepsThroughFramesWithActionsAndSlider) {

@@ -2,14 +2,18 @@
 
 #include <QDoubleSpinBox>
 #include <QFileDialog>
-#include <QHBoxLayout>
 #include <QFormLayout>
+#include <QHBoxLayout>
 #include <QLabel>
 #include <QLineEdit>
 #include <QPushButton>
 #include <QSignalBlocker>
+#include <algorithm>
+#include <cmath>
 
+#include "lom/fusion.hpp"
 #include "lom/segmenter.hpp"
+#include "lom/ui/map_worker.hpp"
 #include "lom/ui/studio_session.hpp"
 
 namespace lom::ui {
@@ -66,7 +70,8 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
       candidates_(new QLineEdit),
       segmenter_path_(new QLineEdit),
       note_(new QLabel),
-      refuse_(new QPushButton(tr("Re-fuse"))) {
+      refuse_(new QPushButton(tr("Re-fuse"))),
+      extend_range_(new QPushButton) {
   setObjectName("fusionPanel");
   threshold_->setObjectName("thresholdBox");
   resolution_->setObjectName("resolutionBox");
@@ -74,6 +79,8 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   max_range_->setSpecialValueText(tr("unlimited"));
   candidates_->setPlaceholderText(tr("all labels (e.g. 0 3 7)"));
   note_->setWordWrap(true);
+  // Two-line notes (the depth-range one) keep their height in a crowded dock.
+  note_->setSizePolicy(QSizePolicy::Preferred, QSizePolicy::MinimumExpanding);
   auto* form = new QFormLayout(this);
   form->addRow(tr("Resolution"), resolution_);
   form->addRow(tr("Max range"), max_range_);
@@ -92,7 +99,22 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   connect(choose, &QPushButton::clicked, this, &FusionPanel::chooseSegmenter);
   connect(clear, &QPushButton::clicked, this, [this] { setSegmenterModel({}); });
   form->addRow(note_);
+  form->addRow(extend_range_);
   form->addRow(refuse_);
+  extend_range_->setObjectName("extendRangeButton");
+  extend_range_->hide();
+  connect(extend_range_, &QPushButton::clicked, this, [this] {
+    max_range_->setValue(suggested_range_);
+    resolution_->setValue(suggested_resolution_);
+    refuse();
+  });
+  connect(&session_.worker(), &MapWorker::depthRangesMeasured, this, &FusionPanel::showDepthRanges);
+  connect(&session_.worker(), &MapWorker::stateChanged, this, [this](MapWorker::State state) {
+    if (state == MapWorker::State::Idle) return;
+    range_note_.clear();  // a new fusion: its own depths will tell
+    extend_range_->hide();
+    onEdited();
+  });
 
   loadFromSession();
   connect(threshold_, qOverload<double>(&QDoubleSpinBox::valueChanged), this,
@@ -159,7 +181,38 @@ void FusionPanel::onEdited() {
   if (!ok)
     note_->setText(tr("Candidates: label ids separated by spaces."));
   else
-    note_->setText(pending ? tr("Changed: re-fuse to apply.") : QString());
+    note_->setText(pending ? tr("Changed: re-fuse to apply.") : range_note_);
+}
+
+void FusionPanel::showDepthRanges(const DepthRanges& totals, double max_range) {
+  range_note_.clear();
+  extend_range_->hide();
+  // As `labeloctomap fuse` warns: when max range took most of the depths, the
+  // map holds little of what the camera saw.
+  if (max_range > 0.0 && totals.measured > 0 && 2 * totals.beyond > totals.measured) {
+    suggested_range_ = std::min(max_range_->maximum(), std::ceil(totals.farthest * 10.0) / 10.0);
+    // Rays of 250 voxels at most, in steps of 5 mm: the memory of a map grows
+    // with the free voxels its rays cross.
+    constexpr double kMaxVoxelsPerRay = 250.0, kResolutionStep = 0.005;
+    suggested_resolution_ = std::max(
+        resolution_->value(),
+        std::ceil(suggested_range_ / kMaxVoxelsPerRay / kResolutionStep - 1e-9) * kResolutionStep);
+    const int percent = static_cast<int>(100 * totals.beyond / totals.measured);
+    range_note_ = tr("%1% of the depths lay beyond the max range of %2 m and mapped nothing "
+                     "(they reach %3 m).")
+                      .arg(percent)
+                      .arg(max_range, 0, 'f', 2)
+                      .arg(totals.farthest, 0, 'f', 1);
+    if (suggested_range_ > max_range) {
+      extend_range_->setText(suggested_resolution_ > resolution_->value() + 1e-9
+                                 ? tr("Re-fuse up to %1 m, %2 cm voxels")
+                                       .arg(suggested_range_, 0, 'f', 1)
+                                       .arg(suggested_resolution_ * 100.0, 0, 'f', 1)
+                                 : tr("Re-fuse up to %1 m").arg(suggested_range_, 0, 'f', 1));
+      extend_range_->show();
+    }
+  }
+  onEdited();
 }
 
 void FusionPanel::refuse() {

@@ -14,6 +14,16 @@ SceneViewReaction::SceneViewReaction(QAction* action, Kind kind, StudioSession& 
     : Reaction(action), kind_(kind), session_(session), scene_(scene) {
   action->setCheckable(kind_ != Kind::LookFromFrame && kind_ != Kind::ZoomToMap);
   action->setChecked(kind_ == Kind::FramePoints);
+  if (kind_ == Kind::ColourByHeight) {
+    // Geometry without labels (a single label) shows its shape by height;
+    // labelled sequences open in their label colours.
+    connect(&session_.controller(), &SequenceController::sequenceChanged, this, [this] {
+      const SequenceController& controller = session_.controller();
+      this->action()->setChecked(controller.hasSequence() &&
+                                 controller.sequence().labels.size() == 1);
+      onTriggered();
+    });
+  }
   if (kind_ == Kind::ProjectionVoxels) {
     connect(&session_.controller(), &SequenceController::currentFrameChanged, this,
             &SceneViewReaction::showProjection);

@@ -13,6 +13,7 @@ class QPushButton;
 
 namespace lom {
 class Segmenter;
+struct DepthRanges;
 }
 
 namespace lom::ui {
@@ -29,12 +30,19 @@ class FusionPanel : public QWidget {
   [[nodiscard]] QDoubleSpinBox& resolutionBox() { return *resolution_; }
   [[nodiscard]] QDoubleSpinBox& maxRangeBox() { return *max_range_; }
   [[nodiscard]] QPushButton& refuseButton() { return *refuse_; }
+  // Shown when most depths of the last fusion lay beyond max range: re-fuses
+  // with a max range that reaches the farthest depth, and voxels no finer than
+  // 1/250 of that range (a room at 1 cm and 10 m takes gigabytes).
+  [[nodiscard]] QPushButton& extendRangeButton() { return *extend_range_; }
   // Whether the fields differ from the parameters of the current map.
   [[nodiscard]] bool hasPendingChanges() const;
   // Loads an ONNX model (and its .json beside it) for the next fusion; an
   // empty path means no network. False, with the reason shown, when it fails.
   bool setSegmenterModel(const QString& model_path);
   [[nodiscard]] QString noteText() const;
+  // What a fusion measured (MapWorker::depthRangesMeasured): a note and the
+  // extend-range button when most depths lay beyond its max range.
+  void showDepthRanges(const DepthRanges& totals, double max_range);
 
  private:
   void loadFromSession();
@@ -52,6 +60,10 @@ class FusionPanel : public QWidget {
   std::shared_ptr<const Segmenter> segmenter_;  // chosen in the panel, applied on re-fuse
   QLabel* note_;
   QPushButton* refuse_;
+  QPushButton* extend_range_;
+  double suggested_range_ = 0.0;  // what extend_range_ re-fuses with
+  double suggested_resolution_ = 0.0;
+  QString range_note_;  // why it is shown
 };
 
 }  // namespace lom::ui
