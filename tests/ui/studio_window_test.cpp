@@ -6,6 +6,7 @@
 #include <QDragEnterEvent>
 #include <QDropEvent>
 #include <QMimeData>
+#include <QPushButton>
 #include <QSlider>
 #include <QTest>
 #include <QUrl>
@@ -14,11 +15,14 @@
 #include <fstream>
 
 #include "lom/annotations.hpp"
+#include "lom/import.hpp"
 #include "lom/sequence.hpp"
 #include "lom/ui/frame_images_view.hpp"
+#include "lom/ui/fusion_panel.hpp"
 #include "lom/ui/image_pane.hpp"
 #include "lom/ui/label_legend.hpp"
 #include "lom/ui/main_window.hpp"
+#include "lom/ui/map_worker.hpp"
 #include "lom/ui/scene_view.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/sequence_drop_handler.hpp"
@@ -111,6 +115,36 @@ TEST_F(StudioWindowTest, OpensADatasetFolderByConvertingIt) {
   ASSERT_TRUE(openTiny());
   EXPECT_FALSE(menuAction("Colour by Height")->isChecked());
   EXPECT_EQ(window_.sceneView().voxelColouring(), VoxelColouring::Labels);
+}
+
+// A recorded room without label images, opened with the shelf-bin defaults
+// (1 cm voxels, 1 m max range): the Fusion panel offers to reach the room's
+// depths with coarser voxels, and the voxels are coloured by height.
+TEST_F(StudioWindowTest, RoomBeyondMaxRangeIsMappedByTheOfferedRefuse) {
+  LOM_REQUIRE_SHARED_DATA("kinect-room-5");
+  ImportOptions import = window_.controller().importOptions();
+  import.intrinsics = parseIntrinsics("518,519,325.5,253.5");
+  window_.controller().setImportOptions(import);
+  ASSERT_TRUE(window_.controller().openSequence(qPath(test::sharedDataDir() / "kinect-room-5")));
+  MapWorker& worker = window_.session().worker();
+  auto waitForFusion = [&] {
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !worker.isFusing(); }, 120'000));
+    QTest::qWait(50);  // the last snapshot and the depth ranges arrive through the event loop
+  };
+  waitForFusion();
+  FusionPanel& panel = window_.fusionPanel();
+  ASSERT_FALSE(panel.extendRangeButton().isHidden()) << panel.noteText().toStdString();
+  // The room's depths reach about 10 m: rays of 250 voxels are 4 cm ones.
+  EXPECT_EQ(panel.extendRangeButton().text(), "Re-fuse up to 10.0 m, 4.0 cm voxels");
+  const size_t voxels_before = worker.snapshot()->voxels.size();
+
+  panel.extendRangeButton().click();
+  waitForFusion();
+  EXPECT_TRUE(panel.extendRangeButton().isHidden());
+  EXPECT_DOUBLE_EQ(window_.session().fusionOptions().map.resolution, 0.04);
+  EXPECT_DOUBLE_EQ(window_.session().fusionOptions().map.max_range, 10.0);
+  EXPECT_GT(worker.snapshot()->voxels.size(), 20 * voxels_before + 1000);
+  EXPECT_EQ(window_.sceneView().voxelColouring(), VoxelColouring::Height);
 }
 
 TEST_F(StudioWindowTest, StepsThroughFramesWithActionsAndSlider) {
