@@ -302,6 +302,44 @@ TEST(RenderMap, LabelledMapKeepsLabelColoursUnlessHeightIsAsked) {
   EXPECT_GT(countColour(image, rgb(lom::heightRampColour(1.0))), 50u);
 }
 
+TEST(RenderMap, OrbitViewFillsThePictureWithTheMapCentredAndWhole) {
+  LOM_REQUIRE_DISPLAY();
+  // A long, flat slab and a tall post at one end: a lopsided shape whose
+  // bounding sphere is much larger than what the camera sees of it.
+  const lom::LabelMap map = lom::test::MapBuilder(4, kRes)
+                                .occupy(blockKeys(0, 40, 0, 6, 0, 2), 1)
+                                .occupy(blockKeys(36, 40, 0, 6, 2, 20), 2)
+                                .build();
+  for (const double azimuth : {0.0, 120.0, 210.0}) {
+    lom::render::RenderOptions options;
+    options.width = 320;
+    options.height = 240;
+    options.shading = false;
+    options.azimuth_deg = azimuth;
+    options.elevation_deg = 25.0;
+    const lom::ColorImage image = lom::render::renderMap(map, options);
+    int left = image.width, right = -1, top = image.height, bottom = -1;
+    for (int v = 0; v < image.height; ++v)
+      for (int u = 0; u < image.width; ++u)
+        if (pixel(image, u, v) != std::array<int, 3>{255, 255, 255}) {
+          left = std::min(left, u), right = std::max(right, u);
+          top = std::min(top, v), bottom = std::max(bottom, v);
+        }
+    ASSERT_GE(right, 0) << "azimuth " << azimuth;
+    // Whole: a margin of background on every side.
+    EXPECT_GT(left, 0) << azimuth;
+    EXPECT_GT(top, 0) << azimuth;
+    EXPECT_LT(right, image.width - 1) << azimuth;
+    EXPECT_LT(bottom, image.height - 1) << azimuth;
+    // Filling: the map spans most of the picture's width or height.
+    EXPECT_TRUE(right - left > 0.8 * image.width || bottom - top > 0.8 * image.height)
+        << azimuth << ": " << left << ".." << right << " x " << top << ".." << bottom;
+    // Centred: equal margins within a tenth of the picture.
+    EXPECT_NEAR(left, image.width - 1 - right, image.width / 10) << azimuth;
+    EXPECT_NEAR(top, image.height - 1 - bottom, image.height / 10) << azimuth;
+  }
+}
+
 TEST(RenderMap, PngOnDiskMatchesThePicture) {
   LOM_REQUIRE_DISPLAY();
   lom::test::TempDir dir;

@@ -105,13 +105,16 @@ void placePinhole(vtkCamera* camera, const PinholeView& view, int width, int hei
   camera->SetWindowCenter(1.0 - 2.0 * cx / width, 2.0 * cy / height - 1.0);
 }
 
-void placeOrbit(vtkCamera* camera, const double bounds[6], double azimuth_deg, double elevation_deg,
-                const Eigen::Vector3d& up) {
+// The orbit camera: looking along azimuth and elevation at the centre of the
+// voxels' bounds, from far enough that every vertex is in front of it and in
+// view; then the picture is narrowed and shifted (view angle and window
+// centre, as a pinhole camera's principal point) onto what the vertices
+// cover, with a 5 % margin, so that the map fills it whatever its shape.
+void placeOrbit(vtkCamera* camera, vtkPoints* points, const double bounds[6], double azimuth_deg,
+                double elevation_deg, const Eigen::Vector3d& up, double aspect) {
   const Eigen::Vector3d lo(bounds[0], bounds[2], bounds[4]), hi(bounds[1], bounds[3], bounds[5]);
   const Eigen::Vector3d centre = 0.5 * (lo + hi);
-  const double radius = std::max(0.5 * (hi - lo).norm(), 1e-3);
   const double view_angle = 30.0;
-  const double distance = 1.05 * radius / std::sin(0.5 * view_angle * kPi / 180.0);
   const double az = azimuth_deg * kPi / 180.0, el = elevation_deg * kPi / 180.0;
   // Azimuth 0 lies along world x laid flat across up (z when x is nearly up).
   Eigen::Vector3d front = Eigen::Vector3d::UnitX() - up.x() * up;
@@ -120,15 +123,48 @@ void placeOrbit(vtkCamera* camera, const double bounds[6], double azimuth_deg, d
   const Eigen::Vector3d side = up.cross(front);
   const Eigen::Vector3d direction =
       std::cos(el) * (std::cos(az) * front + std::sin(az) * side) + std::sin(el) * up;
-  const Eigen::Vector3d eye = centre + distance * direction;
-  camera->SetFocalPoint(centre.data());
-  camera->SetPosition(eye.data());
-  camera->SetViewAngle(view_angle);
   // Straight down or up: "up" in the picture is the direction across up away from the camera.
   Eigen::Vector3d view_up = up;
   if (std::abs(std::cos(el)) < 1e-6)
     view_up = -std::sin(el) * (std::cos(az) * front + std::sin(az) * side);
+  // The picture's axes: `direction` points from the centre to the eye.
+  const Eigen::Vector3d picture_up = (view_up - view_up.dot(direction) * direction).normalized();
+  const Eigen::Vector3d picture_right = picture_up.cross(direction);
+  const double tan_vertical = std::tan(0.5 * view_angle * kPi / 180.0);
+  const double tan_horizontal = tan_vertical * aspect;
+  auto offset = [points, &centre](vtkIdType i) -> Eigen::Vector3d {  // not an Eigen expression
+    double xyz[3] = {0.0, 0.0, 0.0};
+    points->GetPoint(i, xyz);
+    return Eigen::Vector3d(xyz[0], xyz[1], xyz[2]) - centre;
+  };
+  const vtkIdType count = points->GetNumberOfPoints();
+  // Far enough for every vertex to be within the 30 degree view.
+  double distance = 1e-3;
+  for (vtkIdType i = 0; i < count; ++i) {
+    const Eigen::Vector3d p = offset(i);
+    const double towards_eye = p.dot(direction);
+    distance = std::max({distance, towards_eye + std::abs(p.dot(picture_up)) / tan_vertical,
+                         towards_eye + std::abs(p.dot(picture_right)) / tan_horizontal});
+  }
+  distance *= 1.05;
+  // Where the vertices land from there, in normalised picture coordinates
+  // (-1 to 1 across the view): the picture is fitted to that.
+  double x_lo = 0, x_hi = 0, y_lo = 0, y_hi = 0;
+  for (vtkIdType i = 0; i < count; ++i) {
+    const Eigen::Vector3d p = offset(i);
+    const double depth = distance - p.dot(direction);
+    const double x = p.dot(picture_right) / (depth * tan_horizontal);
+    const double y = p.dot(picture_up) / (depth * tan_vertical);
+    x_lo = i ? std::min(x_lo, x) : x, x_hi = i ? std::max(x_hi, x) : x;
+    y_lo = i ? std::min(y_lo, y) : y, y_hi = i ? std::max(y_hi, y) : y;
+  }
+  const double scale = std::max(1e-3, 1.05 * 0.5 * std::max(x_hi - x_lo, y_hi - y_lo));
+  const Eigen::Vector3d eye = centre + distance * direction;
+  camera->SetFocalPoint(centre.data());
+  camera->SetPosition(eye.data());
   camera->SetViewUp(view_up.data());
+  camera->SetViewAngle(2.0 * std::atan(scale * tan_vertical) * 180.0 / kPi);
+  camera->SetWindowCenter(0.5 * (x_lo + x_hi) / scale, 0.5 * (y_lo + y_hi) / scale);
 }
 
 }  // namespace
@@ -185,8 +221,9 @@ ColorImage renderMap(const LabelMap& map, const RenderOptions& options) {
   if (options.camera) {
     placePinhole(camera, *options.camera, options.width, options.height);
   } else {
-    placeOrbit(camera, surfaces->GetBounds(), options.azimuth_deg, options.elevation_deg,
-               orbitUp(map, options));
+    placeOrbit(camera, surfaces->GetPoints(), surfaces->GetBounds(), options.azimuth_deg,
+               options.elevation_deg, orbitUp(map, options),
+               static_cast<double>(options.width) / options.height);
   }
   renderer->ResetCameraClippingRange();
 
