@@ -311,10 +311,11 @@ void MapWorker::withCurrentMap(std::function<bool(const LabelMap*, bool)> job,
   const unsigned id = listWork(description);
   post(
       [this, id, job = std::move(job)] {
-        if (!fusing_now_ || job(map_.get(), false)) {
-          if (!fusing_now_) job(map_.get(), true);
+        if (!fusing_now_) {
+          job(map_.get(), true);
           return forgetWork(id);
         }
+        if (job(map_.get(), false)) return forgetWork(id);
         post(  // nothing to work on yet: again once the fusion has ended
             [this, id, job] {
               job(map_.get(), true);
