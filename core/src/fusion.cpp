@@ -212,6 +212,12 @@ FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
 // ---------------------------------------------------------------------------
 // Sequences
 
+double suggestedResolutionForRange(double max_range, double resolution) {
+  constexpr double kMaxVoxelsPerRay = 250.0, kStep = 0.005;
+  const double coarse = std::ceil(max_range / kMaxVoxelsPerRay / kStep - 1e-9) * kStep;
+  return std::max(resolution, coarse);
+}
+
 DepthRanges countDepthRanges(const CameraIntrinsics& camera, const DepthImage& depth,
                              double max_range) {
   DepthRanges ranges;

@@ -135,4 +135,13 @@ TEST(DepthRangesTest, FuseSequenceReportsPixelsBeyondMaxRange) {
   EXPECT_NEAR(reports[1].totals.farthest_range, expected.farthest, 1e-12);
 }
 
+TEST(SuggestedResolution, RaysCrossAtMost250VoxelsInStepsOfFiveMillimetres) {
+  EXPECT_DOUBLE_EQ(lom::suggestedResolutionForRange(10.0, 0.01), 0.04);
+  EXPECT_DOUBLE_EQ(lom::suggestedResolutionForRange(10.0, 0.005), 0.04);
+  EXPECT_DOUBLE_EQ(lom::suggestedResolutionForRange(2.0, 0.005), 0.01);    // 8 mm, rounded up
+  EXPECT_DOUBLE_EQ(lom::suggestedResolutionForRange(1.25, 0.005), 0.005);  // exactly 250
+  EXPECT_DOUBLE_EQ(lom::suggestedResolutionForRange(1.0, 0.01), 0.01);     // never finer than asked
+  EXPECT_DOUBLE_EQ(lom::suggestedResolutionForRange(20.0, 0.1), 0.1);
+}
+
 }  // namespace

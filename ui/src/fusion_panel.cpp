@@ -191,12 +191,7 @@ void FusionPanel::showDepthRanges(const DepthRanges& totals, double max_range) {
   // map holds little of what the camera saw.
   if (max_range > 0.0 && totals.measured > 0 && 2 * totals.beyond > totals.measured) {
     suggested_range_ = std::min(max_range_->maximum(), std::ceil(totals.farthest * 10.0) / 10.0);
-    // Rays of 250 voxels at most, in steps of 5 mm: the memory of a map grows
-    // with the free voxels its rays cross.
-    constexpr double kMaxVoxelsPerRay = 250.0, kResolutionStep = 0.005;
-    suggested_resolution_ = std::max(
-        resolution_->value(),
-        std::ceil(suggested_range_ / kMaxVoxelsPerRay / kResolutionStep - 1e-9) * kResolutionStep);
+    suggested_resolution_ = suggestedResolutionForRange(suggested_range_, resolution_->value());
     const int percent = static_cast<int>(100 * totals.beyond / totals.measured);
     range_note_ = tr("%1% of the depths lay beyond the max range of %2 m and mapped nothing "
                      "(they reach %3 m).")

@@ -98,6 +98,12 @@ struct DepthRanges {
 [[nodiscard]] DepthRanges countDepthRanges(const CameraIntrinsics& camera, const DepthImage& depth,
                                            double max_range);
 
+// The finest voxel size worth suggesting for rays of `max_range` metres: at
+// least `resolution`, and coarse enough for a ray to cross at most 250 voxels
+// (in steps of 5 mm). A map's memory grows with the free voxels its rays cross:
+// a room fused at 1 cm up to 10 m takes gigabytes, at 4 cm tens of megabytes.
+[[nodiscard]] double suggestedResolutionForRange(double max_range, double resolution);
+
 // Integrates one frame into `map` with the paper's rule (docs/fusion.md). Both
 // paths give the same map (the fast one may differ in the last float bits of
 // summed log-odds).

@@ -31,8 +31,8 @@ class FusionPanel : public QWidget {
   [[nodiscard]] QDoubleSpinBox& maxRangeBox() { return *max_range_; }
   [[nodiscard]] QPushButton& refuseButton() { return *refuse_; }
   // Shown when most depths of the last fusion lay beyond max range: re-fuses
-  // with a max range that reaches the farthest depth, and voxels no finer than
-  // 1/250 of that range (a room at 1 cm and 10 m takes gigabytes).
+  // with a max range that reaches the farthest depth, at
+  // suggestedResolutionForRange (a room at 1 cm and 10 m takes gigabytes).
   [[nodiscard]] QPushButton& extendRangeButton() { return *extend_range_; }
   // Whether the fields differ from the parameters of the current map.
   [[nodiscard]] bool hasPendingChanges() const;
