@@ -423,10 +423,18 @@ TEST_F(StudioSessionTest, ColourByHeightPaintsLowVoxelsBlueAndHighOnesRed) {
   const auto [low, high] = lowAndHighRampPixels(shot, area);
   EXPECT_GT(low, 4 * low_before + 50) << "no blue low voxels";
   EXPECT_GT(high, 4 * high_before + 50) << "no red high voxels";
+  // The legend shows what blue and red stand for: the voxels' heights along the
+  // map's up (the generated scene's cameras look down at a shelf: z up, within a metre).
+  const auto range = window_.mapLegend().heightBarRange();
+  ASSERT_TRUE(range.has_value());
+  EXPECT_LT(range->first, range->second);
+  EXPECT_GT(range->second - range->first, 0.05);
+  EXPECT_LT(range->second - range->first, 1.0);
 
   by_height->trigger();  // back to label colours, the same voxels
   EXPECT_EQ(window_.sceneView().voxelColouring(), VoxelColouring::Labels);
   EXPECT_EQ(window_.sceneView().voxelCount(), voxels);
+  EXPECT_FALSE(window_.mapLegend().heightBarRange().has_value());
 }
 
 }  // namespace

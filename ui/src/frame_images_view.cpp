@@ -5,7 +5,7 @@
 #include <QVBoxLayout>
 #include <map>
 
-#include "lom/ui/depth_legend.hpp"
+#include "lom/ui/colour_bar.hpp"
 #include "lom/ui/frame_labels.hpp"
 #include "lom/ui/image_conversion.hpp"
 #include "lom/ui/image_pane.hpp"
@@ -22,7 +22,7 @@ FrameImagesView::FrameImagesView(QWidget* parent)
     : QWidget(parent),
       color_pane_(new ImagePane(tr("Colour"))),
       depth_pane_(new ImagePane(tr("Depth"))),
-      depth_legend_(new DepthLegend),
+      depth_legend_(new ColourBar(depthColor, tr("depth"))),
       label_pane_(new ImagePane(tr("Labels"))),
       label_legend_(new LabelLegend),
       heat_pane_(new ImagePane(tr("Probability"))),
@@ -120,7 +120,8 @@ void FrameImagesView::showFrame(const Sequence& sequence, const FrameData* frame
     color_pane_->setImage(color);
 
   const auto range = validDepthRange(frame->depth);
-  depth_legend_->setRange(range);
+  depth_legend_->setRange(
+      range ? std::optional(std::make_pair(range->near_metres, range->far_metres)) : std::nullopt);
   if (range)
     depth_pane_->setImage(depthToQImage(frame->depth, *range));
   else

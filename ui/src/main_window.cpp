@@ -286,6 +286,8 @@ void MainWindow::connectScene() {
   });
   connect(session_, &StudioSession::selectedLabelChanged, frame_images_,
           &FrameImagesView::setHeatLabel);
+  connect(scene_view_, &SceneView::heightColoursShown, map_legend_,
+          &MapLegendPanel::showHeightColours);
   connect(map_legend_, &MapLegendPanel::currentLabelChanged, session_,
           [this](int label) { if (label > 0) session_->setSelectedLabel(label); });
 }

@@ -8,6 +8,8 @@
 #include <QTableWidget>
 #include <QVBoxLayout>
 
+#include "lom/height_colours.hpp"
+#include "lom/ui/colour_bar.hpp"
 #include "lom/ui/frame_labels.hpp"
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/studio_session.hpp"
@@ -25,7 +27,17 @@ QIcon swatch(const QColor& color) {
 }  // namespace
 
 MapLegendPanel::MapLegendPanel(StudioSession& session, QWidget* parent)
-    : QWidget(parent), session_(session), table_(new QTableWidget(0, 2)) {
+    : QWidget(parent),
+      session_(session),
+      table_(new QTableWidget(0, 2)),
+      height_bar_(new ColourBar(
+          [](double t) {
+            const Rgb c = heightRampColour(t);
+            return QColor(c[0], c[1], c[2]);
+          },
+          tr("height"))) {
+  height_bar_->setObjectName("heightColourBar");
+  height_bar_->hide();
   setObjectName("mapLegend");
   table_->setObjectName("mapLegendTable");
   table_->setHorizontalHeaderLabels({tr("Label"), tr("Voxels")});
@@ -44,6 +56,7 @@ MapLegendPanel::MapLegendPanel(StudioSession& session, QWidget* parent)
   buttons->addWidget(all);
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(2, 2, 2, 2);
+  layout->addWidget(height_bar_);
   layout->addWidget(table_, 1);
   layout->addLayout(buttons);
 
@@ -124,5 +137,14 @@ void MapLegendPanel::showOnly(int label) {
 }
 
 void MapLegendPanel::showAll() { session_.setHiddenLabels({}); }
+
+void MapLegendPanel::showHeightColours(std::optional<std::pair<double, double>> range) {
+  height_bar_->setRange(range);
+  height_bar_->setVisible(range.has_value());
+}
+
+std::optional<std::pair<double, double>> MapLegendPanel::heightBarRange() const {
+  return height_bar_->isHidden() ? std::nullopt : height_bar_->range();
+}
 
 }  // namespace lom::ui

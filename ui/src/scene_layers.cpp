@@ -60,6 +60,9 @@ size_t VoxelLayer::show(const MapSnapshot& snapshot, const LabelSet& labels,
       if (!hidden.count(voxel.label)) centres.push_back(voxel.center);
   const HeightColours heights =
       HeightColours::spanning(centres, snapshot.up.value_or(Eigen::Vector3d::UnitZ()));
+  height_range_.reset();
+  if (by_height && !centres.empty())
+    height_range_ = std::make_pair(heights.lowest(), heights.highest());
   for (const OccupiedVoxel& voxel : snapshot.voxels) {
     if (hidden.count(voxel.label)) continue;
     points->InsertNextPoint(voxel.center.x(), voxel.center.y(), voxel.center.z());

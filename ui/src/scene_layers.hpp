@@ -12,7 +12,9 @@
 #include <Eigen/Core>
 #include <QColor>
 #include <functional>
+#include <optional>
 #include <set>
+#include <utility>
 #include <vector>
 
 #include "lom/annotations.hpp"
@@ -34,10 +36,15 @@ class VoxelLayer {
   // Height colours span the drawn voxels along the snapshot's up (+z when it has none).
   size_t show(const MapSnapshot& snapshot, const LabelSet& labels, const std::set<int>& hidden,
               bool opacity_by_probability, VoxelColouring colouring = VoxelColouring::Labels);
+  // The heights the ramp spans after show() coloured voxels by height (else none).
+  [[nodiscard]] std::optional<std::pair<double, double>> heightRange() const {
+    return height_range_;
+  }
 
  private:
   vtkNew<vtkGlyph3DMapper> mapper_;
   vtkNew<vtkActor> actor_;
+  std::optional<std::pair<double, double>> height_range_;
 };
 
 // Wireframes of all boxes, each in its label's colour.

@@ -293,6 +293,7 @@ void SceneView::showVoxels(const MapSnapshot& snapshot, const LabelSet& labels,
   scene_->hidden = hidden;
   scene_->voxel_count = scene_->voxels.show(snapshot, labels, hidden,
                                             scene_->opacity_by_probability, scene_->colouring);
+  emit heightColoursShown(scene_->voxels.heightRange());
   if (first_voxels && !scene_->home_viewpoint) resetCamera();
   render();
 }

@@ -39,6 +39,9 @@ class HeightColours {
     return heightRampColour(fraction(point));
   }
   [[nodiscard]] const Eigen::Vector3d& up() const { return up_; }
+  // The heights the ramp's ends stand for (lowest blue, highest red).
+  [[nodiscard]] double lowest() const { return lowest_; }
+  [[nodiscard]] double highest() const { return highest_; }
 
  private:
   Eigen::Vector3d up_;

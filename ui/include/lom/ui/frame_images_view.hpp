@@ -10,7 +10,7 @@ class QLabel;
 
 namespace lom::ui {
 
-class DepthLegend;
+class ColourBar;
 class ImagePane;
 class LabelLegend;
 
@@ -42,7 +42,7 @@ class FrameImagesView : public QWidget {
 
   ImagePane* color_pane_;
   ImagePane* depth_pane_;
-  DepthLegend* depth_legend_;
+  ColourBar* depth_legend_;
   ImagePane* label_pane_;
   LabelLegend* label_legend_;
   ImagePane* heat_pane_;

@@ -1,13 +1,17 @@
 #pragma once
 // The map's legend: every label with voxels, its colour, name and voxel
-// count, a visibility checkbox, and "show only" / "show all".
+// count, a visibility checkbox, and "show only" / "show all"; above them, while
+// the 3D view colours voxels by height, the height colour bar.
 #include <QWidget>
+#include <optional>
+#include <utility>
 #include <vector>
 
 class QTableWidget;
 
 namespace lom::ui {
 
+class ColourBar;
 class StudioSession;
 
 class MapLegendPanel : public QWidget {
@@ -23,6 +27,9 @@ class MapLegendPanel : public QWidget {
   [[nodiscard]] int currentLabel() const;
   void showOnly(int label);
   void showAll();
+  // Heights (metres) of the height colours' ends; none hides the bar.
+  void showHeightColours(std::optional<std::pair<double, double>> range);
+  [[nodiscard]] std::optional<std::pair<double, double>> heightBarRange() const;
 
  signals:
   void currentLabelChanged(int label);
@@ -33,6 +40,7 @@ class MapLegendPanel : public QWidget {
 
   StudioSession& session_;
   QTableWidget* table_;
+  ColourBar* height_bar_;
 };
 
 }  // namespace lom::ui

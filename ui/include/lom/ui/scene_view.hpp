@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <utility>
 
 #include "lom/annotations.hpp"
 #include "lom/height_colours.hpp"
@@ -78,6 +79,10 @@ class SceneView : public QWidget {
   void pointPicked(const Eigen::Vector3d& point_world);
   // The 3D handles changed the selected box.
   void boxEdited(const lom::OrientedBox& box);
+  // After the map's voxels were drawn: the heights (metres along the map's up)
+  // that the height colours' blue and red ends stand for, or none when the
+  // voxels are in label colours (or there are none).
+  void heightColoursShown(std::optional<std::pair<double, double>> range);
 
  private:
   void render();

@@ -1,20 +1,22 @@
-#include "lom/ui/depth_legend.hpp"
+#include "lom/ui/colour_bar.hpp"
 
+#include <QColor>
 #include <QLinearGradient>
 #include <QPainter>
 
 namespace lom::ui {
 
-DepthLegend::DepthLegend(QWidget* parent) : QWidget(parent) {
+ColourBar::ColourBar(std::function<QColor(double)> colour, QString caption, QWidget* parent)
+    : QWidget(parent), colour_(std::move(colour)), caption_(std::move(caption)) {
   setSizePolicy(QSizePolicy::Expanding, QSizePolicy::Fixed);
 }
 
-void DepthLegend::setRange(std::optional<DepthRange> range) {
+void ColourBar::setRange(std::optional<std::pair<double, double>> range) {
   range_ = range;
   update();
 }
 
-void DepthLegend::paintEvent(QPaintEvent*) {
+void ColourBar::paintEvent(QPaintEvent*) {
   if (!range_) return;
   QPainter painter(this);
   const int text_height = fontMetrics().height();
@@ -24,7 +26,7 @@ void DepthLegend::paintEvent(QPaintEvent*) {
   constexpr int kStops = 16;
   for (int i = 0; i <= kStops; ++i) {
     const double t = double(i) / kStops;
-    gradient.setColorAt(t, depthColor(t));
+    gradient.setColorAt(t, colour_(t));
   }
   painter.fillRect(bar, gradient);
   painter.setPen(palette().color(QPalette::Mid));
@@ -32,9 +34,9 @@ void DepthLegend::paintEvent(QPaintEvent*) {
 
   painter.setPen(palette().color(QPalette::WindowText));
   const QRect text_row(bar.left(), bar.bottom() + 2, bar.width(), text_height);
-  painter.drawText(text_row, Qt::AlignLeft, QString::number(range_->near_metres, 'f', 2) + " m");
-  painter.drawText(text_row, Qt::AlignHCenter, tr("depth"));
-  painter.drawText(text_row, Qt::AlignRight, QString::number(range_->far_metres, 'f', 2) + " m");
+  painter.drawText(text_row, Qt::AlignLeft, QString::number(range_->first, 'f', 2) + " m");
+  painter.drawText(text_row, Qt::AlignHCenter, caption_);
+  painter.drawText(text_row, Qt::AlignRight, QString::number(range_->second, 'f', 2) + " m");
 }
 
 }  // namespace lom::ui
