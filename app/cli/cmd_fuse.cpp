@@ -25,7 +25,6 @@ namespace {
 
 constexpr size_t kToTheEnd = static_cast<size_t>(-1);
 
-// The most memory this process has held in RAM so far, in KiB (0 when unknown).
 // A number as the options take it: "10", "0.04".
 std::string formatNumber(double value) {
   std::ostringstream text;
@@ -33,6 +32,7 @@ std::string formatNumber(double value) {
   return text.str();
 }
 
+// The most memory this process has held in RAM so far, in KiB (0 when unknown).
 long peakResidentKiB() {
   rusage usage{};
   if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
@@ -194,14 +194,17 @@ int runFuse(const Words& words) {
   if (options.map.max_range > 0.0 && 2 * beyond > totals.valid_pixels) {
     const double reach = std::ceil(totals.farthest_range * 10.0) / 10.0;
     const double resolution = suggestedResolutionForRange(reach, options.map.resolution);
-    std::string how = "--max-range " + formatNumber(reach);
-    if (resolution > options.map.resolution + 1e-9)
-      how += " --resolution " + formatNumber(resolution) +
-             " (rays of at most 250 voxels: finer ones over that range take far more memory)";
+    const bool coarser = resolution > options.map.resolution + 1e-9;
+    const std::string how =
+        "--max-range " + formatNumber(reach) +
+        (coarser ? " --resolution " + formatNumber(resolution) : std::string()) + " to map them" +
+        (coarser ? " (rays of at most 250 voxels: finer voxels over that range take far more "
+                   "memory)"
+                 : "");
     std::fprintf(stderr,
                  "warning: %zu of %zu valid depth pixels (%.1f%%) were beyond the max range of "
                  "%g m: they only cleared free space and mapped nothing. The depths reach %.1f m; "
-                 "fuse with %s to map them\n",
+                 "fuse with %s\n",
                  beyond, totals.valid_pixels, 100.0 * beyond / totals.valid_pixels,
                  options.map.max_range, totals.farthest_range, how.c_str());
   }
