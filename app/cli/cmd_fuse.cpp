@@ -190,8 +190,8 @@ int runFuse(const Words& words) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (show_progress) std::fprintf(stderr, "\n");
   // Max range drops farther surfaces without a trace: say so when it took most of the depths.
-  const size_t beyond = std::min(totals.beyond_range_pixels, totals.valid_pixels);
-  if (options.map.max_range > 0.0 && 2 * beyond > totals.valid_pixels) {
+  if (mostDepthsBeyondMaxRange(totals, options.map.max_range)) {
+    const size_t beyond = std::min(totals.beyond_range_pixels, totals.valid_pixels);
     const double reach = std::ceil(totals.farthest_range * 10.0) / 10.0;
     const double resolution = suggestedResolutionForRange(reach, options.map.resolution);
     const bool coarser = resolution > options.map.resolution + 1e-9;

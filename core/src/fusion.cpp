@@ -212,6 +212,27 @@ FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
 // ---------------------------------------------------------------------------
 // Sequences
 
+void noteDepthRanges(FrameStats& stats, const CameraIntrinsics& camera, const DepthImage& depth,
+                     double max_range) {
+  const DepthRanges ranges = countDepthRanges(camera, depth, max_range);
+  stats.beyond_range_pixels = ranges.beyond;
+  stats.farthest_range = ranges.farthest;
+}
+
+void addFrameStats(FrameStats& totals, const FrameStats& frame) {
+  totals.valid_pixels += frame.valid_pixels;
+  totals.beyond_range_pixels += frame.beyond_range_pixels;
+  totals.farthest_range = std::max(totals.farthest_range, frame.farthest_range);
+  totals.hit_voxels += frame.hit_voxels;
+  totals.miss_voxels += frame.miss_voxels;
+  totals.seconds += frame.seconds;
+}
+
+bool mostDepthsBeyondMaxRange(const FrameStats& totals, double max_range) {
+  const size_t beyond = std::min(totals.beyond_range_pixels, totals.valid_pixels);
+  return max_range > 0.0 && 2 * beyond > totals.valid_pixels;
+}
+
 double suggestedResolutionForRange(double max_range, double resolution) {
   constexpr double kMaxVoxelsPerRay = 250.0, kStep = 0.005;
   const double coarse = std::ceil(max_range / kMaxVoxelsPerRay / kStep - 1e-9) * kStep;
@@ -294,16 +315,8 @@ LabelMap fuseSequence(const Sequence& sequence, const FusionOptions& options,
     }
     // How much of the frame max range cut off, for the caller to warn about
     // (counted apart from the integration, which keeps to its own work).
-    const DepthRanges ranges =
-        countDepthRanges(sequence.cameraOf(i), frame.depth, map.parameters().max_range);
-    report.stats.beyond_range_pixels = ranges.beyond;
-    report.stats.farthest_range = ranges.farthest;
-    report.totals.valid_pixels += report.stats.valid_pixels;
-    report.totals.beyond_range_pixels += report.stats.beyond_range_pixels;
-    report.totals.farthest_range = std::max(report.totals.farthest_range, ranges.farthest);
-    report.totals.hit_voxels += report.stats.hit_voxels;
-    report.totals.miss_voxels += report.stats.miss_voxels;
-    report.totals.seconds += report.stats.seconds;
+    noteDepthRanges(report.stats, sequence.cameraOf(i), frame.depth, map.parameters().max_range);
+    addFrameStats(report.totals, report.stats);
     report.frame_index = i;
     ++report.done;
     if (progress && !progress(report)) break;

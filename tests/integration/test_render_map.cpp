@@ -69,13 +69,19 @@ size_t countShade(const lom::ColorImage& image, const std::array<int, 3>& colour
   return n;
 }
 
+// Options of a flat (unlit) picture: every face exactly its colour.
+lom::render::RenderOptions flatPicture(int width, int height) {
+  lom::render::RenderOptions options;
+  options.width = width;
+  options.height = height;
+  options.shading = false;
+  return options;
+}
+
 TEST(RenderMap, FlatPictureShowsEveryLabelInItsColour) {
   LOM_REQUIRE_DISPLAY();
   const lom::LabelMap map = sampleMap();
-  lom::render::RenderOptions options;
-  options.width = 320;
-  options.height = 240;
-  options.shading = false;
+  lom::render::RenderOptions options = flatPicture(320, 240);
   const lom::ColorImage image = lom::render::renderMap(map, options);
   ASSERT_EQ(image.width, 320);
   ASSERT_EQ(image.height, 240);
@@ -107,10 +113,7 @@ TEST(RenderMap, ShadedPictureShowsShadesOfTheLabelColours) {
 TEST(RenderMap, LabelSelectionHidesTheOtherLabels) {
   LOM_REQUIRE_DISPLAY();
   const lom::LabelMap map = sampleMap();
-  lom::render::RenderOptions options;
-  options.width = 160;
-  options.height = 120;
-  options.shading = false;
+  lom::render::RenderOptions options = flatPicture(160, 120);
   options.labels = std::set<int>{2};
   const lom::ColorImage image = lom::render::renderMap(map, options);
   EXPECT_GT(countColour(image, rgb(map.labels().at(2).color)), 100u);
@@ -134,11 +137,8 @@ TEST(RenderMap, PinholeCameraPutsObjectsWhereTheCameraModelProjectsThem) {
   R.col(2) = Eigen::Vector3d(1, 0, 0);
   view.T_world_camera.linear() = R;
   view.T_world_camera.translation() = Eigen::Vector3d(-0.5, 0.06, 0.06);
-  lom::render::RenderOptions options;
+  lom::render::RenderOptions options = flatPicture(200, 150);
   options.camera = view;
-  options.width = 200;
-  options.height = 150;
-  options.shading = false;
   const lom::ColorImage image = lom::render::renderMap(map, options);
 
   const auto project = [&](const Eigen::Vector3d& p_world) {
@@ -182,12 +182,9 @@ TEST(RenderMap, RecordedCameraViewMatchesTheGroundTruthLabels) {
   const lom::LabelMap map = lom::fuseSequence(sequence, fusion);
 
   const size_t frame = 1;
-  lom::render::RenderOptions options;
+  lom::render::RenderOptions options = flatPicture(160, 120);
   options.camera =
       lom::render::PinholeView{sequence.cameraOf(frame), sequence.frames[frame].T_world_camera};
-  options.width = 160;
-  options.height = 120;
-  options.shading = false;
   const lom::ColorImage image = lom::render::renderMap(map, options);
   const lom::LabelImage truth = lom::readLabelImage(sequence.pathOf(sequence.frames[frame].label));
   // Object pixels seen in the colour of their true label. Voxels are 5 mm
@@ -227,10 +224,7 @@ TEST(RenderMap, OrbitViewHasTheCamerasUpUpInThePicture) {
   lom::LabelMap map = sampleMap();
   const std::array<int, 3> plus_y = rgb(map.labels().at(2).color);
   const std::array<int, 3> minus_y = rgb(map.labels().at(3).color);
-  lom::render::RenderOptions options;
-  options.width = 200;
-  options.height = 200;
-  options.shading = false;
+  lom::render::RenderOptions options = flatPicture(200, 200);
   options.elevation_deg = 10.0;
   // Cameras with the world as their own frame (image y down): -y is up.
   map.noteCameraView(Eigen::Matrix3d::Identity());
@@ -260,10 +254,7 @@ TEST(RenderMap, SingleLabelMapIsColouredByHeightFromBlueToRed) {
   // map records no cameras, so up is +z).
   const lom::LabelMap map =
       lom::test::MapBuilder(1, kRes).occupy(blockKeys(0, 4, 0, 4, 0, 20), 0).build();
-  lom::render::RenderOptions options;
-  options.width = 200;
-  options.height = 200;
-  options.shading = false;
+  lom::render::RenderOptions options = flatPicture(200, 200);
   options.elevation_deg = 20.0;
   EXPECT_EQ(lom::render::colouringFor(map, options), lom::VoxelColouring::Height);
   const lom::ColorImage image = lom::render::renderMap(map, options);
@@ -289,10 +280,7 @@ TEST(RenderMap, SingleLabelMapIsColouredByHeightFromBlueToRed) {
 TEST(RenderMap, LabelledMapKeepsLabelColoursUnlessHeightIsAsked) {
   LOM_REQUIRE_DISPLAY();
   const lom::LabelMap map = sampleMap();
-  lom::render::RenderOptions options;
-  options.width = 160;
-  options.height = 120;
-  options.shading = false;
+  lom::render::RenderOptions options = flatPicture(160, 120);
   EXPECT_EQ(lom::render::colouringFor(map, options), lom::VoxelColouring::Labels);
   options.colouring = lom::VoxelColouring::Height;
   const lom::ColorImage image = lom::render::renderMap(map, options);
@@ -311,10 +299,7 @@ TEST(RenderMap, OrbitViewFillsThePictureWithTheMapCentredAndWhole) {
                                 .occupy(blockKeys(36, 40, 0, 6, 2, 20), 2)
                                 .build();
   for (const double azimuth : {0.0, 120.0, 210.0}) {
-    lom::render::RenderOptions options;
-    options.width = 320;
-    options.height = 240;
-    options.shading = false;
+    lom::render::RenderOptions options = flatPicture(320, 240);
     options.azimuth_deg = azimuth;
     options.elevation_deg = 25.0;
     const lom::ColorImage image = lom::render::renderMap(map, options);
@@ -344,10 +329,7 @@ TEST(RenderMap, PngOnDiskMatchesThePicture) {
   LOM_REQUIRE_DISPLAY();
   lom::test::TempDir dir;
   const lom::LabelMap map = sampleMap();
-  lom::render::RenderOptions options;
-  options.width = 160;
-  options.height = 120;
-  options.shading = false;
+  lom::render::RenderOptions options = flatPicture(160, 120);
   lom::render::renderMapToPng(map, options, dir / "view.png");
   const lom::ColorImage png = lom::readColorImage(dir / "view.png");
   const lom::ColorImage image = lom::render::renderMap(map, options);

@@ -123,15 +123,15 @@ TEST_F(StudioSessionTest, MostDepthsBeyondMaxRangeOfferARefuseThatReachesThem) {
   EXPECT_GT(session.worker().snapshot()->voxels.size(), 10 * voxels_before + 100);
 
   // Depths that reach 10 m (a room): rays of at most 250 voxels, so 4 cm ones.
-  DepthRanges room;
-  room.measured = 1000;
-  room.beyond = 999;
-  room.farthest = 9.93;
+  FrameStats room;
+  room.valid_pixels = 1000;
+  room.beyond_range_pixels = 999;
+  room.farthest_range = 9.93;
   panel.showDepthRanges(room, 1.0);
   EXPECT_TRUE(panel.noteText().contains("99% of the depths lay beyond the max range of 1.00 m"))
       << panel.noteText().toStdString();
   EXPECT_EQ(panel.extendRangeButton().text(), "Re-fuse up to 10.0 m, 4.0 cm voxels");
-  room.beyond = 400;  // most depths mapped: nothing to offer
+  room.beyond_range_pixels = 400;  // most depths mapped: nothing to offer
   panel.showDepthRanges(room, 1.0);
   EXPECT_TRUE(panel.extendRangeButton().isHidden());
   EXPECT_FALSE(panel.noteText().contains("beyond"));

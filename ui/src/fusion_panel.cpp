@@ -184,20 +184,22 @@ void FusionPanel::onEdited() {
     note_->setText(pending ? tr("Changed: re-fuse to apply.") : range_note_);
 }
 
-void FusionPanel::showDepthRanges(const DepthRanges& totals, double max_range) {
+void FusionPanel::showDepthRanges(const FrameStats& totals, double max_range) {
   range_note_.clear();
   extend_range_->hide();
   // As `labeloctomap fuse` warns: when max range took most of the depths, the
   // map holds little of what the camera saw.
-  if (max_range > 0.0 && totals.measured > 0 && 2 * totals.beyond > totals.measured) {
-    suggested_range_ = std::min(max_range_->maximum(), std::ceil(totals.farthest * 10.0) / 10.0);
+  if (mostDepthsBeyondMaxRange(totals, max_range)) {
+    suggested_range_ =
+        std::min(max_range_->maximum(), std::ceil(totals.farthest_range * 10.0) / 10.0);
     suggested_resolution_ = suggestedResolutionForRange(suggested_range_, resolution_->value());
-    const int percent = static_cast<int>(100 * totals.beyond / totals.measured);
+    const int percent = static_cast<int>(
+        100 * std::min(totals.beyond_range_pixels, totals.valid_pixels) / totals.valid_pixels);
     range_note_ = tr("%1% of the depths lay beyond the max range of %2 m and mapped nothing "
                      "(they reach %3 m).")
                       .arg(percent)
                       .arg(max_range, 0, 'f', 2)
-                      .arg(totals.farthest, 0, 'f', 1);
+                      .arg(totals.farthest_range, 0, 'f', 1);
     if (suggested_range_ > max_range) {
       extend_range_->setText(suggested_resolution_ > resolution_->value() + 1e-9
                                  ? tr("Re-fuse up to %1 m, %2 cm voxels")

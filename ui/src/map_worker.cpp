@@ -133,7 +133,7 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
   auto last_snapshot = Clock::now();
   double paused_seconds = 0.0;
   bool completed = true;
-  DepthRanges ranges;
+  FrameStats totals;
   for (size_t i = first; i < last; ++i) {
     runQuickJobs();
     applyPendingThreshold();
@@ -157,13 +157,11 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
     try {
       const FrameData frame = loadFrameWithSegmenter(*sequence, i, fusion.segmenter.get());
       const FrameEvidence evidence = makeEvidence(*sequence, i, frame, fusion);
-      integrateFrame(*map_, sequence->cameraOf(i), sequence->frames[i].T_world_camera, frame.depth,
-                     evidence, fusion.integration);
-      const DepthRanges frame_ranges =
-          countDepthRanges(sequence->cameraOf(i), frame.depth, fusion.map.max_range);
-      ranges.measured += frame_ranges.measured;
-      ranges.beyond += frame_ranges.beyond;
-      ranges.farthest = std::max(ranges.farthest, frame_ranges.farthest);
+      FrameStats stats =
+          integrateFrame(*map_, sequence->cameraOf(i), sequence->frames[i].T_world_camera,
+                         frame.depth, evidence, fusion.integration);
+      noteDepthRanges(stats, sequence->cameraOf(i), frame.depth, fusion.map.max_range);
+      addFrameStats(totals, stats);
     } catch (const std::exception& error) {
       const QString message =
           tr("frames[%1]: %2").arg(i).arg(QString::fromStdString(error.what()));
@@ -186,8 +184,8 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
   fusing_now_ = false;
   publish(takeSnapshot(*map_, frames_fused_));
   const double max_range = fusion.map.max_range;
-  inGui([this, id, ranges, max_range] {
-    if (id == fusion_id_) emit depthRangesMeasured(ranges, max_range);
+  inGui([this, id, totals, max_range] {
+    if (id == fusion_id_) emit depthRangesMeasured(totals, max_range);
   });
   finish(completed);
 }

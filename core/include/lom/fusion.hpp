@@ -104,6 +104,18 @@ struct DepthRanges {
 // a room fused at 1 cm up to 10 m takes gigabytes, at 4 cm tens of megabytes.
 [[nodiscard]] double suggestedResolutionForRange(double max_range, double resolution);
 
+// A fused frame's stats completed with its depths beyond max range and its
+// farthest range (countDepthRanges), as fuseSequence reports each frame.
+void noteDepthRanges(FrameStats& stats, const CameraIntrinsics& camera, const DepthImage& depth,
+                     double max_range);
+// Adds a frame's stats to the totals of a fusion: counts and seconds summed,
+// farthest_range the maximum.
+void addFrameStats(FrameStats& totals, const FrameStats& frame);
+// Whether max range (when limited) took more than half of the fused frames'
+// valid depths: they only cleared free space and mapped nothing, which the
+// CLI and the studio say.
+[[nodiscard]] bool mostDepthsBeyondMaxRange(const FrameStats& totals, double max_range);
+
 // Integrates one frame into `map` with the paper's rule (docs/fusion.md). Both
 // paths give the same map (the fast one may differ in the last float bits of
 // summed log-odds).

@@ -13,7 +13,7 @@ class QPushButton;
 
 namespace lom {
 class Segmenter;
-struct DepthRanges;
+struct FrameStats;
 }
 
 namespace lom::ui {
@@ -42,7 +42,7 @@ class FusionPanel : public QWidget {
   [[nodiscard]] QString noteText() const;
   // What a fusion measured (MapWorker::depthRangesMeasured): a note and the
   // extend-range button when most depths lay beyond its max range.
-  void showDepthRanges(const DepthRanges& totals, double max_range);
+  void showDepthRanges(const FrameStats& totals, double max_range);
 
  private:
   void loadFromSession();

@@ -71,9 +71,9 @@ class MapWorker : public QObject {
   void snapshotChanged();
   void fusionProgress(int done, int total, double frames_per_second);
   void fusionFinished(bool completed);
-  // After a fusion (also a stopped one): the fused frames' measured depths,
-  // those beyond the map's max range (which map nothing) and the farthest.
-  void depthRangesMeasured(const lom::DepthRanges& totals, double max_range);
+  // After a fusion (also a stopped one): the fused frames' totals, with their
+  // depths beyond the map's max range (which map nothing) and the farthest.
+  void depthRangesMeasured(const lom::FrameStats& totals, double max_range);
   void voxelPicked(const Eigen::Vector3d& point, const lom::VoxelState& voxel);
   void evaluationStarted();
   void evaluationFinished(const lom::EvaluationReport& report);
