@@ -374,7 +374,7 @@ ProbabilityImage readProbabilityImage(const fs::path& path, const std::vector<in
     if (!seen.insert(channel_labels[i]).second)
       throw Error(file, field, "each label id once", std::to_string(channel_labels[i]) + " again");
   }
-  const NpyArray array = readNpy(path);
+  NpyArray array = readNpy(path);
   if (array.shape.size() != 3)
     throw Error(file, "shape", "a 3-D array H x W x C of probabilities", shapeText(array.shape));
   const size_t expected_channels =
@@ -395,9 +395,18 @@ ProbabilityImage readProbabilityImage(const fs::path& path, const std::vector<in
   if (proba.channel_labels.empty())
     for (int id = 0; id < num_labels; ++id) proba.channel_labels.push_back(id);
   proba.values = array.toFloat(true);
-  for (size_t i = 0; i < proba.values.size(); ++i) {
-    float& p = proba.values[i];
-    if (!std::isfinite(p) || p < -kProbabilityTolerance || p > 1.0f + kProbabilityTolerance) {
+  if (array.type == NpyType::UInt8) {      // codes / 255: always probabilities
+    proba.codes = std::move(array.bytes);  // C order, like values
+    return proba;
+  }
+  // Checked in one pass without branches, then searched only when one is off.
+  bool all_probabilities = true;
+  for (const float p : proba.values)
+    all_probabilities &= p >= -kProbabilityTolerance && p <= 1.0f + kProbabilityTolerance;
+  if (!all_probabilities) {
+    for (size_t i = 0; i < proba.values.size(); ++i) {
+      const float p = proba.values[i];
+      if (p >= -kProbabilityTolerance && p <= 1.0f + kProbabilityTolerance) continue;
       const size_t pixel = i / static_cast<size_t>(proba.channels);
       throw Error(file, "values", "probabilities in [0, 1]",
                   std::to_string(p) +
@@ -405,9 +414,8 @@ ProbabilityImage readProbabilityImage(const fs::path& path, const std::vector<in
                       ", v=" + std::to_string(pixel / static_cast<size_t>(proba.width)) +
                       "), channel " + std::to_string(i % static_cast<size_t>(proba.channels)));
     }
-    p = std::clamp(p, 0.0f, 1.0f);
   }
-  if (array.type == NpyType::UInt8) proba.codes = array.bytes;  // C order, like values
+  for (float& p : proba.values) p = std::clamp(p, 0.0f, 1.0f);
   return proba;
 }
 

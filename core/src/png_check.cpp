@@ -11,20 +11,35 @@ namespace {
 
 constexpr std::uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
 
-// The CRC-32 of PNG chunks (ISO 3309, reflected polynomial 0xEDB88320), one
-// table lookup per byte: fast enough next to decoding the same bytes.
+// The CRC-32 of PNG chunks (ISO 3309, reflected polynomial 0xEDB88320),
+// eight bytes per step ("slicing by 8": table k holds the CRC of a byte
+// followed by k zero bytes), so checking a frame's PNGs costs a small part of
+// decoding them.
 std::uint32_t crc32(const std::uint8_t* data, std::size_t size) {
-  static const std::array<std::uint32_t, 256> kTable = [] {
-    std::array<std::uint32_t, 256> table{};
+  using Tables = std::array<std::array<std::uint32_t, 256>, 8>;
+  static const Tables kTables = [] {
+    Tables tables{};
     for (std::uint32_t n = 0; n < 256; ++n) {
       std::uint32_t c = n;
       for (int bit = 0; bit < 8; ++bit) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-      table[n] = c;
+      tables[0][n] = c;
     }
-    return table;
+    for (std::size_t k = 1; k < 8; ++k)
+      for (std::size_t n = 0; n < 256; ++n)
+        tables[k][n] = tables[0][tables[k - 1][n] & 0xFFu] ^ (tables[k - 1][n] >> 8);
+    return tables;
   }();
   std::uint32_t crc = 0xFFFFFFFFu;
-  for (std::size_t i = 0; i < size; ++i) crc = kTable[(crc ^ data[i]) & 0xFFu] ^ (crc >> 8);
+  std::size_t i = 0;
+  for (; i + 8 <= size; i += 8) {
+    const std::uint8_t* p = data + i;
+    const std::uint32_t low = crc ^ (std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 |
+                                     std::uint32_t{p[2]} << 16 | std::uint32_t{p[3]} << 24);
+    crc = kTables[7][low & 0xFFu] ^ kTables[6][(low >> 8) & 0xFFu] ^
+          kTables[5][(low >> 16) & 0xFFu] ^ kTables[4][low >> 24] ^ kTables[3][p[4]] ^
+          kTables[2][p[5]] ^ kTables[1][p[6]] ^ kTables[0][p[7]];
+  }
+  for (; i < size; ++i) crc = kTables[0][(crc ^ data[i]) & 0xFFu] ^ (crc >> 8);
   return crc ^ 0xFFFFFFFFu;
 }
 

@@ -236,6 +236,26 @@ BENCHMARK(BM_FastFusionOneThread)->Unit(benchmark::kMillisecond);
 
 BENCHMARK(BM_ReferenceFusion)->Unit(benchmark::kMillisecond);
 
+// Reading a frame from disk (colour, depth, label and 8-bit probability
+// images, checked as fusion reads them): in `labeloctomap fuse` and the
+// studio this comes on top of integrating it.
+void BM_LoadFrame(benchmark::State& state) {
+  const int width = static_cast<int>(state.range(0));
+  const int frames = 8;
+  scene(width, width * 3 / 4, frames);  // writes the scene once
+  const lom::Sequence sequence = lom::loadSequence(
+      benchmarkFolder() /
+      (std::to_string(width) + "x" + std::to_string(width * 3 / 4) + "-" + std::to_string(frames)));
+  size_t index = 0;
+  for (auto _ : state) {
+    lom::FrameData frame = lom::loadFrame(sequence, index++ % sequence.frames.size());
+    benchmark::DoNotOptimize(frame.depth.metres.data());
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.SetLabel("items = frames");
+}
+BENCHMARK(BM_LoadFrame)->Arg(640)->Unit(benchmark::kMillisecond);
+
 }  // namespace
 
 int main(int argc, char** argv) {

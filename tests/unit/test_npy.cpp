@@ -282,6 +282,21 @@ TEST_F(NpyTest, ProbabilityImageScalesIntegersAndChecksChannelsAndRange) {
   const std::string range = errorOf([&] { (void)lom::readProbabilityImage(path, {}, 2); });
   EXPECT_NE(range.find("[0, 1]"), std::string::npos) << range;
   EXPECT_NE(range.find("channel 1"), std::string::npos) << range;
+
+  // The first value that is off is named, wherever it lies, NaN included;
+  // values a rounding error outside [0, 1] are clamped instead.
+  std::vector<float> values(3 * 4 * 2, 0.5f);
+  values[(2 * 4 + 3) * 2 + 0] = -1e-7f;
+  values[(2 * 4 + 3) * 2 + 1] = 1.0f + 1e-7f;
+  lom::writeNpyFloat32(path, {3, 4, 2}, values);
+  const auto clamped = lom::readProbabilityImage(path, {}, 2);
+  EXPECT_EQ(clamped.pixel(3, 2)[0], 0.0f);
+  EXPECT_EQ(clamped.pixel(3, 2)[1], 1.0f);
+  values[(1 * 4 + 2) * 2 + 1] = std::nanf("");
+  values[(2 * 4 + 1) * 2 + 0] = -0.5f;
+  lom::writeNpyFloat32(path, {3, 4, 2}, values);
+  const std::string nan = errorOf([&] { (void)lom::readProbabilityImage(path, {}, 2); });
+  EXPECT_NE(nan.find("nan at pixel (u=2, v=1), channel 1"), std::string::npos) << nan;
 }
 
 }  // namespace
