@@ -20,6 +20,7 @@
 #include "lom/npy.hpp"
 #include "lom/sequence.hpp"
 #include "png_check.hpp"
+#include "png_decode.hpp"
 
 namespace lom {
 
@@ -83,7 +84,7 @@ std::optional<std::vector<std::uint8_t>> pngFileBytes(const fs::path& path) {
   if (size < 8 || !in.read(reinterpret_cast<char*>(bytes.data()), 8) ||
       !hasPngSignature(bytes.data(), bytes.size()))
     return std::nullopt;
-  // cv::imdecode takes at most INT_MAX bytes; no camera image comes near.
+  // Kept as for cv::imdecode, which takes at most INT_MAX bytes; no camera image comes near.
   if (size > std::numeric_limits<int>::max())
     throw Error(path.string(), "file size", "a PNG file of less than 2 GiB",
                 std::to_string(size) + " bytes");
@@ -108,9 +109,10 @@ cv::Mat readImage(const fs::path& path) {
                     " pixels (declared in the " + size->format + " header)");
   const auto png = pngFileBytes(path);
   if (png) checkPngChunks(png->data(), png->size(), file);
+  if (png) return decodePng(png->data(), png->size(), file);
   cv::Mat mat;
   try {
-    mat = png ? cv::imdecode(*png, cv::IMREAD_UNCHANGED) : cv::imread(file, cv::IMREAD_UNCHANGED);
+    mat = cv::imread(file, cv::IMREAD_UNCHANGED);
   } catch (const cv::Exception& e) {
     throw Error(file, "", "a readable PNG image", "OpenCV failed: " + std::string(e.what()));
   }

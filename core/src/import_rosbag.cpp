@@ -26,6 +26,7 @@
 #include <sstream>
 
 #include "png_check.hpp"
+#include "png_decode.hpp"
 
 // Header-only views of image messages: the first pass reads stamps and
 // encodings without copying pixel data.
@@ -263,11 +264,35 @@ DepthImage decodeDepth(const sensor_msgs::Image& image, double millimetre_scale)
 }
 
 // Throws lom::Error (field "PNG data", no file: the caller names the topic) for
-// a damaged PNG before libpng can print about it; other formats are only decoded.
+// a damaged PNG, decoded without libpng printing about it; other formats are
+// only decoded.
 cv::Mat decodeBytes(const std::vector<std::uint8_t>& data, size_t offset, int flags) {
   if (data.size() <= offset) return {};
-  if (hasPngSignature(data.data() + offset, data.size() - offset))
+  if (hasPngSignature(data.data() + offset, data.size() - offset)) {
     checkPngChunks(data.data() + offset, data.size() - offset, "");
+    cv::Mat image = decodePng(data.data() + offset, data.size() - offset, "");
+    if (flags == cv::IMREAD_UNCHANGED || image.empty()) return image;
+    // As cv::imdecode would decode it with `flags` (colour: 8-bit BGR, of a
+    // 16-bit PNG the high bytes, as libpng's png_set_strip_16).
+    if (image.depth() == CV_16U) {
+      cv::Mat high(image.rows, image.cols, CV_MAKETYPE(CV_8U, image.channels()));
+      for (int v = 0; v < image.rows; ++v) {
+        const auto* in = image.ptr<std::uint16_t>(v);
+        auto* out = high.ptr<std::uint8_t>(v);
+        for (int i = 0; i < image.cols * image.channels(); ++i)
+          out[i] = static_cast<std::uint8_t>(in[i] >> 8);
+      }
+      image = high;
+    }
+    cv::Mat bgr;
+    if (image.channels() == 1)
+      cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
+    else if (image.channels() == 4)
+      cv::cvtColor(image, bgr, cv::COLOR_BGRA2BGR);
+    else
+      bgr = image;
+    return bgr;
+  }
   const cv::Mat buffer(1, static_cast<int>(data.size() - offset), CV_8UC1,
                        const_cast<std::uint8_t*>(data.data() + offset));
   try {

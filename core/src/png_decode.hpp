@@ -1,0 +1,22 @@
+#pragma once
+// PNG decoding through libpng with its messages captured. OpenCV's PNG reader
+// leaves libpng's default handlers in place, which print "libpng error: ..."
+// and "libpng warning: ..." on stderr for damaged image data or for harmless
+// quirks such as colour profiles; here errors become lom::Error and warnings
+// are dropped, so nothing reaches the terminal.
+#include <cstddef>
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <string>
+
+namespace lom {
+
+// Decodes PNG data as cv::imdecode(data, cv::IMREAD_UNCHANGED) does: grey (1
+// channel), BGR (3) or BGRA (4; with an alpha channel or a transparency
+// chunk), 8 or 16 bits per sample; palette and 1-, 2- and 4-bit greys are
+// expanded to 8 bits. Throws lom::Error(file, "PNG data", "a PNG whose image
+// data can be decoded", libpng's reason) for data libpng rejects.
+[[nodiscard]] cv::Mat decodePng(const std::uint8_t* data, std::size_t size,
+                                const std::string& file);
+
+}  // namespace lom

@@ -1,0 +1,186 @@
+// PNG frames are decoded through libpng with its messages captured: the same
+// pixels as OpenCV's reader for every kind of PNG a camera or a dataset
+// writes, and damaged image data becomes one error naming the file, with
+// nothing printed on stderr.
+#include <gtest/gtest.h>
+#include <png.h>
+#include <zlib.h>
+
+#include <cstdint>
+#include <cstring>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
+
+#include "lom/sequence.hpp"
+#include "png_decode.hpp"
+#include "test_input_helpers.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using lom::test::errorOf;
+using lom::test::writeText;
+
+struct PngSpec {
+  const char* name;
+  int width, height, bit_depth, color_type;
+  bool interlaced = false;
+  bool transparency = false;  // a tRNS chunk
+};
+
+void appendBytes(png_structp png, png_bytep data, png_size_t size) {
+  auto* out = static_cast<std::string*>(png_get_io_ptr(png));
+  out->append(reinterpret_cast<const char*>(data), size);
+}
+
+// A PNG written with libpng's own writer, samples varying over the image.
+std::string writePng(const PngSpec& spec) {
+  std::string bytes;
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png_create_info_struct(png);
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    ADD_FAILURE() << "libpng could not write " << spec.name;
+    return {};
+  }
+  png_set_write_fn(png, &bytes, appendBytes, nullptr);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(spec.width),
+               static_cast<png_uint_32>(spec.height), spec.bit_depth, spec.color_type,
+               spec.interlaced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  std::vector<png_color> palette;
+  if (spec.color_type == PNG_COLOR_TYPE_PALETTE) {
+    for (int i = 0; i < (1 << spec.bit_depth); ++i)
+      palette.push_back({static_cast<png_byte>(i * 37), static_cast<png_byte>(255 - i * 11),
+                         static_cast<png_byte>(i * 5)});
+    png_set_PLTE(png, info, palette.data(), static_cast<int>(palette.size()));
+  }
+  png_byte alpha[4] = {0, 80, 160, 255};
+  png_color_16 colour_key{};
+  colour_key.red = colour_key.green = colour_key.blue = colour_key.gray = 1;
+  if (spec.transparency)
+    png_set_tRNS(png, info, alpha, spec.color_type == PNG_COLOR_TYPE_PALETTE ? 4 : 0, &colour_key);
+  png_write_info(png, info);
+  const int samples = (spec.color_type & PNG_COLOR_MASK_PALETTE) ? 1
+                      : (spec.color_type & PNG_COLOR_MASK_COLOR) ? 3
+                                                                 : 1;
+  const int channels = samples + ((spec.color_type & PNG_COLOR_MASK_ALPHA) ? 1 : 0);
+  const size_t row_bytes = (static_cast<size_t>(spec.width) * channels * spec.bit_depth + 7) / 8;
+  std::vector<std::vector<png_byte>> rows(static_cast<size_t>(spec.height),
+                                          std::vector<png_byte>(row_bytes));
+  std::vector<png_bytep> row_pointers;
+  for (size_t v = 0; v < rows.size(); ++v) {
+    for (size_t i = 0; i < row_bytes; ++i)
+      rows[v][i] = static_cast<png_byte>((v * 31 + i * 7) ^ (i >> 3));
+    row_pointers.push_back(rows[v].data());
+  }
+  png_write_image(png, row_pointers.data());
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return bytes;
+}
+
+cv::Mat decodedByOpenCv(const std::string& png) {
+  const std::vector<std::uint8_t> buffer(png.begin(), png.end());
+  return cv::imdecode(buffer, cv::IMREAD_UNCHANGED);
+}
+
+cv::Mat decodedHere(const std::string& png) {
+  return lom::decodePng(reinterpret_cast<const std::uint8_t*>(png.data()), png.size(), "x.png");
+}
+
+TEST(PngDecodeTest, GivesOpenCvsPixelsForEveryKindOfPng) {
+  const PngSpec specs[] = {
+      {"grey 8-bit", 13, 7, 8, PNG_COLOR_TYPE_GRAY},
+      {"grey 16-bit (depth)", 13, 7, 16, PNG_COLOR_TYPE_GRAY},
+      {"grey 1-bit", 13, 7, 1, PNG_COLOR_TYPE_GRAY},
+      {"grey 2-bit", 13, 7, 2, PNG_COLOR_TYPE_GRAY},
+      {"grey 4-bit", 13, 7, 4, PNG_COLOR_TYPE_GRAY},
+      {"grey with a colour key", 13, 7, 8, PNG_COLOR_TYPE_GRAY, false, true},
+      {"grey and alpha", 13, 7, 8, PNG_COLOR_TYPE_GRAY_ALPHA},
+      {"grey and alpha 16-bit", 13, 7, 16, PNG_COLOR_TYPE_GRAY_ALPHA},
+      {"RGB", 13, 7, 8, PNG_COLOR_TYPE_RGB},
+      {"RGB 16-bit", 13, 7, 16, PNG_COLOR_TYPE_RGB},
+      {"RGB with a colour key", 13, 7, 8, PNG_COLOR_TYPE_RGB, false, true},
+      {"RGBA", 13, 7, 8, PNG_COLOR_TYPE_RGB_ALPHA},
+      {"RGBA 16-bit", 13, 7, 16, PNG_COLOR_TYPE_RGB_ALPHA},
+      {"palette 8-bit", 13, 7, 8, PNG_COLOR_TYPE_PALETTE},
+      {"palette 2-bit", 13, 7, 2, PNG_COLOR_TYPE_PALETTE},
+      {"palette with transparency", 13, 7, 4, PNG_COLOR_TYPE_PALETTE, false, true},
+      {"interlaced RGB", 13, 7, 8, PNG_COLOR_TYPE_RGB, true},
+      {"interlaced grey 16-bit", 13, 7, 16, PNG_COLOR_TYPE_GRAY, true},
+  };
+  for (const PngSpec& spec : specs) {
+    SCOPED_TRACE(spec.name);
+    const std::string png = writePng(spec);
+    const cv::Mat expected = decodedByOpenCv(png);
+    ASSERT_FALSE(expected.empty());
+    const cv::Mat decoded = decodedHere(png);
+    ASSERT_EQ(decoded.type(), expected.type());
+    ASSERT_EQ(decoded.size(), expected.size());
+    EXPECT_EQ(cv::norm(decoded, expected, cv::NORM_INF), 0.0);
+  }
+}
+
+std::string chunk(const std::string& type, const std::string& data) {
+  std::string bytes;
+  for (int shift = 24; shift >= 0; shift -= 8)
+    bytes += static_cast<char>((data.size() >> shift) & 0xff);
+  bytes += type + data;
+  const std::string crc_input = type + data;
+  const uLong crc = crc32(0L, reinterpret_cast<const Bytef*>(crc_input.data()),
+                          static_cast<uInt>(crc_input.size()));
+  for (int shift = 24; shift >= 0; shift -= 8) bytes += static_cast<char>((crc >> shift) & 0xff);
+  return bytes;
+}
+
+// An 8-bit grey PNG built by hand from `rows` (each starting with its filter
+// byte) and compressed here, with every chunk's CRC right: only the image
+// data itself can be wrong. `keep` cuts the compressed stream.
+std::string handMadePng(int width, int height, const std::string& rows,
+                        size_t keep = std::string::npos) {
+  std::string header;
+  for (const int value : {width, height})
+    for (int shift = 24; shift >= 0; shift -= 8)
+      header += static_cast<char>((value >> shift) & 0xff);
+  header += std::string("\x08\x00\x00\x00\x00", 5);  // 8-bit grey, not interlaced
+  std::vector<Bytef> compressed(compressBound(static_cast<uLong>(rows.size())));
+  uLongf size = static_cast<uLongf>(compressed.size());
+  EXPECT_EQ(compress(compressed.data(), &size, reinterpret_cast<const Bytef*>(rows.data()),
+                     static_cast<uLong>(rows.size())),
+            Z_OK);
+  const std::string data(reinterpret_cast<const char*>(compressed.data()),
+                         std::min<size_t>(size, keep));
+  return std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", header) + chunk("IDAT", data) +
+         chunk("IEND", "");
+}
+
+TEST(PngDecodeTest, DamagedImageDataIsOneErrorWithLibpngsReasonAndNothingPrinted) {
+  lom::test::TempDir dir;
+  const int width = 40, height = 30;
+  std::string rows;
+  for (int v = 0; v < height; ++v)
+    rows += std::string(1, '\0') + std::string(width, static_cast<char>(v * 5));
+  writeText(dir / "good.png", handMadePng(width, height, rows));
+  EXPECT_EQ(lom::readLabelImage(dir / "good.png").ids[static_cast<size_t>(3 * width)], 15);
+
+  std::string bad_filter = rows;
+  bad_filter[static_cast<size_t>(5 * (width + 1))] = 9;  // row 5's filter: only 0 to 4 exist
+  writeText(dir / "filter.png", handMadePng(width, height, bad_filter));
+  writeText(dir / "short.png", handMadePng(width, height, rows, 20));  // the stream stops early
+  for (const char* name : {"filter.png", "short.png"}) {
+    SCOPED_TRACE(name);
+    testing::internal::CaptureStderr();
+    const lom::Problem problem = errorOf([&] { (void)lom::readLabelImage(dir / name); });
+    const std::string printed = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(printed, "");
+    EXPECT_EQ(problem.file, (dir / name).string());
+    EXPECT_EQ(problem.field, "PNG data");
+    EXPECT_NE(problem.found.find("libpng stopped: "), std::string::npos) << problem.found;
+  }
+  EXPECT_NE(errorOf([&] { (void)lom::readLabelImage(dir / "filter.png"); }).found.find("filter"),
+            std::string::npos);
+}
+
+}  // namespace
