@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -119,6 +120,9 @@ int runImport(const Words& words) {
   const std::string out = args.required("out");
   CommandInputs inputs;
   inputs.addFile(source, "the import source");
+  // A dataset folder stays as it was: the sequence goes beside it, not into it.
+  if (std::error_code ec; std::filesystem::is_directory(source, ec))
+    inputs.addFolder(source, "the import source folder");
   checkOutputFolder(out, "out", "the sequence", inputs);
 
   std::optional<SourceKind> kind;

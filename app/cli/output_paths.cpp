@@ -63,10 +63,9 @@ void checkOutsideInputs(const fs::path& out, const std::string& option, const st
                         const CommandInputs& inputs) {
   checkNotAnInput(out, option, inputs);
   for (const auto& folder : inputs.folders)
-    if (isInside(out, folder))
-      throw UsageError("--" + option + " " + out.string() +
-                       " lies inside the input sequence folder " + folder.string() + "; write " +
-                       what + " outside it");
+    if (isInside(out, folder.path))
+      throw UsageError("--" + option + " " + out.string() + " lies inside " + folder.what + " " +
+                       folder.path.string() + "; write " + what + " outside it");
 }
 
 }  // namespace
@@ -80,7 +79,7 @@ void CommandInputs::addSequenceFiles(const Sequence& sequence) {
 
 void CommandInputs::addSequence(const Sequence& sequence) {
   addSequenceFiles(sequence);
-  folders.push_back(sequence.root);
+  addFolder(sequence.root, "the input sequence folder");
 }
 
 void CommandInputs::addSequenceJson(const fs::path& folder_or_json) {
@@ -95,9 +94,9 @@ void CommandInputs::addSequencePath(const fs::path& folder_or_json) {
   addSequenceJson(folder_or_json);
   std::error_code ec;
   if (fs::is_directory(folder_or_json, ec))
-    folders.push_back(folder_or_json);
+    addFolder(folder_or_json, "the input sequence folder");
   else if (fs::is_regular_file(folder_or_json, ec))
-    folders.push_back(resolved(folder_or_json).parent_path());
+    addFolder(resolved(folder_or_json).parent_path(), "the input sequence folder");
 }
 
 void requireExtension(const fs::path& out, const std::string& option, const std::string& extension,

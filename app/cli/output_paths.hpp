@@ -16,17 +16,21 @@ namespace lom::cli {
 
 // What a command reads: no output may be one of `files` (compared with
 // std::filesystem::equivalent, so links and other spellings count) or lie inside
-// one of `folders` (the sequence folders that fuse and score read).
+// one of `folders` (the sequence folders that fuse and score read, the folder
+// import converts).
 struct CommandInputs {
   struct File {
     std::filesystem::path path;
     std::string what;  // for messages, e.g. "the input map"
   };
   std::vector<File> files;
-  std::vector<std::filesystem::path> folders;
+  std::vector<File> folders;
 
   void addFile(const std::filesystem::path& path, const std::string& what) {
     files.push_back({path, what});
+  }
+  void addFolder(const std::filesystem::path& path, const std::string& what) {
+    folders.push_back({path, what});
   }
   // sequence.json and every frame file the sequence names.
   void addSequenceFiles(const Sequence& sequence);

@@ -98,6 +98,16 @@ void StagedFiles::addPath(const fs::path& target,
                           const std::function<void(const fs::path&)>& write) {
   checkFolder(target);
   const fs::path temporary = temporaryPathFor(target);
+  // Created here first (and only here: O_EXCL): a folder that takes no new
+  // file is reported in the program's words, naming the output, before a
+  // library writer (VTK, PCL, OpenCV) prints its own complaint with the
+  // temporary name.
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0)
+    throw Error(
+        target.string(), "output path", "a folder where files can be created",
+        "cannot create a file in " + folderOf(target).string() + ": " + std::strerror(errno));
+  ::close(fd);
   try {
     write(temporary);
     std::error_code ec;

@@ -114,9 +114,9 @@ cv::Mat readImage(const fs::path& path) {
   try {
     mat = cv::imread(file, cv::IMREAD_UNCHANGED);
   } catch (const cv::Exception& e) {
-    throw Error(file, "", "a readable PNG image", "OpenCV failed: " + std::string(e.what()));
+    throw Error(file, "", "a readable image", "OpenCV failed: " + std::string(e.what()));
   }
-  if (mat.empty()) throw Error(file, "", "a readable PNG image", "a file OpenCV cannot decode");
+  if (mat.empty()) throw Error(file, "", "a readable image", "a file OpenCV cannot decode");
   return mat;
 }
 

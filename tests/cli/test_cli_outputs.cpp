@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -168,6 +169,35 @@ TEST_F(CliOutputTest, ImportNeverWritesOverItsSource) {
   expectUsage(runCli("import frames " + q(scene()) + " --out " + q(scene())),
               "is the import source");
   EXPECT_EQ(slurp(out / "recording.bag"), "not a bag");
+  // Nor into the source folder: not into one of its own image folders, nor a new one in it.
+  for (const char* inside : {"depth", "converted"}) {
+    SCOPED_TRACE(inside);
+    expectUsage(runCli("import frames " + q(scene()) + " --out " + q(scene() / inside)),
+                "lies inside the import source folder");
+  }
+  EXPECT_FALSE(fs::exists(scene() / "converted"));
+  EXPECT_FALSE(fs::exists(scene() / "depth" / "sequence.json"));
+}
+
+// A folder that takes no new file (here /proc, even for root): one line in the
+// program's words naming the output, not VTK's or PCL's complaint about a
+// temporary file, and nothing left behind.
+TEST_F(CliOutputTest, ExportIntoAFolderThatTakesNoFilesSaysSoInOneLine) {
+  if (!fs::is_directory("/proc")) GTEST_SKIP() << "no /proc on this system";
+  for (const std::string format : {"stl", "obj", "pcd", "ot", "ply --points", "ply"}) {
+    SCOPED_TRACE(format);
+    const std::string extension = format.substr(0, 3);
+    const auto r = runCli("export " + q(map()) + " --format " + format + " --out /proc/map." +
+                          extension);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    // (OBJ's material file, map.mtl, is written first and named.)
+    EXPECT_NE(r.err.find("error: /proc/map."), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(": output path: expected a folder where files can be created"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find(".tmp"), std::string::npos) << r.err;
+  }
 }
 
 }  // namespace
