@@ -187,8 +187,8 @@ TEST_F(CliOutputTest, ExportIntoAFolderThatTakesNoFilesSaysSoInOneLine) {
   for (const std::string format : {"stl", "obj", "pcd", "ot", "ply --points", "ply"}) {
     SCOPED_TRACE(format);
     const std::string extension = format.substr(0, 3);
-    const auto r = runCli("export " + q(map()) + " --format " + format + " --out /proc/map." +
-                          extension);
+    const auto r =
+        runCli("export " + q(map()) + " --format " + format + " --out /proc/map." + extension);
     EXPECT_EQ(r.exit_code, 1) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     // (OBJ's material file, map.mtl, is written first and named.)
