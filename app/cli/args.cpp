@@ -19,7 +19,10 @@ Args::Args(std::vector<std::string> words, std::set<std::string> flags)
       } else if (flag_names_.count(name)) {
         flags_set_.insert(name);
       } else {
-        if (i + 1 >= words.size()) throw UsageError("option --" + name + " expects a value");
+        if (i + 1 >= words.size()) {
+          dangling_ = name;  // reported by expectOnly, once unknown options are
+          break;
+        }
         options_.emplace_back(name, words[++i]);
       }
     } else {
@@ -36,7 +39,7 @@ const std::string& Args::positional(size_t i, const std::string& what) const {
 std::optional<std::string> Args::option(const std::string& name) const {
   std::optional<std::string> value;
   for (const auto& [key, v] : options_)
-    if (key == name) value = v;  // the last one wins
+    if (key == name) value = v;  // (expectOnly refuses an option given twice)
   return value;
 }
 
@@ -78,6 +81,18 @@ void Args::expectOnly(const std::set<std::string>& known, size_t max_positionals
     if (!known.count(key)) throw UsageError("unknown option --" + key);
   for (const auto& f : flags_set_)
     if (!known.count(f)) throw UsageError("unknown option --" + f);
+  if (dangling_) {
+    if (!known.count(*dangling_)) throw UsageError("unknown option --" + *dangling_);
+    throw UsageError("option --" + *dangling_ + " expects a value");
+  }
+  for (size_t i = 0; i < options_.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (options_[j].first == options_[i].first)
+        throw UsageError("option --" + options_[i].first + " is given twice ('" +
+                         options_[j].second + "' and '" + options_[i].second + "'); give it once" +
+                         (options_[i].first == "labels" || options_[i].first == "candidates"
+                              ? " with a comma-separated list"
+                              : ""));
   if (positionals_.size() > max_positionals)
     throw UsageError("unexpected argument '" + positionals_[max_positionals] + "'");
 }

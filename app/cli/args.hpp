@@ -34,10 +34,15 @@ class Args {
   // narrowing so that a value such as 4294967302 is refused instead of wrapping around.
   [[nodiscard]] long integer(const std::string& name, long fallback, long low = INT_MIN,
                              long high = INT_MAX) const;
-  // Throws UsageError for any option not in `known` and for extra positionals.
+  // Throws UsageError for any option not in `known` (first, so that an unknown
+  // option at the end is named as unknown, not as missing its value), for an
+  // option without its value, for an option given twice (a second --out or
+  // --labels would otherwise replace the first without a word) and for extra
+  // positionals.
   void expectOnly(const std::set<std::string>& known, size_t max_positionals) const;
 
  private:
+  std::optional<std::string> dangling_;  // the last word, an option without its value
   std::vector<std::string> positionals_;
   std::vector<std::pair<std::string, std::string>> options_;
   std::set<std::string> flag_names_;

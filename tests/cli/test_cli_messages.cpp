@@ -37,7 +37,8 @@ TEST_F(CliMessageTest, WriteFailuresNameTheOutput) {
   // /proc takes no new files, not even from root.
   auto r = runCli("export " + q(map()) + " --format pcd --out /proc/lom-test-voxels.pcd");
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("/proc/lom-test-voxels.pcd: output: expected a writable PCD file"),
+  EXPECT_NE(r.err.find("/proc/lom-test-voxels.pcd: output path: expected a folder where files "
+                       "can be created"),
             std::string::npos)
       << r.err;
   EXPECT_EQ(r.err.find(": :"), std::string::npos) << r.err;

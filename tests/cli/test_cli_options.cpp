@@ -117,6 +117,24 @@ TEST_F(CliOptionTest, SwitchesThatDoNotApplyAreUsageMistakes) {
   EXPECT_TRUE(fs::is_empty(out.path()));
 }
 
+// A second --out or --labels used to replace the first without a word; an
+// unknown option at the end was reported as missing its value.
+TEST_F(CliOptionTest, OptionsGivenTwiceAndUnknownLastOptionsAreNamed) {
+  TempDir out;
+  const auto twice = runCli("fuse " + q(scene()) + " --out " + q(out / "a.ot") + " --out " +
+                            q(out / "b.ot") + " --quiet");
+  expectUsage(twice, "--out", "is given twice");
+  EXPECT_TRUE(fs::is_empty(out.path()));
+  expectUsage(runCli("export " + q(map()) + " --format ply --labels 4 --labels 6 --out " +
+                     q(out / "m.ply")),
+              "--labels", "give it once with a comma-separated list");
+  expectUsage(runCli("fuse " + q(scene()) + " --out " + q(out / "a.ot") + " --bogus"),
+              "unknown option --bogus");
+  expectUsage(runCli("info " + q(scene()) + " --bogus"), "unknown option --bogus");
+  expectUsage(runCli("fuse " + q(scene()) + " --out"), "option --out expects a value");
+  EXPECT_TRUE(fs::is_empty(out.path()));
+}
+
 TEST_F(CliOptionTest, EmptyValuesAreRefusedBeforeAnyWork) {
   TempDir out;
   const auto r = runCli("fuse " + q(scene()) + " --out= --quiet");
