@@ -84,6 +84,16 @@ int runScore(const Words& words) {
   if (args.option("threshold")) threshold = options.fusion.map.occupancy_threshold;
   const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
   const std::string what = "the reports";
+  // --frames chooses the frames that are fused and projected; a map given
+  // with --map was fused from frames this command cannot know, so its column
+  // would compare unequal things.
+  const auto refuseFramesWithMap = [&](const std::string& where) {
+    if (!args.option("frames")) return;
+    throw UsageError("--frames selects the frames that are fused and projected, but " + where +
+                     " is scored as it was fused; fuse it with the same --frames "
+                     "(labeloctomap fuse SEQ --frames A:B --out MAP.ot) and score without "
+                     "--frames, or leave the map out to fuse frames A:B here");
+  };
 
   if (const auto batch = args.option("batch")) {
     if (args.positionalCount() > 0 || args.option("annotations") || args.option("map"))
@@ -93,6 +103,10 @@ int runScore(const Words& words) {
     read.addFile(*batch, "the batch list");
     checkOutputFolder(out, "out", what, read);
     const std::vector<BatchEntry> entries = readBatchList(*batch);
+    for (const auto& entry : entries)
+      if (entry.inputs.map)
+        refuseFramesWithMap("the map " + entry.inputs.map->string() + " (" + *batch + " line " +
+                            std::to_string(entry.line) + ")");
     for (const auto& entry : entries) addScoreInputs(entry.inputs, read);
     checkOutputFolder(out, "out", what, read);
     for (const auto& entry : entries) {
@@ -133,7 +147,10 @@ int runScore(const Words& words) {
   ScoreInputs inputs;
   inputs.sequence = args.positional(0, "SEQ (a sequence folder)");
   inputs.annotations = args.required("annotations");
-  if (const auto map = args.option("map")) inputs.map = *map;
+  if (const auto map = args.option("map")) {
+    refuseFramesWithMap("the map given with --map");
+    inputs.map = *map;
+  }
   inputs.occupancy_threshold = threshold;
   CommandInputs read;
   addScoreInputs(inputs, read);

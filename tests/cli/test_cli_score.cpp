@@ -113,6 +113,14 @@ TEST_F(CliScoreTest, SavedMapScoresLikeTheFusedOne) {
   const Json fused = Json::parse(slurp(out / "fused" / "report.json"));
   const Json loaded = Json::parse(slurp(out / "loaded" / "report.json"));
   EXPECT_EQ(fused["objects"], loaded["objects"]);
+  // A saved map is scored as it was fused: --frames would project other frames than it holds.
+  const auto frames =
+      runCli(scoreArgs(out / "part") + " --map " + quoted(out / "map.ot") + " --frames 0:1");
+  EXPECT_EQ(frames.exit_code, 2) << frames.err;
+  EXPECT_NE(frames.err.find("--frames selects the frames that are fused and projected"),
+            std::string::npos)
+      << frames.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "part"));
 }
 
 TEST_F(CliScoreTest, CentreModeAndCandidatesAreReported) {
