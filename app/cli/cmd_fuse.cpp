@@ -189,6 +189,12 @@ int runFuse(const Words& words) {
   const double total_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (show_progress) std::fprintf(stderr, "\n");
+  // A map with nothing in it would only make every later command fail.
+  if (totals.valid_pixels == 0)
+    throw Error((sequence.root / "sequence.json").string(), "depth",
+                "frames with valid depths (finite, > 0) to map",
+                "none in the " + std::to_string(frame_seconds.size()) +
+                    " frames fused: every depth pixel is 0 (no measurement) or invalid");
   // Max range drops farther surfaces without a trace: say so when it took most of the depths.
   if (mostDepthsBeyondMaxRange(totals, options.map.max_range)) {
     const size_t beyond = std::min(totals.beyond_range_pixels, totals.valid_pixels);

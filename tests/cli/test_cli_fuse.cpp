@@ -7,6 +7,7 @@
 #include <string>
 
 #include "lom/label_map.hpp"
+#include "lom/sequence.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -108,6 +109,24 @@ TEST_F(CliFuseTest, BadInputGivesAClearErrorAndNoOutput) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("LabelOcTree"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out / "v.pcd"));
+}
+
+// Every depth 0 (no measurement): an empty map would only make every later
+// command fail, so fuse says why and writes nothing.
+TEST_F(CliFuseTest, FramesWithoutAnyValidDepthAreAnErrorAndWriteNothing) {
+  TempDir out;
+  const auto copy = out / "scene";
+  std::filesystem::copy(scene_->path() / "scene", copy, std::filesystem::copy_options::recursive);
+  for (const auto& entry : std::filesystem::directory_iterator(copy / "depth"))
+    lom::writeDepthPng(entry.path(), lom::DepthImage{160, 120, std::vector<float>(160 * 120, 0.f)},
+                       0.001);
+  const auto r = runCli("fuse '" + copy.string() + "' --out '" + (out / "m.ot").string() + "'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("sequence.json: depth: expected frames with valid depths"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("none in the 4 frames fused"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "m.ot"));
 }
 
 TEST_F(CliFuseTest, WrongChannelCountNamesTheFrameAndField) {
