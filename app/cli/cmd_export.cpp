@@ -111,7 +111,13 @@ void checkSomethingToExport(const LabelMap& map, const fs::path& map_path,
         throw Error(map_path.string(), "--labels",
                     "label ids of the map, 0 to " + std::to_string(map.numLabels() - 1),
                     std::to_string(label));
-  if (options.format == ExportFormat::Ot || options.format == ExportFormat::Bt) return;
+  if (options.format == ExportFormat::Ot || options.format == ExportFormat::Bt) {
+    // Octrees carry free space too: only a map with no voxel at all has nothing.
+    if (map.numLeaves() == 0)
+      throw Error(map_path.string(), "map", "at least one known voxel to export",
+                  "an empty map (no voxel was ever observed)");
+    return;
+  }
   size_t occupied = 0;
   for (const auto& [label, count] : counts) occupied += count;
   if (options.labels) {

@@ -1,5 +1,6 @@
 // labeloctomap info / validate: look at a sequence without fusing it.
 #include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -117,6 +118,11 @@ void printInfo(const Sequence& sequence, std::ostream& out) {
 bool isMapFile(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return false;
+  // A .ot file is read as a map, so that a broken one gets the map reader's
+  // message (its header) rather than the sequence reader's (JSON).
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension == ".ot") return true;
   std::ifstream in(path, std::ios::binary);
   std::string first_line;
   std::getline(in, first_line);

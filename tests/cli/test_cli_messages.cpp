@@ -49,6 +49,27 @@ TEST_F(CliMessageTest, WriteFailuresNameTheOutput) {
   EXPECT_EQ(r.err.find("filesystem error"), std::string::npos) << r.err;
 }
 
+// An empty map exported as an octree, and a .ot file that is not a map, are
+// blamed on the input map with the map reader's words.
+TEST_F(CliMessageTest, EmptyAndBrokenMapsAreNamedAsTheInput) {
+  TempDir out;
+  lom::LabelMap(lom::LabelMap::load(map()).labels()).save(out / "empty.ot");
+  for (const char* format : {"ot", "bt"}) {
+    const auto r = runCli("export " + q(out / "empty.ot") + " --format " + format + " --out " +
+                          q(out / (std::string("copy.") + format)));
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_NE(r.err.find((out / "empty.ot").string() + ": map: expected at least one known voxel"),
+              std::string::npos)
+        << r.err;
+  }
+  std::ofstream(out / "nothing.ot").close();
+  const auto info = runCli("info " + q(out / "nothing.ot"));
+  EXPECT_EQ(info.exit_code, 1) << info.err;
+  EXPECT_NE(info.err.find("nothing.ot: header"), std::string::npos) << info.err;
+  EXPECT_EQ(info.err.find("JSON"), std::string::npos) << info.err;
+  EXPECT_FALSE(fs::exists(out / "copy.ot"));
+}
+
 TEST_F(CliMessageTest, AnEmptyLabelSelectionNamesTheMapAndTheOption) {
   TempDir out;
   const auto present = counts();
