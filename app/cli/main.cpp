@@ -32,12 +32,14 @@ const Command kCommands[] = {
      "                                fuse a sequence into a LabelOctoMap"},
     {"score", lom::cli::runScore,
      "score SEQ --annotations BOXES.json --out DIR [--map MAP.ot] [--resolution R]\n"
-     "      [--candidates ...] [--iou exact|center] [--segmenter MODEL.onnx]\n"
-     "      | score --batch LIST.txt --out DIR\n"
+     "      [--max-range M] [--p-miss P] [--threshold T] [--candidates ...] [--frames A:B]\n"
+     "      [--iou exact|center] [--segmenter MODEL.onnx] [--quiet]\n"
+     "      | score --batch LIST.txt --out DIR [the same options, without --map and SEQ]\n"
      "                                per-object IU_3d against projection baselines"},
     {"export", lom::cli::runExport,
      "export MAP.ot --format ply|obj|stl|pcd|ot|bt|objects [--per-label] [--labels 8,19]\n"
-     "       [--smooth] --out PATH | export MAP.ot --voxels OUT.pcd\n"
+     "       [--smooth] [--points] [--native] [--no-merge] --out PATH\n"
+     "       | export MAP.ot --voxels OUT.pcd   (options: docs/export.md)\n"
      "                                write meshes, point clouds, octrees or object boxes"},
     {"render", lom::cli::runRender,
      "render MAP.ot --out view.png [--camera SEQ:INDEX | --azimuth A --elevation E --up X,Y,Z]\n"

@@ -200,6 +200,12 @@ TEST_F(CliOptionTest, HelpPrintsTheUsageOfEveryCommand) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("--resolution"), std::string::npos) << r.out;
   EXPECT_NE(runCli("import -h").out.find("--flying-ratio"), std::string::npos);
+  // Options that work are in the usage (score's fusion settings, export's variants).
+  const std::string score = runCli("score --help").out, exported = runCli("export --help").out;
+  for (const char* option : {"--max-range", "--p-miss", "--threshold", "--frames", "--quiet"})
+    EXPECT_NE(score.find(option), std::string::npos) << option << "\n" << score;
+  for (const char* option : {"--points", "--native", "--no-merge"})
+    EXPECT_NE(exported.find(option), std::string::npos) << option << "\n" << exported;
 }
 
 TEST_F(CliOptionTest, ThresholdsAndMissProbabilitiesThatCannotWork) {
