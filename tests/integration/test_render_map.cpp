@@ -163,6 +163,39 @@ TEST(RenderMap, PinholeCameraPutsObjectsWhereTheCameraModelProjectsThem) {
   EXPECT_EQ(pixel(image, 70, 80 - 24), (std::array<int, 3>{255, 255, 255}));
 }
 
+// The same camera turned around sees no voxel: an error, not a blank picture.
+TEST(RenderMap, CameraThatSeesNoVoxelIsAnError) {
+  LOM_REQUIRE_DISPLAY();
+  const lom::LabelMap map = sampleMap();
+  lom::render::PinholeView view;
+  view.intrinsics.width = 200;
+  view.intrinsics.height = 150;
+  view.intrinsics.fx = view.intrinsics.fy = 180.0;
+  view.intrinsics.cx = 100.0;
+  view.intrinsics.cy = 75.0;
+  Eigen::Matrix3d R;  // looking along -x, away from the blocks
+  R.col(0) = Eigen::Vector3d(0, 1, 0);
+  R.col(1) = Eigen::Vector3d(0, 0, -1);
+  R.col(2) = Eigen::Vector3d(-1, 0, 0);
+  view.T_world_camera.linear() = R;
+  view.T_world_camera.translation() = Eigen::Vector3d(-0.5, 0.06, 0.06);
+  lom::render::RenderOptions options = flatPicture(200, 150);
+  options.camera = view;
+  try {
+    (void)lom::render::renderMap(map, options);
+    ADD_FAILURE() << "rendered a picture without any voxel";
+  } catch (const lom::Error& e) {
+    EXPECT_EQ(e.problem().field, "--camera");
+    EXPECT_NE(e.problem().found.find("no voxel of the map in its view"), std::string::npos);
+  }
+  // Turned back towards the blocks, it renders.
+  view.T_world_camera.linear().col(0) = Eigen::Vector3d(0, -1, 0);
+  view.T_world_camera.linear().col(1) = Eigen::Vector3d(0, 0, -1);
+  view.T_world_camera.linear().col(2) = Eigen::Vector3d(1, 0, 0);
+  options.camera = view;
+  EXPECT_NO_THROW((void)lom::render::renderMap(map, options));
+}
+
 TEST(RenderMap, RecordedCameraViewMatchesTheGroundTruthLabels) {
   LOM_REQUIRE_DISPLAY();
   lom::test::TempDir dir;

@@ -258,6 +258,19 @@ ColorImage renderMap(const LabelMap& map, const RenderOptions& options) {
     std::memcpy(out.rgb.data() + static_cast<size_t>(y) * row,
                 pixels + static_cast<size_t>(out.height - 1 - y) * row, row);
   window->Finalize();
+  // A recorded camera of another sequence, or one facing away, sees nothing:
+  // a blank picture with a success would look like an empty map.
+  if (options.camera) {
+    const std::uint8_t background[3] = {options.background[0], options.background[1],
+                                        options.background[2]};
+    bool blank = true;
+    for (size_t i = 0; i < out.rgb.size() && blank; i += 3)
+      blank = std::memcmp(out.rgb.data() + i, background, 3) == 0;
+    if (blank)
+      throw Error("", "--camera", "a camera that sees part of the map",
+                  "no voxel of the map in its view (the camera looks away from the map, or the "
+                  "map lies behind it or out of its picture)");
+  }
   return out;
 }
 
