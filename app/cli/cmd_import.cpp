@@ -1,6 +1,7 @@
 // labeloctomap import: a ROS 1 bag or a dataset folder into a v1 sequence.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -36,7 +37,8 @@ const char* const kHelp =
     "  --labels FILE|apc2016  label names, one per line, label 0 (background) first\n"
     "  --label-confidence C   one-hot confidence of label images (default 0.9)\n"
     "frames and time:\n"
-    "  --first N --every N --max-frames N   frame subset (defaults 0, 1, all)\n"
+    "  --first N --every N --max-frames N   frame subset (defaults 0, 1, all; --max-frames 0\n"
+    "                         also means all)\n"
     "  --time-tolerance S     matching of images and poses by stamp (default 0.02 s)\n"
     "  --time-offset S        added to image stamps before the pose lookup (default 0)\n"
     "ROS bags (topics are detected when not given):\n"
@@ -78,9 +80,12 @@ size_t nonNegative(const Args& args, const std::string& name, size_t fallback) {
 }
 
 // True when `text` can only have been meant as fx,fy,cx,cy (digits, signs, points,
-// exponents, commas and blanks), not as a file name.
+// exponents, commas and blanks, or four comma-separated fields such as
+// "nan,519,325.5,253.5"), not as a file name.
 bool looksLikeNumbers(const std::string& text) {
-  return !text.empty() && text.find_first_not_of("0123456789+-.eE, \t") == std::string::npos;
+  if (text.empty()) return false;
+  if (text.find_first_not_of("0123456789+-.eE, \t") == std::string::npos) return true;
+  return std::count(text.begin(), text.end(), ',') == 3 && text.find('/') == std::string::npos;
 }
 
 // --intrinsics: numbers that do not fit are a mistake in the call; a file that is
@@ -145,8 +150,8 @@ int runImport(const Words& words) {
   filter.bilateral_radius = static_cast<int>(args.integer("bilateral", filter.bilateral_radius));
   options.label_confidence = args.number("label-confidence", options.label_confidence);
   options.first_frame = nonNegative(args, "first", 0);
-  options.frame_step = nonNegative(args, "every", 1);
-  if (options.frame_step == 0) throw UsageError("option --every expects an integer >= 1");
+  options.frame_step =
+      static_cast<size_t>(args.integer("every", 1, 1, std::numeric_limits<long>::max()));
   options.max_frames = nonNegative(args, "max-frames", 0);
   options.time_tolerance = args.number("time-tolerance", options.time_tolerance);
   options.time_offset = args.number("time-offset", options.time_offset);

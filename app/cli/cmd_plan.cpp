@@ -1,5 +1,6 @@
 // labeloctomap plan: which objects to remove, in which order, before picking a
 // target, with grasps and placements (docs/planning.md).
+#include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -64,10 +65,7 @@ int runPlan(const Words& words) {
     throw UsageError("option --cluster-tolerance expects a number of voxel edges above 0 and " +
                      ("at most " + std::to_string(static_cast<int>(kMaxClusterTolerance))) +
                      ", got '" + *args.option("cluster-tolerance") + "' (docs/planning.md)");
-  const long min_voxels = args.integer("min-cluster-voxels", 1);
-  if (min_voxels < 1)
-    throw UsageError("option --min-cluster-voxels expects an integer >= 1, got '" +
-                     *args.option("min-cluster-voxels") + "'");
+  const long min_voxels = args.integer("min-cluster-voxels", 1, 1, INT_MAX);
   options.objects.min_cluster_voxels = static_cast<size_t>(min_voxels);
   options.overlap_margin_voxels = args.number("overlap-margin", options.overlap_margin_voxels);
   if (!(options.overlap_margin_voxels >= 0.0))

@@ -70,8 +70,10 @@ void checkAnnotationsForSequence(const Sequence& sequence, const Annotations& an
     const std::string field = "boxes[" + std::to_string(i) + "].label";
     if (label <= 0 || label >= n)
       throw Error(file, field,
-                  "an object label of the sequence (1.." + std::to_string(n - 1) +
-                      "; 0 is the background)",
+                  n > 1 ? "an object label of the sequence (1.." + std::to_string(n - 1) +
+                              "; 0 is the background)"
+                        : std::string("an object label, but the sequence has none (only the "
+                                      "background, 0: it was recorded without label images)"),
                   std::to_string(label));
     size_t& first = box_of_label[static_cast<size_t>(label)];
     if (first != annotations.boxes.size())

@@ -296,6 +296,10 @@ FrameRecord parseFrame(const Reader& in, const Json& value, size_t index,
 }
 
 fs::path sequenceJsonPath(const fs::path& folder_or_json) {
+  if (folder_or_json.empty())
+    throw Error("", "sequence",
+                "a sequence folder holding sequence.json, or the path of a sequence.json file",
+                "an empty path ('')");
   std::error_code ec;
   fs::path path =
       fs::is_directory(folder_or_json, ec) ? folder_or_json / "sequence.json" : folder_or_json;

@@ -70,6 +70,28 @@ TEST_F(CliMessageTest, EmptyAndBrokenMapsAreNamedAsTheInput) {
   EXPECT_FALSE(fs::exists(out / "copy.ot"));
 }
 
+// Messages whose wording used to mislead: an empty path named nowhere, a
+// range that excluded a refused value, numbers taken for a file name.
+TEST_F(CliMessageTest, MessagesSayWhatWasWrongInTheCallersTerms) {
+  TempDir out;
+  auto r = runCli("fuse '' --out " + q(out / "m.ot"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("found an empty path ('')"), std::string::npos) << r.err;
+  r = runCli("import frames " + q(scene()) + " --out " + q(out / "s") + " --every 0");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--every expects an integer from 1 to"), std::string::npos) << r.err;
+  r = runCli("import frames " + q(scene()) + " --out " + q(out / "s") +
+             " --intrinsics nan,519,325.5,253.5");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("expected finite numbers"), std::string::npos) << r.err;
+  r = runCli("plan " + q(map()) + " --target " + target() +
+             " --approach 1,0,0 --min-cluster-voxels 0");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--min-cluster-voxels expects an integer from 1 to"), std::string::npos)
+      << r.err;
+  EXPECT_TRUE(fs::is_empty(out.path()));
+}
+
 TEST_F(CliMessageTest, AnEmptyLabelSelectionNamesTheMapAndTheOption) {
   TempDir out;
   const auto present = counts();
