@@ -162,14 +162,17 @@ void EvaluationPanel::show(const EvaluationReport& report) {
   }
   table_->setSortingEnabled(true);
   const ScoreSummary& s = report.summary;
-  summary_->setText(tr("Mean over %1 objects — Proj. mean %2, Proj. max %3, LabelOctoMap %4, "
-                       "box IU %5; LabelOctoMap beats Proj. max on %6 of %1.")
-                        .arg(s.objects)
+  const QString over =
+      s.objects == 1 ? tr("Mean over 1 object") : tr("Mean over %1 objects").arg(s.objects);
+  summary_->setText(tr("%1 — Proj. mean %2, Proj. max %3, LabelOctoMap %4, box IU %5; "
+                       "LabelOctoMap beats Proj. max on %6 of %7.")
+                        .arg(over)
                         .arg(s.iou_3d.projection_mean * 100.0, 0, 'f', 1)
                         .arg(s.iou_3d.projection_max * 100.0, 0, 'f', 1)
                         .arg(s.iou_3d.labeloctomap * 100.0, 0, 'f', 1)
                         .arg(s.box_iou.labeloctomap * 100.0, 0, 'f', 1)
-                        .arg(s.labeloctomap_beats_projection_max));
+                        .arg(s.labeloctomap_beats_projection_max)
+                        .arg(s.objects));
   chart_->setObjects(report.objects);
   export_->setEnabled(!stale_);
   emit reportShown();
