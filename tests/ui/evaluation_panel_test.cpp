@@ -1,4 +1,5 @@
-// The Evaluation dock on the synthetic demo scene: the summary's wording.
+// The Evaluation dock on the synthetic demo scene: the table and the bar
+// chart in the same order, and the summary's wording.
 #include "lom/ui/evaluation_panel.hpp"
 
 #include <gtest/gtest.h>
@@ -35,7 +36,48 @@ class EvaluationPanelTest : public fixture::DemoWindowTest {
         QTest::qWaitFor([&] { return !panel().isBusy() && panel().canExport(); }, kTimeoutMs))
         << panel().summaryText().toStdString();
   }
+  // The labels of the table's rows, top to bottom.
+  std::vector<int> tableLabels() {
+    std::vector<int> labels;
+    QTableWidget& table = panel().table();
+    for (int row = 0; row < table.rowCount(); ++row)
+      labels.push_back(table.item(row, EvaluationPanel::Label)->data(Qt::DisplayRole).toInt());
+    return labels;
+  }
+  std::vector<int> chartLabels() {
+    std::vector<int> labels;
+    for (const ObjectScore& object : panel().chart().objects()) labels.push_back(object.label);
+    return labels;
+  }
 };
+
+TEST_F(EvaluationPanelTest, TableAndChartListTheObjectsInTheSameOrder) {
+  openAndFuse();
+  waitForScores();
+  // Ascending label by default, in both.
+  const std::vector<int> labels = tableLabels();
+  ASSERT_GE(labels.size(), 2u);
+  EXPECT_TRUE(std::is_sorted(labels.begin(), labels.end()));
+  EXPECT_EQ(chartLabels(), labels);
+  EXPECT_EQ(panel().table().horizontalHeader()->sortIndicatorSection(), EvaluationPanel::Label);
+  EXPECT_EQ(panel().table().horizontalHeader()->sortIndicatorOrder(), Qt::AscendingOrder);
+
+  // Sorted by another column (as a header click does), the chart follows.
+  panel().table().horizontalHeader()->setSortIndicator(EvaluationPanel::Voxels,
+                                                       Qt::DescendingOrder);
+  std::vector<double> voxels;
+  for (int row = 0; row < panel().table().rowCount(); ++row)
+    voxels.push_back(
+        panel().table().item(row, EvaluationPanel::Voxels)->data(Qt::DisplayRole).toDouble());
+  EXPECT_TRUE(std::is_sorted(voxels.rbegin(), voxels.rend()));
+  EXPECT_EQ(chartLabels(), tableLabels());
+
+  // New scores keep the user's order.
+  window_.session().annotations().removeBox(0);
+  waitForScores();
+  EXPECT_EQ(panel().table().rowCount(), static_cast<int>(labels.size()) - 1);
+  EXPECT_EQ(chartLabels(), tableLabels());
+}
 
 TEST_F(EvaluationPanelTest, SummarySaysOneObjectInTheSingular) {
   openAndFuse();

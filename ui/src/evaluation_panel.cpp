@@ -21,6 +21,9 @@ namespace lom::ui {
 
 namespace {
 
+// The index into the report's objects of a row (on its Label cell).
+constexpr int kObjectRole = Qt::UserRole + 2;
+
 QTableWidgetItem* numberItem(double value, double display) {
   auto* item = new QTableWidgetItem;
   item->setData(Qt::DisplayRole, display);
@@ -54,7 +57,12 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   table_->setSelectionBehavior(QAbstractItemView::SelectRows);
   table_->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
   table_->horizontalHeader()->setSectionResizeMode(Name, QHeaderView::Stretch);
+  // Ascending label by default, as the report lists the objects. The chart
+  // follows the table's order, whatever column the user sorts by, so that
+  // the n-th group of bars is always the n-th row (see syncChart).
+  table_->horizontalHeader()->setSortIndicator(Label, Qt::AscendingOrder);
   table_->setSortingEnabled(true);
+  connect(table_->model(), &QAbstractItemModel::layoutChanged, this, &EvaluationPanel::syncChart);
   summary_->setWordWrap(true);
   summary_->setTextInteractionFlags(Qt::TextSelectableByMouse);
   export_->setEnabled(false);
@@ -151,7 +159,9 @@ void EvaluationPanel::show(const EvaluationReport& report) {
   table_->setRowCount(static_cast<int>(report.objects.size()));
   for (int row = 0; row < table_->rowCount(); ++row) {
     const ObjectScore& object = report.objects[static_cast<size_t>(row)];
-    table_->setItem(row, Label, numberItem(object.label, object.label));
+    QTableWidgetItem* label = numberItem(object.label, object.label);
+    label->setData(kObjectRole, row);
+    table_->setItem(row, Label, label);
     table_->setItem(row, Name, new QTableWidgetItem(QString::fromStdString(object.name)));
     table_->setItem(row, Voxels,
                     numberItem(static_cast<double>(object.voxels), static_cast<double>(object.voxels)));
@@ -173,9 +183,24 @@ void EvaluationPanel::show(const EvaluationReport& report) {
                         .arg(s.box_iou.labeloctomap * 100.0, 0, 'f', 1)
                         .arg(s.labeloctomap_beats_projection_max)
                         .arg(s.objects));
-  chart_->setObjects(report.objects);
+  syncChart();
   export_->setEnabled(!stale_);
   emit reportShown();
+}
+
+void EvaluationPanel::syncChart() {
+  std::vector<ObjectScore> objects;
+  if (report_) {
+    objects.reserve(static_cast<size_t>(table_->rowCount()));
+    for (int row = 0; row < table_->rowCount(); ++row) {
+      const QTableWidgetItem* label = table_->item(row, Label);
+      if (!label) continue;
+      const int index = label->data(kObjectRole).toInt();
+      if (index >= 0 && static_cast<size_t>(index) < report_->objects.size())
+        objects.push_back(report_->objects[static_cast<size_t>(index)]);
+    }
+  }
+  chart_->setObjects(std::move(objects));
 }
 
 void EvaluationPanel::showMessage(const QString& message) {
