@@ -1,5 +1,6 @@
-// The Evaluation dock on the synthetic demo scene: the table and the bar
-// chart in the same order, and the summary's wording.
+// The Evaluation dock on the synthetic demo scene: the score columns and
+// every row in view at the default window size, the table and the bar chart
+// in the same order, and the summary's wording.
 #include "lom/ui/evaluation_panel.hpp"
 
 #include <gtest/gtest.h>
@@ -50,6 +51,59 @@ class EvaluationPanelTest : public fixture::DemoWindowTest {
     return labels;
   }
 };
+
+TEST_F(EvaluationPanelTest, ScoresAndEveryRowAreInViewAtTheDefaultWindowSize) {
+  // The demo the studio opens with --demo has six objects.
+  SynthOptions six = fixture::smallDemo();
+  six.objects = 6;
+  const auto folder = temp_.path() / "six";
+  prepareDemoScene(qPath(folder), six);
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder)));
+  waitForFusion();
+  waitForScores();
+  window_.resize(1280, 800);  // MainWindow's own size
+  QTest::qWait(100);
+  QApplication::processEvents();
+
+  QTableWidget& table = panel().table();
+  ASSERT_TRUE(table.isVisible());
+  ASSERT_EQ(table.rowCount(), 6);
+  auto expectAllColumnsInView = [&] {
+    EXPECT_FALSE(table.horizontalScrollBar()->isVisible());
+    const int width = table.viewport()->width();
+    for (int column = 0; column < EvaluationPanel::Columns; ++column) {
+      const auto header = table.horizontalHeaderItem(column)->text().toStdString();
+      EXPECT_GE(table.columnViewportPosition(column), 0) << header;
+      EXPECT_LE(table.columnViewportPosition(column) + table.columnWidth(column), width) << header;
+      // Numbers (and the sort arrow) are never cut: only the object name gives way.
+      if (column != EvaluationPanel::Name) {
+        const QAbstractItemView& view = table;  // sizeHintForColumn is public there
+        EXPECT_GE(table.columnWidth(column), view.sizeHintForColumn(column)) << header;
+        EXPECT_GE(table.columnWidth(column), table.horizontalHeader()->sectionSizeHint(column))
+            << header;
+      }
+    }
+  };
+  expectAllColumnsInView();
+  EXPECT_FALSE(table.verticalScrollBar()->isVisible());
+  for (int column = 0; column < EvaluationPanel::Columns; ++column)
+    EXPECT_FALSE(table.horizontalHeaderItem(column)->toolTip().isEmpty()) << column;
+  EXPECT_TRUE(table.horizontalHeaderItem(EvaluationPanel::LabelOctoMap)
+                  ->toolTip()
+                  .contains("LabelOctoMap"));
+  const int last = table.rowCount() - 1;
+  EXPECT_LE(table.rowViewportPosition(last) + table.rowHeight(last), table.viewport()->height());
+  for (int row = 0; row < table.rowCount(); ++row) {
+    const QTableWidgetItem* name = table.item(row, EvaluationPanel::Name);
+    EXPECT_EQ(name->toolTip(), name->text());
+  }
+
+  // Sorted by another column, which then shows the sort arrow.
+  ASSERT_TRUE(table.isSortingEnabled());
+  table.horizontalHeader()->setSortIndicator(EvaluationPanel::LabelOctoMap, Qt::DescendingOrder);
+  QApplication::processEvents();
+  expectAllColumnsInView();
+}
 
 TEST_F(EvaluationPanelTest, TableAndChartListTheObjectsInTheSameOrder) {
   openAndFuse();

@@ -15,7 +15,7 @@ constexpr int kAxisLabelGap = 6;
 
 ScoreChart::ScoreChart(QWidget* parent) : QWidget(parent) {
   setObjectName("scoreChart");
-  setMinimumHeight(130);
+  setMinimumHeight(120);
 }
 
 void ScoreChart::setObjects(std::vector<ObjectScore> objects) {
