@@ -6,9 +6,12 @@
 #include <QLabel>
 #include <QMessageBox>
 #include <QPushButton>
+#include <QStyleOptionHeader>
 #include <QTableWidget>
 #include <QTimer>
 #include <QVBoxLayout>
+#include <algorithm>
+#include <utility>
 
 #include "lom/report.hpp"
 #include "lom/ui/annotations_model.hpp"
@@ -21,17 +24,54 @@ namespace lom::ui {
 
 namespace {
 
-QTableWidgetItem* numberItem(double value, double display) {
-  auto* item = new QTableWidgetItem;
-  item->setData(Qt::DisplayRole, display);
-  item->setData(EvaluationPanel::kValueRole, value);
-  item->setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
-  return item;
+// The index into the report's objects of a row (on its Label cell).
+constexpr int kObjectRole = Qt::UserRole + 2;
+
+// A header that makes room for the sort arrow in the sorted column only:
+// QHeaderView widens every column by an arrow's width, which in a narrow dock
+// pushes the scores out of view.
+class CompactHeader : public QHeaderView {
+ public:
+  explicit CompactHeader(QWidget* parent) : QHeaderView(Qt::Horizontal, parent) {
+    setSectionsClickable(true);
+    setHighlightSections(true);
+    connect(this, &QHeaderView::sortIndicatorChanged, this, [this] { resizeSections(); });
+  }
+
+ protected:
+  [[nodiscard]] QSize sectionSizeFromContents(int logical) const override {
+    const QSize size = QHeaderView::sectionSizeFromContents(logical);
+    if (!isSortIndicatorShown() || logical == sortIndicatorSection()) return size;
+    QStyleOptionHeader option;
+    initStyleOption(&option);
+    option.section = logical;
+    option.text = model()->headerData(logical, orientation()).toString();
+    option.sortIndicator = QStyleOptionHeader::None;
+    const QSize bare = style()->sizeFromContents(QStyle::CT_HeaderSection, &option, QSize(), this);
+    return {std::min(size.width(), bare.width()), size.height()};
+  }
+};
+
+// A number cell that sorts by its exact value, whatever text it shows.
+class NumberItem : public QTableWidgetItem {
+ public:
+  NumberItem(double value, const QString& text) : QTableWidgetItem(text) {
+    setData(EvaluationPanel::kValueRole, value);
+    setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
+  }
+  [[nodiscard]] bool operator<(const QTableWidgetItem& other) const override {
+    return data(EvaluationPanel::kValueRole).toDouble() <
+           other.data(EvaluationPanel::kValueRole).toDouble();
+  }
+};
+
+QTableWidgetItem* countItem(size_t count) {
+  return new NumberItem(static_cast<double>(count), QString::number(count));
 }
 
 QTableWidgetItem* scoreItem(double value) {
-  // Shown in percent with one decimal (sorting uses the number).
-  return numberItem(value, std::round(value * 1000.0) / 10.0);
+  // Shown in percent with one decimal.
+  return new NumberItem(value, QString::number(value * 100.0, 'f', 1));
 }
 
 }  // namespace
@@ -47,14 +87,40 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   setObjectName("evaluationPanel");
   table_->setObjectName("evaluationTable");
   summary_->setObjectName("evaluationSummary");
-  table_->setHorizontalHeaderLabels({tr("Label"), tr("Object"), tr("Voxels"), tr("Proj. mean"),
-                                     tr("Proj. max"), tr("LabelOctoMap"), tr("Box IU")});
+  table_->setHorizontalHeader(new CompactHeader(table_));
+  // Short headers keep the scores in view in a narrow dock; the full wording
+  // is in each header's tooltip.
+  const std::pair<QString, QString> headers[Columns] = {
+      {tr("Label"), tr("Label id")},
+      {tr("Object"), tr("Object name")},
+      {tr("Voxels"), tr("LabelOctoMap voxels of the label")},
+      {tr("Mean"), tr("IU_3d of Projection (Mean), %")},
+      {tr("Max"), tr("IU_3d of Projection (Max), %")},
+      {tr("LOM"), tr("IU_3d of LabelOctoMap, %")},
+      {tr("Box"), tr("Box IU of LabelOctoMap, %")}};
+  for (int column = 0; column < Columns; ++column) {
+    auto* header = new QTableWidgetItem(headers[column].first);
+    header->setToolTip(headers[column].second);
+    table_->setHorizontalHeaderItem(column, header);
+  }
   table_->verticalHeader()->hide();
+  table_->verticalHeader()->setDefaultSectionSize(table_->fontMetrics().height() + 4);
   table_->setEditTriggers(QAbstractItemView::NoEditTriggers);
   table_->setSelectionBehavior(QAbstractItemView::SelectRows);
-  table_->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
-  table_->horizontalHeader()->setSectionResizeMode(Name, QHeaderView::Stretch);
+  table_->setWordWrap(false);
+  table_->setTextElideMode(Qt::ElideRight);
+  // The numbers take the width they need; the object name takes what is left
+  // (elided, in full in its tooltip), so the scores never scroll out of view.
+  QHeaderView* columns = table_->horizontalHeader();
+  columns->setSectionResizeMode(QHeaderView::ResizeToContents);
+  columns->setSectionResizeMode(Name, QHeaderView::Stretch);
+  columns->setMinimumSectionSize(24);
+  // Ascending label by default, as the report lists the objects. The chart
+  // follows the table's order, whatever column the user sorts by, so that
+  // the n-th group of bars is always the n-th row (see syncChart).
+  columns->setSortIndicator(Label, Qt::AscendingOrder);
   table_->setSortingEnabled(true);
+  connect(table_->model(), &QAbstractItemModel::layoutChanged, this, &EvaluationPanel::syncChart);
   summary_->setWordWrap(true);
   summary_->setTextInteractionFlags(Qt::TextSelectableByMouse);
   export_->setEnabled(false);
@@ -151,10 +217,13 @@ void EvaluationPanel::show(const EvaluationReport& report) {
   table_->setRowCount(static_cast<int>(report.objects.size()));
   for (int row = 0; row < table_->rowCount(); ++row) {
     const ObjectScore& object = report.objects[static_cast<size_t>(row)];
-    table_->setItem(row, Label, numberItem(object.label, object.label));
-    table_->setItem(row, Name, new QTableWidgetItem(QString::fromStdString(object.name)));
-    table_->setItem(row, Voxels,
-                    numberItem(static_cast<double>(object.voxels), static_cast<double>(object.voxels)));
+    QTableWidgetItem* label = new NumberItem(object.label, QString::number(object.label));
+    label->setData(kObjectRole, row);
+    table_->setItem(row, Label, label);
+    auto* name = new QTableWidgetItem(QString::fromStdString(object.name));
+    name->setToolTip(name->text());
+    table_->setItem(row, Name, name);
+    table_->setItem(row, Voxels, countItem(object.voxels));
     table_->setItem(row, ProjectionMean, scoreItem(object.iou_3d.projection_mean));
     table_->setItem(row, ProjectionMax, scoreItem(object.iou_3d.projection_max));
     table_->setItem(row, LabelOctoMap, scoreItem(object.iou_3d.labeloctomap));
@@ -162,17 +231,35 @@ void EvaluationPanel::show(const EvaluationReport& report) {
   }
   table_->setSortingEnabled(true);
   const ScoreSummary& s = report.summary;
-  summary_->setText(tr("Mean over %1 objects — Proj. mean %2, Proj. max %3, LabelOctoMap %4, "
-                       "box IU %5; LabelOctoMap beats Proj. max on %6 of %1.")
-                        .arg(s.objects)
+  const QString over =
+      s.objects == 1 ? tr("Mean over 1 object") : tr("Mean over %1 objects").arg(s.objects);
+  summary_->setText(tr("%1 — Proj. mean %2, Proj. max %3, LabelOctoMap %4, box IU %5; "
+                       "LabelOctoMap beats Proj. max on %6 of %7.")
+                        .arg(over)
                         .arg(s.iou_3d.projection_mean * 100.0, 0, 'f', 1)
                         .arg(s.iou_3d.projection_max * 100.0, 0, 'f', 1)
                         .arg(s.iou_3d.labeloctomap * 100.0, 0, 'f', 1)
                         .arg(s.box_iou.labeloctomap * 100.0, 0, 'f', 1)
-                        .arg(s.labeloctomap_beats_projection_max));
-  chart_->setObjects(report.objects);
+                        .arg(s.labeloctomap_beats_projection_max)
+                        .arg(s.objects));
+  syncChart();
   export_->setEnabled(!stale_);
   emit reportShown();
+}
+
+void EvaluationPanel::syncChart() {
+  std::vector<ObjectScore> objects;
+  if (report_) {
+    objects.reserve(static_cast<size_t>(table_->rowCount()));
+    for (int row = 0; row < table_->rowCount(); ++row) {
+      const QTableWidgetItem* label = table_->item(row, Label);
+      if (!label) continue;
+      const int index = label->data(kObjectRole).toInt();
+      if (index >= 0 && static_cast<size_t>(index) < report_->objects.size())
+        objects.push_back(report_->objects[static_cast<size_t>(index)]);
+    }
+  }
+  chart_->setObjects(std::move(objects));
 }
 
 void EvaluationPanel::showMessage(const QString& message) {

@@ -29,6 +29,8 @@ class EvaluationPanel : public QWidget {
   explicit EvaluationPanel(StudioSession& session, QWidget* parent = nullptr);
 
   [[nodiscard]] QTableWidget& table() { return *table_; }
+  // The bar chart: its objects are in the table's row order.
+  [[nodiscard]] const ScoreChart& chart() const { return *chart_; }
   [[nodiscard]] const std::optional<EvaluationReport>& report() const { return report_; }
   [[nodiscard]] QString summaryText() const;
   [[nodiscard]] bool isBusy() const;
@@ -49,6 +51,7 @@ class EvaluationPanel : public QWidget {
   void show(const EvaluationReport& report);
   void showMessage(const QString& message);
   void clearReport(const QString& message);
+  void syncChart();  // gives the chart the report's objects in the table's row order
 
   StudioSession& session_;
   QTableWidget* table_;

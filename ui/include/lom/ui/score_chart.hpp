@@ -1,7 +1,9 @@
 #pragma once
 // Grouped bar chart of the per-object IU_3d: Projection (Mean), Projection
 // (Max) and LabelOctoMap side by side for each object.
+#include <QRect>
 #include <QWidget>
+#include <vector>
 
 #include "lom/evaluation.hpp"
 
@@ -11,8 +13,20 @@ class ScoreChart : public QWidget {
   Q_OBJECT
 
  public:
+  // One label id drawn under the bars.
+  struct AxisLabel {
+    size_t object = 0;  // index into objects()
+    QRect rect;         // where its text is drawn, in widget coordinates
+  };
+
   explicit ScoreChart(QWidget* parent = nullptr);
+  // The objects left to right, in the order given.
   void setObjects(std::vector<ObjectScore> objects);
+  [[nodiscard]] const std::vector<ObjectScore>& objects() const { return objects_; }
+  // The label ids drawn under the bars at the current size: when they do not
+  // all fit, only every n-th is drawn so that none overlap, and all lie
+  // inside the widget.
+  [[nodiscard]] std::vector<AxisLabel> axisLabels() const;
   [[nodiscard]] QSize sizeHint() const override { return {320, 170}; }
   // Colours of the three methods, in the order above.
   [[nodiscard]] static QColor methodColor(int method);
@@ -21,6 +35,8 @@ class ScoreChart : public QWidget {
   void paintEvent(QPaintEvent* event) override;
 
  private:
+  [[nodiscard]] QRect plotRect() const;
+
   std::vector<ObjectScore> objects_;
 };
 

@@ -1,0 +1,164 @@
+// The Evaluation dock on the synthetic demo scene: the score columns and
+// every row in view at the default window size, the table and the bar chart
+// in the same order, and the summary's wording.
+#include "lom/ui/evaluation_panel.hpp"
+
+#include <gtest/gtest.h>
+
+#include <QApplication>
+#include <QHeaderView>
+#include <QScrollBar>
+#include <QTableWidget>
+#include <QTest>
+#include <algorithm>
+#include <vector>
+
+#include "demo_window_fixture.hpp"
+#include "lom/evaluation.hpp"
+#include "lom/ui/annotations_model.hpp"
+#include "lom/ui/demo_scene.hpp"
+#include "lom/ui/main_window.hpp"
+#include "lom/ui/map_worker.hpp"
+#include "lom/ui/score_chart.hpp"
+#include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/studio_session.hpp"
+
+namespace lom::ui {
+namespace {
+
+using fixture::kTimeoutMs;
+using fixture::qPath;
+
+class EvaluationPanelTest : public fixture::DemoWindowTest {
+ protected:
+  EvaluationPanel& panel() { return window_.evaluationPanel(); }
+  void waitForScores() {
+    ASSERT_TRUE(
+        QTest::qWaitFor([&] { return !panel().isBusy() && panel().canExport(); }, kTimeoutMs))
+        << panel().summaryText().toStdString();
+  }
+  // The labels of the table's rows, top to bottom.
+  std::vector<int> tableLabels() {
+    std::vector<int> labels;
+    QTableWidget& table = panel().table();
+    for (int row = 0; row < table.rowCount(); ++row)
+      labels.push_back(table.item(row, EvaluationPanel::Label)->data(Qt::DisplayRole).toInt());
+    return labels;
+  }
+  std::vector<int> chartLabels() {
+    std::vector<int> labels;
+    for (const ObjectScore& object : panel().chart().objects()) labels.push_back(object.label);
+    return labels;
+  }
+};
+
+TEST_F(EvaluationPanelTest, ScoresAndEveryRowAreInViewAtTheDefaultWindowSize) {
+  // The demo the studio opens with --demo has six objects.
+  SynthOptions six = fixture::smallDemo();
+  six.objects = 6;
+  const auto folder = temp_.path() / "six";
+  prepareDemoScene(qPath(folder), six);
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder)));
+  waitForFusion();
+  waitForScores();
+  window_.resize(1280, 800);  // MainWindow's own size
+  QTest::qWait(100);
+  QApplication::processEvents();
+
+  QTableWidget& table = panel().table();
+  ASSERT_TRUE(table.isVisible());
+  ASSERT_EQ(table.rowCount(), 6);
+  auto expectAllColumnsInView = [&] {
+    EXPECT_FALSE(table.horizontalScrollBar()->isVisible());
+    const int width = table.viewport()->width();
+    for (int column = 0; column < EvaluationPanel::Columns; ++column) {
+      const auto header = table.horizontalHeaderItem(column)->text().toStdString();
+      EXPECT_GE(table.columnViewportPosition(column), 0) << header;
+      EXPECT_LE(table.columnViewportPosition(column) + table.columnWidth(column), width) << header;
+      // Numbers (and the sort arrow) are never cut: only the object name gives way.
+      if (column != EvaluationPanel::Name) {
+        const QAbstractItemView& view = table;  // sizeHintForColumn is public there
+        EXPECT_GE(table.columnWidth(column), view.sizeHintForColumn(column)) << header;
+        EXPECT_GE(table.columnWidth(column), table.horizontalHeader()->sectionSizeHint(column))
+            << header;
+      }
+    }
+  };
+  expectAllColumnsInView();
+  EXPECT_FALSE(table.verticalScrollBar()->isVisible());
+  for (int column = 0; column < EvaluationPanel::Columns; ++column)
+    EXPECT_FALSE(table.horizontalHeaderItem(column)->toolTip().isEmpty()) << column;
+  EXPECT_TRUE(table.horizontalHeaderItem(EvaluationPanel::LabelOctoMap)
+                  ->toolTip()
+                  .contains("LabelOctoMap"));
+  const int last = table.rowCount() - 1;
+  EXPECT_LE(table.rowViewportPosition(last) + table.rowHeight(last), table.viewport()->height());
+  for (int row = 0; row < table.rowCount(); ++row) {
+    const QTableWidgetItem* name = table.item(row, EvaluationPanel::Name);
+    EXPECT_EQ(name->toolTip(), name->text());
+  }
+
+  // Sorted by another column, which then shows the sort arrow.
+  ASSERT_TRUE(table.isSortingEnabled());
+  table.horizontalHeader()->setSortIndicator(EvaluationPanel::LabelOctoMap, Qt::DescendingOrder);
+  QApplication::processEvents();
+  expectAllColumnsInView();
+}
+
+TEST_F(EvaluationPanelTest, TableAndChartListTheObjectsInTheSameOrder) {
+  openAndFuse();
+  waitForScores();
+  // Ascending label by default, in both.
+  const std::vector<int> labels = tableLabels();
+  ASSERT_GE(labels.size(), 2u);
+  EXPECT_TRUE(std::is_sorted(labels.begin(), labels.end()));
+  EXPECT_EQ(chartLabels(), labels);
+  EXPECT_EQ(panel().table().horizontalHeader()->sortIndicatorSection(), EvaluationPanel::Label);
+  EXPECT_EQ(panel().table().horizontalHeader()->sortIndicatorOrder(), Qt::AscendingOrder);
+
+  // Sorted by another column (as a header click does), the chart follows.
+  panel().table().horizontalHeader()->setSortIndicator(EvaluationPanel::Voxels,
+                                                       Qt::DescendingOrder);
+  std::vector<double> voxels;
+  for (int row = 0; row < panel().table().rowCount(); ++row)
+    voxels.push_back(
+        panel().table().item(row, EvaluationPanel::Voxels)->data(Qt::DisplayRole).toDouble());
+  EXPECT_TRUE(std::is_sorted(voxels.rbegin(), voxels.rend()));
+  EXPECT_EQ(chartLabels(), tableLabels());
+
+  // New scores keep the user's order.
+  window_.session().annotations().removeBox(0);
+  waitForScores();
+  EXPECT_EQ(panel().table().rowCount(), static_cast<int>(labels.size()) - 1);
+  EXPECT_EQ(chartLabels(), tableLabels());
+}
+
+TEST_F(EvaluationPanelTest, SummarySaysOneObjectInTheSingular) {
+  openAndFuse();
+  waitForScores();
+  EXPECT_TRUE(panel().summaryText().startsWith(
+      QString("Mean over %1 objects — ").arg(panel().report()->summary.objects)))
+      << panel().summaryText().toStdString();
+
+  // Keep one box of an object the cameras see.
+  AnnotationsModel& boxes = window_.session().annotations();
+  const auto& all = boxes.annotations().boxes;
+  const auto kept = std::find_if(all.begin(), all.end(), [](const GroundTruthBox& box) {
+    return box.label != kSynthTransparentLabel;
+  });
+  ASSERT_NE(kept, all.end());
+  const int kept_label = kept->label;
+  for (int index = boxes.boxCount() - 1; index >= 0; --index)
+    if (boxes.annotations().boxes[static_cast<size_t>(index)].label != kept_label)
+      boxes.removeBox(index);
+  ASSERT_EQ(boxes.boxCount(), 1);
+  waitForScores();
+  ASSERT_EQ(panel().report()->summary.objects, 1u);
+  const QString summary = panel().summaryText();
+  EXPECT_TRUE(summary.startsWith("Mean over 1 object — ")) << summary.toStdString();
+  EXPECT_TRUE(summary.endsWith(" of 1.")) << summary.toStdString();
+  EXPECT_FALSE(summary.contains("1 objects")) << summary.toStdString();
+}
+
+}  // namespace
+}  // namespace lom::ui
