@@ -7,7 +7,6 @@
 namespace lom::ui {
 
 ImagePane::ImagePane(const QString& caption, QWidget* parent) : QWidget(parent), caption_(caption) {
-  setMinimumSize(160, 130);
   setSizePolicy(QSizePolicy::Expanding, QSizePolicy::Expanding);
   setMouseTracking(true);
 }

@@ -19,6 +19,7 @@ class ImagePane : public QWidget {
   [[nodiscard]] const QImage& image() const { return image_; }
 
   [[nodiscard]] QSize sizeHint() const override { return {320, 260}; }
+  [[nodiscard]] QSize minimumSizeHint() const override { return {120, 90}; }
   [[nodiscard]] bool hasHeightForWidth() const override { return false; }
 
  signals:
