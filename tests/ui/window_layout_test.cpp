@@ -1,4 +1,5 @@
-// The window's layout: it fits a laptop's 1366x768 screen.
+// The window's layout: it fits a laptop's 1366x768 screen, and the heat
+// map's caption says what it shows.
 #include <gtest/gtest.h>
 
 #include <QApplication>
@@ -8,8 +9,11 @@
 
 #include "demo_window_fixture.hpp"
 #include "lom/fusion.hpp"
+#include "lom/ui/frame_images_view.hpp"
 #include "lom/ui/fusion_panel.hpp"
+#include "lom/ui/image_pane.hpp"
 #include "lom/ui/scene_view.hpp"
+#include "tiny_sequence.hpp"
 
 namespace lom::ui {
 namespace {
@@ -65,6 +69,31 @@ TEST_F(WindowLayoutTest, FitsALaptopScreen) {
   settle();
   EXPECT_FALSE(panel.extendRangeButton().visibleRegion().isEmpty());
   expectFitsALaptop("with the Fusion panel's range note");
+  EXPECT_TRUE(errors_.empty());
+}
+
+TEST_F(WindowLayoutTest, HeatMapCaptionSaysWhatItShows) {
+  const ImagePane& heat = window_.frameImages().heatPane();
+  EXPECT_EQ(heat.caption().toStdString(), "Probability");  // nothing open
+
+  openAndFuse();
+  window_.frameImages().setHeatLabel(-1);
+  EXPECT_EQ(heat.caption().toStdString(), "Probability (choose a label)");
+  const int label = *visibleObjectLabels().begin();
+  window_.session().setSelectedLabel(label);
+  const QString name =
+      QString::fromStdString(window_.controller().sequence().labels.at(label).name);
+  EXPECT_EQ(heat.caption().toStdString(), "Probability of " + name.toStdString());
+  // Elided or not, depending on the pane's width: the tooltip tells what is cut.
+  EXPECT_EQ(heat.captionToolTip().isEmpty(), heat.shownCaption() == heat.caption());
+  EXPECT_FALSE(heat.image().isNull());
+
+  // A recording without probability images (the tiny sequence has label images only).
+  const test::TinySequence tiny = test::writeTinySequence(temp_.path() / "tiny");
+  window_.controller().setDiscardGuard([] { return true; });
+  ASSERT_TRUE(window_.controller().openSequence(fixture::qPath(tiny.folder)));
+  EXPECT_EQ(heat.caption().toStdString(), "Probability (no probability images)");
+  EXPECT_TRUE(heat.image().isNull());
   EXPECT_TRUE(errors_.empty());
 }
 
