@@ -15,6 +15,7 @@
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/box_edit_actions.hpp"
 #include "lom/ui/box_math.hpp"
+#include "lom/ui/elision.hpp"
 #include "lom/ui/frame_labels.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
@@ -48,8 +49,8 @@ BoxEditorPanel::BoxEditorPanel(StudioSession& session, BoxSteps& steps, QWidget*
       session_(session),
       steps_(steps),
       list_(new QListWidget),
-      box_label_(new QComboBox),
-      new_label_(new QComboBox) {
+      box_label_(new ElidingComboBox),
+      new_label_(new ElidingComboBox) {
   setObjectName("boxEditor");
   list_->setObjectName("boxList");
   new_label_->setObjectName("newBoxLabel");
@@ -146,6 +147,7 @@ void BoxEditorPanel::rebuildList() {
     const GroundTruthBox& box = model.box(i);
     auto* item = new QListWidgetItem(
         QString("%1  %2").arg(box.label).arg(QString::fromStdString(box.name)));
+    item->setToolTip(item->text());  // the list elides long names
     if (sequence) item->setIcon(swatch(labelColor(sequence->labels, box.label)));
     list_->addItem(item);
   }

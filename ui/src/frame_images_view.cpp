@@ -61,19 +61,22 @@ void FrameImagesView::setHeatLabel(int label) {
 }
 
 void FrameImagesView::showHeatMap() {
-  QString name = tr("none");
-  if (sequence_ && sequence_->labels.contains(heat_label_))
-    name = QString::fromStdString(sequence_->labels.at(heat_label_).name);
-  heat_pane_->setCaption(tr("Probability of %1").arg(name));
-  if (!frame_ || !frame_->proba) {
-    heat_pane_->setPlaceholder(frame_ ? tr("No probabilities in this frame") : QString());
-    return;
-  }
-  if (heat_label_ < 0) {
+  const bool known_label = sequence_ && sequence_->labels.contains(heat_label_);
+  if (!frame_) {
+    heat_pane_->setCaption(tr("Probability"));
+    heat_pane_->setPlaceholder(QString());
+  } else if (!frame_->proba) {
+    heat_pane_->setCaption(tr("Probability (no probability images)"));
+    heat_pane_->setPlaceholder(tr("No probabilities in this frame"));
+  } else if (!known_label) {
+    heat_pane_->setCaption(tr("Probability (choose a label)"));
     heat_pane_->setPlaceholder(tr("Choose a label in the map legend"));
-    return;
+  } else {
+    heat_pane_->setCaption(
+        tr("Probability of %1")
+            .arg(QString::fromStdString(sequence_->labels.at(heat_label_).name)));
+    heat_pane_->setImage(probabilityHeatMap(*frame_->proba, heat_label_));
   }
-  heat_pane_->setImage(probabilityHeatMap(*frame_->proba, heat_label_));
 }
 
 QString FrameImagesView::readoutText() const { return readout_->text(); }
@@ -90,7 +93,7 @@ void FrameImagesView::clear() {
   sequence_ = nullptr;
   frame_ = nullptr;
   labels_ = nullptr;
-  heat_pane_->setPlaceholder(QString());
+  showHeatMap();
   readout_->clear();
   color_pane_->setPlaceholder(tr("No sequence open"));
   depth_pane_->setPlaceholder(QString());

@@ -1,13 +1,14 @@
 #include "lom/ui/image_pane.hpp"
 
+#include <QHelpEvent>
 #include <QMouseEvent>
 #include <QPainter>
+#include <QToolTip>
 #include <algorithm>
 
 namespace lom::ui {
 
 ImagePane::ImagePane(const QString& caption, QWidget* parent) : QWidget(parent), caption_(caption) {
-  setMinimumSize(160, 130);
   setSizePolicy(QSizePolicy::Expanding, QSizePolicy::Expanding);
   setMouseTracking(true);
 }
@@ -17,8 +18,30 @@ void ImagePane::setCaption(const QString& caption) {
   update();
 }
 
+int ImagePane::captionHeight() const { return fontMetrics().height() + 4; }
+
+QString ImagePane::shownCaption() const {
+  return fontMetrics().elidedText(caption_, Qt::ElideRight, width());
+}
+
+QString ImagePane::captionToolTip() const {
+  return shownCaption() == caption_ ? QString() : caption_;
+}
+
+bool ImagePane::event(QEvent* event) {
+  if (event->type() != QEvent::ToolTip) return QWidget::event(event);
+  const auto* help = static_cast<QHelpEvent*>(event);
+  const QRect caption_row(0, 0, width(), captionHeight());
+  const QString tip = captionToolTip();
+  if (caption_row.contains(help->pos()) && !tip.isEmpty())
+    QToolTip::showText(help->globalPos(), tip, this, caption_row);
+  else
+    QToolTip::hideText();
+  return true;
+}
+
 QRect ImagePane::imageRect() const {
-  const int caption_height = fontMetrics().height() + 4;
+  const int caption_height = captionHeight();
   const QRect area(0, caption_height, width(), height() - caption_height);
   QRect target(QPoint(0, 0), image_.size().scaled(area.size(), Qt::KeepAspectRatio));
   target.moveCenter(area.center());
@@ -52,10 +75,10 @@ void ImagePane::setPlaceholder(const QString& text) {
 
 void ImagePane::paintEvent(QPaintEvent*) {
   QPainter painter(this);
-  const int caption_height = fontMetrics().height() + 4;
+  const int caption_height = captionHeight();
   painter.setPen(palette().color(QPalette::WindowText));
   painter.drawText(QRect(0, 0, width(), caption_height), Qt::AlignLeft | Qt::AlignVCenter,
-                   caption_);
+                   shownCaption());
 
   const QRect area(0, caption_height, width(), height() - caption_height);
   painter.fillRect(area, palette().color(QPalette::Dark));

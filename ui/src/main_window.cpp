@@ -8,10 +8,15 @@
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QPushButton>
+#include <QScreen>
+#include <QScrollArea>
+#include <QScrollBar>
 #include <QSplitter>
 #include <QStatusBar>
 #include <QStyle>
+#include <QTimer>
 #include <QVBoxLayout>
+#include <algorithm>
 
 #include "lom/ui/about_reaction.hpp"
 #include "lom/ui/add_box_reaction.hpp"
@@ -57,6 +62,47 @@ bool confirmDiscardUnsavedWork(QWidget* parent) {
                                QMessageBox::Cancel) == QMessageBox::Discard;
 }
 
+// The size the window opens at when the screen has room for it.
+constexpr QSize kPreferredWindowSize(1280, 960);
+// Room left on the screen for the window manager's title bar and borders.
+constexpr QSize kWindowFrameAllowance(16, 40);
+// A dock shrinks to this height and scrolls its content when the window is
+// too short for it, so that the docks of a 1366x768 screen fit beside each other.
+constexpr int kMinimumDockContentHeight = 80;
+
+// The content of a dock, scrolled vertically when the dock is shorter than it.
+// Its width follows the content's, as without the scroll area.
+class DockScrollArea : public QScrollArea {
+ public:
+  explicit DockScrollArea(QWidget* content) {
+    setObjectName(content->objectName() + "Scroll");
+    setWidget(content);
+    setWidgetResizable(true);
+    setFrameShape(QFrame::NoFrame);
+    setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+  }
+
+  [[nodiscard]] QSize sizeHint() const override {
+    const QSize content = widget()->sizeHint().expandedTo(widget()->minimumSizeHint());
+    return {content.width() + scrollBarWidth(), content.height()};
+  }
+  [[nodiscard]] QSize minimumSizeHint() const override {
+    const QSize content = widget()->minimumSizeHint();
+    return {content.width() + scrollBarWidth(),
+            std::min(content.height(), kMinimumDockContentHeight)};
+  }
+
+ protected:
+  bool viewportEvent(QEvent* event) override {
+    // The content's size hints changed (a row shown or hidden): so do ours.
+    if (event->type() == QEvent::LayoutRequest) updateGeometry();
+    return QScrollArea::viewportEvent(event);
+  }
+
+ private:
+  [[nodiscard]] int scrollBarWidth() const { return verticalScrollBar()->sizeHint().width(); }
+};
+
 QString describeFrame(const SequenceController& controller) {
   if (!controller.hasSequence()) return QObject::tr("No sequence open");
   const int index = controller.currentFrame();
@@ -72,6 +118,10 @@ QString describeFrame(const SequenceController& controller) {
 
 }  // namespace
 
+QSize initialWindowSize(const QSize& available) {
+  return kPreferredWindowSize.boundedTo(available - kWindowFrameAllowance);
+}
+
 MainWindow::MainWindow(QWidget* parent)
     : QMainWindow(parent),
       report_error_(messageBoxErrorReporter(this)),
@@ -84,7 +134,8 @@ MainWindow::MainWindow(QWidget* parent)
   steps_ = BoxSteps::load();
   setWindowTitle(tr("LabelOctoMap Studio"));
   setWindowIcon(QIcon(":/icons/labeloctomap-studio.svg"));
-  resize(1280, 800);
+  const QScreen* shown_on = screen();
+  resize(shown_on ? initialWindowSize(shown_on->availableGeometry().size()) : kPreferredWindowSize);
 
   const TimelineWidget::StepActions step_actions = createStepActions();
   timeline_ = new TimelineWidget(step_actions);
@@ -159,15 +210,25 @@ void MainWindow::createDocks() {
   auto dock = [this](QWidget* content, const QString& title, const QString& name) {
     auto* widget = new QDockWidget(title, this);
     widget->setObjectName(name);
-    widget->setWidget(content);
+    widget->setWidget(new DockScrollArea(content));
     addDockWidget(Qt::RightDockWidgetArea, widget);
     return widget;
   };
   map_legend_ = new MapLegendPanel(*session_);
-  map_legend_->setMinimumHeight(170);
   fusion_panel_ = new FusionPanel(*session_);
-  dock(map_legend_, tr("Map Labels"), "mapLegendDock");
+  QDockWidget* labels = dock(map_legend_, tr("Map Labels"), "mapLegendDock");
   QDockWidget* fusion = dock(fusion_panel_, tr("Fusion"), "fusionDock");
+  // The depth-range note and its Re-fuse button come below the fields: on a
+  // short screen the dock scrolls to them when they appear (after the panel
+  // has laid them out).
+  connect(&session_->worker(), &MapWorker::depthRangesMeasured, this, [this, fusion] {
+    QTimer::singleShot(0, fusion, [this, fusion] {
+      QPushButton& button = fusion_panel_->extendRangeButton();
+      if (button.isHidden()) return;
+      fusion->raise();
+      static_cast<QScrollArea*>(fusion->widget())->ensureWidgetVisible(&button);
+    });
+  });
   QDockWidget* picked = dock(new PickedVoxelView(*session_), tr("Picked Voxel"), "pickedVoxelDock");
   tabifyDockWidget(fusion, picked);
   fusion->raise();
@@ -180,6 +241,10 @@ void MainWindow::createDocks() {
   QDockWidget* objects = dock(objects_panel_, tr("Objects"), "objectsDock");
   tabifyDockWidget(scores, objects);
   scores->raise();
+  // On a short screen the three dock groups share the height in about these
+  // proportions (each scrolls what does not fit) rather than the map's labels
+  // shrinking to two rows.
+  resizeDocks({labels, fusion, scores}, {3, 3, 4}, Qt::Vertical);
   connect(objects_panel_, &ObjectsPanel::objectBoxesChanged, this,
           [this](const std::vector<ObjectInstance>& shown) {
             if (!session_->sequence()) return scene_view_->showObjectBoxes({}, {});

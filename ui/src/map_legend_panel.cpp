@@ -101,6 +101,7 @@ void MapLegendPanel::rebuild() {
     // The background is drawn grey in the 3D view (its palette colour is black).
     const QColor color = label == 0 ? QColor(150, 150, 160) : labelColor(sequence->labels, label);
     auto* item = new QTableWidgetItem(swatch(color), name);
+    item->setToolTip(name);  // the table elides long names
     item->setData(kLabelRole, label);
     item->setFlags(Qt::ItemIsEnabled | Qt::ItemIsSelectable | Qt::ItemIsUserCheckable);
     item->setCheckState(session_.hiddenLabels().count(label) ? Qt::Unchecked : Qt::Checked);

@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "lom/label_map.hpp"
+#include "lom/ui/elision.hpp"
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
@@ -28,7 +29,11 @@ QTableWidgetItem* numberItem(double value) {
   return item;
 }
 
-QTableWidgetItem* textItem(const QString& text) { return new QTableWidgetItem(text); }
+QTableWidgetItem* textItem(const QString& text) {
+  auto* item = new QTableWidgetItem(text);
+  item->setToolTip(text);  // the table elides long names
+  return item;
+}
 
 QString objectTitle(const ObjectInstance& object) {
   return QStringLiteral("%1 %2").arg(QString::fromStdString(object.id()),
@@ -49,7 +54,7 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
       session_(session),
       table_(new QTableWidget(0, Columns)),
       show_boxes_(new QCheckBox(tr("Show boxes"))),
-      target_(new QComboBox),
+      target_(new ElidingComboBox),
       refresh_(new QPushButton(tr("Refresh"))),
       plan_button_(new QPushButton(tr("Plan pick"))),
       steps_(new QTableWidget(0, StepColumns)),
@@ -224,7 +229,7 @@ void ObjectsPanel::showPlan(PickPlan plan) {
   }
   showMessage(tr("Pick %1: %n occluder(s) to remove first.", nullptr,
                  static_cast<int>(plan_->occluders.size()))
-                  .arg(QString::fromStdString(plan_->target_name)));
+                  .arg(shortName(QString::fromStdString(plan_->target_name))));
   emit pickPlanChanged(&*plan_);
   emit planShown();
 }

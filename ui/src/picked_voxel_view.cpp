@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "lom/ui/elision.hpp"
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/studio_session.hpp"
 
@@ -18,14 +19,20 @@ PickedVoxelView::PickedVoxelView(StudioSession& session, QWidget* parent)
   connect(&session_.worker(), &MapWorker::voxelPicked, this,
           [this](const Eigen::Vector3d& point, const VoxelState& voxel) {
             const auto sequence = session_.sequence();
-            setText(describe(point, voxel, sequence ? sequence->labels : LabelSet{}));
+            const LabelSet labels = sequence ? sequence->labels : LabelSet{};
+            setText(describe(point, voxel, labels));
+            // Long names are shortened in the text: the tooltip tells them whole.
+            const QString whole = describe(point, voxel, labels, -1);
+            setToolTip(whole == text() ? QString() : whole);
           });
 }
 
 QString PickedVoxelView::describe(const Eigen::Vector3d& point, const VoxelState& voxel,
-                                  const LabelSet& labels) {
+                                  const LabelSet& labels, int max_name_characters) {
   auto name = [&](int id) {
-    return labels.contains(id) ? QString::fromStdString(labels.at(id).name) : QString::number(id);
+    if (!labels.contains(id)) return QString::number(id);
+    const QString whole = QString::fromStdString(labels.at(id).name);
+    return max_name_characters < 0 ? whole : shortName(whole, max_name_characters);
   };
   QString text = tr("Point (%1, %2, %3)\n")
                      .arg(point.x(), 0, 'f', 3)

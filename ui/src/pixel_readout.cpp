@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "lom/ui/elision.hpp"
 #include "lom/ui/image_conversion.hpp"
 
 namespace lom::ui {
@@ -42,8 +43,10 @@ QImage probabilityHeatMap(const ProbabilityImage& proba, int label) {
 QString describePixel(const Sequence& sequence, const FrameData& frame,
                       const std::optional<LabelImage>& labels, int u, int v, int selected_label) {
   auto name = [&](int id) {
-    return sequence.labels.contains(id) ? QString::fromStdString(sequence.labels.at(id).name)
-                                        : QString::number(id);
+    // Shortened: a long name would be one unbreakable word widening the readout.
+    return sequence.labels.contains(id)
+               ? shortName(QString::fromStdString(sequence.labels.at(id).name))
+               : QString::number(id);
   };
   QString text = QObject::tr("(%1, %2)").arg(u).arg(v);
   if (u < frame.depth.width && v < frame.depth.height) {

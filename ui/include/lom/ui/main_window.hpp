@@ -24,6 +24,11 @@ class SceneView;
 class SequenceController;
 class StudioSession;
 
+// The size the window opens at on a screen whose available area (without
+// panels and docks) is `available`: 1280x960 when it fits, less when not,
+// leaving room for the window's title bar and borders.
+[[nodiscard]] QSize initialWindowSize(const QSize& available);
+
 class MainWindow : public QMainWindow {
   Q_OBJECT
 

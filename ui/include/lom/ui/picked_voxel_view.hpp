@@ -14,9 +14,10 @@ class PickedVoxelView : public QLabel {
 
  public:
   explicit PickedVoxelView(StudioSession& session, QWidget* parent = nullptr);
-  // The text for one voxel, e.g. "label 3 crayola_24_ct, p = 0.91" and the top 5 lines.
+  // The text for one voxel, e.g. "label 3 crayola_24_ct, p = 0.91" and the top 5 lines;
+  // names longer than `max_name_characters` are shortened with "…" (-1: never).
   [[nodiscard]] static QString describe(const Eigen::Vector3d& point, const VoxelState& voxel,
-                                        const LabelSet& labels);
+                                        const LabelSet& labels, int max_name_characters = 32);
 
  private:
   StudioSession& session_;

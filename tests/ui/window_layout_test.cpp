@@ -1,0 +1,203 @@
+// The window's layout: it fits a laptop's 1366x768 screen, long label names
+// are elided (told whole in tooltips) instead of widening the docks, and the
+// heat map's caption says what it shows.
+#include <gtest/gtest.h>
+
+#include <QApplication>
+#include <QDockWidget>
+#include <QPushButton>
+#include <QStatusBar>
+#include <QTableWidget>
+#include <QTest>
+#include <filesystem>
+
+#include "demo_window_fixture.hpp"
+#include "lom/fusion.hpp"
+#include "lom/sequence.hpp"
+#include "lom/ui/box_editor_panel.hpp"
+#include "lom/ui/elision.hpp"
+#include "lom/ui/frame_images_view.hpp"
+#include "lom/ui/fusion_panel.hpp"
+#include "lom/ui/image_pane.hpp"
+#include "lom/ui/label_legend.hpp"
+#include "lom/ui/map_legend_panel.hpp"
+#include "lom/ui/objects_panel.hpp"
+#include "lom/ui/scene_view.hpp"
+#include "tiny_sequence.hpp"
+
+namespace lom::ui {
+namespace {
+
+// A 1366x768 laptop screen less a desktop panel and the window's title bar.
+constexpr int kLaptopWindowHeight = 700;
+constexpr int kLaptopWidth = 1366;
+constexpr int kLongNameLength = 170;
+
+// `name` lengthened to kLongNameLength characters with words joined by '_'
+// (one unbreakable word, as in many datasets).
+std::string longName(const std::string& name) {
+  std::string result = name;
+  while (result.size() < kLongNameLength) result += "_with_a_very_long_description";
+  return result.substr(0, kLongNameLength);
+}
+
+class WindowLayoutTest : public fixture::DemoWindowTest {
+ protected:
+  static void settle() {
+    QApplication::processEvents();
+    QTest::qWait(100);  // posted layout requests and resizes
+  }
+  QDockWidget& dock(const char* name) {
+    auto* widget = window_.findChild<QDockWidget*>(name);
+    EXPECT_NE(widget, nullptr) << name;
+    return *widget;
+  }
+  void expectFitsALaptop(const char* when) {
+    settle();
+    EXPECT_LE(window_.minimumSizeHint().height(), kLaptopWindowHeight) << when;
+    EXPECT_LE(window_.minimumSize().height(), kLaptopWindowHeight) << when;
+    EXPECT_LE(window_.minimumSizeHint().width(), kLaptopWidth) << when;
+    // At that height the timeline and the status bar are inside the window.
+    window_.resize(kLaptopWidth - 100, kLaptopWindowHeight);
+    settle();
+    EXPECT_EQ(window_.height(), kLaptopWindowHeight) << when;
+    const QRect timeline(window_.timeline().mapTo(&window_, QPoint(0, 0)),
+                         window_.timeline().size());
+    EXPECT_LE(timeline.bottom(), window_.statusBar()->geometry().top()) << when;
+    EXPECT_LE(window_.statusBar()->geometry().bottom(), window_.height()) << when;
+    EXPECT_GE(window_.sceneView().height(), 240) << when;
+  }
+  // A copy of the demo whose labels are named with kLongNameLength characters.
+  std::filesystem::path writeLongNamedCopy() {
+    const auto copy = temp_.path() / "long_names";
+    std::filesystem::copy(folder_, copy, std::filesystem::copy_options::recursive);
+    Sequence sequence = loadSequence(copy);
+    std::vector<LabelInfo> labels = sequence.labels.all();
+    for (LabelInfo& label : labels)
+      if (label.id != 0) label.name = longName(label.name);
+    sequence.labels = LabelSet(std::move(labels));
+    saveSequence(sequence, copy);
+    return copy;
+  }
+};
+
+TEST_F(WindowLayoutTest, FitsALaptopScreen) {
+  // A window opened on such a screen starts inside it.
+  const QSize initial = initialWindowSize({kLaptopWidth, 768 - 28});
+  EXPECT_LE(initial.width(), kLaptopWidth);
+  EXPECT_LE(initial.height(), 768 - 28);
+  EXPECT_EQ(initialWindowSize({1920, 1080}), QSize(1280, 960));
+
+  openAndFuse();
+  expectFitsALaptop("with the demo fused");
+
+  // The Fusion panel's depth-range note (two lines) and its Re-fuse button,
+  // scrolled into view in the short window.
+  window_.resize(kLaptopWidth - 100, kLaptopWindowHeight);
+  FusionOptions options = window_.session().fusionOptions();
+  options.map.max_range = 0.1;  // the demo's depths lie beyond
+  window_.session().setFusionOptions(options);
+  window_.session().fuse();
+  waitForFusion();
+  FusionPanel& panel = window_.fusionPanel();
+  ASSERT_FALSE(panel.extendRangeButton().isHidden()) << panel.noteText().toStdString();
+  ASSERT_FALSE(panel.noteText().isEmpty());
+  settle();
+  EXPECT_FALSE(panel.extendRangeButton().visibleRegion().isEmpty());
+  expectFitsALaptop("with the Fusion panel's range note");
+  EXPECT_TRUE(errors_.empty());
+}
+
+TEST_F(WindowLayoutTest, LongLabelNamesAreElidedWithoutWideningTheDocks) {
+  openAndFuse();
+  window_.session().setSelectedLabel(*visibleObjectLabels().begin());
+  settle();
+  const int dock_width = dock("mapLegendDock").width();
+  const int scene_width = window_.sceneView().width();
+  const int legend_width = window_.frameImages().labelLegend().width();
+
+  window_.controller().setDiscardGuard([] { return true; });
+  ASSERT_TRUE(window_.controller().openSequence(fixture::qPath(writeLongNamedCopy())));
+  waitForFusion();
+  window_.session().setSelectedLabel(*visibleObjectLabels().begin());
+  settle();
+
+  EXPECT_EQ(dock("mapLegendDock").width(), dock_width);
+  EXPECT_EQ(dock("boxesDock").width(), dock_width);
+  EXPECT_LT(dock("mapLegendDock").minimumSizeHint().width(), 400);
+  EXPECT_EQ(window_.sceneView().width(), scene_width);
+
+  // The frame's legend: every name elided within the legend, told whole in a tooltip.
+  const LabelLegend& legend = window_.frameImages().labelLegend();
+  EXPECT_EQ(legend.width(), legend_width);
+  const auto& entries = legend.entries();
+  const std::vector<QString> shown = legend.shownNames();
+  ASSERT_FALSE(entries.empty());
+  ASSERT_EQ(shown.size(), entries.size());
+  for (size_t i = 0; i < entries.size(); ++i) {
+    EXPECT_EQ(entries[i].name.size(), kLongNameLength);
+    EXPECT_TRUE(shown[i].endsWith(QStringLiteral("…"))) << shown[i].toStdString();
+    EXPECT_TRUE(entries[i].name.startsWith(shown[i].chopped(1))) << shown[i].toStdString();
+    EXPECT_LE(legend.fontMetrics().horizontalAdvance(shown[i]), legend.width());
+  }
+  const QPoint first_entry(legend.fontMetrics().ascent() + 8, legend.fontMetrics().height() / 2);
+  EXPECT_EQ(legend.toolTipAt(first_entry).toStdString(), entries[0].name.toStdString());
+  EXPECT_TRUE(legend.toolTipAt({legend.width() - 1, legend.height() - 1}).isEmpty());
+
+  // The map legend's table elides its names and tells them in tooltips.
+  auto* table = window_.mapLegend().findChild<QTableWidget*>("mapLegendTable");
+  ASSERT_NE(table, nullptr);
+  ASSERT_GT(table->rowCount(), 1);
+  EXPECT_EQ(table->item(1, 0)->toolTip().size(), kLongNameLength);
+  EXPECT_LE(table->columnViewportPosition(1) + table->columnWidth(1), table->viewport()->width());
+
+  // The label choosers show the chosen name elided, and whole in their tooltips.
+  for (const QComboBox* combo :
+       {static_cast<const QComboBox*>(&window_.boxEditor().newBoxLabel()),
+        static_cast<const QComboBox*>(&window_.objectsPanel().targetCombo())}) {
+    const auto* eliding = qobject_cast<const ElidingComboBox*>(combo);
+    ASSERT_NE(eliding, nullptr) << combo->objectName().toStdString();
+    ASSERT_GE(eliding->currentIndex(), 0) << combo->objectName().toStdString();
+    EXPECT_TRUE(eliding->shownText().endsWith(QStringLiteral("…")))
+        << eliding->shownText().toStdString();
+    EXPECT_EQ(eliding->elidedToolTip().toStdString(), eliding->currentText().toStdString());
+    EXPECT_LT(eliding->minimumSizeHint().width(), 300);
+  }
+
+  // The heat map's caption too.
+  const ImagePane& heat = window_.frameImages().heatPane();
+  EXPECT_TRUE(heat.caption().startsWith("Probability of ")) << heat.caption().toStdString();
+  EXPECT_EQ(heat.caption().size(), QString("Probability of ").size() + kLongNameLength);
+  EXPECT_TRUE(heat.shownCaption().endsWith(QStringLiteral("…")));
+  EXPECT_LE(heat.fontMetrics().horizontalAdvance(heat.shownCaption()), heat.width());
+  EXPECT_EQ(heat.captionToolTip().toStdString(), heat.caption().toStdString());
+  EXPECT_TRUE(errors_.empty());
+}
+
+TEST_F(WindowLayoutTest, HeatMapCaptionSaysWhatItShows) {
+  const ImagePane& heat = window_.frameImages().heatPane();
+  EXPECT_EQ(heat.caption().toStdString(), "Probability");  // nothing open
+
+  openAndFuse();
+  window_.frameImages().setHeatLabel(-1);
+  EXPECT_EQ(heat.caption().toStdString(), "Probability (choose a label)");
+  const int label = *visibleObjectLabels().begin();
+  window_.session().setSelectedLabel(label);
+  const QString name =
+      QString::fromStdString(window_.controller().sequence().labels.at(label).name);
+  EXPECT_EQ(heat.caption().toStdString(), "Probability of " + name.toStdString());
+  // Elided or not, depending on the pane's width: the tooltip tells what is cut.
+  EXPECT_EQ(heat.captionToolTip().isEmpty(), heat.shownCaption() == heat.caption());
+  EXPECT_FALSE(heat.image().isNull());
+
+  // A recording without probability images (the tiny sequence has label images only).
+  const test::TinySequence tiny = test::writeTinySequence(temp_.path() / "tiny");
+  window_.controller().setDiscardGuard([] { return true; });
+  ASSERT_TRUE(window_.controller().openSequence(fixture::qPath(tiny.folder)));
+  EXPECT_EQ(heat.caption().toStdString(), "Probability (no probability images)");
+  EXPECT_TRUE(heat.image().isNull());
+  EXPECT_TRUE(errors_.empty());
+}
+
+}  // namespace
+}  // namespace lom::ui
