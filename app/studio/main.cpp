@@ -127,7 +127,8 @@ Parsed parseArguments(const QStringList& words, StudioArguments& arguments) {
     bool ok = false;
     arguments.frame = parser.value(frame_option).toInt(&ok);
     if (!ok || arguments.frame < 0)
-      return {usageError("--frame: expected a frame index >= 0, found '" +
+      return {usageError("--frame: expected a frame index from 0 (below the sequence's frame "
+                         "count), found '" +
                          parser.value(frame_option).toStdString() + "'"),
               Request::Run};
   }
@@ -298,6 +299,11 @@ int main(int argc, char** argv) {
   if (!arguments.screenshot.isEmpty()) {
     // No one is there to close a dialog: errors go to stderr and the exit code.
     bool failed = false;
+    window.recentSequences().freeze();  // a picture taken is not a session to reopen
+    window.setWarningReporter([](const QString& title, const QString& message) {
+      std::cerr << "labeloctomap-studio: warning: " << title.toStdString() << ": "
+                << message.toStdString() << "\n";
+    });
     window.setErrorReporter([&failed](const QString& title, const QString& message) {
       std::cerr << "labeloctomap-studio: " << title.toStdString() << ": " << message.toStdString()
                 << "\n";

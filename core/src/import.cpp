@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iomanip>
+#include <iterator>
 #include <sstream>
 
 #include "import_internal.hpp"
@@ -318,6 +319,24 @@ fs::path defaultImportCacheRoot() {
   return fs::temp_directory_path() / "labeloctomap-imports";
 }
 
+namespace {
+
+constexpr const char* kSkippedFramesFile = "skipped-frames.txt";
+
+std::string skippedFramesText(const ImportReport& report, const fs::path& source) {
+  std::ostringstream text;
+  text << report.skipped.size() << " of " << report.frames_found << " frames of " << source.string()
+       << " could not be converted and are left out:\n";
+  constexpr size_t kListed = 20;
+  for (size_t i = 0; i < report.skipped.size() && i < kListed; ++i)
+    text << "  " << report.skipped[i].frame << ": " << report.skipped[i].reason << "\n";
+  if (report.skipped.size() > kListed)
+    text << "  ... and " << report.skipped.size() - kListed << " more\n";
+  return text.str();
+}
+
+}  // namespace
+
 OpenedSource openSource(const fs::path& path, const ImportOptions& options,
                         const fs::path& cache_root, const ImportProgressCallback& progress) {
   const SourceDetection detection = detectSource(path);
@@ -345,6 +364,8 @@ OpenedSource openSource(const fs::path& path, const ImportOptions& options,
   if (isFile(opened.folder / "sequence.json")) {
     opened.sequence = loadSequence(opened.folder);
     opened.reused_cache = true;
+    if (std::ifstream in(opened.folder / kSkippedFramesFile); in)
+      opened.skipped_frames.assign(std::istreambuf_iterator<char>(in), {});
     return opened;
   }
   fs::create_directories(root, ec);
@@ -363,6 +384,11 @@ OpenedSource openSource(const fs::path& path, const ImportOptions& options,
   if (opened.report.cancelled) {
     fs::remove_all(partial, ec);
     return opened;
+  }
+  if (!opened.report.skipped.empty()) {
+    opened.skipped_frames = skippedFramesText(opened.report, path);
+    // Inside the folder before it is renamed into place: complete or absent.
+    std::ofstream(partial / kSkippedFramesFile) << opened.skipped_frames;
   }
   fs::rename(partial, opened.folder, ec);
   if (ec) {  // another process finished the same conversion first

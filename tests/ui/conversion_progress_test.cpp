@@ -135,6 +135,9 @@ class ConversionProgressTest : public ::testing::Test {
     window_.setErrorReporter([this](const QString& title, const QString& message) {
       errors_.push_back({title, message});
     });
+    window_.setWarningReporter([this](const QString& title, const QString& message) {
+      warnings_.push_back({title, message});
+    });
     window_.setRecoveryOffer([](const QString&) { return false; });
     window_.resize(1280, 800);
     window_.show();
@@ -180,6 +183,7 @@ class ConversionProgressTest : public ::testing::Test {
   lom::test::TinySequence tiny_;
   MainWindow window_;
   std::vector<ReportedError> errors_;
+  std::vector<ReportedError> warnings_;
   FirstFrameGate gate_;
 };
 
@@ -265,8 +269,7 @@ TEST_F(ConversionProgressTest, CancelKeepsTheOpenSequenceAndReportsNoError) {
   // ... and the recording opens normally afterwards.
   controller().setSourceOpener({});
   ASSERT_TRUE(controller().openSequence(qPath(folder)));
-  EXPECT_EQ(controller().sequenceName().toStdString().rfind("cancelled_frames-", 0), 0u)
-      << controller().sequenceName().toStdString();
+  EXPECT_EQ(controller().sequenceName(), "cancelled_frames");
   EXPECT_TRUE(errors_.empty());
 }
 
@@ -316,8 +319,7 @@ TEST_F(ConversionProgressTest, SecondOpenWhileConvertingIsRefused) {
   EXPECT_TRUE(asked);
   EXPECT_FALSE(second_opened);
   EXPECT_TRUE(errors_.empty());
-  EXPECT_EQ(controller().sequenceName().toStdString().rfind("first_frames-", 0), 0u)
-      << controller().sequenceName().toStdString();
+  EXPECT_EQ(controller().sequenceName(), "first_frames");
 }
 
 TEST_F(ConversionProgressTest, ClosingTheWindowWhileConvertingAsksAndStopsIt) {
@@ -342,6 +344,37 @@ TEST_F(ConversionProgressTest, ClosingTheWindowWhileConvertingAsksAndStopsIt) {
   expectTinyStillOpen();
   EXPECT_EQ(visibleProgressDialog(), nullptr);
   EXPECT_EQ(cacheLeftovers("closing_frames"), std::vector<std::string>());
+}
+
+// A damaged frame is left out of the conversion: the user is told which and
+// why, also when the cached conversion is opened again, and the recording
+// goes by its own name, not the cache folder's.
+TEST_F(ConversionProgressTest, FramesLeftOutOfAConversionAreReportedEveryTimeItOpens) {
+  const fs::path folder = framesLayout("damaged_frames");
+  const fs::path damaged = folder / "frame-000001.depth.png";
+  const auto size = fs::file_size(damaged);
+  fs::resize_file(damaged, size / 2);
+  for (int open = 0; open < 2; ++open) {
+    SCOPED_TRACE(open == 0 ? "converted" : "from the cache");
+    warnings_.clear();
+    ASSERT_TRUE(controller().openSequence(qPath(folder)));
+    EXPECT_TRUE(errors_.empty());
+    EXPECT_EQ(controller().frameCount(), lom::test::kTinyFrames - 1);
+    EXPECT_EQ(controller().sequenceName(), "damaged_frames");
+    ASSERT_EQ(warnings_.size(), 1u);
+    EXPECT_EQ(warnings_.front().title, "Frames left out");
+    const std::string message = warnings_.front().message.toStdString();
+    EXPECT_NE(message.find("1 of " + std::to_string(lom::test::kTinyFrames) + " frames"),
+              std::string::npos)
+        << message;
+    EXPECT_NE(message.find("frame-000001"), std::string::npos) << message;
+    EXPECT_NE(message.find("PNG ends inside"), std::string::npos) << message;
+    ASSERT_TRUE(controller().openSequence(qPath(tiny_.folder)));
+  }
+  // A complete recording opens without a word.
+  warnings_.clear();
+  ASSERT_TRUE(controller().openSequence(qPath(framesLayout("complete_frames"))));
+  EXPECT_TRUE(warnings_.empty());
 }
 
 TEST_F(ConversionProgressTest, PlainSequenceOpensWithoutConversion) {

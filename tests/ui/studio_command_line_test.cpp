@@ -8,6 +8,7 @@
 #include <iterator>
 #include <string>
 
+#include "lom/annotations.hpp"
 #include "test_support.hpp"
 #include "tiny_sequence.hpp"
 
@@ -58,6 +59,35 @@ TEST(StudioCommandLine, ScreenshotWritesAPictureOfTheWindow) {
   const QImage shot(qPath(out));
   ASSERT_FALSE(shot.isNull());
   EXPECT_GE(shot.width(), 800);
+}
+
+// Boxes of a label the sequence lacks are kept and reported: a warning on
+// stderr, not a failure; and taking a picture is not a session to reopen, so
+// the Recent list stays as it was.
+TEST(StudioCommandLine, ScreenshotWarnsAboutUnknownLabelsAndLeavesTheRecentListAlone) {
+  lom::test::TempDir temp;
+  const auto tiny = lom::test::writeTinySequence(temp / "seq");
+  lom::Annotations boxes;
+  lom::GroundTruthBox box;
+  box.label = 99;
+  box.name = "mystery";
+  box.box.center = {0.1, 0.0, 0.6};
+  box.box.size = {0.05, 0.05, 0.05};
+  boxes.boxes.push_back(box);
+  lom::saveAnnotations(boxes, tiny.folder / "annotations.json");
+  QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
+  environment.insert("XDG_CONFIG_HOME", qPath(temp / "config"));
+  const auto out = temp / "window.png";
+  const StudioRun run = runStudio({"--screenshot", qPath(out), qPath(tiny.folder)}, environment);
+  EXPECT_EQ(run.exit_code, 0) << run.err.toStdString();
+  EXPECT_TRUE(run.err.contains("warning: Boxes with unknown labels")) << run.err.toStdString();
+  EXPECT_TRUE(run.err.contains("label 99")) << run.err.toStdString();
+  EXPECT_FALSE(QImage(qPath(out)).isNull());
+  std::string settings;
+  if (std::filesystem::exists(temp / "config"))
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(temp / "config"))
+      if (entry.is_regular_file()) settings += slurp(entry.path());
+  EXPECT_EQ(settings.find("recentSequences"), std::string::npos) << settings;
 }
 
 TEST(StudioCommandLine, BrokenSequenceExitsWithItsMessage) {

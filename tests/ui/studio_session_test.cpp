@@ -54,6 +54,9 @@ class StudioSessionTest : public fixture::DemoWindowTest {
 };
 
 TEST_F(StudioSessionTest, FusesTheDemoLiveAndTheLegendListsItsLabels) {
+  // Before any fusion the frame count is not made up ("fused 0/1").
+  EXPECT_EQ(window_.fusionStatusText().trimmed(), "not fused")
+      << window_.fusionStatusText().toStdString();
   openAndFuse();
   EXPECT_TRUE(errors_.empty()) << errors_.front().toStdString();
   const auto snapshot = window_.session().worker().snapshot();

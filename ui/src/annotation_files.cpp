@@ -32,7 +32,7 @@ void reportUnknownLabels(StudioSession& session, const Annotations& boxes, const
   if (!session.sequence()) return;
   const QString message = unknownLabelsMessage(boxes, session.sequence()->labels, file);
   if (!message.isEmpty())
-    emit session.controller().errorOccurred(QObject::tr("Boxes with unknown labels"), message);
+    emit session.controller().warningOccurred(QObject::tr("Boxes with unknown labels"), message);
 }
 
 bool isSequenceJson(const QFileInfo& info) {

@@ -12,7 +12,9 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
     : QWidget(parent), progress_(new QProgressBar), rate_(new QLabel) {
   setObjectName("fusionStatus");
   progress_->setMaximumWidth(160);
-  progress_->setFormat(tr("fused %v/%m"));
+  // Until a fusion reports its first frame the frame count is unknown: say
+  // "not fused" rather than a made-up "0/1".
+  progress_->setFormat(tr("not fused"));
   progress_->setRange(0, 1);
   progress_->setValue(0);
   auto* layout = new QHBoxLayout(this);
@@ -20,6 +22,7 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
   layout->addWidget(progress_);
   layout->addWidget(rate_);
   connect(&worker, &MapWorker::fusionProgress, this, [this](int done, int total, double rate) {
+    progress_->setFormat(tr("fused %v/%m"));
     progress_->setRange(0, std::max(1, total));
     progress_->setValue(done);
     rate_->setText(tr("%1 frames/s").arg(rate, 0, 'f', 1));
@@ -32,6 +35,7 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
   });
   connect(&worker, &MapWorker::snapshotChanged, this, [this, &worker] {
     if (worker.snapshot()->frames_fused == 0 && !worker.isFusing()) {
+      progress_->setFormat(tr("not fused"));
       progress_->setValue(0);
       rate_->clear();
     }

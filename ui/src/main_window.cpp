@@ -125,6 +125,7 @@ QSize initialWindowSize(const QSize& available) {
 MainWindow::MainWindow(QWidget* parent)
     : QMainWindow(parent),
       report_error_(messageBoxErrorReporter(this)),
+      report_warning_(messageBoxErrorReporter(this)),
       session_(new StudioSession(this)),
       controller_(&session_->controller()),
       frame_images_(new FrameImagesView),
@@ -175,6 +176,9 @@ MainWindow::MainWindow(QWidget* parent)
 
   connect(controller_, &SequenceController::errorOccurred, this,
           [this](const QString& title, const QString& message) { report_error_(title, message); });
+  connect(
+      controller_, &SequenceController::warningOccurred, this,
+      [this](const QString& title, const QString& message) { report_warning_(title, message); });
   connect(controller_, &SequenceController::conversionFinished, this,
           [this](const QString& name, bool cancelled) {
             if (cancelled)

@@ -13,6 +13,7 @@ QStringList RecentSequences::paths() const {
 }
 
 void RecentSequences::add(const QString& path) {
+  if (frozen_) return;
   QStringList list = paths();
   list.removeAll(path);
   list.prepend(path);

@@ -113,6 +113,11 @@ bool SequenceController::openSequence(const QString& folder_or_json) {
   loadCurrentFrame();
   emit sequenceChanged();
   emit currentFrameChanged(current_frame_);
+  if (!opened.skipped_frames.empty())
+    emit warningOccurred(tr("Frames left out"),
+                         QString::fromStdString(opened.skipped_frames) +
+                             tr("\nThe other frames are open. Repair or replace these files and "
+                                "open the recording again to convert them."));
   return true;
 }
 
@@ -218,6 +223,9 @@ std::optional<OpenedSource> SequenceController::convert(const QString& path) {
 
 QString SequenceController::sequenceName() const {
   if (!sequence_) return {};
+  // A converted recording is known by its own name, not by its cache folder's
+  // (which carries a hash).
+  if (converted_) return QFileInfo(QDir::cleanPath(sequence_path_)).fileName();
   return QString::fromStdString(sequence_->root.filename().string());
 }
 

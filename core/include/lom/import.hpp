@@ -164,6 +164,10 @@ struct OpenedSource {
   bool converted = false;        // false when the source was a sequence
   bool reused_cache = false;     // true when an earlier conversion was reused
   ImportReport report;           // of the conversion (only when converted and not reused)
+  // When the conversion left frames out (damaged images, missing poses): how
+  // many and why, kept beside the cached sequence so that a reused
+  // conversion says it too. Empty otherwise.
+  std::string skipped_frames;
 };
 [[nodiscard]] OpenedSource openSource(const std::filesystem::path& path,
                                       const ImportOptions& options = {},

@@ -55,6 +55,10 @@ class MainWindow : public QMainWindow {
 
   // Replaces the message box used for errors (tests, screenshot mode).
   void setErrorReporter(ErrorReporter reporter) { report_error_ = std::move(reporter); }
+  // Replaces the message box used for warnings: what was opened is usable,
+  // but something in it was left out (frames a conversion skipped, boxes of
+  // unknown labels). The screenshot mode prints them and carries on.
+  void setWarningReporter(ErrorReporter reporter) { report_warning_ = std::move(reporter); }
   // Replaces the question asked before restoring a recovery file (tests).
   void setRecoveryOffer(std::function<bool(const QString&)> offer);
 
@@ -77,6 +81,7 @@ class MainWindow : public QMainWindow {
 
   RecentSequences recent_;
   ErrorReporter report_error_;
+  ErrorReporter report_warning_;
   StudioSession* session_;
   SequenceController* controller_;
   MapLegendPanel* map_legend_ = nullptr;

@@ -92,6 +92,9 @@ class SequenceController : public QObject {
   void sequenceChanged();
   void currentFrameChanged(int index);
   void errorOccurred(const QString& title, const QString& message);
+  // The sequence opened, but something in it was left out (frames its
+  // conversion skipped, boxes with labels it does not have).
+  void warningOccurred(const QString& title, const QString& message);
   // A conversion has run for progressDelay(): show its progress now.
   void conversionStarted(const QString& name);
   // Frames converted (or skipped) so far; total is 0 while still unknown.
