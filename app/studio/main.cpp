@@ -10,9 +10,12 @@
 #include <QFileInfo>
 #include <QImage>
 #include <QThread>
+#include <algorithm>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "lom/import.hpp"
 #include "lom/render/map_render.hpp"
@@ -223,6 +226,31 @@ bool waitForFusion(lom::ui::MainWindow& window) {
 
 // `failed` turns true when the window reports an error (an unreadable frame or
 // boxes file, fusion stopped): the picture would not show what was asked for.
+// The file of the sequence (or of the recording converted) that `shot` would
+// replace; empty when it is none of them.
+std::string inputAt(const std::filesystem::path& shot,
+                    const lom::ui::SequenceController& controller) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const lom::Sequence& sequence = controller.sequence();
+  std::vector<fs::path> inputs = {sequence.root / "sequence.json",
+                                  sequence.root / "annotations.json"};
+  for (const auto& frame : sequence.frames)
+    for (const std::string* name : {&frame.depth, &frame.color, &frame.proba, &frame.label})
+      if (!name->empty()) inputs.push_back(sequence.pathOf(*name));
+  for (const auto& input : inputs)
+    if (fs::equivalent(shot, input, ec)) return input.string();
+  // A converted recording's own files are not the sequence's: none inside its folder.
+  const fs::path source = controller.sequencePath().toStdString();
+  if (controller.isConverted() && fs::is_directory(source, ec) && fs::exists(shot, ec)) {
+    const fs::path folder = fs::canonical(source, ec), file = fs::weakly_canonical(shot, ec);
+    if (!folder.empty() &&
+        std::mismatch(folder.begin(), folder.end(), file.begin(), file.end()).first == folder.end())
+      return file.string() + " (a file of the recording " + source.string() + ")";
+  }
+  return {};
+}
+
 int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments,
                    const bool& failed) {
   auto& controller = window.controller();
@@ -234,6 +262,16 @@ int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments
               << ")\n";
     return 2;
   }
+  if (const std::string input = inputAt(arguments.screenshot.toStdString(), controller);
+      !input.empty()) {
+    std::cerr << "labeloctomap-studio: --screenshot " << arguments.screenshot.toStdString()
+              << " would replace the input " << input << "; choose another file name\n";
+    return 2;
+  }
+  if (arguments.intrinsics && !controller.isConverted())
+    std::cerr << "labeloctomap-studio: note: --intrinsics is not used: "
+              << controller.sequencePath().toStdString()
+              << " is a sequence with its own camera (it applies to recordings being converted)\n";
   controller.setCurrentFrame(arguments.frame);
   if (arguments.fuse) {
     // A picture of the fused map: the map's voxels without the frame's points.

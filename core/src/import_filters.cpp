@@ -2,6 +2,8 @@
 // depth edges and optional edge-preserving (bilateral) smoothing.
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 #include "lom/error.hpp"
 #include "lom/import.hpp"
@@ -10,15 +12,22 @@ namespace lom {
 
 namespace {
 
+// 1000000 and 0.05 as typed, not 1000000.000000 and 0.050000.
+std::string numberText(double value) {
+  std::ostringstream text;
+  text << std::setprecision(15) << value;
+  return text.str();
+}
+
 void checkOptions(const DepthFilterOptions& o) {
   auto fail = [](const std::string& field, const std::string& expected, double found) {
-    throw Error("", field, expected, std::to_string(found));
+    throw Error("", field, expected, numberText(found));
   };
   if (!std::isfinite(o.min_depth) || o.min_depth < 0.0)
     fail("min_depth", "a non-negative depth in metres", o.min_depth);
   if (!std::isfinite(o.max_depth)) fail("max_depth", "a depth in metres (<= 0: no limit)", o.max_depth);
   if (o.max_depth > 0.0 && o.max_depth <= o.min_depth)
-    fail("max_depth", "a depth above min_depth (" + std::to_string(o.min_depth) + " m) or <= 0",
+    fail("max_depth", "a depth above min_depth (" + numberText(o.min_depth) + " m) or <= 0",
          o.max_depth);
   if (o.flying_pixels) {
     if (!(o.flying_pixel_ratio > 0.0) || !std::isfinite(o.flying_pixel_ratio))

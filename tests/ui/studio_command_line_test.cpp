@@ -9,6 +9,7 @@
 #include <string>
 
 #include "lom/annotations.hpp"
+#include "lom/sequence.hpp"
 #include "test_support.hpp"
 #include "tiny_sequence.hpp"
 
@@ -88,6 +89,19 @@ TEST(StudioCommandLine, ScreenshotWarnsAboutUnknownLabelsAndLeavesTheRecentListA
     for (const auto& entry : std::filesystem::recursive_directory_iterator(temp / "config"))
       if (entry.is_regular_file()) settings += slurp(entry.path());
   EXPECT_EQ(settings.find("recentSequences"), std::string::npos) << settings;
+}
+
+// The picture never replaces a file of the sequence it shows.
+TEST(StudioCommandLine, ScreenshotRefusesToReplaceAFileOfTheSequence) {
+  lom::test::TempDir temp;
+  const auto tiny = lom::test::writeTinySequence(temp / "seq");
+  const lom::Sequence sequence = lom::loadSequence(tiny.folder);
+  const auto colour = sequence.pathOf(sequence.frames[0].color);
+  const std::string before = slurp(colour);
+  const StudioRun run = runStudio({"--screenshot", qPath(colour), qPath(tiny.folder)});
+  EXPECT_EQ(run.exit_code, 2) << run.err.toStdString();
+  EXPECT_TRUE(run.err.contains("would replace the input")) << run.err.toStdString();
+  EXPECT_EQ(slurp(colour), before);
 }
 
 TEST(StudioCommandLine, BrokenSequenceExitsWithItsMessage) {

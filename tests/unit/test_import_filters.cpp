@@ -116,6 +116,15 @@ TEST(ImportFilters, OptionsOutOfRangeAreNamed) {
   options = {};
   options.bilateral_radius = 99;
   EXPECT_THROW(filterDepth(depth, options), Error);
+  // Values are shown as given, not as 1000000.000000.
+  options = {};
+  options.flying_pixel_radius = 1000000;
+  try {
+    filterDepth(depth, options);
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.problem().found, "1000000");
+  }
 }
 
 TEST(ImportKinds, NamesRoundTrip) {
