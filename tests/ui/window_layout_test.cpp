@@ -86,7 +86,7 @@ TEST_F(WindowLayoutTest, FitsALaptopScreen) {
   const QSize initial = initialWindowSize({kLaptopWidth, 768 - 28});
   EXPECT_LE(initial.width(), kLaptopWidth);
   EXPECT_LE(initial.height(), 768 - 28);
-  EXPECT_EQ(initialWindowSize({1920, 1080}), QSize(1280, 960));
+  EXPECT_EQ(initialWindowSize({1920, 1080}), QSize(1280, 1000));
 
   openAndFuse();
   expectFitsALaptop("with the demo fused");

@@ -6,6 +6,7 @@
 #include <QLabel>
 #include <QMessageBox>
 #include <QPushButton>
+#include <QScrollBar>
 #include <QStyleOptionHeader>
 #include <QTableWidget>
 #include <QTimer>
@@ -52,6 +53,22 @@ class CompactHeader : public QHeaderView {
   }
 };
 
+// Asks for the height of its rows (3 to 8 of them) instead of Qt's fixed 192
+// px: the dock's layout sizes the panel from its widgets' size hints, and the
+// extra height pushed the score chart below the fold at common window sizes.
+class ScoreTable : public QTableWidget {
+ public:
+  ScoreTable(int rows, int columns) : QTableWidget(rows, columns) {}
+
+  [[nodiscard]] QSize sizeHint() const override {
+    const int rows = std::clamp(rowCount(), 3, 8);
+    const int height = horizontalHeader()->sizeHint().height() +
+                       rows * verticalHeader()->defaultSectionSize() + 2 * frameWidth() +
+                       (horizontalScrollBar()->isVisible() ? horizontalScrollBar()->height() : 0);
+    return {QTableWidget::sizeHint().width(), height};
+  }
+};
+
 // A number cell that sorts by its exact value, whatever text it shows.
 class NumberItem : public QTableWidgetItem {
  public:
@@ -79,7 +96,7 @@ QTableWidgetItem* scoreItem(double value) {
 EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
     : QWidget(parent),
       session_(session),
-      table_(new QTableWidget(0, Columns)),
+      table_(new ScoreTable(0, Columns)),
       summary_(new QLabel),
       chart_(new ScoreChart),
       export_(new QPushButton(tr("Export report…"))),
@@ -127,7 +144,7 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
 
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(2, 2, 2, 2);
-  layout->addWidget(table_, 2);
+  layout->addWidget(table_);  // as tall as its rows (ScoreTable); the chart takes what is left
   layout->addWidget(summary_);
   layout->addWidget(chart_, 1);
   auto* buttons = new QHBoxLayout;
@@ -181,6 +198,7 @@ void EvaluationPanel::clearReport(const QString& message) {
   stale_ = true;
   awaiting_ = false;  // results of evaluations asked for before are dropped
   table_->setRowCount(0);
+  table_->updateGeometry();  // its height follows its rows
   chart_->setObjects({});
   export_->setEnabled(false);
   showMessage(message);
@@ -215,6 +233,7 @@ void EvaluationPanel::show(const EvaluationReport& report) {
   stale_ = debounce_->isActive() || session_.worker().isEvaluating();
   table_->setSortingEnabled(false);
   table_->setRowCount(static_cast<int>(report.objects.size()));
+  table_->updateGeometry();  // its height follows its rows
   for (int row = 0; row < table_->rowCount(); ++row) {
     const ObjectScore& object = report.objects[static_cast<size_t>(row)];
     QTableWidgetItem* label = new NumberItem(object.label, QString::number(object.label));

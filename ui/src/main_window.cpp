@@ -63,7 +63,7 @@ bool confirmDiscardUnsavedWork(QWidget* parent) {
 }
 
 // The size the window opens at when the screen has room for it.
-constexpr QSize kPreferredWindowSize(1280, 960);
+constexpr QSize kPreferredWindowSize(1280, 1000);
 // Room left on the screen for the window manager's title bar and borders.
 constexpr QSize kWindowFrameAllowance(16, 40);
 // A dock shrinks to this height and scrolls its content when the window is
@@ -248,7 +248,7 @@ void MainWindow::createDocks() {
   // On a short screen the three dock groups share the height in about these
   // proportions (each scrolls what does not fit) rather than the map's labels
   // shrinking to two rows.
-  resizeDocks({labels, fusion, scores}, {3, 3, 4}, Qt::Vertical);
+  resizeDocks({labels, fusion, scores}, {6, 6, 10}, Qt::Vertical);
   connect(objects_panel_, &ObjectsPanel::objectBoxesChanged, this,
           [this](const std::vector<ObjectInstance>& shown) {
             if (!session_->sequence()) return scene_view_->showObjectBoxes({}, {});

@@ -27,7 +27,7 @@ class ScoreChart : public QWidget {
   // all fit, only every n-th is drawn so that none overlap, and all lie
   // inside the widget.
   [[nodiscard]] std::vector<AxisLabel> axisLabels() const;
-  [[nodiscard]] QSize sizeHint() const override { return {320, 170}; }
+  [[nodiscard]] QSize sizeHint() const override { return {320, 130}; }
   // Colours of the three methods, in the order above.
   [[nodiscard]] static QColor methodColor(int method);
 
