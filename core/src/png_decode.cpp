@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "image_header.hpp"
 #include "lom/error.hpp"
 
 namespace lom {
@@ -50,6 +51,9 @@ void readImage(png_structp png, png_infop info, Decoding& decoding) {
   png_uint_32 width = 0, height = 0;
   int bit_depth = 0, color_type = 0;
   png_get_IHDR(png, info, &width, &height, &bit_depth, &color_type, nullptr, nullptr, nullptr);
+  // PNG data from a bag has had no header check: a few bytes can declare billions of pixels.
+  if (std::uint64_t{width} * height > kMaxImagePixels)
+    png_error(png, "the image declares more than 134217728 (2^27) pixels");
   const bool transparency = png_get_valid(png, info, PNG_INFO_tRNS) != 0;
   int channels = 1;
   if (color_type == PNG_COLOR_TYPE_RGB || color_type == PNG_COLOR_TYPE_PALETTE)
@@ -106,7 +110,13 @@ cv::Mat decodePng(const std::uint8_t* data, std::size_t size, const std::string&
     throw Error(file, "PNG data", "a PNG whose image data can be decoded",
                 "not enough memory to start decoding");
   }
-  const bool failed = !readGuarded(png, info, decoding);
+  bool failed = false;
+  try {
+    failed = !readGuarded(png, info, decoding);
+  } catch (...) {  // out of memory for the image: libpng's structures go too
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw;
+  }
   png_destroy_read_struct(&png, &info, nullptr);
   if (failed)
     throw Error(file, "PNG data", "a PNG whose image data can be decoded",

@@ -181,6 +181,12 @@ TEST(PngDecodeTest, DamagedImageDataIsOneErrorWithLibpngsReasonAndNothingPrinted
   }
   EXPECT_NE(errorOf([&] { (void)lom::readLabelImage(dir / "filter.png"); }).found.find("filter"),
             std::string::npos);
+
+  // PNG data in a bag has had no header check: billions of declared pixels are refused
+  // before anything is allocated.
+  const std::string huge = handMadePng(20000, 20000, rows);
+  const lom::Problem problem = errorOf([&] { (void)decodedHere(huge); });
+  EXPECT_NE(problem.found.find("more than 134217728"), std::string::npos) << problem.found;
 }
 
 }  // namespace
