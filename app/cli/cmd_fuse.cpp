@@ -175,6 +175,8 @@ int runFuse(const Words& words) {
   inputs.addSequence(sequence);
   checkOutputFile(out, "out", ".ot", what, inputs);
   checkFusionOptionsForSequence(options, sequence);
+  for (const auto& jump : cameraJumps(sequence))
+    std::cerr << "warning: " << jump << ": the map will span that distance\n";
 
   const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
   std::vector<double> frame_seconds;

@@ -185,6 +185,7 @@ int runValidate(const Words& words) {
   args.expectOnly({}, 1);
   const std::string path = args.positional(0, "SEQ (a sequence folder or sequence.json)");
   std::vector<Problem> problems;
+  std::vector<std::string> jumps;
   size_t frames = 0;
   try {
     if (isMapFile(path))
@@ -195,11 +196,17 @@ int runValidate(const Words& words) {
     const Sequence sequence = loadSequence(path);
     frames = sequence.frames.size();
     problems = validateSequence(sequence);
+    jumps = cameraJumps(sequence);
   } catch (const Error& e) {
     problems.push_back(e.problem());
   }
+  // Poses are valid numbers either way: a jump is worth a look, not a failure.
+  for (const auto& jump : jumps) std::cout << "warning: " << jump << "\n";
   if (problems.empty()) {
-    std::cout << "OK: " << frames << " frames valid\n";
+    std::cout << "OK: " << frames << " frames valid";
+    if (!jumps.empty())
+      std::cout << " (" << jumps.size() << (jumps.size() == 1 ? " warning" : " warnings") << ")";
+    std::cout << "\n";
     return 0;
   }
   for (const auto& problem : problems) std::cout << problem.message() << "\n";

@@ -89,6 +89,23 @@ TEST_F(CliInfoTest, ValidateAcceptsAGoodSequence) {
   EXPECT_NE(result.out.find("OK: 3 frames valid"), std::string::npos) << result.out;
 }
 
+// A camera 300 m away from the frame before: valid numbers, so not a failure,
+// but a warning naming the frame and the distance (validate and fuse).
+TEST_F(CliInfoTest, CameraJumpsAreWarnedAbout) {
+  lom::Sequence sequence = lom::loadSequence(seq());
+  sequence.frames[2].T_world_camera.translation() += Eigen::Vector3d(300.0, 0.0, 0.0);
+  lom::saveSequence(sequence, seq());
+  const auto result = lom::test::runCli("validate " + quoted(seq()));
+  EXPECT_EQ(result.exit_code, 0) << result.out << result.err;
+  EXPECT_NE(result.out.find("warning: frames[2].T_world_camera: the camera is 300.2 m from where "
+                            "it was in frames[1]"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find("OK: 3 frames valid (1 warning)"), std::string::npos) << result.out;
+  const auto fused = lom::test::runCli("fuse " + quoted(seq()) + " --out " + quoted(dir / "m.ot"));
+  EXPECT_NE(fused.err.find("warning: frames[2].T_world_camera"), std::string::npos) << fused.err;
+}
+
 TEST_F(CliInfoTest, ValidateListsEveryProblemOfABrokenSequence) {
   fs::remove(seq() / "frames/1.depth.png");
   lom::writeLabelPng(seq() / "frames/2.label.png",

@@ -308,6 +308,18 @@ TEST_F(BoxFilesTest, BoxesWithUnknownLabelsAreReportedByFileAndIndex) {
       << warnings_.front().toStdString();
 }
 
+// A pose 50 m off: the sequence opens, with a warning naming the frame.
+TEST_F(BoxFilesTest, CameraJumpsAreAWarningWhenTheSequenceOpens) {
+  lom::Sequence sequence = lom::loadSequence(tiny_.folder);
+  sequence.frames[1].T_world_camera.translation() += Eigen::Vector3d(0.0, 50.0, 0.0);
+  lom::saveSequence(sequence, tiny_.folder);
+  ASSERT_TRUE(open(tiny_.folder));
+  EXPECT_TRUE(errors_.isEmpty()) << errors_.join('\n').toStdString();
+  ASSERT_EQ(warnings_.size(), 1) << warnings_.join('\n').toStdString();
+  EXPECT_TRUE(warnings_.front().startsWith("Camera jumps: frames[1].T_world_camera"))
+      << warnings_.front().toStdString();
+}
+
 TEST_F(BoxFilesTest, SavingKeepsThePermissionsOfTheFileItReplaces) {
   Annotations annotations;
   annotations.boxes.push_back(boxOf(1, "square_box"));

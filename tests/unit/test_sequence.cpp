@@ -169,6 +169,24 @@ TEST_F(SequenceTest, RoundTripKeepsEveryFieldAndPosesExactly) {
   EXPECT_EQ(slurp(json()), first);
 }
 
+TEST(CameraJumps, NamesEachStepLongerThanTheLimit) {
+  lom::Sequence sequence;
+  for (const double x : {0.0, 0.05, 300.05, 300.1, 9.0}) {
+    lom::FrameRecord frame;
+    frame.T_world_camera.translation() = Eigen::Vector3d(x, 0.0, 1.0);
+    sequence.frames.push_back(frame);
+  }
+  const auto jumps = lom::cameraJumps(sequence);
+  ASSERT_EQ(jumps.size(), 2u);
+  EXPECT_EQ(jumps[0],
+            "frames[2].T_world_camera: the camera is 300 m from where it was in frames[1] (a wrong "
+            "pose?)");
+  EXPECT_NE(jumps[1].find("frames[4]"), std::string::npos) << jumps[1];
+  EXPECT_NE(jumps[1].find("291.1 m"), std::string::npos) << jumps[1];
+  EXPECT_EQ(lom::cameraJumps(sequence, 1000.0).size(), 0u);
+  EXPECT_EQ(lom::cameraJumps(sequence, 0.01).size(), 4u);
+}
+
 TEST_F(SequenceTest, AcceptsTheJsonPathAndAppliesDefaults) {
   writeSmallSequence(dir.path());
   Json j = readJson(json());

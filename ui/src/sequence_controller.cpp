@@ -113,6 +113,14 @@ bool SequenceController::openSequence(const QString& folder_or_json) {
   loadCurrentFrame();
   emit sequenceChanged();
   emit currentFrameChanged(current_frame_);
+  if (const auto jumps = cameraJumps(*sequence_); !jumps.empty()) {
+    QStringList lines;
+    for (const auto& jump : jumps) lines << QString::fromStdString(jump);
+    emit warningOccurred(
+        tr("Camera jumps"),
+        lines.join('\n') + tr("\nThe map will span that distance, and a view that fits all of "
+                              "it shows the voxels smaller than a pixel: check these poses."));
+  }
   if (!opened.skipped_frames.empty())
     emit warningOccurred(tr("Frames left out"),
                          QString::fromStdString(opened.skipped_frames) +

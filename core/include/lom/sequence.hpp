@@ -63,6 +63,15 @@ void saveSequence(const Sequence& sequence, const std::filesystem::path& folder)
 // channel count, proba dtype, label ids. Returns all problems found (empty = valid).
 [[nodiscard]] std::vector<Problem> validateSequence(const Sequence& sequence);
 
+// A camera that moves farther between two consecutive frames than
+// `limit_metres` (10 m by default: farther than a depth camera sees, so a
+// wrong pose rather than motion). Fusion would spread the map over that
+// distance, and a view that fits all of it shows the voxels smaller than a
+// pixel. Each message: "frames[i].T_world_camera: the camera is 300 m from
+// where it was in frames[i-1] (a wrong pose?)".
+[[nodiscard]] std::vector<std::string> cameraJumps(const Sequence& sequence,
+                                                   double limit_metres = 10.0);
+
 // Loads one frame's images. Throws lom::Error naming the file and field.
 [[nodiscard]] FrameData loadFrame(const Sequence& sequence, size_t index);
 
