@@ -85,14 +85,14 @@ int runScore(const Words& words) {
   const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
   const std::string what = "the reports";
   // --frames chooses the frames that are fused and projected; a map given
-  // with --map was fused from frames this command cannot know, so its column
-  // would compare unequal things.
-  const auto refuseFramesWithMap = [&](const std::string& where) {
+  // with --map was fused from frames this command cannot know: say so, since
+  // its column is only comparable when it was fused from the same frames.
+  const auto noteFramesWithMap = [&](const std::string& where) {
     if (!args.option("frames")) return;
-    throw UsageError("--frames selects the frames that are fused and projected, but " + where +
-                     " is scored as it was fused; fuse it with the same --frames "
-                     "(labeloctomap fuse SEQ --frames A:B --out MAP.ot) and score without "
-                     "--frames, or leave the map out to fuse frames A:B here");
+    std::cerr << "note: " << where << " is scored as it was fused; --frames "
+              << *args.option("frames")
+              << " chooses the frames projected for the baselines and the 2D metrics, so the "
+                 "comparison is matched only if the map was fused with the same --frames\n";
   };
 
   if (const auto batch = args.option("batch")) {
@@ -105,8 +105,8 @@ int runScore(const Words& words) {
     const std::vector<BatchEntry> entries = readBatchList(*batch);
     for (const auto& entry : entries)
       if (entry.inputs.map)
-        refuseFramesWithMap("the map " + entry.inputs.map->string() + " (" + *batch + " line " +
-                            std::to_string(entry.line) + ")");
+        noteFramesWithMap("the map " + entry.inputs.map->string() + " (" + *batch + " line " +
+                          std::to_string(entry.line) + ")");
     for (const auto& entry : entries) addScoreInputs(entry.inputs, read);
     checkOutputFolder(out, "out", what, read);
     for (const auto& entry : entries) {
@@ -148,7 +148,7 @@ int runScore(const Words& words) {
   inputs.sequence = args.positional(0, "SEQ (a sequence folder)");
   inputs.annotations = args.required("annotations");
   if (const auto map = args.option("map")) {
-    refuseFramesWithMap("the map given with --map");
+    noteFramesWithMap(*map);
     inputs.map = *map;
   }
   inputs.occupancy_threshold = threshold;

@@ -10,7 +10,6 @@
 #include <QFileInfo>
 #include <QImage>
 #include <QThread>
-#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -226,8 +225,9 @@ bool waitForFusion(lom::ui::MainWindow& window) {
 
 // `failed` turns true when the window reports an error (an unreadable frame or
 // boxes file, fusion stopped): the picture would not show what was asked for.
-// The file of the sequence (or of the recording converted) that `shot` would
-// replace; empty when it is none of them.
+// The file of the sequence that `shot` would replace; empty when it is none
+// of them. (A converted recording's own files are not known here: the
+// conversion read them into the cache.)
 std::string inputAt(const std::filesystem::path& shot,
                     const lom::ui::SequenceController& controller) {
   namespace fs = std::filesystem;
@@ -240,14 +240,6 @@ std::string inputAt(const std::filesystem::path& shot,
       if (!name->empty()) inputs.push_back(sequence.pathOf(*name));
   for (const auto& input : inputs)
     if (fs::equivalent(shot, input, ec)) return input.string();
-  // A converted recording's own files are not the sequence's: none inside its folder.
-  const fs::path source = controller.sequencePath().toStdString();
-  if (controller.isConverted() && fs::is_directory(source, ec) && fs::exists(shot, ec)) {
-    const fs::path folder = fs::canonical(source, ec), file = fs::weakly_canonical(shot, ec);
-    if (!folder.empty() &&
-        std::mismatch(folder.begin(), folder.end(), file.begin(), file.end()).first == folder.end())
-      return file.string() + " (a file of the recording " + source.string() + ")";
-  }
   return {};
 }
 

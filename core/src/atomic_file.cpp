@@ -110,8 +110,10 @@ void StagedFiles::addPath(const fs::path& target,
   ::close(fd);
   try {
     write(temporary);
+    // Created empty above: a writer that failed without saying so leaves it
+    // empty (or removes it), and no format written here is empty.
     std::error_code ec;
-    if (!fs::exists(temporary, ec))
+    if (!fs::exists(temporary, ec) || fs::file_size(temporary, ec) == 0 || ec)
       throw Error(target.string(), "output", "the writer to produce the file", "nothing written");
     syncFile(temporary, target);
     keepPermissions(temporary, target);

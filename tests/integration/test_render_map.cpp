@@ -194,6 +194,10 @@ TEST(RenderMap, CameraThatSeesNoVoxelIsAnError) {
   view.T_world_camera.linear().col(2) = Eigen::Vector3d(1, 0, 0);
   options.camera = view;
   EXPECT_NO_THROW((void)lom::render::renderMap(map, options));
+  // Seen voxels count even when drawn in the background's colour.
+  options.labels = std::set<int>{1};
+  options.background = map.labels().at(1).color;
+  EXPECT_NO_THROW((void)lom::render::renderMap(map, options));
 }
 
 TEST(RenderMap, RecordedCameraViewMatchesTheGroundTruthLabels) {

@@ -4,6 +4,7 @@
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkFloatArray.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -257,20 +258,23 @@ ColorImage renderMap(const LabelMap& map, const RenderOptions& options) {
   for (int y = 0; y < out.height; ++y)
     std::memcpy(out.rgb.data() + static_cast<size_t>(y) * row,
                 pixels + static_cast<size_t>(out.height - 1 - y) * row, row);
-  window->Finalize();
   // A recorded camera of another sequence, or one facing away, sees nothing:
-  // a blank picture with a success would look like an empty map.
+  // a blank picture with a success would look like an empty map. Told by
+  // the depth buffer (a voxel drawn in the background colour still counts).
   if (options.camera) {
-    const std::uint8_t background[3] = {options.background[0], options.background[1],
-                                        options.background[2]};
+    vtkNew<vtkFloatArray> depth;
+    window->GetZbufferData(0, 0, options.width - 1, options.height - 1, depth);
     bool blank = true;
-    for (size_t i = 0; i < out.rgb.size() && blank; i += 3)
-      blank = std::memcmp(out.rgb.data() + i, background, 3) == 0;
-    if (blank)
+    for (vtkIdType i = 0; i < depth->GetNumberOfValues() && blank; ++i)
+      blank = depth->GetValue(i) >= 1.0f;
+    if (blank) {
+      window->Finalize();
       throw Error("", "--camera", "a camera that sees part of the map",
                   "no voxel of the map in its view (the camera looks away from the map, or the "
                   "map lies behind it or out of its picture)");
+    }
   }
+  window->Finalize();
   return out;
 }
 
