@@ -138,6 +138,15 @@ TEST_F(StudioSessionTest, MostDepthsBeyondMaxRangeOfferARefuseThatReachesThem) {
   panel.showDepthRanges(room, 1.0);
   EXPECT_TRUE(panel.extendRangeButton().isHidden());
   EXPECT_FALSE(panel.noteText().contains("beyond"));
+  // Frames fused without a single valid depth: said plainly.
+  FrameStats no_depth;
+  no_depth.seconds = 0.01;
+  panel.showDepthRanges(no_depth, 1.0);
+  EXPECT_TRUE(panel.noteText().contains("No frame fused had a valid depth"))
+      << panel.noteText().toStdString();
+  EXPECT_TRUE(panel.extendRangeButton().isHidden());
+  panel.showDepthRanges(FrameStats{}, 1.0);  // nothing fused yet: no claim
+  EXPECT_FALSE(panel.noteText().contains("valid depth")) << panel.noteText().toStdString();
 }
 
 TEST_F(StudioSessionTest, SegmenterChosenInTheFusionPanelFusesFramesWithoutProba) {

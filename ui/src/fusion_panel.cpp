@@ -208,6 +208,11 @@ void FusionPanel::showDepthRanges(const FrameStats& totals, double max_range) {
                                  : tr("Re-fuse up to %1 m").arg(suggested_range_, 0, 'f', 1));
       extend_range_->show();
     }
+  } else if (totals.valid_pixels == 0 && totals.seconds > 0.0) {
+    // As `labeloctomap fuse` refuses: frames were fused and none had a depth.
+    range_note_ =
+        tr("No frame fused had a valid depth (every depth pixel was 0, no "
+           "measurement, or invalid): nothing could be mapped.");
   }
   onEdited();
 }
