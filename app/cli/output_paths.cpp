@@ -72,9 +72,7 @@ void checkOutsideInputs(const fs::path& out, const std::string& option, const st
 
 void CommandInputs::addSequenceFiles(const Sequence& sequence) {
   addFile(sequence.root / "sequence.json", "the sequence file");
-  for (const auto& frame : sequence.frames)
-    for (const std::string* name : {&frame.depth, &frame.color, &frame.proba, &frame.label})
-      if (!name->empty()) addFile(sequence.pathOf(*name), "the frame file");
+  for (const auto& file : frameFilesOf(sequence)) addFile(file, "the frame file");
 }
 
 void CommandInputs::addSequence(const Sequence& sequence) {

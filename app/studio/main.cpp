@@ -233,11 +233,9 @@ std::string inputAt(const std::filesystem::path& shot,
   namespace fs = std::filesystem;
   std::error_code ec;
   const lom::Sequence& sequence = controller.sequence();
-  std::vector<fs::path> inputs = {sequence.root / "sequence.json",
-                                  sequence.root / "annotations.json"};
-  for (const auto& frame : sequence.frames)
-    for (const std::string* name : {&frame.depth, &frame.color, &frame.proba, &frame.label})
-      if (!name->empty()) inputs.push_back(sequence.pathOf(*name));
+  std::vector<fs::path> inputs = frameFilesOf(sequence);
+  inputs.push_back(sequence.root / "sequence.json");
+  inputs.push_back(sequence.root / "annotations.json");
   for (const auto& input : inputs)
     if (fs::equivalent(shot, input, ec)) return input.string();
   return {};

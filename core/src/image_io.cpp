@@ -107,9 +107,7 @@ cv::Mat readImage(const fs::path& path) {
                 "an image of at most " + std::to_string(kMaxImagePixels) + " pixels",
                 std::to_string(size->width) + " x " + std::to_string(size->height) +
                     " pixels (declared in the " + size->format + " header)");
-  const auto png = pngFileBytes(path);
-  if (png) checkPngChunks(png->data(), png->size(), file);
-  if (png) return decodePng(png->data(), png->size(), file);
+  if (const auto png = pngFileBytes(path)) return decodePng(png->data(), png->size(), file);
   cv::Mat mat;
   try {
     mat = cv::imread(file, cv::IMREAD_UNCHANGED);

@@ -224,6 +224,17 @@ SourceDetection detectSource(const fs::path& path) {
   return d;
 }
 
+namespace {
+
+// "  frame: reason" lines, at most `max_listed`, then how many more.
+void listSkipped(std::ostream& out, const std::vector<SkippedFrame>& skipped, size_t max_listed) {
+  for (size_t i = 0; i < skipped.size() && i < max_listed; ++i)
+    out << "  " << skipped[i].frame << ": " << skipped[i].reason << "\n";
+  if (skipped.size() > max_listed) out << "  ... and " << skipped.size() - max_listed << " more\n";
+}
+
+}  // namespace
+
 std::string ImportReport::text(size_t max_skipped_listed) const {
   std::ostringstream out;
   out << (cancelled ? "cancelled after " : "imported ") << frames_written << " of "
@@ -232,10 +243,7 @@ std::string ImportReport::text(size_t max_skipped_listed) const {
   out << "\n";
   if (!skipped.empty()) {
     out << "skipped " << skipped.size() << (skipped.size() == 1 ? " frame:\n" : " frames:\n");
-    for (size_t i = 0; i < skipped.size() && i < max_skipped_listed; ++i)
-      out << "  " << skipped[i].frame << ": " << skipped[i].reason << "\n";
-    if (skipped.size() > max_skipped_listed)
-      out << "  ... and " << skipped.size() - max_skipped_listed << " more\n";
+    listSkipped(out, skipped, max_skipped_listed);
   }
   if (!notes.empty()) {
     out << "notes:\n";
@@ -327,11 +335,7 @@ std::string skippedFramesText(const ImportReport& report, const fs::path& source
   std::ostringstream text;
   text << report.skipped.size() << " of " << report.frames_found << " frames of " << source.string()
        << " could not be converted and are left out:\n";
-  constexpr size_t kListed = 20;
-  for (size_t i = 0; i < report.skipped.size() && i < kListed; ++i)
-    text << "  " << report.skipped[i].frame << ": " << report.skipped[i].reason << "\n";
-  if (report.skipped.size() > kListed)
-    text << "  ... and " << report.skipped.size() - kListed << " more\n";
+  listSkipped(text, report.skipped, 20);
   return text.str();
 }
 

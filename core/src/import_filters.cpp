@@ -2,9 +2,8 @@
 // depth edges and optional edge-preserving (bilateral) smoothing.
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
-#include <sstream>
 
+#include "import_internal.hpp"
 #include "lom/error.hpp"
 #include "lom/import.hpp"
 
@@ -13,11 +12,7 @@ namespace lom {
 namespace {
 
 // 1000000 and 0.05 as typed, not 1000000.000000 and 0.050000.
-std::string numberText(double value) {
-  std::ostringstream text;
-  text << std::setprecision(15) << value;
-  return text.str();
-}
+std::string numberText(double value) { return import_detail::formatNumber(value, 15); }
 
 void checkOptions(const DepthFilterOptions& o) {
   auto fail = [](const std::string& field, const std::string& expected, double found) {

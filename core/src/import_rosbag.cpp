@@ -269,7 +269,6 @@ DepthImage decodeDepth(const sensor_msgs::Image& image, double millimetre_scale)
 cv::Mat decodeBytes(const std::vector<std::uint8_t>& data, size_t offset, int flags) {
   if (data.size() <= offset) return {};
   if (hasPngSignature(data.data() + offset, data.size() - offset)) {
-    checkPngChunks(data.data() + offset, data.size() - offset, "");
     cv::Mat image = decodePng(data.data() + offset, data.size() - offset, "");
     if (flags == cv::IMREAD_UNCHANGED || image.empty()) return image;
     // As cv::imdecode would decode it with `flags` (colour: 8-bit BGR, of a

@@ -10,6 +10,7 @@
 
 #include "image_header.hpp"
 #include "lom/error.hpp"
+#include "png_check.hpp"
 
 namespace lom {
 
@@ -47,6 +48,8 @@ void onWarning(png_structp, png_const_charp) {}
 // The transformations OpenCV's PNG decoder applies for IMREAD_UNCHANGED.
 void readImage(png_structp png, png_infop info, Decoding& decoding) {
   png_set_read_fn(png, &decoding, readBytes);
+  // decodePng has checked every chunk's CRC already.
+  png_set_crc_action(png, PNG_CRC_QUIET_USE, PNG_CRC_QUIET_USE);
   png_read_info(png, info);
   png_uint_32 width = 0, height = 0;
   int bit_depth = 0, color_type = 0;
@@ -97,6 +100,7 @@ bool readGuarded(png_structp png, png_infop info, Decoding& decoding) {
 }  // namespace
 
 cv::Mat decodePng(const std::uint8_t* data, std::size_t size, const std::string& file) {
+  checkPngChunks(data, size, file);
   // On the heap, and never reassigned: the jump back from an error must find
   // it as libpng left it.
   const auto owned = std::make_unique<Decoding>();

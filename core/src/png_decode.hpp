@@ -11,7 +11,9 @@
 
 namespace lom {
 
-// Decodes PNG data as cv::imdecode(data, cv::IMREAD_UNCHANGED) does: grey (1
+// Checks the chunks first (checkPngChunks: one error naming the chunk of a
+// truncated or damaged file; libpng then skips its own CRC pass), then
+// decodes PNG data as cv::imdecode(data, cv::IMREAD_UNCHANGED) does: grey (1
 // channel), BGR (3) or BGRA (4; with an alpha channel or a transparency
 // chunk), 8 or 16 bits per sample; palette and 1-, 2- and 4-bit greys are
 // expanded to 8 bits. Throws lom::Error(file, "PNG data", "a PNG whose image

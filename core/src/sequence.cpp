@@ -558,4 +558,12 @@ FrameData loadFrame(const Sequence& sequence, size_t index) {
   return data;
 }
 
+std::vector<fs::path> frameFilesOf(const Sequence& sequence) {
+  std::vector<fs::path> files;
+  for (const auto& frame : sequence.frames)
+    for (const std::string* name : {&frame.depth, &frame.color, &frame.proba, &frame.label})
+      if (!name->empty()) files.push_back(sequence.pathOf(*name));
+  return files;
+}
+
 }  // namespace lom

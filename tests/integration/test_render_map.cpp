@@ -121,22 +121,28 @@ TEST(RenderMap, LabelSelectionHidesTheOtherLabels) {
   EXPECT_EQ(countColour(image, rgb(map.labels().at(3).color)), 0u);
 }
 
-TEST(RenderMap, PinholeCameraPutsObjectsWhereTheCameraModelProjectsThem) {
-  LOM_REQUIRE_DISPLAY();
-  const lom::LabelMap map = sampleMap();
-  // Camera 0.5 m in front of the blocks (-x), looking along +x, image x = world -y.
+// A 200x150 camera 0.5 m in front of the blocks (-x), looking along +x, image
+// x = world -y, with its principal point at (cx, cy).
+lom::render::PinholeView cameraBeforeTheBlocks(double cx, double cy) {
   lom::render::PinholeView view;
   view.intrinsics.width = 200;
   view.intrinsics.height = 150;
   view.intrinsics.fx = view.intrinsics.fy = 180.0;
-  view.intrinsics.cx = 70.0;  // off-centre principal point
-  view.intrinsics.cy = 80.0;
+  view.intrinsics.cx = cx;
+  view.intrinsics.cy = cy;
   Eigen::Matrix3d R;
   R.col(0) = Eigen::Vector3d(0, -1, 0);
   R.col(1) = Eigen::Vector3d(0, 0, -1);
   R.col(2) = Eigen::Vector3d(1, 0, 0);
   view.T_world_camera.linear() = R;
   view.T_world_camera.translation() = Eigen::Vector3d(-0.5, 0.06, 0.06);
+  return view;
+}
+
+TEST(RenderMap, PinholeCameraPutsObjectsWhereTheCameraModelProjectsThem) {
+  LOM_REQUIRE_DISPLAY();
+  const lom::LabelMap map = sampleMap();
+  const lom::render::PinholeView view = cameraBeforeTheBlocks(70.0, 80.0);  // off-centre
   lom::render::RenderOptions options = flatPicture(200, 150);
   options.camera = view;
   const lom::ColorImage image = lom::render::renderMap(map, options);
@@ -167,18 +173,10 @@ TEST(RenderMap, PinholeCameraPutsObjectsWhereTheCameraModelProjectsThem) {
 TEST(RenderMap, CameraThatSeesNoVoxelIsAnError) {
   LOM_REQUIRE_DISPLAY();
   const lom::LabelMap map = sampleMap();
-  lom::render::PinholeView view;
-  view.intrinsics.width = 200;
-  view.intrinsics.height = 150;
-  view.intrinsics.fx = view.intrinsics.fy = 180.0;
-  view.intrinsics.cx = 100.0;
-  view.intrinsics.cy = 75.0;
-  Eigen::Matrix3d R;  // looking along -x, away from the blocks
-  R.col(0) = Eigen::Vector3d(0, 1, 0);
-  R.col(1) = Eigen::Vector3d(0, 0, -1);
-  R.col(2) = Eigen::Vector3d(-1, 0, 0);
-  view.T_world_camera.linear() = R;
-  view.T_world_camera.translation() = Eigen::Vector3d(-0.5, 0.06, 0.06);
+  lom::render::PinholeView view = cameraBeforeTheBlocks(100.0, 75.0);
+  const Eigen::Matrix3d towards = view.T_world_camera.linear();
+  // Turned half a turn about its image y axis: looking along -x, away from the blocks.
+  view.T_world_camera.linear() = towards * Eigen::Vector3d(-1, 1, -1).asDiagonal();
   lom::render::RenderOptions options = flatPicture(200, 150);
   options.camera = view;
   try {
@@ -189,9 +187,7 @@ TEST(RenderMap, CameraThatSeesNoVoxelIsAnError) {
     EXPECT_NE(e.problem().found.find("no voxel of the map in its view"), std::string::npos);
   }
   // Turned back towards the blocks, it renders.
-  view.T_world_camera.linear().col(0) = Eigen::Vector3d(0, -1, 0);
-  view.T_world_camera.linear().col(1) = Eigen::Vector3d(0, 0, -1);
-  view.T_world_camera.linear().col(2) = Eigen::Vector3d(1, 0, 0);
+  view.T_world_camera.linear() = towards;
   options.camera = view;
   EXPECT_NO_THROW((void)lom::render::renderMap(map, options));
   // Seen voxels count even when drawn in the background's colour.

@@ -56,6 +56,10 @@ struct FrameData {
 // the frame files: see validateSequence / loadFrame.
 [[nodiscard]] Sequence loadSequence(const std::filesystem::path& folder_or_json);
 
+// Every frame file the sequence names (depth, colour, proba, label), resolved
+// against its folder: what commands and the studio must never write over.
+[[nodiscard]] std::vector<std::filesystem::path> frameFilesOf(const Sequence& sequence);
+
 // Writes `folder/sequence.json` atomically (frame files are written by the caller).
 void saveSequence(const Sequence& sequence, const std::filesystem::path& folder);
 
