@@ -56,5 +56,24 @@ TEST(EvaluationChartTest, AxisLabelsNeverOverlapAndStayInsideTheChart) {
   }
 }
 
+TEST(EvaluationChartTest, PercentLabelsNeverOverlapInAShortChart) {
+  for (int height : {76, 90, 120, 170, 400}) {
+    SCOPED_TRACE(testing::Message() << height << " px high");
+    ScoreChart chart;
+    chart.resize(320, height);
+    chart.setObjects(objectsLabelled(4));
+    const std::vector<ScoreChart::GridLabel> labels = chart.gridLabels();
+    ASSERT_GE(labels.size(), 2u);
+    EXPECT_EQ(labels.front().percent, 0);
+    EXPECT_EQ(labels.back().percent, 100);
+    for (size_t i = 0; i < labels.size(); ++i) {
+      EXPECT_TRUE(chart.rect().contains(labels[i].rect)) << labels[i].percent;
+      if (i > 0) EXPECT_LT(labels[i].rect.bottom(), labels[i - 1].rect.top()) << labels[i].percent;
+    }
+    // A tall chart labels every quarter.
+    if (height >= 170) EXPECT_EQ(labels.size(), 5u);
+  }
+}
+
 }  // namespace
 }  // namespace lom::ui

@@ -16,6 +16,7 @@
 #include "lom/sequence.hpp"
 #include "lom/ui/box_editor_panel.hpp"
 #include "lom/ui/elision.hpp"
+#include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/frame_images_view.hpp"
 #include "lom/ui/fusion_panel.hpp"
 #include "lom/ui/image_pane.hpp"
@@ -23,6 +24,7 @@
 #include "lom/ui/map_legend_panel.hpp"
 #include "lom/ui/objects_panel.hpp"
 #include "lom/ui/scene_view.hpp"
+#include "lom/ui/score_chart.hpp"
 #include "tiny_sequence.hpp"
 
 namespace lom::ui {
@@ -90,6 +92,23 @@ TEST_F(WindowLayoutTest, FitsALaptopScreen) {
 
   openAndFuse();
   expectFitsALaptop("with the demo fused");
+
+  // The scores' Export button is in view without scrolling the dock, and the
+  // chart keeps some height.
+  EvaluationPanel& evaluation = window_.evaluationPanel();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !evaluation.isBusy() && evaluation.canExport(); },
+                              fixture::kTimeoutMs))
+      << evaluation.summaryText().toStdString();
+  settle();
+  const QPushButton& export_button = evaluation.exportButton();
+  EXPECT_TRUE(export_button.isEnabled());
+  EXPECT_EQ(export_button.visibleRegion().boundingRect(), export_button.rect());
+  EXPECT_GE(evaluation.chart().visibleRegion().boundingRect().height(), 60);
+  const QTableWidget& table = evaluation.table();
+  ASSERT_GT(table.rowCount(), 0);
+  const int last_row_bottom =
+      table.rowViewportPosition(table.rowCount() - 1) + table.rowHeight(table.rowCount() - 1);
+  EXPECT_LE(last_row_bottom, table.viewport()->height());
 
   // The Fusion panel's depth-range note (two lines) and its Re-fuse button,
   // scrolled into view in the short window.

@@ -144,13 +144,17 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
 
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(2, 2, 2, 2);
-  layout->addWidget(table_);  // as tall as its rows (ScoreTable); the chart takes what is left
-  layout->addWidget(summary_);
+  layout->setSpacing(4);
+  // As tall as its rows (ScoreTable), never shorter; the chart takes what is left.
+  table_->setSizePolicy(QSizePolicy::Expanding, QSizePolicy::Minimum);
+  layout->addWidget(table_);
+  // The button sits beside the summary, above the chart: in a short window
+  // (a 1366x768 laptop) the chart gives way and the button stays in view.
+  auto* summary_row = new QHBoxLayout;
+  summary_row->addWidget(summary_, 1);
+  summary_row->addWidget(export_, 0, Qt::AlignTop);
+  layout->addLayout(summary_row);
   layout->addWidget(chart_, 1);
-  auto* buttons = new QHBoxLayout;
-  buttons->addStretch(1);
-  buttons->addWidget(export_);
-  layout->addLayout(buttons);
 
   debounce_->setSingleShot(true);
   debounce_->setInterval(300);
@@ -180,6 +184,10 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
     if (!error.isEmpty()) QMessageBox::warning(this, tr("Export report"), error);
   });
   showMessage(tr("Open a sequence, fuse it and add boxes to score the map."));
+}
+
+int EvaluationPanel::heightForWidth(int width) const {
+  return layout()->minimumHeightForWidth(width);
 }
 
 bool EvaluationPanel::isBusy() const {

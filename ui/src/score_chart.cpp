@@ -15,7 +15,7 @@ constexpr int kAxisLabelGap = 6;
 
 ScoreChart::ScoreChart(QWidget* parent) : QWidget(parent) {
   setObjectName("scoreChart");
-  setMinimumHeight(120);
+  setMinimumHeight(76);  // the legend, a short plot and the axis labels: fits a laptop's dock
 }
 
 void ScoreChart::setObjects(std::vector<ObjectScore> objects) {
@@ -61,17 +61,33 @@ std::vector<ScoreChart::AxisLabel> ScoreChart::axisLabels() const {
   return labels;
 }
 
+std::vector<ScoreChart::GridLabel> ScoreChart::gridLabels() const {
+  const QRect plot = plotRect();
+  const int text_height = fontMetrics().height();
+  int step = 100;  // the fewest: 0 and 100
+  for (int candidate : {25, 50})
+    if (plot.height() * candidate / 100 > text_height) {
+      step = candidate;
+      break;
+    }
+  std::vector<GridLabel> labels;
+  for (int percent = 0; percent <= 100; percent += step) {
+    const int y = plot.bottom() - plot.height() * percent / 100;
+    labels.push_back({percent, QRect(0, y - text_height / 2, 24, text_height)});
+  }
+  return labels;
+}
+
 void ScoreChart::paintEvent(QPaintEvent*) {
   QPainter painter(this);
   painter.fillRect(rect(), palette().base());
   const QFontMetrics metrics = fontMetrics();
   const QRect plot = plotRect();
   painter.setPen(palette().color(QPalette::Mid));
-  for (int percent = 0; percent <= 100; percent += 25) {
-    const int y = plot.bottom() - plot.height() * percent / 100;
+  for (const GridLabel& label : gridLabels()) {
+    const int y = label.rect.center().y();
     painter.drawLine(plot.left(), y, plot.right(), y);
-    painter.drawText(QRect(0, y - metrics.height() / 2, 24, metrics.height()),
-                     Qt::AlignRight | Qt::AlignVCenter, QString::number(percent));
+    painter.drawText(label.rect, Qt::AlignRight | Qt::AlignVCenter, QString::number(label.percent));
   }
   const QString names[3] = {tr("Proj. mean"), tr("Proj. max"), tr("LabelOctoMap")};
   int x = plot.left();

@@ -31,9 +31,15 @@ class EvaluationPanel : public QWidget {
   [[nodiscard]] QTableWidget& table() { return *table_; }
   // The bar chart: its objects are in the table's row order.
   [[nodiscard]] const ScoreChart& chart() const { return *chart_; }
+  [[nodiscard]] const QPushButton& exportButton() const { return *export_; }
   [[nodiscard]] const std::optional<EvaluationReport>& report() const { return report_; }
   [[nodiscard]] QString summaryText() const;
   [[nodiscard]] bool isBusy() const;
+  // The least height the panel needs at `width`: a scroll area that holds it
+  // takes this as the panel's height, so in a short dock the chart gives way
+  // instead of the dock scrolling (the word-wrapped summary makes the panel
+  // height-for-width, which would otherwise give its preferred height).
+  [[nodiscard]] int heightForWidth(int width) const override;
   // Whether the report can be exported: it is of the current map and boxes.
   [[nodiscard]] bool canExport() const { return report_ && !stale_; }
   // Writes report.json/csv/md/svg into `dir`; returns an error message or ""

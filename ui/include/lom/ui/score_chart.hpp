@@ -27,6 +27,14 @@ class ScoreChart : public QWidget {
   // all fit, only every n-th is drawn so that none overlap, and all lie
   // inside the widget.
   [[nodiscard]] std::vector<AxisLabel> axisLabels() const;
+  // The percentages written beside the grid lines at the current height
+  // (0 to 100 by 25, or by 50 or only 0 and 100 when the plot is short), with
+  // where each is drawn: they never overlap.
+  struct GridLabel {
+    int percent = 0;
+    QRect rect;
+  };
+  [[nodiscard]] std::vector<GridLabel> gridLabels() const;
   [[nodiscard]] QSize sizeHint() const override { return {320, 130}; }
   // Colours of the three methods, in the order above.
   [[nodiscard]] static QColor methodColor(int method);
