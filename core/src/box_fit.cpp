@@ -1,14 +1,14 @@
 #include "lom/box_fit.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 #include <unordered_map>
-
-#include <Eigen/Eigenvalues>
 
 namespace lom {
 
@@ -64,7 +64,11 @@ std::vector<VoxelKey> largestCluster(const std::vector<VoxelKey>& keys, double t
     for (int dy = -reach; dy <= reach; ++dy)
       for (int dz = -reach; dz <= reach; ++dz) {
         const int squared = dx * dx + dy * dy + dz * dz;
-        if (squared > 0 && squared <= tolerance_voxels * tolerance_voxels) offsets.push_back({dx, dy, dz});
+        // 26-neighbours (touching by a face, an edge or a corner) are always
+        // connected, whatever the tolerance.
+        const bool touching = std::abs(dx) <= 1 && std::abs(dy) <= 1 && std::abs(dz) <= 1;
+        if (squared > 0 && (touching || squared <= tolerance_voxels * tolerance_voxels))
+          offsets.push_back({dx, dy, dz});
       }
 
   std::unordered_map<std::uint64_t, size_t> index_of;

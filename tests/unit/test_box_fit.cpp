@@ -46,6 +46,19 @@ TEST(BoxFit, ToleranceDecidesWhatIsConnected) {
   EXPECT_TRUE(lom::largestCluster({}, 2.0).empty());
 }
 
+TEST(BoxFit, TouchingVoxelsAreConnectedAtAnyTolerance) {
+  // Sharing a face, an edge (distance sqrt 2) or only a corner (sqrt 3).
+  for (double tolerance : {0.5, 1.0, 1.5}) {
+    SCOPED_TRACE(tolerance);
+    EXPECT_EQ(lom::largestCluster({key(0, 0, 0), key(1, 0, 0)}, tolerance).size(), 2u);
+    EXPECT_EQ(lom::largestCluster({key(0, 0, 0), key(1, 1, 0)}, tolerance).size(), 2u);
+    EXPECT_EQ(lom::largestCluster({key(0, 0, 0), key(1, 1, 1)}, tolerance).size(), 2u);
+    // Voxels that do not touch stay apart below their distance.
+    EXPECT_EQ(lom::largestCluster({key(0, 0, 0), key(2, 0, 0)}, tolerance).size(), 1u);
+  }
+  EXPECT_EQ(lom::largestCluster({key(0, 0, 0), key(2, 0, 0)}, 2.0).size(), 2u);
+}
+
 TEST(BoxFit, AxisAlignedBlockIsFittedExactly) {
   lom::OrientedBox truth;  // voxels [0, 5) x [0, 3) x [0, 2)
   truth.center = {0.025, 0.015, 0.01};

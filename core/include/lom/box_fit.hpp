@@ -9,7 +9,8 @@
 namespace lom {
 
 // The largest Euclidean cluster of voxels: two voxels are neighbours when their
-// centres are at most `tolerance_voxels` voxel edges apart. Ties go to the
+// centres are at most `tolerance_voxels` voxel edges apart, or when they touch
+// (face, edge or corner: 26-neighbours, whatever the tolerance). Ties go to the
 // cluster holding the smallest key, so the result is deterministic. Sorted.
 [[nodiscard]] std::vector<VoxelKey> largestCluster(const std::vector<VoxelKey>& keys,
                                                    double tolerance_voxels);
