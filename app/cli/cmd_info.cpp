@@ -1,6 +1,7 @@
 // labeloctomap info / validate: look at a sequence without fusing it.
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -142,11 +143,19 @@ void printMapInfo(const std::filesystem::path& path, std::ostream& out) {
       << (p.max_range > 0.0 ? std::to_string(p.max_range) + " m" : std::string("unlimited"))
       << "\n";
   out << "camera views:     " << map.cameraViews().views;
-  if (const auto up = map.upDirection())
+  if (const auto up = map.camerasUp())
     out << ", mean up (" << up->x() << ", " << up->y() << ", " << up->z() << ")";
   else if (map.cameraViews().views > 0)
     out << ", their up directions disagree";
   out << "\n";
+  if (const auto plane = map.levelPlane()) {
+    const Eigen::Vector3d& n = plane->normal;
+    out << "up:               (" << n.x() << ", " << n.y() << ", " << n.z()
+        << "), the normal of the largest level plane (" << plane->voxels << " of " << plane->sampled
+        << " sampled occupied voxels), " << std::fixed << std::setprecision(1)
+        << std::acos(std::clamp(n.dot(*map.camerasUp()), -1.0, 1.0)) * 180.0 / M_PI
+        << std::defaultfloat << std::setprecision(6) << " deg from the cameras' mean up\n";
+  }
   out << "tree:             " << map.numNodes() << " nodes, " << map.numLeaves() << " leaves, "
       << map.memoryBytes() / 1024 << " KiB\n";
   if (const auto bounds = map.bounds()) {

@@ -201,6 +201,9 @@ int runRender(const Words& words) {
     const Eigen::Vector3d up = render::orbitUp(map, options);
     std::cout << "up in the picture: (" << up.x() << ", " << up.y() << ", " << up.z() << "), "
               << (options.up ? std::string("given with --up")
+                  : map.levelPlane()
+                      ? "the normal of the map's largest level plane, near the mean up of its " +
+                            std::to_string(map.cameraViews().views) + " camera views"
                   : map.upDirection()
                       ? "the mean up direction of the map's " +
                             std::to_string(map.cameraViews().views) + " camera views"

@@ -113,7 +113,20 @@ void LabelMap::noteCameraView(const Eigen::Matrix3d& R_world_camera) {
 
 const CameraViewRecord& LabelMap::cameraViews() const { return tree_->cameraViews(); }
 
+std::optional<LevelPlane> LabelMap::levelPlane() const {
+  const auto cameras = camerasUp();
+  if (!cameras) return std::nullopt;
+  std::vector<Eigen::Vector3d> centres;
+  forEachOccupied([&](const OccupiedVoxel& voxel) { centres.push_back(voxel.center); });
+  return findLevelPlane(centres, *cameras, parameters_.resolution);
+}
+
 std::optional<Eigen::Vector3d> LabelMap::upDirection() const {
+  if (const auto plane = levelPlane()) return plane->normal;
+  return camerasUp();
+}
+
+std::optional<Eigen::Vector3d> LabelMap::camerasUp() const {
   const CameraViewRecord& record = tree_->cameraViews();
   if (record.views == 0) return std::nullopt;
   const Eigen::Vector3d sum(record.up_sum[0], record.up_sum[1], record.up_sum[2]);

@@ -217,7 +217,10 @@ TEST_F(CliExportTest, RenderWritesAPictureOfTheMap) {
     not_background += !(orbit.rgb[i] == 255 && orbit.rgb[i + 1] == 255 && orbit.rgb[i + 2] == 255);
   EXPECT_GT(not_background, orbit.rgb.size() / 3 / 20);
   // The map was fused from the generated scene's cameras, whose world has z up.
-  EXPECT_NE(r.out.find("the mean up direction of the map's 4 camera views"), std::string::npos)
+  EXPECT_NE(
+      r.out.find(
+          "the normal of the map's largest level plane, near the mean up of its 4 camera views"),
+      std::string::npos)
       << r.out;
   r = runCli("render " + q(map()) + " --out " + q(out / "up.png") + " --size 320x240 --up 0,-2,0");
   ASSERT_EQ(r.exit_code, 0) << r.err;

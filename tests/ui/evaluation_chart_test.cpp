@@ -68,10 +68,14 @@ TEST(EvaluationChartTest, PercentLabelsNeverOverlapInAShortChart) {
     EXPECT_EQ(labels.back().percent, 100);
     for (size_t i = 0; i < labels.size(); ++i) {
       EXPECT_TRUE(chart.rect().contains(labels[i].rect)) << labels[i].percent;
-      if (i > 0) EXPECT_LT(labels[i].rect.bottom(), labels[i - 1].rect.top()) << labels[i].percent;
+      if (i > 0) {
+        EXPECT_LT(labels[i].rect.bottom(), labels[i - 1].rect.top()) << labels[i].percent;
+      }
     }
     // A tall chart labels every quarter.
-    if (height >= 170) EXPECT_EQ(labels.size(), 5u);
+    if (height >= 170) {
+      EXPECT_EQ(labels.size(), 5u);
+    }
   }
 }
 

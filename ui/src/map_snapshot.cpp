@@ -1,5 +1,9 @@
 #include "lom/ui/map_snapshot.hpp"
 
+#include <vector>
+
+#include "lom/level_plane.hpp"
+
 namespace lom::ui {
 
 MapSnapshotPtr takeSnapshot(const LabelMap& map, size_t frames_fused) {
@@ -9,7 +13,15 @@ MapSnapshotPtr takeSnapshot(const LabelMap& map, size_t frames_fused) {
   snapshot->resolution = map.parameters().resolution;
   snapshot->occupancy_threshold = map.parameters().occupancy_threshold;
   snapshot->frames_fused = frames_fused;
-  snapshot->up = map.upDirection();
+  // Levelled from the voxels already gathered (LabelMap::upDirection would gather them again).
+  snapshot->up = map.camerasUp();
+  if (snapshot->up) {
+    std::vector<Eigen::Vector3d> centres;
+    centres.reserve(snapshot->voxels.size());
+    for (const OccupiedVoxel& voxel : snapshot->voxels) centres.push_back(voxel.center);
+    if (const auto plane = findLevelPlane(centres, *snapshot->up, snapshot->resolution))
+      snapshot->up = plane->normal;
+  }
   return snapshot;
 }
 

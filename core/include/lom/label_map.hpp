@@ -2,6 +2,7 @@
 // The multilabel occupancy map (LabelOctoMap). A thin, OctoMap-free facade over
 // lom::LabelOcTree (lom/octree/label_octree.hpp) so that most code never
 // compiles OctoMap's templates.
+#include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -11,9 +12,8 @@
 #include <set>
 #include <vector>
 
-#include <Eigen/Core>
-
 #include "lom/labels.hpp"
+#include "lom/level_plane.hpp"
 
 namespace lom {
 
@@ -98,6 +98,12 @@ class LabelMap {
   // their up directions, normalised, when they agree (the mean is at least
   // half a unit long); nullopt when no view was recorded (maps of data
   // version 1, or built without cameras) or when the views disagree.
+  [[nodiscard]] std::optional<Eigen::Vector3d> camerasUp() const;
+  // The largest plane of occupied voxels near the cameras' up (findLevelPlane
+  // of lom/level_plane.hpp); nullopt without camerasUp or without such a plane.
+  [[nodiscard]] std::optional<LevelPlane> levelPlane() const;
+  // Up in the map: the level plane's normal when there is one (cameras pitched
+  // towards the scene tilt their mean up), else camerasUp.
   [[nodiscard]] std::optional<Eigen::Vector3d> upDirection() const;
   // The cameras' mean viewing direction, normalised (the same as
   // meanViewingDirection of the fused sequence); nullopt without recorded

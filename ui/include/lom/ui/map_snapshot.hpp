@@ -18,7 +18,8 @@ struct MapSnapshot {
   double resolution = 0.0;
   double occupancy_threshold = 0.5;
   size_t frames_fused = 0;
-  // The map's up direction (LabelMap::upDirection: its cameras' mean up).
+  // The map's up direction (LabelMap::upDirection: its cameras' mean up,
+  // levelled by the largest plane of voxels near it).
   std::optional<Eigen::Vector3d> up;
 
   [[nodiscard]] bool empty() const { return voxels.empty(); }

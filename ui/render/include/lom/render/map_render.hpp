@@ -41,7 +41,7 @@ struct RenderOptions {
   double azimuth_deg = 210.0;
   double elevation_deg = 30.0;
   // Up in the orbit view; when absent, the map's own (LabelMap::upDirection:
-  // the cameras it was fused from), else +z.
+  // the cameras it was fused from, levelled by its largest level plane), else +z.
   std::optional<Eigen::Vector3d> up;
   // Replaces the orbit view. Its intrinsics are scaled to width x height.
   std::optional<PinholeView> camera;

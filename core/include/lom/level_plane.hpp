@@ -1,0 +1,32 @@
+#pragma once
+// Which way is up in a map: its cameras' mean up, levelled by the largest
+// plane of occupied voxels close to that direction (a floor, a table top, the
+// bottom of a bin). A handheld camera pitched down towards the scene has an up
+// tilted towards where it looks; the mean of such ups is tilted as much, which
+// renders a room askew and colours heights mostly by distance.
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+namespace lom {
+
+struct LevelPlane {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit, on the side of the cameras' up
+  size_t voxels = 0;                                  // of the sampled voxels, those on the plane
+  size_t sampled = 0;                                 // voxels sampled
+};
+
+// Planes tilted from the cameras' up by more than this are not levels.
+inline constexpr double kMaxLevelTiltDegrees = 30.0;
+
+// The largest plane through the voxel centres (a centre is on it when within
+// one voxel edge) whose normal is within kMaxLevelTiltDegrees of `cameras_up`
+// and which holds at least a twelfth of the sampled voxels (at least 200): found by a
+// consensus search with a fixed seed over at most 4096 evenly spaced centres,
+// then fitted by least squares to the centres on it. nullopt when no such plane
+// exists. The same input always gives the same plane.
+[[nodiscard]] std::optional<LevelPlane> findLevelPlane(const std::vector<Eigen::Vector3d>& centres,
+                                                       const Eigen::Vector3d& cameras_up,
+                                                       double resolution);
+
+}  // namespace lom
