@@ -123,6 +123,10 @@ TEST_F(WindowLayoutTest, FitsALaptopScreen) {
   ASSERT_FALSE(panel.noteText().isEmpty());
   settle();
   EXPECT_FALSE(panel.extendRangeButton().visibleRegion().isEmpty());
+  // With the field the note is about.
+  const auto* resolution = panel.findChild<QWidget*>("resolutionBox");
+  ASSERT_NE(resolution, nullptr);
+  EXPECT_EQ(resolution->visibleRegion().boundingRect(), resolution->rect());
   expectFitsALaptop("with the Fusion panel's range note");
   EXPECT_TRUE(errors_.empty());
 }

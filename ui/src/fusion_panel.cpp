@@ -82,6 +82,10 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   // Two-line notes (the depth-range one) keep their height in a crowded dock.
   note_->setSizePolicy(QSizePolicy::Preferred, QSizePolicy::MinimumExpanding);
   auto* form = new QFormLayout(this);
+  // Notes and the depth-range Re-fuse come first: in a short dock they are in
+  // view with the first fields, the ones the depth-range note is about.
+  form->addRow(note_);
+  form->addRow(extend_range_);
   form->addRow(tr("Resolution"), resolution_);
   form->addRow(tr("Max range"), max_range_);
   form->addRow(tr("p_miss"), p_miss_);
@@ -98,8 +102,6 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   form->addRow(tr("Segmenter"), segmenter_row);
   connect(choose, &QPushButton::clicked, this, &FusionPanel::chooseSegmenter);
   connect(clear, &QPushButton::clicked, this, [this] { setSegmenterModel({}); });
-  form->addRow(note_);
-  form->addRow(extend_range_);
   form->addRow(refuse_);
   extend_range_->setObjectName("extendRangeButton");
   extend_range_->hide();
@@ -146,7 +148,7 @@ bool FusionPanel::setSegmenterModel(const QString& model_path) {
     try {
       segmenter_ = Segmenter::load(model_path.toStdString());
     } catch (const std::exception& error) {
-      note_->setText(tr("Segmenter: %1").arg(QString::fromStdString(error.what())));
+      setNote(tr("Segmenter: %1").arg(QString::fromStdString(error.what())));
       return false;
     }
   }
@@ -162,6 +164,11 @@ void FusionPanel::chooseSegmenter() {
 }
 
 QString FusionPanel::noteText() const { return note_->text(); }
+
+void FusionPanel::setNote(const QString& text) {
+  note_->setText(text);
+  note_->setVisible(!text.isEmpty());  // no empty row above the fields
+}
 
 bool FusionPanel::hasPendingChanges() const {
   const FusionOptions& options = session_.fusionOptions();
@@ -179,9 +186,9 @@ void FusionPanel::onEdited() {
   const bool pending = hasPendingChanges();
   refuse_->setEnabled(pending && ok);
   if (!ok)
-    note_->setText(tr("Candidates: label ids separated by spaces."));
+    setNote(tr("Candidates: label ids separated by spaces."));
   else
-    note_->setText(pending ? tr("Changed: re-fuse to apply.") : range_note_);
+    setNote(pending ? tr("Changed: re-fuse to apply.") : range_note_);
 }
 
 void FusionPanel::showDepthRanges(const FrameStats& totals, double max_range) {

@@ -222,9 +222,9 @@ void MainWindow::createDocks() {
   fusion_panel_ = new FusionPanel(*session_);
   QDockWidget* labels = dock(map_legend_, tr("Map Labels"), "mapLegendDock");
   QDockWidget* fusion = dock(fusion_panel_, tr("Fusion"), "fusionDock");
-  // The depth-range note and its Re-fuse button come below the fields: on a
-  // short screen the dock scrolls to them when they appear (after the panel
-  // has laid them out).
+  // When the depth-range note and its Re-fuse button appear (at the panel's
+  // top, after the panel has laid them out), the dock is raised and scrolled
+  // to them.
   connect(&session_->worker(), &MapWorker::depthRangesMeasured, this, [this, fusion] {
     QTimer::singleShot(0, fusion, [this, fusion] {
       QPushButton& button = fusion_panel_->extendRangeButton();

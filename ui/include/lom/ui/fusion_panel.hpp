@@ -47,6 +47,7 @@ class FusionPanel : public QWidget {
  private:
   void loadFromSession();
   void onEdited();
+  void setNote(const QString& text);
   void refuse();
   void chooseSegmenter();
 
