@@ -217,7 +217,8 @@ TEST_F(WindowLayoutTest, HeatMapCaptionSaysWhatItShows) {
   const test::TinySequence tiny = test::writeTinySequence(temp_.path() / "tiny");
   window_.controller().setDiscardGuard([] { return true; });
   ASSERT_TRUE(window_.controller().openSequence(fixture::qPath(tiny.folder)));
-  EXPECT_EQ(heat.caption().toStdString(), "Probability (no probability images)");
+  EXPECT_EQ(heat.caption().toStdString(), "Probability: none");
+  EXPECT_EQ(heat.shownCaption(), heat.caption());  // short enough for the narrowest pane
   EXPECT_TRUE(heat.image().isNull());
   EXPECT_TRUE(errors_.empty());
 }

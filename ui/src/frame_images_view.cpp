@@ -66,7 +66,7 @@ void FrameImagesView::showHeatMap() {
     heat_pane_->setCaption(tr("Probability"));
     heat_pane_->setPlaceholder(QString());
   } else if (!frame_->proba) {
-    heat_pane_->setCaption(tr("Probability (no probability images)"));
+    heat_pane_->setCaption(tr("Probability: none"));
     heat_pane_->setPlaceholder(tr("No probabilities in this frame"));
   } else if (!known_label) {
     heat_pane_->setCaption(tr("Probability (choose a label)"));

@@ -92,7 +92,11 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   form->addRow(tr("Threshold"), threshold_);
   form->addRow(tr("Candidates"), candidates_);
   segmenter_path_->setReadOnly(true);
-  segmenter_path_->setPlaceholderText(tr("none: frames need probability images"));
+  // Short enough for a narrow dock; the tooltip says what the model is for.
+  segmenter_path_->setPlaceholderText(tr("none"));
+  segmenter_path_->setToolTip(
+      tr("A segmentation network (.onnx) that computes each frame's label probabilities. "
+         "Without one, frames need probability images."));
   auto* choose = new QPushButton(tr("Choose…"));
   auto* clear = new QPushButton(tr("Clear"));
   auto* segmenter_row = new QHBoxLayout;
