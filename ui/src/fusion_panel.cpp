@@ -8,6 +8,7 @@
 #include <QLineEdit>
 #include <QPushButton>
 #include <QSignalBlocker>
+#include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
 
@@ -81,11 +82,14 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   note_->setWordWrap(true);
   // Two-line notes (the depth-range one) keep their height in a crowded dock.
   note_->setSizePolicy(QSizePolicy::Preferred, QSizePolicy::MinimumExpanding);
-  auto* form = new QFormLayout(this);
   // Notes and the depth-range Re-fuse come first: in a short dock they are in
-  // view with the first fields, the ones the depth-range note is about.
-  form->addRow(note_);
-  form->addRow(extend_range_);
+  // view with the first fields, the ones the depth-range note is about. They
+  // sit outside the form, whose hidden rows would keep their spacing.
+  auto* column = new QVBoxLayout(this);
+  column->addWidget(note_);
+  column->addWidget(extend_range_);
+  auto* form = new QFormLayout;
+  column->addLayout(form);
   form->addRow(tr("Resolution"), resolution_);
   form->addRow(tr("Max range"), max_range_);
   form->addRow(tr("p_miss"), p_miss_);
@@ -106,7 +110,7 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   form->addRow(tr("Segmenter"), segmenter_row);
   connect(choose, &QPushButton::clicked, this, &FusionPanel::chooseSegmenter);
   connect(clear, &QPushButton::clicked, this, [this] { setSegmenterModel({}); });
-  form->addRow(refuse_);
+  column->addWidget(refuse_);
   extend_range_->setObjectName("extendRangeButton");
   extend_range_->hide();
   connect(extend_range_, &QPushButton::clicked, this, [this] {
