@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -64,6 +65,26 @@ void printProbaLabels(const Sequence& sequence, std::ostream& out) {
     out << "  " << std::setw(5) << id << "  " << sequence.labels.at(id).name << "\n";
 }
 
+void printTimeSpan(const Sequence& sequence, std::ostream& out) {
+  std::optional<double> first, last;
+  size_t stamped = 0;
+  for (const auto& frame : sequence.frames) {
+    if (!frame.stamp) continue;
+    ++stamped;
+    first = std::min(first.value_or(*frame.stamp), *frame.stamp);
+    last = std::max(last.value_or(*frame.stamp), *frame.stamp);
+  }
+  out << "time span:        ";
+  if (!stamped) {
+    out << "none (the frames have no time stamps)\n";
+    return;
+  }
+  out << *first << " .. " << *last << " (" << *last - *first << " s";
+  if (stamped < sequence.frames.size())
+    out << "; " << stamped << " of " << sequence.frames.size() << " frames have a time stamp";
+  out << ")\n";
+}
+
 void printCameraPath(const Sequence& sequence, std::ostream& out) {
   Eigen::Vector3d low = sequence.frames.front().T_world_camera.translation();
   Eigen::Vector3d high = low;
@@ -88,11 +109,6 @@ void printInfo(const Sequence& sequence, std::ostream& out) {
       std::count_if(frames.begin(), frames.end(), [](const FrameRecord& f) { return f.view; }));
   const size_t overrides = static_cast<size_t>(std::count_if(
       frames.begin(), frames.end(), [](const FrameRecord& f) { return f.camera.has_value(); }));
-  double first_stamp = frames.front().stamp, last_stamp = frames.front().stamp;
-  for (const auto& f : frames) {
-    first_stamp = std::min(first_stamp, f.stamp);
-    last_stamp = std::max(last_stamp, f.stamp);
-  }
 
   out << std::setprecision(6);
   out << "sequence:         " << (sequence.root / "sequence.json").string() << "\n";
@@ -106,10 +122,13 @@ void printInfo(const Sequence& sequence, std::ostream& out) {
   if (overrides) out << "camera overrides: " << overrides << " frame(s) have their own camera\n";
   out << "frames:           " << frames.size() << "\n";
   out << "views:            " << views << "\n";
-  out << "time span:        " << first_stamp << " .. " << last_stamp << " ("
-      << last_stamp - first_stamp << " s)\n";
+  printTimeSpan(sequence, out);
   out << "depth:            " << availability(sequence, &FrameRecord::depth) << "\n";
-  out << "proba:            " << availability(sequence, &FrameRecord::proba) << "\n";
+  const size_t from_label = static_cast<size_t>(std::count_if(
+      frames.begin(), frames.end(), [](const FrameRecord& f) { return f.proba_from_label; }));
+  out << "proba:            " << availability(sequence, &FrameRecord::proba);
+  if (from_label) out << ", " << from_label << " made from the label images";
+  out << "\n";
   out << "label:            " << availability(sequence, &FrameRecord::label) << "\n";
   out << "color:            " << availability(sequence, &FrameRecord::color) << "\n";
   printCameraPath(sequence, out);

@@ -166,6 +166,7 @@ int runSegment(const Words& words) {
     const std::string name = probaFileName(i);
     writeProbabilityNpy(folder / name, proba, dtype);
     record.proba = (out_dir / name).generic_string();
+    record.proba_from_label = false;  // the network's output is independent of the label image
     record.proba_labels = allLabelsInOrder(proba.channel_labels, sequence.labels.size())
                               ? std::vector<int>{}
                               : proba.channel_labels;

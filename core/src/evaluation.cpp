@@ -12,6 +12,10 @@ namespace lom {
 
 namespace {
 
+constexpr const char* kMetrics2dFromLabels =
+    "the probabilities were made from the label images, which are not an independent ground "
+    "truth";
+
 std::string orDefault(const std::string& text, const char* fallback) {
   return text.empty() ? fallback : text;
 }
@@ -180,6 +184,9 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
   if (scan.confusion && scan.confusion->total() > 0) report.metrics_2d = scan.confusion->metrics();
   if (scan.confusion_candidates && scan.confusion_candidates->total() > 0)
     report.metrics_2d_candidates = scan.confusion_candidates->metrics();
+  report.metrics_2d_excluded_frames = scan.excluded_2d;
+  if (!report.metrics_2d && !scan.excluded_2d.empty())
+    report.metrics_2d_not_scored = kMetrics2dFromLabels;
   return report;
 }
 

@@ -116,7 +116,14 @@ FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
   for (size_t i = first; i < last; ++i) {
     const FrameRecord& record = sequence.frames[i];
     const bool has_proba = !record.proba.empty() || options.fusion.segmenter;
-    if (record.view || (!record.label.empty() && has_proba)) to_load.push_back(i);
+    const bool scored_2d = !record.label.empty() && has_proba;
+    // A proba made from the frame's own label image would score 100 % against it.
+    if (scored_2d && record.proba_from_label && !record.proba.empty()) {
+      scan.excluded_2d.push_back(i);
+      if (record.view) to_load.push_back(i);
+      continue;
+    }
+    if (record.view || scored_2d) to_load.push_back(i);
   }
   EvaluationProgress report{"projecting", 0, to_load.size()};
   for (size_t i : to_load) {
@@ -127,7 +134,7 @@ FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
       scan.view_voxels.push_back(
           projectView(sequence, i, frame, map, slot_of_label, scored_labels, options));
     }
-    if (frame.label && frame.proba) {
+    if (frame.label && frame.proba && !record.proba_from_label) {
       if (!scan.confusion) scan.confusion.emplace(sequence.labels.size());
       addToConfusion(sequence, i, frame, without_candidates, *scan.confusion);
       if (options.fusion.candidates) {

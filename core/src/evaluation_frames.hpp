@@ -15,6 +15,7 @@ struct FrameScan {
   std::vector<std::map<int, std::vector<VoxelKey>>> view_voxels;
   std::optional<ConfusionMatrix> confusion;             // frames with label and proba images
   std::optional<ConfusionMatrix> confusion_candidates;  // the same, after candidates
+  std::vector<size_t> excluded_2d;  // frames with label and proba, the proba made from the label
 };
 
 // Frames [first_frame, last_frame) of options.fusion; voxel keys as in `map`

@@ -109,12 +109,18 @@ std::uint64_t fnv1a(const std::string& text, std::uint64_t hash = 14695981039346
   return hash;
 }
 
+// Raised whenever the importers write a sequence differently for the same source, so
+// that a cache converted by an earlier version (stamps made from frame numbers, one-hot
+// probabilities without proba_from_label) is converted again instead of reused.
+constexpr int kConversionRevision = 2;
+
 // What identifies a conversion: the source (names, sizes and modification times
-// of its files, two levels deep) and every option.
+// of its files, two levels deep), every option and the conversion revision.
 std::string conversionFingerprint(const fs::path& source, SourceKind kind,
                                   const ImportOptions& o) {
   std::ostringstream text;
   std::error_code ec;
+  text << "revision " << kConversionRevision << '\n';
   text << sourceKindName(kind) << '\n' << fs::weakly_canonical(fs::absolute(source), ec).string() << '\n';
   auto stamp = [&](const fs::path& p) {
     std::error_code e;

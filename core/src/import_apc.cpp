@@ -122,7 +122,6 @@ void importApcShelf(const fs::path& source, const ImportOptions& options, Sequen
     }
     SourceFrame frame;
     frame.name = name;
-    frame.stamp = static_cast<double>(depth_file.number);
     frame.pose = matrixFromRowMajor(numbers.data() + 50 + 16 * depth_file.number);
     std::optional<std::string> error;
     try {

@@ -129,6 +129,12 @@ void setCameraFromIntrinsicsFile(const fs::path& source, const std::string& skip
   if (auto file = findIntrinsicsFile(source, skip_prefix)) {
     file_camera = intrinsicsFromNumbers(readNumbers(*file), file->string());
     described = "the intrinsics of " + file->filename().string();
+    // The file is found by its name among others: say which one was taken.
+    if (!options.intrinsics)
+      writer.note("intrinsics read from " + file->string() + ": fx " +
+                  formatNumber(file_camera->fx) + ", fy " + formatNumber(file_camera->fy) +
+                  ", cx " + formatNumber(file_camera->cx) + ", cy " +
+                  formatNumber(file_camera->cy));
   }
   writer.setCamera(chooseCamera(file_camera, described, options, writer, source, required));
 }
@@ -153,6 +159,8 @@ void importFrames(const fs::path& source, const ImportOptions& options, Sequence
     writer.setLabels(options.labels.value_or(apc2016Labels()));
     if (!options.labels)
       writer.note("label images read with the APC 2016 label set (give a label list to change)");
+    writer.note("label images became one-hot probabilities (confidence " +
+                formatNumber(options.label_confidence) + ")");
   } else {
     writer.setLabels(backgroundOnlyLabels());
     writer.setLabelless(true);
@@ -172,7 +180,6 @@ void importFrames(const fs::path& source, const ImportOptions& options, Sequence
     const fs::path base = source / name;
     SourceFrame frame;
     frame.name = name;
-    frame.stamp = static_cast<double>(depth_file.number);
     const fs::path pose_file = fs::path(base.string() + ".pose.txt");
     if (!isFile(pose_file)) {
       if (!writer.skip(name, "no pose file " + pose_file.filename().string())) return;
@@ -398,7 +405,7 @@ void importQuaternion(const fs::path& source, const ImportOptions& options,
     const auto& values = lines[*line];
     SourceFrame frame;
     frame.name = name;
-    frame.stamp = values.size() == 8 && !by_number ? values[0] : static_cast<double>(depth_file.number);
+    if (values.size() == 8 && !by_number) frame.stamp = values[0];
     frame.pose = poseFromQuaternion(values.data() + (values.size() == 8 ? 1 : 0));
     if (!frame.pose.allFinite()) {
       if (!writer.skip(name, "pose.txt line " + std::to_string(line_numbers[*line]) +
@@ -455,6 +462,8 @@ void importScanNet(const fs::path& source, const ImportOptions& options, Sequenc
     if (options.labels) {
       for (int id = 0; id < options.labels->size(); ++id) compact[id] = id;
       writer.setLabels(*options.labels);
+      writer.note("label images became one-hot probabilities (confidence " +
+                  formatNumber(options.label_confidence) + ")");
     } else {
       std::set<int> ids;
       for (size_t index : selected) {
@@ -527,7 +536,6 @@ void importScanNet(const fs::path& source, const ImportOptions& options, Sequenc
     const fs::path pose_file = source / "pose" / (number + ".txt");
     SourceFrame frame;
     frame.name = name;
-    frame.stamp = static_cast<double>(depth_file.number);
     if (!isFile(pose_file)) {
       if (!writer.skip(name, "no pose file pose/" + number + ".txt")) return;
       continue;

@@ -20,7 +20,8 @@ namespace fs = std::filesystem;
 // One frame as a source delivers it, before filtering and resampling.
 struct SourceFrame {
   std::string name;  // for messages: file name, number or time stamp
-  double stamp = 0.0;
+  // Seconds; left empty when the source has no time (frame numbers are not times).
+  std::optional<double> stamp;
   Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();  // camera-to-world, as read
   DepthImage depth;                                    // metres; 0 / NaN = no measurement
   std::optional<ColorImage> color;
@@ -70,6 +71,9 @@ class SequenceWriter {
  private:
   bool advance();
   void prepareFolder();
+  // The subfolder `sub` of the output, created on its first file: a folder
+  // that nothing goes into (proba/ of a geometry-only import) is not made.
+  fs::path fileIn(const char* sub, const std::string& name);
   void cleanUp() noexcept;
   [[nodiscard]] std::optional<std::string> convert(SourceFrame& frame, FrameRecord& record);
 
@@ -86,6 +90,7 @@ class SequenceWriter {
   size_t total_ = 0;
   size_t done_ = 0;
   bool finished_ = false;
+  bool prepared_ = false;
   bool created_out_ = false;
   std::vector<fs::path> created_dirs_;
   DepthFilterStats filter_totals_;

@@ -225,7 +225,7 @@ SequenceWriter::~SequenceWriter() {
 }
 
 void SequenceWriter::prepareFolder() {
-  if (!created_dirs_.empty() || created_out_) return;
+  if (prepared_) return;
   std::error_code ec;
   if (!fs::exists(out_, ec)) {
     fs::create_directories(out_, ec);
@@ -236,13 +236,19 @@ void SequenceWriter::prepareFolder() {
     fs::remove(out_ / "sequence.json", ec);  // first: a half-replaced folder is never a sequence
     for (const char* sub : {"depth", "color", "proba", "label"}) fs::remove_all(out_ / sub, ec);
   }
-  for (const char* sub : {"depth", "color", "proba", "label"}) {
-    if (!fs::exists(out_ / sub, ec)) {
-      fs::create_directories(out_ / sub, ec);
-      if (ec) throw Error((out_ / sub).string(), "output", "a writable folder", ec.message());
-      created_dirs_.push_back(out_ / sub);
-    }
+  prepared_ = true;
+}
+
+fs::path SequenceWriter::fileIn(const char* sub, const std::string& name) {
+  prepareFolder();
+  const fs::path dir = out_ / sub;
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) {
+    fs::create_directories(dir, ec);
+    if (ec) throw Error(dir.string(), "output", "a writable folder", ec.message());
+    created_dirs_.push_back(dir);
   }
+  return dir / name;
 }
 
 void SequenceWriter::cleanUp() noexcept {
@@ -417,6 +423,7 @@ std::optional<std::string> SequenceWriter::convert(SourceFrame& frame, FrameReco
   }
   if (!has_proba && has_label) {
     frame.proba = oneHot(*frame.label, options_.label_confidence);
+    record.proba_from_label = true;
   }
   if (!has_proba && !has_label && !labelless_)
     return std::string("no probability or label image for this frame");
@@ -429,29 +436,28 @@ std::optional<std::string> SequenceWriter::convert(SourceFrame& frame, FrameReco
            " flying pixels removed)";
 
   // Files.
-  prepareFolder();
   const std::string name = indexName(records_.size());
   record.depth = "depth/" + name + ".png";
-  writeDepthPng(out_ / record.depth, depth, depth_scale_);
+  writeDepthPng(fileIn("depth", name + ".png"), depth, depth_scale_);
   if (frame.color) {
     record.color = "color/" + name + ".png";
-    writeColorPng(out_ / record.color, *frame.color);
+    writeColorPng(fileIn("color", name + ".png"), *frame.color);
   }
   if (frame.proba) {
     record.proba = "proba/" + name + ".npy";
-    writeProbabilityNpy(out_ / record.proba, *frame.proba);
+    writeProbabilityNpy(fileIn("proba", name + ".npy"), *frame.proba);
     record.proba_labels = frame.proba->channel_labels;
   }
   if (frame.label) {
     record.label = "label/" + name + ".png";
-    writeLabelPng(out_ / record.label, *frame.label);
+    writeLabelPng(fileIn("label", name + ".png"), *frame.label);
   } else if (labelless_ && !frame.proba) {
     LabelImage background;
     background.width = depth.width;
     background.height = depth.height;
     background.ids.assign(depth.metres.size(), 0);
     record.label = "label/" + name + ".png";
-    writeLabelPng(out_ / record.label, background);
+    writeLabelPng(fileIn("label", name + ".png"), background);
   }
   return std::nullopt;
 }

@@ -109,6 +109,10 @@ std::string reportJson(const EvaluationReport& report) {
             {"summary", summaryJson(report.summary)}};
   if (report.metrics_2d) root["metrics_2d"] = metricsJson(*report.metrics_2d);
   if (report.metrics_2d_candidates) root["metrics_2d_candidates"] = metricsJson(*report.metrics_2d_candidates);
+  if (!report.metrics_2d_excluded_frames.empty())
+    root["metrics_2d_excluded_frames"] = report.metrics_2d_excluded_frames;
+  if (!report.metrics_2d_not_scored.empty())
+    root["metrics_2d_not_scored"] = report.metrics_2d_not_scored;
   return pretty(root);
 }
 

@@ -79,6 +79,29 @@ std::string describeSettings(const EvaluationReport& r) {
   return out.str();
 }
 
+// Ascending frame indices as runs ("0-49, 52"): a long recording stays one line.
+std::string frameRuns(const std::vector<size_t>& frames) {
+  std::string text;
+  for (size_t i = 0; i < frames.size();) {
+    size_t j = i;
+    while (j + 1 < frames.size() && frames[j + 1] == frames[j] + 1) ++j;
+    text += (text.empty() ? "" : ", ") + std::to_string(frames[i]);
+    if (j > i) text += "-" + std::to_string(frames[j]);
+    i = j + 1;
+  }
+  return text;
+}
+
+// Frames left out of the 2D metrics, for a report (empty when none was).
+std::string excludedFramesText(const EvaluationReport& r) {
+  const size_t n = r.metrics_2d_excluded_frames.size();
+  if (n == 0) return {};
+  return std::to_string(n) + (n == 1 ? " frame" : " frames") + " (" +
+         frameRuns(r.metrics_2d_excluded_frames) + ") left out: " +
+         (n == 1 ? "its probabilities were made from its label image"
+                 : "their probabilities were made from their label images");
+}
+
 void markdownMetricsRow(std::ostringstream& out, const char* name, const Metrics2d& m) {
   out << "| " << name << " | " << percent(m.pixel_accuracy) << " | " << percent(m.mean_accuracy) << " | "
       << percent(m.mean_iu) << " | " << percent(m.fw_iu) << " |\n";
@@ -150,6 +173,11 @@ std::string reportMarkdown(const EvaluationReport& report) {
         << "| candidates | pixel acc. | mean acc. | mean IU | f.w. IU |\n|---|---:|---:|---:|---:|\n";
     markdownMetricsRow(out, "no", *report.metrics_2d);
     if (report.metrics_2d_candidates) markdownMetricsRow(out, "yes", *report.metrics_2d_candidates);
+    if (const std::string excluded = excludedFramesText(report); !excluded.empty())
+      out << "\n" << markdownText(excluded) << ".\n";
+  } else if (!report.metrics_2d_not_scored.empty()) {
+    out << "\n## 2D segmentation\n\nNot scored: " << markdownText(report.metrics_2d_not_scored)
+        << ".\n";
   }
   return out.str();
 }
@@ -174,6 +202,12 @@ std::string reportTable(const EvaluationReport& report) {
   };
   if (report.metrics_2d) metrics("without candidates", *report.metrics_2d);
   if (report.metrics_2d_candidates) metrics("with candidates", *report.metrics_2d_candidates);
+  if (report.metrics_2d) {
+    if (const std::string excluded = excludedFramesText(report); !excluded.empty())
+      out << "2D segmentation: " << excluded << "\n";
+  } else if (!report.metrics_2d_not_scored.empty()) {
+    out << "2D segmentation: not scored: " << report.metrics_2d_not_scored << "\n";
+  }
   return out.str();
 }
 

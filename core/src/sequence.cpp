@@ -265,12 +265,11 @@ FrameRecord parseFrame(const Reader& in, const Json& value, size_t index,
                        const Sequence& sequence) {
   const std::string field = indexed("frames", index);
   in.expectObject(value, field);
-  in.allowOnly(
-      value, field,
-      {"stamp", "pose", "depth", "color", "proba", "proba_labels", "label", "view", "camera"});
+  in.allowOnly(value, field,
+               {"stamp", "pose", "depth", "color", "proba", "proba_labels", "proba_from_label",
+                "label", "view", "camera"});
   const std::string path_what = "a non-empty file path relative to the sequence folder";
   FrameRecord frame;
-  frame.stamp = static_cast<double>(index);
   if (const Json* v = Reader::optional(value, "stamp"))
     frame.stamp = in.number(*v, join(field, "stamp"));
   frame.T_world_camera = parsePose(in, in.required(value, field, "pose"), join(field, "pose"));
@@ -287,6 +286,13 @@ FrameRecord parseFrame(const Reader& in, const Json& value, size_t index,
               "proba_labels only together with " + join(field, "proba"),
               "proba_labels without a proba file");
     frame.proba_labels = parseProbaLabels(in, *v, join(field, "proba_labels"), sequence.labels);
+  }
+  if (const Json* v = Reader::optional(value, "proba_from_label")) {
+    frame.proba_from_label = in.boolean(*v, join(field, "proba_from_label"));
+    if (frame.proba.empty())
+      in.fail(join(field, "proba_from_label"),
+              "proba_from_label only together with " + join(field, "proba"),
+              "proba_from_label without a proba file");
   }
   if (const Json* v = Reader::optional(value, "view"))
     frame.view = in.boolean(*v, join(field, "view"));
@@ -359,8 +365,10 @@ void requireFinite(const fs::path& file, const std::string& field, double value)
 OrderedJson frameJson(const FrameRecord& frame, size_t index, const fs::path& file) {
   const std::string field = indexed("frames", index);
   OrderedJson json;
-  requireFinite(file, join(field, "stamp"), frame.stamp);
-  json["stamp"] = frame.stamp;
+  if (frame.stamp) {
+    requireFinite(file, join(field, "stamp"), *frame.stamp);
+    json["stamp"] = *frame.stamp;
+  }
   OrderedJson pose = OrderedJson::array();
   const Eigen::Matrix4d m = frame.T_world_camera.matrix();
   for (int i = 0; i < 16; ++i) {
@@ -379,6 +387,13 @@ OrderedJson frameJson(const FrameRecord& frame, size_t index, const fs::path& fi
                   "proba_labels only together with " + join(field, "proba"),
                   "proba_labels without a proba file");
     json["proba_labels"] = frame.proba_labels;
+  }
+  if (frame.proba_from_label) {
+    if (frame.proba.empty())
+      throw Error(file.string(), join(field, "proba_from_label"),
+                  "proba_from_label only together with " + join(field, "proba"),
+                  "proba_from_label without a proba file");
+    json["proba_from_label"] = true;
   }
   if (!frame.label.empty()) json["label"] = frame.label;
   json["view"] = frame.view;

@@ -63,6 +63,30 @@ TEST_F(CliInfoTest, InfoSummarisesTheSequence) {
   EXPECT_NE(result.out.find("x 0 .. 0.5"), std::string::npos) << result.out;
 }
 
+TEST_F(CliInfoTest, InfoSaysWhenTheFramesHaveNoTimeStamps) {
+  lom::Sequence sequence = lom::loadSequence(seq());
+  for (auto& frame : sequence.frames) frame.stamp.reset();
+  sequence.frames[0].proba_from_label = true;
+  lom::saveSequence(sequence, seq());
+  const auto result = lom::test::runCli("info " + quoted(seq()));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("time span:        none (the frames have no time stamps)\n"),
+            std::string::npos)
+      << result.out;
+  EXPECT_EQ(result.out.find(" s)"), std::string::npos) << "no span in seconds\n" << result.out;
+  EXPECT_NE(result.out.find("proba:            1/3 (1 .npy), 1 made from the label images"),
+            std::string::npos)
+      << result.out;
+
+  sequence.frames[2].stamp = 4.5;
+  sequence.frames[1].stamp = 2.0;
+  lom::saveSequence(sequence, seq());
+  const auto some = lom::test::runCli("info " + quoted(seq()));
+  EXPECT_NE(some.out.find("time span:        2 .. 4.5 (2.5 s; 2 of 3 frames have a time stamp)"),
+            std::string::npos)
+      << some.out;
+}
+
 TEST_F(CliInfoTest, InfoAcceptsThePathOfSequenceJson) {
   const auto result = lom::test::runCli("info " + quoted(seq() / "sequence.json"));
   EXPECT_EQ(result.exit_code, 0) << result.err;

@@ -2,10 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iomanip>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
-
+#include "lom/sequence.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -143,6 +144,69 @@ TEST_F(CliScoreTest, CentreModeAndCandidatesAreReported) {
   ASSERT_TRUE(report.contains("metrics_2d_candidates"));
   EXPECT_GE(report["metrics_2d_candidates"]["pixel_accuracy"].get<double>(),
             report["metrics_2d"]["pixel_accuracy"].get<double>());
+}
+
+// The frames layout (frame-NNNNNN.depth/pose/label + intrinsics) of a generated scene,
+// as TSDF-fusion tools store recordings whose label images were drawn by hand.
+void writeFramesLayout(const std::filesystem::path& scene, const std::filesystem::path& out) {
+  const lom::Sequence sequence = lom::loadSequence(scene);
+  std::filesystem::create_directories(out);
+  const lom::CameraIntrinsics& k = sequence.camera;
+  std::ofstream(out / "intrinsics.K.txt") << std::setprecision(17) << k.fx << " 0 " << k.cx
+                                          << "\n0 " << k.fy << " " << k.cy << "\n0 0 1\n";
+  for (size_t i = 0; i < sequence.frames.size(); ++i) {
+    char base[32];
+    std::snprintf(base, sizeof base, "frame-%06zu", 10 + 2 * i);
+    const lom::FrameData frame = lom::loadFrame(sequence, i);
+    lom::writeDepthPng(out / (std::string(base) + ".depth.png"), frame.depth, 0.001);
+    lom::writeLabelPng(out / (std::string(base) + ".label.png"), *frame.label);
+    std::ofstream pose(out / (std::string(base) + ".pose.txt"));
+    pose << std::setprecision(17);
+    const Eigen::Matrix4d m = sequence.frames[i].T_world_camera.matrix();
+    for (int r = 0; r < 4; ++r)
+      pose << m(r, 0) << " " << m(r, 1) << " " << m(r, 2) << " " << m(r, 3) << "\n";
+  }
+}
+
+TEST_F(CliScoreTest, FramesImportedFromLabelImagesAreNotScoredIn2d) {
+  TempDir out;
+  writeFramesLayout(scene(), out / "recording");
+  const auto imported =
+      runCli("import auto " + quoted(out / "recording") + " --out " + quoted(out / "seq"));
+  ASSERT_EQ(imported.exit_code, 0) << imported.err;
+  const std::string import_text = imported.out + imported.err;
+  EXPECT_NE(import_text.find("label images became one-hot probabilities"), std::string::npos)
+      << import_text;
+  EXPECT_NE(
+      import_text.find("intrinsics read from " + (out / "recording" / "intrinsics.K.txt").string()),
+      std::string::npos)
+      << import_text;
+
+  const auto r = runCli("score " + quoted(out / "seq") + " --annotations " +
+                        quoted(scene() / "annotations.json") + " --out " + quoted(out / "report"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string sentence =
+      "the probabilities were made from the label images, which are not an independent ground "
+      "truth";
+  EXPECT_NE(r.out.find("2D segmentation: not scored: " + sentence), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("pixel acc."), std::string::npos) << "no 100 % against itself\n" << r.out;
+
+  const Json report = Json::parse(slurp(out / "report" / "report.json"));
+  EXPECT_FALSE(report.contains("metrics_2d"));
+  EXPECT_EQ(report["metrics_2d_not_scored"], sentence);
+  EXPECT_EQ(report["metrics_2d_excluded_frames"], Json({0, 1, 2, 3}));
+  EXPECT_EQ(report["objects"].size(), 4u) << "the 3D scores are unaffected";
+  const std::string markdown = slurp(out / "report" / "report.md");
+  EXPECT_NE(markdown.find("## 2D segmentation\n\nNot scored: " + sentence + "."), std::string::npos)
+      << markdown;
+
+  // The generated frames keep their independent probabilities: scored as before.
+  const auto original = runCli(scoreArgs(out / "original"));
+  ASSERT_EQ(original.exit_code, 0) << original.err;
+  EXPECT_NE(original.out.find("2D segmentation without candidates: pixel acc."), std::string::npos);
+  EXPECT_EQ(original.out.find("not scored"), std::string::npos) << original.out;
+  EXPECT_FALSE(
+      Json::parse(slurp(out / "original" / "report.json")).contains("metrics_2d_excluded_frames"));
 }
 
 TEST_F(CliScoreTest, BoxOfAnUnknownLabelFailsAndWritesNothing) {

@@ -92,6 +92,23 @@ TEST_F(CliSegmentTest, WritesProbabilityImagesAndUpdatesTheSequence) {
   EXPECT_EQ(bytes.bytes[1], static_cast<std::uint8_t>(std::lround(expected(1, 0)[1] * 255)));
 }
 
+TEST_F(CliSegmentTest, ReplacingOneHotProbabilitiesClearsProbaFromLabel) {
+  ASSERT_EQ(runCli("segment " + quoted(dir_ / "seq") + " --segmenter " + quoted(model_)).exit_code,
+            0);
+  // As an import leaves label images turned into probabilities.
+  lom::Sequence marked = lom::loadSequence(dir_ / "seq");
+  for (auto& frame : marked.frames) frame.proba_from_label = true;
+  lom::saveSequence(marked, dir_ / "seq");
+
+  const auto all = runCli("segment " + quoted(dir_ / "seq") + " --segmenter " + quoted(model_) +
+                          " --all --out-dir net");
+  ASSERT_EQ(all.exit_code, 0) << all.err;
+  for (const auto& frame : lom::loadSequence(dir_ / "seq").frames) {
+    EXPECT_EQ(frame.proba.rfind("net/", 0), 0u) << frame.proba;
+    EXPECT_FALSE(frame.proba_from_label) << "the network's output is independent of the labels";
+  }
+}
+
 TEST_F(CliSegmentTest, Float16AndLabelMapping) {
   // The network's three channels hold labels 3, 1 and 2 of a 4-label sequence.
   sequence_ = lom::test::writeColourWallSequence(dir_ / "seq", 1, 1);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "lom/evaluation.hpp"
 #include "lom/fusion.hpp"
 #include "lom/import.hpp"
 #include "lom/label_map.hpp"
@@ -14,6 +15,8 @@
 
 namespace lom {
 namespace {
+
+namespace fs = std::filesystem;
 
 struct Agreement {
   size_t checked = 0;   // occupied voxels of A that view B saw (not occluded, valid depth)
@@ -117,6 +120,102 @@ TEST(ImportRealData, ApcBoxRealsenseViewsAgree) {
   EXPECT_NEAR(sequence.camera.cy, 247.519, 1e-3);
   EXPECT_TRUE(sequence.frames[0].T_world_camera.isApprox(Eigen::Isometry3d::Identity()));
   checkViews(sequence, {"apc-box-realsense", 0, 3, 0.01, 1.5}, 0.8);
+}
+
+// The first `count` frames of apc-box-realsense linked (not copied) into `out`,
+// with its intrinsics file, and, when `labels`, a label image per frame: label 1
+// over the measured pixels of the image centre, as a hand-drawn mask would be.
+void linkApcBoxFrames(const fs::path& out, size_t count, bool labels) {
+  const fs::path data = test::sharedDataDir() / "apc-box-realsense";
+  fs::create_directories(out);
+  fs::create_symlink(data / "intrinsics.K.txt", out / "intrinsics.K.txt");
+  std::vector<fs::path> depths;
+  for (const auto& entry : fs::directory_iterator(data)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() > 10 && name.compare(name.size() - 10, 10, ".depth.png") == 0)
+      depths.push_back(entry.path());
+  }
+  std::sort(depths.begin(), depths.end());
+  ASSERT_GE(depths.size(), count);
+  for (size_t i = 0; i < count; ++i) {
+    const std::string name = depths[i].filename().string();
+    const std::string base = name.substr(0, name.size() - 10);
+    for (const char* part : {".depth.png", ".color.png", ".pose.txt"})
+      fs::create_symlink(data / (base + part), out / (base + part));
+    if (!labels) continue;
+    const DepthImage depth = readDepthImage(depths[i], 0.001);
+    LabelImage label;
+    label.width = depth.width;
+    label.height = depth.height;
+    label.ids.assign(depth.metres.size(), 0);
+    for (int v = depth.height / 3; v < 2 * depth.height / 3; ++v)
+      for (int u = depth.width / 3; u < 2 * depth.width / 3; ++u)
+        if (depth.at(u, v) > 0.0f) label.ids[static_cast<size_t>(v * depth.width + u)] = 1;
+    writeLabelPng(out / (base + ".label.png"), label);
+  }
+}
+
+bool anyNote(const ImportReport& report, const std::string& part) {
+  return std::any_of(report.notes.begin(), report.notes.end(),
+                     [&](const std::string& note) { return note.find(part) != std::string::npos; });
+}
+
+TEST(ImportRealData, ApcBoxFramesHaveNoTimeStampsAndNoEmptyProbaFolder) {
+  LOM_REQUIRE_SHARED_DATA("apc-box-realsense");
+  test::TempDir dir;
+  linkApcBoxFrames(dir / "src", 3, false);
+  const ImportReport report = importSource(std::nullopt, dir / "src", dir / "seq");
+  ASSERT_EQ(report.frames_written, 3u) << report.text();
+  EXPECT_TRUE(anyNote(report, "intrinsics read from " +
+                                  (dir / "src" / "intrinsics.K.txt").string() + ": fx 615.195"))
+      << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  for (const auto& frame : sequence.frames)
+    EXPECT_FALSE(frame.stamp.has_value()) << "frame numbers 15, 17, ... are not seconds";
+  EXPECT_FALSE(fs::exists(dir / "seq" / "proba")) << "a geometry-only import has no proba";
+  EXPECT_TRUE(validateSequence(sequence).empty());
+}
+
+TEST(ImportRealData, ApcBoxWithItsOwnLabelImagesIsNotScoredIn2d) {
+  LOM_REQUIRE_SHARED_DATA("apc-box-realsense");
+  test::TempDir dir;
+  linkApcBoxFrames(dir / "src", 3, true);
+  const ImportReport report = importSource(std::nullopt, dir / "src", dir / "seq");
+  EXPECT_EQ(report.kind, SourceKind::Frames);
+  ASSERT_EQ(report.frames_written, 3u) << report.text();
+  EXPECT_TRUE(anyNote(report, "label images became one-hot probabilities")) << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  for (const auto& frame : sequence.frames) EXPECT_TRUE(frame.proba_from_label);
+
+  // A box around what label 1 covers in the first view (the world is its camera).
+  const FrameData first = loadFrame(sequence, 0);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  size_t n = 0;
+  for (int v = 0; v < first.depth.height; ++v)
+    for (int u = 0; u < first.depth.width; ++u)
+      if (first.label->at(u, v) == 1 && first.depth.at(u, v) > 0.0f) {
+        sum += sequence.cameraOf(0).backProject(u, v, first.depth.at(u, v));
+        ++n;
+      }
+  ASSERT_GT(n, 1000u);
+  Annotations annotations;
+  GroundTruthBox box;
+  box.label = 1;
+  box.box.center = sum / static_cast<double>(n);
+  box.box.size = Eigen::Vector3d(0.2, 0.2, 0.2);
+  annotations.boxes.push_back(box);
+
+  EvaluationOptions options;
+  options.fusion.map.max_range = 1.5;
+  const LabelMap map = fuseSequence(sequence, options.fusion);
+  const EvaluationReport scored = evaluate(sequence, annotations, map, options);
+  EXPECT_FALSE(scored.metrics_2d) << "pixel accuracy " << scored.metrics_2d->pixel_accuracy
+                                  << " against the images the probabilities were made from";
+  EXPECT_EQ(scored.metrics_2d_excluded_frames, (std::vector<size_t>{0, 1, 2}));
+  EXPECT_NE(scored.metrics_2d_not_scored.find("not an independent ground truth"),
+            std::string::npos);
+  ASSERT_EQ(scored.objects.size(), 1u);
+  EXPECT_GT(scored.objects[0].voxels, 0u) << "the 3D scores are unaffected";
 }
 
 TEST(ImportRealData, KinectRoomViewsAgree) {

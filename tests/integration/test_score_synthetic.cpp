@@ -6,6 +6,7 @@
 
 #include "lom/error.hpp"
 #include "lom/evaluation.hpp"
+#include "lom/report.hpp"
 #include "lom/synth.hpp"
 #include "test_support.hpp"
 
@@ -165,6 +166,55 @@ TEST_F(ScoreChecks, CandidatesHoldingEveryTrueLabelOnlyFixPixels) {
   EXPECT_GE(report.metrics_2d_candidates->pixel_accuracy, report.metrics_2d->pixel_accuracy);
   EXPECT_EQ(report.metrics_2d->pixels, report.metrics_2d_candidates->pixels);
   EXPECT_EQ(report.metrics_2d->pixels, 4u * 160u * 120u);
+}
+
+TEST_F(ScoreChecks, FramesWhoseProbaWasMadeFromTheirLabelsAreLeftOutOf2dMetrics) {
+  lom::EvaluationOptions options = named();
+  std::vector<int> candidates{0};
+  for (const auto& box : scene_->annotations.boxes) candidates.push_back(box.label);
+  options.fusion.candidates = candidates;
+  const lom::EvaluationReport all = lom::evaluate(*sequence_, scene_->annotations, *map_, options);
+  ASSERT_TRUE(all.metrics_2d);
+  EXPECT_TRUE(all.metrics_2d_excluded_frames.empty());
+  EXPECT_TRUE(all.metrics_2d_not_scored.empty());
+
+  // Two of the four frames: the others are scored alone.
+  lom::Sequence half = *sequence_;
+  half.frames[0].proba_from_label = true;
+  half.frames[2].proba_from_label = true;
+  const lom::EvaluationReport partly = lom::evaluate(half, scene_->annotations, *map_, options);
+  ASSERT_TRUE(partly.metrics_2d && partly.metrics_2d_candidates);
+  EXPECT_EQ(partly.metrics_2d->pixels, 2u * 160u * 120u);
+  EXPECT_EQ(partly.metrics_2d_excluded_frames, (std::vector<size_t>{0, 2}));
+  EXPECT_TRUE(partly.metrics_2d_not_scored.empty());
+  EXPECT_EQ(partly.views, all.views) << "the projection baseline keeps every view";
+  EXPECT_NE(lom::reportTable(partly).find("2D segmentation: 2 frames (0, 2) left out: their "
+                                          "probabilities were made from their label images"),
+            std::string::npos)
+      << lom::reportTable(partly);
+
+  // Every frame: no 2D metrics, and the reports say why.
+  lom::Sequence none = *sequence_;
+  for (auto& frame : none.frames) frame.proba_from_label = true;
+  const lom::EvaluationReport report = lom::evaluate(none, scene_->annotations, *map_, options);
+  EXPECT_FALSE(report.metrics_2d);
+  EXPECT_FALSE(report.metrics_2d_candidates);
+  EXPECT_EQ(report.metrics_2d_excluded_frames, (std::vector<size_t>{0, 1, 2, 3}));
+  const std::string why =
+      "the probabilities were made from the label images, which are not an independent ground "
+      "truth";
+  EXPECT_EQ(report.metrics_2d_not_scored, why);
+  ASSERT_EQ(report.objects.size(), all.objects.size());
+  for (size_t i = 0; i < report.objects.size(); ++i)
+    EXPECT_EQ(report.objects[i].iou_3d.projection_max, all.objects[i].iou_3d.projection_max);
+  const std::string table = lom::reportTable(report);
+  EXPECT_NE(table.find("2D segmentation: not scored: " + why + "\n"), std::string::npos) << table;
+  EXPECT_EQ(table.find("pixel acc."), std::string::npos) << table;
+  EXPECT_NE(lom::reportMarkdown(report).find("Not scored: " + why + "."), std::string::npos);
+  const std::string json = lom::reportJson(report);
+  EXPECT_NE(json.find("\"metrics_2d_not_scored\": \"" + why + "\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"metrics_2d_excluded_frames\": [0, 1, 2, 3]"), std::string::npos) << json;
+  EXPECT_EQ(json.find("\"metrics_2d\":"), std::string::npos) << json;
 }
 
 TEST_F(ScoreChecks, ProgressCanCancel) {

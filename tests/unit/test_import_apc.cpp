@@ -179,6 +179,19 @@ TEST(ImportApcShelf, FramesWithoutMasksUseSegmOneHot) {
   EXPECT_NEAR(frame.proba->pixel(1, 3)[1], 0.9f, 1e-3);
 }
 
+TEST(ImportApcShelf, OnlyFramesWithoutMasksAreMarkedProbaFromLabel) {
+  test::TempDir dir;
+  writeScene(dir / "scene");
+  fs::remove(dir / "scene" / "masks" / "frame-000001.crayola_24_ct.mask.png");
+  const ImportReport report = importSource(SourceKind::ApcShelf, dir / "scene", dir / "seq");
+  ASSERT_EQ(report.frames_written, 2u) << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_FALSE(sequence.frames[0].proba_from_label) << "the segmenter's masks";
+  EXPECT_TRUE(sequence.frames[1].proba_from_label) << "one-hot from segm";
+  for (const auto& frame : sequence.frames)
+    EXPECT_FALSE(frame.stamp.has_value()) << "frame numbers are not times";
+}
+
 TEST(ImportApcShelf, MalformedInputs) {
   test::TempDir dir;
   writeScene(dir / "scene");

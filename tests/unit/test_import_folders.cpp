@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <iterator>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -135,8 +136,6 @@ TEST(ImportFrames, RoundTrip) {
   EXPECT_EQ(sequence.camera.fy, 31.0);
   EXPECT_EQ(sequence.camera.cx, 15.5);
   ASSERT_EQ(sequence.frames.size(), 2u);
-  EXPECT_EQ(sequence.frames[0].stamp, 15.0);
-  EXPECT_EQ(sequence.frames[1].stamp, 17.0);
   for (int i = 0; i < 2; ++i) {
     EXPECT_TRUE(sequence.frames[i].T_world_camera.matrix().isApprox(scenePose(i), 1e-12));
     const FrameData frame = loadFrame(sequence, i);
@@ -149,6 +148,71 @@ TEST(ImportFrames, RoundTrip) {
     EXPECT_FALSE(frame.proba.has_value());
     for (auto id : frame.label->ids) ASSERT_EQ(id, 0);
   }
+}
+
+TEST(ImportFrames, FrameNumbersAreNotWrittenAsTimeStamps) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  ASSERT_EQ(importSource(SourceKind::Frames, dir / "src", dir / "seq").frames_written, 2u);
+  const Sequence sequence = loadSequence(dir / "seq");
+  for (const auto& frame : sequence.frames)
+    EXPECT_FALSE(frame.stamp.has_value()) << "frame numbers 15 and 17 are not seconds";
+  std::ifstream in(dir / "seq" / "sequence.json");
+  const std::string json{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  EXPECT_FALSE(contains(json, "\"stamp\"")) << json;
+}
+
+TEST(ImportFrames, GeometryOnlyWritesNoProbaFolder) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  ASSERT_EQ(importSource(SourceKind::Frames, dir / "src", dir / "seq").frames_written, 2u);
+  EXPECT_TRUE(fs::is_directory(dir / "seq" / "depth"));
+  EXPECT_TRUE(fs::is_directory(dir / "seq" / "label"));
+  EXPECT_FALSE(fs::exists(dir / "seq" / "proba")) << "nothing goes into proba/";
+
+  // Nor colour/ when no frame has colour.
+  ImportOptions no_color;
+  no_color.write_color = false;
+  ASSERT_EQ(importSource(SourceKind::Frames, dir / "src", dir / "bare", no_color).frames_written,
+            2u);
+  EXPECT_FALSE(fs::exists(dir / "bare" / "proba"));
+  EXPECT_FALSE(fs::exists(dir / "bare" / "color"));
+  EXPECT_TRUE(validateSequence(loadSequence(dir / "bare")).empty());
+}
+
+TEST(ImportFrames, OneHotFramesAreMarkedAndTheNotesSaySo) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  for (int number : {15, 17}) {
+    LabelImage label;
+    label.width = kW;
+    label.height = kH;
+    label.ids.assign(kW * kH, 0);
+    for (int i = 0; i < kW * kH / 2; ++i) label.ids[i] = 19;
+    char name[40];
+    std::snprintf(name, sizeof name, "frame-%06d.label.png", number);
+    writeLabelPng(dir / "src" / name, label);
+  }
+  const ImportReport report = importSource(SourceKind::Frames, dir / "src", dir / "seq");
+  ASSERT_EQ(report.frames_written, 2u) << report.text();
+  EXPECT_TRUE(anyNote(report, "label images became one-hot probabilities (confidence 0.9)"))
+      << report.text();
+  EXPECT_TRUE(anyNote(report, "intrinsics read from " +
+                                  (dir / "src" / "camera-intrinsics.txt").string() + ": fx 30"))
+      << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  for (const auto& frame : sequence.frames) {
+    EXPECT_FALSE(frame.proba.empty());
+    EXPECT_FALSE(frame.label.empty());
+    EXPECT_TRUE(frame.proba_from_label);
+  }
+
+  // An intrinsics option replaces the file: the note says so instead.
+  ImportOptions options;
+  options.intrinsics = parseIntrinsics("40,41,15.5,11.5");
+  const ImportReport given = importSource(SourceKind::Frames, dir / "src", dir / "seq2", options);
+  EXPECT_FALSE(anyNote(given, "intrinsics read from")) << given.text();
+  EXPECT_TRUE(anyNote(given, "instead of the intrinsics of camera-intrinsics.txt")) << given.text();
 }
 
 TEST(ImportFrames, LabelImagesBecomeOneHotProbabilities) {
@@ -369,7 +433,8 @@ TEST(ImportTum, RoundTripWithAssociationAndInterpolation) {
   ASSERT_EQ(sequence.frames.size(), 3u);
   for (size_t i = 0; i < 3; ++i) {
     const double t = tum.depth_stamps[i];
-    EXPECT_DOUBLE_EQ(sequence.frames[i].stamp, t);
+    ASSERT_TRUE(sequence.frames[i].stamp.has_value()) << "TUM keeps its time stamps";
+    EXPECT_DOUBLE_EQ(*sequence.frames[i].stamp, t);
     EXPECT_TRUE(sequence.frames[i].T_world_camera.translation().isApprox(
         TumFixture::position(t), 1e-9))
         << "interpolated between the 100 Hz samples";
@@ -450,7 +515,31 @@ TEST(ImportQuaternion, RoundTripWithIntrinsicsOption) {
     const FrameData frame = loadFrame(sequence, n - 1);
     expectDepthEqual(frame.depth, sceneDepth(n));
     EXPECT_EQ(frame.color->rgb, sceneColor(n).rgb);
+    EXPECT_FALSE(sequence.frames[n - 1].stamp.has_value()) << "7 columns: no time";
   }
+}
+
+TEST(ImportQuaternion, KeepsALeadingTimeStampButNotAFrameNumber) {
+  test::TempDir dir;
+  writeQuaternionFolder(dir / "room");
+  ImportOptions options;
+  options.intrinsics = parseIntrinsics("30,31,15.5,11.5");
+  writeText(dir / "room" / "pose.txt",
+            "1305031102.5 0 0 0 0 0 0 1\n1305031102.75 0.1 0 0 0 0 0 1\n"
+            "1305031103.25 0.2 0 0 0 0 0 1\n");
+  ASSERT_EQ(
+      importSource(SourceKind::Quaternion, dir / "room", dir / "timed", options).frames_written,
+      3u);
+  const Sequence timed = loadSequence(dir / "timed");
+  ASSERT_TRUE(timed.frames[2].stamp.has_value());
+  EXPECT_DOUBLE_EQ(*timed.frames[2].stamp, 1305031103.25);
+
+  writeText(dir / "room" / "pose.txt", "1 0 0 0 0 0 0 1\n2 0.1 0 0 0 0 0 1\n3 0.2 0 0 0 0 0 1\n");
+  ASSERT_EQ(
+      importSource(SourceKind::Quaternion, dir / "room", dir / "numbered", options).frames_written,
+      3u);
+  for (const auto& frame : loadSequence(dir / "numbered").frames)
+    EXPECT_FALSE(frame.stamp.has_value()) << "a frame number is not a time";
 }
 
 TEST(ImportQuaternion, MalformedInputs) {
@@ -535,6 +624,29 @@ TEST(ImportScanNet, RoundTripWithResampledColourAndLabels) {
   EXPECT_EQ(sequence.frames[0].proba_labels, (std::vector<int>{0, 1, 2}));
   EXPECT_NEAR(frame.proba->pixel(kW / 2, kH / 2)[2], 0.9f, 1e-3);
   EXPECT_NEAR(frame.proba->pixel(kW / 2, kH / 2)[0], 0.05f, 1e-3);
+  for (const auto& record : sequence.frames) {
+    EXPECT_TRUE(record.proba_from_label) << "the proba is the label image, one-hot";
+    EXPECT_FALSE(record.stamp.has_value()) << "ScanNet frame numbers are not times";
+  }
+}
+
+TEST(ImportScanNet, ALabelListStillNotesTheOneHotProbabilities) {
+  test::TempDir dir;
+  writeScanNetScene(dir / "scene", false);
+  fs::remove_all(dir / "scene" / "label-filt");
+  fs::create_directories(dir / "scene" / "label-filt");
+  for (int n = 0; n < 3; ++n) {
+    cv::Mat label(2 * kH, 2 * kW, CV_16UC1, cv::Scalar(0));
+    label(cv::Rect(0, 8, kW, 2 * kH - 8)).setTo(1);
+    cv::imwrite((dir / "scene" / "label-filt" / (std::to_string(n) + ".png")).string(), label);
+  }
+  ImportOptions options;
+  options.labels = LabelSet({{0, "__background__", {0, 0, 0}}, {1, "chair", {128, 0, 0}}});
+  const ImportReport report =
+      importSource(SourceKind::ScanNet, dir / "scene", dir / "seq", options);
+  ASSERT_EQ(report.frames_written, 2u) << report.text();
+  EXPECT_TRUE(anyNote(report, "label images became one-hot probabilities")) << report.text();
+  for (const auto& record : loadSequence(dir / "seq").frames) EXPECT_TRUE(record.proba_from_label);
 }
 
 TEST(ImportScanNet, NamesWithoutTheLabelTableAndMalformedInputs) {

@@ -298,7 +298,9 @@ TEST(ImportRosbag, RoundTripWithTfProbabilitiesAndColour) {
   ASSERT_EQ(sequence.frames.size(), 4u);
   for (int f = 0; f < 4; ++f) {
     const double t = 10.0 + 0.1 * f;
-    EXPECT_NEAR(sequence.frames[f].stamp, t, 1e-9);
+    ASSERT_TRUE(sequence.frames[f].stamp.has_value()) << "a bag keeps its time stamps";
+    EXPECT_NEAR(*sequence.frames[f].stamp, t, 1e-9);
+    EXPECT_FALSE(sequence.frames[f].proba_from_label) << "the segmenter's probabilities";
     const Eigen::Isometry3d expected = worldBase(t) * baseCamera();
     EXPECT_TRUE(sequence.frames[f].T_world_camera.matrix().isApprox(expected.matrix(), 1e-6))
         << "frame " << f << " (tf interpolated between 20 Hz samples)\n"
@@ -349,6 +351,8 @@ TEST(ImportRosbag, FloatDepthCompressedColourAndLabelImages) {
   EXPECT_NEAR(frame.proba->pixel(0, kH - 1)[0], 0.25f, 1e-3);
   ASSERT_TRUE(frame.label.has_value());
   EXPECT_EQ(frame.label->at(0, kH - 1), 19);
+  for (const auto& record : sequence.frames)
+    EXPECT_TRUE(record.proba_from_label) << "one-hot from the label topic";
 }
 
 TEST(ImportRosbag, DamagedPngPayloadsAreReportedByTopicWithoutDecoderMessages) {

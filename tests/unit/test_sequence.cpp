@@ -131,6 +131,8 @@ TEST_F(SequenceTest, RoundTripKeepsEveryFieldAndPosesExactly) {
   lom::Sequence original = writeSmallSequence(dir.path(), 3);
   original.frame_id = "shelf";
   original.frames[1].view = false;
+  original.frames[0].proba_from_label = true;
+  original.frames[2].stamp.reset();
   original.frames[2].proba_labels.clear();
   original.frames[2].proba.clear();
   lom::CameraIntrinsics other = smallCamera();
@@ -154,6 +156,7 @@ TEST_F(SequenceTest, RoundTripKeepsEveryFieldAndPosesExactly) {
     EXPECT_EQ(b.color, a.color);
     EXPECT_EQ(b.proba, a.proba);
     EXPECT_EQ(b.proba_labels, a.proba_labels);
+    EXPECT_EQ(b.proba_from_label, a.proba_from_label);
     EXPECT_EQ(b.label, a.label);
     EXPECT_EQ(b.view, a.view);
     EXPECT_EQ(b.camera.has_value(), a.camera.has_value());
@@ -205,14 +208,67 @@ TEST_F(SequenceTest, AcceptsTheJsonPathAndAppliesDefaults) {
   EXPECT_EQ(loaded.labels.at(19).name, "i_am_a_bunny_book");
   EXPECT_EQ(loaded.frame_id, "world");
   EXPECT_EQ(loaded.camera.depth_scale, 0.001);
-  EXPECT_EQ(loaded.frames[0].stamp, 0.0);
-  EXPECT_EQ(loaded.frames[1].stamp, 1.0);
+  EXPECT_FALSE(loaded.frames[0].stamp.has_value());
+  EXPECT_FALSE(loaded.frames[1].stamp.has_value());
+  EXPECT_FALSE(loaded.frames[0].proba_from_label);
   EXPECT_TRUE(loaded.frames[1].view);
   EXPECT_TRUE(loaded.frames[0].proba_labels.empty());
   ASSERT_TRUE(loaded.frames[1].camera);
   EXPECT_EQ(loaded.frames[1].camera->fx, 500.0);
   EXPECT_EQ(loaded.frames[1].camera->width, kWidth);
   EXPECT_EQ(loaded.frames[1].camera->cy, smallCamera().cy);
+}
+
+TEST_F(SequenceTest, AFrameWithoutAStampHasNoneAndIsSavedWithout) {
+  lom::Sequence sequence = writeSmallSequence(dir.path(), 3);
+  sequence.frames[0].stamp.reset();
+  sequence.frames[2].stamp.reset();
+  lom::saveSequence(sequence, dir.path());
+  const Json j = readJson(json());
+  EXPECT_FALSE(j["frames"][0].contains("stamp"));
+  EXPECT_EQ(j["frames"][1]["stamp"], 0.5);
+  EXPECT_FALSE(j["frames"][2].contains("stamp"));
+
+  const lom::Sequence loaded = lom::loadSequence(dir.path());
+  EXPECT_FALSE(loaded.frames[0].stamp.has_value()) << "not the frame index";
+  ASSERT_TRUE(loaded.frames[1].stamp.has_value());
+  EXPECT_EQ(*loaded.frames[1].stamp, 0.5);
+  EXPECT_FALSE(loaded.frames[2].stamp.has_value());
+}
+
+TEST_F(SequenceTest, ProbaFromLabelRoundTripsAndNeedsAProba) {
+  lom::Sequence sequence = writeSmallSequence(dir.path(), 2);
+  sequence.frames[1].proba_from_label = true;
+  lom::saveSequence(sequence, dir.path());
+  const Json j = readJson(json());
+  EXPECT_FALSE(j["frames"][0].contains("proba_from_label")) << "written only when true";
+  EXPECT_EQ(j["frames"][1]["proba_from_label"], true);
+  const lom::Sequence loaded = lom::loadSequence(dir.path());
+  EXPECT_FALSE(loaded.frames[0].proba_from_label);
+  EXPECT_TRUE(loaded.frames[1].proba_from_label);
+
+  auto type = errorAfterEdit([](Json& j) { j["frames"][1]["proba_from_label"] = "yes"; });
+  EXPECT_EQ(type.file, json().string());
+  EXPECT_EQ(type.field, "frames[1].proba_from_label");
+  EXPECT_EQ(type.expected, "true or false");
+
+  auto alone = errorAfterEdit([](Json& j) {
+    j["frames"][0].erase("proba");
+    j["frames"][0].erase("proba_labels");
+    j["frames"][0]["proba_from_label"] = true;
+  });
+  EXPECT_EQ(alone.field, "frames[0].proba_from_label");
+  EXPECT_NE(alone.expected.find("frames[0].proba"), std::string::npos) << alone.message();
+
+  sequence.frames[0].proba.clear();
+  sequence.frames[0].proba_labels.clear();
+  sequence.frames[0].proba_from_label = true;
+  try {
+    lom::saveSequence(sequence, dir.path());
+    ADD_FAILURE() << "saveSequence wrote proba_from_label without a proba";
+  } catch (const lom::Error& e) {
+    EXPECT_EQ(e.problem().field, "frames[0].proba_from_label");
+  }
 }
 
 TEST_F(SequenceTest, SortsLabelsListedOutOfOrder) {

@@ -17,6 +17,7 @@
 #include <QTimer>
 #include <QVBoxLayout>
 #include <algorithm>
+#include <optional>
 
 #include "lom/ui/about_reaction.hpp"
 #include "lom/ui/add_box_reaction.hpp"
@@ -107,13 +108,20 @@ QString describeFrame(const SequenceController& controller) {
   if (!controller.hasSequence()) return QObject::tr("No sequence open");
   const int index = controller.currentFrame();
   if (index < 0) return QObject::tr("%1 — no frames").arg(controller.sequenceName());
-  const double stamp = controller.sequence().frames[static_cast<size_t>(index)].stamp;
+  const std::optional<double> stamp =
+      controller.sequence().frames[static_cast<size_t>(index)].stamp;
+  if (!stamp)
+    return QObject::tr("%1 — frame %2 of %3 (frames[%4])")
+        .arg(controller.sequenceName())
+        .arg(index + 1)
+        .arg(controller.frameCount())
+        .arg(index);
   return QObject::tr("%1 — frame %2 of %3 (frames[%4], t = %5 s)")
       .arg(controller.sequenceName())
       .arg(index + 1)
       .arg(controller.frameCount())
       .arg(index)
-      .arg(stamp, 0, 'f', 3);
+      .arg(*stamp, 0, 'f', 3);
 }
 
 }  // namespace

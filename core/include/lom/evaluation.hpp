@@ -74,9 +74,17 @@ struct EvaluationReport {
   std::vector<size_t> views;     // frame indices of the views (frames with view: true)
   std::vector<ObjectScore> objects;  // by ascending label
   ScoreSummary summary;
-  // Over all frames with both a ground-truth label image and a proba image.
+  // Over all frames with both a ground-truth label image and a proba image,
+  // except those whose proba was made from that label image.
   std::optional<Metrics2d> metrics_2d;             // argmax of the probabilities
   std::optional<Metrics2d> metrics_2d_candidates;  // argmax after candidates (when given)
+  // Frames with both images left out of the 2D metrics because their proba was
+  // made from their own label image (proba_from_label): the argmax would
+  // reproduce the ground truth and score 100 %.
+  std::vector<size_t> metrics_2d_excluded_frames;
+  // Why the 2D metrics are absent although frames have both images (every one
+  // was left out); empty otherwise. One sentence, for reports and the terminal.
+  std::string metrics_2d_not_scored;
 };
 
 // The summary over all objects of several reports (a batch).

@@ -16,12 +16,16 @@
 namespace lom {
 
 struct FrameRecord {
-  double stamp = 0.0;
+  // Seconds; absent when the source recorded no time (a frame number is not a time).
+  std::optional<double> stamp;
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();
   std::string depth;                // relative path; .png (16-bit) or .npy (float32 metres)
   std::string color;                // optional
   std::string proba;                // optional .npy H x W x C
   std::vector<int> proba_labels;    // label of each proba channel; empty = all labels in order
+  // The proba was made from this frame's own label image (one-hot): comparing
+  // the two says nothing, so the 2D metrics leave the frame out.
+  bool proba_from_label = false;
   std::string label;                // optional 8/16-bit PNG of label ids
   bool view = true;                 // counts as a separate viewpoint for the projection baseline
   std::optional<CameraIntrinsics> camera;  // overrides the sequence camera
