@@ -89,6 +89,17 @@ TEST_F(StudioWindowTest, OpeningSetsTheTimelineAndStatus) {
   EXPECT_TRUE(window_.statusText().contains("tiny_shelf")) << window_.statusText().toStdString();
   EXPECT_TRUE(window_.statusText().contains("frame 1 of 3")) << window_.statusText().toStdString();
   EXPECT_TRUE(window_.windowTitle().contains("tiny_shelf"));
+  // The tiny sequence's frames are stamped 0.1 s apart.
+  EXPECT_TRUE(window_.statusText().contains("t = 0.000 s")) << window_.statusText().toStdString();
+
+  // Frames without a time stamp (a recording that kept none) show no time.
+  Sequence unstamped = loadSequence(tiny_.folder);
+  for (FrameRecord& frame : unstamped.frames) frame.stamp.reset();
+  saveSequence(unstamped, tiny_.folder);
+  window_.controller().setDiscardGuard([] { return true; });
+  ASSERT_TRUE(openTiny());
+  EXPECT_TRUE(window_.statusText().contains("frame 1 of 3")) << window_.statusText().toStdString();
+  EXPECT_FALSE(window_.statusText().contains("t =")) << window_.statusText().toStdString();
 }
 
 // A folder in the frame-folder layout of many RGB-D tools (frame-NNNNNN.color.png,
