@@ -116,10 +116,12 @@ int runSegment(const Words& words) {
       args.option("out-dir").value_or("proba-" + segmenter->modelPath().stem().string());
   if (out_dir.empty()) throw UsageError("option --out-dir expects a folder name");
 
-  // Frames to segment: those without a proba (every frame with --all).
+  // Frames to segment: those without a proba, or whose proba an import made from
+  // their own label image (no segmenter's output either); every frame with --all.
   std::vector<size_t> frames, without_color;
   for (size_t i = 0; i < sequence.frames.size(); ++i) {
-    if (!args.flag("all") && !sequence.frames[i].proba.empty()) continue;
+    const FrameRecord& frame = sequence.frames[i];
+    if (!args.flag("all") && !frame.proba.empty() && !frame.proba_from_label) continue;
     frames.push_back(i);
     if (sequence.frames[i].color.empty()) without_color.push_back(i);
   }

@@ -100,12 +100,27 @@ TEST_F(CliSegmentTest, ReplacingOneHotProbabilitiesClearsProbaFromLabel) {
   for (auto& frame : marked.frames) frame.proba_from_label = true;
   lom::saveSequence(marked, dir_ / "seq");
 
-  const auto all = runCli("segment " + quoted(dir_ / "seq") + " --segmenter " + quoted(model_) +
-                          " --all --out-dir net");
-  ASSERT_EQ(all.exit_code, 0) << all.err;
+  // Such frames have no network output yet: they are segmented without --all.
+  const auto marked_only = runCli("segment " + quoted(dir_ / "seq") + " --segmenter " +
+                                  quoted(model_) + " --out-dir net");
+  ASSERT_EQ(marked_only.exit_code, 0) << marked_only.err;
   for (const auto& frame : lom::loadSequence(dir_ / "seq").frames) {
     EXPECT_EQ(frame.proba.rfind("net/", 0), 0u) << frame.proba;
     EXPECT_FALSE(frame.proba_from_label) << "the network's output is independent of the labels";
+  }
+  const auto again = runCli("segment " + quoted(dir_ / "seq") + " --segmenter " + quoted(model_));
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.out.find("nothing to do"), std::string::npos) << again.out;
+
+  marked = lom::loadSequence(dir_ / "seq");
+  for (auto& frame : marked.frames) frame.proba_from_label = true;
+  lom::saveSequence(marked, dir_ / "seq");
+  const auto all = runCli("segment " + quoted(dir_ / "seq") + " --segmenter " + quoted(model_) +
+                          " --all --out-dir net2");
+  ASSERT_EQ(all.exit_code, 0) << all.err;
+  for (const auto& frame : lom::loadSequence(dir_ / "seq").frames) {
+    EXPECT_EQ(frame.proba.rfind("net2/", 0), 0u) << frame.proba;
+    EXPECT_FALSE(frame.proba_from_label);
   }
 }
 
