@@ -1,6 +1,7 @@
 #pragma once
 // --segmenter MODEL.onnx: run a segmentation network on the colour image of
-// every frame without a proba (fuse, score, segment). docs/segmenter.md.
+// every frame without a proba, or with one made from its label image (fuse, score, segment).
+// docs/segmenter.md.
 #include <memory>
 
 #include "args.hpp"

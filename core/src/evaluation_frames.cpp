@@ -118,7 +118,9 @@ FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
     const bool has_proba = !record.proba.empty() || options.fusion.segmenter;
     const bool scored_2d = !record.label.empty() && has_proba;
     // A proba made from the frame's own label image would score 100 % against it.
-    if (scored_2d && record.proba_from_label && !record.proba.empty()) {
+    // (A segmenter replaces such a proba with its own: then the frame is scored.)
+    const bool proba_from_label = record.proba_from_label && !options.fusion.segmenter;
+    if (scored_2d && proba_from_label && !record.proba.empty()) {
       scan.excluded_2d.push_back(i);
       if (record.view) to_load.push_back(i);
       continue;
@@ -134,7 +136,7 @@ FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
       scan.view_voxels.push_back(
           projectView(sequence, i, frame, map, slot_of_label, scored_labels, options));
     }
-    if (frame.label && frame.proba && !record.proba_from_label) {
+    if (frame.label && frame.proba && !(record.proba_from_label && !options.fusion.segmenter)) {
       if (!scan.confusion) scan.confusion.emplace(sequence.labels.size());
       addToConfusion(sequence, i, frame, without_candidates, *scan.confusion);
       if (options.fusion.candidates) {

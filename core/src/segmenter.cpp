@@ -689,7 +689,9 @@ ProbabilityImage segmentFrame(const Sequence& sequence, size_t index, const Colo
 FrameData loadFrameWithSegmenter(const Sequence& sequence, size_t index,
                                  const Segmenter* segmenter) {
   FrameData frame = loadFrame(sequence, index);
-  if (!segmenter || frame.proba) return frame;
+  // A proba an import made from the frame's own label image is no segmenter's
+  // output: the network's replaces it.
+  if (!segmenter || (frame.proba && !sequence.frames[index].proba_from_label)) return frame;
   if (!frame.color)
     throw Error((sequence.root / "sequence.json").string(),
                 "frames[" + std::to_string(index) + "].color",

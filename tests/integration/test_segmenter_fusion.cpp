@@ -158,6 +158,31 @@ TEST(SegmenterFusion, FramesWithProbaKeepTheirOwn) {
   EXPECT_FALSE(lom::loadFrameWithSegmenter(sequence, 0, nullptr).proba);
 }
 
+TEST(SegmenterFusion, ProbaMadeFromTheLabelImageIsReplacedByTheNetworks) {
+  TempDir dir;
+  lom::Sequence sequence = lom::test::writeColourWallSequence(dir / "seq", 1);
+  lom::ProbabilityImage one_hot;
+  one_hot.width = 8;
+  one_hot.height = 6;
+  one_hot.channels = 3;
+  one_hot.channel_labels = {0, 1, 2};
+  for (int i = 0; i < 48; ++i) one_hot.values.insert(one_hot.values.end(), {0.05f, 0.05f, 0.9f});
+  lom::writeProbabilityNpy(dir / "seq" / "one_hot.npy", one_hot, lom::NpyType::Float32);
+  sequence.frames[0].proba = "one_hot.npy";
+  sequence.frames[0].proba_from_label = true;  // as an import of label images writes it
+  lom::saveSequence(sequence, sequence.root);
+
+  const auto segmenter = loadModel(dir);
+  const lom::FrameData frame = lom::loadFrameWithSegmenter(sequence, 0, segmenter.get());
+  ASSERT_TRUE(frame.proba);
+  EXPECT_NEAR(frame.proba->pixel(0, 0)[1], expectedAt(0, 0)[1], 2e-6);
+  EXPECT_EQ(segmenter->stats().inferences, 1u);
+  // Without a segmenter the frame keeps the proba it has.
+  const lom::FrameData own = lom::loadFrameWithSegmenter(sequence, 0, nullptr);
+  ASSERT_TRUE(own.proba);
+  EXPECT_EQ(own.proba->values, one_hot.values);
+}
+
 TEST(SegmenterFusion, FrameWithoutColourIsAClearError) {
   TempDir dir;
   const lom::Sequence sequence = lom::test::writeColourWallSequence(dir / "seq", 1, 0, false);

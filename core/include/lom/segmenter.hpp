@@ -133,8 +133,9 @@ class Segmenter {
 [[nodiscard]] ProbabilityImage segmentFrame(const Sequence& sequence, size_t index,
                                             const ColorImage& color, const Segmenter& segmenter);
 
-// loadFrame, plus the segmenter's probabilities for a frame without `proba`
-// (the frame's label image, if any, then stays as 2D ground truth). With a null
+// loadFrame, plus the segmenter's probabilities for a frame without `proba`, or
+// whose `proba` was made from its label image (proba_from_label; the frame's
+// label image, if any, then stays as 2D ground truth). With a null
 // segmenter this is loadFrame.
 [[nodiscard]] FrameData loadFrameWithSegmenter(const Sequence& sequence, size_t index,
                                                const Segmenter* segmenter);
