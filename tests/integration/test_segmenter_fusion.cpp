@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "lom/error.hpp"
+#include "lom/evaluation.hpp"
 #include "lom/fusion.hpp"
 #include "lom/segmenter.hpp"
 #include "onnx_model_builder.hpp"
@@ -181,6 +182,45 @@ TEST(SegmenterFusion, ProbaMadeFromTheLabelImageIsReplacedByTheNetworks) {
   const lom::FrameData own = lom::loadFrameWithSegmenter(sequence, 0, nullptr);
   ASSERT_TRUE(own.proba);
   EXPECT_EQ(own.proba->values, one_hot.values);
+}
+
+TEST(SegmenterFusion, ProbaMadeFromTheLabelImageIsScoredIn2dOnlyWithASegmenter) {
+  TempDir dir;
+  lom::Sequence sequence = lom::test::writeColourWallSequence(dir / "seq", 1);
+  lom::LabelImage truth{8, 6, std::vector<std::uint16_t>(48, 2)};
+  lom::writeLabelPng(dir / "seq" / "label.png", truth);
+  lom::ProbabilityImage one_hot;  // the label image made into probabilities, as an import does
+  one_hot.width = 8;
+  one_hot.height = 6;
+  one_hot.channels = 3;
+  one_hot.channel_labels = {0, 1, 2};
+  for (int i = 0; i < 48; ++i) one_hot.values.insert(one_hot.values.end(), {0.05f, 0.05f, 0.9f});
+  lom::writeProbabilityNpy(dir / "seq" / "one_hot.npy", one_hot, lom::NpyType::Float32);
+  sequence.frames[0].label = "label.png";
+  sequence.frames[0].proba = "one_hot.npy";
+  sequence.frames[0].proba_from_label = true;
+  sequence.frames[0].view = true;
+  lom::saveSequence(sequence, sequence.root);
+
+  const auto segmenter = loadModel(dir);
+  const lom::LabelMap map = fuseWithSegmenter(sequence, *segmenter, 1);
+  lom::EvaluationOptions options;
+  options.fusion = fusionOptions();
+  lom::Annotations boxes;  // one box (any) so that there is something to score
+  lom::GroundTruthBox box;
+  box.label = 2;
+  box.box.center = wallPoint(sequence, 4, 3);
+  boxes.boxes.push_back(box);
+  const lom::EvaluationReport own = lom::evaluate(sequence, boxes, map, options);
+  EXPECT_FALSE(own.metrics_2d) << "the one-hot proba would score 100 % against its own labels";
+  EXPECT_EQ(own.metrics_2d_excluded_frames, (std::vector<size_t>{0}));
+
+  options.fusion.segmenter = segmenter;
+  const lom::EvaluationReport network = lom::evaluate(sequence, boxes, map, options);
+  ASSERT_TRUE(network.metrics_2d);
+  EXPECT_EQ(network.metrics_2d->pixels, 48u);
+  EXPECT_TRUE(network.metrics_2d_excluded_frames.empty());
+  EXPECT_TRUE(network.metrics_2d_not_scored.empty());
 }
 
 TEST(SegmenterFusion, FrameWithoutColourIsAClearError) {
