@@ -201,10 +201,11 @@ int runRender(const Words& words) {
     const Eigen::Vector3d up = render::orbitUp(map, options);
     std::cout << "up in the picture: (" << up.x() << ", " << up.y() << ", " << up.z() << "), "
               << (options.up ? std::string("given with --up")
-                  : map.levelPlane()
+                  // orbitUp levelled the cameras' up when it differs from it (no second search).
+                  : map.camerasUp() && up != *map.camerasUp()
                       ? "the normal of the map's largest level plane, near the mean up of its " +
                             std::to_string(map.cameraViews().views) + " camera views"
-                  : map.upDirection()
+                  : map.camerasUp()
                       ? "the mean up direction of the map's " +
                             std::to_string(map.cameraViews().views) + " camera views"
                       : std::string("world +z (the map records no camera views that agree "

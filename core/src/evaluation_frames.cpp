@@ -113,14 +113,16 @@ FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
 
   FrameScan scan;
   std::vector<size_t> to_load;
+  // A proba made from the frame's own label image would score 100 % against it.
+  // (A segmenter replaces such a proba with its own: then the frame is scored.)
+  const auto ownLabelsProba = [&](const FrameRecord& record) {
+    return record.proba_from_label && !record.proba.empty() && !options.fusion.segmenter;
+  };
   for (size_t i = first; i < last; ++i) {
     const FrameRecord& record = sequence.frames[i];
     const bool has_proba = !record.proba.empty() || options.fusion.segmenter;
     const bool scored_2d = !record.label.empty() && has_proba;
-    // A proba made from the frame's own label image would score 100 % against it.
-    // (A segmenter replaces such a proba with its own: then the frame is scored.)
-    const bool proba_from_label = record.proba_from_label && !options.fusion.segmenter;
-    if (scored_2d && proba_from_label && !record.proba.empty()) {
+    if (scored_2d && ownLabelsProba(record)) {
       scan.excluded_2d.push_back(i);
       if (record.view) to_load.push_back(i);
       continue;
@@ -136,7 +138,7 @@ FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
       scan.view_voxels.push_back(
           projectView(sequence, i, frame, map, slot_of_label, scored_labels, options));
     }
-    if (frame.label && frame.proba && !(record.proba_from_label && !options.fusion.segmenter)) {
+    if (frame.label && frame.proba && !ownLabelsProba(record)) {
       if (!scan.confusion) scan.confusion.emplace(sequence.labels.size());
       addToConfusion(sequence, i, frame, without_candidates, *scan.confusion);
       if (options.fusion.candidates) {

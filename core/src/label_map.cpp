@@ -113,17 +113,22 @@ void LabelMap::noteCameraView(const Eigen::Matrix3d& R_world_camera) {
 
 const CameraViewRecord& LabelMap::cameraViews() const { return tree_->cameraViews(); }
 
+std::vector<Eigen::Vector3d> LabelMap::occupiedCentres() const {
+  std::vector<Eigen::Vector3d> centres;
+  forEachOccupied([&](const OccupiedVoxel& voxel) { centres.push_back(voxel.center); });
+  return centres;
+}
+
 std::optional<LevelPlane> LabelMap::levelPlane() const {
   const auto cameras = camerasUp();
   if (!cameras) return std::nullopt;
-  std::vector<Eigen::Vector3d> centres;
-  forEachOccupied([&](const OccupiedVoxel& voxel) { centres.push_back(voxel.center); });
-  return findLevelPlane(centres, *cameras, parameters_.resolution);
+  return findLevelPlane(occupiedCentres(), *cameras, parameters_.resolution);
 }
 
 std::optional<Eigen::Vector3d> LabelMap::upDirection() const {
-  if (const auto plane = levelPlane()) return plane->normal;
-  return camerasUp();
+  const auto cameras = camerasUp();
+  if (!cameras) return std::nullopt;
+  return levelledUp(occupiedCentres(), *cameras, parameters_.resolution);
 }
 
 std::optional<Eigen::Vector3d> LabelMap::camerasUp() const {

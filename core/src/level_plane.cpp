@@ -107,4 +107,10 @@ std::optional<LevelPlane> findLevelPlane(const std::vector<Eigen::Vector3d>& cen
   return LevelPlane{normal, countOn(sample, normal, point, tolerance), sampled};
 }
 
+Eigen::Vector3d levelledUp(const std::vector<Eigen::Vector3d>& centres,
+                           const Eigen::Vector3d& cameras_up, double resolution) {
+  const auto plane = findLevelPlane(centres, cameras_up, resolution);
+  return plane ? plane->normal : cameras_up;
+}
+
 }  // namespace lom

@@ -3,7 +3,9 @@
 // the map's voxels holding exactly the network's probabilities.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <string>
 #include <type_traits>
 
 #include "lom/error.hpp"
@@ -55,6 +57,20 @@ lom::LabelMap fuseWithSegmenter(const lom::Sequence& sequence, const Segmenter& 
 
 Eigen::Vector3d wallPoint(const lom::Sequence& sequence, int u, int v) {
   return sequence.camera.backProject(u, v, 1.0);
+}
+
+// An 8 x 6 probability image of labels 0, 1, 2 with the same three values at
+// every pixel, written as `name` into the sequence folder.
+lom::ProbabilityImage writeUniformProba(const lom::Sequence& sequence, const std::string& name,
+                                        const std::array<float, 3>& pixel) {
+  lom::ProbabilityImage proba;
+  proba.width = 8;
+  proba.height = 6;
+  proba.channels = 3;
+  proba.channel_labels = {0, 1, 2};
+  for (int i = 0; i < 48; ++i) proba.values.insert(proba.values.end(), pixel.begin(), pixel.end());
+  lom::writeProbabilityNpy(sequence.root / name, proba, lom::NpyType::Float32);
+  return proba;
 }
 
 TEST(SegmenterFusion, FramesWithoutProbaAreFusedWithTheNetworksProbabilities) {
@@ -134,13 +150,7 @@ TEST(SegmenterFusion, RefusingDoesNotRunTheNetworkAgain) {
 TEST(SegmenterFusion, FramesWithProbaKeepTheirOwn) {
   TempDir dir;
   lom::Sequence sequence = lom::test::writeColourWallSequence(dir / "seq", 2);
-  lom::ProbabilityImage own;
-  own.width = 8;
-  own.height = 6;
-  own.channels = 3;
-  own.channel_labels = {0, 1, 2};
-  for (int i = 0; i < 48; ++i) own.values.insert(own.values.end(), {0.2f, 0.3f, 0.5f});
-  lom::writeProbabilityNpy(dir / "seq" / "own.npy", own, lom::NpyType::Float32);
+  const lom::ProbabilityImage own = writeUniformProba(sequence, "own.npy", {0.2f, 0.3f, 0.5f});
   sequence.frames[1].proba = "own.npy";
   sequence.frames[0].label = "label.png";  // a label image alone is ground truth, not evidence
   lom::LabelImage truth{8, 6, std::vector<std::uint16_t>(48, 2)};
@@ -162,13 +172,8 @@ TEST(SegmenterFusion, FramesWithProbaKeepTheirOwn) {
 TEST(SegmenterFusion, ProbaMadeFromTheLabelImageIsReplacedByTheNetworks) {
   TempDir dir;
   lom::Sequence sequence = lom::test::writeColourWallSequence(dir / "seq", 1);
-  lom::ProbabilityImage one_hot;
-  one_hot.width = 8;
-  one_hot.height = 6;
-  one_hot.channels = 3;
-  one_hot.channel_labels = {0, 1, 2};
-  for (int i = 0; i < 48; ++i) one_hot.values.insert(one_hot.values.end(), {0.05f, 0.05f, 0.9f});
-  lom::writeProbabilityNpy(dir / "seq" / "one_hot.npy", one_hot, lom::NpyType::Float32);
+  const lom::ProbabilityImage one_hot =
+      writeUniformProba(sequence, "one_hot.npy", {0.05f, 0.05f, 0.9f});
   sequence.frames[0].proba = "one_hot.npy";
   sequence.frames[0].proba_from_label = true;  // as an import of label images writes it
   lom::saveSequence(sequence, sequence.root);
@@ -189,13 +194,8 @@ TEST(SegmenterFusion, ProbaMadeFromTheLabelImageIsScoredIn2dOnlyWithASegmenter) 
   lom::Sequence sequence = lom::test::writeColourWallSequence(dir / "seq", 1);
   lom::LabelImage truth{8, 6, std::vector<std::uint16_t>(48, 2)};
   lom::writeLabelPng(dir / "seq" / "label.png", truth);
-  lom::ProbabilityImage one_hot;  // the label image made into probabilities, as an import does
-  one_hot.width = 8;
-  one_hot.height = 6;
-  one_hot.channels = 3;
-  one_hot.channel_labels = {0, 1, 2};
-  for (int i = 0; i < 48; ++i) one_hot.values.insert(one_hot.values.end(), {0.05f, 0.05f, 0.9f});
-  lom::writeProbabilityNpy(dir / "seq" / "one_hot.npy", one_hot, lom::NpyType::Float32);
+  // The label image made into probabilities, as an import does.
+  (void)writeUniformProba(sequence, "one_hot.npy", {0.05f, 0.05f, 0.9f});
   sequence.frames[0].label = "label.png";
   sequence.frames[0].proba = "one_hot.npy";
   sequence.frames[0].proba_from_label = true;

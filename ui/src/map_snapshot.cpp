@@ -14,13 +14,11 @@ MapSnapshotPtr takeSnapshot(const LabelMap& map, size_t frames_fused) {
   snapshot->occupancy_threshold = map.parameters().occupancy_threshold;
   snapshot->frames_fused = frames_fused;
   // Levelled from the voxels already gathered (LabelMap::upDirection would gather them again).
-  snapshot->up = map.camerasUp();
-  if (snapshot->up) {
+  if (const auto cameras_up = map.camerasUp()) {
     std::vector<Eigen::Vector3d> centres;
     centres.reserve(snapshot->voxels.size());
     for (const OccupiedVoxel& voxel : snapshot->voxels) centres.push_back(voxel.center);
-    if (const auto plane = findLevelPlane(centres, *snapshot->up, snapshot->resolution))
-      snapshot->up = plane->normal;
+    snapshot->up = levelledUp(centres, *cameras_up, snapshot->resolution);
   }
   return snapshot;
 }

@@ -105,6 +105,8 @@ class LabelMap {
   // Up in the map: the level plane's normal when there is one (cameras pitched
   // towards the scene tilt their mean up), else camerasUp.
   [[nodiscard]] std::optional<Eigen::Vector3d> upDirection() const;
+  // Centres of the occupied leaves (forEachOccupied), for levelledUp.
+  [[nodiscard]] std::vector<Eigen::Vector3d> occupiedCentres() const;
   // The cameras' mean viewing direction, normalised (the same as
   // meanViewingDirection of the fused sequence); nullopt without recorded
   // views or when the directions cancel out.

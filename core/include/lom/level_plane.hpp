@@ -29,4 +29,8 @@ inline constexpr double kMaxLevelTiltDegrees = 30.0;
                                                        const Eigen::Vector3d& cameras_up,
                                                        double resolution);
 
+// `cameras_up` levelled: the normal of findLevelPlane when there is one, else `cameras_up`.
+[[nodiscard]] Eigen::Vector3d levelledUp(const std::vector<Eigen::Vector3d>& centres,
+                                         const Eigen::Vector3d& cameras_up, double resolution);
+
 }  // namespace lom
