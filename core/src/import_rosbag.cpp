@@ -27,6 +27,7 @@
 
 #include "png_check.hpp"
 #include "png_decode.hpp"
+#include "rosbag_topics.hpp"
 
 // Header-only views of image messages: the first pass reads stamps and
 // encodings without copying pixel data.
@@ -91,28 +92,17 @@ namespace lom::import_detail {
 
 namespace {
 
-constexpr const char* kImageType = "sensor_msgs/Image";
-constexpr const char* kCompressedType = "sensor_msgs/CompressedImage";
-constexpr const char* kInfoType = "sensor_msgs/CameraInfo";
-
-std::string lower(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return text;
-}
-bool contains(const std::string& text, const char* part) { return text.find(part) != std::string::npos; }
+using bag::ChosenTopics;
+using bag::contains;
+using bag::ImageEntry;
+using bag::lower;
+using bag::multiChannels;
+using bag::stampText;
+using bag::Topic;
 
 std::string stripSlash(std::string frame) {
   while (!frame.empty() && frame.front() == '/') frame.erase(frame.begin());
   return frame;
-}
-
-std::string stampText(double stamp) {
-  std::ostringstream out;
-  out.setf(std::ios::fixed);
-  out.precision(3);
-  out << stamp;
-  return out.str();
 }
 
 // console_bridge (rosbag, tf2) prints to stderr; problems are reported instead.
@@ -128,94 +118,6 @@ class QuietConsole {
  private:
   console_bridge::LogLevel level_;
 };
-
-struct ImageEntry {
-  double stamp = 0.0;
-  bool stamp_from_bag = false;  // header stamp was 0: the bag's record time is used
-  std::string frame_id;
-  int width = 0, height = 0;
-  std::string encoding;  // Image encoding, or CompressedImage format
-  bool compressed = false;
-  size_t message = 0;  // index into the message list
-};
-
-struct Topic {
-  std::string name;
-  std::string type;
-  std::vector<ImageEntry> images;  // sorted by stamp (image topics)
-  [[nodiscard]] std::vector<double> stamps() const {
-    std::vector<double> s;
-    for (const auto& e : images) s.push_back(e.stamp);
-    return s;
-  }
-  [[nodiscard]] std::string firstEncoding() const {
-    return images.empty() ? std::string() : images.front().encoding;
-  }
-};
-
-// Channels of "32FC3" / "16UC5" / "8UC2" encodings; 0 when not that form.
-int multiChannels(const std::string& encoding, int& bytes) {
-  const std::string e = lower(encoding);
-  std::string digits;
-  if (e.rfind("32fc", 0) == 0) {
-    bytes = 4;
-    digits = e.substr(4);
-  } else if (e.rfind("16uc", 0) == 0) {
-    bytes = 2;
-    digits = e.substr(4);
-  } else if (e.rfind("8uc", 0) == 0) {
-    bytes = 1;
-    digits = e.substr(3);
-  } else {
-    return 0;
-  }
-  if (digits.empty()) return 1;  // "8UC" alone is not a ROS encoding but harmless
-  if (!std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c); }))
-    return 0;
-  return std::atoi(digits.c_str());
-}
-
-bool isDepthEncoding(const ImageEntry& e) {
-  const std::string enc = lower(e.encoding);
-  if (e.compressed) return contains(enc, "compresseddepth");
-  return enc == "16uc1" || enc == "mono16" || enc == "32fc1";
-}
-bool isColorEncoding(const ImageEntry& e) {
-  const std::string enc = lower(e.encoding);
-  if (e.compressed) return !contains(enc, "compresseddepth");
-  return enc == "rgb8" || enc == "bgr8" || enc == "rgba8" || enc == "bgra8" || enc == "mono8" ||
-         enc == "8uc3";
-}
-bool isLabelEncoding(const ImageEntry& e) {
-  const std::string enc = lower(e.encoding);
-  return !e.compressed && (enc == "mono8" || enc == "8uc1" || enc == "mono16" || enc == "16uc1");
-}
-bool probaName(const std::string& topic) {
-  const std::string t = lower(topic);
-  return contains(t, "prob") || contains(t, "score") || contains(t, "softmax") ||
-         contains(t, "posterior");
-}
-// Probability names win: "/segmenter/probabilities" is not a label topic.
-bool labelName(const std::string& topic) {
-  const std::string t = lower(topic);
-  return !probaName(topic) && (contains(t, "label") || contains(t, "segm") ||
-                               contains(t, "semantic") || contains(t, "class"));
-}
-
-size_t commonPrefix(const std::string& a, const std::string& b) {
-  size_t n = 0;
-  while (n < a.size() && n < b.size() && a[n] == b[n]) ++n;
-  return n;
-}
-
-std::string listTopics(const std::vector<const Topic*>& topics) {
-  std::string text;
-  for (const Topic* t : topics) {
-    if (!text.empty()) text += ", ";
-    text += t->name;
-  }
-  return text.empty() ? "none" : text;
-}
 
 // ----- decoding -------------------------------------------------------------
 
@@ -458,91 +360,100 @@ std::optional<CameraIntrinsics> intrinsicsOf(const sensor_msgs::CameraInfo& info
   return camera;
 }
 
-}  // namespace
+using CameraInfoList = std::vector<std::pair<double, sensor_msgs::CameraInfo>>;
 
-void importRosbag(const fs::path& source, const ImportOptions& options, SequenceWriter& writer) {
-  QuietConsole quiet;
-  const std::string file = source.string();
-  rosbag::Bag bag;
-  try {
-    bag.open(file, rosbag::bagmode::Read);
-  } catch (const std::exception& e) {
-    throw Error(file, "bag", "a readable ROS 1 bag (format 2.0)", e.what());
-  }
-
-  // ---- pass 1: topics, image stamps and encodings, camera infos, all of tf.
-  std::map<std::string, Topic> topics;
+// What the first pass over the bag keeps: every topic with its image stamps
+// and encodings (pixel data stays in the bag), the camera infos and all of tf.
+struct BagContents {
+  bag::TopicMap topics;
   std::vector<rosbag::MessageInstance> messages;
-  std::map<std::string, std::vector<std::pair<double, sensor_msgs::CameraInfo>>> infos;
+  std::map<std::string, CameraInfoList> infos;
   std::vector<geometry_msgs::TransformStamped> dynamic_tf, static_tf;
   size_t bad_transforms = 0;
-  size_t unreadable = 0;
   double begin = 0.0, end = 0.0;
-  // One message of the first pass: image stamps, camera infos, tf.
-  auto readMessage = [&](const rosbag::MessageInstance& m) {
+
+  void read(const rosbag::MessageInstance& m) {
     const std::string& type = m.getDataType();
-    const std::string& topic = m.getTopic();
-    if (type == kImageType || type == kCompressedType) {
-      ImageEntry entry;
-      std_msgs::Header header;
-      if (type == kImageType) {
-        const auto meta = m.instantiate<lom_rosbag::ImageMeta>();
-        header = meta->header;
-        entry.width = static_cast<int>(meta->width);
-        entry.height = static_cast<int>(meta->height);
-        entry.encoding = meta->encoding;
-      } else {
-        const auto meta = m.instantiate<lom_rosbag::CompressedMeta>();
-        header = meta->header;
-        entry.encoding = meta->format;
-        entry.compressed = true;
-      }
-      entry.stamp = header.stamp.toSec();
-      if (header.stamp.isZero()) {
-        entry.stamp = m.getTime().toSec();
-        entry.stamp_from_bag = true;
-      }
-      entry.frame_id = stripSlash(header.frame_id);
-      entry.message = messages.size();
-      messages.push_back(m);
-      topics[topic].images.push_back(entry);
-    } else if (type == kInfoType) {
-      if (const auto info = m.instantiate<sensor_msgs::CameraInfo>()) {
-        const double stamp = info->header.stamp.isZero() ? m.getTime().toSec()
-                                                         : info->header.stamp.toSec();
-        infos[topic].emplace_back(stamp, *info);
-      }
-    } else if (type == "tf2_msgs/TFMessage" || type == "tf/tfMessage") {
-      const auto tf = m.instantiate<tf2_msgs::TFMessage>();
-      if (!tf) return;
-      const bool is_static = topic == "/tf_static" || topic == "tf_static";
-      if (!is_static && topic != "/tf" && topic != "tf") return;
-      for (auto t : tf->transforms) {
-        t.header.frame_id = stripSlash(t.header.frame_id);
-        t.child_frame_id = stripSlash(t.child_frame_id);
-        const auto& q = t.transform.rotation;
-        const auto& p = t.transform.translation;
-        const double norm = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
-        if (!std::isfinite(norm) || norm < 1e-6 || !std::isfinite(p.x) || !std::isfinite(p.y) ||
-            !std::isfinite(p.z) || t.header.frame_id.empty() || t.child_frame_id.empty() ||
-            t.header.frame_id == t.child_frame_id) {
-          ++bad_transforms;
-          continue;
-        }
-        (is_static ? static_tf : dynamic_tf).push_back(t);
-      }
+    if (type == bag::kImageType || type == bag::kCompressedType)
+      readImage(m);
+    else if (type == bag::kInfoType)
+      readCameraInfo(m);
+    else if (type == "tf2_msgs/TFMessage" || type == "tf/tfMessage")
+      readTransforms(m);
+  }
+
+ private:
+  void readImage(const rosbag::MessageInstance& m) {
+    ImageEntry entry;
+    std_msgs::Header header;
+    if (m.getDataType() == bag::kImageType) {
+      const auto meta = m.instantiate<lom_rosbag::ImageMeta>();
+      header = meta->header;
+      entry.width = static_cast<int>(meta->width);
+      entry.height = static_cast<int>(meta->height);
+      entry.encoding = meta->encoding;
+    } else {
+      const auto meta = m.instantiate<lom_rosbag::CompressedMeta>();
+      header = meta->header;
+      entry.encoding = meta->format;
+      entry.compressed = true;
     }
-  };
+    entry.stamp = header.stamp.toSec();
+    if (header.stamp.isZero()) {
+      entry.stamp = m.getTime().toSec();
+      entry.stamp_from_bag = true;
+    }
+    entry.frame_id = stripSlash(header.frame_id);
+    entry.message = messages.size();
+    messages.push_back(m);
+    topics[m.getTopic()].images.push_back(entry);
+  }
+
+  void readCameraInfo(const rosbag::MessageInstance& m) {
+    if (const auto info = m.instantiate<sensor_msgs::CameraInfo>()) {
+      const double stamp =
+          info->header.stamp.isZero() ? m.getTime().toSec() : info->header.stamp.toSec();
+      infos[m.getTopic()].emplace_back(stamp, *info);
+    }
+  }
+
+  void readTransforms(const rosbag::MessageInstance& m) {
+    const auto tf = m.instantiate<tf2_msgs::TFMessage>();
+    if (!tf) return;
+    const std::string& topic = m.getTopic();
+    const bool is_static = topic == "/tf_static" || topic == "tf_static";
+    if (!is_static && topic != "/tf" && topic != "tf") return;
+    for (auto t : tf->transforms) {
+      t.header.frame_id = stripSlash(t.header.frame_id);
+      t.child_frame_id = stripSlash(t.child_frame_id);
+      const auto& q = t.transform.rotation;
+      const auto& p = t.transform.translation;
+      const double norm = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+      if (!std::isfinite(norm) || norm < 1e-6 || !std::isfinite(p.x) || !std::isfinite(p.y) ||
+          !std::isfinite(p.z) || t.header.frame_id.empty() || t.child_frame_id.empty() ||
+          t.header.frame_id == t.child_frame_id) {
+        ++bad_transforms;
+        continue;
+      }
+      (is_static ? static_tf : dynamic_tf).push_back(t);
+    }
+  }
+};
+
+// The first pass. Unreadable messages are counted and noted, not fatal.
+void readBag(rosbag::Bag& opened, const std::string& file, SequenceWriter& writer,
+             BagContents& contents) {
+  size_t unreadable = 0;
   try {
-    rosbag::View view(bag);
+    rosbag::View view(opened);
     if (view.size() == 0) throw Error(file, "bag", "a bag with messages", "an empty bag");
-    begin = view.getBeginTime().toSec();
-    end = view.getEndTime().toSec();
+    contents.begin = view.getBeginTime().toSec();
+    contents.end = view.getEndTime().toSec();
     for (const rosbag::ConnectionInfo* c : view.getConnections())
-      topics[c->topic] = Topic{c->topic, c->datatype, {}};
+      contents.topics[c->topic] = Topic{c->topic, c->datatype, {}};
     for (const rosbag::MessageInstance& m : view) {
       try {
-        readMessage(m);
+        contents.read(m);
       } catch (const std::exception&) {
         ++unreadable;  // a truncated or corrupt message: the others are still used
       }
@@ -553,178 +464,57 @@ void importRosbag(const fs::path& source, const ImportOptions& options, Sequence
     throw Error(file, "bag", "a readable ROS 1 bag", e.what());
   }
   if (unreadable)
-    writer.note(std::to_string(unreadable) + " messages could not be read (truncated or corrupt) and were ignored");
-  for (auto& [name, topic] : topics)
+    writer.note(std::to_string(unreadable) +
+                " messages could not be read (truncated or corrupt) and were ignored");
+  for (auto& [name, topic] : contents.topics)
     std::stable_sort(topic.images.begin(), topic.images.end(),
                      [](const ImageEntry& a, const ImageEntry& b) { return a.stamp < b.stamp; });
-  for (auto& [name, list] : infos)
+  for (auto& [name, list] : contents.infos)
     std::stable_sort(list.begin(), list.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
+}
 
-  std::string available;
-  for (const auto& [name, topic] : topics) {
-    if (!available.empty()) available += ", ";
-    available += name + " (" + topic.type;
-    if (!topic.images.empty()) available += " " + topic.firstEncoding();
-    available += ")";
-  }
-
-  // ---- topics: given or detected.
-  auto requireTopic = [&](const std::string& name, const std::string& what,
-                          std::initializer_list<const char*> types) -> const Topic& {
-    const auto it = topics.find(name);
-    if (it == topics.end())
-      throw Error(file, what, "a topic of the bag", "'" + name + "' is not in it; topics: " + available);
-    bool ok = false;
-    std::string expected;
-    for (const char* t : types) {
-      ok |= it->second.type == t;
-      expected += (expected.empty() ? "" : " or ") + std::string(t);
-    }
-    if (!ok) throw Error(file, what, "a " + expected + " topic", name + " is " + it->second.type);
-    if (it->second.images.empty() && it->second.type != kInfoType)
-      throw Error(file, what, "a topic with readable images", name + " has none");
-    return it->second;
-  };
-  std::vector<const Topic*> image_topics;
-  for (const auto& [name, topic] : topics)
-    if (!topic.images.empty()) image_topics.push_back(&topic);
-
-  const RosbagOptions& ro = options.rosbag;
-  const Topic* depth_topic = nullptr;
-  if (!ro.depth_topic.empty()) {
-    depth_topic = &requireTopic(ro.depth_topic, "depth topic", {kImageType, kCompressedType});
-    if (!isDepthEncoding(depth_topic->images.front()))
-      throw Error(file, "depth topic", "depth images: 16UC1 (mm), 32FC1 (m) or compressedDepth",
-                  ro.depth_topic + " holds " + depth_topic->firstEncoding());
-  } else {
-    std::vector<const Topic*> candidates;
-    for (const Topic* t : image_topics)
-      if (isDepthEncoding(t->images.front()) && !labelName(t->name) && !probaName(t->name))
-        candidates.push_back(t);
-    auto prefer = [&](auto&& keep) {
-      std::vector<const Topic*> kept;
-      for (const Topic* t : candidates)
-        if (keep(lower(t->name))) kept.push_back(t);
-      if (!kept.empty()) candidates = kept;
-    };
-    if (candidates.size() > 1) prefer([](const std::string& n) { return contains(n, "depth"); });
-    if (candidates.size() > 1)
-      prefer([](const std::string& n) { return contains(n, "aligned") || contains(n, "registered"); });
-    if (candidates.empty())
-      throw Error(file, "depth topic",
-                  "a sensor_msgs/Image topic with 16UC1 (mm) or 32FC1 (m) depth", "none; topics: " + available);
-    if (candidates.size() > 1)
-      throw Error(file, "depth topic", "one depth topic (choose with the depth topic option)",
-                  "several: " + listTopics(candidates));
-    depth_topic = candidates.front();
-    writer.note("depth topic: " + depth_topic->name + " (" + depth_topic->firstEncoding() + ")");
-  }
-
-  auto pickByPrefix = [&](std::vector<const Topic*> candidates, const std::string& what) -> const Topic* {
-    if (candidates.empty()) return nullptr;
-    std::stable_sort(candidates.begin(), candidates.end(), [&](const Topic* a, const Topic* b) {
-      return commonPrefix(a->name, depth_topic->name) > commonPrefix(b->name, depth_topic->name);
-    });
-    if (candidates.size() > 1)
-      writer.note("several " + what + " topics (" + listTopics(candidates) + "); using " +
-                  candidates.front()->name);
-    return candidates.front();
-  };
-
-  const Topic* color_topic = nullptr;
-  if (!ro.no_color && options.write_color) {
-    if (!ro.color_topic.empty()) {
-      color_topic = &requireTopic(ro.color_topic, "color topic", {kImageType, kCompressedType});
-      if (!isColorEncoding(color_topic->images.front()))
-        throw Error(file, "color topic", "rgb8, bgr8, rgba8, bgra8 or mono8 images (or JPEG/PNG)",
-                    ro.color_topic + " holds " + color_topic->firstEncoding());
-    } else {
-      std::vector<const Topic*> candidates, grey;
-      for (const Topic* t : image_topics) {
-        if (t == depth_topic || labelName(t->name) || probaName(t->name)) continue;
-        if (!isColorEncoding(t->images.front())) continue;
-        (lower(t->firstEncoding()) == "mono8" ? grey : candidates).push_back(t);
-      }
-      color_topic = pickByPrefix(candidates.empty() ? grey : candidates, "colour");
-      if (color_topic) writer.note("colour topic: " + color_topic->name);
+// The camera info topic that best matches an image topic: the longest common
+// name prefix, then the same frame; `exclude` is skipped.
+std::string infoTopicFor(const BagContents& contents, const Topic& image_topic,
+                         const std::string& exclude) {
+  std::string best;
+  size_t best_score = 0;
+  for (const auto& [name, list] : contents.infos) {
+    if (name == exclude || list.empty()) continue;
+    const size_t prefix = bag::commonPrefix(name, image_topic.name);
+    const bool same_frame =
+        stripSlash(list.front().second.header.frame_id) == image_topic.images.front().frame_id;
+    const size_t score = prefix * 2 + (same_frame ? 1 : 0);
+    if (best.empty() || score > best_score) {
+      best = name;
+      best_score = score;
     }
   }
+  return best;
+}
 
-  const Topic* proba_topic = nullptr;
-  if (!ro.proba_topic.empty()) {
-    proba_topic = &requireTopic(ro.proba_topic, "probability topic", {kImageType});
-    int bytes = 0;
-    if (multiChannels(proba_topic->firstEncoding(), bytes) <= 0)
-      throw Error(file, "probability topic", "32FC(N), 16UC(N) or 8UC(N) images, one channel per label",
-                  ro.proba_topic + " holds " + proba_topic->firstEncoding());
-  } else {
-    std::vector<const Topic*> candidates;
-    for (const Topic* t : image_topics) {
-      if (t == depth_topic || t == color_topic || t->images.front().compressed) continue;
-      int bytes = 0;
-      const int channels = multiChannels(t->firstEncoding(), bytes);
-      if ((channels >= 2 && !labelName(t->name)) ||
-          (channels == 1 && probaName(t->name) && !labelName(t->name)))
-        candidates.push_back(t);
-    }
-    if (candidates.size() > 1)
-      throw Error(file, "probability topic", "one probability topic (choose with the proba topic option)",
-                  "several: " + listTopics(candidates));
-    if (!candidates.empty()) {
-      proba_topic = candidates.front();
-      writer.note("probability topic: " + proba_topic->name + " (" + proba_topic->firstEncoding() + ")");
-    }
-  }
+struct BagCameras {
+  CameraIntrinsics depth;
+  std::optional<CameraIntrinsics> color;  // when the colour images have their own camera info
+};
 
-  const Topic* label_topic = nullptr;
-  if (!ro.label_topic.empty()) {
-    label_topic = &requireTopic(ro.label_topic, "label topic", {kImageType});
-    if (!isLabelEncoding(label_topic->images.front()))
-      throw Error(file, "label topic", "mono8, 8UC1, mono16 or 16UC1 label ids",
-                  ro.label_topic + " holds " + label_topic->firstEncoding());
-  } else {
-    std::vector<const Topic*> candidates;
-    for (const Topic* t : image_topics)
-      if (t != depth_topic && t != proba_topic && labelName(t->name) &&
-          isLabelEncoding(t->images.front()))
-        candidates.push_back(t);
-    if (candidates.size() > 1)
-      throw Error(file, "label topic", "one label topic (choose with the label topic option)",
-                  "several: " + listTopics(candidates));
-    if (!candidates.empty()) {
-      label_topic = candidates.front();
-      writer.note("label topic: " + label_topic->name);
-    }
-  }
-
-  // ---- camera: CameraInfo of the depth images (or the intrinsics option).
-  auto pickInfo = [&](const Topic* image_topic, const std::string& exclude) -> std::string {
-    std::string best;
-    size_t best_prefix = 0;
-    for (const auto& [name, list] : infos) {
-      if (name == exclude || list.empty()) continue;
-      const size_t prefix = commonPrefix(name, image_topic->name);
-      const bool same_frame = stripSlash(list.front().second.header.frame_id) ==
-                              image_topic->images.front().frame_id;
-      const size_t score = prefix * 2 + (same_frame ? 1 : 0);
-      if (best.empty() || score > best_prefix) {
-        best = name;
-        best_prefix = score;
-      }
-    }
-    return best;
-  };
-  std::string info_topic = ro.camera_info_topic;
-  if (!info_topic.empty()) {
-    requireTopic(info_topic, "camera info topic", {kInfoType});
-  } else if (!infos.empty()) {
-    info_topic = pickInfo(depth_topic, "");
-  }
+// The depth camera from its CameraInfo topic (or the intrinsics option), and
+// the colour camera's when it has its own.
+BagCameras chooseCameras(const BagContents& contents, const ChosenTopics& chosen,
+                         const ImportOptions& options, const fs::path& source,
+                         SequenceWriter& writer) {
+  const std::string file = source.string();
+  const Topic& depth_topic = *chosen.depth;
+  std::string info_topic = options.rosbag.camera_info_topic;
+  if (!info_topic.empty())
+    bag::requireTopic(contents.topics, info_topic, "camera info topic", {bag::kInfoType}, file);
+  else if (!contents.infos.empty())
+    info_topic = infoTopicFor(contents, depth_topic, "");
   std::optional<CameraIntrinsics> info_camera;
   std::string info_description = "no camera info";
-  if (!info_topic.empty() && infos.count(info_topic)) {
-    const auto& info = infos[info_topic].front().second;
+  if (!info_topic.empty() && contents.infos.count(info_topic)) {
+    const auto& info = contents.infos.at(info_topic).front().second;
     info_camera = intrinsicsOf(info);
     info_description = info_topic;
     if (!info_camera && !options.intrinsics)
@@ -737,290 +527,369 @@ void importRosbag(const fs::path& source, const ImportOptions& options, Sequence
       writer.note("the camera info has distortion coefficients; images are used as they are "
                   "(rectified images are expected)");
     if (info_camera && (info_camera->width <= 0 || info_camera->height <= 0)) {
-      info_camera->width = depth_topic->images.front().width;
-      info_camera->height = depth_topic->images.front().height;
+      info_camera->width = depth_topic.images.front().width;
+      info_camera->height = depth_topic.images.front().height;
     }
   }
-  CameraIntrinsics camera = chooseCamera(
-      info_camera, info_description, options, writer, source,
-      "a sensor_msgs/CameraInfo topic for the depth images or the intrinsics option "
-      "(--intrinsics fx,fy,cx,cy)");
-  if (options.intrinsics && (camera.width <= 0 || camera.height <= 0) && info_camera) {
-    camera.width = info_camera->width;
-    camera.height = info_camera->height;
+  BagCameras cameras;
+  cameras.depth =
+      chooseCamera(info_camera, info_description, options, writer, source,
+                   "a sensor_msgs/CameraInfo topic for the depth images or the intrinsics option "
+                   "(--intrinsics fx,fy,cx,cy)");
+  if (options.intrinsics && (cameras.depth.width <= 0 || cameras.depth.height <= 0) &&
+      info_camera) {
+    cameras.depth.width = info_camera->width;
+    cameras.depth.height = info_camera->height;
   }
-  writer.setCamera(camera);
-  std::optional<CameraIntrinsics> color_camera;
-  if (color_topic) {
-    const std::string color_info = pickInfo(color_topic, info_topic);
-    if (!color_info.empty() && commonPrefix(color_info, color_topic->name) >
-                                   commonPrefix(color_info, depth_topic->name))
-      color_camera = intrinsicsOf(infos[color_info].front().second);
+  if (chosen.color) {
+    const std::string color_info = infoTopicFor(contents, *chosen.color, info_topic);
+    if (!color_info.empty() && bag::commonPrefix(color_info, chosen.color->name) >
+                                   bag::commonPrefix(color_info, depth_topic.name))
+      cameras.color = intrinsicsOf(contents.infos.at(color_info).front().second);
   }
-  const double millimetres = options.depth_scale.value_or(0.001);
-  {
-    const std::string enc = lower(depth_topic->firstEncoding());
-    const bool float_depth = contains(enc, "32fc1");
-    writer.setDepthScale(float_depth ? 0.001 : millimetres);
-  }
+  return cameras;
+}
 
-  // ---- labels.
-  int proba_channels = 0;
-  if (proba_topic) {
-    int bytes = 0;
-    proba_channels = multiChannels(proba_topic->firstEncoding(), bytes);
-    if (options.labels) {
-      if (options.labels->size() != proba_channels)
-        throw Error(file, "labels",
-                    "one label per probability channel: " + std::to_string(proba_channels) +
-                        " (channel 0 = background)",
-                    std::to_string(options.labels->size()) + " labels given");
-      writer.setLabels(*options.labels);
-    } else if (proba_channels == apc2016Labels().size()) {
-      writer.setLabels(apc2016Labels());
-      writer.note("40 probability channels: read as the APC 2016 labels");
-    } else {
-      std::vector<std::string> names;
-      for (int c = 1; c < proba_channels; ++c) names.push_back("label_" + std::to_string(c));
-      writer.setLabels(proba_channels == 1 ? backgroundOnlyLabels() : makeLabels(names));
-      writer.note("probability channels named __background__, label_1, ... (give a label list "
-                  "to name them)");
+// Camera poses from tf: the camera frame in the fixed frame at an image's stamp.
+class PoseLookup {
+ public:
+  PoseLookup(const BagContents& contents, const Topic& depth_topic, const ImportOptions& options,
+             const std::string& file, SequenceWriter& writer)
+      : buffer_(ros::Duration(std::max(10.0, contents.end - contents.begin + 10.0))),
+        tolerance_(options.time_tolerance),
+        has_dynamic_(!contents.dynamic_tf.empty()) {
+    const RosbagOptions& given = options.rosbag;
+    camera_frame_ = stripSlash(given.camera_frame);
+    if (camera_frame_.empty()) camera_frame_ = depth_topic.images.front().frame_id;
+    if (camera_frame_.empty())
+      throw Error(file, "camera frame",
+                  "a frame_id in the depth images' header (or the camera frame option)",
+                  "an empty frame_id");
+    if (contents.dynamic_tf.empty() && contents.static_tf.empty())
+      throw Error(file, "tf", "/tf or /tf_static messages giving the camera pose",
+                  contents.bad_transforms
+                      ? std::to_string(contents.bad_transforms) + " invalid transforms only"
+                      : "none; topics: " + bag::describeTopics(contents.topics));
+    if (contents.bad_transforms)
+      writer.note(std::to_string(contents.bad_transforms) +
+                  " tf transforms were invalid (NaN, zero quaternion, empty frame) and ignored");
+    std::map<std::string, std::string> parent_of;
+    std::set<std::string> frames;
+    for (const auto* list : {&contents.static_tf, &contents.dynamic_tf})
+      for (const auto& t : *list) {
+        parent_of[t.child_frame_id] = t.header.frame_id;
+        frames.insert(t.child_frame_id);
+        frames.insert(t.header.frame_id);
+      }
+    for (const auto& t : contents.dynamic_tf) {
+      begin_ = std::min(begin_, t.header.stamp.toSec());
+      end_ = std::max(end_, t.header.stamp.toSec());
     }
-  } else if (label_topic) {
-    writer.setLabels(options.labels.value_or(apc2016Labels()));
-    if (!options.labels) writer.note("label ids read as the APC 2016 labels (give a label list to change)");
-    writer.note("label images became one-hot probabilities (confidence " +
-                formatNumber(options.label_confidence) + ")");
-  } else {
-    writer.setLabels(backgroundOnlyLabels());
-    writer.setLabelless(true);
-    writer.note("no probability or label topic: the sequence has the single label __background__");
-  }
-
-  // ---- tf.
-  std::string camera_frame = stripSlash(ro.camera_frame);
-  if (camera_frame.empty()) camera_frame = depth_topic->images.front().frame_id;
-  if (camera_frame.empty())
-    throw Error(file, "camera frame", "a frame_id in the depth images' header (or the camera frame option)",
-                "an empty frame_id");
-  if (dynamic_tf.empty() && static_tf.empty())
-    throw Error(file, "tf", "/tf or /tf_static messages giving the camera pose",
-                bad_transforms ? std::to_string(bad_transforms) + " invalid transforms only"
-                               : "none; topics: " + available);
-  if (bad_transforms)
-    writer.note(std::to_string(bad_transforms) +
-                " tf transforms were invalid (NaN, zero quaternion, empty frame) and ignored");
-  std::map<std::string, std::string> parent_of;
-  std::set<std::string> frames;
-  double tf_begin = INFINITY, tf_end = -INFINITY;
-  for (const auto* list : {&static_tf, &dynamic_tf})
-    for (const auto& t : *list) {
-      parent_of[t.child_frame_id] = t.header.frame_id;
-      frames.insert(t.child_frame_id);
-      frames.insert(t.header.frame_id);
+    if (!frames.count(camera_frame_)) {
+      std::string names;
+      for (const auto& f : frames) names += (names.empty() ? "" : ", ") + f;
+      throw Error(file, "camera frame", "frame '" + camera_frame_ + "' in /tf or /tf_static",
+                  "frames " + names);
     }
-  for (const auto& t : dynamic_tf) {
-    tf_begin = std::min(tf_begin, t.header.stamp.toSec());
-    tf_end = std::max(tf_end, t.header.stamp.toSec());
+    fixed_frame_ = stripSlash(given.fixed_frame);
+    if (fixed_frame_.empty()) {
+      fixed_frame_ = camera_frame_;
+      std::set<std::string> seen{fixed_frame_};
+      while (parent_of.count(fixed_frame_) && seen.insert(parent_of[fixed_frame_]).second)
+        fixed_frame_ = parent_of[fixed_frame_];
+      if (fixed_frame_ == camera_frame_)
+        throw Error(file, "fixed frame",
+                    "a frame above the camera frame '" + camera_frame_ + "' in tf",
+                    "the camera frame has no parent");
+      writer.note("poses of '" + camera_frame_ + "' in '" + fixed_frame_ +
+                  "' (the root of its tf tree; choose another with the fixed frame option)");
+    } else if (!frames.count(fixed_frame_)) {
+      throw Error(file, "fixed frame", "a frame of /tf or /tf_static",
+                  "'" + fixed_frame_ + "' is not one");
+    }
+    if (lower(camera_frame_).find("optical") == std::string::npos)
+      writer.note("camera frame '" + camera_frame_ +
+                  "' is not named *optical*: it must have z forward, x right, y down");
+    for (const auto& t : contents.static_tf) buffer_.setTransform(t, "bag", true);
+    for (const auto& t : contents.dynamic_tf) buffer_.setTransform(t, "bag", false);
   }
-  if (!frames.count(camera_frame)) {
-    std::string names;
-    for (const auto& f : frames) names += (names.empty() ? "" : ", ") + f;
-    throw Error(file, "camera frame", "frame '" + camera_frame + "' in /tf or /tf_static",
-                "frames " + names);
-  }
-  std::string fixed_frame = stripSlash(ro.fixed_frame);
-  if (fixed_frame.empty()) {
-    fixed_frame = camera_frame;
-    std::set<std::string> seen{fixed_frame};
-    while (parent_of.count(fixed_frame) && seen.insert(parent_of[fixed_frame]).second)
-      fixed_frame = parent_of[fixed_frame];
-    if (fixed_frame == camera_frame)
-      throw Error(file, "fixed frame", "a frame above the camera frame '" + camera_frame + "' in tf",
-                  "the camera frame has no parent");
-    writer.note("poses of '" + camera_frame + "' in '" + fixed_frame +
-                "' (the root of its tf tree; choose another with the fixed frame option)");
-  } else if (!frames.count(fixed_frame)) {
-    throw Error(file, "fixed frame", "a frame of /tf or /tf_static", "'" + fixed_frame + "' is not one");
-  }
-  if (lower(camera_frame).find("optical") == std::string::npos)
-    writer.note("camera frame '" + camera_frame +
-                "' is not named *optical*: it must have z forward, x right, y down");
-  writer.setFrameId(fixed_frame);
 
-  tf2::BufferCore buffer(ros::Duration(std::max(10.0, end - begin + 10.0)));
-  for (const auto& t : static_tf) buffer.setTransform(t, "bag", true);
-  for (const auto& t : dynamic_tf) buffer.setTransform(t, "bag", false);
+  [[nodiscard]] const std::string& fixedFrame() const { return fixed_frame_; }
+  // The time span of /tf (none when only /tf_static gives the pose).
+  [[nodiscard]] bool hasDynamic() const { return has_dynamic_; }
+  [[nodiscard]] double begin() const { return begin_; }
+  [[nodiscard]] double end() const { return end_; }
 
-  // ---- matching.
-  const auto& depth_entries = depth_topic->images;
-  const auto color_stamps = color_topic ? color_topic->stamps() : std::vector<double>{};
-  const auto proba_stamps = proba_topic ? proba_topic->stamps() : std::vector<double>{};
-  const auto label_stamps = label_topic ? label_topic->stamps() : std::vector<double>{};
+  // The camera-to-fixed-frame pose at `stamp` (at the edges of tf's range,
+  // within the time tolerance); empty with the reason when tf has none.
+  std::optional<Eigen::Matrix4d> at(double stamp, std::string& reason) const {
+    std::optional<geometry_msgs::TransformStamped> found;
+    std::string tf_error;
+    for (double t : {stamp, stamp - tolerance_, stamp + tolerance_}) {
+      if (t <= 0.0) continue;
+      try {
+        found = buffer_.lookupTransform(fixed_frame_, camera_frame_, ros::Time(t));
+        break;
+      } catch (const tf2::TransformException& e) {
+        if (tf_error.empty()) tf_error = e.what();
+      }
+      if (tolerance_ == 0.0) break;
+    }
+    if (!found) {
+      reason = "no transform from '" + fixed_frame_ + "' to '" + camera_frame_ + "' at " +
+               stampText(stamp);
+      if (has_dynamic_)
+        reason += " (tf covers " + stampText(begin_) + " to " + stampText(end_) + ")";
+      if (!tf_error.empty()) reason += ": " + tf_error;
+      return std::nullopt;
+    }
+    const auto& tr = found->transform;
+    const Eigen::Quaterniond q(tr.rotation.w, tr.rotation.x, tr.rotation.y, tr.rotation.z);
+    Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();
+    pose.topLeftCorner<3, 3>() = q.normalized().toRotationMatrix();
+    pose.topRightCorner<3, 1>() =
+        Eigen::Vector3d(tr.translation.x, tr.translation.y, tr.translation.z);
+    return pose;
+  }
+
+ private:
+  tf2::BufferCore buffer_;
+  double tolerance_;
+  bool has_dynamic_;
+  std::string camera_frame_, fixed_frame_;
+  double begin_ = INFINITY, end_ = -INFINITY;
+};
+
+// Notes on stamps that cannot match: zero header stamps, image and tf clocks
+// that do not overlap, topics with no image near any depth image.
+void noteStampProblems(const ChosenTopics& chosen, const PoseLookup& poses,
+                       const ImportOptions& options, SequenceWriter& writer) {
+  const auto& depth_entries = chosen.depth->images;
   const double tol = options.time_tolerance;
-  {
-    size_t from_bag = 0;
-    for (const auto& e : depth_entries) from_bag += e.stamp_from_bag;
-    if (from_bag)
-      writer.note(std::to_string(from_bag) +
-                  " depth images have a zero header stamp: the bag's record time is used");
-    const double image_begin = depth_entries.front().stamp + options.time_offset;
-    const double image_end = depth_entries.back().stamp + options.time_offset;
-    if (!dynamic_tf.empty() && (image_end < tf_begin - tol || image_begin > tf_end + tol))
-      writer.note("depth image stamps (" + stampText(image_begin) + " to " + stampText(image_end) +
-                  ") and tf stamps (" + stampText(tf_begin) + " to " + stampText(tf_end) +
-                  ") do not overlap: the clocks differ by about " +
-                  formatNumber(0.5 * (tf_begin + tf_end) - 0.5 * (image_begin + image_end), 4) +
-                  " s (give it as the time offset option)");
-  }
-  auto unmatchedNote = [&](const std::vector<double>& stamps, const std::string& what) {
+  size_t from_bag = 0;
+  for (const auto& e : depth_entries) from_bag += e.stamp_from_bag;
+  if (from_bag)
+    writer.note(std::to_string(from_bag) +
+                " depth images have a zero header stamp: the bag's record time is used");
+  const double image_begin = depth_entries.front().stamp + options.time_offset;
+  const double image_end = depth_entries.back().stamp + options.time_offset;
+  if (poses.hasDynamic() && (image_end < poses.begin() - tol || image_begin > poses.end() + tol))
+    writer.note(
+        "depth image stamps (" + stampText(image_begin) + " to " + stampText(image_end) +
+        ") and tf stamps (" + stampText(poses.begin()) + " to " + stampText(poses.end()) +
+        ") do not overlap: the clocks differ by about " +
+        formatNumber(0.5 * (poses.begin() + poses.end()) - 0.5 * (image_begin + image_end), 4) +
+        " s (give it as the time offset option)");
+  auto unmatchedNote = [&](const Topic* topic, const std::string& what) {
+    if (!topic) return;
+    const std::vector<double> stamps = topic->stamps();
     if (stamps.empty()) return;
-    std::vector<double> gaps;
+    double nearest = INFINITY;
     for (const auto& e : depth_entries) {
       const auto it = std::lower_bound(stamps.begin(), stamps.end(), e.stamp);
       double gap = INFINITY;
       if (it != stamps.end()) gap = *it - e.stamp;
       if (it != stamps.begin() && std::abs(*std::prev(it) - e.stamp) < std::abs(gap))
         gap = *std::prev(it) - e.stamp;
-      gaps.push_back(gap);
+      if (std::abs(gap) < std::abs(nearest)) nearest = gap;
     }
-    std::sort(gaps.begin(), gaps.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
-    if (std::abs(gaps.front()) > tol)
+    if (std::abs(nearest) > tol)
       writer.note("no " + what + " image lies within " + formatNumber(tol) +
-                  " s of a depth image (nearest " + formatNumber(gaps.front(), 4) +
+                  " s of a depth image (nearest " + formatNumber(nearest, 4) +
                   " s away: a clock offset between the topics? raise the time tolerance)");
   };
-  unmatchedNote(color_stamps, "colour");
-  unmatchedNote(proba_stamps, "probability");
-  unmatchedNote(label_stamps, "label");
+  unmatchedNote(chosen.color, "colour");
+  unmatchedNote(chosen.proba, "probability");
+  unmatchedNote(chosen.label, "label");
+}
 
+// Reads the images of one depth image's frame: the depth, and the colour,
+// probability and label images nearest in time. Throws lom::Error naming the
+// topic when an image the frame needs is missing or damaged; a colour image
+// that cannot be used is noted and left out.
+class FrameReader {
+ public:
+  FrameReader(const BagContents& contents, const ChosenTopics& chosen, const ImportOptions& options,
+              const BagCameras& cameras, SequenceWriter& writer)
+      : contents_(contents),
+        chosen_(chosen),
+        cameras_(cameras),
+        writer_(writer),
+        millimetres_(options.depth_scale.value_or(0.001)),
+        tolerance_(options.time_tolerance) {
+    if (chosen.color) color_stamps_ = chosen.color->stamps();
+    if (chosen.proba) {
+      proba_stamps_ = chosen.proba->stamps();
+      int bytes = 0;
+      proba_channels_ = multiChannels(chosen.proba->firstEncoding(), bytes);
+    }
+    if (chosen.label) label_stamps_ = chosen.label->stamps();
+  }
+
+  [[nodiscard]] double millimetres() const { return millimetres_; }
+  [[nodiscard]] int probaChannels() const { return proba_channels_; }
+  // Probability values outside [0, 1] or NaN clamped so far.
+  [[nodiscard]] size_t clamped() const { return clamped_; }
+
+  void read(const ImageEntry& entry, SourceFrame& frame) {
+    readDepth(entry, frame);
+    if (chosen_.color) readColor(entry, frame);
+    if (chosen_.proba) readProba(entry, frame);
+    if (chosen_.label) readLabel(entry, frame);
+  }
+
+ private:
+  const rosbag::MessageInstance& message(const Topic& topic, size_t index) const {
+    return contents_.messages[topic.images[index].message];
+  }
+
+  void readDepth(const ImageEntry& entry, SourceFrame& frame) const {
+    const rosbag::MessageInstance& m = contents_.messages[entry.message];
+    try {
+      if (entry.compressed)
+        frame.depth = decodeCompressedDepth(*load<sensor_msgs::CompressedImage>(m), millimetres_);
+      else
+        frame.depth = decodeDepth(*load<sensor_msgs::Image>(m), millimetres_);
+    } catch (const Error& e) {
+      throw Error(chosen_.depth->name, "depth " + e.problem().field, e.problem().expected,
+                  e.problem().found);
+    }
+  }
+
+  void readColor(const ImageEntry& entry, SourceFrame& frame) const {
+    const Topic& topic = *chosen_.color;
+    const auto i = nearestStamp(color_stamps_, entry.stamp, tolerance_);
+    if (!i) {
+      writer_.note(
+          "depth images without a colour image within the time tolerance were "
+          "imported without colour");
+      return;
+    }
+    const rosbag::MessageInstance& m = message(topic, *i);
+    try {
+      frame.color = topic.images[*i].compressed
+                        ? decodeCompressedColor(*load<sensor_msgs::CompressedImage>(m))
+                        : decodeColor(*load<sensor_msgs::Image>(m));
+      frame.color_camera = cameras_.color;
+    } catch (const Error& e) {
+      // Named by topic like the depth, probability and label errors.
+      const Error named(topic.name, "colour " + e.problem().field, e.problem().expected,
+                        e.problem().found);
+      writer_.note("colour images that could not be decoded were left out (" +
+                   std::string(named.what()) + ")");
+    }
+  }
+
+  void readProba(const ImageEntry& entry, SourceFrame& frame) {
+    const Topic& topic = *chosen_.proba;
+    const auto i = nearestStamp(proba_stamps_, entry.stamp, tolerance_);
+    if (!i)
+      throw Error(
+          topic.name, "stamp",
+          "a probability image within " + formatNumber(tolerance_) + " s of the depth image",
+          "none");
+    const auto msg = load<sensor_msgs::Image>(message(topic, *i));
+    int bytes = 0;
+    if (multiChannels(msg->encoding, bytes) != proba_channels_)
+      throw Error(topic.name, "encoding",
+                  std::to_string(proba_channels_) + " channels as in the first message",
+                  msg->encoding);
+    try {
+      frame.proba = decodeProba(*msg, &clamped_);
+    } catch (const Error& e) {
+      throw Error(topic.name, e.problem().field, e.problem().expected, e.problem().found);
+    }
+  }
+
+  void readLabel(const ImageEntry& entry, SourceFrame& frame) const {
+    const Topic& topic = *chosen_.label;
+    const auto i = nearestStamp(label_stamps_, entry.stamp, tolerance_);
+    if (!i) {
+      // With probabilities the labels are only the ground truth: a frame may lack them.
+      if (!chosen_.proba)
+        throw Error(topic.name, "stamp",
+                    "a label image within " + formatNumber(tolerance_) + " s of the depth image",
+                    "none");
+      return;
+    }
+    const auto msg = load<sensor_msgs::Image>(message(topic, *i));
+    try {
+      frame.label = decodeLabel(*msg);
+    } catch (const Error& e) {
+      throw Error(topic.name, e.problem().field, e.problem().expected, e.problem().found);
+    }
+  }
+
+  const BagContents& contents_;
+  const ChosenTopics& chosen_;
+  const BagCameras& cameras_;
+  SequenceWriter& writer_;
+  double millimetres_;
+  double tolerance_;
+  std::vector<double> color_stamps_, proba_stamps_, label_stamps_;
+  int proba_channels_ = 0;
+  size_t clamped_ = 0;
+};
+
+}  // namespace
+
+void importRosbag(const fs::path& source, const ImportOptions& options, SequenceWriter& writer) {
+  QuietConsole quiet;
+  const std::string file = source.string();
+  rosbag::Bag opened;
+  try {
+    opened.open(file, rosbag::bagmode::Read);
+  } catch (const std::exception& e) {
+    throw Error(file, "bag", "a readable ROS 1 bag (format 2.0)", e.what());
+  }
+  BagContents contents;
+  readBag(opened, file, writer, contents);
+
+  const ChosenTopics chosen = bag::chooseTopics(contents.topics, options, file, writer);
+  const BagCameras cameras = chooseCameras(contents, chosen, options, source, writer);
+  writer.setCamera(cameras.depth);
+  FrameReader reader(contents, chosen, options, cameras, writer);
+  // 32FC1 depth is in metres: written as millimetres whatever the depth scale option.
+  const bool float_depth = contains(lower(chosen.depth->firstEncoding()), "32fc1");
+  writer.setDepthScale(float_depth ? 0.001 : reader.millimetres());
+  bag::chooseLabels(reader.probaChannels(), chosen.label != nullptr, options, file, writer);
+
+  const PoseLookup poses(contents, *chosen.depth, options, file, writer);
+  writer.setFrameId(poses.fixedFrame());
+  noteStampProblems(chosen, poses, options, writer);
+
+  const auto& depth_entries = chosen.depth->images;
   writer.setFound(depth_entries.size());
-
   const auto selected = selectFrames(depth_entries.size(), options);
   writer.setTotal(selected.size());
-  size_t clamped = 0;
   for (size_t index : selected) {
     const ImageEntry& entry = depth_entries[index];
-    const std::string name = "depth@" + stampText(entry.stamp);
     SourceFrame frame;
-    frame.name = name;
+    frame.name = "depth@" + stampText(entry.stamp);
     frame.stamp = entry.stamp;
-    std::optional<std::string> error;
-
-    // Pose at stamp + offset; at the edges of tf's range, within the tolerance.
-    const double pose_stamp = entry.stamp + options.time_offset;
-    std::optional<geometry_msgs::TransformStamped> pose;
-    std::string tf_error;
-    for (double t : {pose_stamp, pose_stamp - tol, pose_stamp + tol}) {
-      if (t <= 0.0) continue;
-      try {
-        pose = buffer.lookupTransform(fixed_frame, camera_frame, ros::Time(t));
-        break;
-      } catch (const tf2::TransformException& e) {
-        if (tf_error.empty()) tf_error = e.what();
-      }
-      if (tol == 0.0) break;
-    }
+    std::string reason;
+    const auto pose = poses.at(entry.stamp + options.time_offset, reason);
     if (!pose) {
-      std::string reason = "no transform from '" + fixed_frame + "' to '" + camera_frame + "' at " +
-                           stampText(pose_stamp);
-      if (!dynamic_tf.empty())
-        reason += " (tf covers " + stampText(tf_begin) + " to " + stampText(tf_end) + ")";
-      if (!tf_error.empty()) reason += ": " + tf_error;
-      if (!writer.skip(name, reason)) return;
+      if (!writer.skip(frame.name, reason)) return;
       continue;
     }
-    {
-      const auto& tr = pose->transform;
-      const Eigen::Quaterniond q(tr.rotation.w, tr.rotation.x, tr.rotation.y, tr.rotation.z);
-      frame.pose = Eigen::Matrix4d::Identity();
-      frame.pose.topLeftCorner<3, 3>() = q.normalized().toRotationMatrix();
-      frame.pose.topRightCorner<3, 1>() =
-          Eigen::Vector3d(tr.translation.x, tr.translation.y, tr.translation.z);
-    }
-
+    frame.pose = *pose;
+    std::optional<std::string> error;
     try {
-      const rosbag::MessageInstance& m = messages[entry.message];
-      try {
-        if (entry.compressed) {
-          const auto msg = load<sensor_msgs::CompressedImage>(m);
-          frame.depth = decodeCompressedDepth(*msg, millimetres);
-        } else {
-          const auto msg = load<sensor_msgs::Image>(m);
-          frame.depth = decodeDepth(*msg, millimetres);
-        }
-      } catch (const Error& e) {
-        throw Error(depth_topic->name, "depth " + e.problem().field, e.problem().expected,
-                    e.problem().found);
-      }
-      if (color_topic) {
-        if (auto i = nearestStamp(color_stamps, entry.stamp, tol)) {
-          const ImageEntry& c = color_topic->images[*i];
-          const rosbag::MessageInstance& cm = messages[c.message];
-          try {
-            frame.color = c.compressed
-                              ? decodeCompressedColor(*load<sensor_msgs::CompressedImage>(cm))
-                              : decodeColor(*load<sensor_msgs::Image>(cm));
-            frame.color_camera = color_camera;
-          } catch (const Error& e) {
-            // Named by topic like the depth, probability and label errors.
-            const Error named(color_topic->name, "colour " + e.problem().field,
-                              e.problem().expected, e.problem().found);
-            writer.note("colour images that could not be decoded were left out (" +
-                        std::string(named.what()) + ")");
-          }
-        } else {
-          writer.note("depth images without a colour image within the time tolerance were "
-                      "imported without colour");
-        }
-      }
-      if (proba_topic) {
-        auto i = nearestStamp(proba_stamps, entry.stamp, tol);
-        if (!i)
-          throw Error(proba_topic->name, "stamp",
-                      "a probability image within " + formatNumber(tol) + " s of the depth image",
-                      "none");
-        const auto msg = load<sensor_msgs::Image>(messages[proba_topic->images[*i].message]);
-        int bytes = 0;
-        if (multiChannels(msg->encoding, bytes) != proba_channels)
-          throw Error(proba_topic->name, "encoding",
-                      std::to_string(proba_channels) + " channels as in the first message",
-                      msg->encoding);
-        try {
-          frame.proba = decodeProba(*msg, &clamped);
-        } catch (const Error& e) {
-          throw Error(proba_topic->name, e.problem().field, e.problem().expected, e.problem().found);
-        }
-      }
-      if (label_topic) {
-        auto i = nearestStamp(label_stamps, entry.stamp, tol);
-        if (!i) {
-          if (!proba_topic)
-            throw Error(label_topic->name, "stamp",
-                        "a label image within " + formatNumber(tol) + " s of the depth image",
-                        "none");
-        } else {
-          const auto msg = load<sensor_msgs::Image>(messages[label_topic->images[*i].message]);
-          try {
-            frame.label = decodeLabel(*msg);
-          } catch (const Error& e) {
-            throw Error(label_topic->name, e.problem().field, e.problem().expected, e.problem().found);
-          }
-        }
-      }
+      reader.read(entry, frame);
     } catch (const Error& e) {
       error = e.what();
     } catch (const std::exception& e) {
       error = std::string("unreadable message: ") + e.what();
     }
     if (error) {
-      if (!writer.skip(name, *error)) return;
+      if (!writer.skip(frame.name, *error)) return;
       continue;
     }
     if (!writer.add(std::move(frame))) return;
   }
-  if (clamped)
-    writer.note(std::to_string(clamped) +
+  if (reader.clamped())
+    writer.note(std::to_string(reader.clamped()) +
                 " probability values outside [0, 1] or NaN were clamped (NaN to 0)");
 }
 
