@@ -75,7 +75,18 @@ class SequenceWriter {
   // that nothing goes into (proba/ of a geometry-only import) is not made.
   fs::path fileIn(const char* sub, const std::string& name);
   void cleanUp() noexcept;
+  // The steps of convert(): each returns why the frame cannot be used, if it cannot.
   [[nodiscard]] std::optional<std::string> convert(SourceFrame& frame, FrameRecord& record);
+  [[nodiscard]] std::optional<std::string> convertPose(const SourceFrame& frame,
+                                                       FrameRecord& record);
+  // The frame's camera: the depth camera, scaled to the frame's depth image.
+  [[nodiscard]] std::optional<std::string> convertDepth(SourceFrame& frame, FrameRecord& record,
+                                                        CameraIntrinsics& camera,
+                                                        DepthFilterStats& stats);
+  void convertColor(SourceFrame& frame, const CameraIntrinsics& camera);
+  [[nodiscard]] std::optional<std::string> convertEvidence(SourceFrame& frame, FrameRecord& record,
+                                                           const CameraIntrinsics& camera);
+  void writeFrameFiles(const SourceFrame& frame, FrameRecord& record);
 
   fs::path out_;
   const ImportOptions& options_;

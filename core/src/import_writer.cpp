@@ -287,7 +287,26 @@ bool SequenceWriter::add(SourceFrame frame) {
 }
 
 std::optional<std::string> SequenceWriter::convert(SourceFrame& frame, FrameRecord& record) {
-  // Pose: finite, rigid (re-orthonormalised when read from text with few digits).
+  if (auto reason = convertPose(frame, record)) return reason;
+  record.stamp = frame.stamp;
+  CameraIntrinsics camera;
+  DepthFilterStats stats;
+  if (auto reason = convertDepth(frame, record, camera, stats)) return reason;
+  convertColor(frame, camera);
+  if (auto reason = convertEvidence(frame, record, camera)) return reason;
+  size_t valid = 0;
+  for (float z : frame.depth.metres) valid += z > 0.0f;
+  if (valid == 0)
+    return "no valid depth (" + std::to_string(stats.invalid) + " invalid, " +
+           std::to_string(stats.out_of_range) + " out of range, " + std::to_string(stats.flying) +
+           " flying pixels removed)";
+  writeFrameFiles(frame, record);
+  return std::nullopt;
+}
+
+// Pose: finite, rigid (re-orthonormalised when read from text with few digits).
+std::optional<std::string> SequenceWriter::convertPose(const SourceFrame& frame,
+                                                       FrameRecord& record) {
   const Eigen::Matrix4d& P = frame.pose;
   if (!P.allFinite()) return std::string("no valid pose (the pose holds inf or NaN)");
   const Eigen::Matrix3d R = P.topLeftCorner<3, 3>();
@@ -309,9 +328,13 @@ std::optional<std::string> SequenceWriter::convert(SourceFrame& frame, FrameReco
   }
   record.T_world_camera.linear() = rotation;
   record.T_world_camera.translation() = P.topRightCorner<3, 1>();
-  record.stamp = frame.stamp;
+  return std::nullopt;
+}
 
-  // Depth and camera.
+// Depth and camera: the depth filtered, depths the 16-bit PNG cannot hold dropped.
+std::optional<std::string> SequenceWriter::convertDepth(SourceFrame& frame, FrameRecord& record,
+                                                        CameraIntrinsics& camera,
+                                                        DepthFilterStats& stats) {
   DepthImage& depth = frame.depth;
   if (depth.width <= 0 || depth.height <= 0 || depth.metres.empty())
     return std::string("empty depth image");
@@ -319,7 +342,7 @@ std::optional<std::string> SequenceWriter::convert(SourceFrame& frame, FrameReco
     camera_.width = depth.width;
     camera_.height = depth.height;
   }
-  CameraIntrinsics camera = camera_;
+  camera = camera_;
   camera.depth_scale = depth_scale_;
   if (depth.width != camera_.width || depth.height != camera_.height) {
     if (!sameAspect(depth.width, depth.height, camera_.width, camera_.height))
@@ -331,7 +354,7 @@ std::optional<std::string> SequenceWriter::convert(SourceFrame& frame, FrameReco
          sizeText(camera_.width, camera_.height) + ": intrinsics scaled for those frames");
   }
 
-  const DepthFilterStats stats = filterDepth(depth, options_.depth_filter);
+  stats = filterDepth(depth, options_.depth_filter);
   filter_totals_.invalid += stats.invalid;
   filter_totals_.out_of_range += stats.out_of_range;
   filter_totals_.flying += stats.flying;
@@ -347,21 +370,24 @@ std::optional<std::string> SequenceWriter::convert(SourceFrame& frame, FrameReco
   if (too_far > 0)
     note("depths beyond " + formatNumber(max_storable, 4) +
          " m (65535 x the depth unit) were dropped");
+  return std::nullopt;
+}
 
-  // Colour: display only; resampled to the depth camera when it has another size.
+// Colour: display only; resampled to the depth camera when it has another size.
+void SequenceWriter::convertColor(SourceFrame& frame, const CameraIntrinsics& camera) {
   if (frame.color && options_.write_color) {
     ColorImage& color = *frame.color;
-    if (color.width != depth.width || color.height != depth.height) {
+    if (color.width != frame.depth.width || color.height != frame.depth.height) {
       std::optional<CameraIntrinsics> from = frame.color_camera;
-      if (!from && sameAspect(color.width, color.height, depth.width, depth.height))
+      if (!from && sameAspect(color.width, color.height, frame.depth.width, frame.depth.height))
         from = scaledCamera(camera, color.width, color.height);
       if (from) {
         CameraIntrinsics from_sized = *from;
         from_sized.width = color.width;
         from_sized.height = color.height;
-        color = resampleColor(color, makePixelMap(from_sized, camera));
-        note("colour images of " + sizeText(frame.color->width, frame.color->height) +
+        note("colour images of " + sizeText(color.width, color.height) +
              " resampled to the depth camera");
+        color = resampleColor(color, makePixelMap(from_sized, camera));
       } else {
         note("colour images of another aspect ratio than the depth images were left out");
         frame.color.reset();
@@ -370,8 +396,13 @@ std::optional<std::string> SequenceWriter::convert(SourceFrame& frame, FrameReco
   } else {
     frame.color.reset();
   }
+}
 
-  // Label evidence: resampled to the depth camera; depth outside its view is dropped.
+// Label evidence: resampled to the depth camera; depth outside its view is
+// dropped. Label images alone become one-hot probabilities.
+std::optional<std::string> SequenceWriter::convertEvidence(SourceFrame& frame, FrameRecord& record,
+                                                           const CameraIntrinsics& camera) {
+  DepthImage& depth = frame.depth;
   const bool has_proba = frame.proba.has_value();
   const bool has_label = frame.label.has_value();
   auto evidenceSize = [&]() -> std::pair<int, int> {
@@ -427,15 +458,11 @@ std::optional<std::string> SequenceWriter::convert(SourceFrame& frame, FrameReco
   }
   if (!has_proba && !has_label && !labelless_)
     return std::string("no probability or label image for this frame");
+  return std::nullopt;
+}
 
-  size_t valid = 0;
-  for (float z : depth.metres) valid += z > 0.0f;
-  if (valid == 0)
-    return "no valid depth (" + std::to_string(stats.invalid) + " invalid, " +
-           std::to_string(stats.out_of_range) + " out of range, " + std::to_string(stats.flying) +
-           " flying pixels removed)";
-
-  // Files.
+void SequenceWriter::writeFrameFiles(const SourceFrame& frame, FrameRecord& record) {
+  const DepthImage& depth = frame.depth;
   const std::string name = indexName(records_.size());
   record.depth = "depth/" + name + ".png";
   writeDepthPng(fileIn("depth", name + ".png"), depth, depth_scale_);
@@ -459,7 +486,6 @@ std::optional<std::string> SequenceWriter::convert(SourceFrame& frame, FrameReco
     record.label = "label/" + name + ".png";
     writeLabelPng(fileIn("label", name + ".png"), background);
   }
-  return std::nullopt;
 }
 
 void SequenceWriter::finish(const std::string& source_description) {

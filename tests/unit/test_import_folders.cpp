@@ -600,7 +600,11 @@ TEST(ImportScanNet, RoundTripWithResampledColourAndLabels) {
   EXPECT_EQ(report.kind, SourceKind::ScanNet);
   EXPECT_EQ(report.frames_written, 2u);
   EXPECT_TRUE(anySkipped(report, "inf or NaN")) << report.text();
-  EXPECT_TRUE(anyNote(report, "resampled to the depth camera")) << report.text();
+  // The notes give the size the images had, not the size they were resampled to.
+  EXPECT_TRUE(anyNote(report, "colour images of 64 x 48 resampled to the depth camera"))
+      << report.text();
+  EXPECT_TRUE(anyNote(report, "label images of 64 x 48 resampled to the depth camera"))
+      << report.text();
 
   const Sequence sequence = loadSequence(dir / "seq");
   EXPECT_TRUE(validateSequence(sequence).empty());
