@@ -427,6 +427,42 @@ void importQuaternion(const fs::path& source, const ImportOptions& options,
 }
 
 // ---------------------------------------------------------------------------
+namespace {
+
+// Category names by ScanNet id from the label table when it is beside the
+// scene (in its folder or up to two folders above); empty without one.
+std::map<int, std::string> scanNetCategoryNames(const fs::path& source, SequenceWriter& writer) {
+  std::map<int, std::string> names;
+  for (const fs::path& dir : {source, source.parent_path(), source.parent_path().parent_path()}) {
+    const fs::path tsv = dir / "scannetv2-labels.combined.tsv";
+    if (!isFile(tsv)) continue;
+    int id_column = -1, name_column = -1;
+    for (const auto& [number, line] : readLines(tsv)) {
+      std::vector<std::string> cells;
+      std::stringstream in(line);
+      std::string cell;
+      while (std::getline(in, cell, '\t')) cells.push_back(cell);
+      if (number == 1) {
+        for (size_t c = 0; c < cells.size(); ++c) {
+          if (cells[c] == "id") id_column = static_cast<int>(c);
+          if (cells[c] == "category") name_column = static_cast<int>(c);
+        }
+        continue;
+      }
+      if (id_column < 0 || name_column < 0 ||
+          cells.size() <= static_cast<size_t>(std::max(id_column, name_column)))
+        continue;
+      names[std::atoi(cells[static_cast<size_t>(id_column)].c_str())] =
+          cells[static_cast<size_t>(name_column)];
+    }
+    writer.note("label names from " + tsv.string());
+    break;
+  }
+  return names;
+}
+
+}  // namespace
+
 // ScanNet: color/N.jpg, depth/N.png (mm), pose/N.txt, intrinsic/*.txt, label-filt/N.png.
 void importScanNet(const fs::path& source, const ImportOptions& options, SequenceWriter& writer) {
   const auto depth_files = numberedFiles(source / "depth", "", ".png");
@@ -480,39 +516,13 @@ void importScanNet(const fs::path& source, const ImportOptions& options, Sequenc
       if (ids.size() > 255)
         throw Error(label_dir.string(), "labels", "at most 255 distinct label ids in the frames",
                     std::to_string(ids.size()) + " ids (import fewer frames or give a label list)");
-      // Category names from the ScanNet label table when it is beside the scene.
-      std::map<int, std::string> names;
-      for (const fs::path& dir : {source, source.parent_path(), source.parent_path().parent_path()}) {
-        const fs::path tsv = dir / "scannetv2-labels.combined.tsv";
-        if (!isFile(tsv)) continue;
-        const auto lines = readLines(tsv);
-        int id_column = -1, name_column = -1;
-        for (const auto& [number, line] : lines) {
-          std::vector<std::string> cells;
-          std::stringstream in(line);
-          std::string cell;
-          while (std::getline(in, cell, '\t')) cells.push_back(cell);
-          if (number == 1) {
-            for (size_t c = 0; c < cells.size(); ++c) {
-              if (cells[c] == "id") id_column = static_cast<int>(c);
-              if (cells[c] == "category") name_column = static_cast<int>(c);
-            }
-            continue;
-          }
-          if (id_column < 0 || name_column < 0 ||
-              cells.size() <= static_cast<size_t>(std::max(id_column, name_column)))
-            continue;
-          names[std::atoi(cells[static_cast<size_t>(id_column)].c_str())] =
-              cells[static_cast<size_t>(name_column)];
-        }
-        writer.note("label names from " + tsv.string());
-        break;
-      }
+      const std::map<int, std::string> names = scanNetCategoryNames(source, writer);
       std::vector<std::string> label_names;
       std::set<std::string> used{"__background__"};
       compact[0] = 0;
       for (int id : ids) {
-        std::string name = names.count(id) ? names[id] : "scannet_" + std::to_string(id);
+        const auto named = names.find(id);
+        std::string name = named != names.end() ? named->second : "scannet_" + std::to_string(id);
         if (!used.insert(name).second) name += "_" + std::to_string(id);
         used.insert(name);
         label_names.push_back(name);
