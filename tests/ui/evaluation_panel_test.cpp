@@ -160,5 +160,42 @@ TEST_F(EvaluationPanelTest, SummarySaysOneObjectInTheSingular) {
   EXPECT_FALSE(summary.contains("1 objects")) << summary.toStdString();
 }
 
+TEST_F(EvaluationPanelTest, BoxesThatCannotBeScoredAreLeftOutAndNamed) {
+  openAndFuse();
+  waitForScores();
+  const size_t objects = panel().report()->objects.size();
+  ASSERT_GE(objects, 2u);
+
+  // A box of a label the sequence lacks and a second box of a boxed label: the
+  // others are still scored and the summary names the two.
+  AnnotationsModel& boxes = window_.session().annotations();
+  GroundTruthBox unknown = boxes.annotations().boxes.front();
+  unknown.label = 100;
+  GroundTruthBox twice = boxes.annotations().boxes.front();
+  boxes.addBox(unknown);
+  boxes.addBox(twice);
+  const int count = boxes.boxCount();
+  waitForScores();
+  EXPECT_EQ(panel().report()->objects.size(), objects);
+  EXPECT_EQ(panel().table().rowCount(), static_cast<int>(objects));
+  const QString summary = panel().summaryText();
+  EXPECT_TRUE(summary.contains(
+      QString("Not scored: boxes[%1] (label 100 is not an object label of the sequence); "
+              "boxes[%2] (label %3 is already boxed).")
+          .arg(count - 2)
+          .arg(count - 1)
+          .arg(twice.label)))
+      << summary.toStdString();
+
+  // With only such boxes, nothing is scored and the panel says why.
+  for (int index = boxes.boxCount() - 1; index >= 0; --index)
+    if (boxes.annotations().boxes[static_cast<size_t>(index)].label != 100) boxes.removeBox(index);
+  ASSERT_EQ(boxes.boxCount(), 1);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return panel().table().rowCount() == 0; }, kTimeoutMs));
+  EXPECT_TRUE(panel().summaryText().startsWith("No box can be scored. Not scored: boxes[0]"))
+      << panel().summaryText().toStdString();
+  EXPECT_FALSE(panel().canExport());
+}
+
 }  // namespace
 }  // namespace lom::ui

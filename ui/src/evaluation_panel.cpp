@@ -28,6 +28,33 @@ namespace {
 // The index into the report's objects of a row (on its Label cell).
 constexpr int kObjectRole = Qt::UserRole + 2;
 
+// The boxes that can be scored: an object label of the sequence, each label
+// once (the first box of a label). The command line refuses such files; the
+// studio keeps the boxes for editing and scores the others. `left_out` names
+// the boxes left out, for the summary.
+Annotations scorableBoxes(const Annotations& all, const LabelSet& labels, QString& left_out) {
+  Annotations scorable = all;
+  scorable.boxes.clear();
+  std::vector<bool> seen(static_cast<size_t>(std::max(labels.size(), 0)), false);
+  QStringList problems;
+  for (size_t i = 0; i < all.boxes.size(); ++i) {
+    const int label = all.boxes[i].label;
+    if (label <= 0 || label >= labels.size()) {
+      problems << EvaluationPanel::tr("boxes[%1] (label %2 is not an object label of the sequence)")
+                      .arg(i)
+                      .arg(label);
+    } else if (seen[static_cast<size_t>(label)]) {
+      problems << EvaluationPanel::tr("boxes[%1] (label %2 is already boxed)").arg(i).arg(label);
+    } else {
+      seen[static_cast<size_t>(label)] = true;
+      scorable.boxes.push_back(all.boxes[i]);
+    }
+  }
+  left_out = problems.isEmpty() ? QString()
+                                : EvaluationPanel::tr("Not scored: %1.").arg(problems.join("; "));
+  return scorable;
+}
+
 // A header that makes room for the sort arrow in the sorted column only:
 // QHeaderView widens every column by an arrow's width, which in a narrow dock
 // pushes the scores out of view.
@@ -225,9 +252,13 @@ void EvaluationPanel::evaluateNow() {
     clearReport(tr("Fuse the sequence to score the map."));
     return;
   }
+  Annotations annotations = scorableBoxes(boxes, sequence->labels, left_out_);
+  if (annotations.boxes.empty()) {
+    clearReport(tr("No box can be scored. %1").arg(left_out_));
+    return;
+  }
   EvaluationOptions options;
   options.fusion = session_.fusionOptions();
-  Annotations annotations = boxes;
   annotations.frame_id = sequence->frame_id;
   summary_->setText(tr("Scoring…"));
   awaiting_ = true;
@@ -268,7 +299,8 @@ void EvaluationPanel::show(const EvaluationReport& report) {
                         .arg(s.iou_3d.labeloctomap * 100.0, 0, 'f', 1)
                         .arg(s.box_iou.labeloctomap * 100.0, 0, 'f', 1)
                         .arg(s.labeloctomap_beats_projection_max)
-                        .arg(s.objects));
+                        .arg(s.objects) +
+                    (left_out_.isEmpty() ? QString() : " " + left_out_));
   syncChart();
   export_->setEnabled(!stale_);
   emit reportShown();

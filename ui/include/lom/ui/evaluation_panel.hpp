@@ -68,6 +68,9 @@ class EvaluationPanel : public QWidget {
   std::optional<EvaluationReport> report_;
   bool stale_ = true;      // report_ is not of the current map and boxes
   bool awaiting_ = false;  // an evaluation was asked for since the last clear
+  // Boxes left out of the scores being shown (label not an object of the
+  // sequence, or a label boxed twice), for the summary.
+  QString left_out_;
 };
 
 }  // namespace lom::ui
