@@ -7,6 +7,7 @@
 
 #include "args.hpp"
 #include "commands.hpp"
+#include "lom/annotations.hpp"
 #include "lom/error.hpp"
 #include "lom/evaluation.hpp"
 #include "lom/fusion.hpp"
@@ -147,6 +148,10 @@ int runScore(const Words& words) {
   ScoreInputs inputs;
   inputs.sequence = args.positional(0, "SEQ (a sequence folder)");
   inputs.annotations = args.required("annotations");
+  if (isYamlBoxesPath(inputs.annotations) && !args.flag("quiet"))
+    std::cerr << "note: " << inputs.annotations.string()
+              << ": YAML boxes of the original experiments; label N from each name object_N, "
+                 "positions read in the sequence's frame\n";
   if (const auto map = args.option("map")) {
     noteFramesWithMap(*map);
     inputs.map = *map;

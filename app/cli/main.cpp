@@ -31,9 +31,9 @@ const Command kCommands[] = {
      "     [--quiet]\n"
      "                                fuse a sequence into a LabelOctoMap"},
     {"score", lom::cli::runScore,
-     "score SEQ --annotations BOXES.json --out DIR [--map MAP.ot] [--resolution R]\n"
-     "      [--max-range M] [--p-miss P] [--threshold T] [--candidates ...] [--frames A:B]\n"
-     "      [--iou exact|center] [--segmenter MODEL.onnx] [--quiet]\n"
+     "score SEQ --annotations BOXES.json|BOXES.yaml --out DIR [--map MAP.ot]\n"
+     "      [--resolution R] [--max-range M] [--p-miss P] [--threshold T] [--candidates ...]\n"
+     "      [--frames A:B] [--iou exact|center] [--segmenter MODEL.onnx] [--quiet]\n"
      "      | score --batch LIST.txt --out DIR [the same options, without --map and SEQ]\n"
      "                                per-object IU_3d against projection baselines"},
     {"export", lom::cli::runExport,

@@ -344,4 +344,18 @@ Annotations importYamlBoxes(const fs::path& path, const LabelSet& labels) {
   return annotations;
 }
 
+bool isYamlBoxesPath(const fs::path& path) {
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension == ".yaml" || extension == ".yml";
+}
+
+Annotations loadAnnotationsFor(const fs::path& path, const LabelSet& labels,
+                               const std::string& frame_id) {
+  if (!isYamlBoxesPath(path)) return loadAnnotations(path);
+  Annotations annotations = importYamlBoxes(path, labels);
+  annotations.frame_id = frame_id;
+  return annotations;
+}
+
 }  // namespace lom

@@ -59,7 +59,8 @@ std::string sequenceName(const fs::path& sequence_folder_or_json) {
 EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOptions& options,
                                const EvaluationProgressFn& progress) {
   const Sequence sequence = loadSequence(inputs.sequence);
-  const Annotations annotations = loadAnnotations(inputs.annotations);
+  const Annotations annotations =
+      loadAnnotationsFor(inputs.annotations, sequence.labels, sequence.frame_id);
   EvaluationOptions named = options;
   named.annotations_file = inputs.annotations.string();
   // Reject unusable annotations before the long fusion.

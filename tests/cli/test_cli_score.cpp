@@ -131,6 +131,49 @@ TEST_F(CliScoreTest, SavedMapScoresLikeTheFusedOne) {
             std::string::npos);
 }
 
+TEST_F(CliScoreTest, YamlBoxesOfTheOriginalExperimentsScoreLikeTheirJson) {
+  TempDir out;
+  // The same boxes as YAML, in the experiments' robot frame "base".
+  const Json annotations = Json::parse(slurp(scene() / "annotations.json"));
+  std::ostringstream yaml;
+  yaml << std::setprecision(17) << "boxes:\n";
+  for (const Json& box : annotations["boxes"]) {
+    auto list = [&](const Json& numbers) {
+      std::string text = "[";
+      for (size_t i = 0; i < numbers.size(); ++i) {
+        std::ostringstream number;
+        number << std::setprecision(17) << numbers[i].get<double>();
+        text += (i ? ", " : "") + number.str();
+      }
+      return text + "]";
+    };
+    yaml << "  - dimensions: " << list(box["size"]) << "\n    position: " << list(box["center"])
+         << "\n    orientation: " << list(box["rotation"]) << "\n    name: object_"
+         << box["label"].get<int>() << "\n    frame_id: base\n";
+  }
+  const auto boxes = out / "boxes.YAML";
+  std::ofstream(boxes) << yaml.str();
+  ASSERT_EQ(runCli(scoreArgs(out / "json") + " --quiet").exit_code, 0);
+  const auto r = runCli(scoreArgs(out / "yaml", boxes.string()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("note: " + boxes.string() + ": YAML boxes of the original experiments"),
+            std::string::npos)
+      << r.err;
+  const Json from_json = Json::parse(slurp(out / "json" / "report.json"));
+  const Json from_yaml = Json::parse(slurp(out / "yaml" / "report.json"));
+  ASSERT_EQ(from_yaml["objects"].size(), annotations["boxes"].size());
+  EXPECT_EQ(from_yaml["objects"], from_json["objects"]);
+
+  // A YAML box file with a mistake fails like a JSON one: file, field, nothing written.
+  std::ofstream(out / "bad.yaml") << "boxes:\n  - dimensions: [0.1, 0.1]\n    position: [0, 0, 0]\n"
+                                     "    orientation: [0, 0, 0, 1]\n    name: object_3\n";
+  const auto bad = runCli(scoreArgs(out / "bad", (out / "bad.yaml").string()));
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.err.find("bad.yaml"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("boxes[0].dimensions"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "bad"));
+}
+
 TEST_F(CliScoreTest, CentreModeAndCandidatesAreReported) {
   TempDir out;
   const Json annotations = Json::parse(slurp(scene() / "annotations.json"));

@@ -33,4 +33,14 @@ void saveAnnotations(const Annotations& annotations, const std::filesystem::path
 [[nodiscard]] Annotations importYamlBoxes(const std::filesystem::path& path,
                                           const LabelSet& labels = {});
 
+// Whether `path` names a YAML box file (.yaml or .yml, any case).
+[[nodiscard]] bool isYamlBoxesPath(const std::filesystem::path& path);
+
+// The boxes annotating a sequence: annotations.json, or for a YAML box file
+// (isYamlBoxesPath) its boxes named with `labels` and taken to be in
+// `frame_id`, the sequence's frame (as the studio's YAML import does: the
+// original experiments name their robot's frame, "base").
+[[nodiscard]] Annotations loadAnnotationsFor(const std::filesystem::path& path,
+                                             const LabelSet& labels, const std::string& frame_id);
+
 }  // namespace lom
