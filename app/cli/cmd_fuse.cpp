@@ -80,16 +80,17 @@ void drawProgress(const FusionProgress& progress, double seconds_per_frame) {
 FusionOptions fusionOptionsFromArgs(const Args& args) {
   FusionOptions options;
   options.map.resolution = args.number("resolution", options.map.resolution);
-  if (options.map.resolution < kMinResolution || options.map.resolution > kMaxResolution)
-    throw UsageError("option --resolution expects a voxel size from " + number(kMinResolution) +
-                     " to " + number(kMaxResolution) + " m, got " + number(options.map.resolution) +
-                     " (docs/fusion.md, \"Limits\")");
+  if (options.map.resolution < kMinFusionResolution ||
+      options.map.resolution > kMaxFusionResolution)
+    throw UsageError("option --resolution expects a voxel size from " +
+                     number(kMinFusionResolution) + " to " + number(kMaxFusionResolution) +
+                     " m, got " + number(options.map.resolution) + " (docs/fusion.md, \"Limits\")");
   options.map.max_range = args.number("max-range", options.map.max_range);
-  if (options.map.max_range / options.map.resolution > kMaxVoxelsPerRay)
+  if (options.map.max_range / options.map.resolution > kMaxFusionVoxelsPerRay)
     throw UsageError("option --max-range " + number(options.map.max_range) + " with --resolution " +
                      number(options.map.resolution) + " makes rays " +
                      number(std::ceil(options.map.max_range / options.map.resolution)) +
-                     " voxels long; at most " + number(kMaxVoxelsPerRay) +
+                     " voxels long; at most " + number(kMaxFusionVoxelsPerRay) +
                      " voxels are allowed (a coarser --resolution or a shorter --max-range; "
                      "docs/fusion.md, \"Limits\")");
   options.map.p_miss = args.number("p-miss", options.map.p_miss);

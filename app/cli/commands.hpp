@@ -29,13 +29,6 @@ const char* importHelp();             // cmd_import.cpp: every option of import
 int runPlan(const Words& words);      // cmd_plan.cpp
 int runSegment(const Words& words);   // cmd_segment.cpp
 
-// Voxel sizes that fuse and score accept, in metres, and the longest ray, in voxels
-// (max range / resolution), that they accept; both bound the memory a frame needs
-// (docs/fusion.md, "Limits").
-inline constexpr double kMinResolution = 0.002;
-inline constexpr double kMaxResolution = 1.0;
-inline constexpr double kMaxVoxelsPerRay = 1000.0;
-
 // --resolution --max-range --p-miss --threshold --candidates --frames (cmd_fuse.cpp); throws
 // UsageError for values out of range. The segmenter (--segmenter) is left to the caller.
 FusionOptions fusionOptionsFromArgs(const Args& args);

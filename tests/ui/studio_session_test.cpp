@@ -98,6 +98,30 @@ TEST_F(StudioSessionTest, ThresholdReThresholdsAtOnceAndOtherParametersOfferReFu
   EXPECT_DOUBLE_EQ(window_.session().worker().snapshot()->resolution, 0.02);
 }
 
+TEST_F(StudioSessionTest, FusionFieldsKeepTheCommandLinesLimits) {
+  openAndFuse();
+  FusionPanel& panel = window_.fusionPanel();
+  // A threshold at or below the lower clamping bound would make every observed
+  // voxel occupied; above the upper one, none.
+  panel.thresholdBox().setValue(0.01);
+  EXPECT_DOUBLE_EQ(panel.thresholdBox().value(), 0.13);
+  panel.thresholdBox().setValue(0.99);
+  EXPECT_DOUBLE_EQ(panel.thresholdBox().value(), 0.97);
+  panel.resolutionBox().setValue(0.001);
+  EXPECT_DOUBLE_EQ(panel.resolutionBox().value(), 0.002);
+
+  // Rays longer than 1000 voxels need too much memory: no Re-fuse, and a note.
+  panel.maxRangeBox().setValue(5.0);  // 2500 voxels of 2 mm
+  EXPECT_FALSE(panel.refuseButton().isEnabled());
+  EXPECT_TRUE(panel.noteText().contains("rays 2500 voxels long; at most 1000"))
+      << panel.noteText().toStdString();
+  panel.resolutionBox().setValue(0.005);  // 1000 voxels
+  EXPECT_TRUE(panel.refuseButton().isEnabled());
+  EXPECT_EQ(panel.noteText(), "Changed: re-fuse to apply.");
+  panel.maxRangeBox().setValue(0.0);  // unlimited: the depths decide
+  EXPECT_TRUE(panel.refuseButton().isEnabled());
+}
+
 // Frames without probability images fuse once a segmentation network is
 // chosen in the Fusion panel.
 TEST_F(StudioSessionTest, MostDepthsBeyondMaxRangeOfferARefuseThatReachesThem) {

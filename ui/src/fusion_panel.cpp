@@ -64,10 +64,12 @@ QString segmenterText(const std::shared_ptr<const Segmenter>& segmenter) {
 FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
     : QWidget(parent),
       session_(session),
-      resolution_(makeBox(0.002, 0.5, 0.005, 3, " m")),
+      // The command line's limits (docs/fusion.md): voxels from 2 mm to 1 m, a
+      // miss that lowers occupancy, a threshold inside the clamping bounds.
+      resolution_(makeBox(kMinFusionResolution, kMaxFusionResolution, 0.005, 3, " m")),
       max_range_(makeBox(0.0, 20.0, 0.1, 2, " m")),
       p_miss_(makeBox(0.01, 0.49, 0.05, 2, "")),
-      threshold_(makeBox(0.01, 0.99, 0.05, 2, "")),
+      threshold_(makeBox(MapParameters{}.clamp_min + 0.01, MapParameters{}.clamp_max, 0.05, 2, "")),
       candidates_(new QLineEdit),
       segmenter_path_(new QLineEdit),
       note_(new QLabel),
@@ -192,9 +194,18 @@ void FusionPanel::onEdited() {
   bool ok = true;
   parseCandidates(candidates_->text(), &ok);
   const bool pending = hasPendingChanges();
-  refuse_->setEnabled(pending && ok);
+  // As the command line: at most 1000 voxels along a ray, which bounds the
+  // memory a frame needs (an unlimited range is left to the depths).
+  const double ray_voxels = max_range_->value() / resolution_->value();
+  const bool too_long = max_range_->value() > 0.0 && ray_voxels > kMaxFusionVoxelsPerRay;
+  refuse_->setEnabled(pending && ok && !too_long);
   if (!ok)
     setNote(tr("Candidates: label ids separated by spaces."));
+  else if (too_long)
+    setNote(tr("Max range / resolution makes rays %1 voxels long; at most %2: choose a coarser "
+               "resolution or a shorter max range.")
+                .arg(std::ceil(ray_voxels - 1e-9), 0, 'f', 0)
+                .arg(kMaxFusionVoxelsPerRay, 0, 'f', 0));
   else
     setNote(pending ? tr("Changed: re-fuse to apply.") : range_note_);
 }

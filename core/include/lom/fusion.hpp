@@ -123,6 +123,13 @@ FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
                           const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
                           const FrameEvidence& evidence, const IntegrationOptions& integration = {});
 
+// Voxel sizes that the command line and the studio fuse with, in metres, and
+// the longest ray, in voxels (max range / resolution), that they accept: both
+// bound the memory a frame needs (docs/fusion.md, "Limits of the command line").
+inline constexpr double kMinFusionResolution = 0.002;
+inline constexpr double kMaxFusionResolution = 1.0;
+inline constexpr double kMaxFusionVoxelsPerRay = 1000.0;
+
 struct FusionOptions {
   MapParameters map;
   std::optional<std::vector<int>> candidates;  // labels known to be present
