@@ -26,6 +26,7 @@
 #include "lom/ui/scene_view.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/sequence_drop_handler.hpp"
+#include "lom/ui/shortcuts_help_reaction.hpp"
 #include "lom/ui/studio_session.hpp"
 #include "lom/ui/window_capture.hpp"
 #include "test_support.hpp"
@@ -185,6 +186,14 @@ TEST_F(StudioWindowTest, StepsThroughFramesWithActionsAndSlider) {
   previous->trigger();
   EXPECT_EQ(window_.controller().currentFrame(), 1);
   EXPECT_TRUE(errors_.empty());
+}
+
+TEST_F(StudioWindowTest, ShortcutListHasTheMenusKeysAndThePlayButtons) {
+  const auto* help = window_.findChild<ShortcutsHelpReaction*>();
+  ASSERT_NE(help, nullptr);
+  const QStringList rows = help->rows();
+  for (const char* row : {"F1\tKeyboard Shortcuts", "PgDown\tNext Frame", "Space\tPlay / pause"})
+    EXPECT_TRUE(rows.contains(row)) << row << "\n" << rows.join('\n').toStdString();
 }
 
 TEST_F(StudioWindowTest, SceneHasOnePointPerValidDepthPixel) {

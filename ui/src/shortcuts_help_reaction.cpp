@@ -1,5 +1,6 @@
 #include "lom/ui/shortcuts_help_reaction.hpp"
 
+#include <QAbstractButton>
 #include <QAction>
 #include <QDialog>
 #include <QDialogButtonBox>
@@ -19,6 +20,16 @@ QStringList ShortcutsHelpReaction::rows() const {
     if (action->shortcut().isEmpty()) continue;
     const QString row = action->shortcut().toString(QKeySequence::NativeText) + "\t" +
                         action->text().remove('&');
+    if (!rows.contains(row)) rows << row;
+  }
+  // Buttons with their own key (play / pause: Space), named by their text or,
+  // for icon buttons, by their tooltip without the key in parentheses.
+  for (const QAbstractButton* button : window_->findChildren<QAbstractButton*>()) {
+    if (button->shortcut().isEmpty()) continue;
+    const QString keys = button->shortcut().toString(QKeySequence::NativeText);
+    QString name = button->text().remove('&');
+    if (name.isEmpty()) name = button->toolTip().remove(" (" + keys + ")");
+    const QString row = keys + "\t" + name;
     if (!rows.contains(row)) rows << row;
   }
   return rows;

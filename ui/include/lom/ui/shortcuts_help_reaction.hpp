@@ -1,5 +1,6 @@
 #pragma once
-// Help > Keyboard Shortcuts: every action of the window that has a shortcut.
+// Help > Keyboard Shortcuts: every action and button of the window that has a
+// shortcut.
 #include "lom/ui/reaction.hpp"
 
 class QWidget;
