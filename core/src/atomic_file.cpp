@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -160,6 +161,19 @@ void writeFileAtomically(const fs::path& target, const std::function<void(std::o
 
 void writeTextFileAtomically(const fs::path& target, const std::string& text) {
   writeFileAtomically(target, [&](std::ostream& out) { out << text; }, false);
+}
+
+std::string libraryWriteFailure(std::uint64_t free_bytes, const std::string& library) {
+  constexpr std::uint64_t kNearlyFull = std::uint64_t{1} << 20;
+  return free_bytes < kNearlyFull ? "write failed (disk full?)" : library + " could not write it";
+}
+
+std::string libraryWriteFailure(const fs::path& target, const std::string& library) {
+  struct statvfs space {};
+  if (::statvfs(folderOf(target).c_str(), &space) != 0) return library + " could not write it";
+  return libraryWriteFailure(
+      static_cast<std::uint64_t>(space.f_bavail) * static_cast<std::uint64_t>(space.f_frsize),
+      library);
 }
 
 }  // namespace lom

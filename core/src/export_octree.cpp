@@ -123,7 +123,8 @@ size_t writeOctree(const LabelMap& map, const std::filesystem::path& path,
   if (leaves == 0)
     throw Error(path.string(), "map", "at least one voxel to export", "nothing selected");
   writeFileAtomically(path, [&](std::ostream& out) {
-    if (!write(tree, out)) throw Error(path.string(), "output", what, "OctoMap could not write it");
+    if (!write(tree, out))
+      throw Error(path.string(), "output", what, libraryWriteFailure(path, "OctoMap"));
   });
   // The leaves the file holds: writing a binary tree prunes it first.
   return tree.getNumLeafNodes();

@@ -82,7 +82,7 @@ size_t writePcd(const LabelMap& map, const std::optional<std::set<int>>& labels,
                   "PCL could not write it: " + pclReason(e));
     }
     if (result != 0)
-      throw Error(path.string(), "output", "a writable PCD file", "PCL could not write it");
+      throw Error(path.string(), "output", "a writable PCD file", libraryWriteFailure(path, "PCL"));
   });
   return cloud.size();
 }
@@ -115,7 +115,7 @@ size_t writeVoxelsPly(const LabelMap& map, const std::set<int>& labels,
                   "PCL could not write it: " + pclReason(e));
     }
     if (result != 0)
-      throw Error(path.string(), "output", "a writable PLY file", "PCL could not write it");
+      throw Error(path.string(), "output", "a writable PLY file", libraryWriteFailure(path, "PCL"));
   });
   return cloud.size();
 }

@@ -15,6 +15,9 @@ struct ImageHeaderSize {
   std::uint64_t width = 0;
   std::uint64_t height = 0;
   const char* format = "";  // "PNG", "PGM", "JPEG", "TIFF", ...
+  // Binary PGM and PPM: the file size that holds every pixel (header + data),
+  // so that a truncated file is refused before the decoder reads it.
+  std::uint64_t complete_file_bytes = 0;
 };
 
 // The width and height a PNG (IHDR), PNM (PBM, PGM, PPM), JPEG (frame header),

@@ -100,13 +100,24 @@ cv::Mat readImage(const fs::path& path) {
   if (const std::string why = notARegularFile(path); !why.empty())
     throw Error(file, "", "an existing image file", why);
   // A few kilobytes of PNG can declare billions of pixels: refuse before decoding.
-  if (const auto size = readImageHeaderSize(path);
-      size &&
+  const auto size = readImageHeaderSize(path);
+  if (size &&
       (size->width == 0 || size->height == 0 || size->width > kMaxImagePixels / size->height))
     throw Error(file, "image size",
                 "an image of at most " + std::to_string(kMaxImagePixels) + " pixels",
                 std::to_string(size->width) + " x " + std::to_string(size->height) +
                     " pixels (declared in the " + size->format + " header)");
+  // OpenCV prints to the terminal about a truncated PNM before it fails: say it here instead.
+  if (size && size->complete_file_bytes > 0) {
+    std::error_code ec;
+    const auto bytes = fs::file_size(path, ec);
+    if (!ec && bytes < size->complete_file_bytes)
+      throw Error(file, "image data",
+                  std::to_string(size->width) + " x " + std::to_string(size->height) +
+                      " pixels of " + size->format + " data (" +
+                      std::to_string(size->complete_file_bytes) + " bytes with the header)",
+                  "a file truncated after " + std::to_string(bytes) + " bytes");
+  }
   if (const auto png = pngFileBytes(path)) return decodePng(png->data(), png->size(), file);
   cv::Mat mat;
   try {
@@ -171,7 +182,7 @@ void writeMatPng(const fs::path& path, const cv::Mat& mat) {
                   "OpenCV failed: " + std::string(e.what()));
     }
     if (!written)
-      throw Error(path.string(), "output", "a writable PNG", "OpenCV could not write it");
+      throw Error(path.string(), "output", "a writable PNG", libraryWriteFailure(path, "OpenCV"));
   });
 }
 
@@ -273,7 +284,19 @@ std::optional<ImageHeaderSize> readImageHeaderSize(const fs::path& path) {
     const auto width = pnmNumber(in);
     const auto height = width ? pnmNumber(in) : std::nullopt;
     if (!width || !height) return std::nullopt;
-    return ImageHeaderSize{*width, *height, format};
+    ImageHeaderSize size{*width, *height, format};
+    if (head[1] == '5' || head[1] == '6') {
+      // The maximum value, one white-space character, then the samples: two
+      // bytes each above 255, three per pixel for PPM.
+      const auto max_value = pnmNumber(in);
+      const auto data_start = in.tellg();
+      if (max_value && *max_value > 0 && data_start >= 0 && *width <= kMaxImagePixels &&
+          *height <= kMaxImagePixels)
+        size.complete_file_bytes =
+            static_cast<std::uint64_t>(data_start) +
+            *width * *height * (head[1] == '6' ? 3 : 1) * (*max_value > 255 ? 2 : 1);
+    }
+    return size;
   }
   if (head[0] == 0xff && head[1] == 0xd8) return jpegSize(in);
   if ((head[0] == 'I' && head[1] == 'I') || (head[0] == 'M' && head[1] == 'M'))

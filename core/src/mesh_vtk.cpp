@@ -150,8 +150,13 @@ void writeMeshesStl(const std::vector<SurfaceMesh>& meshes, const LabelSet& labe
     writer->SetFileName(temporary.string().c_str());
     writer->SetFileTypeToBinary();
     writer->SetHeader(header.c_str());
-    if (writer->Write() != 1 || writer->GetErrorCode() != 0)
-      throw Error(path.string(), "output", "a writable STL file", "VTK could not write it");
+    // VTK prints its own (coloured) error line; the Error below says it instead.
+    const bool warnings = vtkObject::GetGlobalWarningDisplay();
+    vtkObject::GlobalWarningDisplayOff();
+    const bool written = writer->Write() == 1 && writer->GetErrorCode() == 0;
+    vtkObject::SetGlobalWarningDisplay(warnings);
+    if (!written)
+      throw Error(path.string(), "output", "a writable STL file", libraryWriteFailure(path, "VTK"));
   });
 }
 

@@ -112,6 +112,27 @@ TEST(ImageHeaderTest, ReadersRefuseImagesDeclaringTooManyPixels) {
             "70000 x 70000 pixels (declared in the PGM header)");
 }
 
+TEST(ImageHeaderTest, TruncatedPgmAndPpmAreRefusedNamingTheirSize) {
+  lom::test::TempDir dir;
+  // 4 x 3 pixels of 16-bit depth need 24 bytes after the header; 10 are there.
+  const std::string header = "P5\n# depth in mm\n4 3\n65535\n";
+  writeText(dir / "depth.pgm", header + std::string(10, '\x01'));
+  const lom::Problem problem =
+      errorOf([&] { (void)lom::readDepthImage(dir / "depth.pgm", 0.001); });
+  EXPECT_EQ(problem.file, (dir / "depth.pgm").string());
+  EXPECT_EQ(problem.field, "image data");
+  EXPECT_EQ(problem.expected, "4 x 3 pixels of PGM data (" + std::to_string(header.size() + 24) +
+                                  " bytes with the header)");
+  EXPECT_EQ(problem.found,
+            "a file truncated after " + std::to_string(header.size() + 10) + " bytes");
+  // Complete files still read: 8-bit grey and 8-bit colour.
+  writeText(dir / "labels.pgm", "P5 4 3 255\n" + std::string(12, '\x02'));
+  EXPECT_EQ(lom::readLabelImage(dir / "labels.pgm").ids.at(5), 2);
+  writeText(dir / "colour.ppm", "P6 4 3 255\n" + std::string(35, '\x03'));
+  EXPECT_EQ(errorOf([&] { (void)lom::readColorImage(dir / "colour.ppm"); }).found,
+            "a file truncated after 46 bytes");
+}
+
 std::string bigEndian16(unsigned v) {
   return {static_cast<char>((v >> 8) & 0xff), static_cast<char>(v & 0xff)};
 }

@@ -159,4 +159,14 @@ TEST(StagedOutputs, StagedFilesNotCommittedAreRemoved) {
   EXPECT_EQ(readText(dir / "b.txt"), "b");
 }
 
+TEST(LibraryWrites, AFailureOnANearlyFullDiskSaysSo) {
+  EXPECT_EQ(lom::libraryWriteFailure(std::uint64_t{0}, "VTK"), "write failed (disk full?)");
+  EXPECT_EQ(lom::libraryWriteFailure(std::uint64_t{64} << 10, "OpenCV"),
+            "write failed (disk full?)");
+  EXPECT_EQ(lom::libraryWriteFailure(std::uint64_t{5} << 30, "PCL"), "PCL could not write it");
+  // The temporary folder of a test machine is not full.
+  lom::test::TempDir dir;
+  EXPECT_EQ(lom::libraryWriteFailure(dir / "map.stl", "VTK"), "VTK could not write it");
+}
+
 }  // namespace

@@ -2,6 +2,7 @@
 // Outputs are written to a temporary file beside the target, flushed to the disk
 // and renamed into place, so a failure (or a power cut) never leaves half a file
 // and never destroys the old one. A replaced file keeps its permissions.
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <iosfwd>
@@ -23,6 +24,15 @@ void writePathAtomically(const std::filesystem::path& target,
                          const std::function<void(const std::filesystem::path&)>& write);
 
 void writeTextFileAtomically(const std::filesystem::path& target, const std::string& text);
+
+// Why a library (OpenCV, VTK, PCL, OctoMap) that reports only failure did not
+// write `target`: "write failed (disk full?)" when the target's file system
+// has less than a mebibyte free, as the stream writers say, else "LIBRARY
+// could not write it".
+[[nodiscard]] std::string libraryWriteFailure(const std::filesystem::path& target,
+                                              const std::string& library);
+// The same from the free bytes: the rule, apart from asking the file system.
+[[nodiscard]] std::string libraryWriteFailure(std::uint64_t free_bytes, const std::string& library);
 
 // Files that belong together (an OBJ and its MTL): each is written to a
 // temporary file beside its target, and commit() renames them into place, in
