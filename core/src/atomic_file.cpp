@@ -26,6 +26,16 @@ fs::path temporaryPathFor(const fs::path& target) {
                    std::to_string(rng() % 1000000) + target.extension().string());
 }
 
+// Writing through a symbolic link replaces the file it points to, not the
+// link: a link into a shared folder of annotations keeps pointing at the
+// saved boxes. A link whose target cannot be resolved is replaced itself.
+fs::path linkTarget(const fs::path& target) {
+  std::error_code ec;
+  if (!fs::is_symlink(fs::symlink_status(target, ec))) return target;
+  const fs::path resolved = fs::canonical(target, ec);
+  return ec ? target : resolved;
+}
+
 fs::path folderOf(const fs::path& target) {
   return target.has_parent_path() ? target.parent_path() : fs::path(".");
 }
@@ -98,16 +108,16 @@ StagedFiles::~StagedFiles() {
 void StagedFiles::addPath(const fs::path& target,
                           const std::function<void(const fs::path&)>& write) {
   checkFolder(target);
-  const fs::path temporary = temporaryPathFor(target);
+  const fs::path file = linkTarget(target);
+  const fs::path temporary = temporaryPathFor(file);
   // Created here first (and only here: O_EXCL): a folder that takes no new
   // file is reported in the program's words, naming the output, before a
   // library writer (VTK, PCL, OpenCV) prints its own complaint with the
   // temporary name.
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0)
-    throw Error(
-        target.string(), "output path", "a folder where files can be created",
-        "cannot create a file in " + folderOf(target).string() + ": " + std::strerror(errno));
+    throw Error(target.string(), "output path", "a folder where files can be created",
+                "cannot create a file in " + folderOf(file).string() + ": " + std::strerror(errno));
   ::close(fd);
   try {
     write(temporary);
@@ -117,13 +127,13 @@ void StagedFiles::addPath(const fs::path& target,
     if (!fs::exists(temporary, ec) || fs::file_size(temporary, ec) == 0 || ec)
       throw Error(target.string(), "output", "the writer to produce the file", "nothing written");
     syncFile(temporary, target);
-    keepPermissions(temporary, target);
+    keepPermissions(temporary, file);
   } catch (...) {
     std::error_code ignored;
     fs::remove(temporary, ignored);
     throw;
   }
-  staged_.emplace_back(target, temporary);
+  staged_.emplace_back(file, temporary);
 }
 
 void StagedFiles::add(const fs::path& target, const std::function<void(std::ostream&)>& write,

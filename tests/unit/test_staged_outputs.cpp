@@ -169,4 +169,22 @@ TEST(LibraryWrites, AFailureOnANearlyFullDiskSaysSo) {
   EXPECT_EQ(lom::libraryWriteFailure(dir / "map.stl", "VTK"), "VTK could not write it");
 }
 
+TEST(LibraryWrites, SavingThroughASymbolicLinkReplacesTheFileItPointsTo) {
+  lom::test::TempDir dir;
+  fs::create_directories(dir / "shared");
+  std::ofstream(dir / "shared" / "boxes.json") << "old";
+  fs::create_symlink(dir / "shared" / "boxes.json", dir / "annotations.json");
+  lom::writeTextFileAtomically(dir / "annotations.json", "new");
+  EXPECT_TRUE(fs::is_symlink(dir / "annotations.json"));
+  std::ifstream in(dir / "shared" / "boxes.json");
+  std::string text;
+  in >> text;
+  EXPECT_EQ(text, "new");
+  // Nothing is left beside the link or the file.
+  size_t files = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(dir.path()))
+    files += entry.is_regular_file() && !entry.is_symlink();
+  EXPECT_EQ(files, 1u);
+}
+
 }  // namespace
