@@ -139,6 +139,25 @@ TEST_F(BoxFilesTest, UnreadableBoxesFileIsOnlyReplacedAfterAnExplicitConfirmatio
   EXPECT_EQ(slurp(file), before);
 }
 
+TEST_F(BoxFilesTest, UnreadableBoxesFileStaysProtectedAfterAYamlImport) {
+  const fs::path file = tiny_.folder / "annotations.json";
+  std::ofstream(file) << "not json at all";
+  const std::string before = slurp(file);
+  ASSERT_TRUE(open(tiny_.folder));
+  std::ofstream(temp_ / "boxes.yaml")
+      << "boxes:\n  - dimensions: [0.05, 0.05, 0.05]\n    position: [0.1, 0.0, 0.6]\n"
+         "    orientation: [0, 0, 0, 1]\n    name: object_1\n";
+  ASSERT_TRUE(importYamlBoxes(window_.session(), qPath(temp_ / "boxes.yaml")).isEmpty());
+  ASSERT_EQ(boxes().boxCount(), 1);
+  {  // Ctrl+S still asks before replacing the file that could not be read.
+    test::DialogAnswerer answer("Cancel");
+    window_.findAction("Save Boxes")->trigger();
+    ASSERT_EQ(answer.questions.size(), 1);
+    EXPECT_TRUE(answer.questions.front().contains(boxes().unreadableError()));
+  }
+  EXPECT_EQ(slurp(file), before);
+}
+
 TEST_F(BoxFilesTest, UnreadableBoxesFileIsReplacedWhenTheUserConfirms) {
   const fs::path file = tiny_.folder / "annotations.json";
   std::ofstream(file) << "not json at all";

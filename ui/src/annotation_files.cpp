@@ -69,7 +69,13 @@ QString importYamlBoxes(StudioSession& session, const QString& path) {
     const LabelSet labels = session.sequence() ? session.sequence()->labels : LabelSet{};
     Annotations imported = lom::importYamlBoxes(toPath(path), labels);
     if (session.sequence()) imported.frame_id = session.sequence()->frame_id;
-    session.annotations().reset(imported, QString());
+    // The imported boxes have no file yet: an annotations.json that could not
+    // be read stays protected from being saved over unasked.
+    AnnotationsModel& model = session.annotations();
+    if (!model.unreadablePath().isEmpty())
+      model.resetUnreadable(imported, model.unreadablePath(), model.unreadableError());
+    else
+      model.reset(imported, QString());
     session.annotations().undoStack().resetClean();
     reportUnknownLabels(session, imported, path);
   } catch (const std::exception& error) {
