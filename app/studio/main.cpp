@@ -231,14 +231,11 @@ bool waitForFusion(lom::ui::MainWindow& window) {
 std::string inputAt(const std::filesystem::path& shot,
                     const lom::ui::SequenceController& controller) {
   namespace fs = std::filesystem;
+  const QString file = controller.sequenceFileAt(QString::fromStdString(shot.string()));
+  if (!file.isEmpty()) return file.toStdString();
+  const fs::path boxes = controller.sequence().root / "annotations.json";
   std::error_code ec;
-  const lom::Sequence& sequence = controller.sequence();
-  std::vector<fs::path> inputs = frameFilesOf(sequence);
-  inputs.push_back(sequence.root / "sequence.json");
-  inputs.push_back(sequence.root / "annotations.json");
-  for (const auto& input : inputs)
-    if (fs::equivalent(shot, input, ec)) return input.string();
-  return {};
+  return fs::equivalent(shot, boxes, ec) ? boxes.string() : std::string();
 }
 
 int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments,

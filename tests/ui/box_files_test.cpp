@@ -24,6 +24,7 @@
 #include "lom/ui/box_file_reaction.hpp"
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/map_worker.hpp"
+#include "lom/ui/save_screenshot_reaction.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
 #include "test_support.hpp"
@@ -156,6 +157,32 @@ TEST_F(BoxFilesTest, UnreadableBoxesFileStaysProtectedAfterAYamlImport) {
     EXPECT_TRUE(answer.questions.front().contains(boxes().unreadableError()));
   }
   EXPECT_EQ(slurp(file), before);
+}
+
+TEST_F(BoxFilesTest, NeitherBoxesNorScreenshotsAreSavedOverTheSequencesFiles) {
+  ASSERT_TRUE(open(tiny_.folder));
+  boxes().addBox(boxOf(1, "square_box"));
+  const std::string sequence_json = slurp(tiny_.folder / "sequence.json");
+  auto* save_as = window_.findAction("Save Boxes As…")->findChild<BoxFileReaction*>();
+  ASSERT_NE(save_as, nullptr);
+  save_as->saveTo(qPath(tiny_.folder / "." / "sequence.json"));  // under another name too
+  ASSERT_EQ(errors_.size(), 1);
+  EXPECT_TRUE(errors_.front().contains("is a file of the sequence"))
+      << errors_.front().toStdString();
+  EXPECT_EQ(slurp(tiny_.folder / "sequence.json"), sequence_json);
+  EXPECT_TRUE(boxes().isDirty());
+
+  // A frame's colour image is a PNG, as a screenshot is.
+  auto* screenshot = window_.findAction("Save Screenshot…")->findChild<SaveScreenshotReaction*>();
+  ASSERT_NE(screenshot, nullptr);
+  const fs::path colour = tiny_.folder / "color_0.png";
+  ASSERT_TRUE(fs::exists(colour));
+  const std::string pixels = slurp(colour);
+  EXPECT_TRUE(screenshot->saveTo(qPath(colour)).contains("is a file of the sequence"));
+  EXPECT_EQ(slurp(colour), pixels);
+  // Anywhere else the picture is written.
+  EXPECT_TRUE(screenshot->saveTo(qPath(temp_ / "window.png")).isEmpty());
+  EXPECT_TRUE(fs::exists(temp_ / "window.png"));
 }
 
 TEST_F(BoxFilesTest, UnreadableBoxesFileIsReplacedWhenTheUserConfirms) {

@@ -103,6 +103,12 @@ void BoxFileReaction::onTriggered() {
 
 void BoxFileReaction::saveTo(QString path) {
   commitPendingEdits();  // a value still being typed belongs to the boxes
+  if (const QString input = session_.controller().sequenceFileAt(path); !input.isEmpty()) {
+    report_(tr("Boxes"), tr("%1 is a file of the sequence (%2): boxes are never saved over it. "
+                            "Choose another name.")
+                             .arg(QDir::toNativeSeparators(path), QDir::toNativeSeparators(input)));
+    return;
+  }
   if (!confirmTarget(path)) return;
   const QString error = saveBoxes(session_, path);
   if (!error.isEmpty()) report_(tr("Boxes"), error);

@@ -7,6 +7,7 @@
 #include <QPointer>
 
 #include "lom/ui/map_worker.hpp"
+#include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
 
 namespace lom::ui {
@@ -36,6 +37,12 @@ void ExportMapReaction::onTriggered() {
 }
 
 void ExportMapReaction::exportTo(const QString& path) {
+  if (const QString input = session_.controller().sequenceFileAt(path); !input.isEmpty()) {
+    report_(tr("Export"), tr("%1 is a file of the sequence (%2): exports never replace it. "
+                             "Choose another name.")
+                              .arg(path, input));
+    return;
+  }
   QPointer<ExportMapReaction> self(this);
   MapWorker* worker = &session_.worker();
   const ExportOptions options = options_;

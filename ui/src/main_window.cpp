@@ -400,7 +400,8 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   box_file(tr("Open &Boxes…"), BoxFileReaction::Kind::Open, QKeySequence());
   box_file(tr("&Import YAML Boxes…"), BoxFileReaction::Kind::ImportYaml, QKeySequence());
   file->addSeparator();
-  new SaveScreenshotReaction(file->addAction(tr("Save Screens&hot…")), *this, *scene_view_);
+  new SaveScreenshotReaction(file->addAction(tr("Save Screens&hot…")), *this, *scene_view_,
+                             *controller_);
   file->addSeparator();
   auto* quit = file->addAction(tr("&Quit"), this, &QWidget::close);
   quit->setShortcut(QKeySequence::Quit);

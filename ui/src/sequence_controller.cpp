@@ -271,4 +271,17 @@ void SequenceController::loadCurrentFrame() {
   }
 }
 
+QString SequenceController::sequenceFileAt(const QString& path) const {
+  namespace fs = std::filesystem;
+  if (!sequence_) return {};
+  const fs::path target = path.toStdString();
+  std::vector<fs::path> files = frameFilesOf(*sequence_);
+  files.push_back(sequence_->root / "sequence.json");
+  for (const fs::path& file : files) {
+    std::error_code ec;
+    if (fs::equivalent(target, file, ec)) return QString::fromStdString(file.string());
+  }
+  return {};
+}
+
 }  // namespace lom::ui

@@ -7,12 +7,16 @@ class QWidget;
 namespace lom::ui {
 
 class SceneView;
+class SequenceController;
 
 class SaveScreenshotReaction : public Reaction {
   Q_OBJECT
 
  public:
-  SaveScreenshotReaction(QAction* action, QWidget& window, SceneView& scene);
+  SaveScreenshotReaction(QAction* action, QWidget& window, SceneView& scene,
+                         const SequenceController& controller);
+  // Writes the picture to `path`; an error message, empty on success.
+  QString saveTo(const QString& path);
 
  protected:
   void onTriggered() override;
@@ -20,6 +24,7 @@ class SaveScreenshotReaction : public Reaction {
  private:
   QWidget& window_;
   SceneView& scene_;
+  const SequenceController& controller_;
 };
 
 }  // namespace lom::ui
