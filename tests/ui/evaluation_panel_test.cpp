@@ -11,6 +11,10 @@
 #include <QTableWidget>
 #include <QTest>
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <thread>
 #include <vector>
 
 #include "demo_window_fixture.hpp"
@@ -195,6 +199,48 @@ TEST_F(EvaluationPanelTest, BoxesThatCannotBeScoredAreLeftOutAndNamed) {
   EXPECT_TRUE(panel().summaryText().startsWith("No box can be scored. Not scored: boxes[0]"))
       << panel().summaryText().toStdString();
   EXPECT_FALSE(panel().canExport());
+}
+
+TEST_F(EvaluationPanelTest, AMapFusedPartWayIsScoredAgainstTheViewsItFused) {
+  // The worker waits after its third frame until the fusion is cancelled.
+  struct Gate {
+    std::atomic<size_t> reached{0};
+    std::atomic<bool> released{false};
+  };
+  auto gate = std::make_shared<Gate>();
+  MapWorker& worker = window_.session().worker();
+  worker.setFrameFusedHook([gate](size_t frames) {
+    gate->reached = frames;
+    while (frames == 3 && !gate->released)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  });
+  const std::shared_ptr<void> open_gate(nullptr, [gate](void*) { gate->released = true; });
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return gate->reached == 3; }, kTimeoutMs));
+  worker.cancel();
+  gate->released = true;
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !worker.isFusing(); }, kTimeoutMs));
+  QTest::qWait(50);  // the last snapshot arrives through the event loop
+  worker.setFrameFusedHook({});
+  ASSERT_EQ(worker.snapshot()->frames_fused, 3u);
+  const size_t frames = window_.controller().sequence().frames.size();
+  ASSERT_GT(frames, 3u);
+
+  waitForScores();
+  const std::vector<size_t>& views = panel().report()->views;
+  ASSERT_FALSE(views.empty());
+  for (size_t view : views) EXPECT_LT(view, 3u);
+  EXPECT_TRUE(panel().summaryText().contains(
+      QString("Partial map (3 of %1 frames fused): the baselines use the views among them.")
+          .arg(frames)))
+      << panel().summaryText().toStdString();
+
+  // A complete fusion says nothing of the kind.
+  openAndFuse();
+  waitForScores();
+  EXPECT_FALSE(panel().summaryText().contains("Partial map"))
+      << panel().summaryText().toStdString();
+  EXPECT_GT(panel().report()->views.back(), 2u);
 }
 
 }  // namespace

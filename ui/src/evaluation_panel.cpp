@@ -260,6 +260,18 @@ void EvaluationPanel::evaluateNow() {
   EvaluationOptions options;
   options.fusion = session_.fusionOptions();
   annotations.frame_id = sequence->frame_id;
+  // A fusion cancelled or stopped part way fused only the first frames: the
+  // baselines project the views among those, as `score --frames` does.
+  const size_t first = std::min(options.fusion.first_frame, sequence->frames.size());
+  const size_t last = std::min(options.fusion.last_frame, sequence->frames.size());
+  const size_t fused = session_.worker().snapshot()->frames_fused;
+  partial_.clear();
+  if (first + fused < last) {
+    options.fusion.last_frame = first + fused;
+    partial_ = tr("Partial map (%1 of %2 frames fused): the baselines use the views among them.")
+                   .arg(fused)
+                   .arg(last - first);
+  }
   summary_->setText(tr("Scoring…"));
   awaiting_ = true;
   session_.worker().evaluate(sequence, annotations, options);
@@ -300,7 +312,8 @@ void EvaluationPanel::show(const EvaluationReport& report) {
                         .arg(s.box_iou.labeloctomap * 100.0, 0, 'f', 1)
                         .arg(s.labeloctomap_beats_projection_max)
                         .arg(s.objects) +
-                    (left_out_.isEmpty() ? QString() : " " + left_out_));
+                    (left_out_.isEmpty() ? QString() : " " + left_out_) +
+                    (partial_.isEmpty() ? QString() : " " + partial_));
   syncChart();
   export_->setEnabled(!stale_);
   emit reportShown();

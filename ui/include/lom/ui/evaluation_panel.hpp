@@ -71,6 +71,8 @@ class EvaluationPanel : public QWidget {
   // Boxes left out of the scores being shown (label not an object of the
   // sequence, or a label boxed twice), for the summary.
   QString left_out_;
+  // Says that the scores shown are of a map fused from only some frames.
+  QString partial_;
 };
 
 }  // namespace lom::ui
