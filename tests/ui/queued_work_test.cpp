@@ -194,6 +194,47 @@ TEST_F(QueuedWorkTest, ClosingDuringFusionOrAPendingExportAsksFirst) {
   EXPECT_TRUE(answer.questions.isEmpty());
 }
 
+TEST_F(QueuedWorkTest, AnExportWaitingForAFusionThatIsReplacedIsDropped) {
+  openPaused(folder_);
+  auto* exporter = window_.findAction("Point Cloud (PCD)…")->findChild<ExportMapReaction*>();
+  ASSERT_NE(exporter, nullptr);
+  QStringList results;
+  QObject::connect(exporter, &ExportMapReaction::finished, &window_,
+                   [&](const QString& message, bool) { results << message; });
+  const auto pcd = temp_.path() / "map.pcd";
+  exporter->exportTo(qPath(pcd));
+  // Fused again before the first fusion finished: the map the export waited
+  // for never comes, and the partial one is not written in its place.
+  session().worker().setPaused(false);
+  window_.findAction("Fuse Sequence")->trigger();
+  waitForFusion();
+  waitForQueuedWork();
+  ASSERT_EQ(results.size(), 1);
+  EXPECT_TRUE(results.front().contains("dropped: the map it waited for was replaced"))
+      << results.front().toStdString();
+  EXPECT_FALSE(std::filesystem::exists(pcd));
+
+  // Cancel Fusion ends the wait: the export writes the map fused so far (the
+  // worker holds after its second frame until then).
+  auto reached = std::make_shared<std::atomic<size_t>>(0);
+  auto released = std::make_shared<std::atomic<bool>>(false);
+  session().worker().setFrameFusedHook([reached, released](size_t frames) {
+    *reached = frames;
+    while (frames == 2 && !*released) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  });
+  const std::shared_ptr<void> release(nullptr, [released](void*) { *released = true; });
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return *reached == 2; }, kTimeoutMs));
+  exporter->exportTo(qPath(pcd));
+  window_.findAction("Cancel Fusion")->trigger();
+  *released = true;
+  waitForQueuedWork();
+  session().worker().setFrameFusedHook({});
+  ASSERT_EQ(results.size(), 2);
+  EXPECT_TRUE(results.back().startsWith("Wrote ")) << results.back().toStdString();
+  EXPECT_TRUE(std::filesystem::exists(pcd));
+}
+
 TEST_F(QueuedWorkTest, ClosingAnywayStopsTheWork) {
   openPaused(folder_);
   test::DialogAnswerer answer("Close Anyway");

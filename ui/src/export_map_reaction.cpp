@@ -50,11 +50,18 @@ void ExportMapReaction::exportTo(const QString& path) {
     emit queued(tr("Export to %1 queued: it runs when fusion finishes (Fusion ▸ Cancel Fusion "
                    "ends it now).")
                     .arg(QFileInfo(path).fileName()));
+  // Cancel Fusion ends the wait and exports the map fused so far; a re-fusion
+  // or another sequence replaces the map the export was asked for.
+  const unsigned generation = worker->mapGeneration();
   worker->withMap(
-      [self, worker, options, path](const LabelMap* map) {
+      [self, worker, options, path, generation](const LabelMap* map) {
         QString message;
         bool ok = false;
-        if (!map) {
+        if (worker->mapGeneration() != generation) {
+          message = tr("Export to %1 dropped: the map it waited for was replaced (fused again, or "
+                       "another sequence opened) before its fusion finished. Export again.")
+                        .arg(path);
+        } else if (!map) {
           message = tr("Fuse the sequence first.");
         } else {
           try {

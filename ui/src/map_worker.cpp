@@ -93,6 +93,7 @@ void MapWorker::startFusion(std::shared_ptr<const Sequence> sequence, const Fusi
   cancel();
   paused_ = false;
   const unsigned id = ++fusion_id_;
+  ++map_generation_;
   fusion_cancel_ = std::make_shared<std::atomic<bool>>(false);
   post([this, sequence, options, id, cancelled = fusion_cancel_] {
     fuse(sequence, options, id, cancelled);
@@ -207,6 +208,7 @@ void MapWorker::cancel() {
 void MapWorker::reset() {
   cancel();
   evaluation_generation_ += 1;
+  ++map_generation_;
   post(
       [this] {
         map_.reset();

@@ -56,6 +56,10 @@ class MapWorker : public QObject {
   void withCurrentMap(std::function<bool(const LabelMap* map, bool final)> job,
                       const QString& description = {});
   [[nodiscard]] QStringList pendingWork() const;
+  // Changes whenever a fusion starts or the map is reset: a job queued behind a
+  // fusion compares it with the value it was queued with to tell whether the
+  // map it was asked for was replaced meanwhile (re-fused, another sequence).
+  [[nodiscard]] unsigned mapGeneration() const { return map_generation_; }
 
   [[nodiscard]] State state() const { return state_; }
   [[nodiscard]] bool isFusing() const { return state_ != State::Idle; }
@@ -119,6 +123,7 @@ class MapWorker : public QObject {
   State state_ = State::Idle;
   MapSnapshotPtr snapshot_;
   unsigned fusion_id_ = 0;                          // latest started fusion
+  std::atomic<unsigned> map_generation_{0};
   std::shared_ptr<std::atomic<bool>> fusion_cancel_;  // its cancel flag
   int evaluations_pending_ = 0;
   unsigned map_job_id_ = 0;
