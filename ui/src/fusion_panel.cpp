@@ -192,14 +192,27 @@ bool FusionPanel::hasPendingChanges() const {
 
 void FusionPanel::onEdited() {
   bool ok = true;
-  parseCandidates(candidates_->text(), &ok);
+  const auto candidates = parseCandidates(candidates_->text(), &ok);
+  // As the command line: candidates are labels of the sequence.
+  QString unknown_candidate;
+  if (ok && candidates && session_.sequence())
+    for (int id : *candidates)
+      if (!session_.sequence()->labels.contains(id)) {
+        unknown_candidate = tr("Candidates: %1 is not a label of the sequence (0 to %2).")
+                                .arg(id)
+                                .arg(session_.sequence()->labels.size() - 1);
+        ok = false;
+        break;
+      }
   const bool pending = hasPendingChanges();
   // As the command line: at most 1000 voxels along a ray, which bounds the
   // memory a frame needs (an unlimited range is left to the depths).
   const double ray_voxels = max_range_->value() / resolution_->value();
   const bool too_long = max_range_->value() > 0.0 && ray_voxels > kMaxFusionVoxelsPerRay;
   refuse_->setEnabled(pending && ok && !too_long);
-  if (!ok)
+  if (!unknown_candidate.isEmpty())
+    setNote(unknown_candidate);
+  else if (!ok)
     setNote(tr("Candidates: label ids separated by spaces."));
   else if (too_long)
     setNote(tr("Max range / resolution makes rays %1 voxels long; at most %2: choose a coarser "
@@ -244,6 +257,8 @@ void FusionPanel::showDepthRanges(const FrameStats& totals, double max_range) {
 }
 
 void FusionPanel::refuse() {
+  onEdited();
+  if (!refuse_->isEnabled()) return;  // a field the note names is not valid
   bool ok = true;
   FusionOptions options = session_.fusionOptions();
   options.candidates = parseCandidates(candidates_->text(), &ok);

@@ -30,6 +30,7 @@ class FusionPanel : public QWidget {
   [[nodiscard]] QDoubleSpinBox& resolutionBox() { return *resolution_; }
   [[nodiscard]] QDoubleSpinBox& maxRangeBox() { return *max_range_; }
   [[nodiscard]] QPushButton& refuseButton() { return *refuse_; }
+  [[nodiscard]] QLineEdit& candidatesEdit() { return *candidates_; }
   // Shown when most depths of the last fusion lay beyond max range: re-fuses
   // with a max range that reaches the farthest depth, at
   // suggestedResolutionForRange (a room at 1 cm and 10 m takes gigabytes).
