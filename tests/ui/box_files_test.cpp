@@ -354,6 +354,27 @@ TEST_F(BoxFilesTest, BoxesWithUnknownLabelsAreReportedByFileAndIndex) {
       << warnings_.front().toStdString();
 }
 
+TEST_F(BoxFilesTest, BoxesOfAnotherFrameAreAWarningThatSaysHowTheyAreRead) {
+  Annotations annotations;
+  annotations.frame_id = "base";
+  annotations.boxes.push_back(boxOf(1, "square_box"));
+  saveAnnotations(annotations, tiny_.folder / "annotations.json");
+  ASSERT_TRUE(open(tiny_.folder));
+  EXPECT_EQ(boxes().boxCount(), 1);
+  EXPECT_TRUE(errors_.isEmpty()) << errors_.join('\n').toStdString();
+  ASSERT_EQ(warnings_.size(), 1) << warnings_.join('\n').toStdString();
+  const std::string frame = window_.controller().sequence().frame_id;
+  EXPECT_TRUE(warnings_.front().contains(QString::fromStdString(
+      "annotations.json: frame_id is \"base\", the sequence's frame is \"" + frame + "\"")))
+      << warnings_.front().toStdString();
+  // Boxes in the sequence's own frame say nothing.
+  warnings_.clear();
+  annotations.frame_id = frame;
+  saveAnnotations(annotations, temp_ / "same.json");
+  EXPECT_EQ(loadBoxes(window_.session(), qPath(temp_ / "same.json")), QString());
+  EXPECT_TRUE(warnings_.isEmpty()) << warnings_.join('\n').toStdString();
+}
+
 // A pose 50 m off: the sequence opens, with a warning naming the frame.
 TEST_F(BoxFilesTest, CameraJumpsAreAWarningWhenTheSequenceOpens) {
   lom::Sequence sequence = lom::loadSequence(tiny_.folder);

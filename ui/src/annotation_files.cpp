@@ -33,6 +33,16 @@ void reportUnknownLabels(StudioSession& session, const Annotations& boxes, const
   const QString message = unknownLabelsMessage(boxes, session.sequence()->labels, file);
   if (!message.isEmpty())
     emit session.controller().warningOccurred(QObject::tr("Boxes with unknown labels"), message);
+  // `labeloctomap score` refuses boxes of another frame; the studio keeps them
+  // for editing but says how it reads them, and what saving will write.
+  const std::string& frame = session.sequence()->frame_id;
+  if (boxes.frame_id != frame)
+    emit session.controller().warningOccurred(
+        QObject::tr("Boxes in another frame"),
+        QObject::tr("%1: frame_id is \"%2\", the sequence's frame is \"%3\". The boxes are "
+                    "shown and scored as if they were in \"%3\", and saving writes frame_id "
+                    "\"%3\".")
+            .arg(file, QString::fromStdString(boxes.frame_id), QString::fromStdString(frame)));
 }
 
 bool isSequenceJson(const QFileInfo& info) {
