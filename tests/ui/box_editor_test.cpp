@@ -7,6 +7,7 @@
 #include <QApplication>
 #include <QDoubleSpinBox>
 #include <QTest>
+#include <QWheelEvent>
 #include <cmath>
 
 #include "demo_window_fixture.hpp"
@@ -83,6 +84,33 @@ TEST_F(BoxEditorTest, EditingOneAngleKeepsTheOthersAtFullPrecision) {
   EXPECT_NEAR(after.x(), roll, 1e-9);
   EXPECT_NEAR(after.y(), pitch, 1e-9);
   EXPECT_NEAR(after.z(), (std::round(yaw * 1800.0 / M_PI) / 10.0 + 1.0) * M_PI / 180.0, 1e-9);
+}
+
+TEST_F(BoxEditorTest, TheWheelChangesAFieldOnlyWhenItHasTheFocus) {
+  auto wheel = [](QWidget& widget) {
+    const QPoint centre = widget.rect().center();
+    QWheelEvent event(centre, widget.mapToGlobal(centre), QPoint(), QPoint(0, -120), Qt::NoButton,
+                      Qt::NoModifier, Qt::NoScrollPhase, false);
+    QApplication::sendEvent(&widget, &event);
+  };
+  window_.activateWindow();
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&window_));
+  const GroundTruthBox before = boxes().box(0);
+  // Scrolling the panel past the fields: the box stays as it was.
+  window_.setFocus();
+  QDoubleSpinBox& pitch = window_.boxEditor().field(7);
+  ASSERT_FALSE(pitch.hasFocus());
+  wheel(pitch);
+  wheel(window_.boxEditor().field(0));
+  EXPECT_EQ(boxes().box(0).box.rotation.coeffs(), before.box.rotation.coeffs());
+  EXPECT_EQ(boxes().box(0).box.center, before.box.center);
+  EXPECT_FALSE(boxes().isDirty());
+  // A field the user clicked into takes the wheel as before.
+  QDoubleSpinBox& x = window_.boxEditor().field(0);
+  x.setFocus();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return x.hasFocus(); }, 5000));
+  wheel(x);
+  EXPECT_NE(boxes().box(0).box.center.x(), before.box.center.x());
 }
 
 }  // namespace

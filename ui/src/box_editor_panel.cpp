@@ -19,6 +19,7 @@
 #include "lom/ui/frame_labels.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
+#include "lom/ui/wheel_guard.hpp"
 
 namespace lom::ui {
 
@@ -118,6 +119,7 @@ BoxEditorPanel::BoxEditorPanel(StudioSession& session, BoxSteps& steps, QWidget*
   connect(&session_.controller(), &SequenceController::sequenceChanged, this,
           &BoxEditorPanel::rebuildLabels);
   rebuildList();
+  guardWheel(*this);
 }
 
 void BoxEditorPanel::rebuildLabels() {

@@ -16,6 +16,7 @@
 #include "lom/segmenter.hpp"
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/studio_session.hpp"
+#include "lom/ui/wheel_guard.hpp"
 
 namespace lom::ui {
 
@@ -135,6 +136,7 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
     connect(box, qOverload<double>(&QDoubleSpinBox::valueChanged), this, &FusionPanel::onEdited);
   connect(candidates_, &QLineEdit::textChanged, this, &FusionPanel::onEdited);
   connect(refuse_, &QPushButton::clicked, this, &FusionPanel::refuse);
+  guardWheel(*this);
 }
 
 void FusionPanel::loadFromSession() {
