@@ -375,6 +375,30 @@ TEST_F(BoxFilesTest, BoxesOfAnotherFrameAreAWarningThatSaysHowTheyAreRead) {
   EXPECT_TRUE(warnings_.isEmpty()) << warnings_.join('\n').toStdString();
 }
 
+TEST_F(BoxFilesTest, TheUnsavedBoxesQuestionOffersToSaveThemFirst) {
+  ASSERT_TRUE(open(tiny_.folder));
+  boxes().addBox(boxOf(1, "square_box"));
+  {  // Opening another boxes file: Save writes these first, then opens it.
+    Annotations other;
+    other.boxes.push_back(boxOf(2, "blue_cup"));
+    saveAnnotations(other, temp_ / "other.json");
+    test::DialogAnswerer answer("Save", qPath(temp_ / "other.json"));
+    window_.findAction("Open Boxes…")->trigger();
+    ASSERT_EQ(answer.questions.size(), 1);
+    EXPECT_TRUE(answer.questions.front().contains("Save them first?"));
+  }
+  EXPECT_EQ(loadAnnotations(tiny_.folder / "annotations.json").boxes.front().label, 1);
+  ASSERT_EQ(boxes().boxCount(), 1);
+  EXPECT_EQ(boxes().box(0).label, 2);
+
+  // Closing: Save writes them and the window closes.
+  boxes().addBox(boxOf(1, "square_box"));
+  test::DialogAnswerer answer("Save");
+  EXPECT_TRUE(window_.close());
+  EXPECT_EQ(loadAnnotations(temp_ / "other.json").boxes.size(), 2u);
+  EXPECT_FALSE(boxes().isDirty());
+}
+
 // A pose 50 m off: the sequence opens, with a warning naming the frame.
 TEST_F(BoxFilesTest, CameraJumpsAreAWarningWhenTheSequenceOpens) {
   lom::Sequence sequence = lom::loadSequence(tiny_.folder);

@@ -3,6 +3,7 @@
 #include <QCryptographicHash>
 #include <QDir>
 #include <QFileInfo>
+#include <QMessageBox>
 #include <QStandardPaths>
 #include <QTimer>
 #include <filesystem>
@@ -92,6 +93,22 @@ QString importYamlBoxes(StudioSession& session, const QString& path) {
     return QString::fromStdString(error.what());
   }
   return {};
+}
+
+UnsavedBoxesAnswer askAboutUnsavedBoxes(QWidget* parent) {
+  QMessageBox question(QMessageBox::Question, QObject::tr("Save the boxes?"),
+                       QObject::tr("The boxes have unsaved changes. Save them first?"),
+                       QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, parent);
+  question.setDefaultButton(QMessageBox::Save);
+  question.setEscapeButton(QMessageBox::Cancel);
+  switch (question.exec()) {
+    case QMessageBox::Save:
+      return UnsavedBoxesAnswer::Save;
+    case QMessageBox::Discard:
+      return UnsavedBoxesAnswer::Discard;
+    default:
+      return UnsavedBoxesAnswer::Cancel;
+  }
 }
 
 QString defaultBoxesPath(StudioSession& session) {

@@ -83,12 +83,14 @@ void BoxFileReaction::onTriggered() {
       break;
     case Kind::Open:
     case Kind::ImportYaml:
-      if (session_.annotations().isDirty() &&
-          QMessageBox::question(parent_, tr("Discard unsaved boxes?"),
-                                tr("The boxes have unsaved changes. Discard them?"),
-                                QMessageBox::Discard | QMessageBox::Cancel,
-                                QMessageBox::Cancel) != QMessageBox::Discard)
-        return;
+      if (session_.annotations().isDirty()) {
+        const UnsavedBoxesAnswer answer = askAboutUnsavedBoxes(parent_);
+        if (answer == UnsavedBoxesAnswer::Cancel) return;
+        if (answer == UnsavedBoxesAnswer::Save) {
+          saveTo(start);
+          if (session_.annotations().isDirty()) return;  // not saved: keep them
+        }
+      }
       path = QFileDialog::getOpenFileName(
           parent_, kind_ == Kind::Open ? tr("Open Boxes") : tr("Import YAML Boxes"), start,
           kind_ == Kind::Open ? json_filter : tr("YAML boxes (*.yaml *.yml)"));

@@ -56,13 +56,6 @@ namespace lom::ui {
 
 namespace {
 
-bool confirmDiscardUnsavedWork(QWidget* parent) {
-  return QMessageBox::question(parent, QObject::tr("Discard unsaved boxes?"),
-                               QObject::tr("The boxes have unsaved changes. Discard them?"),
-                               QMessageBox::Discard | QMessageBox::Cancel,
-                               QMessageBox::Cancel) == QMessageBox::Discard;
-}
-
 // The size the window opens at when the screen has room for it.
 constexpr QSize kPreferredWindowSize(1280, 1000);
 // Room left on the screen for the window manager's title bar and borders.
@@ -297,7 +290,18 @@ void MainWindow::createAnnotateMenu() {
 bool MainWindow::confirmDiscard() {
   // The recovery file stays until the boxes are really replaced: when the
   // other sequence fails to open, they are still the ones being worked on.
-  return confirmDiscardUnsavedWork(this);
+  switch (askAboutUnsavedBoxes(this)) {
+    case UnsavedBoxesAnswer::Discard:
+      return true;
+    case UnsavedBoxesAnswer::Cancel:
+      return false;
+    case UnsavedBoxesAnswer::Save:
+      // Saving asks where it must (an unreadable file); a save that did not
+      // happen keeps the boxes and the window as they are.
+      findAction(tr("Save Boxes"))->trigger();
+      return !session_->annotations().isDirty();
+  }
+  return false;
 }
 
 bool MainWindow::confirmStopWork() {

@@ -10,6 +10,7 @@
 #include "lom/labels.hpp"
 
 class QTimer;
+class QWidget;
 
 namespace lom::ui {
 
@@ -22,6 +23,10 @@ QString saveBoxes(StudioSession& session, const QString& path);
 // have are loaded too and reported through the controller's errorOccurred.
 QString loadBoxes(StudioSession& session, const QString& path);
 QString importYamlBoxes(StudioSession& session, const QString& path);  // replaces, unsaved
+// The question before unsaved boxes are replaced (closing, opening another
+// sequence or boxes file): save them first, discard them, or stay.
+enum class UnsavedBoxesAnswer { Save, Discard, Cancel };
+[[nodiscard]] UnsavedBoxesAnswer askAboutUnsavedBoxes(QWidget* parent);
 // Where boxes are saved by default: the file they came from, else the
 // sequence's boxes file (boxesFileOf).
 [[nodiscard]] QString defaultBoxesPath(StudioSession& session);
