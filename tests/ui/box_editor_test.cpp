@@ -15,6 +15,7 @@
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/box_editor_panel.hpp"
 #include "lom/ui/box_math.hpp"
+#include "lom/ui/scene_view.hpp"
 
 namespace lom::ui {
 namespace {
@@ -111,6 +112,25 @@ TEST_F(BoxEditorTest, TheWheelChangesAFieldOnlyWhenItHasTheFocus) {
   ASSERT_TRUE(QTest::qWaitFor([&] { return x.hasFocus(); }, 5000));
   wheel(x);
   EXPECT_NE(boxes().box(0).box.center.x(), before.box.center.x());
+}
+
+TEST_F(BoxEditorTest, AClickOnTheHandlesThatMovesNothingIsNotAnEdit) {
+  const GroundTruthBox before = boxes().box(0);
+  const int steps = boxes().undoStack().count();
+  // What the handles give back for a plain click: the same box up to rounding.
+  OrientedBox clicked = before.box;
+  clicked.size.x() = std::nextafter(clicked.size.x(), 1.0);
+  clicked.rotation.z() = std::nextafter(clicked.rotation.z(), 1.0);
+  emit window_.sceneView().boxEdited(clicked);
+  EXPECT_EQ(boxes().undoStack().count(), steps);
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_EQ(boxes().box(0).box.size, before.box.size);
+  // A drag that moved the box by a millimetre is one.
+  OrientedBox dragged = before.box;
+  dragged.center.x() += 0.001;
+  emit window_.sceneView().boxEdited(dragged);
+  EXPECT_EQ(boxes().undoStack().count(), steps + 1);
+  EXPECT_NEAR(boxes().box(0).box.center.x(), before.box.center.x() + 0.001, 1e-12);
 }
 
 }  // namespace

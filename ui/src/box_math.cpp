@@ -39,4 +39,11 @@ OrientedBox resized(const OrientedBox& box, int axis, double step, double minimu
   return result;
 }
 
+bool sameBoxUpToRounding(const OrientedBox& a, const OrientedBox& b) {
+  constexpr double kTolerance = 1e-9;
+  return (a.center - b.center).cwiseAbs().maxCoeff() <= kTolerance &&
+         (a.size - b.size).cwiseAbs().maxCoeff() <= kTolerance &&
+         a.rotation.angularDistance(b.rotation) <= kTolerance;
+}
+
 }  // namespace lom::ui

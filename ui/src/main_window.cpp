@@ -25,6 +25,7 @@
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/box_editor_panel.hpp"
 #include "lom/ui/box_file_reaction.hpp"
+#include "lom/ui/box_math.hpp"
 #include "lom/ui/conversion_progress.hpp"
 #include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/export_map_reaction.hpp"
@@ -358,6 +359,8 @@ void MainWindow::connectScene() {
     AnnotationsModel& boxes = session_->annotations();
     if (boxes.selected() < 0) return;
     GroundTruthBox box = boxes.box(boxes.selected());
+    // A click on the handles that moved nothing is not an edit.
+    if (sameBoxUpToRounding(box.box, edited)) return;
     box.box = edited;
     boxes.setBox(boxes.selected(), box, tr("Edit box with handles"));
   });

@@ -17,5 +17,8 @@ namespace lom::ui {
 // Grows (or shrinks, for negative steps) one edge, never below `minimum`.
 [[nodiscard]] OrientedBox resized(const OrientedBox& box, int axis, double step,
                                   double minimum = 0.002);
+// Whether two boxes differ only by rounding (a nanometre, a nanoradian): what
+// the 3D handles give back for a click that moved nothing.
+[[nodiscard]] bool sameBoxUpToRounding(const OrientedBox& a, const OrientedBox& b);
 
 }  // namespace lom::ui
