@@ -32,6 +32,7 @@
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/map_legend_panel.hpp"
 #include "lom/ui/map_worker.hpp"
+#include "lom/ui/objects_panel.hpp"
 #include "lom/ui/picked_voxel_view.hpp"
 #include "lom/ui/scene_view.hpp"
 #include "lom/ui/sequence_controller.hpp"
@@ -310,6 +311,36 @@ TEST_F(StudioSessionTest, UnsavedBoxesAreOfferedBackFromTheRecoveryFile) {
   // Saving goes to the real file and drops the recovery copy.
   EXPECT_EQ(saveBoxes(next.session(), qPath(folder_ / "annotations.json")), QString());
   EXPECT_FALSE(QFileInfo::exists(recovery));
+}
+
+TEST_F(StudioSessionTest, ARecoveryQuestionAnsweredAfterTheFusionLeavesThePanelsUpToDate) {
+  openAndFuse();
+  window_.session().annotations().removeBox(0);
+  window_.autosave().writeNow();
+
+  MainWindow next;
+  next.setErrorReporter([](const QString&, const QString&) {});
+  next.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&next));
+  // The user answers only once the fusion has finished behind the question.
+  next.setRecoveryOffer([&](const QString&) {
+    EXPECT_TRUE(QTest::qWaitFor(
+        [&] {
+          const auto snapshot = next.session().worker().snapshot();
+          return !next.session().worker().isFusing() && snapshot && snapshot->frames_fused > 0;
+        },
+        60'000));
+    QTest::qWait(100);
+    return false;
+  });
+  ASSERT_TRUE(next.controller().openSequence(qPath(folder_)));
+  EXPECT_TRUE(QTest::qWaitFor(
+      [&] { return !next.evaluationPanel().isBusy() && next.evaluationPanel().canExport(); },
+      60'000))
+      << next.evaluationPanel().summaryText().toStdString();
+  EXPECT_TRUE(QTest::qWaitFor(
+      [&] { return !next.objectsPanel().isBusy() && !next.objectsPanel().objects().empty(); },
+      60'000));
 }
 
 TEST_F(StudioSessionTest, EvaluationPanelShowsWhatTheScoreCommandComputes) {

@@ -163,12 +163,6 @@ MainWindow::MainWindow(QWidget* parent)
   fusion_status_ = new FusionStatus(session_->worker());
   statusBar()->addPermanentWidget(fusion_status_);
 
-  autosave_ = new BoxesAutosave(*session_, [this](const QString& file) {
-    return QMessageBox::question(
-               this, tr("Recover unsaved boxes?"),
-               tr("Boxes of this sequence were not saved when the studio last closed.\n"
-                  "Restore them from %1?").arg(file)) == QMessageBox::Yes;
-  });
   createDocks();
   createMenus(step_actions);
   connectScene();
@@ -193,6 +187,16 @@ MainWindow::MainWindow(QWidget* parent)
           &MainWindow::onCurrentFrameChanged);
   connect(timeline_, &TimelineWidget::frameRequested, controller_,
           &SequenceController::setCurrentFrame);
+  // Made last, so that it asks about recovered boxes after every panel has
+  // switched to the new sequence: a fusion that finishes while the question
+  // waits then reaches panels that are ready for it.
+  autosave_ = new BoxesAutosave(*session_, [this](const QString& file) {
+    return QMessageBox::question(
+               this, tr("Recover unsaved boxes?"),
+               tr("Boxes of this sequence were not saved when the studio last closed.\n"
+                  "Restore them from %1?")
+                   .arg(file)) == QMessageBox::Yes;
+  });
 }
 
 MainWindow::~MainWindow() = default;
