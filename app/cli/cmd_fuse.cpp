@@ -75,7 +75,49 @@ void drawProgress(const FusionProgress& progress, double seconds_per_frame) {
   std::fflush(stderr);
 }
 
+// "frames[0], frames[4] and 7 more".
+std::string listFrames(const std::vector<size_t>& frames) {
+  constexpr size_t kNamed = 3;
+  std::string text;
+  for (size_t i = 0; i < frames.size() && i < kNamed; ++i)
+    text += (i == 0                   ? ""
+             : i + 1 == frames.size() ? " and "
+                                      : ", ") +
+            std::string("frames[") + std::to_string(frames[i]) + "]";
+  if (frames.size() > kNamed) text += " and " + std::to_string(frames.size() - kNamed) + " more";
+  return text;
+}
+
+// What would bring depth points outside the map's extent into it.
+std::string outsideMapAdvice(const std::string& sequence_file, const FrameStats& totals,
+                             double resolution) {
+  // No depth camera measures farther than the whole extent: the pixels'
+  // points were put there by the intrinsics or the depth scale.
+  if (totals.farthest_range > mapExtent(resolution))
+    return "the depths reach " +
+           (std::isfinite(totals.farthest_range) ? formatNumber(totals.farthest_range) + " m"
+                                                 : std::string("without bound")) +
+           " from the camera, farther than the extent: check camera.fx, camera.fy, camera.cx, "
+           "camera.cy and camera.depth_scale in " +
+           sequence_file;
+  return "a coarser --resolution extends the map (" + formatNumber(2.0 * resolution) +
+         " m voxels reach " + formatNumber(mapExtent(2.0 * resolution)) + " m)";
+}
+
 }  // namespace
+
+std::string outsideMapWarning(const std::string& sequence_file, const FrameStats& totals,
+                              const std::vector<size_t>& frames, double resolution) {
+  if (totals.outside_map_pixels == 0) return {};
+  const size_t measured = totals.valid_pixels + totals.outside_map_pixels;
+  char share[32];
+  std::snprintf(share, sizeof(share), "%.1f%%", 100.0 * totals.outside_map_pixels / measured);
+  return "warning: " + sequence_file + ": " + std::to_string(totals.outside_map_pixels) + " of " +
+         std::to_string(measured) + " measured depth pixels (" + share + "), in " +
+         listFrames(frames) + ", lie outside the map's extent, " + describeMapExtent(resolution) +
+         ": the map leaves them out, free space and all; " +
+         outsideMapAdvice(sequence_file, totals, resolution);
+}
 
 FusionOptions fusionOptionsFromArgs(const Args& args) {
   FusionOptions options;
@@ -176,16 +218,20 @@ int runFuse(const Words& words) {
   inputs.addSequence(sequence);
   checkOutputFile(out, "out", ".ot", what, inputs);
   checkFusionOptionsForSequence(options, sequence);
+  // Before the jumps: a camera outside the map is the wrong pose, not its neighbours.
+  checkCamerasInsideMap(sequence, options.map.resolution, options.first_frame, options.last_frame);
   for (const auto& jump : cameraJumps(sequence))
     std::cerr << "warning: " << jump << ": the map will span that distance\n";
 
   const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
   std::vector<double> frame_seconds;
   FrameStats totals;
+  std::vector<size_t> frames_outside_map;
   const auto start = std::chrono::steady_clock::now();
   LabelMap map = fuseSequence(sequence, options, [&](const FusionProgress& progress) {
     frame_seconds.push_back(progress.stats.seconds);
     totals = progress.totals;
+    if (progress.stats.outside_map_pixels > 0) frames_outside_map.push_back(progress.frame_index);
     if (show_progress) drawProgress(progress, progress.stats.seconds);
     return true;
   });
@@ -193,6 +239,15 @@ int runFuse(const Words& words) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (show_progress) std::fprintf(stderr, "\n");
   // A map with nothing in it would only make every later command fail.
+  if (totals.valid_pixels == 0 && totals.outside_map_pixels > 0)
+    throw Error((sequence.root / "sequence.json").string(), "depth",
+                "depth points inside the map's extent, " +
+                    describeMapExtent(options.map.resolution) + ", to map",
+                "none in the " + std::to_string(frame_seconds.size()) + " frames fused: all " +
+                    std::to_string(totals.outside_map_pixels) +
+                    " measured depth pixels lie outside it; " +
+                    outsideMapAdvice((sequence.root / "sequence.json").string(), totals,
+                                     options.map.resolution));
   if (totals.valid_pixels == 0)
     throw Error((sequence.root / "sequence.json").string(), "depth",
                 "frames with valid depths (finite, > 0) to map",
@@ -217,6 +272,11 @@ int runFuse(const Words& words) {
                  beyond, totals.valid_pixels, 100.0 * beyond / totals.valid_pixels,
                  options.map.max_range, totals.farthest_range, how.c_str());
   }
+  if (const std::string warning =
+          outsideMapWarning((sequence.root / "sequence.json").string(), totals, frames_outside_map,
+                            options.map.resolution);
+      !warning.empty())
+    std::cerr << warning << "\n";
   map.prune();
   map.save(out);
 

@@ -12,6 +12,7 @@
 
 #include "args.hpp"
 #include "commands.hpp"
+#include "lom/fusion.hpp"
 #include "lom/label_map.hpp"
 #include "lom/sequence.hpp"
 
@@ -213,7 +214,7 @@ int runValidate(const Words& words) {
   args.expectOnly({}, 1);
   const std::string path = args.positional(0, "SEQ (a sequence folder or sequence.json)");
   std::vector<Problem> problems;
-  std::vector<std::string> jumps;
+  std::vector<std::string> warnings;
   size_t frames = 0;
   try {
     if (isMapFile(path))
@@ -224,16 +225,22 @@ int runValidate(const Words& words) {
     const Sequence sequence = loadSequence(path);
     frames = sequence.frames.size();
     problems = validateSequence(sequence);
-    jumps = cameraJumps(sequence);
+    // No voxel size yet: the extents at the coarsest and the finest that fusion takes.
+    CameraExtentCheck extents = checkCameraExtents(sequence);
+    problems.insert(problems.end(), extents.problems.begin(), extents.problems.end());
+    if (!extents.warning.empty()) warnings.push_back(extents.warning);
+    for (auto& jump : cameraJumps(sequence)) warnings.push_back(std::move(jump));
   } catch (const Error& e) {
     problems.push_back(e.problem());
   }
-  // Poses are valid numbers either way: a jump is worth a look, not a failure.
-  for (const auto& jump : jumps) std::cout << "warning: " << jump << "\n";
+  // Poses are valid numbers either way: a jump, or a camera that only coarser
+  // voxels hold, is worth a look, not a failure.
+  for (const auto& warning : warnings) std::cout << "warning: " << warning << "\n";
   if (problems.empty()) {
     std::cout << "OK: " << frames << " frames valid";
-    if (!jumps.empty())
-      std::cout << " (" << jumps.size() << (jumps.size() == 1 ? " warning" : " warnings") << ")";
+    if (!warnings.empty())
+      std::cout << " (" << warnings.size() << (warnings.size() == 1 ? " warning" : " warnings")
+                << ")";
     std::cout << "\n";
     return 0;
   }

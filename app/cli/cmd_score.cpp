@@ -31,12 +31,27 @@ EvaluationProgressFn progressPrinter(bool enabled, const std::string& prefix) {
   };
 }
 
-// Options that only make sense against a given sequence; the sequence's files become inputs.
+// Options that only make sense against a given sequence; the sequence's files
+// become inputs. A map fused here must hold every camera (`fused`: no map given).
 void checkOptionsForSequence(const fs::path& sequence_path, const EvaluationOptions& options,
-                             CommandInputs& inputs) {
+                             bool fused, CommandInputs& inputs) {
   const Sequence sequence = loadSequence(sequence_path);
   checkFusionOptionsForSequence(options.fusion, sequence);
+  if (fused)
+    checkCamerasInsideMap(sequence, options.fusion.map.resolution, options.fusion.first_frame,
+                          options.fusion.last_frame);
   inputs.addSequence(sequence);
+}
+
+// Fusion left out depth points outside the map's extent: the scores are of
+// what the map holds, so say so.
+void warnOutsideMap(const ScoreInputs& inputs, const EvaluationReport& report) {
+  if (inputs.map || report.frames_outside_map.empty()) return;
+  const fs::path file =
+      inputs.sequence.extension() == ".json" ? inputs.sequence : inputs.sequence / "sequence.json";
+  std::cerr << outsideMapWarning(file.string(), report.fusion_totals, report.frames_outside_map,
+                                 report.resolution)
+            << "\n";
 }
 
 // --threshold against the clamping of the map it applies to: the given map, or the
@@ -111,7 +126,7 @@ int runScore(const Words& words) {
     for (const auto& entry : entries) addScoreInputs(entry.inputs, read);
     checkOutputFolder(out, "out", what, read);
     for (const auto& entry : entries) {
-      checkOptionsForSequence(entry.inputs.sequence, options, read);
+      checkOptionsForSequence(entry.inputs.sequence, options, !entry.inputs.map, read);
       checkThresholdFor(threshold, entry.inputs.map, options);
     }
     checkOutputFolder(out, "out", what, read);
@@ -135,6 +150,7 @@ int runScore(const Words& words) {
         throw;
       }
       if (show_progress) std::fprintf(stderr, "\n");
+      warnOutsideMap(inputs, reports.back());
       if (inputs.map) noteResolution(args, reports.back(), *inputs.map);
       std::cout << reportTable(reports.back()) << "\n";
     }
@@ -160,7 +176,7 @@ int runScore(const Words& words) {
   CommandInputs read;
   addScoreInputs(inputs, read);
   checkOutputFolder(out, "out", what, read);
-  checkOptionsForSequence(inputs.sequence, options, read);
+  checkOptionsForSequence(inputs.sequence, options, !inputs.map, read);
   checkThresholdFor(threshold, inputs.map, options);
   checkOutputFolder(out, "out", what, read);
   checkReportFolder(out, read);
@@ -173,6 +189,7 @@ int runScore(const Words& words) {
     throw;
   }
   if (show_progress) std::fprintf(stderr, "\n");
+  warnOutsideMap(inputs, report);
   if (inputs.map) noteResolution(args, report, *inputs.map);
   writeReport(report, out);
   std::cout << reportTable(report) << "wrote " << (out / "report.{json,csv,md,svg}").string() << "\n";

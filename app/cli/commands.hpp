@@ -6,6 +6,7 @@
 #include <vector>
 
 namespace lom {
+struct FrameStats;
 struct FusionOptions;
 struct MapParameters;
 struct Sequence;
@@ -41,5 +42,12 @@ void checkOccupancyThreshold(double threshold, const MapParameters& map,
 
 // Throws UsageError for --candidates not in the sequence and --frames past its end.
 void checkFusionOptionsForSequence(const FusionOptions& options, const Sequence& sequence);
+
+// What fuse and score say when fused frames had depth points outside the map's
+// extent (FrameStats::outside_map_pixels; `frames` lists those frames):
+// "warning: ..." for standard error, or empty when there were none.
+// `sequence_file` is the sequence's sequence.json.
+std::string outsideMapWarning(const std::string& sequence_file, const FrameStats& totals,
+                              const std::vector<size_t>& frames, double resolution);
 
 }  // namespace lom::cli

@@ -73,11 +73,18 @@ EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOption
     return evaluate(sequence, annotations, map, named, progress);
   }
   named.map_file = (sequence.root / "sequence.json").string() + " (fused)";
+  FrameStats totals;
+  std::vector<size_t> frames_outside_map;
   LabelMap map = fuseSequence(sequence, options.fusion, [&](const FusionProgress& fused) {
+    totals = fused.totals;
+    if (fused.stats.outside_map_pixels > 0) frames_outside_map.push_back(fused.frame_index);
     return !progress || progress(EvaluationProgress{"fusing", fused.done, fused.total});
   });
   if (progress && !progress(EvaluationProgress{"fusing", 1, 1})) throw EvaluationCancelled();
-  return evaluate(sequence, annotations, map, named, progress);
+  EvaluationReport report = evaluate(sequence, annotations, map, named, progress);
+  report.fusion_totals = totals;
+  report.frames_outside_map = std::move(frames_outside_map);
+  return report;
 }
 
 std::vector<BatchEntry> readBatchList(const fs::path& list) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <unordered_map>
 #include <unordered_set>
@@ -197,9 +198,114 @@ FrameStats integrateFrameReference(LabelMap& map, const CameraIntrinsics& camera
   return stats;
 }
 
+// ---------------------------------------------------------------------------
+// The map's extent
+
+bool insideMapExtent(const Eigen::Vector3d& point, double resolution) {
+  grid::Key key;
+  return grid::Grid(resolution).keyOf(point, key);
+}
+
+namespace {
+
+std::string formatMetres(double value) {
+  char text[64];
+  std::snprintf(text, sizeof(text), "%.6g", value);
+  return text;
+}
+
+std::string formatPosition(const Eigen::Vector3d& p) {
+  return "(" + formatMetres(p.x()) + ", " + formatMetres(p.y()) + ", " + formatMetres(p.z()) +
+         ") m";
+}
+
+// Why a camera outside the extent cannot be fused, and what voxel size would hold it.
+std::string cameraExtentExpected(const Eigen::Vector3d& camera, double resolution) {
+  std::string text = "a camera position inside the map's extent, " + describeMapExtent(resolution);
+  const double needed = resolutionForReach(camera.cwiseAbs().maxCoeff());
+  if (std::isfinite(needed) && needed <= kMaxFusionResolution)
+    text += " (voxels of " + formatMetres(needed) + " m or more hold this one)";
+  else
+    text += " (no voxel size fusion takes, up to " + formatMetres(kMaxFusionResolution) +
+            " m, holds this one: a wrong pose?)";
+  return text;
+}
+
+}  // namespace
+
+std::string describeMapExtent(double resolution) {
+  return formatMetres(mapExtent(resolution)) + " m either side of the origin on each axis at " +
+         formatMetres(resolution) + " m voxels";
+}
+
+double resolutionForReach(double reach) {
+  // A coordinate c is inside when |c| / resolution < kMapExtentVoxels (and -c
+  // may reach it exactly): the next whole millimetre past reach / 32768.
+  double millimetres = std::floor(reach / kMapExtentVoxels * 1000.0) + 1.0;
+  // Far past any voxel size (a wrong pose): whole millimetres no longer count.
+  if (!(millimetres < 1e9)) return std::numeric_limits<double>::infinity();
+  for (int step = 0; step < 4 && !(reach / (millimetres / 1000.0) < kMapExtentVoxels); ++step)
+    millimetres += 1.0;  // a division that rounded up
+  return millimetres / 1000.0;
+}
+
+void checkCamerasInsideMap(const Sequence& sequence, double resolution, size_t first, size_t last) {
+  last = std::min(last, sequence.frames.size());
+  for (size_t i = first; i < last; ++i) {
+    const Eigen::Vector3d camera = sequence.frames[i].T_world_camera.translation();
+    if (insideMapExtent(camera, resolution)) continue;
+    throw Error((sequence.root / "sequence.json").string(),
+                "frames[" + std::to_string(i) + "].pose", cameraExtentExpected(camera, resolution),
+                "the camera at " + formatPosition(camera));
+  }
+}
+
+CameraExtentCheck checkCameraExtents(const Sequence& sequence) {
+  CameraExtentCheck check;
+  const std::string file = (sequence.root / "sequence.json").string();
+  size_t outside_finest = 0, first_outside = 0, farthest_frame = 0;
+  double farthest = 0.0;
+  for (size_t i = 0; i < sequence.frames.size(); ++i) {
+    const Eigen::Vector3d camera = sequence.frames[i].T_world_camera.translation();
+    if (!insideMapExtent(camera, kMaxFusionResolution)) {
+      check.problems.push_back({file, "frames[" + std::to_string(i) + "].pose",
+                                cameraExtentExpected(camera, kMaxFusionResolution),
+                                "the camera at " + formatPosition(camera)});
+      continue;
+    }
+    if (insideMapExtent(camera, kMinFusionResolution)) continue;
+    if (outside_finest++ == 0) first_outside = i;
+    const double reach = camera.cwiseAbs().maxCoeff();
+    if (reach > farthest) {
+      farthest = reach;
+      farthest_frame = i;
+    }
+  }
+  if (outside_finest == 0) return check;
+  const std::string frames =
+      "frames[" + std::to_string(first_outside) + "].pose" +
+      (outside_finest > 1 ? " and " + std::to_string(outside_finest - 1) + " other frame" +
+                                (outside_finest > 2 ? "s" : "")
+                          : std::string());
+  check.warning = frames + ": " + (outside_finest > 1 ? "cameras lie" : "the camera lies") +
+                  " outside the extent of a map with the finest voxels fusion takes, " +
+                  describeMapExtent(kMinFusionResolution) + " (frames[" +
+                  std::to_string(farthest_frame) + "] " + formatMetres(farthest) +
+                  " m out on an axis): fusing needs voxels of " +
+                  formatMetres(resolutionForReach(farthest)) +
+                  " m or more, and coarser still for depths that reach farther out";
+  return check;
+}
+
 FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
                           const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
                           const FrameEvidence& evidence, const IntegrationOptions& integration) {
+  // Rays start at the camera: outside the map, none could be cast, and the
+  // frame's hits would land without the free space in front of them.
+  const double resolution = map.parameters().resolution;
+  if (!insideMapExtent(T_world_camera.translation(), resolution))
+    throw Error("", "pose", cameraExtentExpected(T_world_camera.translation(), resolution),
+                "the camera at " + formatPosition(T_world_camera.translation()));
   const FrameStats stats =
       integration.path == IntegrationPath::Reference
           ? integrateFrameReference(map, camera, T_world_camera, depth, evidence)
@@ -217,11 +323,16 @@ void noteDepthRanges(FrameStats& stats, const CameraIntrinsics& camera, const De
   const DepthRanges ranges = countDepthRanges(camera, depth, max_range);
   stats.beyond_range_pixels = ranges.beyond;
   stats.farthest_range = ranges.farthest;
+  // countDepthRanges counts a pixel as measured exactly when the
+  // back-projection does; integration counts as valid those of them inside
+  // the extent. The difference costs nothing in the integration's loops.
+  stats.outside_map_pixels = ranges.measured - std::min(ranges.measured, stats.valid_pixels);
 }
 
 void addFrameStats(FrameStats& totals, const FrameStats& frame) {
   totals.valid_pixels += frame.valid_pixels;
   totals.beyond_range_pixels += frame.beyond_range_pixels;
+  totals.outside_map_pixels += frame.outside_map_pixels;
   totals.farthest_range = std::max(totals.farthest_range, frame.farthest_range);
   totals.hit_voxels += frame.hit_voxels;
   totals.miss_voxels += frame.miss_voxels;
@@ -301,6 +412,9 @@ LabelMap fuseSequence(const Sequence& sequence, const FusionOptions& options,
   const size_t last = std::min(options.last_frame, sequence.frames.size());
   FusionProgress report;
   report.total = last > first ? last - first : 0;
+  // Every camera before any frame: a pose far out fails at once, not after
+  // the frames before it were fused.
+  checkCamerasInsideMap(sequence, map.parameters().resolution, first, last);
   for (size_t i = first; i < last; ++i) {
     const FrameData frame = loadFrameWithSegmenter(sequence, i, options.segmenter.get());
     const FrameEvidence evidence = makeEvidence(sequence, i, frame, options);

@@ -153,4 +153,102 @@ TEST_F(CliFuseTest, WrongChannelCountNamesTheFrameAndField) {
   EXPECT_FALSE(std::filesystem::exists(out / "m.ot"));
 }
 
+// A copy of the scene with every camera moved `shift` metres along x.
+std::filesystem::path shiftedScene(const TempDir& out, const std::filesystem::path& scene,
+                                   double shift) {
+  const auto copy = out / "scene";
+  std::filesystem::copy(scene, copy, std::filesystem::copy_options::recursive);
+  lom::Sequence sequence = lom::loadSequence(copy);
+  for (auto& frame : sequence.frames) frame.T_world_camera.translation().x() += shift;
+  lom::saveSequence(sequence, copy);
+  return copy;
+}
+
+// 327.4 m out, the cameras lie inside the map's 327.68 m at 1 cm, but some of
+// what they see does not: the map is fused, and fuse says how much it left out.
+TEST_F(CliFuseTest, DepthsOutsideTheMapAreAWarningWithTheCountAndTheExtent) {
+  TempDir out;
+  const auto copy = shiftedScene(out, scene_->path() / "scene", 327.4);
+  const auto r = runCli("fuse '" + copy.string() + "' --out '" + (out / "m.ot").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string warning = "warning: " + (copy / "sequence.json").string() + ": ";
+  const auto at = r.err.find(warning);
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(" measured depth pixels (", at), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("lie outside the map's extent, 327.68 m either side of the origin on each "
+                       "axis at 0.01 m voxels: the map leaves them out",
+                       at),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("a coarser --resolution extends the map (0.02 m voxels reach 655.36 m)", at),
+            std::string::npos)
+      << r.err;
+  EXPECT_TRUE(std::filesystem::exists(out / "m.ot"));
+  // Where the map holds everything, no such warning.
+  const auto coarse = runCli("fuse '" + copy.string() + "' --out '" + (out / "c.ot").string() +
+                             "' --resolution 0.02");
+  ASSERT_EQ(coarse.exit_code, 0) << coarse.err;
+  EXPECT_EQ(coarse.err.find("outside the map's extent"), std::string::npos) << coarse.err;
+}
+
+// 400 m out, the cameras lie outside the map: fuse fails at once, naming the
+// first such frame's pose and the extent, and writes nothing.
+TEST_F(CliFuseTest, CameraOutsideTheMapIsAnErrorNamingThePose) {
+  TempDir out;
+  const auto copy = shiftedScene(out, scene_->path() / "scene", 400.0);
+  const auto r = runCli("fuse '" + copy.string() + "' --out '" + (out / "m.ot").string() + "'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find((copy / "sequence.json").string() +
+                       ": frames[0].pose: expected a camera position inside the map's extent, "
+                       "327.68 m either side of the origin on each axis at 0.01 m voxels"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("(voxels of 0.013 m or more hold this one), found the camera at (399."),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("every depth pixel"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "m.ot"));
+}
+
+// One camera at 1e20 m: that frame is named, not the next one as a jump.
+TEST_F(CliFuseTest, OneCameraFarOutIsNamedItself) {
+  TempDir out;
+  const auto copy = out / "scene";
+  std::filesystem::copy(scene_->path() / "scene", copy, std::filesystem::copy_options::recursive);
+  lom::Sequence sequence = lom::loadSequence(copy);
+  sequence.frames[0].T_world_camera.translation().x() = 1e20;
+  lom::saveSequence(sequence, copy);
+  const auto r = runCli("fuse '" + copy.string() + "' --out '" + (out / "m.ot").string() + "'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("frames[0].pose: expected a camera position inside the map's extent"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("a wrong pose?"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("frames[1]"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("will span"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "m.ot"));
+}
+
+// Intrinsics that throw every point far out: the depths were measured, so the
+// error says they lie outside the map and points at the intrinsics, rather
+// than calling them 0 or invalid.
+TEST_F(CliFuseTest, EveryPointOutsideTheMapIsNotCalledInvalid) {
+  TempDir out;
+  const auto copy = out / "scene";
+  std::filesystem::copy(scene_->path() / "scene", copy, std::filesystem::copy_options::recursive);
+  lom::Sequence sequence = lom::loadSequence(copy);
+  sequence.camera.fx = 1e-300;
+  lom::saveSequence(sequence, copy);
+  const auto r = runCli("fuse '" + copy.string() + "' --out '" + (out / "m.ot").string() + "'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.err.find("every depth pixel is 0"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("sequence.json: depth: expected depth points inside the map's extent, "
+                       "327.68 m either side"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("none in the 4 frames fused: all "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("check camera.fx"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "m.ot"));
+}
+
 }  // namespace

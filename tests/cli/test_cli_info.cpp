@@ -125,9 +125,44 @@ TEST_F(CliInfoTest, CameraJumpsAreWarnedAbout) {
                             "it was in frames[1]"),
             std::string::npos)
       << result.out;
-  EXPECT_NE(result.out.find("OK: 3 frames valid (1 warning)"), std::string::npos) << result.out;
+  // 300 m out, the camera also needs voxels coarser than the finest (2 mm: 65.536 m).
+  EXPECT_NE(result.out.find("warning: frames[2].pose: the camera lies outside the extent"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find("OK: 3 frames valid (2 warnings)"), std::string::npos) << result.out;
   const auto fused = lom::test::runCli("fuse " + quoted(seq()) + " --out " + quoted(dir / "m.ot"));
   EXPECT_NE(fused.err.find("warning: frames[2].T_world_camera"), std::string::npos) << fused.err;
+}
+
+// validate has no voxel size: a camera that no voxel size fusion takes can
+// hold is a problem naming its pose; one that only coarser voxels than the
+// finest hold is a warning with the voxel size it needs.
+TEST_F(CliInfoTest, ValidateFlagsCamerasOutsideTheMapsExtent) {
+  lom::Sequence sequence = lom::loadSequence(seq());
+  sequence.frames[1].T_world_camera.translation().x() = 100.0;
+  lom::saveSequence(sequence, seq());
+  auto result = lom::test::runCli("validate " + quoted(seq()));
+  EXPECT_EQ(result.exit_code, 0) << result.out << result.err;
+  EXPECT_NE(
+      result.out.find("warning: frames[1].pose: the camera lies outside the extent of a map with "
+                      "the finest voxels fusion takes, 65.536 m either side of the origin "
+                      "on each axis at 0.002 m voxels"),
+      std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find("fusing needs voxels of 0.004 m or more"), std::string::npos)
+      << result.out;
+
+  sequence.frames[1].T_world_camera.translation().x() = 1e20;
+  lom::saveSequence(sequence, seq());
+  result = lom::test::runCli("validate " + quoted(seq()));
+  EXPECT_EQ(result.exit_code, 1) << result.out << result.err;
+  EXPECT_NE(result.out.find((seq() / "sequence.json").string() +
+                            ": frames[1].pose: expected a camera position inside the map's "
+                            "extent, 32768 m either side of the origin on each axis at 1 m voxels"),
+            std::string::npos)
+      << result.out;
+  // Its neighbours did not jump: the far camera is the wrong pose.
+  EXPECT_EQ(result.out.find("frames[2].T_world_camera"), std::string::npos) << result.out;
 }
 
 TEST_F(CliInfoTest, ValidateListsEveryProblemOfABrokenSequence) {

@@ -280,6 +280,60 @@ TEST_F(CliScoreTest, OtherFrameFailsAndWritesNothing) {
   EXPECT_FALSE(std::filesystem::exists(out / "report"));
 }
 
+// A copy of `scene` named "far", every camera and box moved `shift` metres along x.
+std::filesystem::path shiftedScene(const TempDir& out, const std::filesystem::path& scene,
+                                   double shift) {
+  const auto copy = out / "far";
+  std::filesystem::copy(scene, copy, std::filesystem::copy_options::recursive);
+  lom::Sequence sequence = lom::loadSequence(copy);
+  for (auto& frame : sequence.frames) frame.T_world_camera.translation().x() += shift;
+  lom::saveSequence(sequence, copy);
+  Json annotations = Json::parse(slurp(copy / "annotations.json"));
+  for (auto& box : annotations["boxes"]) box["center"][0] = box["center"][0].get<double>() + shift;
+  std::ofstream(copy / "annotations.json") << annotations.dump();
+  return copy;
+}
+
+// The map fused for the scores leaves out depths outside its extent: the
+// scores are of what it holds, and score says so.
+TEST_F(CliScoreTest, DepthsOutsideTheMapAreAWarning) {
+  TempDir out;
+  const auto copy = shiftedScene(out, scene(), 327.4);
+  const auto r = runCli("score " + quoted(copy) + " --annotations " +
+                        quoted(copy / "annotations.json") + " --out " + quoted(out / "report"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: " + (copy / "sequence.json").string() + ": "), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("lie outside the map's extent, 327.68 m either side"), std::string::npos)
+      << r.err;
+  EXPECT_TRUE(std::filesystem::exists(out / "report" / "report.json"));
+}
+
+TEST_F(CliScoreTest, CameraOutsideTheMapFailsBeforeWritingAnything) {
+  TempDir out;
+  const auto copy = shiftedScene(out, scene(), 400.0);
+  const auto r = runCli("score " + quoted(copy) + " --annotations " +
+                        quoted(copy / "annotations.json") + " --out " + quoted(out / "report"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find((copy / "sequence.json").string() +
+                       ": frames[0].pose: expected a camera position inside the map's extent, "
+                       "327.68 m either side"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "report"));
+  // In a batch, before any sequence is scored.
+  std::ofstream(out / "list.txt") << scene() << " " << scene() / "annotations.json"
+                                  << "\n"
+                                  << copy << " " << copy / "annotations.json"
+                                  << "\n";
+  const auto batch =
+      runCli("score --batch " + quoted(out / "list.txt") + " --out " + quoted(out / "batch"));
+  EXPECT_EQ(batch.exit_code, 1) << batch.err;
+  EXPECT_NE(batch.err.find("frames[0].pose"), std::string::npos) << batch.err;
+  EXPECT_EQ(batch.out.find("Segmentation results"), std::string::npos) << batch.out;
+  EXPECT_FALSE(std::filesystem::exists(out / "batch"));
+}
+
 TEST_F(CliScoreTest, UsageMistakesExitWithTwo) {
   TempDir out;
   EXPECT_EQ(runCli("score " + quoted(scene()) + " --annotations x.json").exit_code, 2);  // no --out

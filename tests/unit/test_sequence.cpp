@@ -190,6 +190,22 @@ TEST(CameraJumps, NamesEachStepLongerThanTheLimit) {
   EXPECT_EQ(lom::cameraJumps(sequence, 0.01).size(), 4u);
 }
 
+// A camera outside every map fusion can make is a wrong pose of its own
+// (checkCameraExtents names it): its neighbours are not reported as jumps.
+TEST(CameraJumps, LeaveOutCamerasOutsideEveryMap) {
+  lom::Sequence sequence;
+  for (const double x : {1e20, 0.0, 0.05, 1e20, 0.1, 300.1}) {
+    lom::FrameRecord frame;
+    frame.T_world_camera.translation() = Eigen::Vector3d(x, 0.0, 1.0);
+    sequence.frames.push_back(frame);
+  }
+  const auto jumps = lom::cameraJumps(sequence);
+  ASSERT_EQ(jumps.size(), 1u);
+  EXPECT_EQ(jumps[0],
+            "frames[5].T_world_camera: the camera is 300 m from where it was in frames[4] (a wrong "
+            "pose?)");
+}
+
 TEST_F(SequenceTest, AcceptsTheJsonPathAndAppliesDefaults) {
   writeSmallSequence(dir.path());
   Json j = readJson(json());

@@ -249,12 +249,26 @@ void FusionPanel::showDepthRanges(const FrameStats& totals, double max_range) {
                                  : tr("Re-fuse up to %1 m").arg(suggested_range_, 0, 'f', 1));
       extend_range_->show();
     }
+  } else if (totals.valid_pixels == 0 && totals.outside_map_pixels > 0) {
+    // As `labeloctomap fuse` refuses: the depths were measured, but the map cannot hold them.
+    range_note_ =
+        tr("Every measured depth lay outside the map's extent (%1): nothing could be mapped.")
+            .arg(
+                QString::fromStdString(describeMapExtent(session_.fusionOptions().map.resolution)));
   } else if (totals.valid_pixels == 0 && totals.seconds > 0.0) {
     // As `labeloctomap fuse` refuses: frames were fused and none had a depth.
     range_note_ =
         tr("No frame fused had a valid depth (every depth pixel was 0, no "
            "measurement, or invalid): nothing could be mapped.");
   }
+  // As `labeloctomap fuse` warns: the map left those depths out.
+  if (totals.valid_pixels > 0 && totals.outside_map_pixels > 0)
+    range_note_ += (range_note_.isEmpty() ? QString() : QStringLiteral(" ")) +
+                   tr("%1 measured depths lay outside the map's extent (%2) and were left out; "
+                      "coarser voxels extend it.")
+                       .arg(totals.outside_map_pixels)
+                       .arg(QString::fromStdString(
+                           describeMapExtent(session_.fusionOptions().map.resolution)));
   onEdited();
 }
 

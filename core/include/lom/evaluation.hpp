@@ -85,6 +85,11 @@ struct EvaluationReport {
   // Why the 2D metrics are absent although frames have both images (every one
   // was left out); empty otherwise. One sentence, for reports and the terminal.
   std::string metrics_2d_not_scored;
+  // When scoreSequence fused the map (no map given): the fused frames' stats
+  // summed, and the frames with depth points outside the map's extent
+  // (FrameStats::outside_map_pixels), which the map left out.
+  FrameStats fusion_totals;
+  std::vector<size_t> frames_outside_map;
 };
 
 // The summary over all objects of several reports (a batch).

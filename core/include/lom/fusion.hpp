@@ -1,14 +1,15 @@
 #pragma once
 // Fusion of RGB-D frames with per-pixel label probabilities into a LabelMap,
 // following the paper (sections III-IV). Semantics: docs/fusion.md.
+#include <Eigen/Geometry>
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
-
 #include "lom/camera.hpp"
+#include "lom/error.hpp"
 #include "lom/images.hpp"
 #include "lom/label_map.hpp"
 #include "lom/sequence.hpp"
@@ -62,6 +63,12 @@ struct FrameStats {
   size_t beyond_range_pixels = 0;
   // The largest distance from the camera of a measured pixel, in metres (fuseSequence).
   double farthest_range = 0.0;
+  // Measured pixels (finite depth > 0) whose point lies outside the map's
+  // extent (mapExtent): the map cannot hold them, so they add neither a hit
+  // nor free space, and are not among valid_pixels. Counted by fuseSequence
+  // (noteDepthRanges: measured pixels less valid ones), outside the
+  // integration; integrateFrame leaves it 0.
+  size_t outside_map_pixels = 0;
   size_t hit_voxels = 0;
   size_t miss_voxels = 0;
   double seconds = 0.0;
@@ -104,8 +111,10 @@ struct DepthRanges {
 // a room fused at 1 cm up to 10 m takes gigabytes, at 4 cm tens of megabytes.
 [[nodiscard]] double suggestedResolutionForRange(double max_range, double resolution);
 
-// A fused frame's stats completed with its depths beyond max range and its
-// farthest range (countDepthRanges), as fuseSequence reports each frame.
+// A fused frame's stats completed with its depths beyond max range, its
+// farthest range (countDepthRanges) and its pixels outside the map's extent
+// (from `stats.valid_pixels`, which integrateFrame set), as fuseSequence
+// reports each frame.
 void noteDepthRanges(FrameStats& stats, const CameraIntrinsics& camera, const DepthImage& depth,
                      double max_range);
 // Adds a frame's stats to the totals of a fusion: counts and seconds summed,
@@ -116,9 +125,42 @@ void addFrameStats(FrameStats& totals, const FrameStats& frame);
 // CLI and the studio say.
 [[nodiscard]] bool mostDepthsBeyondMaxRange(const FrameStats& totals, double max_range);
 
+// The map's extent: OctoMap's 16-level keys reach kMapExtentVoxels voxels on
+// either side of the origin on each axis, so a map holds the points whose every
+// coordinate c satisfies -extent <= c < extent, extent = kMapExtentVoxels x
+// resolution (327.68 m at 1 cm, 65.536 m at 2 mm). Sequences in a site or
+// georeferenced frame can lie farther out: docs/fusion.md, "The map's extent".
+inline constexpr double kMapExtentVoxels = 32768.0;
+[[nodiscard]] inline double mapExtent(double resolution) { return kMapExtentVoxels * resolution; }
+// Whether a map of `resolution` holds `point`: the very test that fusion makes
+// on every point and camera centre.
+[[nodiscard]] bool insideMapExtent(const Eigen::Vector3d& point, double resolution);
+// "+-327.68 m from the origin on each axis at 0.01 m voxels", for messages.
+[[nodiscard]] std::string describeMapExtent(double resolution);
+// The finest voxel size, in whole millimetres, whose extent holds every
+// coordinate up to `reach` metres from the origin.
+[[nodiscard]] double resolutionForReach(double reach);
+// Throws lom::Error naming sequence.json and frames[i].pose when the camera of
+// a frame in [first, last) lies outside the extent of a map of `resolution`:
+// such a frame cannot be fused (its rays would start outside the map).
+void checkCamerasInsideMap(const Sequence& sequence, double resolution, size_t first = 0,
+                           size_t last = static_cast<size_t>(-1));
+
+// For a sequence before any voxel size is chosen (labeloctomap validate):
+// cameras outside the extent at the coarsest voxel fusion takes
+// (kMaxFusionResolution) can never be fused, a problem each; cameras outside
+// the extent at the finest (kMinFusionResolution) need coarser voxels, which
+// `warning` says (empty when all are inside).
+struct CameraExtentCheck {
+  std::vector<Problem> problems;
+  std::string warning;
+};
+[[nodiscard]] CameraExtentCheck checkCameraExtents(const Sequence& sequence);
+
 // Integrates one frame into `map` with the paper's rule (docs/fusion.md). Both
 // paths give the same map (the fast one may differ in the last float bits of
-// summed log-odds).
+// summed log-odds). Throws lom::Error (field "pose") when the camera lies
+// outside the map's extent.
 FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
                           const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
                           const FrameEvidence& evidence, const IntegrationOptions& integration = {});

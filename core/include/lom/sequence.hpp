@@ -76,7 +76,9 @@ void saveSequence(const Sequence& sequence, const std::filesystem::path& folder)
 // wrong pose rather than motion). Fusion would spread the map over that
 // distance, and a view that fits all of it shows the voxels smaller than a
 // pixel. Each message: "frames[i].T_world_camera: the camera is 300 m from
-// where it was in frames[i-1] (a wrong pose?)".
+// where it was in frames[i-1] (a wrong pose?)". Cameras outside the extent
+// of every map fusion can make (lom::checkCameraExtents) are left out: each
+// step is measured from the camera before it that lies inside.
 [[nodiscard]] std::vector<std::string> cameraJumps(const Sequence& sequence,
                                                    double limit_metres = 10.0);
 
