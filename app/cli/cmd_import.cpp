@@ -50,28 +50,15 @@ const char* const kHelp =
     "  --overwrite            replace a sequence already in SEQ\n"
     "  --quiet                no progress bar\n";
 
-LabelSet readLabelList(const std::string& value) {
+LabelSet labelsOption(const std::string& value) {
   if (value == "apc2016") return apc2016Labels();
-  std::ifstream in(value);
-  if (!in) {
-    std::error_code ec;
-    throw Error(value, "--labels", "'apc2016' or a readable file of label names",
-                std::filesystem::exists(value, ec) ? "a file that cannot be read" : "no such file");
+  try {
+    return readLabelList(value);
+  } catch (const Error& e) {
+    Problem problem = e.problem();
+    problem.field = problem.field.empty() ? "--labels" : "--labels, " + problem.field;
+    throw Error(problem);
   }
-  std::vector<LabelInfo> labels;
-  std::string line;
-  while (std::getline(in, line)) {
-    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t'))
-      line.pop_back();
-    const auto first = line.find_first_not_of(" \t");
-    if (first == std::string::npos || line[first] == '#') continue;
-    const int id = static_cast<int>(labels.size());
-    labels.push_back({id, line.substr(first), vocColor(id)});
-  }
-  if (labels.empty() || labels.size() > 256)
-    throw Error(value, "--labels", "a list of 1 to 256 label names, one per line",
-                std::to_string(labels.size()) + " names");
-  return LabelSet(std::move(labels));
 }
 
 size_t nonNegative(const Args& args, const std::string& name, size_t fallback) {
@@ -166,7 +153,7 @@ int runImport(const Words& words) {
   options.overwrite = args.flag("overwrite");
   // Files named by options are read once the call itself is known to be right.
   if (auto value = args.option("intrinsics")) options.intrinsics = intrinsicsOption(*value);
-  if (auto value = args.option("labels")) options.labels = readLabelList(*value);
+  if (auto value = args.option("labels")) options.labels = labelsOption(*value);
 
   const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
   ImportReport report;

@@ -24,6 +24,8 @@ CliResult runCli(const std::string& args, const CliLimits& limits) {
   std::string limit;
   if (limits.memory_kib > 0) limit += "ulimit -v " + std::to_string(limits.memory_kib) + " && ";
   if (limits.cpu_seconds > 0) limit += "ulimit -t " + std::to_string(limits.cpu_seconds) + " && ";
+  if (limits.wall_seconds > 0)
+    limit += "timeout -s KILL " + std::to_string(limits.wall_seconds) + " ";
   const std::string command = limit + "'" + LOM_CLI_PATH + "' " + args + " >'" + out.string() +
                               "' 2>'" + err.string() + "' </dev/null";
   const int status = std::system(command.c_str());

@@ -1,10 +1,12 @@
 #pragma once
 // Helpers shared by the test executables.
+#include <gtest/gtest.h>
+
 #include <filesystem>
+#include <optional>
 #include <random>
 #include <string>
-
-#include <gtest/gtest.h>
+#include <vector>
 
 namespace lom::test {
 
@@ -49,10 +51,12 @@ struct CliResult {
   std::string err;
 };
 // Limits of the process (0: none): virtual memory (ulimit -v), so that an allocation beyond it
-// fails, and processor time (ulimit -t), after which it is killed.
+// fails, processor time (ulimit -t), after which it is killed, and elapsed time (a
+// process blocked on a pipe uses no processor time), after which it is killed too.
 struct CliLimits {
   long memory_kib = 0;
   long cpu_seconds = 0;
+  long wall_seconds = 0;
 };
 CliResult runCli(const std::string& args, const CliLimits& limits = {});
 
