@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -93,6 +94,45 @@ CameraIntrinsics intrinsicsOption(const std::string& value) {
   }
 }
 
+// The signal that asked the import to stop (0: none). Written by the handler, read
+// by the progress callback between frames, where the import can stop and remove
+// what it wrote: a process killed halfway would leave a half-written folder.
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void onStopSignal(int signal) { g_stop_signal = signal; }
+
+// SIGINT and SIGTERM stop the import for as long as it runs; the earlier
+// handlers come back afterwards. A signal the process was started to ignore
+// (a background job of a script) stays ignored.
+class StopSignals {
+ public:
+  StopSignals() {
+    g_stop_signal = 0;
+    struct sigaction action {};
+    action.sa_handler = onStopSignal;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESTART;
+    for (size_t i = 0; i < 2; ++i) {
+      installed_[i] = sigaction(kSignals[i], nullptr, &previous_[i]) == 0 &&
+                      previous_[i].sa_handler != SIG_IGN &&
+                      sigaction(kSignals[i], &action, nullptr) == 0;
+    }
+  }
+  ~StopSignals() {
+    for (size_t i = 0; i < 2; ++i)
+      if (installed_[i]) sigaction(kSignals[i], &previous_[i], nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  static constexpr int kSignals[2] = {SIGINT, SIGTERM};
+  struct sigaction previous_[2]{};
+  bool installed_[2] = {false, false};
+};
+
+const char* signalName(int signal) { return signal == SIGINT ? "SIGINT" : "SIGTERM"; }
+
 }  // namespace
 
 const char* importHelp() { return kHelp; }
@@ -157,8 +197,10 @@ int runImport(const Words& words) {
 
   const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
   ImportReport report;
+  StopSignals stop_signals;
   try {
     report = importSource(kind, source, out, options, [&](const ImportProgress& progress) {
+      if (g_stop_signal) return false;
       if (show_progress) {
         constexpr int kWidth = 30;
         const int filled =
@@ -190,6 +232,20 @@ int runImport(const Words& words) {
     throw;
   }
   if (show_progress) std::fprintf(stderr, "\n");
+  if (const int signal = g_stop_signal; signal && report.cancelled) {
+    std::cerr << "labeloctomap import: interrupted by " << signalName(signal) << " after "
+              << report.frames_written << " frames; nothing was kept: the files written to " << out
+              << " were removed\n";
+    std::error_code ec;
+    if (options.overwrite &&
+        !std::filesystem::exists(std::filesystem::path(out) / "sequence.json", ec))
+      std::cerr << "note: the sequence " << out
+                << " held before is gone too: --overwrite removes it when writing starts\n";
+    return 128 + signal;
+  }
+  if (g_stop_signal)
+    std::cerr << "note: " << signalName(g_stop_signal)
+              << " came after the last frame was written: the sequence is complete and kept\n";
   std::cout << report.text();
   std::cout << "wrote " << out << "/sequence.json\n";
   return 0;

@@ -60,4 +60,34 @@ struct CliLimits {
 };
 CliResult runCli(const std::string& args, const CliLimits& limits = {});
 
+// How a process started by CliProcess ended.
+struct CliExit {
+  bool exited = false;  // by exit(); otherwise killed by `signal`
+  int exit_code = -1;
+  int signal = 0;
+};
+
+// The CLI started in the background (stdin /dev/null, stdout and stderr to files),
+// for tests that act on it while it runs, e.g. by sending it a signal. The
+// destructor kills it if it still runs.
+class CliProcess {
+ public:
+  explicit CliProcess(const std::vector<std::string>& args);
+  ~CliProcess();
+  CliProcess(const CliProcess&) = delete;
+  CliProcess& operator=(const CliProcess&) = delete;
+
+  [[nodiscard]] bool running();
+  void sendSignal(int signal) const;
+  // Waits up to `timeout_seconds` for the process to end; nullopt if it still runs.
+  std::optional<CliExit> wait(double timeout_seconds);
+  [[nodiscard]] std::string out() const;
+  [[nodiscard]] std::string err() const;
+
+ private:
+  TempDir dir_;
+  int pid_ = -1;
+  std::optional<CliExit> exit_;
+};
+
 }  // namespace lom::test
