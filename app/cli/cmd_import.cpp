@@ -94,6 +94,25 @@ CameraIntrinsics intrinsicsOption(const std::string& value) {
   }
 }
 
+// Options only a ROS bag reads: given for another source they would be ignored without a word.
+const char* const kRosbagOnlyOptions[] = {"depth-topic", "color-topic", "camera-info-topic",
+                                          "proba-topic", "label-topic", "fixed-frame",
+                                          "camera-frame"};
+
+void refuseRosbagOptionsFor(const Args& args, const std::optional<SourceKind>& kind,
+                            const std::string& source) {
+  for (const char* option : kRosbagOnlyOptions) {
+    if (!args.option(option)) continue;
+    std::optional<SourceKind> read_as = kind;
+    if (!read_as) read_as = detectSource(source).kind;
+    // A source that is not recognised fails on its own, with what was looked for.
+    if (!read_as || *read_as == SourceKind::RosBag) return;
+    throw UsageError(std::string("option --") + option + " applies to ROS bags only; " + source +
+                     " is read as " + sourceKindName(*read_as) +
+                     (kind ? " (the KIND given)" : " (detected)") + ": leave the option out");
+  }
+}
+
 // The signal that asked the import to stop (0: none). Written by the handler, read
 // by the progress callback between frames, where the import can stop and remove
 // what it wrote: a process killed halfway would leave a half-written folder.
@@ -164,6 +183,8 @@ int runImport(const Words& words) {
       throw UsageError("unknown KIND '" + kind_name +
                        "' (auto, rosbag, frames, tum, quaternion, scannet, apc-shelf)");
   }
+
+  refuseRosbagOptionsFor(args, kind, source);
 
   ImportOptions options;
   if (args.option("depth-scale")) options.depth_scale = args.number("depth-scale", 0.001);
