@@ -1,5 +1,5 @@
 // Devices and FIFOs given where a command reads a file (a model, a label list,
-// ...): refused at once, saying what they are. Read as files they would
+// a batch list): refused at once, saying what they are. Read as files they would
 // never end (/dev/zero) or block forever (a FIFO nobody writes), so every run
 // here is killed after a generous time and given a memory limit.
 #include <gtest/gtest.h>
@@ -32,6 +32,7 @@ class CliSpecialFilesTest : public ::testing::Test {
     (void)lom::test::writeColourWallSequence(dir_ / "seq", 2);
     ASSERT_EQ(::mkfifo((dir_ / "model.onnx").c_str(), 0600), 0);
     ASSERT_EQ(::mkfifo((dir_ / "labels.txt").c_str(), 0600), 0);
+    ASSERT_EQ(::mkfifo((dir_ / "list.txt").c_str(), 0600), 0);
   }
   // A frames-layout recording of two posed frames, for import.
   fs::path writeFramesSource() const {
@@ -100,6 +101,14 @@ TEST_F(CliSpecialFilesTest, ImportLabelListThatIsADeviceOrAFifoIsRefused) {
                                  : "a character device, not a regular file");
   }
   EXPECT_FALSE(fs::exists(dir_ / "imported"));
+}
+
+TEST_F(CliSpecialFilesTest, BatchListThatIsADeviceOrAFifoSaysSo) {
+  auto r = run("score --batch /dev/zero --out " + shellQuoted(dir_ / "r"));
+  expectRefused(r, "/dev/zero", "expected an existing batch list file, found a character device");
+  r = run("score --batch " + shellQuoted(dir_ / "list.txt") + " --out " + shellQuoted(dir_ / "r"));
+  expectRefused(r, "list.txt", "found a named pipe (FIFO), not a regular file");
+  EXPECT_FALSE(fs::exists(dir_ / "r"));
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "lom/annotations.hpp"
+#include "lom/evaluation.hpp"
 #include "lom/labels.hpp"
 #include "lom/npy.hpp"
 #include "test_input_helpers.hpp"
@@ -67,7 +68,7 @@ TEST(FramePathTest, FramesThatAreNotRegularFilesSayWhatTheyAre) {
             "a character device, not a regular file");
 }
 
-TEST(ListFileTest, LabelListsThatAreNotRegularFilesSayWhatTheyAre) {
+TEST(ListFileTest, LabelAndBatchListsThatAreNotRegularFilesSayWhatTheyAre) {
   lom::test::TempDir dir;
   ASSERT_EQ(::mkfifo((dir / "pipe.txt").c_str(), 0600), 0);
   fs::create_directories(dir / "folder.txt");
@@ -77,6 +78,15 @@ TEST(ListFileTest, LabelListsThatAreNotRegularFilesSayWhatTheyAre) {
   EXPECT_EQ(errorOf([&] { (void)lom::readLabelList(dir / "pipe.txt"); }).found, fifo);  // no hang
   EXPECT_EQ(errorOf([&] { (void)lom::readLabelList(dir / "folder.txt"); }).found,
             "a directory, not a file");
+  EXPECT_EQ(errorOf([&] { (void)lom::readBatchList("/dev/zero"); }).found, device);
+  EXPECT_EQ(errorOf([&] { (void)lom::readBatchList(dir / "pipe.txt"); }).found, fifo);
+  EXPECT_EQ(errorOf([&] { (void)lom::readBatchList(dir / "missing.txt"); }).found, "no such file");
+
+  writeSequence(dir / "seq");
+  writeText(dir / "list.txt", "seq /dev/zero\n");
+  const lom::Problem problem = errorOf([&] { (void)lom::readBatchList(dir / "list.txt"); });
+  EXPECT_EQ(problem.field, "line 1 (ANNOTATIONS_PATH)");
+  EXPECT_EQ(problem.found, "/dev/zero: " + device);
 }
 
 TEST(ListFileTest, LabelListNamesTheLineOfABadName) {
