@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -50,28 +51,15 @@ const char* const kHelp =
     "  --overwrite            replace a sequence already in SEQ\n"
     "  --quiet                no progress bar\n";
 
-LabelSet readLabelList(const std::string& value) {
+LabelSet labelsOption(const std::string& value) {
   if (value == "apc2016") return apc2016Labels();
-  std::ifstream in(value);
-  if (!in) {
-    std::error_code ec;
-    throw Error(value, "--labels", "'apc2016' or a readable file of label names",
-                std::filesystem::exists(value, ec) ? "a file that cannot be read" : "no such file");
+  try {
+    return readLabelList(value);
+  } catch (const Error& e) {
+    Problem problem = e.problem();
+    problem.field = problem.field.empty() ? "--labels" : "--labels, " + problem.field;
+    throw Error(problem);
   }
-  std::vector<LabelInfo> labels;
-  std::string line;
-  while (std::getline(in, line)) {
-    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t'))
-      line.pop_back();
-    const auto first = line.find_first_not_of(" \t");
-    if (first == std::string::npos || line[first] == '#') continue;
-    const int id = static_cast<int>(labels.size());
-    labels.push_back({id, line.substr(first), vocColor(id)});
-  }
-  if (labels.empty() || labels.size() > 256)
-    throw Error(value, "--labels", "a list of 1 to 256 label names, one per line",
-                std::to_string(labels.size()) + " names");
-  return LabelSet(std::move(labels));
 }
 
 size_t nonNegative(const Args& args, const std::string& name, size_t fallback) {
@@ -106,6 +94,64 @@ CameraIntrinsics intrinsicsOption(const std::string& value) {
   }
 }
 
+// Options only a ROS bag reads: given for another source they would be ignored without a word.
+const char* const kRosbagOnlyOptions[] = {"depth-topic", "color-topic", "camera-info-topic",
+                                          "proba-topic", "label-topic", "fixed-frame",
+                                          "camera-frame"};
+
+void refuseRosbagOptionsFor(const Args& args, const std::optional<SourceKind>& kind,
+                            const std::string& source) {
+  for (const char* option : kRosbagOnlyOptions) {
+    if (!args.option(option)) continue;
+    std::optional<SourceKind> read_as = kind;
+    if (!read_as) read_as = detectSource(source).kind;
+    // A source that is not recognised fails on its own, with what was looked for.
+    if (!read_as || *read_as == SourceKind::RosBag) return;
+    throw UsageError(std::string("option --") + option + " applies to ROS bags only; " + source +
+                     " is read as " + sourceKindName(*read_as) +
+                     (kind ? " (the KIND given)" : " (detected)") + ": leave the option out");
+  }
+}
+
+// The signal that asked the import to stop (0: none). Written by the handler, read
+// by the progress callback between frames, where the import can stop and remove
+// what it wrote: a process killed halfway would leave a half-written folder.
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void onStopSignal(int signal) { g_stop_signal = signal; }
+
+// SIGINT and SIGTERM stop the import for as long as it runs; the earlier
+// handlers come back afterwards. A signal the process was started to ignore
+// (a background job of a script) stays ignored.
+class StopSignals {
+ public:
+  StopSignals() {
+    g_stop_signal = 0;
+    struct sigaction action {};
+    action.sa_handler = onStopSignal;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESTART;
+    for (size_t i = 0; i < 2; ++i) {
+      installed_[i] = sigaction(kSignals[i], nullptr, &previous_[i]) == 0 &&
+                      previous_[i].sa_handler != SIG_IGN &&
+                      sigaction(kSignals[i], &action, nullptr) == 0;
+    }
+  }
+  ~StopSignals() {
+    for (size_t i = 0; i < 2; ++i)
+      if (installed_[i]) sigaction(kSignals[i], &previous_[i], nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  static constexpr int kSignals[2] = {SIGINT, SIGTERM};
+  struct sigaction previous_[2]{};
+  bool installed_[2] = {false, false};
+};
+
+const char* signalName(int signal) { return signal == SIGINT ? "SIGINT" : "SIGTERM"; }
+
 }  // namespace
 
 const char* importHelp() { return kHelp; }
@@ -138,6 +184,8 @@ int runImport(const Words& words) {
                        "' (auto, rosbag, frames, tum, quaternion, scannet, apc-shelf)");
   }
 
+  refuseRosbagOptionsFor(args, kind, source);
+
   ImportOptions options;
   if (args.option("depth-scale")) options.depth_scale = args.number("depth-scale", 0.001);
   auto& filter = options.depth_filter;
@@ -166,12 +214,14 @@ int runImport(const Words& words) {
   options.overwrite = args.flag("overwrite");
   // Files named by options are read once the call itself is known to be right.
   if (auto value = args.option("intrinsics")) options.intrinsics = intrinsicsOption(*value);
-  if (auto value = args.option("labels")) options.labels = readLabelList(*value);
+  if (auto value = args.option("labels")) options.labels = labelsOption(*value);
 
   const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
   ImportReport report;
+  StopSignals stop_signals;
   try {
     report = importSource(kind, source, out, options, [&](const ImportProgress& progress) {
+      if (g_stop_signal) return false;
       if (show_progress) {
         constexpr int kWidth = 30;
         const int filled =
@@ -203,6 +253,20 @@ int runImport(const Words& words) {
     throw;
   }
   if (show_progress) std::fprintf(stderr, "\n");
+  if (const int signal = g_stop_signal; signal && report.cancelled) {
+    std::cerr << "labeloctomap import: interrupted by " << signalName(signal) << " after "
+              << report.frames_written << " frames; nothing was kept: the files written to " << out
+              << " were removed\n";
+    std::error_code ec;
+    if (options.overwrite &&
+        !std::filesystem::exists(std::filesystem::path(out) / "sequence.json", ec))
+      std::cerr << "note: the sequence " << out
+                << " held before is gone too: --overwrite removes it when writing starts\n";
+    return 128 + signal;
+  }
+  if (g_stop_signal)
+    std::cerr << "note: " << signalName(g_stop_signal)
+              << " came after the last frame was written: the sequence is complete and kept\n";
   std::cout << report.text();
   std::cout << "wrote " << out << "/sequence.json\n";
   return 0;

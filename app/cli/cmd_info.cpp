@@ -25,12 +25,21 @@ std::string fileKind(const std::string& path) {
   return dot == std::string::npos ? "(no extension)" : path.substr(dot);
 }
 
+// How many frames have the file: a name in sequence.json whose file is gone (or is
+// not a regular file) is counted apart, so that the line never promises a file
+// that fusion would fail to read.
 std::string availability(const Sequence& sequence, std::string FrameRecord::*member) {
   std::map<std::string, size_t> kinds;
   size_t present = 0;
+  size_t missing = 0;
   for (const auto& frame : sequence.frames) {
     const std::string& path = frame.*member;
     if (path.empty()) continue;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(sequence.pathOf(path), ec)) {
+      ++missing;
+      continue;
+    }
     ++present;
     ++kinds[fileKind(path)];
   }
@@ -45,6 +54,10 @@ std::string availability(const Sequence& sequence, std::string FrameRecord::*mem
     }
     out << ")";
   }
+  if (missing)
+    out << "; " << missing << (missing == 1 ? " file" : " files")
+        << " named in sequence.json missing or not a regular file (labeloctomap validate lists "
+           "them)";
   return out.str();
 }
 

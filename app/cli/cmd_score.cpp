@@ -130,7 +130,13 @@ int runScore(const Words& words) {
       checkThresholdFor(threshold, entry.inputs.map, options);
     }
     checkOutputFolder(out, "out", what, read);
-    for (const auto& entry : entries) checkReportFolder(out / entry.name, read);
+    for (const auto& entry : entries) {
+      checkOutputSubfolder(out / entry.name, "out",
+                           "the report of " + entry.name + " (" + *batch + " line " +
+                               std::to_string(entry.line) + ")",
+                           read);
+      checkReportFolder(out / entry.name, read);
+    }
     for (const char* name : {"aggregate.json", "aggregate.md", "aggregate.svg"})
       checkOutputInFolder(out / name, "out", read);
     options.fusion.segmenter = segmenterFromArgs(args);

@@ -131,6 +131,19 @@ void checkOutputFolder(const fs::path& out, const std::string& option, const std
   checkOutsideInputs(out, option, what, inputs);
 }
 
+void checkOutputSubfolder(const fs::path& folder, const std::string& option,
+                          const std::string& what, const CommandInputs& inputs) {
+  std::error_code ec;
+  if (fs::exists(folder, ec) && !fs::is_directory(folder, ec))
+    throw UsageError("--" + option + ": " + folder.string() +
+                     " is an existing file; expected a folder for " + what);
+  for (const auto& input : inputs.folders)
+    if (isInside(folder, input.path))
+      throw UsageError("--" + option + ": " + what + " would be written to " + folder.string() +
+                       ", which lies inside " + input.what + " " + input.path.string() +
+                       "; choose another --" + option);
+}
+
 void checkOutputInFolder(const fs::path& file, const std::string& option,
                          const CommandInputs& inputs) {
   if (const std::string kind = notARegularFile(file); !kind.empty())

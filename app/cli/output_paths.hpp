@@ -61,6 +61,12 @@ void checkOutputFile(const std::filesystem::path& out, const std::string& option
 void checkOutputFolder(const std::filesystem::path& out, const std::string& option,
                        const std::string& what, const CommandInputs& inputs);
 
+// Checks a folder that a command creates inside its output folder (DIR/<name>/ of a
+// batch): not an existing file, not an input folder nor inside one. `option` names
+// the option that chose the output folder, `what` says what goes into `folder`.
+void checkOutputSubfolder(const std::filesystem::path& folder, const std::string& option,
+                          const std::string& what, const CommandInputs& inputs);
+
 // Checks a file that a command writes inside its output folder (e.g. DIR/report.json):
 // not an existing folder, device or FIFO and not one of the inputs. `option` names
 // the option that chose the folder.

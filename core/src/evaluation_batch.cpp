@@ -3,6 +3,7 @@
 #include <fstream>
 #include <map>
 
+#include "file_checks.hpp"
 #include "lom/error.hpp"
 #include "lom/evaluation.hpp"
 
@@ -88,8 +89,8 @@ EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOption
 }
 
 std::vector<BatchEntry> readBatchList(const fs::path& list) {
-  std::error_code ec;
-  if (!fs::is_regular_file(list, ec)) throw Error(list.string(), "", "an existing batch list file", "no such file");
+  if (const std::string why = notARegularFile(list); !why.empty())
+    throw Error(list.string(), "", "an existing batch list file", why);
   std::ifstream in(list);
   if (!in) throw Error(list.string(), "", "a readable batch list file", "cannot open it");
   const fs::path base = list.has_parent_path() ? list.parent_path() : fs::path(".");
@@ -118,15 +119,16 @@ std::vector<BatchEntry> readBatchList(const fs::path& list) {
     const fs::path json = entry.inputs.sequence.extension() == ".json"
                               ? entry.inputs.sequence
                               : entry.inputs.sequence / "sequence.json";
-    if (!fs::is_regular_file(json, ec))
+    if (const std::string why = notARegularFile(json); !why.empty())
       throw Error(list.string(), where + " (SEQ_PATH)", "a sequence folder holding sequence.json",
-                  json.string() + " does not exist");
-    if (!fs::is_regular_file(entry.inputs.annotations, ec))
+                  json.string() + ": " + why);
+    if (const std::string why = notARegularFile(entry.inputs.annotations); !why.empty())
       throw Error(list.string(), where + " (ANNOTATIONS_PATH)", "an existing annotations file",
-                  entry.inputs.annotations.string() + " does not exist");
-    if (entry.inputs.map && !fs::is_regular_file(*entry.inputs.map, ec))
-      throw Error(list.string(), where + " (MAP)", "an existing .ot map file",
-                  entry.inputs.map->string() + " does not exist");
+                  entry.inputs.annotations.string() + ": " + why);
+    if (entry.inputs.map)
+      if (const std::string why = notARegularFile(*entry.inputs.map); !why.empty())
+        throw Error(list.string(), where + " (MAP)", "an existing .ot map file",
+                    entry.inputs.map->string() + ": " + why);
     entry.name = sequenceName(entry.inputs.sequence);
     const auto [previous, inserted] = line_of_name.emplace(entry.name, number);
     if (!inserted)

@@ -501,6 +501,11 @@ void SequenceWriter::finish(const std::string& source_description) {
          std::to_string(t.flying) + " flying pixels" + percent(t.flying) +
          (t.invalid ? ", " + std::to_string(t.invalid) + " NaN/negative" : std::string()));
   }
+  // A label list that names nothing of this source would otherwise vanish without a word.
+  if (options_.labels && !(labels_ == *options_.labels))
+    note(labelless_ ? "the given label list was not used: the source has no label or "
+                      "probability images (the sequence has the single label __background__)"
+                    : "the given label list was not used: this source names its own labels");
   for (const auto& text : note_order_) {
     const size_t count = note_counts_[text];
     report_.notes.push_back(count > 1 ? text + " (" + std::to_string(count) + " times)" : text);

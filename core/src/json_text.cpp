@@ -230,6 +230,11 @@ std::string describe(const Json& value) {
 }
 
 Json parseText(const std::string& text, const std::string& file) {
+  // The parser takes a NUL byte for the end of its input, which would call a
+  // binary or damaged file "unexpected end of input".
+  if (const size_t nul = text.find('\0'); nul != std::string::npos)
+    throw Error(file, "", "a JSON text file",
+                "a NUL byte at " + positionText(text, nul) + " (a binary or damaged file?)");
   checkNesting(text, file);
   Json result;
   TrackingBuilder builder(result);

@@ -1,6 +1,12 @@
 #include "lom/labels.hpp"
 
+#include <fstream>
+#include <map>
 #include <stdexcept>
+#include <system_error>
+
+#include "file_checks.hpp"
+#include "lom/error.hpp"
 
 namespace lom {
 
@@ -59,6 +65,49 @@ bool LabelSet::operator==(const LabelSet& other) const {
     if (labels_[i].name != other.labels_[i].name || labels_[i].color != other.labels_[i].color)
       return false;
   return true;
+}
+
+LabelSet readLabelList(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  const std::string expected = "a label list file (one label name per line)";
+  if (const std::string why = notARegularFile(file); !why.empty())
+    throw Error(name, "", expected, why);
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(file, ec);
+  if (!ec && size > kMaxLabelListBytes)
+    throw Error(name, "",
+                "a label list of at most " + std::to_string(kMaxLabelListBytes) + " bytes",
+                "a file of " + std::to_string(size) + " bytes");
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(name, "", expected, "a file that cannot be opened");
+  std::vector<LabelInfo> labels;
+  std::map<std::string, size_t> line_of;
+  std::string line;
+  size_t number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t'))
+      line.pop_back();
+    const auto first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line[first] == '#') continue;
+    const std::string label = line.substr(first);
+    const std::string field = "line " + std::to_string(number);
+    if (const std::string problem = labelNameProblem(label); !problem.empty())
+      throw Error(name, field, kLabelNameRule, problem);
+    const auto [previous, inserted] = line_of.emplace(label, number);
+    if (!inserted)
+      throw Error(name, field, "each label name once",
+                  "\"" + label + "\" again (also line " + std::to_string(previous->second) + ")");
+    if (labels.size() == 256)
+      throw Error(name, field, "a list of 1 to 256 label names", "more than 256 names");
+    const int id = static_cast<int>(labels.size());
+    labels.push_back({id, label, vocColor(id)});
+  }
+  if (in.bad())
+    throw Error(name, "", expected, "a read error after line " + std::to_string(number));
+  if (labels.empty())
+    throw Error(name, "", "a list of 1 to 256 label names, one per line", "no names");
+  return LabelSet(std::move(labels));
 }
 
 Rgb vocColor(int id) {

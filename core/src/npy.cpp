@@ -67,6 +67,7 @@ struct HeaderValue {
   std::string text;
   bool flag = false;
   std::vector<size_t> numbers;
+  std::string source;  // the value as written, for messages
 };
 
 class HeaderParser {
@@ -137,6 +138,15 @@ class HeaderParser {
   }
   HeaderValue parseValue() {
     skipSpace();
+    const size_t start = pos_;
+    HeaderValue value = parseValueAt();
+    value.source = text_.substr(start, pos_ - start);
+    while (!value.source.empty() && std::isspace(static_cast<unsigned char>(value.source.back())))
+      value.source.pop_back();
+    if (value.source.size() > 80) value.source = value.source.substr(0, 77) + "...";
+    return value;
+  }
+  HeaderValue parseValueAt() {
     HeaderValue value;
     const char c = peek();
     if (c == '\'' || c == '"') {
@@ -361,10 +371,13 @@ NpyArray readNpy(const fs::path& path) {
                 "only " + std::to_string(in.gcount()) + " of " + std::to_string(file_size) +
                     " bytes could be read");
 
-  if (raw.size() < kMagicSize + 4 || std::memcmp(raw.data(), kMagic, kMagicSize) != 0)
+  if (raw.size() < kMagicSize || std::memcmp(raw.data(), kMagic, kMagicSize) != 0)
     throw Error(file, "magic", "a NumPy .npy file starting with \\x93NUMPY",
                 raw.size() < kMagicSize ? "a file of " + std::to_string(raw.size()) + " bytes"
                                         : "other leading bytes");
+  if (raw.size() < kMagicSize + 4)
+    throw Error(file, "header", "a format version and header length after \\x93NUMPY",
+                "the file ends after " + std::to_string(raw.size()) + " bytes (truncated file)");
   const int major = raw[6];
   const int minor = raw[7];
   if (major < 1 || major > 3 || minor != 0)
@@ -392,12 +405,19 @@ NpyArray readNpy(const fs::path& path) {
   if (descr == dict.end()) throw Error(file, "header", "a 'descr' entry", "none");
   if (descr->second.kind != HeaderValue::Kind::String)
     throw Error(file, "dtype", kSupportedTypes, "a structured dtype");
+  // What an entry of the wrong kind holds, as written; "none" when it is absent.
+  const auto found = [&](const auto& entry) {
+    if (entry == dict.end()) return std::string("none");
+    return (entry->second.kind == HeaderValue::Kind::String ? "the string " : "") +
+           entry->second.source;
+  };
   const auto fortran = dict.find("fortran_order");
   if (fortran == dict.end() || fortran->second.kind != HeaderValue::Kind::Bool)
-    throw Error(file, "header", "a 'fortran_order' entry of True or False", "none");
+    throw Error(file, "header", "a 'fortran_order' entry of True or False", found(fortran));
   const auto shape = dict.find("shape");
   if (shape == dict.end() || shape->second.kind != HeaderValue::Kind::Tuple)
-    throw Error(file, "header", "a 'shape' entry with a tuple of integers", "none");
+    throw Error(file, "header", "a 'shape' entry with a tuple of non-negative integers",
+                found(shape));
 
   const Descr parsed = parseDescr(descr->second.text, file);
   NpyArray array;

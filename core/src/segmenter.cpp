@@ -10,15 +10,15 @@
 #include <fstream>
 #include <list>
 #include <mutex>
+#include <opencv2/core.hpp>
+#include <opencv2/dnn.hpp>
+#include <opencv2/imgproc.hpp>
 #include <set>
 #include <sstream>
 #include <string_view>
 #include <unordered_map>
 
-#include <opencv2/core.hpp>
-#include <opencv2/dnn.hpp>
-#include <opencv2/imgproc.hpp>
-
+#include "file_checks.hpp"
 #include "lom/error.hpp"
 #include "lom/npy.hpp"
 
@@ -455,10 +455,13 @@ std::shared_ptr<Segmenter> Segmenter::load(const fs::path& model, const Segmente
   std::error_code ec;
   if (fs::is_directory(model, ec))
     throw Error(file, "model", "an ONNX model file (.onnx)", "a folder");
+  // Checked before opening: a device would be read without end, a FIFO would block.
+  if (const std::string why = notARegularFile(model); !why.empty())
+    throw Error(file, "model", "a readable ONNX model file (.onnx)", why);
   std::ifstream in(model, std::ios::binary);
   if (!in)
     throw Error(file, "model", "a readable ONNX model file (.onnx)",
-                fs::exists(model, ec) ? "a file that cannot be opened" : "no such file");
+                "a file that cannot be opened");
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (bytes.empty()) throw Error(file, "model", "an ONNX model file (.onnx)", "an empty file");
   impl->model_hash = fnv1a(bytes.data(), bytes.size());

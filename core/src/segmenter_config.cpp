@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "file_checks.hpp"
 #include "json_text.hpp"
 #include "lom/error.hpp"
 #include "lom/segmenter.hpp"
@@ -155,9 +156,12 @@ SegmenterConfig parseSegmenterConfig(const std::string& json_text, const std::st
 }
 
 SegmenterConfig readSegmenterConfig(const fs::path& json) {
+  if (const std::string why = notARegularFile(json); !why.empty())
+    throw Error(json.string(), "(file)", "a segmenter configuration file (JSON)", why);
   std::ifstream in(json, std::ios::binary);
-  if (!in) throw Error(json.string(), "(file)", "a readable segmenter configuration (JSON)",
-                       fs::exists(json) ? "a file that cannot be opened" : "no such file");
+  if (!in)
+    throw Error(json.string(), "(file)", "a readable segmenter configuration (JSON)",
+                "a file that cannot be opened");
   std::stringstream buffer;
   buffer << in.rdbuf();
   return parseSegmenterConfig(buffer.str(), json.string());

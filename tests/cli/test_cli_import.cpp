@@ -137,6 +137,74 @@ TEST(CliImport, DataErrors) {
   EXPECT_NE(missing.err.find("no such file or folder"), std::string::npos) << missing.err;
 }
 
+// Topic and tf frame options are read from ROS bags only: for another source they
+// would be ignored, so the call is refused as it stands.
+TEST(CliImport, RosbagOptionsForAnotherSourceAreUsageErrors) {
+  test::TempDir dir;
+  writeFrames(dir / "frames");
+  writeQuaternion(dir / "room");
+  for (const std::string option : {"depth-topic", "color-topic", "camera-info-topic", "proba-topic",
+                                   "label-topic", "fixed-frame", "camera-frame"}) {
+    SCOPED_TRACE(option);
+    const auto given = test::runCli("import frames " + quoted(dir / "frames") + " --out " +
+                                    quoted(dir / "seq") + " --" + option + " x");
+    EXPECT_EQ(given.exit_code, 2) << given.err;
+    EXPECT_NE(given.err.find("option --" + option + " applies to ROS bags only; " +
+                             (dir / "frames").string() + " is read as frames (the KIND given)"),
+              std::string::npos)
+        << given.err;
+  }
+  const auto detected =
+      test::runCli("import auto " + quoted(dir / "room") + " --out " + quoted(dir / "seq") +
+                   " --intrinsics 20,20,7.5,5.5 --depth-topic /camera/depth --fixed-frame map");
+  EXPECT_EQ(detected.exit_code, 2) << detected.err;
+  EXPECT_NE(detected.err.find("option --depth-topic applies to ROS bags only; " +
+                              (dir / "room").string() + " is read as quaternion (detected)"),
+            std::string::npos)
+      << detected.err;
+  EXPECT_NE(detected.err.find("usage: labeloctomap import"), std::string::npos) << detected.err;
+  EXPECT_FALSE(fs::exists(dir / "seq"));
+}
+
+// A label list is checked whether or not the source has label images to name.
+TEST(CliImport, LabelListIsCheckedEvenForASourceWithoutLabels) {
+  test::TempDir dir;
+  writeQuaternion(dir / "room");
+  const std::string call = "import quaternion " + quoted(dir / "room") + " --out " +
+                           quoted(dir / "seq") + " --intrinsics 20,20,7.5,5.5 --labels ";
+  writeText(dir / "twice.txt", "__background__\nfoo\n# a comment\n  foo  \n");
+  auto r = test::runCli(call + quoted(dir / "twice.txt"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find((dir / "twice.txt").string() +
+                       ": --labels, line 4: expected each label name once, found \"foo\" again "
+                       "(also line 2)"),
+            std::string::npos)
+      << r.err;
+  writeText(dir / "tab.txt", "__background__\nfo\to\n");
+  r = test::runCli(call + quoted(dir / "tab.txt"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("tab.txt: --labels, line 2: expected a label name"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("a tab (0x09) at byte 2"), std::string::npos) << r.err;
+  writeText(dir / "empty.txt", "# nothing\n\n");
+  r = test::runCli(call + quoted(dir / "empty.txt"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("empty.txt: --labels: expected a list of 1 to 256 label names"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir / "seq"));
+
+  // A valid list the source has no use for: imported, with a note saying so.
+  writeText(dir / "good.txt", "__background__\nfoo\n");
+  r = test::runCli(call + quoted(dir / "good.txt"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("the given label list was not used: the source has no label or "
+                       "probability images"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(loadSequence(dir / "seq").labels.size(), 1);
+}
+
 #ifdef LOM_WITH_ROSBAG
 // A bag with two depth topics, a camera info and tf in "odom" under "map".
 void writeBag(const fs::path& path) {

@@ -87,6 +87,25 @@ TEST_F(CliInfoTest, InfoSaysWhenTheFramesHaveNoTimeStamps) {
       << some.out;
 }
 
+// sequence.json may name files that are gone: info counts the files that are there.
+TEST_F(CliInfoTest, InfoCountsOnlyFrameFilesThatExist) {
+  fs::remove(seq() / "frames" / "0.depth.png");
+  fs::remove(seq() / "frames" / "1.label.png");
+  fs::remove(seq() / "frames" / "2.label.png");
+  fs::create_directories(seq() / "frames" / "2.label.png");  // a folder under a file's name
+  const auto result = lom::test::runCli("info " + quoted(seq()));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("depth:            2/3 (2 .png); 1 file named in sequence.json "
+                            "missing or not a regular file"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find("label:            1/3 (1 .png); 2 files named in sequence.json "
+                            "missing or not a regular file"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find("proba:            1/3 (1 .npy)\n"), std::string::npos) << result.out;
+}
+
 TEST_F(CliInfoTest, InfoAcceptsThePathOfSequenceJson) {
   const auto result = lom::test::runCli("info " + quoted(seq() / "sequence.json"));
   EXPECT_EQ(result.exit_code, 0) << result.err;

@@ -372,6 +372,26 @@ TEST_F(CliScoreTest, BatchWritesOneReportPerSequenceAndTheAggregate) {
   EXPECT_TRUE(std::filesystem::exists(out / "reports" / "aggregate.svg"));
 }
 
+// --out DIR writes DIR/<name>/ for each sequence: with DIR the folder holding a
+// listed sequence, that is the sequence folder itself, which score only reads.
+TEST_F(CliScoreTest, BatchRefusesReportFoldersInsideAScoredSequence) {
+  TempDir dir;
+  auto r = runCli("synth --out " + quoted(dir / "x") + " --frames 4 --width 80 --height 60");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ofstream(dir / "list.txt") << "x x/annotations.json\n";
+  r = runCli("score --batch " + quoted(dir / "list.txt") + " --out " + quoted(dir.path()) +
+             " --quiet");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--out: the report of x (" + (dir / "list.txt").string() + " line 1)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("lies inside the input sequence folder"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("choose another --out"), std::string::npos) << r.err;
+  for (const char* file : {"report.json", "report.csv", "report.md", "report.svg"})
+    EXPECT_FALSE(std::filesystem::exists(dir / "x" / file)) << file;
+  EXPECT_FALSE(std::filesystem::exists(dir / "aggregate.json"));
+}
+
 TEST_F(CliScoreTest, BatchWithABadLineFailsAndWritesNothing) {
   TempDir out;
   const auto list = out / "list.txt";

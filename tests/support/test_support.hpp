@@ -1,10 +1,12 @@
 #pragma once
 // Helpers shared by the test executables.
+#include <gtest/gtest.h>
+
 #include <filesystem>
+#include <optional>
 #include <random>
 #include <string>
-
-#include <gtest/gtest.h>
+#include <vector>
 
 namespace lom::test {
 
@@ -49,11 +51,43 @@ struct CliResult {
   std::string err;
 };
 // Limits of the process (0: none): virtual memory (ulimit -v), so that an allocation beyond it
-// fails, and processor time (ulimit -t), after which it is killed.
+// fails, processor time (ulimit -t), after which it is killed, and elapsed time (a
+// process blocked on a pipe uses no processor time), after which it is killed too.
 struct CliLimits {
   long memory_kib = 0;
   long cpu_seconds = 0;
+  long wall_seconds = 0;
 };
 CliResult runCli(const std::string& args, const CliLimits& limits = {});
+
+// How a process started by CliProcess ended.
+struct CliExit {
+  bool exited = false;  // by exit(); otherwise killed by `signal`
+  int exit_code = -1;
+  int signal = 0;
+};
+
+// The CLI started in the background (stdin /dev/null, stdout and stderr to files),
+// for tests that act on it while it runs, e.g. by sending it a signal. The
+// destructor kills it if it still runs.
+class CliProcess {
+ public:
+  explicit CliProcess(const std::vector<std::string>& args);
+  ~CliProcess();
+  CliProcess(const CliProcess&) = delete;
+  CliProcess& operator=(const CliProcess&) = delete;
+
+  [[nodiscard]] bool running();
+  void sendSignal(int signal) const;
+  // Waits up to `timeout_seconds` for the process to end; nullopt if it still runs.
+  std::optional<CliExit> wait(double timeout_seconds);
+  [[nodiscard]] std::string out() const;
+  [[nodiscard]] std::string err() const;
+
+ private:
+  TempDir dir_;
+  int pid_ = -1;
+  std::optional<CliExit> exit_;
+};
 
 }  // namespace lom::test

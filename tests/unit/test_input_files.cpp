@@ -9,6 +9,8 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "lom/annotations.hpp"
+#include "lom/evaluation.hpp"
+#include "lom/labels.hpp"
 #include "lom/npy.hpp"
 #include "test_input_helpers.hpp"
 
@@ -64,6 +66,53 @@ TEST(FramePathTest, FramesThatAreNotRegularFilesSayWhatTheyAre) {
             "a directory, not a file");
   EXPECT_EQ(errorOf([&] { (void)lom::readNpy("/dev/zero"); }).found,
             "a character device, not a regular file");
+}
+
+TEST(ListFileTest, LabelAndBatchListsThatAreNotRegularFilesSayWhatTheyAre) {
+  lom::test::TempDir dir;
+  ASSERT_EQ(::mkfifo((dir / "pipe.txt").c_str(), 0600), 0);
+  fs::create_directories(dir / "folder.txt");
+  const std::string fifo = "a named pipe (FIFO), not a regular file";
+  const std::string device = "a character device, not a regular file";
+  EXPECT_EQ(errorOf([&] { (void)lom::readLabelList("/dev/zero"); }).found, device);
+  EXPECT_EQ(errorOf([&] { (void)lom::readLabelList(dir / "pipe.txt"); }).found, fifo);  // no hang
+  EXPECT_EQ(errorOf([&] { (void)lom::readLabelList(dir / "folder.txt"); }).found,
+            "a directory, not a file");
+  EXPECT_EQ(errorOf([&] { (void)lom::readBatchList("/dev/zero"); }).found, device);
+  EXPECT_EQ(errorOf([&] { (void)lom::readBatchList(dir / "pipe.txt"); }).found, fifo);
+  EXPECT_EQ(errorOf([&] { (void)lom::readBatchList(dir / "missing.txt"); }).found, "no such file");
+
+  writeSequence(dir / "seq");
+  writeText(dir / "list.txt", "seq /dev/zero\n");
+  const lom::Problem problem = errorOf([&] { (void)lom::readBatchList(dir / "list.txt"); });
+  EXPECT_EQ(problem.field, "line 1 (ANNOTATIONS_PATH)");
+  EXPECT_EQ(problem.found, "/dev/zero: " + device);
+}
+
+TEST(ListFileTest, LabelListNamesTheLineOfABadName) {
+  lom::test::TempDir dir;
+  writeText(dir / "labels.txt", "# ids follow the lines\n__background__\r\n  mug \n\nbook\n");
+  const lom::LabelSet labels = lom::readLabelList(dir / "labels.txt");
+  ASSERT_EQ(labels.size(), 3);
+  EXPECT_EQ(labels.at(1).name, "mug");
+  EXPECT_EQ(labels.at(2).name, "book");
+  EXPECT_EQ(labels.at(2).color, lom::vocColor(2));
+
+  writeText(dir / "labels.txt", "__background__\nmug\nmug\n");
+  lom::Problem problem = errorOf([&] { (void)lom::readLabelList(dir / "labels.txt"); });
+  EXPECT_EQ(problem.file, (dir / "labels.txt").string());
+  EXPECT_EQ(problem.field, "line 3");
+  EXPECT_EQ(problem.found, "\"mug\" again (also line 2)");
+  writeText(dir / "labels.txt", "__background__\n" + std::string(300, 'x') + "\n");
+  problem = errorOf([&] { (void)lom::readLabelList(dir / "labels.txt"); });
+  EXPECT_EQ(problem.field, "line 2");
+  EXPECT_EQ(problem.found, "a name of 300 bytes");
+  std::string many;
+  for (int i = 0; i < 257; ++i) many += "label" + std::to_string(i) + "\n";
+  writeText(dir / "labels.txt", many);
+  problem = errorOf([&] { (void)lom::readLabelList(dir / "labels.txt"); });
+  EXPECT_EQ(problem.field, "line 257");
+  EXPECT_EQ(problem.found, "more than 256 names");
 }
 
 // A PNG whose header declares width x height; only the signature and IHDR

@@ -107,4 +107,19 @@ TEST(JsonInputTest, HugeIntegerLiteralIsReportedLikeAnOverflowingNumber) {
   EXPECT_NE(problem.expected.find("a finite number"), std::string::npos) << problem.message();
 }
 
+// The parser stops at a NUL byte as if the text ended there; a binary or damaged
+// file is named as such instead of "unexpected end of input".
+TEST(JsonInputTest, NulByteIsReportedAsSuchWithItsPosition) {
+  lom::test::TempDir dir;
+  writeText(dir / "sequence.json",
+            std::string("{\"format\": \"lom-sequence\",\n  \0\"x\": 1}", 37));
+  lom::Problem problem = errorOf([&] { (void)lom::loadSequence(dir.path()); });
+  EXPECT_EQ(problem.file, (dir / "sequence.json").string());
+  EXPECT_EQ(problem.expected, "a JSON text file");
+  EXPECT_EQ(problem.found, "a NUL byte at line 2, column 3 (a binary or damaged file?)");
+  writeText(dir / "boxes.json", std::string("[\0]", 3));
+  problem = errorOf([&] { (void)lom::loadAnnotations(dir / "boxes.json"); });
+  EXPECT_EQ(problem.found, "a NUL byte at line 1, column 2 (a binary or damaged file?)");
+}
+
 }  // namespace

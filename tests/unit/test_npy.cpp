@@ -226,6 +226,49 @@ TEST_F(NpyTest, RejectsStructuredDtypeAndNonNpyFiles) {
             std::string::npos);
 }
 
+TEST_F(NpyTest, HeaderEntriesOfTheWrongKindAreQuotedAsWritten) {
+  auto message = errorOf([&] {
+    (void)lom::readNpy(file("{'descr': '|u1', 'fortran_order': 'False', 'shape': (3, 4), }",
+                            std::string(12, '\0')));
+  });
+  EXPECT_NE(
+      message.find("expected a 'fortran_order' entry of True or False, found the string 'False'"),
+      std::string::npos)
+      << message;
+  message = errorOf([&] {
+    (void)lom::readNpy(file("{'descr': '|u1', 'fortran_order': False, 'shape': (-3, 4, 12), }",
+                            std::string(12, '\0')));
+  });
+  EXPECT_NE(message.find("a 'shape' entry with a tuple of non-negative integers, found "
+                         "(-3, 4, 12)"),
+            std::string::npos)
+      << message;
+  message = errorOf([&] {
+    (void)lom::readNpy(file("{'descr': '|u1', 'fortran_order': False, }", std::string(12, '\0')));
+  });
+  EXPECT_NE(message.find("a 'shape' entry with a tuple of non-negative integers, found none"),
+            std::string::npos)
+      << message;
+}
+
+TEST_F(NpyTest, FileEndingAfterTheMagicIsTruncatedNotForeign) {
+  const fs::path path = dir / "magic-only.npy";
+  writeBytes(path, "\x93NUMPY");
+  const std::string message = errorOf([&] { (void)lom::readNpy(path); });
+  EXPECT_EQ(message.find("other leading bytes"), std::string::npos) << message;
+  EXPECT_NE(message.find(path.string() + ": header: expected a format version and header length "
+                                         "after \\x93NUMPY, found the file ends after 6 bytes "
+                                         "(truncated file)"),
+            std::string::npos)
+      << message;
+  writeBytes(path, std::string("\x93NUMPY\x01\x00\x10", 9));
+  EXPECT_NE(errorOf([&] { (void)lom::readNpy(path); }).find("ends after 9 bytes"),
+            std::string::npos);
+  writeBytes(path, "\x93NUM");
+  EXPECT_NE(errorOf([&] { (void)lom::readNpy(path); }).find("found a file of 4 bytes"),
+            std::string::npos);
+}
+
 TEST_F(NpyTest, WriterProducesAlignedLittleEndianFilesThatReadBack) {
   const fs::path path = dir / "written.npy";
   const std::vector<float> values{1.5f, -2.0f, 0.125f, 9.0f, 10.0f, 11.0f};

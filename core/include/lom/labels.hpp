@@ -2,6 +2,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -54,6 +55,15 @@ inline constexpr const char* kLabelNameRule =
 // The 39 Amazon Picking Challenge 2016 objects in the paper's numbering 1..39
 // plus "__background__" as 0, coloured with the PASCAL VOC palette.
 [[nodiscard]] LabelSet apc2016Labels();
+
+// Reads a label list: one label name per line, label 0 (the background) first;
+// blank lines and lines starting with '#' are skipped, blanks around a name are
+// dropped. Ids follow the order of the names, colours the PASCAL VOC palette.
+// Throws lom::Error naming the file (and the line) for anything that is not a
+// regular file (a device or FIFO would never end), a file larger than
+// kMaxLabelListBytes, an invalid or repeated name, or not 1 to 256 names.
+inline constexpr std::size_t kMaxLabelListBytes = 1 << 20;
+[[nodiscard]] LabelSet readLabelList(const std::filesystem::path& file);
 
 // Colour of label `id` in the PASCAL VOC palette (1 -> 128,0,0).
 [[nodiscard]] Rgb vocColor(int id);
