@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "demo_window_fixture.hpp"
+#include "lom/fusion.hpp"
+#include "lom/label_map.hpp"
 #include "lom/sequence.hpp"
 #include "lom/synth.hpp"
 #include "test_support.hpp"
@@ -58,6 +60,28 @@ TEST(MapWorkerTest, FusesOffTheGuiThreadAndReportsThroughItsEventLoop) {
   QTest::qWait(50);                          // the last snapshot arrives through the event loop
   EXPECT_EQ(worker.snapshot()->frames_fused, frames);
   EXPECT_FALSE(worker.isFusing());
+}
+
+TEST(MapWorkerTest, TheFusedMapIsTheCommandLinesMapForTheSameFrames) {
+  test::TempDir temp;
+  const auto folder = temp.path() / "scene";
+  (void)writeSyntheticScene(fixture::smallDemo(), folder);
+  const auto sequence = std::make_shared<const Sequence>(loadSequence(folder));
+  const LabelMap expected = fuseSequence(*sequence, FusionOptions{});
+
+  MapWorker worker;
+  bool finished = false;
+  QObject::connect(&worker, &MapWorker::fusionFinished, [&](bool) { finished = true; });
+  worker.startFusion(sequence, FusionOptions{});
+  std::atomic<size_t> leaves{0}, nodes{0};
+  worker.withMap([&](const LabelMap* map) {
+    nodes = map->numNodes();
+    leaves = map->numLeaves();
+  });
+  ASSERT_TRUE(QTest::qWaitFor([&] { return finished && leaves > 0; }, fixture::kTimeoutMs));
+  // Pruned as fuseSequence prunes: the same tree, so the same exports and .ot files.
+  EXPECT_EQ(leaves.load(), expected.numLeaves());
+  EXPECT_EQ(nodes.load(), expected.numNodes());
 }
 
 }  // namespace

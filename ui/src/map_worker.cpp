@@ -183,6 +183,9 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
     inGui([this, done, total, rate] { emit fusionProgress(done, total, rate); });
   }
   fusing_now_ = false;
+  // As fuseSequence does: the studio's map, its exports and .ot files are
+  // then the command line's for the same frames.
+  map_->prune();
   publish(takeSnapshot(*map_, frames_fused_));
   const double max_range = fusion.map.max_range;
   inGui([this, id, totals, max_range] {
