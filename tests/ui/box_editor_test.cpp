@@ -133,5 +133,18 @@ TEST_F(BoxEditorTest, AClickOnTheHandlesThatMovesNothingIsNotAnEdit) {
   EXPECT_NEAR(boxes().box(0).box.center.x(), before.box.center.x() + 0.001, 1e-12);
 }
 
+TEST_F(BoxEditorTest, CtrlZInAFieldUndoesTheBoxEdit) {
+  const double before = boxes().box(0).box.center.x();
+  typeIntoCentreX("0.4");
+  QTest::keyClick(QApplication::focusWidget(), Qt::Key_Return);
+  ASSERT_NEAR(boxes().box(0).box.center.x(), 0.4, 1e-12);
+  QDoubleSpinBox& field = window_.boxEditor().field(0);
+  ASSERT_TRUE(field.hasFocus());
+  QTest::keyClick(&field, Qt::Key_Z, Qt::ControlModifier);
+  EXPECT_EQ(boxes().box(0).box.center.x(), before);
+  QTest::keyClick(&field, Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+  EXPECT_NEAR(boxes().box(0).box.center.x(), 0.4, 1e-12);
+}
+
 }  // namespace
 }  // namespace lom::ui

@@ -5,6 +5,7 @@
 #include <QFormLayout>
 #include <QGridLayout>
 #include <QGroupBox>
+#include <QKeyEvent>
 #include <QLabel>
 #include <QListWidget>
 #include <QSignalBlocker>
@@ -24,6 +25,23 @@
 namespace lom::ui {
 
 namespace {
+
+// Ctrl+Z / Ctrl+Shift+Z in a field undo and redo box edits, as everywhere in
+// the window: the field's own text undo would otherwise take the keys, and a
+// value entered with Enter could not be undone until the focus left it.
+class BoxUndoKeys : public QObject {
+ public:
+  using QObject::QObject;
+
+ protected:
+  bool eventFilter(QObject*, QEvent* event) override {
+    if (event->type() != QEvent::ShortcutOverride) return false;
+    const auto* key = static_cast<QKeyEvent*>(event);
+    if (!key->matches(QKeySequence::Undo) && !key->matches(QKeySequence::Redo)) return false;
+    event->ignore();  // not the field's: the window's Undo and Redo take it
+    return true;
+  }
+};
 
 QDoubleSpinBox* makeField(double low, double high, int decimals, double step, const QString& suffix) {
   auto* box = new QDoubleSpinBox;
@@ -120,6 +138,8 @@ BoxEditorPanel::BoxEditorPanel(StudioSession& session, BoxSteps& steps, QWidget*
           &BoxEditorPanel::rebuildLabels);
   rebuildList();
   guardWheel(*this);
+  auto* undo_keys = new BoxUndoKeys(this);
+  for (QDoubleSpinBox* field : fields_) field->installEventFilter(undo_keys);
 }
 
 void BoxEditorPanel::rebuildLabels() {
