@@ -23,7 +23,7 @@ std::vector<std::string> cameraJumps(const Sequence& sequence, double limit_metr
     if (!(metres > limit_metres)) continue;
     char text[200];
     std::snprintf(text, sizeof(text),
-                  "frames[%zu].T_world_camera: the camera is %.4g m from where it was in "
+                  "frames[%zu].pose: the camera is %.4g m from where it was in "
                   "frames[%zu] (a wrong pose?)",
                   i, metres, *before);
     jumps.emplace_back(text);

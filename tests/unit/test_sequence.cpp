@@ -182,7 +182,7 @@ TEST(CameraJumps, NamesEachStepLongerThanTheLimit) {
   const auto jumps = lom::cameraJumps(sequence);
   ASSERT_EQ(jumps.size(), 2u);
   EXPECT_EQ(jumps[0],
-            "frames[2].T_world_camera: the camera is 300 m from where it was in frames[1] (a wrong "
+            "frames[2].pose: the camera is 300 m from where it was in frames[1] (a wrong "
             "pose?)");
   EXPECT_NE(jumps[1].find("frames[4]"), std::string::npos) << jumps[1];
   EXPECT_NE(jumps[1].find("291.1 m"), std::string::npos) << jumps[1];
@@ -202,7 +202,7 @@ TEST(CameraJumps, LeaveOutCamerasOutsideEveryMap) {
   const auto jumps = lom::cameraJumps(sequence);
   ASSERT_EQ(jumps.size(), 1u);
   EXPECT_EQ(jumps[0],
-            "frames[5].T_world_camera: the camera is 300 m from where it was in frames[4] (a wrong "
+            "frames[5].pose: the camera is 300 m from where it was in frames[4] (a wrong "
             "pose?)");
 }
 

@@ -75,7 +75,7 @@ void saveSequence(const Sequence& sequence, const std::filesystem::path& folder)
 // `limit_metres` (10 m by default: farther than a depth camera sees, so a
 // wrong pose rather than motion). Fusion would spread the map over that
 // distance, and a view that fits all of it shows the voxels smaller than a
-// pixel. Each message: "frames[i].T_world_camera: the camera is 300 m from
+// pixel. Each message: "frames[i].pose: the camera is 300 m from
 // where it was in frames[i-1] (a wrong pose?)". Cameras outside the extent
 // of every map fusion can make (lom::checkCameraExtents) are left out: each
 // step is measured from the camera before it that lies inside.
