@@ -130,7 +130,9 @@ class StopSignals {
     struct sigaction action {};
     action.sa_handler = onStopSignal;
     sigemptyset(&action.sa_mask);
-    action.sa_flags = SA_RESTART;
+    // A second signal takes the default action: an import stuck before its
+    // next frame can still be stopped at once.
+    action.sa_flags = SA_RESTART | SA_RESETHAND;
     for (size_t i = 0; i < 2; ++i) {
       installed_[i] = sigaction(kSignals[i], nullptr, &previous_[i]) == 0 &&
                       previous_[i].sa_handler != SIG_IGN &&

@@ -75,6 +75,14 @@ void checkReportFolder(const fs::path& dir, const CommandInputs& inputs) {
     checkOutputInFolder(dir / name, "out", inputs);
 }
 
+// YAML boxes are read in the sequence's frame: said once per file, unless quiet.
+void noteYamlBoxes(const fs::path& annotations, const Args& args) {
+  if (!isYamlBoxesPath(annotations) || args.flag("quiet")) return;
+  std::cerr << "note: " << annotations.string()
+            << ": YAML boxes of the original experiments; label N from each name object_N, "
+               "positions read in the sequence's frame\n";
+}
+
 void noteResolution(const Args& args, const EvaluationReport& report, const fs::path& map) {
   if (!args.option("resolution") || args.number("resolution", 0.0) == report.resolution) return;
   std::cerr << "note: " << map.string() << " has resolution " << report.resolution
@@ -123,7 +131,10 @@ int runScore(const Words& words) {
       if (entry.inputs.map)
         noteFramesWithMap("the map " + entry.inputs.map->string() + " (" + *batch + " line " +
                           std::to_string(entry.line) + ")");
-    for (const auto& entry : entries) addScoreInputs(entry.inputs, read);
+    for (const auto& entry : entries) {
+      addScoreInputs(entry.inputs, read);
+      noteYamlBoxes(entry.inputs.annotations, args);
+    }
     checkOutputFolder(out, "out", what, read);
     for (const auto& entry : entries) {
       checkOptionsForSequence(entry.inputs.sequence, options, !entry.inputs.map, read);
@@ -170,10 +181,7 @@ int runScore(const Words& words) {
   ScoreInputs inputs;
   inputs.sequence = args.positional(0, "SEQ (a sequence folder)");
   inputs.annotations = args.required("annotations");
-  if (isYamlBoxesPath(inputs.annotations) && !args.flag("quiet"))
-    std::cerr << "note: " << inputs.annotations.string()
-              << ": YAML boxes of the original experiments; label N from each name object_N, "
-                 "positions read in the sequence's frame\n";
+  noteYamlBoxes(inputs.annotations, args);
   if (const auto map = args.option("map")) {
     noteFramesWithMap(*map);
     inputs.map = *map;

@@ -82,7 +82,8 @@ size_t writePcd(const LabelMap& map, const std::optional<std::set<int>>& labels,
                   "PCL could not write it: " + pclReason(e));
     }
     if (result != 0)
-      throw Error(path.string(), "output", "a writable PCD file", libraryWriteFailure(path, "PCL"));
+      throw Error(path.string(), "output", "a writable PCD file",
+                  libraryWriteFailure(temporary, "PCL"));
   });
   return cloud.size();
 }
@@ -115,7 +116,8 @@ size_t writeVoxelsPly(const LabelMap& map, const std::set<int>& labels,
                   "PCL could not write it: " + pclReason(e));
     }
     if (result != 0)
-      throw Error(path.string(), "output", "a writable PLY file", libraryWriteFailure(path, "PCL"));
+      throw Error(path.string(), "output", "a writable PLY file",
+                  libraryWriteFailure(temporary, "PCL"));
   });
   return cloud.size();
 }

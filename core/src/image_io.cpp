@@ -182,7 +182,8 @@ void writeMatPng(const fs::path& path, const cv::Mat& mat) {
                   "OpenCV failed: " + std::string(e.what()));
     }
     if (!written)
-      throw Error(path.string(), "output", "a writable PNG", libraryWriteFailure(path, "OpenCV"));
+      throw Error(path.string(), "output", "a writable PNG",
+                  libraryWriteFailure(temporary, "OpenCV"));
   });
 }
 

@@ -156,7 +156,8 @@ void writeMeshesStl(const std::vector<SurfaceMesh>& meshes, const LabelSet& labe
     const bool written = writer->Write() == 1 && writer->GetErrorCode() == 0;
     vtkObject::SetGlobalWarningDisplay(warnings);
     if (!written)
-      throw Error(path.string(), "output", "a writable STL file", libraryWriteFailure(path, "VTK"));
+      throw Error(path.string(), "output", "a writable STL file",
+                  libraryWriteFailure(temporary, "VTK"));
   });
 }
 

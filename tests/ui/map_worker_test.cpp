@@ -84,5 +84,34 @@ TEST(MapWorkerTest, TheFusedMapIsTheCommandLinesMapForTheSameFrames) {
   EXPECT_EQ(nodes.load(), expected.numNodes());
 }
 
+TEST(MapWorkerTest, ACameraOutsideTheMapStopsFusionBeforeAnyFrame) {
+  test::TempDir temp;
+  const auto folder = temp.path() / "scene";
+  (void)writeSyntheticScene(fixture::smallDemo(), folder);
+  Sequence far = loadSequence(folder);
+  far.frames.back().T_world_camera.translation().x() += 1000.0;  // beyond 327.68 m at 1 cm
+  const auto sequence = std::make_shared<const Sequence>(far);
+
+  MapWorker worker;
+  bool finished = false, completed = true;
+  QString error;
+  QObject::connect(&worker, &MapWorker::errorOccurred,
+                   [&](const QString&, const QString& message) { error = message; });
+  QObject::connect(&worker, &MapWorker::fusionFinished, [&](bool done) {
+    finished = true;
+    completed = done;
+  });
+  std::atomic<size_t> fused{1};
+  worker.startFusion(sequence, FusionOptions{});
+  ASSERT_TRUE(QTest::qWaitFor([&] { return finished; }, fixture::kTimeoutMs));
+  EXPECT_FALSE(completed);
+  const std::string frame = "frames[" + std::to_string(far.frames.size() - 1) + "].pose";
+  EXPECT_TRUE(error.contains("sequence.json")) << error.toStdString();
+  EXPECT_TRUE(error.contains(QString::fromStdString(frame))) << error.toStdString();
+  worker.withMap([&](const LabelMap* map) { fused = map ? map->numLeaves() : 0; });
+  ASSERT_TRUE(QTest::qWaitFor([&] { return fused.load() != 1; }, fixture::kTimeoutMs));
+  EXPECT_EQ(fused.load(), 0u);  // no frame was fused
+}
+
 }  // namespace
 }  // namespace lom::ui

@@ -53,11 +53,12 @@ void ExportMapReaction::exportTo(const QString& path) {
   // Cancel Fusion ends the wait and exports the map fused so far; a re-fusion
   // or another sequence replaces the map the export was asked for.
   const unsigned generation = worker->mapGeneration();
+  const bool behind_fusion = worker->isFusing();
   worker->withMap(
-      [self, worker, options, path, generation](const LabelMap* map) {
+      [self, worker, options, path, generation, behind_fusion](const LabelMap* map) {
         QString message;
         bool ok = false;
-        if (worker->mapGeneration() != generation) {
+        if (behind_fusion && worker->mapGeneration() != generation) {
           message = tr("Export to %1 dropped: the map it waited for was replaced (fused again, or "
                        "another sequence opened) before its fusion finished. Export again.")
                         .arg(path);

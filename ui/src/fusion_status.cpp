@@ -27,19 +27,17 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
     progress_->setValue(done);
     rate_->setText(tr("%1 frames/s").arg(rate, 0, 'f', 1));
   });
-  connect(&worker, &MapWorker::stateChanged, this,
-          [this, previous = MapWorker::State::Idle](MapWorker::State state) mutable {
-            // A new fusion (not one resumed from a pause): the last one's count
-            // is not this one's, also when it fails on its first frame.
-            if (state == MapWorker::State::Fusing && previous == MapWorker::State::Idle) {
-              progress_->setFormat(tr("fusing"));
-              progress_->setRange(0, 1);
-              progress_->setValue(0);
-              rate_->clear();
-            }
-            if (state == MapWorker::State::Paused) rate_->setText(tr("paused"));
-            previous = state;
-          });
+  // A new fusion: the last one's count is not this one's, also when it fails
+  // on its first frame or replaces a fusion still running.
+  connect(&worker, &MapWorker::fusionStarted, this, [this] {
+    progress_->setFormat(tr("fusing"));
+    progress_->setRange(0, 1);
+    progress_->setValue(0);
+    rate_->clear();
+  });
+  connect(&worker, &MapWorker::stateChanged, this, [this](MapWorker::State state) {
+    if (state == MapWorker::State::Paused) rate_->setText(tr("paused"));
+  });
   connect(&worker, &MapWorker::fusionFinished, this, [this](bool completed) {
     if (!completed) rate_->setText(tr("stopped at %1/%2").arg(progress_->value()).arg(progress_->maximum()));
   });

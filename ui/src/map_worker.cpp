@@ -99,6 +99,7 @@ void MapWorker::startFusion(std::shared_ptr<const Sequence> sequence, const Fusi
     fuse(sequence, options, id, cancelled);
   }, false);
   setState(State::Fusing);
+  emit fusionStarted();
 }
 
 void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const FusionOptions& options,
@@ -113,6 +114,9 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
   FusionOptions fusion = options;
   fusion.map.occupancy_threshold = threshold_;
   try {
+    // As fuseSequence: a camera outside the map fails before any frame is
+    // fused, naming sequence.json and the frame.
+    checkCamerasInsideMap(*sequence, fusion.map.resolution, fusion.first_frame, fusion.last_frame);
     map_ = std::make_unique<LabelMap>(sequence->labels, fusion.map);
   } catch (const std::exception& error) {
     const QString message = QString::fromStdString(error.what());

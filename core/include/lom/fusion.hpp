@@ -135,7 +135,7 @@ inline constexpr double kMapExtentVoxels = 32768.0;
 // Whether a map of `resolution` holds `point`: the very test that fusion makes
 // on every point and camera centre.
 [[nodiscard]] bool insideMapExtent(const Eigen::Vector3d& point, double resolution);
-// "+-327.68 m from the origin on each axis at 0.01 m voxels", for messages.
+// "327.68 m either side of the origin on each axis at 0.01 m voxels", for messages.
 [[nodiscard]] std::string describeMapExtent(double resolution);
 // The finest voxel size, in whole millimetres, whose extent holds every
 // coordinate up to `reach` metres from the origin.

@@ -72,6 +72,8 @@ class MapWorker : public QObject {
 
  signals:
   void stateChanged(lom::ui::MapWorker::State state);
+  // Every startFusion, also one that replaces a fusion still running.
+  void fusionStarted();
   void snapshotChanged();
   void fusionProgress(int done, int total, double frames_per_second);
   void fusionFinished(bool completed);
