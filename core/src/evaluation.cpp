@@ -68,23 +68,38 @@ void checkAnnotationsForSequence(const Sequence& sequence, const Annotations& an
                 "\"" + annotations.frame_id + "\"");
   if (annotations.boxes.empty()) throw Error(file, "boxes", "at least one box to score", "none");
   const int n = sequence.labels.size();
-  std::vector<size_t> box_of_label(static_cast<size_t>(std::max(n, 0)), annotations.boxes.size());
+  const std::vector<UnscorableBox> unscorable = unscorableBoxes(annotations, n);
+  if (unscorable.empty()) return;
+  const UnscorableBox& box = unscorable.front();
+  const std::string field = "boxes[" + std::to_string(box.index) + "].label";
+  if (!box.boxed_before)
+    throw Error(file, field,
+                n > 1 ? "an object label of the sequence (1.." + std::to_string(n - 1) +
+                            "; 0 is the background)"
+                      : std::string("an object label, but the sequence has none (only the "
+                                    "background, 0: it was recorded without label images)"),
+                std::to_string(box.label));
+  throw Error(file, field, "each label in at most one box",
+              "label " + std::to_string(box.label) + " again (also boxes[" +
+                  std::to_string(*box.boxed_before) + "])");
+}
+
+std::vector<UnscorableBox> unscorableBoxes(const Annotations& annotations, int label_count) {
+  std::vector<UnscorableBox> unscorable;
+  std::vector<std::optional<size_t>> box_of_label(static_cast<size_t>(std::max(label_count, 0)));
   for (size_t i = 0; i < annotations.boxes.size(); ++i) {
     const int label = annotations.boxes[i].label;
-    const std::string field = "boxes[" + std::to_string(i) + "].label";
-    if (label <= 0 || label >= n)
-      throw Error(file, field,
-                  n > 1 ? "an object label of the sequence (1.." + std::to_string(n - 1) +
-                              "; 0 is the background)"
-                        : std::string("an object label, but the sequence has none (only the "
-                                      "background, 0: it was recorded without label images)"),
-                  std::to_string(label));
-    size_t& first = box_of_label[static_cast<size_t>(label)];
-    if (first != annotations.boxes.size())
-      throw Error(file, field, "each label in at most one box",
-                  "label " + std::to_string(label) + " again (also boxes[" + std::to_string(first) + "])");
-    first = i;
+    if (label <= 0 || label >= label_count) {
+      unscorable.push_back({i, label, std::nullopt});
+      continue;
+    }
+    std::optional<size_t>& first = box_of_label[static_cast<size_t>(label)];
+    if (first)
+      unscorable.push_back({i, label, first});
+    else
+      first = i;
   }
+  return unscorable;
 }
 
 double voxelIou(const std::vector<VoxelKey>& voxels, double resolution, const OrientedBox& box,

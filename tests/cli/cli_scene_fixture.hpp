@@ -11,6 +11,7 @@
 #include <string>
 
 #include "lom/label_map.hpp"
+#include "lom/sequence.hpp"
 #include "test_support.hpp"
 
 namespace lom::test {
@@ -24,6 +25,16 @@ inline std::string slurp(const std::filesystem::path& path) {
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+// A copy of the sequence folder `scene` at `copy`, every camera moved `shift`
+// metres along x (far out, for the map's extent).
+inline void copyWithCamerasShifted(const std::filesystem::path& scene,
+                                   const std::filesystem::path& copy, double shift) {
+  std::filesystem::copy(scene, copy, std::filesystem::copy_options::recursive);
+  Sequence sequence = loadSequence(copy);
+  for (auto& frame : sequence.frames) frame.T_world_camera.translation().x() += shift;
+  saveSequence(sequence, copy);
 }
 
 class CliSceneTest : public ::testing::Test {

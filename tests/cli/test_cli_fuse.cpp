@@ -6,6 +6,7 @@
 #include <fstream>
 #include <string>
 
+#include "cli_scene_fixture.hpp"
 #include "lom/label_map.hpp"
 #include "lom/sequence.hpp"
 #include "test_support.hpp"
@@ -157,10 +158,7 @@ TEST_F(CliFuseTest, WrongChannelCountNamesTheFrameAndField) {
 std::filesystem::path shiftedScene(const TempDir& out, const std::filesystem::path& scene,
                                    double shift) {
   const auto copy = out / "scene";
-  std::filesystem::copy(scene, copy, std::filesystem::copy_options::recursive);
-  lom::Sequence sequence = lom::loadSequence(copy);
-  for (auto& frame : sequence.frames) frame.T_world_camera.translation().x() += shift;
-  lom::saveSequence(sequence, copy);
+  lom::test::copyWithCamerasShifted(scene, copy, shift);
   return copy;
 }
 

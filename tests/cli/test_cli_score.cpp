@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli_scene_fixture.hpp"
 #include "lom/sequence.hpp"
 #include "test_support.hpp"
 
@@ -284,10 +285,7 @@ TEST_F(CliScoreTest, OtherFrameFailsAndWritesNothing) {
 std::filesystem::path shiftedScene(const TempDir& out, const std::filesystem::path& scene,
                                    double shift) {
   const auto copy = out / "far";
-  std::filesystem::copy(scene, copy, std::filesystem::copy_options::recursive);
-  lom::Sequence sequence = lom::loadSequence(copy);
-  for (auto& frame : sequence.frames) frame.T_world_camera.translation().x() += shift;
-  lom::saveSequence(sequence, copy);
+  lom::test::copyWithCamerasShifted(scene, copy, shift);
   Json annotations = Json::parse(slurp(copy / "annotations.json"));
   for (auto& box : annotations["boxes"]) box["center"][0] = box["center"][0].get<double>() + shift;
   std::ofstream(copy / "annotations.json") << annotations.dump();

@@ -33,23 +33,22 @@ constexpr int kObjectRole = Qt::UserRole + 2;
 // studio keeps the boxes for editing and scores the others. `left_out` names
 // the boxes left out, for the summary.
 Annotations scorableBoxes(const Annotations& all, const LabelSet& labels, QString& left_out) {
+  const std::vector<UnscorableBox> unscorable = unscorableBoxes(all, labels.size());
+  std::vector<bool> left(all.boxes.size(), false);
+  QStringList problems;
+  for (const UnscorableBox& box : unscorable) {
+    left[box.index] = true;
+    problems << (box.boxed_before
+                     ? EvaluationPanel::tr("boxes[%1] (label %2 is already boxed)")
+                     : EvaluationPanel::tr(
+                           "boxes[%1] (label %2 is not an object label of the sequence)"))
+                    .arg(box.index)
+                    .arg(box.label);
+  }
   Annotations scorable = all;
   scorable.boxes.clear();
-  std::vector<bool> seen(static_cast<size_t>(std::max(labels.size(), 0)), false);
-  QStringList problems;
-  for (size_t i = 0; i < all.boxes.size(); ++i) {
-    const int label = all.boxes[i].label;
-    if (label <= 0 || label >= labels.size()) {
-      problems << EvaluationPanel::tr("boxes[%1] (label %2 is not an object label of the sequence)")
-                      .arg(i)
-                      .arg(label);
-    } else if (seen[static_cast<size_t>(label)]) {
-      problems << EvaluationPanel::tr("boxes[%1] (label %2 is already boxed)").arg(i).arg(label);
-    } else {
-      seen[static_cast<size_t>(label)] = true;
-      scorable.boxes.push_back(all.boxes[i]);
-    }
-  }
+  for (size_t i = 0; i < all.boxes.size(); ++i)
+    if (!left[i]) scorable.boxes.push_back(all.boxes[i]);
   left_out = problems.isEmpty() ? QString()
                                 : EvaluationPanel::tr("Not scored: %1.").arg(problems.join("; "));
   return scorable;

@@ -108,6 +108,17 @@ class EvaluationCancelled : public std::runtime_error {
   EvaluationCancelled() : std::runtime_error("evaluation cancelled") {}
 };
 
+// A box that cannot be scored against a sequence with `label_count` labels:
+// its label is not an object label (1..label_count-1), or an earlier box
+// (`boxed_before`) has it already. In box order.
+struct UnscorableBox {
+  size_t index = 0;
+  int label = 0;
+  std::optional<size_t> boxed_before;
+};
+[[nodiscard]] std::vector<UnscorableBox> unscorableBoxes(const Annotations& annotations,
+                                                         int label_count);
+
 // Throws lom::Error (naming options.annotations_file and the field) when the
 // annotations' frame_id differs from the sequence's or a box's label is not an
 // object label of the sequence.
