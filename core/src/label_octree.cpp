@@ -643,6 +643,35 @@ void LabelOcTree::readNodes(LabelOcTreeNode* node, unsigned depth, std::istream&
     throw Error("", "label count",
                 std::to_string(n) + " labels in every node (the label count of the header)",
                 "a node with " + std::to_string(b->num_labels) + " labels" + where);
+  if (const auto* b = node->block()) {
+    // The canonical block the writer stores (storeLabels): the labels above
+    // the base, ascending, at least one of them and not all, every value
+    // finite, and the node's value their maximum. Readers rely on each
+    // (argmax, pruning and comparisons), so a block out of order is refused.
+    const auto refuse = [&](const std::string& expected, const std::string& found) {
+      throw Error("", "nodes", expected, found + where);
+    };
+    if (b->count >= b->num_labels)
+      refuse("label blocks listing fewer labels than the map has (the others are at the base)",
+             "a block listing all " + std::to_string(b->count) + " labels");
+    if (!std::isfinite(b->base))
+      refuse("finite log-odds in every node", "a label base of " + std::to_string(b->base));
+    float highest = b->base;
+    for (unsigned i = 0; i < b->count; ++i) {
+      const unsigned id = b->ids()[i];
+      const float v = b->values()[i];
+      if (i > 0 && id <= b->ids()[i - 1])
+        refuse("label ids in ascending order in every label block",
+               "label " + std::to_string(id) + " after label " + std::to_string(b->ids()[i - 1]));
+      if (!std::isfinite(v) || !(v > b->base))
+        refuse("listed labels above the block's base " + std::to_string(b->base),
+               "label " + std::to_string(id) + " at " + std::to_string(v));
+      highest = std::max(highest, v);
+    }
+    if (node->getValue() != highest)
+      refuse("a node value equal to its largest label log-odds (" + std::to_string(highest) + ")",
+             "a value of " + std::to_string(node->getValue()));
+  }
   if (node->isSummary() && static_cast<int>(node->data_ >> 1) >= n)
     throw Error(
         "", "label count",

@@ -311,6 +311,70 @@ fs::path mapWithOneLeaf(const fs::path& folder, unsigned depth, int leaf_label =
   return path;
 }
 
+// A map of three labels whose only node is a leaf at the finest depth with the
+// label block given (value, base, then each listed label id and its value).
+fs::path mapWithOneBlock(const fs::path& folder, float value, float base,
+                         const std::vector<std::pair<std::uint8_t, float>>& listed) {
+  lom::MapParameters parameters;
+  lom::LabelMap(lom::LabelSet({{0, "__background__", {0, 0, 0}},
+                               {1, "box", {9, 9, 9}},
+                               {2, "cup", {7, 7, 7}}}),
+                parameters)
+      .save(folder / "empty.ot");
+  MapFile file = MapFile::read(folder / "empty.ot");
+  file.nodes = std::string(1, '\1');
+  for (unsigned d = 0; d < 16; ++d) {
+    put(file.nodes, value);
+    file.nodes += '\2';
+    put(file.nodes, std::uint16_t{2});
+    file.nodes += '\1';
+  }
+  put(file.nodes, value);
+  file.nodes += '\1';
+  put(file.nodes, std::uint16_t{3});
+  put(file.nodes, static_cast<std::uint16_t>(listed.size()));
+  put(file.nodes, base);
+  for (const auto& entry : listed) file.nodes += static_cast<char>(entry.first);
+  for (const auto& entry : listed) put(file.nodes, entry.second);
+  file.nodes += '\0';
+  const fs::path path = folder / "block.ot";
+  file.write(path);
+  return path;
+}
+
+TEST(LabelBlockTest, OnlyCanonicalLabelBlocksAreRead) {
+  lom::test::TempDir dir;
+  // As the writer stores them: labels above the base, ascending; the value their maximum.
+  const lom::LabelMap map = lom::LabelMap::load(mapWithOneBlock(dir.path(), 2.f, -2.f, {{1, 1.f}, {2, 2.f}}));
+  EXPECT_EQ(map.occupiedCountPerLabel().at(2), 1u);
+
+  struct Case {
+    const char* what;
+    float value, base;
+    std::vector<std::pair<std::uint8_t, float>> listed;
+    const char* found;
+  };
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const Case cases[] = {
+      {"out of order", 2.f, -2.f, {{2, 2.f}, {1, 1.f}}, "label 1 after label 2"},
+      {"twice", 2.f, -2.f, {{1, 1.f}, {1, 2.f}}, "label 1 after label 1"},
+      {"at the base", 2.f, -2.f, {{1, -2.f}, {2, 2.f}}, "label 1 at -2"},
+      {"below the base", 2.f, -2.f, {{1, -3.f}, {2, 2.f}}, "label 1 at -3"},
+      {"not finite", 2.f, -2.f, {{1, nan}, {2, 2.f}}, "label 1 at nan"},
+      {"every label", 2.f, -2.f, {{0, 0.f}, {1, 1.f}, {2, 2.f}}, "a block listing all 3 labels"},
+      {"base not finite", 2.f, nan, {{1, 1.f}, {2, 2.f}}, "a label base of nan"},
+      {"value not the maximum", 1.f, -2.f, {{1, 1.f}, {2, 2.f}}, "a value of 1"},
+  };
+  for (const Case& c : cases) {
+    const fs::path path = mapWithOneBlock(dir.path(), c.value, c.base, c.listed);
+    const lom::Problem problem = loadError(path);
+    EXPECT_EQ(problem.file, path.string()) << c.what;
+    EXPECT_EQ(problem.field, "nodes") << c.what;
+    EXPECT_NE(problem.found.find(c.found), std::string::npos) << c.what << ": " << problem.message();
+    EXPECT_NE(problem.found.find("at depth 16"), std::string::npos) << c.what << ": " << problem.message();
+  }
+}
+
 TEST(CoarseLeafTest, AnOccupiedInnerLeafStandsForAllItsVoxels) {
   lom::test::TempDir dir;
   const lom::LabelMap map = lom::LabelMap::load(mapWithOneLeaf(dir.path(), 12));
