@@ -257,20 +257,30 @@ int runFuse(const Words& words) {
   if (mostDepthsBeyondMaxRange(totals, options.map.max_range)) {
     const size_t beyond = std::min(totals.beyond_range_pixels, totals.valid_pixels);
     const double reach = std::ceil(totals.farthest_range * 10.0) / 10.0;
-    const double resolution = suggestedResolutionForRange(reach, options.map.resolution);
-    const bool coarser = resolution > options.map.resolution + 1e-9;
-    const std::string how =
-        "--max-range " + formatNumber(reach) +
-        (coarser ? " --resolution " + formatNumber(resolution) : std::string()) + " to map them" +
-        (coarser ? " (rays of at most 250 voxels: finer voxels over that range take far more "
-                   "memory)"
-                 : "");
+    std::string how;
+    // Only settings fuse takes: a finite range, rays of at most 1000 voxels of at most 1 m.
+    if (std::isfinite(reach) && reach <= kMaxFusionVoxelsPerRay * kMaxFusionResolution) {
+      const double resolution = suggestedResolutionForRange(reach, options.map.resolution);
+      const bool coarser = resolution > options.map.resolution + 1e-9;
+      char farthest[32];
+      std::snprintf(farthest, sizeof farthest, "%.1f", totals.farthest_range);
+      how = std::string("The depths reach ") + farthest + " m; fuse with --max-range " + formatNumber(reach) +
+            (coarser ? " --resolution " + formatNumber(resolution) : std::string()) + " to map them" +
+            (coarser ? " (rays of at most 250 voxels: finer voxels over that range take far more "
+                       "memory)"
+                     : "");
+    } else {
+      how = "The depths reach farther than " +
+            formatNumber(kMaxFusionVoxelsPerRay * kMaxFusionResolution) +
+            " m, beyond any max range fusion takes and any depth camera measures: check "
+            "camera.fx, camera.fy, camera.cx, camera.cy and camera.depth_scale in " +
+            (sequence.root / "sequence.json").string();
+    }
     std::fprintf(stderr,
                  "warning: %zu of %zu valid depth pixels (%.1f%%) were beyond the max range of "
-                 "%g m: they only cleared free space and mapped nothing. The depths reach %.1f m; "
-                 "fuse with %s\n",
+                 "%g m: they only cleared free space and mapped nothing. %s\n",
                  beyond, totals.valid_pixels, 100.0 * beyond / totals.valid_pixels,
-                 options.map.max_range, totals.farthest_range, how.c_str());
+                 options.map.max_range, how.c_str());
   }
   if (const std::string warning =
           outsideMapWarning((sequence.root / "sequence.json").string(), totals, frames_outside_map,

@@ -347,7 +347,8 @@ bool mostDepthsBeyondMaxRange(const FrameStats& totals, double max_range) {
 double suggestedResolutionForRange(double max_range, double resolution) {
   constexpr double kMaxVoxelsPerRay = 250.0, kStep = 0.005;
   const double coarse = std::ceil(max_range / kMaxVoxelsPerRay / kStep - 1e-9) * kStep;
-  return std::max(resolution, coarse);
+  // Never coarser than fusion takes (ranges past 250 m then get longer rays).
+  return std::max(resolution, std::min(coarse, kMaxFusionResolution));
 }
 
 DepthRanges countDepthRanges(const CameraIntrinsics& camera, const DepthImage& depth,

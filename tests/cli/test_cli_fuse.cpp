@@ -189,6 +189,35 @@ TEST_F(CliFuseTest, DepthsOutsideTheMapAreAWarningWithTheCountAndTheExtent) {
   EXPECT_EQ(coarse.err.find("outside the map's extent"), std::string::npos) << coarse.err;
 }
 
+// Focal lengths far too short (a mistake such as one in metres for one in
+// pixels) put the depths farther than any range fusion takes: the max-range
+// warning points at the intrinsics instead of suggesting options fuse refuses.
+TEST_F(CliFuseTest, DepthsBeyondAnyRangeFusionTakesPointAtTheIntrinsics) {
+  TempDir out;
+  const auto copy = out / "scene";
+  std::filesystem::copy(scene_->path() / "scene", copy, std::filesystem::copy_options::recursive);
+  lom::Sequence sequence = lom::loadSequence(copy);
+  // About 2 km out at the image's edges: inside the extent of 10 cm voxels (3276.8 m).
+  sequence.camera.fx = sequence.camera.fy = 0.03;
+  for (auto& frame : sequence.frames) frame.camera.reset();
+  lom::saveSequence(sequence, copy);
+  const auto r = runCli("fuse '" + copy.string() + "' --resolution 0.1 --out '" +
+                        (out / "m.ot").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto at = r.err.find("were beyond the max range of 1 m");
+  ASSERT_NE(at, std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("The depths reach farther than 1000 m, beyond any max range fusion takes", at),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("check camera.fx, camera.fy, camera.cx, camera.cy and camera.depth_scale in " +
+                           (copy / "sequence.json").string(),
+                       at),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("--max-range inf"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find(" inf m"), std::string::npos) << r.err;
+}
+
 // 400 m out, the cameras lie outside the map: fuse fails at once, naming the
 // first such frame's pose and the extent, and writes nothing.
 TEST_F(CliFuseTest, CameraOutsideTheMapIsAnErrorNamingThePose) {

@@ -142,6 +142,8 @@ TEST(SuggestedResolution, RaysCrossAtMost250VoxelsInStepsOfFiveMillimetres) {
   EXPECT_DOUBLE_EQ(lom::suggestedResolutionForRange(1.25, 0.005), 0.005);  // exactly 250
   EXPECT_DOUBLE_EQ(lom::suggestedResolutionForRange(1.0, 0.01), 0.01);     // never finer than asked
   EXPECT_DOUBLE_EQ(lom::suggestedResolutionForRange(20.0, 0.1), 0.1);
+  // Never coarser than fusion takes: past 250 m the rays get longer instead.
+  EXPECT_DOUBLE_EQ(lom::suggestedResolutionForRange(600.0, 0.01), lom::kMaxFusionResolution);
 }
 
 }  // namespace
