@@ -13,6 +13,7 @@
 #include "commands.hpp"
 #include "lom/error.hpp"
 #include "lom/import.hpp"
+#include "lom/sequence.hpp"
 #include "output_paths.hpp"
 
 namespace lom::cli {
@@ -271,6 +272,9 @@ int runImport(const Words& words) {
               << " came after the last frame was written: the sequence is complete and kept\n";
   std::cout << report.text();
   std::cout << "wrote " << out << "/sequence.json\n";
+  // Intrinsics no depth camera has (given in millimetres, or for another image size).
+  for (const auto& camera : implausibleIntrinsics(loadSequence(out)))
+    std::cerr << "warning: " << out << "/sequence.json: " << camera << "\n";
   return 0;
 }
 

@@ -243,6 +243,7 @@ int runValidate(const Words& words) {
     problems.insert(problems.end(), extents.problems.begin(), extents.problems.end());
     if (!extents.warning.empty()) warnings.push_back(extents.warning);
     for (auto& jump : cameraJumps(sequence)) warnings.push_back(std::move(jump));
+    for (auto& camera : implausibleIntrinsics(sequence)) warnings.push_back(std::move(camera));
   } catch (const Error& e) {
     problems.push_back(e.problem());
   }

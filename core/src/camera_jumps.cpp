@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -29,6 +30,59 @@ std::vector<std::string> cameraJumps(const Sequence& sequence, double limit_metr
     jumps.emplace_back(text);
   }
   return jumps;
+}
+
+namespace {
+
+constexpr double kRadiansToDegrees = 57.29577951308232;
+
+// The angle the pixels from 0 to `size` span seen from a pinhole with focal
+// length `f` and principal point `c` (all in pixels), in degrees.
+double fieldOfView(double size, double f, double c) {
+  return (std::atan(c / f) + std::atan((size - c) / f)) * kRadiansToDegrees;
+}
+
+// The message for one camera, or nothing when its field of view is plausible.
+std::optional<std::string> implausibleCamera(const std::string& field, const CameraIntrinsics& camera) {
+  const double across = fieldOfView(camera.width, camera.fx, camera.cx);
+  const double down = fieldOfView(camera.height, camera.fy, camera.cy);
+  const auto plausible = [](double degrees) { return degrees <= kMaxPlausibleFieldOfView; };
+  if (plausible(across) && plausible(down)) return std::nullopt;
+  char text[400];
+  std::snprintf(text, sizeof(text),
+                "%s: fx = %.6g, fy = %.6g, cx = %.6g, cy = %.6g give a field of view of %.1f x "
+                "%.1f degrees at %d x %d pixels; depth cameras see about 40 to 120 degrees "
+                "(are fx and fy in pixels, for images of this size?)",
+                field.c_str(), camera.fx, camera.fy, camera.cx, camera.cy, across, down,
+                camera.width, camera.height);
+  return std::string(text);
+}
+
+}  // namespace
+
+std::vector<std::string> implausibleIntrinsics(const Sequence& sequence) {
+  std::vector<std::string> warnings;
+  const bool shared_camera_used =
+      sequence.frames.empty() ||
+      std::any_of(sequence.frames.begin(), sequence.frames.end(),
+                  [](const FrameRecord& frame) { return !frame.camera; });
+  if (shared_camera_used)
+    if (auto warning = implausibleCamera("camera", sequence.camera)) warnings.push_back(*warning);
+  // Cameras of their own: the first implausible one, and how many more.
+  std::optional<std::string> first;
+  size_t others = 0;
+  for (size_t i = 0; i < sequence.frames.size(); ++i) {
+    if (!sequence.frames[i].camera) continue;
+    auto warning = implausibleCamera("frames[" + std::to_string(i) + "].camera", *sequence.frames[i].camera);
+    if (!warning) continue;
+    if (first)
+      ++others;
+    else
+      first = std::move(warning);
+  }
+  if (first)
+    warnings.push_back(*first + (others ? " (and " + std::to_string(others) + " more frames)" : ""));
+  return warnings;
 }
 
 }  // namespace lom

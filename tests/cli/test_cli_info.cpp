@@ -153,6 +153,28 @@ TEST_F(CliInfoTest, CameraJumpsAreWarnedAbout) {
   EXPECT_NE(fused.err.find("warning: frames[2].pose"), std::string::npos) << fused.err;
 }
 
+// A focal length in metres instead of pixels: valid numbers, so not a
+// failure, but a warning with the field of view (validate and fuse).
+TEST_F(CliInfoTest, ImplausibleIntrinsicsAreWarnedAbout) {
+  lom::Sequence sequence = lom::loadSequence(seq());
+  // 6 x 4 pixels: 172 x 168 degrees.
+  sequence.camera.fx = sequence.camera.fy = 0.2;
+  sequence.camera.cx = 2.5;
+  sequence.camera.cy = 1.5;
+  for (auto& frame : sequence.frames) frame.camera.reset();
+  lom::saveSequence(sequence, seq());
+  const auto result = lom::test::runCli("validate " + quoted(seq()));
+  EXPECT_EQ(result.exit_code, 0) << result.out << result.err;
+  EXPECT_NE(result.out.find("warning: camera: fx = 0.2, fy = 0.2, cx = 2.5, cy = 1.5 give a field of view of 172.2 x 167.8 degrees at 6 x 4 pixels"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("depth cameras see about 40 to 120 degrees"), std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find("OK: 3 frames valid (1 warning)"), std::string::npos) << result.out;
+  const auto fused = lom::test::runCli("fuse " + quoted(seq()) + " --out " + quoted(dir / "m.ot"));
+  EXPECT_NE(fused.err.find("warning: " + (seq() / "sequence.json").string() + ": camera: fx = 0.2"),
+            std::string::npos)
+      << fused.err;
+}
+
 // validate has no voxel size: a camera that no voxel size fusion takes can
 // hold is a problem naming its pose; one that only coarser voxels than the
 // finest hold is a warning with the voxel size it needs.

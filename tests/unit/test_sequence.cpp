@@ -206,6 +206,55 @@ TEST(CameraJumps, LeaveOutCamerasOutsideEveryMap) {
             "pose?)");
 }
 
+TEST(ImplausibleIntrinsics, NameCamerasNoDepthCameraHas) {
+  lom::Sequence sequence;
+  sequence.frames.resize(5);
+  // A depth camera's own: 55 x 42 degrees.
+  EXPECT_TRUE(lom::implausibleIntrinsics(sequence).empty());
+  // Focal lengths in millimetres: nearly 180 degrees either way.
+  sequence.camera.fx = sequence.camera.fy = 1.93;
+  auto warnings = lom::implausibleIntrinsics(sequence);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].rfind("camera: fx = 1.93, fy = 1.93, cx = 298.4, cy = 247.5 give a field of "
+                              "view of 179.",
+                              0),
+            0u)
+      << warnings[0];
+  EXPECT_NE(warnings[0].find("at 640 x 480 pixels"), std::string::npos) << warnings[0];
+  // Narrow views are not flagged (small images with a real camera's focal lengths).
+  sequence.camera.fx = sequence.camera.fy = 1e6;
+  EXPECT_TRUE(lom::implausibleIntrinsics(sequence).empty());
+  // 150 degrees is the widest taken.
+  sequence.camera = lom::CameraIntrinsics();
+  sequence.camera.cx = 320.0;
+  sequence.camera.fx = 320.0 / std::tan(75.0 / 57.29577951308232) * 1.0001;
+  EXPECT_TRUE(lom::implausibleIntrinsics(sequence).empty());
+  sequence.camera.fx *= 0.999;
+  EXPECT_EQ(lom::implausibleIntrinsics(sequence).size(), 1u);
+  // One axis is enough.
+  sequence.camera = lom::CameraIntrinsics();
+  sequence.camera.fy = 20.0;
+  EXPECT_EQ(lom::implausibleIntrinsics(sequence).size(), 1u);
+
+  // Frames with cameras of their own: the first implausible one, and how many more.
+  sequence.camera = lom::CameraIntrinsics();
+  lom::CameraIntrinsics millimetres;
+  millimetres.fx = millimetres.fy = 1.93;
+  sequence.frames[2].camera = millimetres;
+  sequence.frames[4].camera = millimetres;
+  sequence.frames[3].camera = lom::CameraIntrinsics();
+  warnings = lom::implausibleIntrinsics(sequence);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].rfind("frames[2].camera: fx = 1.93", 0), 0u) << warnings[0];
+  EXPECT_NE(warnings[0].find("(and 1 more frames)"), std::string::npos) << warnings[0];
+  // A shared camera no frame uses is not checked.
+  sequence.camera.fx = 1.0;
+  EXPECT_EQ(lom::implausibleIntrinsics(sequence).size(), 2u);
+  for (auto& frame : sequence.frames)
+    if (!frame.camera) frame.camera = lom::CameraIntrinsics();
+  EXPECT_EQ(lom::implausibleIntrinsics(sequence).size(), 1u);
+}
+
 TEST_F(SequenceTest, AcceptsTheJsonPathAndAppliesDefaults) {
   writeSmallSequence(dir.path());
   Json j = readJson(json());

@@ -121,6 +121,14 @@ bool SequenceController::openSequence(const QString& folder_or_json) {
         lines.join('\n') + tr("\nThe map will span that distance, and a view that fits all of "
                               "it shows the voxels smaller than a pixel: check these poses."));
   }
+  if (const auto cameras = implausibleIntrinsics(*sequence_); !cameras.empty()) {
+    QStringList lines;
+    for (const auto& camera : cameras) lines << QString::fromStdString(camera);
+    emit warningOccurred(tr("Unusual camera intrinsics"),
+                         lines.join('\n') + tr("\nFused with these intrinsics, the depths land far "
+                                               "from where they were measured: check the camera "
+                                               "in sequence.json."));
+  }
   if (!opened.skipped_frames.empty())
     emit warningOccurred(tr("Frames left out"),
                          QString::fromStdString(opened.skipped_frames) +

@@ -82,6 +82,19 @@ void saveSequence(const Sequence& sequence, const std::filesystem::path& folder)
 [[nodiscard]] std::vector<std::string> cameraJumps(const Sequence& sequence,
                                                    double limit_metres = 10.0);
 
+// Intrinsics whose field of view no depth camera has: wider than
+// kMaxPlausibleFieldOfView degrees on either image axis. Such a camera matrix
+// has focal lengths in millimetres or metres instead of pixels, or belongs to
+// much smaller images; fused, its depths land metres to kilometres from where
+// they were measured. (Narrow views are not flagged: small test images keep a
+// real camera's focal lengths.) One message for the
+// sequence's camera (when a frame uses it) and one for the first frame with a
+// camera of its own that is implausible, "camera: fx = ..., fy = ... give a
+// field of view of 179.4 x 179.1 degrees at 640 x 480 pixels; ...". A warning:
+// the values are valid numbers, and a lens may be unusual.
+inline constexpr double kMaxPlausibleFieldOfView = 150.0;
+[[nodiscard]] std::vector<std::string> implausibleIntrinsics(const Sequence& sequence);
+
 // Loads one frame's images. Throws lom::Error naming the file and field.
 [[nodiscard]] FrameData loadFrame(const Sequence& sequence, size_t index);
 
