@@ -411,6 +411,24 @@ TEST_F(BoxFilesTest, CameraJumpsAreAWarningWhenTheSequenceOpens) {
       << warnings_.front().toStdString();
 }
 
+// Focal lengths in metres instead of pixels: the sequence opens, with a
+// warning naming the camera and its field of view.
+TEST_F(BoxFilesTest, ImplausibleIntrinsicsAreAWarningWhenTheSequenceOpens) {
+  lom::Sequence sequence = lom::loadSequence(tiny_.folder);
+  sequence.camera.fx = sequence.camera.fy = 0.002;
+  sequence.camera.cx = 0.5 * (sequence.camera.width - 1);
+  sequence.camera.cy = 0.5 * (sequence.camera.height - 1);
+  for (auto& frame : sequence.frames) frame.camera.reset();
+  lom::saveSequence(sequence, tiny_.folder);
+  ASSERT_TRUE(open(tiny_.folder));
+  EXPECT_TRUE(errors_.isEmpty()) << errors_.join('\n').toStdString();
+  ASSERT_EQ(warnings_.size(), 1) << warnings_.join('\n').toStdString();
+  EXPECT_TRUE(warnings_.front().startsWith("Unusual camera intrinsics: camera: fx = 0.002, fy = 0.002"))
+      << warnings_.front().toStdString();
+  EXPECT_TRUE(warnings_.front().contains("check the camera in sequence.json"))
+      << warnings_.front().toStdString();
+}
+
 TEST_F(BoxFilesTest, SavingKeepsThePermissionsOfTheFileItReplaces) {
   Annotations annotations;
   annotations.boxes.push_back(boxOf(1, "square_box"));
