@@ -128,11 +128,10 @@ FusionOptions fusionOptionsFromArgs(const Args& args) {
                      number(kMinFusionResolution) + " to " + number(kMaxFusionResolution) +
                      " m, got " + number(options.map.resolution) + " (docs/fusion.md, \"Limits\")");
   options.map.max_range = args.number("max-range", options.map.max_range);
-  if (options.map.max_range / options.map.resolution > kMaxFusionVoxelsPerRay)
+  if (const auto rays = checkRayLength(options.map.max_range, options.map.resolution))
     throw UsageError("option --max-range " + number(options.map.max_range) + " with --resolution " +
-                     number(options.map.resolution) + " makes rays " +
-                     number(std::ceil(options.map.max_range / options.map.resolution)) +
-                     " voxels long; at most " + number(kMaxFusionVoxelsPerRay) +
+                     number(options.map.resolution) + " makes rays " + number(rays->voxels) +
+                     " voxels long; at most " + number(rays->limit) +
                      " voxels are allowed (a coarser --resolution or a shorter --max-range; "
                      "docs/fusion.md, \"Limits\")");
   options.map.p_miss = args.number("p-miss", options.map.p_miss);
@@ -178,11 +177,10 @@ void checkOccupancyThreshold(double threshold, const MapParameters& map,
 
 void checkFusionOptionsForSequence(const FusionOptions& options, const Sequence& sequence) {
   const std::string file = (sequence.root / "sequence.json").string();
-  if (options.candidates)
-    for (int id : *options.candidates)
-      if (!sequence.labels.contains(id))
-        throw UsageError("option --candidates: label " + std::to_string(id) + " is not in " + file +
-                         " (labels 0.." + std::to_string(sequence.labels.size() - 1) + ")");
+  if (const auto unknown = checkCandidates(options.candidates, sequence.labels))
+    throw UsageError("option --candidates: label " + std::to_string(unknown->label) +
+                     " is not in " + file + " (labels 0.." +
+                     std::to_string(unknown->label_count - 1) + ")");
   const size_t count = sequence.frames.size();
   const bool past_end = options.first_frame >= count ||
                         (options.last_frame != kToTheEnd && options.last_frame > count);

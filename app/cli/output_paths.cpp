@@ -50,6 +50,19 @@ std::string notARegularFile(const fs::path& path) {
   return "an existing file that is not a regular file";
 }
 
+// Whether `path` exists and is not a folder (so no output folder can be made there).
+bool isExistingFile(const fs::path& path) {
+  std::error_code ec;
+  return fs::exists(path, ec) && !fs::is_directory(path, ec);
+}
+
+// The input folder that `path` lies inside (or is); nullptr when none.
+const CommandInputs::File* inputFolderHolding(const fs::path& path, const CommandInputs& inputs) {
+  for (const auto& folder : inputs.folders)
+    if (isInside(path, folder.path)) return &folder;
+  return nullptr;
+}
+
 void checkNotAnInput(const fs::path& out, const std::string& option, const CommandInputs& inputs) {
   std::error_code ec;
   for (const auto& input : inputs.files)
@@ -62,10 +75,9 @@ void checkNotAnInput(const fs::path& out, const std::string& option, const Comma
 void checkOutsideInputs(const fs::path& out, const std::string& option, const std::string& what,
                         const CommandInputs& inputs) {
   checkNotAnInput(out, option, inputs);
-  for (const auto& folder : inputs.folders)
-    if (isInside(out, folder.path))
-      throw UsageError("--" + option + " " + out.string() + " lies inside " + folder.what + " " +
-                       folder.path.string() + "; write " + what + " outside it");
+  if (const auto* folder = inputFolderHolding(out, inputs))
+    throw UsageError("--" + option + " " + out.string() + " lies inside " + folder->what + " " +
+                     folder->path.string() + "; write " + what + " outside it");
 }
 
 }  // namespace
@@ -123,8 +135,7 @@ void checkOutputFile(const fs::path& out, const std::string& option, const std::
 void checkOutputFolder(const fs::path& out, const std::string& option, const std::string& what,
                        const CommandInputs& inputs) {
   if (out.empty()) throw UsageError("option --" + option + " expects a folder, got none");
-  std::error_code ec;
-  if (fs::exists(out, ec) && !fs::is_directory(out, ec))
+  if (isExistingFile(out))
     throw UsageError("--" + option + " " + out.string() +
                      " is an existing file; expected a folder for " + what +
                      " (created when missing)");
@@ -133,15 +144,15 @@ void checkOutputFolder(const fs::path& out, const std::string& option, const std
 
 void checkOutputSubfolder(const fs::path& folder, const std::string& option,
                           const std::string& what, const CommandInputs& inputs) {
-  std::error_code ec;
-  if (fs::exists(folder, ec) && !fs::is_directory(folder, ec))
+  // The rules of checkOutputFolder, worded for a folder inside the output folder
+  // (an input file there is an existing file, refused first).
+  if (isExistingFile(folder))
     throw UsageError("--" + option + ": " + folder.string() +
                      " is an existing file; expected a folder for " + what);
-  for (const auto& input : inputs.folders)
-    if (isInside(folder, input.path))
-      throw UsageError("--" + option + ": " + what + " would be written to " + folder.string() +
-                       ", which lies inside " + input.what + " " + input.path.string() +
-                       "; choose another --" + option);
+  if (const auto* input = inputFolderHolding(folder, inputs))
+    throw UsageError("--" + option + ": " + what + " would be written to " + folder.string() +
+                     ", which lies inside " + input->what + " " + input->path.string() +
+                     "; choose another --" + option);
 }
 
 void checkOutputInFolder(const fs::path& file, const std::string& option,

@@ -295,7 +295,8 @@ void saveAnnotations(const Annotations& annotations, const fs::path& path) {
   writeTextFileAtomically(path, text);
 }
 
-Annotations importYamlBoxes(const fs::path& path, const LabelSet& labels) {
+Annotations importYamlBoxes(const fs::path& path, const LabelSet& labels,
+                            const std::optional<std::string>& frame_id) {
   const YamlReader in(path.string());
   const YAML::Node root = loadYamlFile(path);
   if (!root.IsMap())
@@ -341,6 +342,7 @@ Annotations importYamlBoxes(const fs::path& path, const LabelSet& labels) {
     }
     annotations.boxes.push_back(std::move(box));
   }
+  if (frame_id) annotations.frame_id = *frame_id;
   return annotations;
 }
 
@@ -353,9 +355,7 @@ bool isYamlBoxesPath(const fs::path& path) {
 Annotations loadAnnotationsFor(const fs::path& path, const LabelSet& labels,
                                const std::string& frame_id) {
   if (!isYamlBoxesPath(path)) return loadAnnotations(path);
-  Annotations annotations = importYamlBoxes(path, labels);
-  annotations.frame_id = frame_id;
-  return annotations;
+  return importYamlBoxes(path, labels, frame_id);
 }
 
 }  // namespace lom

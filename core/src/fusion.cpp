@@ -344,6 +344,22 @@ bool mostDepthsBeyondMaxRange(const FrameStats& totals, double max_range) {
   return max_range > 0.0 && 2 * beyond > totals.valid_pixels;
 }
 
+std::optional<RayLengthProblem> checkRayLength(double max_range, double resolution) {
+  const double voxels = max_range / resolution;
+  if (!(max_range > 0.0 && voxels > kMaxFusionVoxelsPerRay)) return std::nullopt;
+  RayLengthProblem problem;
+  problem.voxels = std::ceil(voxels - 1e-9);
+  return problem;
+}
+
+std::optional<CandidateProblem> checkCandidates(const std::optional<std::vector<int>>& candidates,
+                                                const LabelSet& labels) {
+  if (candidates)
+    for (int id : *candidates)
+      if (!labels.contains(id)) return CandidateProblem{id, labels.size()};
+  return std::nullopt;
+}
+
 double suggestedResolutionForRange(double max_range, double resolution) {
   constexpr double kMaxVoxelsPerRay = 250.0, kStep = 0.005;
   const double coarse = std::ceil(max_range / kMaxVoxelsPerRay / kStep - 1e-9) * kStep;

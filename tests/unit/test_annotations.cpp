@@ -149,6 +149,33 @@ TEST_F(AnnotationsYamlTest, ImportsBoxesWithNamesFromTheLabelSet) {
   EXPECT_EQ(lom::importYamlBoxes(yaml()).boxes[0].name, "object_19");
 }
 
+TEST_F(AnnotationsYamlTest, TheSequencesFrameReplacesTheFrameTheFileNames) {
+  writeText(yaml(),
+            "boxes: [{dimensions: [0.2, 0.15, 0.03], position: [0.5, -0.1, 0.8], "
+            "orientation: [0, 0, 0, 1], name: object_19, frame_id: base}]\n");
+  const auto in_world = lom::importYamlBoxes(yaml(), lom::apc2016Labels(), "world");
+  EXPECT_EQ(in_world.frame_id, "world");
+  ASSERT_EQ(in_world.boxes.size(), 1u);
+  EXPECT_EQ(in_world.boxes[0].name, "i_am_a_bunny_book");
+  EXPECT_EQ(lom::importYamlBoxes(yaml(), lom::apc2016Labels()).frame_id, "base");
+
+  // loadAnnotationsFor reads a YAML box file the same way, annotations.json as it is.
+  const auto loaded = lom::loadAnnotationsFor(yaml(), lom::apc2016Labels(), "shelf");
+  EXPECT_EQ(loaded.frame_id, "shelf");
+  ASSERT_EQ(loaded.boxes.size(), 1u);
+  EXPECT_EQ(loaded.boxes[0].name, "i_am_a_bunny_book");
+  writeText(file(), annotationsWithBoxes(""));
+  EXPECT_EQ(lom::loadAnnotationsFor(file(), lom::apc2016Labels(), "shelf").frame_id, "base");
+
+  // Boxes of disagreeing frames are refused all the same.
+  const std::string box =
+      "{dimensions: [0.1, 0.1, 0.1], position: [0, 0, 0], orientation: [0, 0, 0, 1]";
+  writeText(yaml(), "boxes: [" + box + ", name: object_1, frame_id: base}, " + box +
+                        ", name: object_2, frame_id: camera}]\n");
+  EXPECT_EQ(errorOf([&] { (void)lom::importYamlBoxes(yaml(), {}, "world"); }).field,
+            "boxes[1].frame_id");
+}
+
 TEST_F(AnnotationsYamlTest, RejectsBadDimensionsNamesAndDisagreeingFrames) {
   const std::string box = R"(
   - dimensions: [0.1, 0.1, 0.1]

@@ -77,9 +77,12 @@ QString loadBoxes(StudioSession& session, const QString& path) {
 
 QString importYamlBoxes(StudioSession& session, const QString& path) {
   try {
-    const LabelSet labels = session.sequence() ? session.sequence()->labels : LabelSet{};
-    Annotations imported = lom::importYamlBoxes(toPath(path), labels);
-    if (session.sequence()) imported.frame_id = session.sequence()->frame_id;
+    // With a sequence, as `labeloctomap score` reads a YAML box file
+    // (loadAnnotationsFor): named with its labels and in its frame.
+    const auto sequence = session.sequence();
+    const Annotations imported =
+        sequence ? lom::importYamlBoxes(toPath(path), sequence->labels, sequence->frame_id)
+                 : lom::importYamlBoxes(toPath(path));
     // The imported boxes have no file yet: an annotations.json that could not
     // be read stays protected from being saved over unasked.
     AnnotationsModel& model = session.annotations();

@@ -195,32 +195,26 @@ bool FusionPanel::hasPendingChanges() const {
 void FusionPanel::onEdited() {
   bool ok = true;
   const auto candidates = parseCandidates(candidates_->text(), &ok);
-  // As the command line: candidates are labels of the sequence.
-  QString unknown_candidate;
-  if (ok && candidates && session_.sequence())
-    for (int id : *candidates)
-      if (!session_.sequence()->labels.contains(id)) {
-        unknown_candidate = tr("Candidates: %1 is not a label of the sequence (0 to %2).")
-                                .arg(id)
-                                .arg(session_.sequence()->labels.size() - 1);
-        ok = false;
-        break;
-      }
+  // The command line's checks: candidates are labels of the sequence, and rays
+  // are not too long, which bounds the memory a frame needs.
+  const std::optional<CandidateProblem> unknown =
+      ok && session_.sequence() ? checkCandidates(candidates, session_.sequence()->labels)
+                                : std::nullopt;
+  const std::optional<RayLengthProblem> too_long =
+      checkRayLength(max_range_->value(), resolution_->value());
   const bool pending = hasPendingChanges();
-  // As the command line: at most 1000 voxels along a ray, which bounds the
-  // memory a frame needs (an unlimited range is left to the depths).
-  const double ray_voxels = max_range_->value() / resolution_->value();
-  const bool too_long = max_range_->value() > 0.0 && ray_voxels > kMaxFusionVoxelsPerRay;
-  refuse_->setEnabled(pending && ok && !too_long);
-  if (!unknown_candidate.isEmpty())
-    setNote(unknown_candidate);
+  refuse_->setEnabled(pending && ok && !unknown && !too_long);
+  if (unknown)
+    setNote(tr("Candidates: %1 is not a label of the sequence (0 to %2).")
+                .arg(unknown->label)
+                .arg(unknown->label_count - 1));
   else if (!ok)
     setNote(tr("Candidates: label ids separated by spaces."));
   else if (too_long)
     setNote(tr("Max range / resolution makes rays %1 voxels long; at most %2: choose a coarser "
                "resolution or a shorter max range.")
-                .arg(std::ceil(ray_voxels - 1e-9), 0, 'f', 0)
-                .arg(kMaxFusionVoxelsPerRay, 0, 'f', 0));
+                .arg(too_long->voxels, 0, 'f', 0)
+                .arg(too_long->limit, 0, 'f', 0));
   else
     setNote(pending ? tr("Changed: re-fuse to apply.") : range_note_);
 }

@@ -172,6 +172,27 @@ inline constexpr double kMinFusionResolution = 0.002;
 inline constexpr double kMaxFusionResolution = 1.0;
 inline constexpr double kMaxFusionVoxelsPerRay = 1000.0;
 
+// The checks of fusion settings that the command line and the studio share:
+// each returns what is wrong (nothing when all is well), which the command
+// line words for its options and the studio's Fusion panel for its fields.
+
+// Rays longer than the limit: with a limited max range (> 0), max range /
+// resolution voxels. An unlimited range (<= 0) is left to the depths.
+struct RayLengthProblem {
+  double voxels = 0.0;  // max range / resolution, rounded up
+  double limit = kMaxFusionVoxelsPerRay;
+};
+[[nodiscard]] std::optional<RayLengthProblem> checkRayLength(double max_range, double resolution);
+
+// A class candidate that is not a label of the sequence (0 to label_count - 1):
+// the first such, in the order given. None when no candidates are given.
+struct CandidateProblem {
+  int label = 0;
+  int label_count = 0;
+};
+[[nodiscard]] std::optional<CandidateProblem> checkCandidates(
+    const std::optional<std::vector<int>>& candidates, const LabelSet& labels);
+
 struct FusionOptions {
   MapParameters map;
   std::optional<std::vector<int>> candidates;  // labels known to be present
