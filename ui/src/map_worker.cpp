@@ -90,10 +90,13 @@ void MapWorker::publish(MapSnapshotPtr snapshot) {
 }
 
 void MapWorker::startFusion(std::shared_ptr<const Sequence> sequence, const FusionOptions& options) {
+  // The map changes generation before the running fusion is cancelled: the
+  // worker may end that fusion and run the work queued behind it (an export
+  // waiting for the map) at once, and that work must see the map replaced.
+  ++map_generation_;
   cancel();
   paused_ = false;
   const unsigned id = ++fusion_id_;
-  ++map_generation_;
   fusion_cancel_ = std::make_shared<std::atomic<bool>>(false);
   post([this, sequence, options, id, cancelled = fusion_cancel_] {
     fuse(sequence, options, id, cancelled);
@@ -213,9 +216,9 @@ void MapWorker::cancel() {
 }
 
 void MapWorker::reset() {
-  cancel();
   evaluation_generation_ += 1;
-  ++map_generation_;
+  ++map_generation_;  // before the cancel, as in startFusion
+  cancel();
   post(
       [this] {
         map_.reset();
