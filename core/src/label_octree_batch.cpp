@@ -59,12 +59,27 @@ long LabelOcTree::applyUpdateRange(const VoxelUpdate* first, const VoxelUpdate* 
     int d = common;
     bool skipped = false;
     for (; d < depth_max; ++d) {
-      if (!update->hit && isSaturatedFree(node, created)) {
-        skipped = true;
-        break;
+      // A shared node has children (findCut) and keeps them during the pass,
+      // so it is neither saturated free nor a pruned leaf. Its child array is
+      // not scanned here (nodeHasChildren): the other part may be adding a
+      // child in its own slot meanwhile. Only this part's slot is read.
+      const unsigned pos = octomap::computeChildIdx(update->key, depth_max - 1 - d);
+      if (shared.holds(d, node)) {
+        if (nodeChildExists(node, pos)) {
+          node = getNodeChild(node, pos);
+          created = false;
+        } else {
+          node = node->addChild(pos);
+          created = true;
+          ++node_delta;
+        }
+      } else {
+        if (!update->hit && isSaturatedFree(node, created)) {
+          skipped = true;
+          break;
+        }
+        node = childForUpdate(node, pos, created, node_delta);
       }
-      node = childForUpdate(node, octomap::computeChildIdx(update->key, depth_max - 1 - d), created,
-                            node_delta);
       path[static_cast<size_t>(d + 1)] = node;
     }
     valid_depth = d;

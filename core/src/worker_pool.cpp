@@ -52,7 +52,10 @@ class WorkerPool {
       own_error = std::current_exception();
     }
     while (remaining_.load(std::memory_order_acquire) > 0) std::this_thread::yield();
-    work_ = nullptr;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);  // workers not in this job may be reading it
+      work_ = nullptr;
+    }
     if (own_error) std::rethrow_exception(own_error);
     if (error_) std::rethrow_exception(error_);
     return true;
@@ -66,15 +69,22 @@ class WorkerPool {
       while (generation_.load(std::memory_order_acquire) == seen &&
              std::chrono::steady_clock::now() < spin_until)
         std::this_thread::yield();
+      // The job is read under the lock, with the generation it belongs to: a
+      // worker that takes no part in a job must not read its fields after the
+      // lock, when the next caller may already be setting them.
+      const std::function<void(int)>* work = nullptr;
+      int parts = 0;
       {
         std::unique_lock<std::mutex> lock(mutex_);
         wake_.wait(lock, [&] { return generation_.load(std::memory_order_acquire) != seen; });
         if (stop_) return;
+        seen = generation_.load(std::memory_order_relaxed);
+        work = work_;
+        parts = parts_;
       }
-      seen = generation_.load(std::memory_order_acquire);
-      if (index < parts_) {
+      if (index < parts) {
         try {
-          (*work_)(index);
+          (*work)(index);
         } catch (...) {
           std::lock_guard<std::mutex> lock(mutex_);
           if (!error_) error_ = std::current_exception();
