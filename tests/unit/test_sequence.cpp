@@ -357,7 +357,7 @@ TEST_F(SequenceTest, ReorthonormalisesSlightlyNoisyRotations) {
   Json j = readJson(json());
   j["frames"][0]["pose"] = {1.00002, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
   writeJson(json(), j);
-  const auto rotation = lom::loadSequence(dir.path()).frames[0].T_world_camera.linear();
+  const Eigen::Matrix3d rotation = lom::loadSequence(dir.path()).frames[0].T_world_camera.linear();
   EXPECT_LE((rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(),
             1e-12);
   EXPECT_NEAR(rotation.determinant(), 1.0, 1e-12);
