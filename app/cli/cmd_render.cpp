@@ -44,9 +44,11 @@ std::pair<int, int> parseSize(const std::string& text) {
   const auto x = text.find('x');
   char* end = nullptr;
   if (x != std::string::npos) {
-    const long w = std::strtol(text.substr(0, x).c_str(), &end, 10);
+    // strtol's end pointer points into the string parsed: keep each part alive.
+    const std::string width = text.substr(0, x), height = text.substr(x + 1);
+    const long w = std::strtol(width.c_str(), &end, 10);
     if (*end == '\0' && x > 0) {
-      const long h = std::strtol(text.substr(x + 1).c_str(), &end, 10);
+      const long h = std::strtol(height.c_str(), &end, 10);
       if (*end == '\0' && x + 1 < text.size() && w > 0 && h > 0 && w <= 16384 && h <= 16384)
         return {static_cast<int>(w), static_cast<int>(h)};
     }
@@ -58,10 +60,11 @@ std::pair<int, int> parseSize(const std::string& text) {
 // "SEQ:INDEX": a sequence folder (or sequence.json) and a frame index.
 std::pair<fs::path, size_t> parseCamera(const std::string& text) {
   const auto colon = text.rfind(':');
+  // strtol's end pointer points into the string parsed: keep it alive.
+  const std::string index_text = colon == std::string::npos ? "" : text.substr(colon + 1);
   char* end = nullptr;
   errno = 0;
-  const long index =
-      colon == std::string::npos ? -1 : std::strtol(text.substr(colon + 1).c_str(), &end, 10);
+  const long index = colon == std::string::npos ? -1 : std::strtol(index_text.c_str(), &end, 10);
   if (colon == std::string::npos || colon == 0 || colon + 1 == text.size() || *end != '\0' ||
       index < 0 || errno == ERANGE)
     throw UsageError(

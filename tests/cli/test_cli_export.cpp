@@ -285,9 +285,18 @@ TEST_F(CliExportTest, RenderUsageMistakes) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("option --colour expects labels or height, got 'purple'"), std::string::npos)
       << r.err;
-  r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --size 640");
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("WIDTHxHEIGHT"), std::string::npos) << r.err;
+  for (const char* size : {"640", "640x", "x480", "640x480px", "64ax48", "0x480"}) {
+    r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --size " + size);
+    EXPECT_EQ(r.exit_code, 2) << size;
+    EXPECT_NE(r.err.find("WIDTHxHEIGHT"), std::string::npos) << r.err;
+  }
+  // The frame index is checked to its last character (parsed from a part of the text).
+  for (const char* camera : {"x:1a", "x:-1", "x:", ":1", "x"}) {
+    r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --camera " + camera);
+    EXPECT_EQ(r.exit_code, 2) << camera;
+    EXPECT_NE(r.err.find("option --camera expects SEQ:INDEX"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(out / "v.png"));
 }
 
 }  // namespace

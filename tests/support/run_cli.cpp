@@ -30,7 +30,11 @@ CliResult runCli(const std::string& args, const CliLimits& limits) {
   const auto out = dir / "stdout.txt";
   const auto err = dir / "stderr.txt";
   std::string limit;
-  if (limits.memory_kib > 0) limit += "ulimit -v " + std::to_string(limits.memory_kib) + " && ";
+  if (limits.memory_kib > 0 && kAddressSanitizer)
+    limit += "export ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}hard_rss_limit_mb=" +
+             std::to_string(limits.memory_kib / 1024) + "\" && ";
+  else if (limits.memory_kib > 0)
+    limit += "ulimit -v " + std::to_string(limits.memory_kib) + " && ";
   if (limits.cpu_seconds > 0) limit += "ulimit -t " + std::to_string(limits.cpu_seconds) + " && ";
   if (limits.wall_seconds > 0)
     limit += "timeout -s KILL " + std::to_string(limits.wall_seconds) + " ";

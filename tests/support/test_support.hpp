@@ -44,6 +44,15 @@ inline std::filesystem::path sharedDataDir() { return LOM_SHARED_DATA_DIR; }
                    << " is absent; skipping";                                             \
   } while (0)
 
+// Whether the tests (and so the CLI built with them) use AddressSanitizer. Its shadow
+// memory reserves terabytes of address space, so that a process under a virtual memory
+// limit (ulimit -v) cannot even start.
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kAddressSanitizer = true;
+#else
+inline constexpr bool kAddressSanitizer = false;
+#endif
+
 // Runs the labeloctomap CLI with `args`; returns the exit code, fills stdout/stderr.
 struct CliResult {
   int exit_code = -1;
@@ -53,6 +62,8 @@ struct CliResult {
 // Limits of the process (0: none): virtual memory (ulimit -v), so that an allocation beyond it
 // fails, processor time (ulimit -t), after which it is killed, and elapsed time (a
 // process blocked on a pipe uses no processor time), after which it is killed too.
+// Under AddressSanitizer the memory limit bounds the resident memory instead (the
+// process is killed beyond it; allocations do not fail).
 struct CliLimits {
   long memory_kib = 0;
   long cpu_seconds = 0;

@@ -21,7 +21,9 @@ ConversionProgress::ConversionProgress(QWidget* window, SequenceController& cont
 
 bool ConversionProgress::eventFilter(QObject* watched, QEvent* event) {
   // Closing the dialog cancels; it stays to say so until the conversion ends.
-  if (watched == dialog_ && event->type() == QEvent::Close) {
+  // The event's type is looked at first: a dialog being destroyed (no longer a
+  // QProgressDialog) still sends events through this filter as it hides.
+  if (event->type() == QEvent::Close && watched == dialog_) {
     event->ignore();
     cancel();
     return true;
@@ -85,10 +87,15 @@ void ConversionProgress::cancel() {
 void ConversionProgress::close() {
   done_ = 0;
   total_ = 0;
-  // Deleted at once: QProgressDialog's own timer would show it again.
-  delete dialog_;
+  // Deleted at once: QProgressDialog's own timer would show it again. The
+  // filter goes first, so that the events of its destruction do not reach it.
+  QProgressDialog* dialog = dialog_;
+  dialog_ = nullptr;
   bar_ = nullptr;
   cancel_button_ = nullptr;
+  if (!dialog) return;
+  dialog->removeEventFilter(this);
+  delete dialog;
 }
 
 }  // namespace lom::ui
