@@ -19,6 +19,7 @@
 #include "lom/error.hpp"
 #include "lom/npy.hpp"
 #include "lom/sequence.hpp"
+#include "jpeg_decode.hpp"
 #include "png_check.hpp"
 #include "png_decode.hpp"
 
@@ -72,25 +73,28 @@ std::optional<std::uint64_t> pnmNumber(std::istream& in) {
   return value;
 }
 
-// The whole file when it is a PNG, nullopt for other formats (OpenCV reads
-// those from the path as before). PNGs are checked chunk by chunk and then
-// decoded from these bytes, so the file is read once.
-std::optional<std::vector<std::uint8_t>> pngFileBytes(const fs::path& path) {
+// The whole file when it is a PNG or a JPEG, nullopt for other formats
+// (OpenCV reads those from the path as before). PNGs and JPEGs are decoded
+// here, with their libraries' messages captured, from these bytes, so the
+// file is read once.
+std::optional<std::vector<std::uint8_t>> pngOrJpegFileBytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) return std::nullopt;  // OpenCV reports a file it cannot open
   const std::streamoff size = in.tellg();
   std::vector<std::uint8_t> bytes(8);
   in.seekg(0);
   if (size < 8 || !in.read(reinterpret_cast<char*>(bytes.data()), 8) ||
-      !hasPngSignature(bytes.data(), bytes.size()))
+      (!hasPngSignature(bytes.data(), bytes.size()) && !hasJpegSignature(bytes.data(), 8)))
     return std::nullopt;
   // Kept as for cv::imdecode, which takes at most INT_MAX bytes; no camera image comes near.
   if (size > std::numeric_limits<int>::max())
-    throw Error(path.string(), "file size", "a PNG file of less than 2 GiB",
+    throw Error(path.string(), "file size",
+                std::string("a ") + (bytes[0] == 0xff ? "JPEG" : "PNG") +
+                    " file of less than 2 GiB",
                 std::to_string(size) + " bytes");
   bytes.resize(static_cast<size_t>(size));
   in.read(reinterpret_cast<char*>(bytes.data()) + 8, size - 8);
-  // A file that shrank while being read is reported as truncated by the check.
+  // A file that shrank while being read is reported as truncated by the decoder.
   bytes.resize(8 + static_cast<size_t>(in.gcount()));
   return bytes;
 }
@@ -118,7 +122,10 @@ cv::Mat readImage(const fs::path& path) {
                       std::to_string(size->complete_file_bytes) + " bytes with the header)",
                   "a file truncated after " + std::to_string(bytes) + " bytes");
   }
-  if (const auto png = pngFileBytes(path)) return decodePng(png->data(), png->size(), file);
+  if (const auto bytes = pngOrJpegFileBytes(path))
+    return hasJpegSignature(bytes->data(), bytes->size())
+               ? decodeJpeg(bytes->data(), bytes->size(), file)
+               : decodePng(bytes->data(), bytes->size(), file);
   cv::Mat mat;
   try {
     mat = cv::imread(file, cv::IMREAD_UNCHANGED);

@@ -25,6 +25,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "jpeg_decode.hpp"
 #include "png_check.hpp"
 #include "png_decode.hpp"
 #include "rosbag_topics.hpp"
@@ -165,13 +166,16 @@ DepthImage decodeDepth(const sensor_msgs::Image& image, double millimetre_scale)
   return depth;
 }
 
-// Throws lom::Error (field "PNG data", no file: the caller names the topic) for
-// a damaged PNG, decoded without libpng printing about it; other formats are
-// only decoded.
+// Throws lom::Error (field "PNG data" or "JPEG data", no file: the caller
+// names the topic) for a damaged PNG or JPEG, decoded without libpng or
+// libjpeg printing about it; other formats are only decoded.
 cv::Mat decodeBytes(const std::vector<std::uint8_t>& data, size_t offset, int flags) {
   if (data.size() <= offset) return {};
-  if (hasPngSignature(data.data() + offset, data.size() - offset)) {
-    cv::Mat image = decodePng(data.data() + offset, data.size() - offset, "");
+  const std::uint8_t* bytes = data.data() + offset;
+  const size_t size = data.size() - offset;
+  const bool png = hasPngSignature(bytes, size);
+  if (png || hasJpegSignature(bytes, size)) {
+    cv::Mat image = png ? decodePng(bytes, size, "") : decodeJpeg(bytes, size, "");
     if (flags == cv::IMREAD_UNCHANGED || image.empty()) return image;
     // As cv::imdecode would decode it with `flags` (colour: 8-bit BGR, of a
     // 16-bit PNG the high bytes, as libpng's png_set_strip_16).

@@ -107,6 +107,8 @@ struct BagSpec {
   bool compressed_depth = false;     // compressedDepth: a 12-byte header, then a 16-bit PNG
   int flipped_depth_png_frame = -1;  // this frame's depth PNG has one byte flipped in IDAT
   int cut_color_png_frame = -1;      // this frame's colour PNG ends inside IDAT
+  bool jpeg_color = false;           // compressed colour as JPEG instead of PNG
+  int cut_color_jpeg_frame = -1;     // this frame's colour JPEG ends halfway
 };
 
 // The offset and length of the first IDAT chunk's data in PNG bytes.
@@ -191,14 +193,15 @@ void writeBag(const fs::path& path, const BagSpec& spec) {
         sensor_msgs::CompressedImage image;
         image.header.stamp = color_stamp;
         image.header.frame_id = "camera_color_optical_frame";
-        image.format = "bgr8; png compressed bgr8";
+        image.format = spec.jpeg_color ? "bgr8; jpeg compressed bgr8" : "bgr8; png compressed bgr8";
         cv::Mat bgr(kH, kW, CV_8UC3, cv::Scalar(10 * f, 100, 200));
         std::vector<std::uint8_t> png;
-        cv::imencode(".png", bgr, png);
+        cv::imencode(spec.jpeg_color ? ".jpg" : ".png", bgr, png);
         if (f == spec.cut_color_png_frame) {
           const auto [data, length] = firstImageData(png);
           png.resize(data + length / 2);
         }
+        if (f == spec.cut_color_jpeg_frame) png.resize(png.size() / 2);
         image.data = png;
         bag.write("/camera/color/image_raw/compressed", color_stamp, image);
       } else {
@@ -389,6 +392,35 @@ TEST(ImportRosbag, DamagedPngPayloadsAreReportedByTopicWithoutDecoderMessages) {
   EXPECT_NEAR(loadFrame(sequence, 0).depth.at(4, 3), depthAt(4, 3, 0), 1e-6);
   EXPECT_TRUE(loadFrame(sequence, 0).color.has_value());
   EXPECT_FALSE(loadFrame(sequence, 1).color.has_value()) << "frame 2's colour PNG is cut";
+}
+
+TEST(ImportRosbag, CutJpegColourIsLeftOutWithLibjpegsReasonAndNothingPrinted) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.compressed_color = true;
+  spec.jpeg_color = true;
+  spec.proba_channels = 0;
+  spec.cut_color_jpeg_frame = 2;
+  writeBag(dir / "rec.bag", spec);
+  ImportOptions options;
+  options.depth_filter.flying_pixels = false;
+  testing::internal::CaptureStderr();
+  const ImportReport report =
+      importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq", options);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "") << "libjpeg printed on the terminal";
+  EXPECT_EQ(report.frames_written, 4u) << report.text();  // frame 4 has no pose
+  EXPECT_TRUE(anyNote(report,
+                      "(/camera/color/image_raw/compressed: colour JPEG data: expected a JPEG "
+                      "whose image data can be decoded, found libjpeg stopped: Premature end "
+                      "of JPEG file)"))
+      << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  const FrameData first = loadFrame(sequence, 0);
+  ASSERT_TRUE(first.color.has_value());
+  EXPECT_NEAR(first.color->rgb[0], 200, 3);  // R of BGR (0, 100, 200) through JPEG
+  EXPECT_NEAR(first.color->rgb[1], 100, 3);
+  EXPECT_FALSE(loadFrame(sequence, 2).color.has_value()) << "frame 2's colour JPEG is cut";
+  EXPECT_TRUE(loadFrame(sequence, 3).color.has_value());
 }
 
 TEST(ImportRosbag, ClockOffsetIsReportedAndCorrectedByTheOffsetOption) {
