@@ -3,7 +3,9 @@
 #include "lom/sequence.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <initializer_list>
 #include <map>
@@ -15,6 +17,7 @@
 #include "image_header.hpp"
 #include "json_text.hpp"
 #include "lom/atomic_file.hpp"
+#include "lom/import.hpp"
 
 namespace lom {
 
@@ -301,19 +304,52 @@ FrameRecord parseFrame(const Reader& in, const Json& value, size_t index,
   return frame;
 }
 
+namespace {
+
+// `path` as one word of a shell command: in single quotes unless it is plain.
+std::string shellWord(const std::string& path) {
+  const bool plain = !path.empty() && std::all_of(path.begin(), path.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("_./-+:,=@%", c);
+  });
+  if (plain) return path;
+  std::string quoted = "'";
+  for (const char c : path) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// For a recording that `labeloctomap import` reads (a bag or a dataset
+// folder): "<what it is>: convert it with ...", else "".
+std::string importHint(const fs::path& path) {
+  const SourceDetection detection = detectSource(path);
+  if (!detection.kind || *detection.kind == SourceKind::Sequence) return "";
+  return detection.explanation + ": convert it with `labeloctomap import " +
+         sourceKindName(*detection.kind) + " " + shellWord(path.string()) +
+         " --out SEQ` (labeloctomap-studio opens it as it is)";
+}
+
+}  // namespace
+
 fs::path sequenceJsonPath(const fs::path& folder_or_json) {
   if (folder_or_json.empty())
     throw Error("", "sequence",
                 "a sequence folder holding sequence.json, or the path of a sequence.json file",
                 "an empty path ('')");
   std::error_code ec;
-  fs::path path =
-      fs::is_directory(folder_or_json, ec) ? folder_or_json / "sequence.json" : folder_or_json;
+  const bool folder = fs::is_directory(folder_or_json, ec);
+  fs::path path = folder ? folder_or_json / "sequence.json" : folder_or_json;
   path = fs::absolute(path, ec).lexically_normal();
-  if (const std::string why = notARegularFile(path); !why.empty())
-    throw Error(path.string(), "",
-                "a sequence folder holding sequence.json, or the path of a sequence.json file",
-                why);
+  const char* expected =
+      "a sequence folder holding sequence.json, or the path of a sequence.json file";
+  if (const std::string why = notARegularFile(path); !why.empty()) {
+    const std::string hint = folder ? importHint(folder_or_json) : "";
+    throw Error(path.string(), "", expected, why + (hint.empty() ? "" : "; the folder is " + hint));
+  }
+  // A recording that `labeloctomap import` reads is not a sequence yet: say so
+  // instead of reporting a bag's bytes as broken JSON.
+  if (!folder && path.filename() != "sequence.json" && path.extension() != ".json") {
+    const std::string hint = importHint(folder_or_json);
+    if (!hint.empty()) throw Error(path.string(), "", expected, hint);
+  }
   return path;
 }
 

@@ -203,3 +203,40 @@ TEST_F(CliMessageTest, PlanSaysWhenItGuessedTheApproach) {
 }
 
 }  // namespace
+
+namespace {
+
+// A recording that `labeloctomap import` reads, given where a sequence is
+// expected: the error says what it is and which command converts it.
+TEST(CliRecordingTest, RecordingsGivenAsSequencesNameTheImportThatConvertsThem) {
+  TempDir dir;
+  const fs::path dataset = dir / "room scan";  // a quaternion-pose folder, with a space
+  fs::create_directories(dataset / "depth");
+  std::ofstream(dataset / "pose.txt") << "0 0 0 0 0 0 1\n";
+  const auto folder = runCli("info " + q(dataset));
+  EXPECT_EQ(folder.exit_code, 1) << folder.err;
+  EXPECT_NE(folder.err.find("found no such file; the folder is a quaternion-pose folder (depth/, "
+                            "pose.txt): convert it with `labeloctomap import quaternion '" +
+                            dataset.string() + "' --out SEQ`"),
+            std::string::npos)
+      << folder.err;
+
+  const fs::path bag = dir / "rec.bag";
+  std::ofstream(bag) << "#ROSBAG V2.0\n";
+  TempDir out;
+  const auto file = runCli("fuse " + q(bag) + " --out " + q(out / "m.ot"));
+  EXPECT_EQ(file.exit_code, 1) << file.err;
+  EXPECT_NE(file.err.find("found a ROS bag file: convert it with `labeloctomap import rosbag " +
+                          bag.string() + " --out SEQ`"),
+            std::string::npos)
+      << file.err;
+  EXPECT_TRUE(fs::is_empty(out.path()));
+
+  // A folder that is neither: the plain message, no suggestion.
+  fs::create_directories(dir / "empty");
+  const auto plain = runCli("info " + q(dir / "empty"));
+  EXPECT_EQ(plain.exit_code, 1);
+  EXPECT_NE(plain.err.find("found no such file\n"), std::string::npos) << plain.err;
+}
+
+}  // namespace
