@@ -180,17 +180,21 @@ void writeMatPng(const fs::path& path, const cv::Mat& mat) {
   if (lowerExtension(path) != ".png")
     throw Error(path.string(), "output path", "a file name ending in .png",
                 "'" + path.extension().string() + "'");
-  writePathAtomically(path, [&](const fs::path& temporary) {
-    bool written = false;
-    try {
-      written = cv::imwrite(temporary.string(), mat);
-    } catch (const cv::Exception& e) {
-      throw Error(path.string(), "output", "a writable PNG",
-                  "OpenCV failed: " + std::string(e.what()));
-    }
-    if (!written)
-      throw Error(path.string(), "output", "a writable PNG",
-                  libraryWriteFailure(temporary, "OpenCV"));
+  // Encoded in memory and written by the atomic writer: libpng writing to the
+  // file itself would print "libpng error: Write Error" on a full disk, and
+  // OpenCV would only say that it failed.
+  std::vector<std::uint8_t> png;
+  bool encoded = false;
+  try {
+    encoded = cv::imencode(".png", mat, png);
+  } catch (const cv::Exception& e) {
+    throw Error(path.string(), "output", "a writable PNG",
+                "OpenCV failed: " + std::string(e.what()));
+  }
+  if (!encoded)
+    throw Error(path.string(), "output", "a writable PNG", "OpenCV could not encode the image");
+  writeFileAtomically(path, [&](std::ostream& out) {
+    out.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
   });
 }
 

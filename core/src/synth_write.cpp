@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <vector>
 
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
@@ -102,10 +103,8 @@ FrameRecord writeFrame(const SynthLayout& layout, const SynthOptions& options, s
   return record;
 }
 
-}  // namespace
-
-SynthScene writeSyntheticScene(const SynthOptions& options, const fs::path& out) {
-  const SynthLayout layout = makeSynthLayout(options);
+SynthScene writeScene(const SynthLayout& layout, const SynthOptions& options,
+                      const fs::path& out) {
   prepareFolder(out);
   writeMarker(options, out);
 
@@ -122,6 +121,30 @@ SynthScene writeSyntheticScene(const SynthOptions& options, const fs::path& out)
   saveAnnotations(scene.annotations, out / "annotations.json");
   saveSequence(sequence, out);  // last: only a complete scene is a valid sequence
   return scene;
+}
+
+}  // namespace
+
+SynthScene writeSyntheticScene(const SynthOptions& options, const fs::path& out) {
+  const SynthLayout layout = makeSynthLayout(options);
+  std::error_code ec;
+  const bool existed = fs::exists(out, ec);
+  const bool fresh = !existed || (fs::is_directory(out, ec) && fs::is_empty(out, ec));
+  try {
+    return writeScene(layout, options, out);
+  } catch (...) {
+    // A run that fails (a full disk) takes away what it wrote into a new or
+    // empty folder; an earlier output it was replacing stays marked by
+    // synth.json, without sequence.json, so that the next run replaces it.
+    if (fresh && !existed) {
+      fs::remove_all(out, ec);
+    } else if (fresh) {
+      std::vector<fs::path> written;
+      for (const auto& entry : fs::directory_iterator(out, ec)) written.push_back(entry.path());
+      for (const auto& path : written) fs::remove_all(path, ec);
+    }
+    throw;
+  }
 }
 
 }  // namespace lom

@@ -87,3 +87,44 @@ TEST(CliSynthTest, RefusesAForeignNonEmptyFolder) {
 }
 
 }  // namespace
+
+namespace {
+
+// A full disk (here: a limit on the size of any file written) stops synth with
+// the product's message, not libpng's, and leaves no half-written scene.
+TEST(CliSynthTest, AFullDiskLeavesNoHalfWrittenScene) {
+  lom::test::TempDir dir;
+  const char* const kScene = " --frames 3 --width 320 --height 240";
+  lom::test::CliLimits full_disk;
+  full_disk.file_kib = 20;  // less than one frame's depth PNG
+
+  const fs::path fresh = dir / "fresh";
+  const auto r = lom::test::runCli("synth --out " + quoted(fresh) + kScene, full_disk);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find((fresh / "depth/000000.png").string() +
+                       ": output: expected a complete write, found write failed (disk full?)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("libpng"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(fresh)) << "the new folder is taken away again";
+
+  const fs::path empty = dir / "empty";
+  fs::create_directories(empty);
+  EXPECT_EQ(lom::test::runCli("synth --out " + quoted(empty) + kScene, full_disk).exit_code, 1);
+  EXPECT_TRUE(fs::is_directory(empty));
+  EXPECT_TRUE(fs::is_empty(empty)) << "an empty folder given is left empty";
+
+  // An earlier scene being replaced stays marked as synth output, without a
+  // sequence.json that would mix old and new frames; the next run replaces it.
+  const fs::path earlier = dir / "earlier";
+  ASSERT_EQ(lom::test::runCli("synth --out " + quoted(earlier) + kScene).exit_code, 0);
+  EXPECT_EQ(lom::test::runCli("synth --out " + quoted(earlier) + kScene + " --seed 9", full_disk)
+                .exit_code,
+            1);
+  EXPECT_TRUE(fs::exists(earlier / "synth.json"));
+  EXPECT_FALSE(fs::exists(earlier / "sequence.json"));
+  EXPECT_EQ(lom::test::runCli("synth --out " + quoted(earlier) + kScene).exit_code, 0);
+  EXPECT_TRUE(fs::exists(earlier / "sequence.json"));
+}
+
+}  // namespace

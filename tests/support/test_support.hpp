@@ -64,10 +64,13 @@ struct CliResult {
 // process blocked on a pipe uses no processor time), after which it is killed too.
 // Under AddressSanitizer the memory limit bounds the resident memory instead (the
 // process is killed beyond it; allocations do not fail).
+// `file_kib` bounds the size of every file the process writes (ulimit -f, with
+// SIGXFSZ ignored): a write beyond it fails as on a full disk.
 struct CliLimits {
   long memory_kib = 0;
   long cpu_seconds = 0;
   long wall_seconds = 0;
+  long file_kib = 0;
 };
 CliResult runCli(const std::string& args, const CliLimits& limits = {});
 

@@ -4,10 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <QImage>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+
+#include <sys/resource.h>
 
 #include "lom/atomic_file.hpp"
 #include "lom/ui/window_capture.hpp"
@@ -65,6 +68,35 @@ TEST(AtomicWrite, ScreenshotReplacesAPictureOnlyWithACompleteOne) {
   EXPECT_TRUE(error.contains("shot.not-an-image-format")) << error.toStdString();
   EXPECT_EQ(slurp(other), "an earlier file");
   EXPECT_EQ(entriesIn(temp.path()), 2u);  // no temporary file left
+}
+
+TEST(AtomicWrite, AScreenshotOnAFullDiskSaysSoAndKeepsTheOldPicture) {
+  lom::test::TempDir temp;
+  const fs::path png = temp / "shot.png";
+  std::ofstream(png) << "an earlier picture";
+  QImage image(256, 256, QImage::Format_RGB32);  // noise: its PNG takes far more than 1 KiB
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x)
+      image.setPixel(x, y, static_cast<QRgb>((x * 7919u + y * 104729u) * 2654435761u));
+  // A limit on the size of any file written: a write beyond it fails as on a full disk.
+  rlimit before{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &before), 0);
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit full = before;
+  full.rlim_cur = 1024;
+  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &full), 0);
+  const QString error = saveImageAtomically(image, qPath(png));
+  setrlimit(RLIMIT_FSIZE, &before);
+  std::signal(SIGXFSZ, old_handler);
+  EXPECT_TRUE(error.contains("shot.png")) << error.toStdString();
+  EXPECT_TRUE(error.contains("disk full?")) << error.toStdString();
+  EXPECT_EQ(slurp(png), "an earlier picture");
+  EXPECT_EQ(entriesIn(temp.path()), 1u);  // no temporary file left
+
+  ASSERT_EQ(saveImageAtomically(image, qPath(png)), QString());  // room again
+  EXPECT_EQ(QImage(qPath(png)).size(), QSize(256, 256));
+  const QString no_extension = saveImageAtomically(image, qPath(temp / "shot"));
+  EXPECT_TRUE(no_extension.contains("without an extension")) << no_extension.toStdString();
 }
 
 }  // namespace

@@ -1,12 +1,15 @@
 #include "lom/ui/window_capture.hpp"
 
+#include <QBuffer>
 #include <QCoreApplication>
 #include <QElapsedTimer>
+#include <QFileInfo>
 #include <QImageWriter>
 #include <QPainter>
 #include <QThread>
 #include <QWidget>
 #include <QWindow>
+#include <ostream>
 
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
@@ -41,17 +44,23 @@ QImage captureWindow(QWidget& window, SceneView& scene) {
 }
 
 QString saveImageAtomically(const QImage& image, const QString& path) {
-  const QString target = path;
   try {
-    lom::writePathAtomically(std::filesystem::path(path.toStdString()),
-                             [&](const std::filesystem::path& temporary) {
-                               QImageWriter writer(QString::fromStdString(temporary.string()));
-                               if (!writer.write(image))
-                                 throw Error(target.toStdString(), "image",
-                                             "an image format such as .png or .jpg and a "
-                                             "writable folder",
-                                             writer.errorString().toStdString());
-                             });
+    // Encoded in memory and written by the atomic writer, which names a full
+    // disk as such; the image library writing to the file itself would only
+    // print its own message on the terminal.
+    const QByteArray format = QFileInfo(path).suffix().toLower().toLatin1();
+    QByteArray bytes;
+    QBuffer buffer(&bytes);
+    buffer.open(QIODevice::WriteOnly);
+    QImageWriter writer(&buffer, format);
+    if (format.isEmpty() || !writer.write(image))
+      throw Error(path.toStdString(), "image",
+                  "an image format such as .png or .jpg and a writable folder",
+                  format.isEmpty() ? std::string("a file name without an extension")
+                                   : writer.errorString().toStdString());
+    lom::writeFileAtomically(std::filesystem::path(path.toStdString()), [&](std::ostream& out) {
+      out.write(bytes.constData(), static_cast<std::streamsize>(bytes.size()));
+    });
   } catch (const std::exception& error) {
     return QString::fromStdString(error.what());
   }
