@@ -118,11 +118,17 @@ void writeMeshes(const std::vector<SurfaceMesh>& meshes, const LabelMap& map, Ex
 // Per-label files are written into a hidden folder inside the output folder
 // and moved into place only once every one of them is complete, so that a
 // failure (a full disk) never leaves new files of some labels beside old
-// files of others. The folder is removed in any case.
+// files of others. The folder is removed in any case, and so are the output
+// folder and its parents that were created for the export when it fails.
 class StagingFolder {
  public:
   explicit StagingFolder(const fs::path& out) : out_(out) {
     std::error_code ec;
+    for (fs::path p = fs::absolute(out, ec).lexically_normal(); !p.empty() && !fs::exists(p, ec);
+         p = p.parent_path()) {
+      created_.push_back(p);  // innermost first
+      if (p == p.parent_path()) break;
+    }
     fs::create_directories(out, ec);
     if (ec)
       throw Error(out.string(), "output path", "a folder for the per-label files",
@@ -140,12 +146,15 @@ class StagingFolder {
   ~StagingFolder() {
     std::error_code ignored;
     fs::remove_all(path_, ignored);
+    if (!published_)
+      for (const fs::path& folder : created_) fs::remove(folder, ignored);  // only when empty
   }
 
   [[nodiscard]] const fs::path& path() const { return path_; }
 
   // Moves the staged files into the output folder; returns their new paths.
-  std::vector<fs::path> publish(const std::vector<fs::path>& staged) const {
+  std::vector<fs::path> publish(const std::vector<fs::path>& staged) {
+    published_ = true;
     std::vector<fs::path> published;
     for (const fs::path& file : staged) {
       const fs::path target = out_ / file.filename();
@@ -162,6 +171,8 @@ class StagingFolder {
  private:
   fs::path out_;
   fs::path path_;
+  std::vector<fs::path> created_;  // folders that did not exist before, innermost first
+  bool published_ = false;
 };
 
 }  // namespace

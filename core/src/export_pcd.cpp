@@ -1,11 +1,15 @@
 // The one place that includes PCL's point types and io for voxel clouds
 // (PCD, and PLY point clouds).
 #define PCL_NO_PRECOMPILE
+#include <pcl/console/print.h>
 #include <pcl/conversions.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
+
+#include <fstream>
+#include <functional>
 
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
@@ -31,11 +35,60 @@ namespace lom {
 
 namespace {
 
-// PCL's message without the empty file name it starts with (": [pcl::...").
-std::string pclReason(const pcl::PCLException& e) {
-  std::string reason = e.what();
-  const size_t start = reason.find_first_not_of(": ");
-  return start == std::string::npos ? reason : reason.substr(start);
+// Bytes per point after the header: PCD x y z rgb label probability (six 4-byte
+// fields); PLY x y z (floats), red green blue (bytes), label, probability.
+constexpr std::uintmax_t kPcdPointBytes = 24;
+constexpr std::uintmax_t kPlyPointBytes = 23;
+
+// Whether PCL wrote the whole file: its header (up to and with `header_end`)
+// and then `points` x `point_bytes`. PCL's PLY writer does not check its
+// stream, so a file cut short by a full disk would otherwise pass as written.
+bool completeFile(const std::filesystem::path& file, const std::string& header_end,
+                  size_t points, std::uintmax_t point_bytes) {
+  std::ifstream in(file, std::ios::binary);
+  std::string header;
+  for (std::string line; header.size() < 65536 && std::getline(in, line);) {
+    header += line + "\n";
+    if (line == header_end) {
+      std::error_code ec;
+      const std::uintmax_t size = std::filesystem::file_size(file, ec);
+      return !ec && size == header.size() + points * point_bytes;
+    }
+  }
+  return false;
+}
+
+// PCL prints its own errors on the terminal (pcl::console); the product says
+// what went wrong itself. Quiet while one of its writers runs.
+class QuietPcl {
+ public:
+  QuietPcl() : before_(pcl::console::getVerbosityLevel()) {
+    pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+  }
+  ~QuietPcl() { pcl::console::setVerbosityLevel(before_); }
+  QuietPcl(const QuietPcl&) = delete;
+  QuietPcl& operator=(const QuietPcl&) = delete;
+
+ private:
+  pcl::console::VERBOSITY_LEVEL before_;
+};
+
+// Runs PCL's `write` into `temporary` and checks the file it leaves.
+void writeWithPcl(const std::filesystem::path& path, const std::filesystem::path& temporary,
+                  const char* format, const std::string& header_end, size_t points,
+                  std::uintmax_t point_bytes, const std::function<int()>& write) {
+  int result = -1;
+  try {
+    const QuietPcl quiet;
+    result = write();
+  } catch (const pcl::PCLException&) {  // e.g. no room for the file
+    result = -1;
+  }
+  const std::string expected = std::string("a writable ") + format + " file";
+  if (result != 0) throw Error(path.string(), "output", expected, libraryWriteFailure(temporary, "PCL"));
+  if (!completeFile(temporary, header_end, points, point_bytes))
+    throw Error(path.string(), "output", expected,
+                "write failed: PCL's file was cut short (disk full?)");
 }
 
 pcl::PointCloud<LabelledVoxelPoint> voxelCloud(const LabelMap& map,
@@ -74,16 +127,8 @@ size_t writePcd(const LabelMap& map, const std::optional<std::set<int>>& labels,
                 const std::filesystem::path& path) {
   const auto cloud = voxelCloud(map, labels, path);
   writePathAtomically(path, [&](const std::filesystem::path& temporary) {
-    int result = -1;
-    try {
-      result = pcl::io::savePCDFileBinary(temporary.string(), cloud);
-    } catch (const pcl::PCLException& e) {  // e.g. no room for the file
-      throw Error(path.string(), "output", "a writable PCD file",
-                  "PCL could not write it: " + pclReason(e));
-    }
-    if (result != 0)
-      throw Error(path.string(), "output", "a writable PCD file",
-                  libraryWriteFailure(temporary, "PCL"));
+    writeWithPcl(path, temporary, "PCD", "DATA binary", cloud.size(), kPcdPointBytes,
+                 [&] { return pcl::io::savePCDFileBinary(temporary.string(), cloud); });
   });
   return cloud.size();
 }
@@ -105,19 +150,12 @@ size_t writeVoxelsPly(const LabelMap& map, const std::set<int>& labels,
   pcl::PCLPointCloud2 blob;
   pcl::toPCLPointCloud2(cloud, blob);
   writePathAtomically(path, [&](const std::filesystem::path& temporary) {
-    pcl::PLYWriter writer;
-    int result = -1;
-    try {
+    writeWithPcl(path, temporary, "PLY", "end_header", cloud.size(), kPlyPointBytes, [&] {
       // No camera element: a plain vertex list that every PLY reader accepts.
-      result = writer.write(temporary.string(), blob, Eigen::Vector4f::Zero(),
-                            Eigen::Quaternionf::Identity(), /*binary=*/true, /*use_camera=*/false);
-    } catch (const pcl::PCLException& e) {
-      throw Error(path.string(), "output", "a writable PLY file",
-                  "PCL could not write it: " + pclReason(e));
-    }
-    if (result != 0)
-      throw Error(path.string(), "output", "a writable PLY file",
-                  libraryWriteFailure(temporary, "PCL"));
+      return pcl::PLYWriter().write(temporary.string(), blob, Eigen::Vector4f::Zero(),
+                                    Eigen::Quaternionf::Identity(), /*binary=*/true,
+                                    /*use_camera=*/false);
+    });
   });
   return cloud.size();
 }

@@ -2,11 +2,13 @@
 // meshes are opened with assimp (Debian package assimp-utils) as other tools would.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <regex>
 #include <set>
 #include <sstream>
+#include <vector>
 
 #include "lom/export.hpp"
 #include "lom/label_map.hpp"
@@ -184,6 +186,42 @@ TEST_F(CliExportTest, MistakesGiveClearMessagesAndNoFile) {
   EXPECT_NE(r.err.find("input map"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::is_empty(out.path()));
   EXPECT_NO_THROW((void)lom::LabelMap::load(map()));
+}
+
+// A full disk (here: a limit on the size of any file written) fails every
+// export with one line of the product's own, keeps the file it would have
+// replaced and leaves nothing half-written. PCL's PLY writer does not notice a
+// failed write itself: its file is checked after writing.
+TEST_F(CliExportTest, AFullDiskFailsEveryExportAndKeepsTheOldFile) {
+  TempDir out;
+  lom::test::CliLimits full_disk;
+  full_disk.file_kib = 1;
+  const std::vector<std::pair<std::string, std::string>> exports = {
+      {"--format ply", "m.ply"},          {"--format ply --points", "p.ply"},
+      {"--format obj", "m.obj"},          {"--format stl", "m.stl"},
+      {"--format pcd", "m.pcd"},          {"--voxels", "v.pcd"},
+      {"--format ot", "m.ot"},            {"--format bt", "m.bt"},
+      {"--format ply --per-label", "per"}};
+  for (const auto& [options, name] : exports) {
+    SCOPED_TRACE(options);
+    const fs::path target = out / name;
+    if (name != "per") std::ofstream(target) << "an earlier file";
+    const std::string where = options == "--voxels" ? " " : " --out ";
+    const auto r = runCli("export " + q(map()) + " " + options + where + q(target), full_disk);
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_EQ(r.err.rfind("labeloctomap export: error: ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    if (name != "per") {
+      std::ifstream in(target);
+      std::string kept;
+      std::getline(in, kept);
+      EXPECT_EQ(kept, "an earlier file");
+    } else {
+      EXPECT_FALSE(fs::exists(target)) << "the folder it created is taken away again";
+    }
+  }
+  EXPECT_EQ(std::distance(fs::directory_iterator(out.path()), fs::directory_iterator()), 8)
+      << "no temporary file left";
 }
 
 TEST_F(CliExportTest, RenderWithoutDisplaySaysHowToRunIt) {
