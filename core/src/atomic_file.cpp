@@ -169,6 +169,21 @@ void writeFileAtomically(const fs::path& target, const std::function<void(std::o
   files.commit();
 }
 
+NewFolders::NewFolders(const fs::path& folder) {
+  std::error_code ec;
+  for (fs::path p = fs::absolute(folder, ec).lexically_normal(); !p.empty(); p = p.parent_path()) {
+    if (p.filename().empty() && p.has_parent_path() && p != p.parent_path()) continue;  // "a/b/"
+    if (fs::exists(p, ec) || ec) break;
+    missing_.push_back(p);
+    if (p == p.parent_path()) break;
+  }
+}
+
+NewFolders::~NewFolders() {
+  std::error_code ignored;
+  for (const fs::path& p : missing_) fs::remove(p, ignored);  // fails, as wanted, unless empty
+}
+
 void writeTextFileAtomically(const fs::path& target, const std::string& text) {
   writeFileAtomically(target, [&](std::ostream& out) { out << text; }, false);
 }

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <random>
 
+#include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 #include "lom/export.hpp"
 
@@ -122,13 +123,8 @@ void writeMeshes(const std::vector<SurfaceMesh>& meshes, const LabelMap& map, Ex
 // folder and its parents that were created for the export when it fails.
 class StagingFolder {
  public:
-  explicit StagingFolder(const fs::path& out) : out_(out) {
+  explicit StagingFolder(const fs::path& out) : out_(out), created_(out) {
     std::error_code ec;
-    for (fs::path p = fs::absolute(out, ec).lexically_normal(); !p.empty() && !fs::exists(p, ec);
-         p = p.parent_path()) {
-      created_.push_back(p);  // innermost first
-      if (p == p.parent_path()) break;
-    }
     fs::create_directories(out, ec);
     if (ec)
       throw Error(out.string(), "output path", "a folder for the per-label files",
@@ -146,15 +142,13 @@ class StagingFolder {
   ~StagingFolder() {
     std::error_code ignored;
     fs::remove_all(path_, ignored);
-    if (!published_)
-      for (const fs::path& folder : created_) fs::remove(folder, ignored);  // only when empty
   }
 
   [[nodiscard]] const fs::path& path() const { return path_; }
 
   // Moves the staged files into the output folder; returns their new paths.
   std::vector<fs::path> publish(const std::vector<fs::path>& staged) {
-    published_ = true;
+    created_.keep();
     std::vector<fs::path> published;
     for (const fs::path& file : staged) {
       const fs::path target = out_ / file.filename();
@@ -170,9 +164,8 @@ class StagingFolder {
 
  private:
   fs::path out_;
+  NewFolders created_;  // taken away again unless the files are published
   fs::path path_;
-  std::vector<fs::path> created_;  // folders that did not exist before, innermost first
-  bool published_ = false;
 };
 
 }  // namespace

@@ -1,4 +1,8 @@
+#include <ostream>
+#include <string>
 #include <system_error>
+#include <utility>
+#include <vector>
 
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
@@ -18,29 +22,33 @@ void makeFolder(const fs::path& dir) {
   if (ec) throw Error(dir.string(), "--out", "a folder that can be created", ec.message());
 }
 
+// All of a report's files replace the old ones together (a failure on the way,
+// such as a full disk, leaves the old report whole), in a folder that is taken
+// away again if it was created for them.
+void writeFiles(const fs::path& dir, const std::vector<std::pair<const char*, std::string>>& files) {
+  NewFolders created(dir);
+  makeFolder(dir);
+  StagedFiles staged;
+  for (const auto& [name, text] : files)
+    staged.add(dir / name, [&text = text](std::ostream& out) { out << text; }, false);
+  staged.commit();
+  created.keep();
+}
+
 }  // namespace
 
 void writeReport(const EvaluationReport& report, const fs::path& dir) {
   // Everything is rendered before the first file is touched.
-  const std::string json = reportJson(report);
-  const std::string csv = reportCsv(report);
-  const std::string markdown = reportMarkdown(report);
-  const std::string svg = reportSvg(report);
-  makeFolder(dir);
-  writeTextFileAtomically(dir / "report.json", json);
-  writeTextFileAtomically(dir / "report.csv", csv);
-  writeTextFileAtomically(dir / "report.md", markdown);
-  writeTextFileAtomically(dir / "report.svg", svg);
+  writeFiles(dir, {{"report.json", reportJson(report)},
+                   {"report.csv", reportCsv(report)},
+                   {"report.md", reportMarkdown(report)},
+                   {"report.svg", reportSvg(report)}});
 }
 
 void writeAggregate(const std::vector<EvaluationReport>& reports, const fs::path& dir) {
-  const std::string json = aggregateJson(reports);
-  const std::string markdown = aggregateMarkdown(reports);
-  const std::string svg = aggregateSvg(reports);
-  makeFolder(dir);
-  writeTextFileAtomically(dir / "aggregate.json", json);
-  writeTextFileAtomically(dir / "aggregate.md", markdown);
-  writeTextFileAtomically(dir / "aggregate.svg", svg);
+  writeFiles(dir, {{"aggregate.json", aggregateJson(reports)},
+                   {"aggregate.md", aggregateMarkdown(reports)},
+                   {"aggregate.svg", aggregateSvg(reports)}});
 }
 
 }  // namespace lom

@@ -268,6 +268,32 @@ TEST_F(CliScoreTest, BoxOfAnUnknownLabelFailsAndWritesNothing) {
   EXPECT_FALSE(std::filesystem::exists(dir));
 }
 
+// A full disk (here: a limit on the size of any file written) keeps an earlier
+// report whole, and a report folder created for the run is taken away again.
+TEST_F(CliScoreTest, AFullDiskKeepsTheEarlierReportWhole) {
+  TempDir out;
+  const auto dir = out / "report";
+  ASSERT_EQ(runCli(scoreArgs(dir)).exit_code, 0);
+  const char* const names[] = {"report.json", "report.csv", "report.md", "report.svg"};
+  std::vector<std::string> before;
+  for (const char* name : names) before.push_back(slurp(dir / name));
+  lom::test::CliLimits full_disk;
+  full_disk.file_kib = 2;  // room for the CSV and the Markdown, not for the others
+  auto r = runCli(scoreArgs(dir) + " --iou center", full_disk);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("write failed (disk full?)"), std::string::npos) << r.err;
+  for (size_t i = 0; i < before.size(); ++i) EXPECT_EQ(slurp(dir / names[i]), before[i]) << names[i];
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir),
+                          std::filesystem::directory_iterator()),
+            4)
+      << "no temporary file left";
+
+  const auto fresh = out / "new" / "report";
+  r = runCli(scoreArgs(fresh), full_disk);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "new")) << "the folders made for the report go again";
+}
+
 TEST_F(CliScoreTest, OtherFrameFailsAndWritesNothing) {
   TempDir out;
   Json annotations = Json::parse(slurp(scene() / "annotations.json"));

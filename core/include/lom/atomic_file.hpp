@@ -34,6 +34,23 @@ void writeTextFileAtomically(const std::filesystem::path& target, const std::str
 // The same from the free bytes: the rule, apart from asking the file system.
 [[nodiscard]] std::string libraryWriteFailure(std::uint64_t free_bytes, const std::string& library);
 
+// The folders a command is about to create for its outputs: `folder` and those
+// of its parents that do not exist yet, recorded before they are created.
+// Unless keep() is called (once the outputs are in place), the destructor
+// removes them again, innermost first and only while empty, so that a command
+// that fails leaves no empty output folders behind.
+class NewFolders {
+ public:
+  explicit NewFolders(const std::filesystem::path& folder);
+  NewFolders(const NewFolders&) = delete;
+  NewFolders& operator=(const NewFolders&) = delete;
+  ~NewFolders();
+  void keep() { missing_.clear(); }
+
+ private:
+  std::vector<std::filesystem::path> missing_;  // innermost first
+};
+
 // Files that belong together (an OBJ and its MTL): each is written to a
 // temporary file beside its target, and commit() renames them into place, in
 // the order added, only once every one is complete. Until then no target is
