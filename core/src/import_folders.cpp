@@ -347,6 +347,9 @@ void importQuaternion(const fs::path& source, const ImportOptions& options,
     line_numbers.push_back(number);
   }
   // 8 columns whose first is an integer naming a depth file: matched by number.
+  // A whole number too large for a file number (a stamp such as 1e19) names
+  // no depth file.
+  constexpr double kLongLimit = 9223372036854775808.0;  // 2^63
   std::map<long, size_t> line_of_number;
   bool by_number = !lines.empty() && lines.front().size() == 8;
   if (by_number) {
@@ -356,7 +359,7 @@ void importQuaternion(const fs::path& source, const ImportOptions& options,
         by_number = false;
         break;
       }
-      line_of_number[static_cast<long>(id)] = i;
+      if (id >= -kLongLimit && id < kLongLimit) line_of_number[static_cast<long>(id)] = i;
     }
     if (by_number) {
       bool any = false;

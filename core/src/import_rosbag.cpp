@@ -627,10 +627,13 @@ class PoseLookup {
   // The camera-to-fixed-frame pose at `stamp` (at the edges of tf's range,
   // within the time tolerance); empty with the reason when tf has none.
   std::optional<Eigen::Matrix4d> at(double stamp, std::string& reason) const {
+    // A ROS 1 time holds whole seconds from 0 to 2^32 - 1: tf has nothing
+    // outside that span (a large time offset or tolerance).
+    constexpr double kRosTimeEnd = 4294967296.0;
     std::optional<geometry_msgs::TransformStamped> found;
     std::string tf_error;
     for (double t : {stamp, stamp - tolerance_, stamp + tolerance_}) {
-      if (t <= 0.0) continue;
+      if (!(t > 0.0 && t < kRosTimeEnd)) continue;
       try {
         found = buffer_.lookupTransform(fixed_frame_, camera_frame_, ros::Time(t));
         break;

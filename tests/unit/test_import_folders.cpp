@@ -542,6 +542,32 @@ TEST(ImportQuaternion, KeepsALeadingTimeStampButNotAFrameNumber) {
     EXPECT_FALSE(frame.stamp.has_value()) << "a frame number is not a time";
 }
 
+TEST(ImportQuaternion, WholeNumbersTooLargeForFrameNumbersAreTimeStamps) {
+  test::TempDir dir;
+  writeQuaternionFolder(dir / "room");
+  ImportOptions options;
+  options.intrinsics = parseIntrinsics("30,31,15.5,11.5");
+  // Whole numbers, but beyond any frame number (and beyond a 64-bit integer).
+  writeText(dir / "room" / "pose.txt",
+            "1e19 0 0 0 0 0 0 1\n2e19 0.1 0 0 0 0 0 1\n-3e30 0.2 0 0 0 0 0 1\n");
+  ASSERT_EQ(
+      importSource(SourceKind::Quaternion, dir / "room", dir / "timed", options).frames_written,
+      3u);
+  const Sequence timed = loadSequence(dir / "timed");
+  ASSERT_TRUE(timed.frames[0].stamp.has_value());
+  EXPECT_DOUBLE_EQ(*timed.frames[0].stamp, 1e19);
+  ASSERT_TRUE(timed.frames[2].stamp.has_value());
+  EXPECT_DOUBLE_EQ(*timed.frames[2].stamp, -3e30);
+  EXPECT_NEAR(timed.frames[1].T_world_camera.translation().x(), 0.1, 1e-12);
+
+  // Among frame numbers, such a line names no depth image: that image has no pose.
+  writeText(dir / "room" / "pose.txt", "1 0 0 0 0 0 0 1\n2 0.1 0 0 0 0 0 1\n1e19 0.2 0 0 0 0 0 1\n");
+  const ImportReport numbered =
+      importSource(SourceKind::Quaternion, dir / "room", dir / "numbered", options);
+  EXPECT_EQ(numbered.frames_written, 2u) << numbered.text();
+  EXPECT_TRUE(anySkipped(numbered, "no pose for it in pose.txt")) << numbered.text();
+}
+
 TEST(ImportQuaternion, MalformedInputs) {
   test::TempDir dir;
   writeQuaternionFolder(dir / "room");

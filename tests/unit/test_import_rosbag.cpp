@@ -441,6 +441,35 @@ TEST(ImportRosbag, ClockOffsetIsReportedAndCorrectedByTheOffsetOption) {
       (worldBase(10.2) * baseCamera()).matrix(), 1e-6));
 }
 
+TEST(ImportRosbag, StampsOutsideRosTimeHaveNoTransform) {
+  test::TempDir dir;
+  writeBag(dir / "rec.bag", {});
+  ImportOptions options;
+  options.depth_filter.flying_pixels = false;
+  // Offsets that move every stamp past what a ROS time holds (2^32 s), one of
+  // them past any 64-bit integer, or below 0.
+  for (const double offset : {1e10, 1e30, -1e30}) {
+    options.time_offset = offset;
+    const std::string error =
+        errorOf([&] { importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq", options); });
+    EXPECT_NE(error.find("no transform from 'world' to 'camera_depth_optical_frame'"),
+              std::string::npos)
+        << offset << ": " << error;
+    EXPECT_NE(error.find("tf covers 9.950 to 10.300"), std::string::npos) << error;
+    EXPECT_FALSE(fs::exists(dir / "seq"));
+  }
+  // A tolerance reaching past ROS time: the frame outside tf's range is still
+  // the only one skipped.
+  options.time_offset = 0.0;
+  options.time_tolerance = 1e30;
+  const ImportReport report =
+      importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq", options);
+  EXPECT_EQ(report.frames_written, 4u) << report.text();
+  ASSERT_EQ(report.skipped.size(), 1u) << report.text();
+  EXPECT_NE(report.skipped[0].reason.find("no transform"), std::string::npos)
+      << report.skipped[0].reason;
+}
+
 TEST(ImportRosbag, MalformedBags) {
   test::TempDir dir;
   // Two depth topics: ambiguous unless one is chosen.

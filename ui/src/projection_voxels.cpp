@@ -28,6 +28,9 @@ MapSnapshot projectionVoxels(const Sequence& sequence, size_t index, const Frame
       const int label = evidence.argmax(u, v);
       if (label == 0) continue;
       const Eigen::Vector3d p = T * p_camera;
+      // Outside the map's extent: the fusion and the scored baseline leave such
+      // points out too (and their cell would not fit the grid's integers).
+      if (!insideMapExtent(p, resolution)) continue;
       const auto key = std::make_tuple(static_cast<long>(std::floor(p.x() / resolution)),
                                        static_cast<long>(std::floor(p.y() / resolution)),
                                        static_cast<long>(std::floor(p.z() / resolution)), label);
