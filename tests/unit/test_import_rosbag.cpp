@@ -358,6 +358,18 @@ TEST(ImportRosbag, FloatDepthCompressedColourAndLabelImages) {
     EXPECT_TRUE(record.proba_from_label) << "one-hot from the label topic";
 }
 
+// Writes a bag from `spec` into `dir` and imports it (no flying-pixel filter);
+// `printed` receives what the import wrote on stderr.
+ImportReport importPrinting(const test::TempDir& dir, const BagSpec& spec, std::string& printed) {
+  writeBag(dir / "rec.bag", spec);
+  ImportOptions options;
+  options.depth_filter.flying_pixels = false;
+  testing::internal::CaptureStderr();
+  ImportReport report = importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq", options);
+  printed = testing::internal::GetCapturedStderr();
+  return report;
+}
+
 TEST(ImportRosbag, DamagedPngPayloadsAreReportedByTopicWithoutDecoderMessages) {
   test::TempDir dir;
   BagSpec spec;
@@ -366,13 +378,9 @@ TEST(ImportRosbag, DamagedPngPayloadsAreReportedByTopicWithoutDecoderMessages) {
   spec.proba_channels = 0;
   spec.flipped_depth_png_frame = 1;
   spec.cut_color_png_frame = 2;
-  writeBag(dir / "rec.bag", spec);
-  ImportOptions options;
-  options.depth_filter.flying_pixels = false;
-  testing::internal::CaptureStderr();
-  const ImportReport report =
-      importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq", options);
-  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  std::string printed;
+  const ImportReport report = importPrinting(dir, spec, printed);
+  EXPECT_EQ(printed, "");
   // Frame 1 is skipped (its depth is damaged), frame 4 has no pose; frame 2 has no colour.
   EXPECT_EQ(report.frames_written, 3u) << report.text();
   bool depth_reported = false;
@@ -401,13 +409,9 @@ TEST(ImportRosbag, CutJpegColourIsLeftOutWithLibjpegsReasonAndNothingPrinted) {
   spec.jpeg_color = true;
   spec.proba_channels = 0;
   spec.cut_color_jpeg_frame = 2;
-  writeBag(dir / "rec.bag", spec);
-  ImportOptions options;
-  options.depth_filter.flying_pixels = false;
-  testing::internal::CaptureStderr();
-  const ImportReport report =
-      importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq", options);
-  EXPECT_EQ(testing::internal::GetCapturedStderr(), "") << "libjpeg printed on the terminal";
+  std::string printed;
+  const ImportReport report = importPrinting(dir, spec, printed);
+  EXPECT_EQ(printed, "") << "libjpeg printed on the terminal";
   EXPECT_EQ(report.frames_written, 4u) << report.text();  // frame 4 has no pose
   EXPECT_TRUE(anyNote(report,
                       "(/camera/color/image_raw/compressed: colour JPEG data: expected a JPEG "
