@@ -89,7 +89,7 @@ std::optional<std::vector<std::uint8_t>> pngOrJpegFileBytes(const fs::path& path
   // Kept as for cv::imdecode, which takes at most INT_MAX bytes; no camera image comes near.
   if (size > std::numeric_limits<int>::max())
     throw Error(path.string(), "file size",
-                std::string("a ") + (bytes[0] == 0xff ? "JPEG" : "PNG") +
+                std::string("a ") + (hasJpegSignature(bytes.data(), 8) ? "JPEG" : "PNG") +
                     " file of less than 2 GiB",
                 std::to_string(size) + " bytes");
   bytes.resize(static_cast<size_t>(size));

@@ -5,13 +5,13 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstring>
 #include <fstream>
 #include <initializer_list>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 #include "file_checks.hpp"
 #include "image_header.hpp"
@@ -309,7 +309,8 @@ namespace {
 // `path` as one word of a shell command: in single quotes unless it is plain.
 std::string shellWord(const std::string& path) {
   const bool plain = !path.empty() && std::all_of(path.begin(), path.end(), [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) || std::strchr("_./-+:,=@%", c);
+    return std::isalnum(static_cast<unsigned char>(c)) ||
+           std::string_view("_./-+:,=@%").find(c) != std::string_view::npos;
   });
   if (plain) return path;
   std::string quoted = "'";
