@@ -4,6 +4,7 @@
 // at a corner; and the smooth (marching cubes) surfaces.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <set>
@@ -233,6 +234,51 @@ TEST(VoxelSurface, RandomVoxelSetsAreClosedAndEncloseTheirVolume) {
     }
     EXPECT_LT(counts(keys, true).triangles, counts(keys, false).triangles);
   }
+}
+
+// The builder files voxels in 4x4x4 bricks: a set spread over many bricks,
+// with voxels on every side of brick borders, and voxels at both ends of the
+// key range (whose outside neighbours, keys -1 and 65536, lie in bricks of
+// their own), given in shuffled order with repeats.
+TEST(VoxelSurface, SetsAcrossBricksAndAtTheEndsOfTheKeyRangeAreClosed) {
+  std::mt19937 rng(23);
+  std::bernoulli_distribution occupied(0.45);
+  std::vector<VoxelKey> unique;
+  for (int i = -9; i < 9; ++i)
+    for (int j = -7; j < 10; ++j)
+      for (int k = -8; k < 8; ++k)
+        if (occupied(rng)) unique.push_back(gridKey(i, j, k));
+  const std::uint16_t last = 65535;
+  for (const VoxelKey& end : {VoxelKey{0, 0, 0}, VoxelKey{last, last, last}, VoxelKey{0, last, 3},
+                              VoxelKey{last, 1, 0}, VoxelKey{1, 0, 0}, VoxelKey{last, last, last - 1}})
+    unique.push_back(end);
+  std::vector<VoxelKey> keys = unique;
+  keys.insert(keys.end(), unique.begin(), unique.begin() + static_cast<std::ptrdiff_t>(unique.size() / 3));
+  std::shuffle(keys.begin(), keys.end(), rng);
+  for (const bool merge : {true, false}) {
+    const SurfaceMesh mesh = lom::voxelSurface(keys, kRes, {merge});
+    const auto triangles = lom::test::trianglesOf(mesh);
+    const auto edges = lom::test::edgeReport(triangles);
+    const std::string what = merge ? "merged" : "unit faces";
+    EXPECT_EQ(edges.edges_not_shared_by_two, 0u) << what;
+    EXPECT_EQ(edges.directed_edges_repeated, 0u) << what;
+    // Volume relative to the key origin's far corner: the set spans the whole key range.
+    EXPECT_NEAR(lom::test::enclosedVolume(mesh.vertices, triangles),
+                unique.size() * kRes * kRes * kRes, 1e-6)
+        << what;
+    EXPECT_NEAR(lom::test::surfaceArea(mesh.vertices, triangles), unitFaces(unique) * kRes * kRes,
+                1e-6)
+        << what;
+    if (!merge) {
+      EXPECT_EQ(triangles.size(), 2 * unitFaces(unique) + 2 * halfLatticeVertices(mesh)) << what;
+    }
+  }
+  // The same set in another order gives the same mesh.
+  std::vector<VoxelKey> sorted = unique;
+  std::sort(sorted.begin(), sorted.end());
+  const SurfaceMesh a = lom::voxelSurface(keys, kRes), b = lom::voxelSurface(sorted, kRes);
+  EXPECT_EQ(a.vertices, b.vertices);
+  EXPECT_EQ(a.triangles, b.triangles);
 }
 
 TEST(VoxelSurface, EmptySetGivesAnEmptyMesh) {
