@@ -8,6 +8,7 @@
 
 #include "args.hpp"
 #include "commands.hpp"
+#include "lom/box_fit.hpp"
 #include "lom/error.hpp"
 #include "lom/label_map.hpp"
 #include "lom/planning.hpp"
@@ -19,10 +20,6 @@ namespace lom::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-// Voxels farther apart than this are never one object: the clustering looks at every
-// voxel within the tolerance of each voxel, a count that grows with its cube.
-constexpr double kMaxClusterTolerance = 20.0;
 
 OrientedBox parseBin(const std::string& text) {
   const std::string expected = "an axis-aligned box cx,cy,cz,dx,dy,dz (centre and sizes in metres, sizes > 0)";

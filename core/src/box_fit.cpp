@@ -8,7 +8,10 @@
 #include <cstdlib>
 #include <limits>
 #include <stdexcept>
-#include <unordered_map>
+#include <string>
+#include <utility>
+
+#include "voxel_index.hpp"
 
 namespace lom {
 
@@ -16,13 +19,6 @@ namespace {
 
 // OctoMap's key of the voxel whose lower corner is at the origin (tree_max_val at depth 16).
 constexpr int kKeyOrigin = 32768;
-
-// Neighbour keys may step a little outside 0..65535; the bias keeps them distinct and positive.
-std::uint64_t pack(int x, int y, int z) {
-  constexpr int kBias = 1 << 10;
-  return (static_cast<std::uint64_t>(x + kBias) << 42) | (static_cast<std::uint64_t>(y + kBias) << 21) |
-         static_cast<std::uint64_t>(z + kBias);
-}
 
 struct Extent {
   Eigen::Matrix3d axes;  // columns: box axes in world
@@ -52,14 +48,15 @@ Eigen::Vector3d voxelCenter(const VoxelKey& key, double resolution) {
           (static_cast<int>(key.z) - kKeyOrigin + 0.5) * resolution};
 }
 
-std::vector<VoxelKey> largestCluster(const std::vector<VoxelKey>& keys, double tolerance_voxels) {
+std::vector<std::vector<VoxelKey>> voxelClusters(const std::vector<VoxelKey>& keys, double tolerance_voxels) {
+  if (!(tolerance_voxels >= 0.0 && tolerance_voxels <= kMaxClusterTolerance))
+    throw std::invalid_argument("voxel clusters: the tolerance must be a number of voxel edges from 0 to " +
+                                std::to_string(static_cast<int>(kMaxClusterTolerance)) + ", got " +
+                                std::to_string(tolerance_voxels));
   if (keys.empty()) return {};
-  std::vector<VoxelKey> sorted = keys;
-  std::sort(sorted.begin(), sorted.end());
-  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
-
+  static_assert(kMaxClusterTolerance <= VoxelIndex::kMargin, "neighbour queries stay within the index's margin");
   const int reach = std::max(1, static_cast<int>(std::floor(tolerance_voxels)));
-  std::vector<std::array<int, 3>> offsets;
+  std::vector<VoxelIndex::Cell> offsets;
   for (int dx = -reach; dx <= reach; ++dx)
     for (int dy = -reach; dy <= reach; ++dy)
       for (int dz = -reach; dz <= reach; ++dz) {
@@ -71,43 +68,45 @@ std::vector<VoxelKey> largestCluster(const std::vector<VoxelKey>& keys, double t
           offsets.push_back({dx, dy, dz});
       }
 
-  std::unordered_map<std::uint64_t, size_t> index_of;
-  index_of.reserve(sorted.size() * 2);
-  for (size_t i = 0; i < sorted.size(); ++i) index_of.emplace(pack(sorted[i].x, sorted[i].y, sorted[i].z), i);
-
-  // Flood fill in key order: the first cluster found of a given size holds the smallest key.
-  std::vector<int> cluster_of(sorted.size(), -1);
-  std::vector<size_t> stack;
-  int best = -1;
-  size_t best_size = 0;
-  int cluster = 0;
-  for (size_t seed = 0; seed < sorted.size(); ++seed) {
-    if (cluster_of[seed] >= 0) continue;
-    size_t size = 0;
+  // Flood fill by rank (the index's order: neighbours are mostly in the brick
+  // of the last query); each cluster's keys are then sorted.
+  const VoxelIndex index(keys);
+  const std::vector<VoxelIndex::Cell>& cells = index.cells();
+  constexpr std::uint32_t kUnset = ~std::uint32_t{0};
+  std::vector<std::uint32_t> cluster_of(cells.size(), kUnset);
+  std::vector<std::vector<VoxelKey>> clusters;
+  std::vector<std::uint32_t> stack;
+  for (std::uint32_t seed = 0; seed < cells.size(); ++seed) {
+    if (cluster_of[seed] != kUnset) continue;
+    const auto cluster = static_cast<std::uint32_t>(clusters.size());
+    std::vector<VoxelKey> members;
     cluster_of[seed] = cluster;
     stack.push_back(seed);
     while (!stack.empty()) {
-      const VoxelKey key = sorted[stack.back()];
+      const VoxelIndex::Cell c = cells[stack.back()];
       stack.pop_back();
-      ++size;
+      members.push_back({static_cast<std::uint16_t>(c[0]), static_cast<std::uint16_t>(c[1]),
+                         static_cast<std::uint16_t>(c[2])});
       for (const auto& d : offsets) {
-        const auto it = index_of.find(pack(key.x + d[0], key.y + d[1], key.z + d[2]));
-        if (it == index_of.end() || cluster_of[it->second] >= 0) continue;
-        cluster_of[it->second] = cluster;
-        stack.push_back(it->second);
+        const std::uint32_t rank = index.rankOf({c[0] + d[0], c[1] + d[1], c[2] + d[2]});
+        if (rank == VoxelIndex::kAbsent || cluster_of[rank] != kUnset) continue;
+        cluster_of[rank] = cluster;
+        stack.push_back(rank);
       }
     }
-    if (size > best_size) {
-      best_size = size;
-      best = cluster;
-    }
-    ++cluster;
+    std::sort(members.begin(), members.end());
+    clusters.push_back(std::move(members));
   }
-  std::vector<VoxelKey> result;
-  result.reserve(best_size);
-  for (size_t i = 0; i < sorted.size(); ++i)
-    if (cluster_of[i] == best) result.push_back(sorted[i]);
-  return result;
+  // Largest first; among equal sizes, the one holding the smallest key first.
+  std::sort(clusters.begin(), clusters.end(), [](const std::vector<VoxelKey>& a, const std::vector<VoxelKey>& b) {
+    return a.size() != b.size() ? a.size() > b.size() : a.front() < b.front();
+  });
+  return clusters;
+}
+
+std::vector<VoxelKey> largestCluster(const std::vector<VoxelKey>& keys, double tolerance_voxels) {
+  std::vector<std::vector<VoxelKey>> clusters = voxelClusters(keys, tolerance_voxels);
+  return clusters.empty() ? std::vector<VoxelKey>{} : std::move(clusters.front());
 }
 
 OrientedBox fitOrientedBox(const std::vector<VoxelKey>& keys, double resolution) {

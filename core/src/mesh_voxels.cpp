@@ -24,8 +24,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "flat_index.hpp"
 #include "lom/export.hpp"
+#include "voxel_index.hpp"
 
 namespace lom {
 
@@ -33,100 +33,7 @@ namespace {
 
 constexpr int kKeyOffset = 32768;  // OctoMap's key of the cell starting at coordinate 0
 
-using Int3 = std::array<int, 3>;
-
-// The voxel set in 4x4x4 bricks. Keys are 0..65535 and neighbours -1..65536,
-// so a coordinate plus one has 17 bits: a brick's coordinates (the top 15)
-// pack into 45 bits, a voxel's place in its brick into 6. A brick's voxels
-// are one 64-bit mask, found through a flat hash of the brick's coordinates;
-// the voxels are ranked by brick, then by place in the brick, so a voxel's
-// rank is its brick's first rank plus the voxels before it in the mask.
-// (Ranking the bricks in Morton order instead was 4-8 % slower.)
-// Neighbours mostly share a brick, which the last look-up keeps: most
-// queries of the surface builder cost a bit test, not a hash probe (a
-// std::unordered_set of the voxels cost a cache miss per query).
-// Set bits of v (the builtin calls into libgcc when the target may lack
-// the popcnt instruction).
-inline unsigned bitCount(std::uint64_t v) {
-  v = v - ((v >> 1) & 0x5555555555555555ULL);
-  v = (v & 0x3333333333333333ULL) + ((v >> 2) & 0x3333333333333333ULL);
-  v = (v + (v >> 4)) & 0x0f0f0f0f0f0f0f0fULL;
-  return static_cast<unsigned>((v * 0x0101010101010101ULL) >> 56);
-}
-
-class VoxelIndex {
- public:
-  static constexpr std::uint32_t kAbsent = 0xffffffffu;
-
-  explicit VoxelIndex(const std::vector<VoxelKey>& keys) {
-    struct Placed {
-      std::uint64_t place;
-      Int3 cell;
-    };
-    std::vector<Placed> sorted;
-    sorted.reserve(keys.size());
-    for (const VoxelKey& k : keys) {
-      const Int3 cell{k.x, k.y, k.z};
-      sorted.push_back({placeKey(cell), cell});
-    }
-    std::sort(sorted.begin(), sorted.end(),
-              [](const Placed& a, const Placed& b) { return a.place < b.place; });
-    sorted.erase(std::unique(sorted.begin(), sorted.end(),
-                             [](const Placed& a, const Placed& b) { return a.place == b.place; }),
-                 sorted.end());
-    cells_.reserve(sorted.size());
-    bricks_.reset(sorted.size() / 4 + 1);
-    for (const auto& [place, cell] : sorted) {
-      const std::uint64_t brick = place >> 6;
-      if (masks_.empty() || brick != last_brick_key_) {
-        bool inserted = false;
-        bricks_.findOrInsert(brick, static_cast<std::uint32_t>(masks_.size()), inserted);
-        masks_.push_back(0);
-        first_rank_.push_back(static_cast<std::uint32_t>(cells_.size()));
-        last_brick_key_ = brick;
-      }
-      masks_.back() |= std::uint64_t{1} << (place & 63u);
-      cells_.push_back(cell);
-    }
-    last_brick_key_ = FlatIndex::kEmpty;
-  }
-
-  // The voxels, in rank order, without repeats.
-  [[nodiscard]] const std::vector<Int3>& cells() const { return cells_; }
-
-  // The rank of `cell`, or kAbsent when it is not in the set.
-  [[nodiscard]] std::uint32_t rankOf(const Int3& cell) const {
-    const std::uint64_t place = placeKey(cell);
-    const std::uint64_t brick = place >> 6;
-    if (brick != last_brick_key_) {
-      const std::uint32_t* found = bricks_.find(brick);
-      last_brick_key_ = brick;
-      last_brick_ = found ? *found : kAbsent;
-    }
-    if (last_brick_ == kAbsent) return kAbsent;
-    const std::uint64_t mask = masks_[last_brick_];
-    const unsigned bit = static_cast<unsigned>(place & 63u);
-    if (!((mask >> bit) & 1u)) return kAbsent;
-    return first_rank_[last_brick_] +
-           static_cast<std::uint32_t>(bitCount(mask & ((std::uint64_t{1} << bit) - 1)));
-  }
-
- private:
-  static std::uint64_t placeKey(const Int3& c) {
-    const auto x = static_cast<std::uint64_t>(c[0] + 1), y = static_cast<std::uint64_t>(c[1] + 1),
-               z = static_cast<std::uint64_t>(c[2] + 1);
-    const std::uint64_t brick = (x >> 2) | ((y >> 2) << 15) | ((z >> 2) << 30);
-    return (brick << 6) | (x & 3u) | ((y & 3u) << 2) | ((z & 3u) << 4);
-  }
-
-  std::vector<Int3> cells_;
-  FlatIndex bricks_;
-  std::vector<std::uint64_t> masks_;
-  std::vector<std::uint32_t> first_rank_;
-  // The brick of the last look-up (kAbsent: not in the set).
-  mutable std::uint64_t last_brick_key_ = FlatIndex::kEmpty;
-  mutable std::uint32_t last_brick_ = kAbsent;
-};
+using Int3 = VoxelIndex::Cell;
 
 // Direction d in 0..5: axis d / 2, positive for even d.
 int axisOf(int dir) { return dir >> 1; }

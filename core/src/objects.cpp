@@ -23,8 +23,9 @@ std::string fieldList(const std::vector<int>& values) {
 }
 
 void checkObjectOptions(const LabelMap& map, const ObjectOptions& options) {
-  if (!(options.cluster_tolerance_voxels > 0.0) || !std::isfinite(options.cluster_tolerance_voxels))
-    throw Error(options.map_file, "cluster_tolerance_voxels", "a finite number of voxel edges > 0",
+  if (!(options.cluster_tolerance_voxels > 0.0 && options.cluster_tolerance_voxels <= kMaxClusterTolerance))
+    throw Error(options.map_file, "cluster_tolerance_voxels",
+                "a number of voxel edges above 0 and at most " + std::to_string(static_cast<int>(kMaxClusterTolerance)),
                 std::to_string(options.cluster_tolerance_voxels));
   if (options.min_cluster_voxels < 1)
     throw Error(options.map_file, "min_cluster_voxels", "at least 1", "0");
@@ -130,23 +131,14 @@ std::string ObjectInstance::id() const {
 
 std::vector<std::vector<VoxelKey>> euclideanClusters(const std::vector<VoxelKey>& keys, double tolerance_voxels,
                                                      size_t min_size) {
-  std::vector<VoxelKey> remaining = keys;
-  std::sort(remaining.begin(), remaining.end());
-  remaining.erase(std::unique(remaining.begin(), remaining.end()), remaining.end());
-  std::vector<std::vector<VoxelKey>> clusters;
-  // largestCluster breaks ties toward the smallest key, so taking the largest of what is
-  // left each time lists the clusters by decreasing size with that same tie rule. Large
-  // clusters go first, so what is left (and each further pass) shrinks quickly.
-  while (!remaining.empty()) {
-    std::vector<VoxelKey> cluster = largestCluster(remaining, tolerance_voxels);
-    if (cluster.empty() || cluster.size() < std::max<size_t>(min_size, 1)) break;
-    std::vector<VoxelKey> rest;
-    rest.reserve(remaining.size() - cluster.size());
-    std::set_difference(remaining.begin(), remaining.end(), cluster.begin(), cluster.end(),
-                        std::back_inserter(rest));
-    remaining.swap(rest);
-    clusters.push_back(std::move(cluster));
-  }
+  // Clusters are connected components: taking the largest of what is left
+  // each time would find the same ones in the same order (voxelClusters'
+  // order), one flood fill of all the voxels per cluster.
+  std::vector<std::vector<VoxelKey>> clusters = voxelClusters(keys, tolerance_voxels);
+  const size_t smallest = std::max<size_t>(min_size, 1);
+  clusters.erase(std::find_if(clusters.begin(), clusters.end(),
+                              [&](const std::vector<VoxelKey>& c) { return c.size() < smallest; }),
+                 clusters.end());
   return clusters;
 }
 

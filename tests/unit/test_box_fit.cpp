@@ -1,10 +1,17 @@
 // Euclidean clustering of voxels and oriented boxes fitted to them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <random>
 #include <stdexcept>
 
 #include "lom/box_fit.hpp"
 #include "lom/iou.hpp"
+#include "lom/objects.hpp"
 
 namespace {
 
@@ -57,6 +64,73 @@ TEST(BoxFit, TouchingVoxelsAreConnectedAtAnyTolerance) {
     EXPECT_EQ(lom::largestCluster({key(0, 0, 0), key(2, 0, 0)}, tolerance).size(), 1u);
   }
   EXPECT_EQ(lom::largestCluster({key(0, 0, 0), key(2, 0, 0)}, 2.0).size(), 2u);
+}
+
+// The clusters by their definition: every pair of voxels compared, joined
+// when touching or within the tolerance; largest first, ties by smallest key.
+std::vector<std::vector<lom::VoxelKey>> clustersByPairs(std::vector<lom::VoxelKey> keys, double tolerance) {
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  std::vector<size_t> parent(keys.size());
+  std::iota(parent.begin(), parent.end(), size_t{0});
+  const auto root = [&](size_t i) {
+    while (parent[i] != i) i = parent[i];
+    return i;
+  };
+  for (size_t i = 0; i < keys.size(); ++i)
+    for (size_t j = i + 1; j < keys.size(); ++j) {
+      const int dx = keys[i].x - keys[j].x, dy = keys[i].y - keys[j].y, dz = keys[i].z - keys[j].z;
+      const bool touching = std::abs(dx) <= 1 && std::abs(dy) <= 1 && std::abs(dz) <= 1;
+      if (touching || dx * dx + dy * dy + dz * dz <= tolerance * tolerance) parent[root(i)] = root(j);
+    }
+  std::map<size_t, std::vector<lom::VoxelKey>> by_root;
+  for (size_t i = 0; i < keys.size(); ++i) by_root[root(i)].push_back(keys[i]);
+  std::vector<std::vector<lom::VoxelKey>> clusters;
+  for (auto& [r, members] : by_root) clusters.push_back(std::move(members));
+  std::sort(clusters.begin(), clusters.end(), [](const auto& a, const auto& b) {
+    return a.size() != b.size() ? a.size() > b.size() : a.front() < b.front();
+  });
+  return clusters;
+}
+
+TEST(BoxFit, ClustersMatchTheirDefinitionOnRandomSets) {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 30; ++trial) {
+    SCOPED_TRACE(trial);
+    // Sparse sets give many clusters of equal sizes (the tie rule); some
+    // near the ends of the key range, whose neighbours fall outside it.
+    std::uniform_int_distribution<int> coordinate(0, 13);
+    const double tolerance = std::vector<double>{0.5, 1.5, 2.0, 2.9, 4.0}[static_cast<size_t>(trial % 5)];
+    std::vector<lom::VoxelKey> keys;
+    for (int i = 0; i < 60; ++i) {
+      const int x = coordinate(rng), y = coordinate(rng), z = coordinate(rng);
+      if (trial % 3 == 2)
+        keys.push_back({static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(65535 - y),
+                        static_cast<std::uint16_t>(z)});
+      else
+        keys.push_back(key(x, y, z));
+    }
+    const auto expected = clustersByPairs(keys, tolerance);
+    EXPECT_EQ(lom::voxelClusters(keys, tolerance), expected);
+    EXPECT_EQ(lom::largestCluster(keys, tolerance), expected.front());
+    // Objects keep the clusters of at least the minimum size, in the same order.
+    std::vector<std::vector<lom::VoxelKey>> at_least_two;
+    for (const auto& c : expected)
+      if (c.size() >= 2) at_least_two.push_back(c);
+    EXPECT_EQ(lom::euclideanClusters(keys, tolerance, 2), at_least_two);
+  }
+}
+
+TEST(BoxFit, ToleranceOutsideItsRangeIsRefused) {
+  const std::vector<lom::VoxelKey> keys{key(0, 0, 0), key(3, 0, 0)};
+  for (const double bad : {-1.0, 20.5, 1e30, std::numeric_limits<double>::quiet_NaN(),
+                           std::numeric_limits<double>::infinity()}) {
+    SCOPED_TRACE(bad);
+    EXPECT_THROW((void)lom::largestCluster(keys, bad), std::invalid_argument);
+    EXPECT_THROW((void)lom::voxelClusters(keys, bad), std::invalid_argument);
+  }
+  // The largest tolerance allowed reaches across 20 voxel edges.
+  EXPECT_EQ(lom::voxelClusters({key(0, 0, 0), key(20, 0, 0), key(40, 1, 0)}, lom::kMaxClusterTolerance).size(), 2u);
 }
 
 TEST(BoxFit, AxisAlignedBlockIsFittedExactly) {

@@ -8,12 +8,24 @@
 
 namespace lom {
 
+// The largest tolerance of the clustering below, in voxel edges: each voxel
+// looks at every key within the tolerance, a count that grows with its cube
+// (35,000 keys at 20).
+inline constexpr double kMaxClusterTolerance = 20.0;
+
 // The largest Euclidean cluster of voxels: two voxels are neighbours when their
 // centres are at most `tolerance_voxels` voxel edges apart, or when they touch
 // (face, edge or corner: 26-neighbours, whatever the tolerance). Ties go to the
 // cluster holding the smallest key, so the result is deterministic. Sorted.
+// Throws std::invalid_argument unless 0 <= tolerance_voxels <=
+// kMaxClusterTolerance.
 [[nodiscard]] std::vector<VoxelKey> largestCluster(const std::vector<VoxelKey>& keys,
                                                    double tolerance_voxels);
+
+// Every such cluster, largest first (equal sizes: the one holding the
+// smallest key first), each sorted. The same tolerance rule and limits.
+[[nodiscard]] std::vector<std::vector<VoxelKey>> voxelClusters(const std::vector<VoxelKey>& keys,
+                                                               double tolerance_voxels);
 
 // A box enclosing every voxel cube: the smaller of the box along the principal
 // axes of the voxel centres and the axis-aligned box. Keys are OctoMap keys of

@@ -1,6 +1,8 @@
-// Voxel mesh speed: lom::voxelSurface, the watertight surface that `export
-// --format ply|obj|stl` and `render` build, on a generated room-sized voxel
-// set with sensor-like noise. `lom_benchmarks --benchmark_filter=VoxelSurface`.
+// Speed of the whole-map voxel passes, on a generated room-sized voxel set
+// with sensor-like noise: lom::voxelSurface, the watertight surface that
+// `export --format ply|obj|stl` and `render` build, and lom::euclideanClusters,
+// the objects of `plan`, `export --format objects` and the studio's Objects
+// panel. `lom_benchmarks --benchmark_filter='VoxelSurface|VoxelClusters'`.
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
@@ -8,6 +10,7 @@
 #include <vector>
 
 #include "lom/export.hpp"
+#include "lom/objects.hpp"
 
 namespace {
 
@@ -56,5 +59,23 @@ void BM_VoxelSurface(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(triangles);
 }
 BENCHMARK(BM_VoxelSurface)->ArgName("merge")->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
+
+// Every cluster (as `plan --all-clusters`), or every `stride`-th voxel of the
+// room: many small clusters.
+void BM_VoxelClusters(benchmark::State& state) {
+  const std::vector<lom::VoxelKey>& room = noisyRoom();
+  std::vector<lom::VoxelKey> keys;
+  const auto stride = static_cast<size_t>(state.range(0));
+  for (size_t i = 0; i < room.size(); i += stride) keys.push_back(room[i]);
+  size_t clusters = 0;
+  for (auto _ : state) {
+    const auto found = lom::euclideanClusters(keys, 2.0);
+    clusters = found.size();
+    benchmark::DoNotOptimize(found.data());
+  }
+  state.counters["voxels"] = static_cast<double>(keys.size());
+  state.counters["clusters"] = static_cast<double>(clusters);
+}
+BENCHMARK(BM_VoxelClusters)->ArgName("stride")->Arg(1)->Arg(7)->Unit(benchmark::kMillisecond);
 
 }  // namespace
