@@ -338,6 +338,7 @@ int main(int argc, char** argv) {
     return saveScreenshot(window, arguments, failed);
   }
 
+  window.rememberLayout();
   window.show();
   if (!arguments.sequence.isEmpty() && window.controller().openSequence(arguments.sequence))
     window.controller().setCurrentFrame(arguments.frame);

@@ -38,6 +38,7 @@
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/objects_panel.hpp"
 #include "lom/ui/open_sequence_reaction.hpp"
+#include "lom/ui/panel_layout.hpp"
 #include "lom/ui/picked_voxel_view.hpp"
 #include "lom/ui/recent_sequences_reaction.hpp"
 #include "lom/ui/reset_camera_reaction.hpp"
@@ -219,9 +220,8 @@ TimelineWidget::StepActions MainWindow::createStepActions() {
 void MainWindow::createDocks() {
   auto dock = [this](QWidget* content, const QString& title, const QString& name) {
     auto* widget = new QDockWidget(title, this);
-    widget->setObjectName(name);
+    widget->setObjectName(name);  // saveState and restoreState find panels by name
     widget->setWidget(new DockScrollArea(content));
-    addDockWidget(Qt::RightDockWidgetArea, widget);
     return widget;
   };
   map_legend_ = new MapLegendPanel(*session_);
@@ -240,21 +240,17 @@ void MainWindow::createDocks() {
     });
   });
   QDockWidget* picked = dock(new PickedVoxelView(*session_), tr("Picked Voxel"), "pickedVoxelDock");
-  tabifyDockWidget(fusion, picked);
-  fusion->raise();
   box_editor_ = new BoxEditorPanel(*session_, steps_);
   QDockWidget* boxes = dock(box_editor_, tr("Boxes"), "boxesDock");
   evaluation_panel_ = new EvaluationPanel(*session_);
   QDockWidget* scores = dock(evaluation_panel_, tr("Evaluation"), "evaluationDock");
-  tabifyDockWidget(boxes, scores);
   objects_panel_ = new ObjectsPanel(*session_);
   QDockWidget* objects = dock(objects_panel_, tr("Objects"), "objectsDock");
-  tabifyDockWidget(scores, objects);
-  scores->raise();
   // On a short screen the three dock groups share the height in about these
   // proportions (each scrolls what does not fit) rather than the map's labels
-  // shrinking to two rows.
-  resizeDocks({labels, fusion, scores}, {6, 6, 10}, Qt::Vertical);
+  // shrinking to two rows. The Evaluation tab is raised in its group.
+  panel_layout_ = new PanelLayout(*this, {{{labels}, 6}, {{fusion, picked}, 6}, {{boxes, scores, objects}, 10, 1}});
+  panel_layout_->arrangeDefault();
   connect(objects_panel_, &ObjectsPanel::objectBoxesChanged, this,
           [this](const std::vector<ObjectInstance>& shown) {
             if (!session_->sequence()) return scene_view_->showObjectBoxes({}, {});
@@ -469,6 +465,8 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   scene_action(tr("&Opacity by Probability"), SceneViewReaction::Kind::OpacityByProbability,
                QKeySequence());
   scene_action(tr("Colour by &Height"), SceneViewReaction::Kind::ColourByHeight, QKeySequence());
+  view->addSeparator();
+  panel_layout_->addActionsTo(*view);
 
   createAnnotateMenu();
   QMenu* help = menuBar()->addMenu(tr("&Help"));
@@ -511,7 +509,13 @@ void MainWindow::closeEvent(QCloseEvent* event) {
   // A conversion under way stops after its current frame; the open that
   // waits for it then returns without touching the window.
   controller_->cancelConversion();
+  if (remember_layout_) panel_layout_->save();
   event->accept();
+}
+
+void MainWindow::rememberLayout() {
+  remember_layout_ = true;
+  panel_layout_->restoreSaved();
 }
 
 }  // namespace lom::ui

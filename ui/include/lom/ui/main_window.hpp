@@ -20,6 +20,7 @@ class FusionPanel;
 class FusionStatus;
 class MapLegendPanel;
 class ObjectsPanel;
+class PanelLayout;
 class SceneView;
 class SequenceController;
 class StudioSession;
@@ -61,6 +62,12 @@ class MainWindow : public QMainWindow {
   void setWarningReporter(ErrorReporter reporter) { report_warning_ = std::move(reporter); }
   // Replaces the question asked before restoring a recovery file (tests).
   void setRecoveryOffer(std::function<bool(const QString&)> offer);
+  // Restores the window's size, position and panels from the last session
+  // that remembered them, and saves them when the window closes. Off unless
+  // called: screenshots and tests start from the default layout and leave the
+  // saved one alone.
+  void rememberLayout();
+  [[nodiscard]] PanelLayout& panelLayout() { return *panel_layout_; }
 
  protected:
   void closeEvent(QCloseEvent* event) override;
@@ -91,6 +98,8 @@ class MainWindow : public QMainWindow {
   BoxEditorPanel* box_editor_ = nullptr;
   EvaluationPanel* evaluation_panel_ = nullptr;
   ObjectsPanel* objects_panel_ = nullptr;
+  PanelLayout* panel_layout_ = nullptr;
+  bool remember_layout_ = false;
   BoxesAutosave* autosave_ = nullptr;
   FrameImagesView* frame_images_;
   SceneView* scene_view_;

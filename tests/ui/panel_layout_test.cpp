@@ -1,0 +1,154 @@
+// The panels: View > Panels shows a closed panel again, View > Reset Layout
+// puts every panel back, and a window that remembers its layout (the studio's
+// interactive runs) reopens with the size and panels it was closed with.
+#include <gtest/gtest.h>
+
+#include <QAction>
+#include <QDockWidget>
+#include <QSettings>
+#include <QTest>
+#include <memory>
+
+#include "lom/ui/main_window.hpp"
+#include "lom/ui/panel_layout.hpp"
+
+namespace lom::ui {
+namespace {
+
+QDockWidget* panel(const MainWindow& window, const QString& object_name) {
+  return window.findChild<QDockWidget*>(object_name);
+}
+
+std::unique_ptr<MainWindow> shownWindow(bool remember) {
+  auto window = std::make_unique<MainWindow>();
+  if (remember) window->rememberLayout();
+  window->show();
+  EXPECT_TRUE(QTest::qWaitForWindowExposed(window.get()));
+  QTest::qWait(50);  // posted layout requests
+  return window;
+}
+
+class PanelLayoutTest : public ::testing::Test {
+ protected:
+  void SetUp() override { clearSaved(); }
+  void TearDown() override { clearSaved(); }
+  static void clearSaved() {
+    QSettings settings;
+    settings.remove(PanelLayout::kGeometryKey);
+    settings.remove(PanelLayout::kPanelsKey);
+  }
+};
+
+TEST_F(PanelLayoutTest, ClosedPanelsComeBackFromTheViewMenu) {
+  auto window = shownWindow(false);
+  const QStringList names{"mapLegendDock", "fusionDock",      "pickedVoxelDock",
+                          "boxesDock",     "evaluationDock", "objectsDock"};
+  for (const QString& name : names) {
+    QDockWidget* dock = panel(*window, name);
+    ASSERT_NE(dock, nullptr) << name.toStdString();
+    // Each panel has a check item under View > Panels, named as its title.
+    QAction* item = window->findAction(dock->windowTitle());
+    ASSERT_NE(item, nullptr) << dock->windowTitle().toStdString();
+    EXPECT_TRUE(item->isChecked());
+  }
+  QDockWidget* labels = panel(*window, "mapLegendDock");
+  labels->close();  // its title bar's close button
+  QTest::qWait(20);
+  EXPECT_FALSE(labels->isVisible());
+  QAction* item = window->findAction("Map Labels");
+  EXPECT_FALSE(item->isChecked());
+  item->trigger();
+  QTest::qWait(20);
+  EXPECT_TRUE(labels->isVisible());
+  EXPECT_TRUE(item->isChecked());
+}
+
+TEST_F(PanelLayoutTest, ResetLayoutPutsEveryPanelBack) {
+  auto window = shownWindow(false);
+  QDockWidget* labels = panel(*window, "mapLegendDock");
+  QDockWidget* objects = panel(*window, "objectsDock");
+  QDockWidget* picked = panel(*window, "pickedVoxelDock");
+  QDockWidget* evaluation = panel(*window, "evaluationDock");
+  objects->close();
+  picked->setFloating(true);
+  window->addDockWidget(Qt::LeftDockWidgetArea, labels);
+  QTest::qWait(20);
+  ASSERT_EQ(window->dockWidgetArea(labels), Qt::LeftDockWidgetArea);
+
+  QAction* reset = window->findAction("Reset Layout");
+  ASSERT_NE(reset, nullptr);
+  reset->trigger();
+  QTest::qWait(50);
+  for (QDockWidget* dock : window->findChildren<QDockWidget*>()) {
+    SCOPED_TRACE(dock->objectName().toStdString());
+    EXPECT_FALSE(dock->isHidden());
+    EXPECT_FALSE(dock->isFloating());
+    EXPECT_EQ(window->dockWidgetArea(dock), Qt::RightDockWidgetArea);
+  }
+  // The tab groups again: Fusion with Picked Voxel, Boxes with Evaluation and Objects.
+  EXPECT_TRUE(window->tabifiedDockWidgets(picked).contains(panel(*window, "fusionDock")));
+  EXPECT_TRUE(window->tabifiedDockWidgets(evaluation).contains(objects));
+  EXPECT_TRUE(window->tabifiedDockWidgets(evaluation).contains(panel(*window, "boxesDock")));
+  EXPECT_TRUE(window->tabifiedDockWidgets(labels).isEmpty());
+  // Map Labels is above the Fusion group, which is above the scores.
+  EXPECT_LT(labels->geometry().top(), panel(*window, "fusionDock")->geometry().top());
+  EXPECT_LT(panel(*window, "fusionDock")->geometry().top(), evaluation->geometry().top());
+}
+
+TEST_F(PanelLayoutTest, AWindowThatRemembersReopensAsItWasClosed) {
+  QSize closed_size;
+  {
+    auto window = shownWindow(true);
+    panel(*window, "objectsDock")->close();
+    panel(*window, "mapLegendDock")->setFloating(true);
+    window->resize(1000, 700);
+    QTest::qWait(50);
+    closed_size = window->size();
+    ASSERT_TRUE(window->close());
+  }
+  {
+    auto window = shownWindow(true);
+    EXPECT_EQ(window->size(), closed_size);
+    EXPECT_TRUE(panel(*window, "objectsDock")->isHidden());
+    EXPECT_TRUE(panel(*window, "mapLegendDock")->isFloating());
+    EXPECT_FALSE(window->findAction("Objects")->isChecked());
+    // Back to the default, and that is remembered in turn.
+    window->findAction("Reset Layout")->trigger();
+    ASSERT_TRUE(window->close());
+  }
+  auto window = shownWindow(true);
+  EXPECT_FALSE(panel(*window, "objectsDock")->isHidden());
+  EXPECT_FALSE(panel(*window, "mapLegendDock")->isFloating());
+}
+
+TEST_F(PanelLayoutTest, AWindowThatDoesNotRememberNeitherReadsNorWritesTheLayout) {
+  {
+    auto window = shownWindow(true);
+    panel(*window, "objectsDock")->close();
+    ASSERT_TRUE(window->close());
+  }
+  const QByteArray saved = QSettings().value(PanelLayout::kPanelsKey).toByteArray();
+  ASSERT_FALSE(saved.isEmpty());
+  {
+    // As in screenshot runs and tests: the default layout, whatever was saved.
+    auto window = shownWindow(false);
+    EXPECT_FALSE(panel(*window, "objectsDock")->isHidden());
+    window->findChild<QDockWidget*>("fusionDock")->close();
+    ASSERT_TRUE(window->close());
+  }
+  EXPECT_EQ(QSettings().value(PanelLayout::kPanelsKey).toByteArray(), saved);
+}
+
+TEST_F(PanelLayoutTest, ALayoutSavedWithOtherPanelsIsNotRestored) {
+  {
+    auto window = shownWindow(false);
+    panel(*window, "objectsDock")->close();
+    // What a version with another set of panels would have saved.
+    QSettings().setValue(PanelLayout::kPanelsKey, window->saveState(PanelLayout::kPanelsVersion + 1));
+  }
+  auto window = shownWindow(true);
+  EXPECT_FALSE(panel(*window, "objectsDock")->isHidden());
+}
+
+}  // namespace
+}  // namespace lom::ui
