@@ -18,6 +18,7 @@
 
 #include "demo_window_fixture.hpp"
 #include "dialog_answerer.hpp"
+#include "lom/iou.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/export_map_reaction.hpp"
@@ -95,6 +96,76 @@ TEST_F(QueuedWorkTest, BoxFitAskedTwiceDuringFusionAddsOneBox) {
   EXPECT_EQ(boxesOf(label), 1);
   EXPECT_TRUE(std::any_of(errors_.begin(), errors_.end(),
                           [](const QString& e) { return e.contains("already"); }));
+}
+
+TEST_F(QueuedWorkTest, BoxesForAllLabelsWaitForTheFusionAndBoxEachLabelOnce) {
+  openPaused(folder_);
+  // The demo's ground truth is loaded with it: keep one label's box, drop the others.
+  const int kept = *visibleObjectLabels().begin();
+  ASSERT_EQ(boxesOf(kept), 1);
+  GroundTruthBox kept_box;
+  for (int i = boxes().boxCount() - 1; i >= 0; --i) {
+    if (boxes().box(i).label == kept)
+      kept_box = boxes().box(i);
+    else
+      boxes().removeBox(i);
+  }
+  const int steps_before = boxes().undoStack().index();
+  QAction* add_all = window_.findAction("Add Boxes for All Labels");
+  ASSERT_NE(add_all, nullptr);
+  EXPECT_EQ(add_all->shortcut(), QKeySequence(Qt::CTRL + Qt::Key_B));
+  add_all->trigger();
+  EXPECT_TRUE(window_.statusBar()->currentMessage().contains("when fusion finishes"))
+      << window_.statusBar()->currentMessage().toStdString();
+  // Paused before the first frame: the fit waits for the whole map.
+  QTest::qWait(200);
+  EXPECT_EQ(session().worker().pendingWork().size(), 1);
+  EXPECT_EQ(boxes().boxCount(), 1);
+
+  session().worker().setPaused(false);
+  waitForFusion();
+  waitForQueuedWork();
+  // Every object label of the map has one box; the kept one is as it was.
+  std::set<int> mapped;
+  for (const auto& [label, count] : session().worker().snapshot()->counts)
+    if (label > 0 && count > 0) mapped.insert(label);
+  ASSERT_GE(mapped.size(), 2u);
+  for (const int label : mapped) EXPECT_EQ(boxesOf(label), 1) << label;
+  EXPECT_EQ(boxes().boxCount(), static_cast<int>(mapped.size()));
+  for (int i = 0; i < boxes().boxCount(); ++i) {
+    const GroundTruthBox& box = boxes().box(i);
+    if (box.label == kept) {
+      EXPECT_EQ(box.box.center, kept_box.box.center);
+      EXPECT_EQ(box.box.size, kept_box.box.size);
+      continue;
+    }
+    // Fitted to the label's voxels, which cover only the sides the cameras
+    // saw (box IU 0.2 to 0.7 in this small demo): overlapping the object's
+    // true box, its centre inside it.
+    for (const GroundTruthBox& truth : truth_.boxes) {
+      if (truth.label != box.label) continue;
+      EXPECT_GT(boxIoU(box.box, truth.box), 0.1) << box.name;
+      const Eigen::Vector3d local = truth.box.rotation.inverse() * (box.box.center - truth.box.center);
+      EXPECT_TRUE((local.cwiseAbs().array() <= 0.5 * truth.box.size.array() + 1e-9).all()) << box.name;
+    }
+  }
+  EXPECT_TRUE(window_.statusBar()->currentMessage().contains("1 label boxed already kept"))
+      << window_.statusBar()->currentMessage().toStdString();
+
+  // One undo step takes them all back.
+  EXPECT_EQ(boxes().undoStack().index(), steps_before + 1);
+  boxes().undoStack().undo();
+  EXPECT_EQ(boxes().boxCount(), 1);
+  boxes().undoStack().redo();
+  EXPECT_EQ(boxes().boxCount(), static_cast<int>(mapped.size()));
+
+  // Asked again, with every label boxed: nothing to add, and it says why.
+  errors_.clear();
+  add_all->trigger();
+  waitForQueuedWork();
+  EXPECT_EQ(boxes().boxCount(), static_cast<int>(mapped.size()));
+  ASSERT_EQ(errors_.size(), 1u);
+  EXPECT_TRUE(errors_.front().contains("has a box already")) << errors_.front().toStdString();
 }
 
 TEST_F(QueuedWorkTest, BoxFitDuringFusionUsesTheVoxelsFusedSoFar) {

@@ -22,6 +22,10 @@ AddBoxReaction::AddBoxReaction(QAction* action, Mode mode, StudioSession& sessio
 }
 
 void AddBoxReaction::updateEnabled() {
+  if (mode_ == Mode::FitAllLabels) {
+    action()->setEnabled(session_.sequence() != nullptr);
+    return;
+  }
   const bool label = session_.sequence() && session_.selectedLabel() > 0;
   action()->setEnabled(label && (mode_ == Mode::FitLabelVoxels || session_.pickedPoint()));
 }
@@ -41,6 +45,7 @@ bool AddBoxReaction::selectExistingBox(int label) {
 }
 
 void AddBoxReaction::onTriggered() {
+  if (mode_ == Mode::FitAllLabels) return fitAllLabels();
   const auto sequence = session_.sequence();
   const int label = session_.selectedLabel();
   if (!sequence || !sequence->labels.contains(label)) return;
@@ -105,6 +110,75 @@ void AddBoxReaction::addFitted(const GroundTruthBox& box, bool fitted, unsigned 
   // box added by hand).
   if (selectExistingBox(box.label)) return;
   session_.annotations().addBox(box);
+}
+
+void AddBoxReaction::fitAllLabels() {
+  if (!session_.sequence()) return;
+  QPointer<AddBoxReaction> self(this);
+  MapWorker* worker = &session_.worker();  // outlives its thread's jobs
+  const unsigned generation = session_.mapGeneration();
+  const LabelSet labels = session_.sequence()->labels;
+  if (worker->isFusing()) emit status(tr("Boxes for every label: when fusion finishes."));
+  worker->withCurrentMap(
+      [self, worker, labels, generation](const LabelMap* map, bool final) {
+        // Labels keep appearing while frames are fused: fit once all are in.
+        if (!final) return false;
+        std::vector<GroundTruthBox> boxes;
+        if (map)
+          for (const auto& [label, keys] : map->voxelsByLabel()) {
+            if (label <= 0 || !labels.contains(label)) continue;
+            GroundTruthBox box;
+            box.label = label;
+            box.name = labels.at(label).name;
+            box.box = fitOrientedBox(largestCluster(keys, 2.0), map->parameters().resolution);
+            boxes.push_back(std::move(box));
+          }
+        QMetaObject::invokeMethod(
+            worker,
+            [self, boxes, generation] {
+              if (self) self->addAllFitted(boxes, generation);
+            },
+            Qt::QueuedConnection);
+        return true;
+      },
+      tr("box fits for every label"));
+}
+
+void AddBoxReaction::addAllFitted(const std::vector<GroundTruthBox>& boxes, unsigned generation) {
+  emit status(QString());
+  if (generation != session_.mapGeneration()) {
+    emit status(tr("Boxes for every label dropped: they were fitted to a map that has since been "
+                   "replaced (another sequence, a new fusion or Reset Map). Ask again."));
+    return;
+  }
+  AnnotationsModel& model = session_.annotations();
+  std::vector<const GroundTruthBox*> added;
+  size_t already = 0;
+  for (const GroundTruthBox& box : boxes) {
+    bool boxed = false;
+    for (int i = 0; i < model.boxCount() && !boxed; ++i) boxed = model.box(i).label == box.label;
+    if (boxed)
+      ++already;
+    else
+      added.push_back(&box);
+  }
+  if (added.empty()) {
+    emit failed(tr("No boxes to add"),
+                boxes.empty() ? tr("The map has no voxels of any object label. Fuse the sequence first.")
+                              : tr("Every object label of the map has a box already."));
+    return;
+  }
+  const auto count = [](size_t n, const QString& one, const QString& many) {
+    return QString::number(n) + " " + (n == 1 ? one : many);
+  };
+  // One undo step for the lot.
+  model.undoStack().beginMacro(tr("Add %1 from label voxels").arg(count(added.size(), tr("box"), tr("boxes"))));
+  for (const GroundTruthBox* box : added) model.addBox(*box);
+  model.undoStack().endMacro();
+  QString message = tr("Added %1 fitted to label voxels").arg(count(added.size(), tr("box"), tr("boxes")));
+  if (already)
+    message += tr("; %1 kept").arg(count(already, tr("label boxed already"), tr("labels boxed already")));
+  emit status(message + ".");
 }
 
 }  // namespace lom::ui

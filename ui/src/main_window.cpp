@@ -283,6 +283,7 @@ void MainWindow::createAnnotateMenu() {
   };
   add_box(tr("Add Box from Label Voxels"), AddBoxReaction::Mode::FitLabelVoxels, Qt::Key_B);
   add_box(tr("Add Box at Clicked Point"), AddBoxReaction::Mode::AtPickedPoint, Qt::SHIFT + Qt::Key_B);
+  add_box(tr("Add Boxes for All Labels"), AddBoxReaction::Mode::FitAllLabels, Qt::CTRL + Qt::Key_B);
   menu->addSeparator();
   for (QAction* action : createBoxEditActions(*this, *scene_view_, *session_, steps_))
     menu->addAction(action);

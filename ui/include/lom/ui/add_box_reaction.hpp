@@ -15,7 +15,12 @@ class AddBoxReaction : public Reaction {
   Q_OBJECT
 
  public:
-  enum class Mode { FitLabelVoxels, AtPickedPoint };
+  // FitLabelVoxels: the selected label's box, fitted to its largest cluster
+  // of voxels (to what is fused so far during a fusion). AtPickedPoint: a
+  // cube at the clicked point. FitAllLabels: a fitted box for every object
+  // label of the map that has none yet, in one undo step, once the fusion
+  // running (if any) has finished.
+  enum class Mode { FitLabelVoxels, AtPickedPoint, FitAllLabels };
   static constexpr double kDefaultSize = 0.1;  // metres
 
   AddBoxReaction(QAction* action, Mode mode, StudioSession& session);
@@ -34,6 +39,8 @@ class AddBoxReaction : public Reaction {
   // Selects the label's box and says so; false when the label has none.
   bool selectExistingBox(int label);
   void addFitted(const GroundTruthBox& box, bool fitted, unsigned generation);
+  void fitAllLabels();
+  void addAllFitted(const std::vector<GroundTruthBox>& boxes, unsigned generation);
 
   Mode mode_;
   StudioSession& session_;
