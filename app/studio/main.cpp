@@ -1,6 +1,7 @@
 // labeloctomap-studio: the desktop window.
-//   labeloctomap-studio [--intrinsics K] [SEQ | --demo]
-//   labeloctomap-studio --screenshot OUT.png [--frame N] [--fuse] [--intrinsics K] (SEQ | --demo)
+//   labeloctomap-studio [--intrinsics K] [--map MAP.ot] [SEQ | --demo]
+//   labeloctomap-studio --screenshot OUT.png [--frame N] [--fuse | --map MAP.ot] [--intrinsics K]
+//                       (SEQ | --demo)
 // Exit codes: 0 success, 1 unreadable or invalid input, 2 a mistake in the
 // call, 3 no display to show the window on.
 #include <QAction>
@@ -31,9 +32,9 @@
 namespace {
 
 constexpr const char* kUsage =
-    "usage: labeloctomap-studio [--intrinsics K] [SEQ | --demo]\n"
-    "       labeloctomap-studio --screenshot OUT.png [--frame N] [--fuse] [--intrinsics K] "
-    "(SEQ | --demo)\n";
+    "usage: labeloctomap-studio [--intrinsics K] [--map MAP.ot] [SEQ | --demo]\n"
+    "       labeloctomap-studio --screenshot OUT.png [--frame N] [--fuse | --map MAP.ot] "
+    "[--intrinsics K] (SEQ | --demo)\n";
 
 constexpr const char* kHelp =
     "LabelOctoMap Studio: view recorded RGB-D label sequences, fuse them into a labelled map,\n"
@@ -52,6 +53,8 @@ constexpr const char* kHelp =
     "  --frame N            Frame to show, as the index N of frames[N] in sequence.json\n"
     "                       (default 0).\n"
     "  --fuse               With --screenshot: fuse the whole sequence before taking the picture.\n"
+    "  --map MAP.ot         Show this map of SEQ, fused earlier (e.g. by labeloctomap fuse),\n"
+    "                       instead of fusing SEQ (File > Open Map... in the window).\n"
     "  -h, --help           Show this help and exit.\n"
     "  -v, --version        Show the version and exit.\n"
     "\n"
@@ -64,6 +67,7 @@ struct StudioArguments {
   int frame = 0;
   bool demo = false;
   bool fuse = false;
+  QString map;  // --map
   std::optional<lom::CameraIntrinsics> intrinsics;
   QString platform;  // -platform, when given
   QString display;   // -display, when given
@@ -95,10 +99,11 @@ Parsed parseArguments(const QStringList& words, StudioArguments& arguments) {
   const QCommandLineOption demo_option("demo");
   const QCommandLineOption fuse_option("fuse");
   const QCommandLineOption intrinsics_option("intrinsics", "", "K");
+  const QCommandLineOption map_option("map", "", "MAP.ot");
   const QCommandLineOption platform_option("platform", "", "NAME");
   const QCommandLineOption display_option("display", "", "NAME");
   parser.addOptions({help_option, version_option, screenshot_option, frame_option, demo_option,
-                     fuse_option, intrinsics_option, platform_option, display_option});
+                     fuse_option, intrinsics_option, map_option, platform_option, display_option});
   // The rest of QGuiApplication's and QApplication's options: QApplication
   // takes them, here they only must not count as mistakes.
   for (const char* name : {"platformpluginpath", "platformtheme", "plugin", "qwindowgeometry",
@@ -136,6 +141,15 @@ Parsed parseArguments(const QStringList& words, StudioArguments& arguments) {
   }
   if (parser.isSet(screenshot_option) && arguments.sequence.isEmpty() && !arguments.demo)
     return {usageError("--screenshot needs a sequence to show"), Request::Run};
+  if (parser.isSet(map_option)) {
+    arguments.map = parser.value(map_option);
+    if (arguments.map.isEmpty()) return {usageError("--map: expected a map file (.ot)"), Request::Run};
+    if (arguments.sequence.isEmpty() && !arguments.demo)
+      return {usageError("--map needs the sequence the map was fused from (SEQ or --demo)"), Request::Run};
+    if (arguments.fuse)
+      return {usageError("give either --fuse (fuse the sequence) or --map (show a fused map), not both"),
+              Request::Run};
+  }
   if (parser.isSet(intrinsics_option)) {
     const QString value = parser.value(intrinsics_option);
     try {
@@ -238,6 +252,19 @@ std::string inputAt(const std::filesystem::path& shot,
   return fs::equivalent(shot, boxes, ec) ? boxes.string() : std::string();
 }
 
+// Reads the --map file into the window once the sequence is open; false when
+// reading did not end in time (an unreadable map is an error the window reports).
+bool openMapAndWait(lom::ui::MainWindow& window, const QString& map) {
+  window.session().openMap(map);
+  QElapsedTimer timer;
+  timer.start();
+  while (window.session().isOpeningMap() && timer.elapsed() < kFusionTimeoutMs) {
+    QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
+    QThread::msleep(10);
+  }
+  return !window.session().isOpeningMap() && waitForFusion(window);
+}
+
 int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments,
                    const bool& failed) {
   auto& controller = window.controller();
@@ -260,6 +287,15 @@ int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments
               << controller.sequencePath().toStdString()
               << " is a sequence with its own camera (it applies to recordings being converted)\n";
   controller.setCurrentFrame(arguments.frame);
+  if (!arguments.map.isEmpty()) {
+    if (QAction* points = window.findAction("Show Frame Points"); points && points->isChecked())
+      points->trigger();
+    if (!openMapAndWait(window, arguments.map)) {
+      std::cerr << "labeloctomap-studio: reading the map did not finish within 30 minutes; no "
+                   "picture written\n";
+      return 1;
+    }
+  }
   if (arguments.fuse) {
     // A picture of the fused map: the map's voxels without the frame's points.
     if (QAction* points = window.findAction("Show Frame Points"); points && points->isChecked())
@@ -340,8 +376,12 @@ int main(int argc, char** argv) {
 
   window.rememberLayout();
   window.show();
-  if (!arguments.sequence.isEmpty() && window.controller().openSequence(arguments.sequence))
+  window.session().setAutoFuse(arguments.map.isEmpty());
+  if (!arguments.sequence.isEmpty() && window.controller().openSequence(arguments.sequence)) {
     window.controller().setCurrentFrame(arguments.frame);
+    if (!arguments.map.isEmpty()) window.session().openMap(arguments.map);
+  }
+  window.session().setAutoFuse(true);
   // Closed while the recording was being converted: there is nothing left to
   // run (Qt quits on the last window only once its event loop runs).
   if (!window.isVisible()) return 0;

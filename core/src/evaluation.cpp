@@ -22,14 +22,7 @@ std::string orDefault(const std::string& text, const char* fallback) {
 
 void checkMapAgainstSequence(const LabelMap& map, const Sequence& sequence, const std::string& map_file) {
   const std::string file = orDefault(map_file, "(map)");
-  if (map.numLabels() != sequence.labels.size())
-    throw Error(file, "labels", std::to_string(sequence.labels.size()) + " labels (the sequence's)",
-                std::to_string(map.numLabels()) + " labels");
-  for (int k = 0; k < map.numLabels(); ++k)
-    if (map.labels().at(k).name != sequence.labels.at(k).name)
-      throw Error(file, "labels[" + std::to_string(k) + "]",
-                  "the sequence's label \"" + sequence.labels.at(k).name + "\"",
-                  "\"" + map.labels().at(k).name + "\"");
+  checkMapLabels(map, sequence, file);
   if (map.occupiedCountPerLabel().empty())
     throw Error(file, "map", "at least one occupied voxel", "an empty map");
 }
@@ -143,6 +136,18 @@ ScoreSummary summarizeAll(const std::vector<EvaluationReport>& reports) {
   std::vector<ObjectScore> objects;
   for (const auto& report : reports) objects.insert(objects.end(), report.objects.begin(), report.objects.end());
   return summarize(objects);
+}
+
+void checkMapLabels(const LabelMap& map, const Sequence& sequence, const std::string& map_file) {
+  const std::string file = orDefault(map_file, "(map)");
+  if (map.numLabels() != sequence.labels.size())
+    throw Error(file, "labels", std::to_string(sequence.labels.size()) + " labels (the sequence's)",
+                std::to_string(map.numLabels()) + " labels");
+  for (int k = 0; k < map.numLabels(); ++k)
+    if (map.labels().at(k).name != sequence.labels.at(k).name)
+      throw Error(file, "labels[" + std::to_string(k) + "]",
+                  "the sequence's label \"" + sequence.labels.at(k).name + "\"",
+                  "\"" + map.labels().at(k).name + "\"");
 }
 
 EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotations, const LabelMap& map,

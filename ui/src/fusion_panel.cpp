@@ -130,6 +130,9 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   });
 
   loadFromSession();
+  // A map read from a file brings its own parameters (edits not yet applied
+  // are of the map it replaced).
+  connect(&session_, &StudioSession::mapOpened, this, &FusionPanel::loadFromSession);
   connect(threshold_, qOverload<double>(&QDoubleSpinBox::valueChanged), this,
           [this](double value) { session_.setOccupancyThreshold(value); });
   for (QDoubleSpinBox* box : {resolution_, max_range_, p_miss_})

@@ -35,6 +35,15 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
     progress_->setValue(0);
     rate_->clear();
   });
+  // A map read from a file: nothing was fused here.
+  connect(&worker, &MapWorker::mapAdopted, this, [this](const QString& source) {
+    progress_->setFormat(tr("map from file"));
+    progress_->setRange(0, 1);
+    progress_->setValue(1);
+    rate_->clear();
+    progress_->setToolTip(source);
+  });
+  connect(&worker, &MapWorker::fusionStarted, this, [this] { progress_->setToolTip(QString()); });
   connect(&worker, &MapWorker::stateChanged, this, [this](MapWorker::State state) {
     if (state == MapWorker::State::Paused) rate_->setText(tr("paused"));
   });

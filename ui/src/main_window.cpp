@@ -37,6 +37,7 @@
 #include "lom/ui/map_legend_panel.hpp"
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/objects_panel.hpp"
+#include "lom/ui/open_map_reaction.hpp"
 #include "lom/ui/open_sequence_reaction.hpp"
 #include "lom/ui/panel_layout.hpp"
 #include "lom/ui/picked_voxel_view.hpp"
@@ -348,6 +349,11 @@ void MainWindow::connectScene() {
   connect(session_, &StudioSession::hiddenLabelsChanged, this, show_voxels);
   connect(&session_->worker(), &MapWorker::errorOccurred, this,
           [this](const QString& title, const QString& message) { report_error_(title, message); });
+  connect(session_, &StudioSession::mapOpenFailed, this,
+          [this](const QString& title, const QString& message) { report_error_(title, message); });
+  connect(session_, &StudioSession::mapOpened, this, [this](const QString& path) {
+    statusBar()->showMessage(tr("Map read from %1 (not fused here; Fuse re-fuses the sequence).").arg(path), 8000);
+  });
   auto show_boxes = [this] {
     if (!session_->sequence()) return;
     AnnotationsModel& boxes = session_->annotations();
@@ -397,6 +403,7 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   new OpenSequenceReaction(open_folder, OpenSequenceReaction::Pick::Folder, *controller_, recent_,
                            this);
   new RecentSequencesReaction(file->addMenu(tr("Open &Recent")), recent_, *controller_);
+  new OpenMapReaction(file->addAction(tr("Open &Map…")), *session_, this);
   file->addSeparator();
   auto box_file = [&](const QString& text, BoxFileReaction::Kind kind, const QKeySequence& key) {
     QAction* action = file->addAction(text);

@@ -105,6 +105,31 @@ void MapWorker::startFusion(std::shared_ptr<const Sequence> sequence, const Fusi
   emit fusionStarted();
 }
 
+void MapWorker::adoptMap(std::shared_ptr<LabelMap> map, size_t frames, const QString& source) {
+  ++map_generation_;  // before the cancel, as in startFusion
+  cancel();
+  paused_ = false;
+  const unsigned id = ++fusion_id_;
+  fusion_cancel_ = std::make_shared<std::atomic<bool>>(false);
+  threshold_ = map->parameters().occupancy_threshold;
+  threshold_pending_ = false;
+  post(
+      [this, map = std::move(map), frames, source, id] {
+        map_ = std::make_unique<LabelMap>(std::move(*map));
+        frames_fused_ = frames;
+        publish(takeSnapshot(*map_, frames_fused_));
+        inGui([this, id, source] {
+          if (id != fusion_id_) return;  // superseded meanwhile
+          setState(State::Idle);
+          emit mapAdopted(source);
+          emit fusionFinished(true);
+        });
+      },
+      false);
+  setState(State::Fusing);
+  emit fusionStarted();
+}
+
 void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const FusionOptions& options,
                      unsigned id, const std::shared_ptr<std::atomic<bool>>& cancelled) {
   auto finish = [this, id](bool completed) {

@@ -1,6 +1,8 @@
 #include "lom/ui/studio_session.hpp"
 
 #include "lom/annotations.hpp"
+#include "lom/evaluation.hpp"
+#include "lom/ui/map_file_reader.hpp"
 #include "lom/ui/annotation_files.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/map_worker.hpp"
@@ -13,7 +15,24 @@ StudioSession::StudioSession(QObject* parent)
     : QObject(parent),
       controller_(new SequenceController(this)),
       worker_(new MapWorker(this)),
-      annotations_(new AnnotationsModel(this)) {
+      annotations_(new AnnotationsModel(this)),
+      map_reader_(new MapFileReader(this)) {
+  connect(map_reader_, &MapFileReader::finished, this,
+          [this](unsigned ticket, const QString& path, std::shared_ptr<LabelMap> map, const QString& error) {
+            if (ticket != map_reader_->latestTicket()) return;  // another map asked for since
+            if (!map) return emit mapOpenFailed(tr("Cannot open map"), error);
+            if (!sequence_) return;
+            try {
+              checkMapLabels(*map, *sequence_, path.toStdString());
+            } catch (const std::exception& mismatch) {
+              return emit mapOpenFailed(tr("Map of another label set"), QString::fromStdString(mismatch.what()));
+            }
+            options_.map = map->parameters();
+            emit fusionOptionsChanged();
+            ++map_generation_;
+            worker_->adoptMap(std::move(map), sequence_->frames.size(), path);
+            emit mapOpened(path);
+          });
   controller_->setUnsavedWorkCheck([this] {
     commitPendingEdits();  // a value still being typed is part of the work
     return annotations_->isDirty();
@@ -38,9 +57,17 @@ void StudioSession::onSequenceChanged() {
   setSelectedLabel(!boxes.boxes.empty() ? boxes.boxes.front().label
                                         : (sequence_->labels.size() > 1 ? 1 : -1));
   ++map_generation_;
+  map_reader_->forget();  // a map asked for with the previous sequence
   worker_->reset();
   if (auto_fuse_) fuse();
 }
+
+void StudioSession::openMap(const QString& path) {
+  if (!sequence_) return;
+  map_reader_->read(path);
+}
+
+bool StudioSession::isOpeningMap() const { return map_reader_->isReading(); }
 
 void StudioSession::setFusionOptions(const FusionOptions& options) {
   const double threshold = options_.map.occupancy_threshold;

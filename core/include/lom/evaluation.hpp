@@ -125,6 +125,11 @@ struct UnscorableBox {
 void checkAnnotationsForSequence(const Sequence& sequence, const Annotations& annotations,
                                  const std::string& annotations_file);
 
+// Throws lom::Error naming `map_file` and the field "labels" (or "labels[k]")
+// unless the map has the sequence's labels, with the same names in the same
+// order: a map fused from another sequence's label set.
+void checkMapLabels(const LabelMap& map, const Sequence& sequence, const std::string& map_file);
+
 // Scores every annotated object. Resolution and max range come from `map`.
 // Throws lom::Error for unusable inputs (see checkAnnotationsForSequence; a map
 // with another label set or no occupied voxel; no view among the frames).

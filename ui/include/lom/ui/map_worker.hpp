@@ -34,6 +34,11 @@ class MapWorker : public QObject {
   // Fuses the option's frame range of `sequence` into a new map, replacing the
   // current one. Snapshots are published at most every `snapshot_interval_ms`.
   void startFusion(std::shared_ptr<const Sequence> sequence, const FusionOptions& options);
+  // Replaces the map with `map` (read from `source`, a .ot file), as a fusion
+  // of `frames` frames that has just completed: a fusion in progress is
+  // cancelled, fusionStarted, mapAdopted and fusionFinished(true) follow, and
+  // the threshold becomes the map's.
+  void adoptMap(std::shared_ptr<LabelMap> map, size_t frames, const QString& source);
   void setPaused(bool paused);
   void cancel();  // keeps what was fused so far
   void reset();   // cancels and drops the map
@@ -77,6 +82,8 @@ class MapWorker : public QObject {
   void snapshotChanged();
   void fusionProgress(int done, int total, double frames_per_second);
   void fusionFinished(bool completed);
+  // A map read from `source` replaced the fused one (adoptMap).
+  void mapAdopted(const QString& source);
   // After a fusion (also a stopped one): the fused frames' totals, with their
   // depths beyond the map's max range (which map nothing) and the farthest.
   void depthRangesMeasured(const lom::FrameStats& totals, double max_range);

@@ -3,6 +3,7 @@
 // map (through the worker that owns it), the fusion parameters, the
 // ground-truth boxes with their undo stack, and the label visibility.
 #include <QObject>
+#include <QString>
 #include <Eigen/Core>
 #include <memory>
 #include <optional>
@@ -14,6 +15,7 @@ namespace lom::ui {
 
 class AnnotationsModel;
 class MapWorker;
+class MapFileReader;
 class SequenceController;
 
 class StudioSession : public QObject {
@@ -38,6 +40,14 @@ class StudioSession : public QObject {
 
   void fuse();        // (re)starts fusion of the whole sequence
   void resetMap();    // cancels and drops the map
+  // Reads a map fused earlier (a .ot file, e.g. by `labeloctomap fuse`) in the
+  // background and, when it has the open sequence's labels, makes it the map
+  // instead of fusing: a fusion in progress is cancelled and the fusion
+  // parameters become the map's. The map stands for the whole sequence (as
+  // `labeloctomap score --map`). mapOpenFailed says why not otherwise; a
+  // sequence opened meanwhile, or another map asked for, drops the result.
+  void openMap(const QString& path);
+  [[nodiscard]] bool isOpeningMap() const;
   // Changes whenever the map is replaced (another sequence, a new fusion, a
   // reset): results computed from an older map are stale.
   [[nodiscard]] unsigned mapGeneration() const { return map_generation_; }
@@ -58,6 +68,8 @@ class StudioSession : public QObject {
   void hiddenLabelsChanged();
   void selectedLabelChanged(int label);
   void pickedPointChanged();
+  void mapOpened(const QString& path);
+  void mapOpenFailed(const QString& title, const QString& message);
 
  private:
   void onSequenceChanged();
@@ -72,6 +84,7 @@ class StudioSession : public QObject {
   std::set<int> hidden_labels_;
   int selected_label_ = -1;
   std::optional<Eigen::Vector3d> picked_point_;
+  MapFileReader* map_reader_;
 };
 
 }  // namespace lom::ui

@@ -1,0 +1,181 @@
+// A map fused earlier (.ot, as `labeloctomap fuse` writes it) shown instead of
+// fusing: File > Open Map… and --map on the studio's command line. The map
+// replaces the fused one with its own parameters and is scored as `score
+// --map` scores it; a map of another label set, or a file that is no map,
+// is refused with a message and leaves the map as it was.
+#include <gtest/gtest.h>
+
+#include <QAction>
+#include <QDoubleSpinBox>
+#include <QProcess>
+#include <QTest>
+#include <fstream>
+
+#include "demo_window_fixture.hpp"
+#include "lom/evaluation.hpp"
+#include "lom/fusion.hpp"
+#include "lom/ui/evaluation_panel.hpp"
+#include "lom/ui/fusion_panel.hpp"
+#include "lom/ui/open_map_reaction.hpp"
+
+namespace lom::ui {
+namespace {
+
+using fixture::kTimeoutMs;
+using fixture::qPath;
+
+class OpenMapTest : public fixture::DemoWindowTest {
+ protected:
+  StudioSession& session() { return window_.session(); }
+  // The demo fused at 5 mm (the studio fuses at 1 cm), saved as a .ot file.
+  std::filesystem::path writeFinerMap() {
+    const Sequence sequence = loadSequence(folder_);
+    FusionOptions options;
+    options.map.resolution = 0.005;
+    const LabelMap map = fuseSequence(sequence, options);
+    occupied_ = map.occupiedCountPerLabel();
+    const auto path = temp_.path() / "demo_5mm.ot";
+    map.save(path);
+    return path;
+  }
+  void waitForMap() {
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !session().isOpeningMap() && !session().worker().isFusing(); },
+                                kTimeoutMs));
+    QTest::qWait(50);  // the snapshot arrives through the event loop
+  }
+  std::map<int, size_t> occupied_;
+};
+
+TEST_F(OpenMapTest, AMapFromAFileReplacesTheFusedOneWithItsParameters) {
+  openAndFuse();
+  ASSERT_DOUBLE_EQ(session().worker().snapshot()->resolution, 0.01);
+  const auto path = writeFinerMap();
+  QAction* open_map = window_.findAction("Open Map…");
+  ASSERT_NE(open_map, nullptr);
+  ASSERT_TRUE(open_map->isEnabled());
+  auto* reaction = open_map->findChild<OpenMapReaction*>();
+  ASSERT_NE(reaction, nullptr);
+  QString offered_folder;
+  reaction->setChooser([&](const QString& start) {
+    offered_folder = start;
+    return qPath(path);
+  });
+  const unsigned generation = session().mapGeneration();
+  open_map->trigger();
+  waitForMap();
+  EXPECT_TRUE(errors_.empty()) << errors_.front().toStdString();
+  // The dialog starts beside the sequence folder, where maps are written.
+  EXPECT_EQ(offered_folder, qPath(folder_.parent_path()));
+
+  // The map shown is the file's: its resolution and its voxels.
+  const MapSnapshot& shown = *session().worker().snapshot();
+  EXPECT_DOUBLE_EQ(shown.resolution, 0.005);
+  EXPECT_EQ(shown.counts, occupied_);
+  EXPECT_EQ(shown.frames_fused, static_cast<size_t>(fixture::smallDemo().frames));
+  EXPECT_NE(session().mapGeneration(), generation);
+  // The Fusion panel shows the map's parameters, with nothing to re-fuse.
+  EXPECT_DOUBLE_EQ(session().fusionOptions().map.resolution, 0.005);
+  EXPECT_NEAR(window_.fusionPanel().resolutionBox().value(), 0.005, 1e-9);
+  EXPECT_FALSE(window_.fusionPanel().hasPendingChanges());
+  EXPECT_TRUE(window_.fusionStatusText().contains("map from file"))
+      << window_.fusionStatusText().toStdString();
+
+  // Scored as `labeloctomap score --map` scores it.
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !window_.evaluationPanel().isBusy(); }, kTimeoutMs));
+  QTest::qWait(50);
+  const auto& report = window_.evaluationPanel().report();
+  ASSERT_TRUE(report.has_value());
+  const EvaluationReport expected =
+      evaluate(loadSequence(folder_), truth_, LabelMap::load(path), EvaluationOptions{});
+  ASSERT_EQ(report->objects.size(), expected.objects.size());
+  for (size_t i = 0; i < expected.objects.size(); ++i) {
+    EXPECT_EQ(report->objects[i].label, expected.objects[i].label);
+    EXPECT_DOUBLE_EQ(report->objects[i].iou_3d.labeloctomap, expected.objects[i].iou_3d.labeloctomap);
+    EXPECT_DOUBLE_EQ(report->objects[i].box_iou.labeloctomap, expected.objects[i].box_iou.labeloctomap);
+  }
+}
+
+TEST_F(OpenMapTest, OpeningAMapDuringFusionStopsTheFusion) {
+  const auto path = writeFinerMap();
+  session().worker().setSnapshotInterval(0);
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  session().worker().setPaused(true);
+  ASSERT_TRUE(session().worker().isFusing());
+  session().openMap(qPath(path));
+  waitForMap();
+  EXPECT_FALSE(session().worker().isFusing());
+  EXPECT_DOUBLE_EQ(session().worker().snapshot()->resolution, 0.005);
+  EXPECT_EQ(session().worker().snapshot()->counts, occupied_);
+}
+
+TEST_F(OpenMapTest, AMapOfAnotherLabelSetOrNoMapAtAllIsRefused) {
+  openAndFuse();
+  const MapSnapshotPtr before = session().worker().snapshot();
+  const unsigned generation = session().mapGeneration();
+
+  LabelMap other(LabelSet({{0, "floor", {1, 2, 3}}, {1, "cup", {4, 5, 6}}}), MapParameters{});
+  const auto other_path = temp_.path() / "other_labels.ot";
+  other.save(other_path);
+  session().openMap(qPath(other_path));
+  waitForMap();
+  ASSERT_EQ(errors_.size(), 1u);
+  EXPECT_TRUE(errors_.front().contains("other_labels.ot")) << errors_.front().toStdString();
+  EXPECT_TRUE(errors_.front().contains("labels")) << errors_.front().toStdString();
+
+  const auto garbage = temp_.path() / "not_a_map.ot";
+  std::ofstream(garbage) << "hello\n";
+  session().openMap(qPath(garbage));
+  waitForMap();
+  ASSERT_EQ(errors_.size(), 2u);
+  EXPECT_TRUE(errors_.back().contains("not_a_map.ot")) << errors_.back().toStdString();
+
+  session().openMap(qPath(temp_.path() / "missing.ot"));
+  waitForMap();
+  ASSERT_EQ(errors_.size(), 3u);
+  EXPECT_TRUE(errors_.back().contains("missing.ot")) << errors_.back().toStdString();
+
+  // The fused map is still the one shown, with its parameters.
+  EXPECT_EQ(session().worker().snapshot(), before);
+  EXPECT_EQ(session().mapGeneration(), generation);
+  EXPECT_DOUBLE_EQ(session().fusionOptions().map.resolution, 0.01);
+}
+
+TEST_F(OpenMapTest, OpenMapNeedsASequence) {
+  QAction* open_map = window_.findAction("Open Map…");
+  ASSERT_NE(open_map, nullptr);
+  EXPECT_FALSE(open_map->isEnabled());
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  EXPECT_TRUE(open_map->isEnabled());
+}
+
+TEST_F(OpenMapTest, StudioCommandLineShowsAMapInsteadOfFusing) {
+  const auto path = writeFinerMap();
+  const auto run = [](const QStringList& arguments) {
+    QProcess studio;
+    studio.start(LOM_STUDIO_PATH, arguments);
+    EXPECT_TRUE(studio.waitForFinished(kTimeoutMs));
+    return std::make_pair(studio.exitCode(), QString::fromLocal8Bit(studio.readAllStandardError()));
+  };
+  const auto picture = temp_.path() / "with_map.png";
+  const auto [shown, shown_err] = run({"--screenshot", qPath(picture), "--map", qPath(path), qPath(folder_)});
+  EXPECT_EQ(shown, 0) << shown_err.toStdString();
+  EXPECT_TRUE(std::filesystem::exists(picture));
+
+  const auto [missing, missing_err] =
+      run({"--screenshot", qPath(temp_.path() / "x.png"), "--map", qPath(temp_.path() / "missing.ot"),
+           qPath(folder_)});
+  EXPECT_EQ(missing, 1);
+  EXPECT_TRUE(missing_err.contains("missing.ot")) << missing_err.toStdString();
+  EXPECT_FALSE(std::filesystem::exists(temp_.path() / "x.png"));
+
+  const auto [both, both_err] = run({"--screenshot", qPath(temp_.path() / "x.png"), "--fuse", "--map",
+                                     qPath(path), qPath(folder_)});
+  EXPECT_EQ(both, 2);
+  EXPECT_TRUE(both_err.contains("not both")) << both_err.toStdString();
+  const auto [alone, alone_err] = run({"--map", qPath(path)});
+  EXPECT_EQ(alone, 2);
+  EXPECT_TRUE(alone_err.contains("--map needs the sequence")) << alone_err.toStdString();
+}
+
+}  // namespace
+}  // namespace lom::ui
