@@ -7,7 +7,12 @@
 
 #include <QAction>
 #include <QDoubleSpinBox>
+#include <QApplication>
+#include <QDragEnterEvent>
+#include <QDropEvent>
+#include <QMimeData>
 #include <QProcess>
+#include <QUrl>
 #include <QTest>
 #include <fstream>
 
@@ -17,6 +22,7 @@
 #include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/fusion_panel.hpp"
 #include "lom/ui/open_map_reaction.hpp"
+#include "lom/ui/sequence_drop_handler.hpp"
 
 namespace lom::ui {
 namespace {
@@ -138,6 +144,34 @@ TEST_F(OpenMapTest, AMapOfAnotherLabelSetOrNoMapAtAllIsRefused) {
   EXPECT_EQ(session().worker().snapshot(), before);
   EXPECT_EQ(session().mapGeneration(), generation);
   EXPECT_DOUBLE_EQ(session().fusionOptions().map.resolution, 0.01);
+}
+
+TEST_F(OpenMapTest, ADroppedMapIsOpenedForTheSequenceShown) {
+  const auto path = writeFinerMap();
+  QMimeData mime;
+  mime.setUrls({QUrl::fromLocalFile(qPath(path))});
+  EXPECT_EQ(SequenceDropHandler::droppedMapPath(&mime), qPath(path));
+  EXPECT_EQ(SequenceDropHandler::droppedSequencePath(&mime), QString());
+  const auto drop = [&] {
+    QDragEnterEvent enter(QPoint(40, 40), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(&window_, &enter);
+    EXPECT_TRUE(enter.isAccepted());
+    QDropEvent dropped(QPointF(40, 40), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(&window_, &dropped);
+    QTest::qWait(50);
+  };
+  // Without a sequence: there is nothing to show it for, and the message says so.
+  drop();
+  ASSERT_EQ(errors_.size(), 1u);
+  EXPECT_TRUE(errors_.front().contains("open the sequence it was fused from")) << errors_.front().toStdString();
+  errors_.clear();
+
+  openAndFuse();
+  drop();
+  waitForMap();
+  EXPECT_TRUE(errors_.empty());
+  EXPECT_DOUBLE_EQ(session().worker().snapshot()->resolution, 0.005);
+  EXPECT_EQ(session().worker().snapshot()->counts, occupied_);
 }
 
 TEST_F(OpenMapTest, OpenMapNeedsASequence) {

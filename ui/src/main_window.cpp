@@ -168,7 +168,14 @@ MainWindow::MainWindow(QWidget* parent)
   createDocks();
   createMenus(step_actions);
   connectScene();
-  new SequenceDropHandler(this, *controller_);
+  auto* drops = new SequenceDropHandler(this, *controller_);
+  drops->setMapOpener([this](const QString& map) {
+    if (session_->sequence())
+      session_->openMap(map);
+    else
+      report_error_(tr("No sequence open"),
+                    tr("%1 is a fused map: open the sequence it was fused from first, then drop the map.").arg(map));
+  });
   new ConversionProgress(this, *controller_);
   controller_->setDiscardGuard([this] { return confirmDiscard(); });
 

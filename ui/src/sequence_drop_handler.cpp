@@ -31,15 +31,32 @@ QString SequenceDropHandler::droppedSequencePath(const QMimeData* mime) {
   return {};
 }
 
+QString SequenceDropHandler::droppedMapPath(const QMimeData* mime) {
+  if (!mime || !mime->hasUrls()) return {};
+  for (const QUrl& url : mime->urls()) {
+    if (!url.isLocalFile()) continue;
+    const QFileInfo info(url.toLocalFile());
+    if (!info.isDir() && info.suffix().compare("ot", Qt::CaseInsensitive) == 0) return info.absoluteFilePath();
+  }
+  return {};
+}
+
 bool SequenceDropHandler::eventFilter(QObject* watched, QEvent* event) {
   if (event->type() == QEvent::DragEnter) {
     auto* drag = static_cast<QDragEnterEvent*>(event);
-    if (!droppedSequencePath(drag->mimeData()).isEmpty()) drag->acceptProposedAction();
+    if (!droppedSequencePath(drag->mimeData()).isEmpty() ||
+        (open_map_ && !droppedMapPath(drag->mimeData()).isEmpty()))
+      drag->acceptProposedAction();
     return true;
   }
   if (event->type() == QEvent::Drop) {
     auto* drop = static_cast<QDropEvent*>(event);
     const QString path = droppedSequencePath(drop->mimeData());
+    if (const QString map = droppedMapPath(drop->mimeData()); path.isEmpty() && open_map_ && !map.isEmpty()) {
+      drop->acceptProposedAction();
+      QTimer::singleShot(0, this, [this, map] { open_map_(map); });
+      return true;
+    }
     if (path.isEmpty()) return false;
     drop->acceptProposedAction();
     // Opened once the drop has been answered: a recording's conversion shows
