@@ -202,6 +202,29 @@ TEST(VoxelSurface, HollowBoxHasAnInnerSurface) {
   expectSound(mesh, shell.size(), 6 * 25 + 6 * 9, 4, "hollow box");
 }
 
+// The surface of `keys` (possibly with repeats) is closed and oriented and
+// encloses the volume and area of the distinct voxels `unique`, with no
+// zero-area triangle; unmerged, two triangles per face and one more per face
+// side with a midpoint.
+void expectClosedSurface(const std::vector<VoxelKey>& keys, const std::vector<VoxelKey>& unique,
+                         bool merge, const std::string& set, double tolerance) {
+  const SurfaceMesh mesh = lom::voxelSurface(keys, kRes, {merge});
+  const auto triangles = lom::test::trianglesOf(mesh);
+  const auto edges = lom::test::edgeReport(triangles);
+  const std::string what = set + (merge ? " merged" : " unit faces");
+  EXPECT_EQ(edges.edges_not_shared_by_two, 0u) << what;
+  EXPECT_EQ(edges.directed_edges_repeated, 0u) << what;
+  EXPECT_NEAR(lom::test::enclosedVolume(mesh.vertices, triangles), unique.size() * kRes * kRes * kRes,
+              tolerance)
+      << what;
+  EXPECT_NEAR(lom::test::surfaceArea(mesh.vertices, triangles), unitFaces(unique) * kRes * kRes, tolerance)
+      << what;
+  EXPECT_GT(lom::test::smallestTriangleArea(mesh.vertices, triangles), 1e-6 * kRes * kRes) << what;
+  if (!merge) {
+    EXPECT_EQ(triangles.size(), 2 * unitFaces(unique) + 2 * halfLatticeVertices(mesh)) << what;
+  }
+}
+
 TEST(VoxelSurface, RandomVoxelSetsAreClosedAndEncloseTheirVolume) {
   std::mt19937 rng(7);
   for (int trial = 0; trial < 60; ++trial) {
@@ -211,27 +234,8 @@ TEST(VoxelSurface, RandomVoxelSetsAreClosedAndEncloseTheirVolume) {
       for (int j = -3; j < 3; ++j)
         for (int k = 0; k < 5; ++k)
           if (occupied(rng)) keys.push_back(gridKey(i, j, k));
-    for (const bool merge : {true, false}) {
-      const SurfaceMesh mesh = lom::voxelSurface(keys, kRes, {merge});
-      const auto triangles = lom::test::trianglesOf(mesh);
-      const auto edges = lom::test::edgeReport(triangles);
-      const std::string what =
-          "trial " + std::to_string(trial) + (merge ? " merged" : " unit faces");
-      EXPECT_EQ(edges.edges_not_shared_by_two, 0u) << what;
-      EXPECT_EQ(edges.directed_edges_repeated, 0u) << what;
-      EXPECT_NEAR(lom::test::enclosedVolume(mesh.vertices, triangles),
-                  keys.size() * kRes * kRes * kRes, 1e-9)
-          << what;
-      EXPECT_NEAR(lom::test::surfaceArea(mesh.vertices, triangles), unitFaces(keys) * kRes * kRes,
-                  1e-9)
-          << what;
-      EXPECT_GT(lom::test::smallestTriangleArea(mesh.vertices, triangles), 1e-6 * kRes * kRes)
-          << what;
-      if (!merge) {
-        // Two triangles per face, one more per face side with a midpoint.
-        EXPECT_EQ(triangles.size(), 2 * unitFaces(keys) + 2 * halfLatticeVertices(mesh)) << what;
-      }
-    }
+    for (const bool merge : {true, false})
+      expectClosedSurface(keys, keys, merge, "trial " + std::to_string(trial), 1e-9);
     EXPECT_LT(counts(keys, true).triangles, counts(keys, false).triangles);
   }
 }
@@ -255,24 +259,8 @@ TEST(VoxelSurface, SetsAcrossBricksAndAtTheEndsOfTheKeyRangeAreClosed) {
   std::vector<VoxelKey> keys = unique;
   keys.insert(keys.end(), unique.begin(), unique.begin() + static_cast<std::ptrdiff_t>(unique.size() / 3));
   std::shuffle(keys.begin(), keys.end(), rng);
-  for (const bool merge : {true, false}) {
-    const SurfaceMesh mesh = lom::voxelSurface(keys, kRes, {merge});
-    const auto triangles = lom::test::trianglesOf(mesh);
-    const auto edges = lom::test::edgeReport(triangles);
-    const std::string what = merge ? "merged" : "unit faces";
-    EXPECT_EQ(edges.edges_not_shared_by_two, 0u) << what;
-    EXPECT_EQ(edges.directed_edges_repeated, 0u) << what;
-    // Volume relative to the key origin's far corner: the set spans the whole key range.
-    EXPECT_NEAR(lom::test::enclosedVolume(mesh.vertices, triangles),
-                unique.size() * kRes * kRes * kRes, 1e-6)
-        << what;
-    EXPECT_NEAR(lom::test::surfaceArea(mesh.vertices, triangles), unitFaces(unique) * kRes * kRes,
-                1e-6)
-        << what;
-    if (!merge) {
-      EXPECT_EQ(triangles.size(), 2 * unitFaces(unique) + 2 * halfLatticeVertices(mesh)) << what;
-    }
-  }
+  // Volume and area to 1e-6: vertices lie as far as 1,638 m from the origin.
+  for (const bool merge : {true, false}) expectClosedSurface(keys, unique, merge, "across bricks", 1e-6);
   // The same set in another order gives the same mesh.
   std::vector<VoxelKey> sorted = unique;
   std::sort(sorted.begin(), sorted.end());
