@@ -1,11 +1,15 @@
 #include "lom/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <iterator>
 #include <cstring>
 #include <fstream>
 #include <random>
@@ -89,11 +93,11 @@ void writeStream(const fs::path& target, const fs::path& temporary,
   if (!out) throw Error(target.string(), "output", "a writable location", "cannot create file");
   write(out);
   out.flush();
-  if (!out) throw Error(target.string(), "output", "a complete write", "write failed (disk full?)");
+  if (!out) throw Error(target.string(), "output", "a complete write", streamWriteFailure(target, "write failed"));
   // Closing writes what the stream still buffers: a failure there is a lost write too.
   out.close();
   if (out.fail())
-    throw Error(target.string(), "output", "a complete write", "closing failed (disk full?)");
+    throw Error(target.string(), "output", "a complete write", streamWriteFailure(target, "closing failed"));
 }
 
 }  // namespace
@@ -188,17 +192,62 @@ void writeTextFileAtomically(const fs::path& target, const std::string& text) {
   writeFileAtomically(target, [&](std::ostream& out) { out << text; }, false);
 }
 
-std::string libraryWriteFailure(std::uint64_t free_bytes, const std::string& library) {
+namespace {
+
+// "1 KiB", "20 MiB", "1.5 GiB".
+std::string byteSize(std::uint64_t bytes) {
+  const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
+  double value = static_cast<double>(bytes);
+  size_t unit = 0;
+  while (value >= 1024.0 && unit + 1 < std::size(units)) {
+    value /= 1024.0;
+    ++unit;
+  }
+  char text[32];
+  std::snprintf(text, sizeof text, value == std::floor(value) ? "%.0f %s" : "%.1f %s", value, units[unit]);
+  return text;
+}
+
+std::string writeFailure(std::uint64_t free_bytes, std::optional<std::uint64_t> file_size_limit,
+                         const std::string& verb, const std::string& otherwise) {
   constexpr std::uint64_t kNearlyFull = std::uint64_t{1} << 20;
-  return free_bytes < kNearlyFull ? "write failed (disk full?)" : library + " could not write it";
+  if (free_bytes < kNearlyFull) return verb + " (disk full?)";
+  if (file_size_limit)
+    return verb + " (the file-size limit of " + byteSize(*file_size_limit) + " set by ulimit -f?)";
+  return otherwise;
+}
+
+struct WriteLimits {
+  std::uint64_t free_bytes = ~std::uint64_t{0};  // unknown: plenty
+  std::optional<std::uint64_t> file_size_limit;
+};
+
+WriteLimits writeLimitsFor(const fs::path& target) {
+  WriteLimits limits;
+  struct statvfs space {};
+  if (::statvfs(folderOf(target).c_str(), &space) == 0)
+    limits.free_bytes = static_cast<std::uint64_t>(space.f_bavail) * static_cast<std::uint64_t>(space.f_frsize);
+  struct rlimit file_size {};
+  if (::getrlimit(RLIMIT_FSIZE, &file_size) == 0 && file_size.rlim_cur != RLIM_INFINITY)
+    limits.file_size_limit = static_cast<std::uint64_t>(file_size.rlim_cur);
+  return limits;
+}
+
+}  // namespace
+
+std::string libraryWriteFailure(std::uint64_t free_bytes, const std::string& library,
+                                std::optional<std::uint64_t> file_size_limit) {
+  return writeFailure(free_bytes, file_size_limit, "write failed", library + " could not write it");
 }
 
 std::string libraryWriteFailure(const fs::path& target, const std::string& library) {
-  struct statvfs space {};
-  if (::statvfs(folderOf(target).c_str(), &space) != 0) return library + " could not write it";
-  return libraryWriteFailure(
-      static_cast<std::uint64_t>(space.f_bavail) * static_cast<std::uint64_t>(space.f_frsize),
-      library);
+  const WriteLimits limits = writeLimitsFor(target);
+  return libraryWriteFailure(limits.free_bytes, library, limits.file_size_limit);
+}
+
+std::string streamWriteFailure(const fs::path& target, const std::string& verb) {
+  const WriteLimits limits = writeLimitsFor(target);
+  return writeFailure(limits.free_bytes, limits.file_size_limit, verb, verb + " (disk full?)");
 }
 
 }  // namespace lom

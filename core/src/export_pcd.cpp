@@ -88,7 +88,7 @@ void writeWithPcl(const std::filesystem::path& path, const std::filesystem::path
   if (result != 0) throw Error(path.string(), "output", expected, libraryWriteFailure(temporary, "PCL"));
   if (!completeFile(temporary, header_end, points, point_bytes))
     throw Error(path.string(), "output", expected,
-                "write failed: PCL's file was cut short (disk full?)");
+                streamWriteFailure(temporary, "write failed: PCL's file was cut short"));
 }
 
 pcl::PointCloud<LabelledVoxelPoint> voxelCloud(const LabelMap& map,

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <functional>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,12 +28,19 @@ void writeTextFileAtomically(const std::filesystem::path& target, const std::str
 
 // Why a library (OpenCV, VTK, PCL, OctoMap) that reports only failure did not
 // write `target`: "write failed (disk full?)" when the target's file system
-// has less than a mebibyte free, as the stream writers say, else "LIBRARY
-// could not write it".
+// has less than a mebibyte free, as the stream writers say; else, when the
+// process may write files of at most some size (ulimit -f, as batch systems
+// set), "write failed (the file-size limit of N KiB set by ulimit -f?)"; else
+// "LIBRARY could not write it".
 [[nodiscard]] std::string libraryWriteFailure(const std::filesystem::path& target,
                                               const std::string& library);
-// The same from the free bytes: the rule, apart from asking the file system.
-[[nodiscard]] std::string libraryWriteFailure(std::uint64_t free_bytes, const std::string& library);
+// The same from the free bytes and the file-size limit (none: unlimited): the
+// rule, apart from asking the system.
+[[nodiscard]] std::string libraryWriteFailure(std::uint64_t free_bytes, const std::string& library,
+                                              std::optional<std::uint64_t> file_size_limit = std::nullopt);
+// Why writing (`verb`: "write failed", "closing failed") a stream to `target`
+// failed: the same rule, with "VERB (disk full?)" when neither is known.
+[[nodiscard]] std::string streamWriteFailure(const std::filesystem::path& target, const std::string& verb);
 
 // The folders a command is about to create for its outputs: `folder` and those
 // of its parents that do not exist yet, recorded before they are created.
