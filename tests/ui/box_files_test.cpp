@@ -10,6 +10,7 @@
 #include <QDir>
 #include <QFile>
 #include <QFileInfo>
+#include <QImage>
 #include <QStandardPaths>
 #include <QTest>
 #include <filesystem>
@@ -25,6 +26,7 @@
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/save_screenshot_reaction.hpp"
+#include "lom/ui/scene_view.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
 #include "test_support.hpp"
@@ -183,6 +185,21 @@ TEST_F(BoxFilesTest, NeitherBoxesNorScreenshotsAreSavedOverTheSequencesFiles) {
   // Anywhere else the picture is written.
   EXPECT_TRUE(screenshot->saveTo(qPath(temp_ / "window.png")).isEmpty());
   EXPECT_TRUE(fs::exists(temp_ / "window.png"));
+
+  // The 3D view alone: the same rules, a picture the size of the view.
+  auto* view = window_.findAction("Save 3D View…")->findChild<SaveScreenshotReaction*>();
+  ASSERT_NE(view, nullptr);
+  EXPECT_TRUE(view->saveTo(qPath(colour)).contains("is a file of the sequence"));
+  EXPECT_EQ(slurp(colour), pixels);
+  ASSERT_TRUE(view->saveTo(qPath(temp_ / "view.png")).isEmpty());
+  const QImage window_picture(qPath(temp_ / "window.png")), view_picture(qPath(temp_ / "view.png"));
+  const qreal ratio = window_.sceneView().devicePixelRatioF();
+  EXPECT_EQ(view_picture.size(), window_.sceneView().size() * ratio);
+  EXPECT_LT(view_picture.width(), window_picture.width());
+  // What the window's picture shows where the 3D view is.
+  const QPoint corner = window_.sceneView().mapTo(&window_, QPoint(0, 0)) * ratio;
+  for (const QPoint at : {QPoint(5, 5), QPoint(view_picture.width() / 2, view_picture.height() / 2)})
+    EXPECT_EQ(view_picture.pixel(at), window_picture.pixel(corner + at)) << at.x() << "," << at.y();
 }
 
 TEST_F(BoxFilesTest, UnreadableBoxesFileIsReplacedWhenTheUserConfirms) {

@@ -424,6 +424,8 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   file->addSeparator();
   new SaveScreenshotReaction(file->addAction(tr("Save Screens&hot…")), *this, *scene_view_,
                              *controller_);
+  new SaveScreenshotReaction(file->addAction(tr("Save 3D &View…")), *this, *scene_view_, *controller_,
+                             SaveScreenshotReaction::Kind::SceneView);
   file->addSeparator();
   auto* quit = file->addAction(tr("&Quit"), this, &QWidget::close);
   quit->setShortcut(QKeySequence::Quit);

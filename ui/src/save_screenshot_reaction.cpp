@@ -4,22 +4,24 @@
 #include <QMessageBox>
 #include <QWidget>
 
+#include "lom/ui/scene_view.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/window_capture.hpp"
 
 namespace lom::ui {
 
 SaveScreenshotReaction::SaveScreenshotReaction(QAction* action, QWidget& window, SceneView& scene,
-                                               const SequenceController& controller)
-    : Reaction(action), window_(window), scene_(scene), controller_(controller) {}
+                                               const SequenceController& controller, Kind kind)
+    : Reaction(action), window_(window), scene_(scene), controller_(controller), kind_(kind) {}
 
 void SaveScreenshotReaction::onTriggered() {
-  const QString path = QFileDialog::getSaveFileName(&window_, tr("Save Screenshot"),
-                                                    "labeloctomap-studio.png",
-                                                    tr("Images (*.png *.jpg)"));
+  const bool view = kind_ == Kind::SceneView;
+  const QString title = view ? tr("Save 3D View") : tr("Save Screenshot");
+  const QString path = QFileDialog::getSaveFileName(
+      &window_, title, view ? "labeloctomap-3d-view.png" : "labeloctomap-studio.png", tr("Images (*.png *.jpg)"));
   if (path.isEmpty()) return;
   const QString error = saveTo(path);
-  if (!error.isEmpty()) QMessageBox::warning(&window_, tr("Save Screenshot"), error);
+  if (!error.isEmpty()) QMessageBox::warning(&window_, title, error);
 }
 
 QString SaveScreenshotReaction::saveTo(const QString& path) {
@@ -28,6 +30,12 @@ QString SaveScreenshotReaction::saveTo(const QString& path) {
     return tr("%1 is a file of the sequence (%2): a screenshot never replaces it. Choose another "
               "name.")
         .arg(path, input);
+  if (kind_ == Kind::SceneView) {
+    const QImage view = scene_.renderToImage();
+    if (view.isNull() || !scene_.isVisible())
+      return tr("The 3D view is not shown, so there is no picture of it to save.");
+    return saveImageAtomically(view, path);
+  }
   return saveImageAtomically(captureWindow(window_, scene_), path);
 }
 

@@ -1,5 +1,6 @@
 #pragma once
-// File > Save Screenshot…: the whole window, 3D view included, as an image.
+// File > Save Screenshot…: the whole window, 3D view included, as an image;
+// File > Save 3D View…: the 3D view alone, as it is shown (for figures).
 #include "lom/ui/reaction.hpp"
 
 class QWidget;
@@ -13,8 +14,9 @@ class SaveScreenshotReaction : public Reaction {
   Q_OBJECT
 
  public:
+  enum class Kind { Window, SceneView };
   SaveScreenshotReaction(QAction* action, QWidget& window, SceneView& scene,
-                         const SequenceController& controller);
+                         const SequenceController& controller, Kind kind = Kind::Window);
   // Writes the picture to `path`; an error message, empty on success.
   QString saveTo(const QString& path);
 
@@ -25,6 +27,7 @@ class SaveScreenshotReaction : public Reaction {
   QWidget& window_;
   SceneView& scene_;
   const SequenceController& controller_;
+  Kind kind_;
 };
 
 }  // namespace lom::ui
