@@ -56,11 +56,11 @@ echo "  sequence:      $scene/sequence.json (frames and ground-truth annotations
 echo "  label map:     $map"
 echo "  scores:        $report/report.md (also .json, .csv and a chart, report.svg)"
 echo "  look at them:  $cli info $scene"
-echo "                 $studio $scene"
+echo "                 $studio --map $map $scene   (the map above; without --map it fuses again)"
 
 if $open_gui && [[ -n "${DISPLAY:-}" ]]; then
-  step "opening the studio (close its window to finish)"
-  "$studio" "$scene"
+  step "opening the studio on the map (close its window to finish)"
+  "$studio" --map "$map" "$scene"
 elif $open_gui; then
   echo
   echo "(no DISPLAY: not opening the studio)"
