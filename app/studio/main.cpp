@@ -143,11 +143,14 @@ Parsed parseArguments(const QStringList& words, StudioArguments& arguments) {
     return {usageError("--screenshot needs a sequence to show"), Request::Run};
   if (parser.isSet(map_option)) {
     arguments.map = parser.value(map_option);
-    if (arguments.map.isEmpty()) return {usageError("--map: expected a map file (.ot)"), Request::Run};
+    if (arguments.map.isEmpty())
+      return {usageError("--map: expected a map file (.ot)"), Request::Run};
     if (arguments.sequence.isEmpty() && !arguments.demo)
-      return {usageError("--map needs the sequence the map was fused from (SEQ or --demo)"), Request::Run};
+      return {usageError("--map needs the sequence the map was fused from (SEQ or --demo)"),
+              Request::Run};
     if (arguments.fuse)
-      return {usageError("give either --fuse (fuse the sequence) or --map (show a fused map), not both"),
+      return {usageError(
+                  "give either --fuse (fuse the sequence) or --map (show a fused map), not both"),
               Request::Run};
   }
   if (parser.isSet(intrinsics_option)) {

@@ -9,9 +9,9 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <iterator>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <random>
 
 #include "lom/error.hpp"
@@ -93,11 +93,14 @@ void writeStream(const fs::path& target, const fs::path& temporary,
   if (!out) throw Error(target.string(), "output", "a writable location", "cannot create file");
   write(out);
   out.flush();
-  if (!out) throw Error(target.string(), "output", "a complete write", streamWriteFailure(target, "write failed"));
+  if (!out)
+    throw Error(target.string(), "output", "a complete write",
+                streamWriteFailure(target, "write failed"));
   // Closing writes what the stream still buffers: a failure there is a lost write too.
   out.close();
   if (out.fail())
-    throw Error(target.string(), "output", "a complete write", streamWriteFailure(target, "closing failed"));
+    throw Error(target.string(), "output", "a complete write",
+                streamWriteFailure(target, "closing failed"));
 }
 
 }  // namespace
@@ -204,7 +207,8 @@ std::string byteSize(std::uint64_t bytes) {
     ++unit;
   }
   char text[32];
-  std::snprintf(text, sizeof text, value == std::floor(value) ? "%.0f %s" : "%.1f %s", value, units[unit]);
+  std::snprintf(text, sizeof text, value == std::floor(value) ? "%.0f %s" : "%.1f %s", value,
+                units[unit]);
   return text;
 }
 
@@ -226,7 +230,8 @@ WriteLimits writeLimitsFor(const fs::path& target) {
   WriteLimits limits;
   struct statvfs space {};
   if (::statvfs(folderOf(target).c_str(), &space) == 0)
-    limits.free_bytes = static_cast<std::uint64_t>(space.f_bavail) * static_cast<std::uint64_t>(space.f_frsize);
+    limits.free_bytes =
+        static_cast<std::uint64_t>(space.f_bavail) * static_cast<std::uint64_t>(space.f_frsize);
   struct rlimit file_size {};
   if (::getrlimit(RLIMIT_FSIZE, &file_size) == 0 && file_size.rlim_cur != RLIM_INFINITY)
     limits.file_size_limit = static_cast<std::uint64_t>(file_size.rlim_cur);

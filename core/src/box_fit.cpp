@@ -48,13 +48,16 @@ Eigen::Vector3d voxelCenter(const VoxelKey& key, double resolution) {
           (static_cast<int>(key.z) - kKeyOrigin + 0.5) * resolution};
 }
 
-std::vector<std::vector<VoxelKey>> voxelClusters(const std::vector<VoxelKey>& keys, double tolerance_voxels) {
+std::vector<std::vector<VoxelKey>> voxelClusters(const std::vector<VoxelKey>& keys,
+                                                 double tolerance_voxels) {
   if (!(tolerance_voxels >= 0.0 && tolerance_voxels <= kMaxClusterTolerance))
-    throw std::invalid_argument("voxel clusters: the tolerance must be a number of voxel edges from 0 to " +
-                                std::to_string(static_cast<int>(kMaxClusterTolerance)) + ", got " +
-                                std::to_string(tolerance_voxels));
+    throw std::invalid_argument(
+        "voxel clusters: the tolerance must be a number of voxel edges from 0 to " +
+        std::to_string(static_cast<int>(kMaxClusterTolerance)) + ", got " +
+        std::to_string(tolerance_voxels));
   if (keys.empty()) return {};
-  static_assert(kMaxClusterTolerance <= VoxelIndex::kMargin, "neighbour queries stay within the index's margin");
+  static_assert(kMaxClusterTolerance <= VoxelIndex::kMargin,
+                "neighbour queries stay within the index's margin");
   const int reach = std::max(1, static_cast<int>(std::floor(tolerance_voxels)));
   std::vector<VoxelIndex::Cell> offsets;
   for (int dx = -reach; dx <= reach; ++dx)
@@ -98,9 +101,10 @@ std::vector<std::vector<VoxelKey>> voxelClusters(const std::vector<VoxelKey>& ke
     clusters.push_back(std::move(members));
   }
   // Largest first; among equal sizes, the one holding the smallest key first.
-  std::sort(clusters.begin(), clusters.end(), [](const std::vector<VoxelKey>& a, const std::vector<VoxelKey>& b) {
-    return a.size() != b.size() ? a.size() > b.size() : a.front() < b.front();
-  });
+  std::sort(clusters.begin(), clusters.end(),
+            [](const std::vector<VoxelKey>& a, const std::vector<VoxelKey>& b) {
+              return a.size() != b.size() ? a.size() > b.size() : a.front() < b.front();
+            });
   return clusters;
 }
 

@@ -23,9 +23,11 @@ std::string fieldList(const std::vector<int>& values) {
 }
 
 void checkObjectOptions(const LabelMap& map, const ObjectOptions& options) {
-  if (!(options.cluster_tolerance_voxels > 0.0 && options.cluster_tolerance_voxels <= kMaxClusterTolerance))
+  if (!(options.cluster_tolerance_voxels > 0.0 &&
+        options.cluster_tolerance_voxels <= kMaxClusterTolerance))
     throw Error(options.map_file, "cluster_tolerance_voxels",
-                "a number of voxel edges above 0 and at most " + std::to_string(static_cast<int>(kMaxClusterTolerance)),
+                "a number of voxel edges above 0 and at most " +
+                    std::to_string(static_cast<int>(kMaxClusterTolerance)),
                 std::to_string(options.cluster_tolerance_voxels));
   if (options.min_cluster_voxels < 1)
     throw Error(options.map_file, "min_cluster_voxels", "at least 1", "0");

@@ -81,7 +81,8 @@ class VoxelIndex {
   // more than kMargin outside the key range are never in it.
   [[nodiscard]] std::uint32_t rankOf(const Cell& cell) const {
     for (const int c : cell)
-      if (static_cast<unsigned>(c + kMargin) > static_cast<unsigned>(65535 + 2 * kMargin)) return kAbsent;
+      if (static_cast<unsigned>(c + kMargin) > static_cast<unsigned>(65535 + 2 * kMargin))
+        return kAbsent;
     const std::uint64_t place = placeKey(cell);
     const std::uint64_t brick = place >> 6;
     if (brick != last_brick_key_) {
@@ -100,7 +101,8 @@ class VoxelIndex {
 
  private:
   static std::uint64_t placeKey(const Cell& c) {
-    const auto x = static_cast<std::uint64_t>(c[0] + kMargin), y = static_cast<std::uint64_t>(c[1] + kMargin),
+    const auto x = static_cast<std::uint64_t>(c[0] + kMargin),
+               y = static_cast<std::uint64_t>(c[1] + kMargin),
                z = static_cast<std::uint64_t>(c[2] + kMargin);
     const std::uint64_t brick = (x >> 2) | ((y >> 2) << 15) | ((z >> 2) << 30);
     return (brick << 6) | (x & 3u) | ((y & 3u) << 2) | ((z & 3u) << 4);

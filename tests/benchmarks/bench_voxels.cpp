@@ -34,7 +34,7 @@ const std::vector<lom::VoxelKey>& noisyRoom() {
       for (int z = 2; z < 150; ++z) add(x, 350 + offset(random), z);  // wall along x
     for (int y = 0; y < 350; ++y)
       for (int z = 2; z < 150; ++z) add(400 + offset(random), y, z);  // wall along y
-    for (int b = 0; b < 12; ++b)  // boxes standing on the floor
+    for (int b = 0; b < 12; ++b)                                      // boxes standing on the floor
       for (int x = 0; x < 30; ++x)
         for (int y = 0; y < 20; ++y)
           for (int z = 2; z < 25; ++z)

@@ -101,8 +101,9 @@ TEST(CliSynthTest, AFullDiskLeavesNoHalfWrittenScene) {
   const fs::path fresh = dir / "fresh";
   const auto r = lom::test::runCli("synth --out " + quoted(fresh) + kScene, full_disk);
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find((fresh / "depth/000000.png").string() +
-                       ": output: expected a complete write, found write failed (the file-size limit of "),
+  EXPECT_NE(r.err.find(
+                (fresh / "depth/000000.png").string() +
+                ": output: expected a complete write, found write failed (the file-size limit of "),
             std::string::npos)
       << r.err;
   EXPECT_EQ(r.err.find("libpng"), std::string::npos) << r.err;

@@ -89,7 +89,8 @@ TEST(AtomicWrite, AScreenshotOnAFullDiskSaysSoAndKeepsTheOldPicture) {
   setrlimit(RLIMIT_FSIZE, &before);
   std::signal(SIGXFSZ, old_handler);
   EXPECT_TRUE(error.contains("shot.png")) << error.toStdString();
-  EXPECT_TRUE(error.contains("the file-size limit of 1 KiB set by ulimit -f?")) << error.toStdString();
+  EXPECT_TRUE(error.contains("the file-size limit of 1 KiB set by ulimit -f?"))
+      << error.toStdString();
   EXPECT_EQ(slurp(png), "an earlier picture");
   EXPECT_EQ(entriesIn(temp.path()), 1u);  // no temporary file left
 

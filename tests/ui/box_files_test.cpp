@@ -198,7 +198,8 @@ TEST_F(BoxFilesTest, NeitherBoxesNorScreenshotsAreSavedOverTheSequencesFiles) {
   EXPECT_LT(view_picture.width(), window_picture.width());
   // What the window's picture shows where the 3D view is.
   const QPoint corner = window_.sceneView().mapTo(&window_, QPoint(0, 0)) * ratio;
-  for (const QPoint at : {QPoint(5, 5), QPoint(view_picture.width() / 2, view_picture.height() / 2)})
+  for (const QPoint at :
+       {QPoint(5, 5), QPoint(view_picture.width() / 2, view_picture.height() / 2)})
     EXPECT_EQ(view_picture.pixel(at), window_picture.pixel(corner + at)) << at.x() << "," << at.y();
 }
 

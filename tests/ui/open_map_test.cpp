@@ -6,14 +6,14 @@
 #include <gtest/gtest.h>
 
 #include <QAction>
-#include <QDoubleSpinBox>
 #include <QApplication>
+#include <QDoubleSpinBox>
 #include <QDragEnterEvent>
 #include <QDropEvent>
 #include <QMimeData>
 #include <QProcess>
-#include <QUrl>
 #include <QTest>
+#include <QUrl>
 #include <fstream>
 
 #include "demo_window_fixture.hpp"
@@ -45,8 +45,8 @@ class OpenMapTest : public fixture::DemoWindowTest {
     return path;
   }
   void waitForMap() {
-    ASSERT_TRUE(QTest::qWaitFor([&] { return !session().isOpeningMap() && !session().worker().isFusing(); },
-                                kTimeoutMs));
+    ASSERT_TRUE(QTest::qWaitFor(
+        [&] { return !session().isOpeningMap() && !session().worker().isFusing(); }, kTimeoutMs));
     QTest::qWait(50);  // the snapshot arrives through the event loop
   }
   std::map<int, size_t> occupied_;
@@ -96,8 +96,10 @@ TEST_F(OpenMapTest, AMapFromAFileReplacesTheFusedOneWithItsParameters) {
   ASSERT_EQ(report->objects.size(), expected.objects.size());
   for (size_t i = 0; i < expected.objects.size(); ++i) {
     EXPECT_EQ(report->objects[i].label, expected.objects[i].label);
-    EXPECT_DOUBLE_EQ(report->objects[i].iou_3d.labeloctomap, expected.objects[i].iou_3d.labeloctomap);
-    EXPECT_DOUBLE_EQ(report->objects[i].box_iou.labeloctomap, expected.objects[i].box_iou.labeloctomap);
+    EXPECT_DOUBLE_EQ(report->objects[i].iou_3d.labeloctomap,
+                     expected.objects[i].iou_3d.labeloctomap);
+    EXPECT_DOUBLE_EQ(report->objects[i].box_iou.labeloctomap,
+                     expected.objects[i].box_iou.labeloctomap);
   }
 }
 
@@ -163,7 +165,8 @@ TEST_F(OpenMapTest, ADroppedMapIsOpenedForTheSequenceShown) {
   // Without a sequence: there is nothing to show it for, and the message says so.
   drop();
   ASSERT_EQ(errors_.size(), 1u);
-  EXPECT_TRUE(errors_.front().contains("open the sequence it was fused from")) << errors_.front().toStdString();
+  EXPECT_TRUE(errors_.front().contains("open the sequence it was fused from"))
+      << errors_.front().toStdString();
   errors_.clear();
 
   openAndFuse();
@@ -191,19 +194,19 @@ TEST_F(OpenMapTest, StudioCommandLineShowsAMapInsteadOfFusing) {
     return std::make_pair(studio.exitCode(), QString::fromLocal8Bit(studio.readAllStandardError()));
   };
   const auto picture = temp_.path() / "with_map.png";
-  const auto [shown, shown_err] = run({"--screenshot", qPath(picture), "--map", qPath(path), qPath(folder_)});
+  const auto [shown, shown_err] =
+      run({"--screenshot", qPath(picture), "--map", qPath(path), qPath(folder_)});
   EXPECT_EQ(shown, 0) << shown_err.toStdString();
   EXPECT_TRUE(std::filesystem::exists(picture));
 
-  const auto [missing, missing_err] =
-      run({"--screenshot", qPath(temp_.path() / "x.png"), "--map", qPath(temp_.path() / "missing.ot"),
-           qPath(folder_)});
+  const auto [missing, missing_err] = run({"--screenshot", qPath(temp_.path() / "x.png"), "--map",
+                                           qPath(temp_.path() / "missing.ot"), qPath(folder_)});
   EXPECT_EQ(missing, 1);
   EXPECT_TRUE(missing_err.contains("missing.ot")) << missing_err.toStdString();
   EXPECT_FALSE(std::filesystem::exists(temp_.path() / "x.png"));
 
-  const auto [both, both_err] = run({"--screenshot", qPath(temp_.path() / "x.png"), "--fuse", "--map",
-                                     qPath(path), qPath(folder_)});
+  const auto [both, both_err] = run({"--screenshot", qPath(temp_.path() / "x.png"), "--fuse",
+                                     "--map", qPath(path), qPath(folder_)});
   EXPECT_EQ(both, 2);
   EXPECT_TRUE(both_err.contains("not both")) << both_err.toStdString();
   const auto [alone, alone_err] = run({"--map", qPath(path)});

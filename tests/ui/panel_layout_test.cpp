@@ -1,6 +1,8 @@
 // The panels: View > Panels shows a closed panel again, View > Reset Layout
 // puts every panel back, and a window that remembers its layout (the studio's
 // interactive runs) reopens with the size and panels it was closed with.
+#include "lom/ui/panel_layout.hpp"
+
 #include <gtest/gtest.h>
 
 #include <QAction>
@@ -10,7 +12,6 @@
 #include <memory>
 
 #include "lom/ui/main_window.hpp"
-#include "lom/ui/panel_layout.hpp"
 
 namespace lom::ui {
 namespace {
@@ -41,7 +42,7 @@ class PanelLayoutTest : public ::testing::Test {
 
 TEST_F(PanelLayoutTest, ClosedPanelsComeBackFromTheViewMenu) {
   auto window = shownWindow(false);
-  const QStringList names{"mapLegendDock", "fusionDock",      "pickedVoxelDock",
+  const QStringList names{"mapLegendDock", "fusionDock",     "pickedVoxelDock",
                           "boxesDock",     "evaluationDock", "objectsDock"};
   for (const QString& name : names) {
     QDockWidget* dock = panel(*window, name);
@@ -144,7 +145,8 @@ TEST_F(PanelLayoutTest, ALayoutSavedWithOtherPanelsIsNotRestored) {
     auto window = shownWindow(false);
     panel(*window, "objectsDock")->close();
     // What a version with another set of panels would have saved.
-    QSettings().setValue(PanelLayout::kPanelsKey, window->saveState(PanelLayout::kPanelsVersion + 1));
+    QSettings().setValue(PanelLayout::kPanelsKey,
+                         window->saveState(PanelLayout::kPanelsVersion + 1));
   }
   auto window = shownWindow(true);
   EXPECT_FALSE(panel(*window, "objectsDock")->isHidden());

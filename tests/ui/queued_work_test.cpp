@@ -145,8 +145,10 @@ TEST_F(QueuedWorkTest, BoxesForAllLabelsWaitForTheFusionAndBoxEachLabelOnce) {
     for (const GroundTruthBox& truth : truth_.boxes) {
       if (truth.label != box.label) continue;
       EXPECT_GT(boxIoU(box.box, truth.box), 0.1) << box.name;
-      const Eigen::Vector3d local = truth.box.rotation.inverse() * (box.box.center - truth.box.center);
-      EXPECT_TRUE((local.cwiseAbs().array() <= 0.5 * truth.box.size.array() + 1e-9).all()) << box.name;
+      const Eigen::Vector3d local =
+          truth.box.rotation.inverse() * (box.box.center - truth.box.center);
+      EXPECT_TRUE((local.cwiseAbs().array() <= 0.5 * truth.box.size.array() + 1e-9).all())
+          << box.name;
     }
   }
   EXPECT_TRUE(window_.statusBar()->currentMessage().contains("1 label boxed already kept"))

@@ -68,7 +68,8 @@ TEST(BoxFit, TouchingVoxelsAreConnectedAtAnyTolerance) {
 
 // The clusters by their definition: every pair of voxels compared, joined
 // when touching or within the tolerance; largest first, ties by smallest key.
-std::vector<std::vector<lom::VoxelKey>> clustersByPairs(std::vector<lom::VoxelKey> keys, double tolerance) {
+std::vector<std::vector<lom::VoxelKey>> clustersByPairs(std::vector<lom::VoxelKey> keys,
+                                                        double tolerance) {
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
   std::vector<size_t> parent(keys.size());
@@ -81,7 +82,8 @@ std::vector<std::vector<lom::VoxelKey>> clustersByPairs(std::vector<lom::VoxelKe
     for (size_t j = i + 1; j < keys.size(); ++j) {
       const int dx = keys[i].x - keys[j].x, dy = keys[i].y - keys[j].y, dz = keys[i].z - keys[j].z;
       const bool touching = std::abs(dx) <= 1 && std::abs(dy) <= 1 && std::abs(dz) <= 1;
-      if (touching || dx * dx + dy * dy + dz * dz <= tolerance * tolerance) parent[root(i)] = root(j);
+      if (touching || dx * dx + dy * dy + dz * dz <= tolerance * tolerance)
+        parent[root(i)] = root(j);
     }
   std::map<size_t, std::vector<lom::VoxelKey>> by_root;
   for (size_t i = 0; i < keys.size(); ++i) by_root[root(i)].push_back(keys[i]);
@@ -100,7 +102,8 @@ TEST(BoxFit, ClustersMatchTheirDefinitionOnRandomSets) {
     // Sparse sets give many clusters of equal sizes (the tie rule); some
     // near the ends of the key range, whose neighbours fall outside it.
     std::uniform_int_distribution<int> coordinate(0, 13);
-    const double tolerance = std::vector<double>{0.5, 1.5, 2.0, 2.9, 4.0}[static_cast<size_t>(trial % 5)];
+    const double tolerance =
+        std::vector<double>{0.5, 1.5, 2.0, 2.9, 4.0}[static_cast<size_t>(trial % 5)];
     std::vector<lom::VoxelKey> keys;
     for (int i = 0; i < 60; ++i) {
       const int x = coordinate(rng), y = coordinate(rng), z = coordinate(rng);
@@ -130,7 +133,10 @@ TEST(BoxFit, ToleranceOutsideItsRangeIsRefused) {
     EXPECT_THROW((void)lom::voxelClusters(keys, bad), std::invalid_argument);
   }
   // The largest tolerance allowed reaches across 20 voxel edges.
-  EXPECT_EQ(lom::voxelClusters({key(0, 0, 0), key(20, 0, 0), key(40, 1, 0)}, lom::kMaxClusterTolerance).size(), 2u);
+  EXPECT_EQ(
+      lom::voxelClusters({key(0, 0, 0), key(20, 0, 0), key(40, 1, 0)}, lom::kMaxClusterTolerance)
+          .size(),
+      2u);
 }
 
 TEST(BoxFit, AxisAlignedBlockIsFittedExactly) {

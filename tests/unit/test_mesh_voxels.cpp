@@ -214,10 +214,11 @@ void expectClosedSurface(const std::vector<VoxelKey>& keys, const std::vector<Vo
   const std::string what = set + (merge ? " merged" : " unit faces");
   EXPECT_EQ(edges.edges_not_shared_by_two, 0u) << what;
   EXPECT_EQ(edges.directed_edges_repeated, 0u) << what;
-  EXPECT_NEAR(lom::test::enclosedVolume(mesh.vertices, triangles), unique.size() * kRes * kRes * kRes,
-              tolerance)
+  EXPECT_NEAR(lom::test::enclosedVolume(mesh.vertices, triangles),
+              unique.size() * kRes * kRes * kRes, tolerance)
       << what;
-  EXPECT_NEAR(lom::test::surfaceArea(mesh.vertices, triangles), unitFaces(unique) * kRes * kRes, tolerance)
+  EXPECT_NEAR(lom::test::surfaceArea(mesh.vertices, triangles), unitFaces(unique) * kRes * kRes,
+              tolerance)
       << what;
   EXPECT_GT(lom::test::smallestTriangleArea(mesh.vertices, triangles), 1e-6 * kRes * kRes) << what;
   if (!merge) {
@@ -253,14 +254,17 @@ TEST(VoxelSurface, SetsAcrossBricksAndAtTheEndsOfTheKeyRangeAreClosed) {
       for (int k = -8; k < 8; ++k)
         if (occupied(rng)) unique.push_back(gridKey(i, j, k));
   const std::uint16_t last = 65535;
-  for (const VoxelKey& end : {VoxelKey{0, 0, 0}, VoxelKey{last, last, last}, VoxelKey{0, last, 3},
-                              VoxelKey{last, 1, 0}, VoxelKey{1, 0, 0}, VoxelKey{last, last, last - 1}})
+  for (const VoxelKey& end :
+       {VoxelKey{0, 0, 0}, VoxelKey{last, last, last}, VoxelKey{0, last, 3}, VoxelKey{last, 1, 0},
+        VoxelKey{1, 0, 0}, VoxelKey{last, last, last - 1}})
     unique.push_back(end);
   std::vector<VoxelKey> keys = unique;
-  keys.insert(keys.end(), unique.begin(), unique.begin() + static_cast<std::ptrdiff_t>(unique.size() / 3));
+  keys.insert(keys.end(), unique.begin(),
+              unique.begin() + static_cast<std::ptrdiff_t>(unique.size() / 3));
   std::shuffle(keys.begin(), keys.end(), rng);
   // Volume and area to 1e-6: vertices lie as far as 1,638 m from the origin.
-  for (const bool merge : {true, false}) expectClosedSurface(keys, unique, merge, "across bricks", 1e-6);
+  for (const bool merge : {true, false})
+    expectClosedSurface(keys, unique, merge, "across bricks", 1e-6);
   // The same set in another order gives the same mesh.
   std::vector<VoxelKey> sorted = unique;
   std::sort(sorted.begin(), sorted.end());

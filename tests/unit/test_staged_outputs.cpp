@@ -169,7 +169,8 @@ TEST(LibraryWrites, AFailureOnANearlyFullDiskSaysSo) {
             "write failed (the file-size limit of 1 KiB set by ulimit -f?)");
   EXPECT_EQ(lom::libraryWriteFailure(std::uint64_t{5} << 30, "VTK", std::uint64_t{3} << 29),
             "write failed (the file-size limit of 1.5 GiB set by ulimit -f?)");
-  EXPECT_EQ(lom::libraryWriteFailure(std::uint64_t{0}, "VTK", std::uint64_t{1} << 10), "write failed (disk full?)");
+  EXPECT_EQ(lom::libraryWriteFailure(std::uint64_t{0}, "VTK", std::uint64_t{1} << 10),
+            "write failed (disk full?)");
   // The temporary folder of a test machine is not full.
   lom::test::TempDir dir;
   EXPECT_EQ(lom::libraryWriteFailure(dir / "map.stl", "VTK"), "VTK could not write it");

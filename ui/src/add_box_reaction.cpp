@@ -147,8 +147,9 @@ void AddBoxReaction::fitAllLabels() {
 void AddBoxReaction::addAllFitted(const std::vector<GroundTruthBox>& boxes, unsigned generation) {
   emit status(QString());
   if (generation != session_.mapGeneration()) {
-    emit status(tr("Boxes for every label dropped: they were fitted to a map that has since been "
-                   "replaced (another sequence, a new fusion or Reset Map). Ask again."));
+    emit status(
+        tr("Boxes for every label dropped: they were fitted to a map that has since been "
+           "replaced (another sequence, a new fusion or Reset Map). Ask again."));
     return;
   }
   AnnotationsModel& model = session_.annotations();
@@ -164,20 +165,24 @@ void AddBoxReaction::addAllFitted(const std::vector<GroundTruthBox>& boxes, unsi
   }
   if (added.empty()) {
     emit failed(tr("No boxes to add"),
-                boxes.empty() ? tr("The map has no voxels of any object label. Fuse the sequence first.")
-                              : tr("Every object label of the map has a box already."));
+                boxes.empty()
+                    ? tr("The map has no voxels of any object label. Fuse the sequence first.")
+                    : tr("Every object label of the map has a box already."));
     return;
   }
   const auto count = [](size_t n, const QString& one, const QString& many) {
     return QString::number(n) + " " + (n == 1 ? one : many);
   };
   // One undo step for the lot.
-  model.undoStack().beginMacro(tr("Add %1 from label voxels").arg(count(added.size(), tr("box"), tr("boxes"))));
+  model.undoStack().beginMacro(
+      tr("Add %1 from label voxels").arg(count(added.size(), tr("box"), tr("boxes"))));
   for (const GroundTruthBox* box : added) model.addBox(*box);
   model.undoStack().endMacro();
-  QString message = tr("Added %1 fitted to label voxels").arg(count(added.size(), tr("box"), tr("boxes")));
+  QString message =
+      tr("Added %1 fitted to label voxels").arg(count(added.size(), tr("box"), tr("boxes")));
   if (already)
-    message += tr("; %1 kept").arg(count(already, tr("label boxed already"), tr("labels boxed already")));
+    message +=
+        tr("; %1 kept").arg(count(already, tr("label boxed already"), tr("labels boxed already")));
   emit status(message + ".");
 }
 

@@ -173,8 +173,10 @@ MainWindow::MainWindow(QWidget* parent)
     if (session_->sequence())
       session_->openMap(map);
     else
-      report_error_(tr("No sequence open"),
-                    tr("%1 is a fused map: open the sequence it was fused from first, then drop the map.").arg(map));
+      report_error_(
+          tr("No sequence open"),
+          tr("%1 is a fused map: open the sequence it was fused from first, then drop the map.")
+              .arg(map));
   });
   new ConversionProgress(this, *controller_);
   controller_->setDiscardGuard([this] { return confirmDiscard(); });
@@ -257,7 +259,8 @@ void MainWindow::createDocks() {
   // On a short screen the three dock groups share the height in about these
   // proportions (each scrolls what does not fit) rather than the map's labels
   // shrinking to two rows. The Evaluation tab is raised in its group.
-  panel_layout_ = new PanelLayout(*this, {{{labels}, 6}, {{fusion, picked}, 6}, {{boxes, scores, objects}, 10, 1}});
+  panel_layout_ = new PanelLayout(
+      *this, {{{labels}, 6}, {{fusion, picked}, 6}, {{boxes, scores, objects}, 10, 1}});
   panel_layout_->arrangeDefault();
   connect(objects_panel_, &ObjectsPanel::objectBoxesChanged, this,
           [this](const std::vector<ObjectInstance>& shown) {
@@ -359,7 +362,8 @@ void MainWindow::connectScene() {
   connect(session_, &StudioSession::mapOpenFailed, this,
           [this](const QString& title, const QString& message) { report_error_(title, message); });
   connect(session_, &StudioSession::mapOpened, this, [this](const QString& path) {
-    statusBar()->showMessage(tr("Map read from %1 (not fused here; Fuse re-fuses the sequence).").arg(path), 8000);
+    statusBar()->showMessage(
+        tr("Map read from %1 (not fused here; Fuse re-fuses the sequence).").arg(path), 8000);
   });
   auto show_boxes = [this] {
     if (!session_->sequence()) return;
@@ -424,8 +428,8 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   file->addSeparator();
   new SaveScreenshotReaction(file->addAction(tr("Save Screens&hot…")), *this, *scene_view_,
                              *controller_);
-  new SaveScreenshotReaction(file->addAction(tr("Save 3D &View…")), *this, *scene_view_, *controller_,
-                             SaveScreenshotReaction::Kind::SceneView);
+  new SaveScreenshotReaction(file->addAction(tr("Save 3D &View…")), *this, *scene_view_,
+                             *controller_, SaveScreenshotReaction::Kind::SceneView);
   file->addSeparator();
   auto* quit = file->addAction(tr("&Quit"), this, &QWidget::close);
   quit->setShortcut(QKeySequence::Quit);

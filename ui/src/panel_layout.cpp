@@ -22,7 +22,8 @@ void PanelLayout::arrangeDefault() {
       window_.addDockWidget(Qt::RightDockWidgetArea, dock, Qt::Vertical);
       dock->show();
     }
-    for (size_t i = 1; i < group.tabs.size(); ++i) window_.tabifyDockWidget(group.tabs[i - 1], group.tabs[i]);
+    for (size_t i = 1; i < group.tabs.size(); ++i)
+      window_.tabifyDockWidget(group.tabs[i - 1], group.tabs[i]);
     if (group.raised < group.tabs.size()) {
       group.tabs[group.raised]->raise();
       shown.append(group.tabs[group.raised]);

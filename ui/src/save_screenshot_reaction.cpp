@@ -18,7 +18,8 @@ void SaveScreenshotReaction::onTriggered() {
   const bool view = kind_ == Kind::SceneView;
   const QString title = view ? tr("Save 3D View") : tr("Save Screenshot");
   const QString path = QFileDialog::getSaveFileName(
-      &window_, title, view ? "labeloctomap-3d-view.png" : "labeloctomap-studio.png", tr("Images (*.png *.jpg)"));
+      &window_, title, view ? "labeloctomap-3d-view.png" : "labeloctomap-studio.png",
+      tr("Images (*.png *.jpg)"));
   if (path.isEmpty()) return;
   const QString error = saveTo(path);
   if (!error.isEmpty()) QMessageBox::warning(&window_, title, error);

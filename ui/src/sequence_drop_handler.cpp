@@ -36,7 +36,8 @@ QString SequenceDropHandler::droppedMapPath(const QMimeData* mime) {
   for (const QUrl& url : mime->urls()) {
     if (!url.isLocalFile()) continue;
     const QFileInfo info(url.toLocalFile());
-    if (!info.isDir() && info.suffix().compare("ot", Qt::CaseInsensitive) == 0) return info.absoluteFilePath();
+    if (!info.isDir() && info.suffix().compare("ot", Qt::CaseInsensitive) == 0)
+      return info.absoluteFilePath();
   }
   return {};
 }
@@ -52,7 +53,8 @@ bool SequenceDropHandler::eventFilter(QObject* watched, QEvent* event) {
   if (event->type() == QEvent::Drop) {
     auto* drop = static_cast<QDropEvent*>(event);
     const QString path = droppedSequencePath(drop->mimeData());
-    if (const QString map = droppedMapPath(drop->mimeData()); path.isEmpty() && open_map_ && !map.isEmpty()) {
+    if (const QString map = droppedMapPath(drop->mimeData());
+        path.isEmpty() && open_map_ && !map.isEmpty()) {
       drop->acceptProposedAction();
       QTimer::singleShot(0, this, [this, map] { open_map_(map); });
       return true;

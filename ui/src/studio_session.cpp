@@ -2,9 +2,9 @@
 
 #include "lom/annotations.hpp"
 #include "lom/evaluation.hpp"
-#include "lom/ui/map_file_reader.hpp"
 #include "lom/ui/annotation_files.hpp"
 #include "lom/ui/annotations_model.hpp"
+#include "lom/ui/map_file_reader.hpp"
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/pending_edits.hpp"
 #include "lom/ui/sequence_controller.hpp"
@@ -18,14 +18,16 @@ StudioSession::StudioSession(QObject* parent)
       annotations_(new AnnotationsModel(this)),
       map_reader_(new MapFileReader(this)) {
   connect(map_reader_, &MapFileReader::finished, this,
-          [this](unsigned ticket, const QString& path, std::shared_ptr<LabelMap> map, const QString& error) {
+          [this](unsigned ticket, const QString& path, std::shared_ptr<LabelMap> map,
+                 const QString& error) {
             if (ticket != map_reader_->latestTicket()) return;  // another map asked for since
             if (!map) return emit mapOpenFailed(tr("Cannot open map"), error);
             if (!sequence_) return;
             try {
               checkMapLabels(*map, *sequence_, path.toStdString());
             } catch (const std::exception& mismatch) {
-              return emit mapOpenFailed(tr("Map of another label set"), QString::fromStdString(mismatch.what()));
+              return emit mapOpenFailed(tr("Map of another label set"),
+                                        QString::fromStdString(mismatch.what()));
             }
             options_.map = map->parameters();
             emit fusionOptionsChanged();

@@ -36,11 +36,13 @@ void writeTextFileAtomically(const std::filesystem::path& target, const std::str
                                               const std::string& library);
 // The same from the free bytes and the file-size limit (none: unlimited): the
 // rule, apart from asking the system.
-[[nodiscard]] std::string libraryWriteFailure(std::uint64_t free_bytes, const std::string& library,
-                                              std::optional<std::uint64_t> file_size_limit = std::nullopt);
+[[nodiscard]] std::string libraryWriteFailure(
+    std::uint64_t free_bytes, const std::string& library,
+    std::optional<std::uint64_t> file_size_limit = std::nullopt);
 // Why writing (`verb`: "write failed", "closing failed") a stream to `target`
 // failed: the same rule, with "VERB (disk full?)" when neither is known.
-[[nodiscard]] std::string streamWriteFailure(const std::filesystem::path& target, const std::string& verb);
+[[nodiscard]] std::string streamWriteFailure(const std::filesystem::path& target,
+                                             const std::string& verb);
 
 // The folders a command is about to create for its outputs: `folder` and those
 // of its parents that do not exist yet, recorded before they are created.

@@ -18,7 +18,9 @@ class OpenMapReaction : public Reaction {
  public:
   OpenMapReaction(QAction* action, StudioSession& session, QWidget* dialog_parent);
   // Replaces the file dialog (tests): returns the chosen file, or empty.
-  void setChooser(std::function<QString(const QString& start_folder)> chooser) { chooser_ = std::move(chooser); }
+  void setChooser(std::function<QString(const QString& start_folder)> chooser) {
+    chooser_ = std::move(chooser);
+  }
 
  protected:
   void onTriggered() override;

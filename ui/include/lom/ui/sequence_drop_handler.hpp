@@ -24,7 +24,9 @@ class SequenceDropHandler : public QObject {
   // The local .ot file of a drag, empty when it holds none.
   [[nodiscard]] static QString droppedMapPath(const QMimeData* mime);
   // What a dropped map is given to (none: maps are not accepted).
-  void setMapOpener(std::function<void(const QString&)> open_map) { open_map_ = std::move(open_map); }
+  void setMapOpener(std::function<void(const QString&)> open_map) {
+    open_map_ = std::move(open_map);
+  }
 
  protected:
   bool eventFilter(QObject* watched, QEvent* event) override;

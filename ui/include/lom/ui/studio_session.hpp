@@ -2,9 +2,9 @@
 // What the studio's widgets share: the sequence (through its controller), the
 // map (through the worker that owns it), the fusion parameters, the
 // ground-truth boxes with their undo stack, and the label visibility.
+#include <Eigen/Core>
 #include <QObject>
 #include <QString>
-#include <Eigen/Core>
 #include <memory>
 #include <optional>
 #include <set>
