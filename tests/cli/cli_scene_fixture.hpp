@@ -19,14 +19,6 @@ namespace lom::test {
 // A path quoted for the shell.
 inline std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
 
-// The bytes of a file ("" when it cannot be read).
-inline std::string slurp(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // A copy of the sequence folder `scene` at `copy`, every camera moved `shift`
 // metres along x (far out, for the map's extent).
 inline void copyWithCamerasShifted(const std::filesystem::path& scene,

@@ -16,12 +16,7 @@ using lom::test::runCli;
 using lom::test::TempDir;
 using Json = nlohmann::json;
 
-std::string slurp(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using lom::test::slurp;
 
 std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
 

@@ -17,12 +17,7 @@ using lom::test::TempDir;
 
 std::string quoted(const std::filesystem::path& path) { return "'" + path.string() + "'"; }
 
-std::string slurp(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
+using lom::test::slurp;
 
 class CliSegmentTest : public ::testing::Test {
  protected:

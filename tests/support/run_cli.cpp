@@ -17,12 +17,6 @@
 namespace lom::test {
 
 namespace {
-std::string slurp(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
 }  // namespace
 
 CliResult runCli(const std::string& args, const CliLimits& limits) {

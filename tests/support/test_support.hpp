@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <optional>
 #include <random>
 #include <string>
@@ -35,6 +37,12 @@ class TempDir {
 };
 
 inline std::filesystem::path sharedDataDir() { return LOM_SHARED_DATA_DIR; }
+
+// The bytes of a file (empty when it cannot be read).
+inline std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
 
 // Skips the current test with a message when ../shared/data/<name> is absent.
 #define LOM_REQUIRE_SHARED_DATA(name)                                                     \

@@ -39,10 +39,7 @@ namespace fs = std::filesystem;
 
 QString qPath(const fs::path& path) { return QString::fromStdString(path.string()); }
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using lom::test::slurp;
 
 GroundTruthBox boxOf(int label, const std::string& name) {
   GroundTruthBox box;

@@ -44,10 +44,7 @@ QProcessEnvironment withoutDisplay() {
   return environment;
 }
 
-std::string slurp(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using lom::test::slurp;
 
 QString qPath(const std::filesystem::path& path) { return QString::fromStdString(path.string()); }
 

@@ -429,6 +429,49 @@ TEST_F(StudioSessionTest, HeatMapHoverPickingAndProjectionVoxels) {
   EXPECT_EQ(window_.sceneView().projectionVoxelCount(), 0u);
 }
 
+TEST_F(StudioSessionTest, ExportsCanLeaveOutTheLabelsHiddenInThe3DView) {
+  openAndFuse();
+  QAction* only_shown = window_.findAction("Only Labels Shown");
+  ASSERT_NE(only_shown, nullptr);
+  EXPECT_TRUE(only_shown->isCheckable());
+  EXPECT_FALSE(only_shown->isChecked());
+  auto* exporter = window_.findAction("Voxel Mesh (PLY)…")->findChild<ExportMapReaction*>();
+  ASSERT_NE(exporter, nullptr);
+  QString message;
+  bool done = false;
+  QObject::connect(exporter, &ExportMapReaction::finished, [&](const QString& text, bool ok) {
+    message = text;
+    done = ok;
+  });
+  const auto exportTo = [&](const std::filesystem::path& path) {
+    done = false;
+    exporter->exportTo(qPath(path));
+    ASSERT_TRUE(QTest::qWaitFor([&] { return done; }, 30'000)) << message.toStdString();
+  };
+  window_.session().setHiddenLabels({0});  // the background unticked in Map Labels
+  const auto all = temp_.path() / "all.ply", shown = temp_.path() / "shown.ply";
+  exportTo(all);  // unchecked: every label, whatever is hidden
+  EXPECT_FALSE(message.contains("hidden")) << message.toStdString();
+  only_shown->trigger();
+  exportTo(shown);
+  EXPECT_TRUE(message.contains("1 hidden")) << message.toStdString();
+  EXPECT_LT(std::filesystem::file_size(shown), std::filesystem::file_size(all));
+  // The file is the command line's `export --labels` of the labels shown.
+  const auto expected = temp_.path() / "expected.ply";
+  std::atomic<bool> written{false};
+  window_.session().worker().withMap([&](const LabelMap* map) {
+    ExportOptions options;
+    options.format = ExportFormat::Ply;
+    options.labels = std::set<int>();
+    for (int label = 1; label < map->numLabels(); ++label) options.labels->insert(label);
+    (void)exportMap(*map, options, expected);
+    written = true;
+  });
+  ASSERT_TRUE(QTest::qWaitFor([&] { return written.load(); }, 30'000));
+  EXPECT_EQ(lom::test::slurp(shown), lom::test::slurp(expected));
+  only_shown->trigger();
+}
+
 TEST_F(StudioSessionTest, ScreenshotAfterFusionShowsLabelColours) {
   openAndFuse();
   window_.sceneView().setFrameCloudVisible(false);  // only the map's voxels

@@ -97,12 +97,7 @@ void expectClosed(const ReadMesh& mesh, double volume, const std::string& what) 
   EXPECT_NEAR(lom::test::enclosedVolume(mesh.vertices, mesh.triangles), volume, 1e-9) << what;
 }
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using lom::test::slurp;
 
 std::array<int, 3> rgbOf(const lom::Rgb& c) { return {c[0], c[1], c[2]}; }
 template <class WithRgb>

@@ -97,10 +97,7 @@ void writeJson(const fs::path& path, const Json& json) {
   out << json.dump(2);
 }
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using lom::test::slurp;
 
 lom::Problem loadError(const fs::path& folder) {
   try {

@@ -5,6 +5,7 @@
 #include <QFileInfo>
 #include <QMetaObject>
 #include <QPointer>
+#include <set>
 
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/sequence_controller.hpp"
@@ -45,7 +46,17 @@ void ExportMapReaction::exportTo(const QString& path) {
   }
   QPointer<ExportMapReaction> self(this);
   MapWorker* worker = &session_.worker();
-  const ExportOptions options = options_;
+  ExportOptions options = options_;
+  QString shown_note;
+  const std::set<int>& hidden = session_.hiddenLabels();
+  if (only_shown_ && only_shown_->isChecked() && !hidden.empty() && session_.sequence()) {
+    std::set<int> shown;
+    const int count = static_cast<int>(session_.sequence()->labels.size());
+    for (int label = 0; label < count; ++label)
+      if (!hidden.count(label)) shown.insert(label);
+    options.labels = shown;
+    shown_note = tr(" (labels shown in the 3D view only: %1 hidden)").arg(hidden.size());
+  }
   if (worker->isFusing())
     emit queued(tr("Export to %1 queued: it runs when fusion finishes (Fusion ▸ Cancel Fusion "
                    "ends it now).")
@@ -55,7 +66,7 @@ void ExportMapReaction::exportTo(const QString& path) {
   const unsigned generation = worker->mapGeneration();
   const bool behind_fusion = worker->isFusing();
   worker->withMap(
-      [self, worker, options, path, generation, behind_fusion](const LabelMap* map) {
+      [self, worker, options, path, generation, behind_fusion, shown_note](const LabelMap* map) {
         QString message;
         bool ok = false;
         if (behind_fusion && worker->mapGeneration() != generation) {
@@ -69,7 +80,8 @@ void ExportMapReaction::exportTo(const QString& path) {
             const ExportSummary summary = exportMap(*map, options, path.toStdString());
             message = tr("Wrote %1 %2 to %3")
                           .arg(summary.items)
-                          .arg(QString::fromStdString(summary.item_name), path);
+                          .arg(QString::fromStdString(summary.item_name), path) +
+                      shown_note;
             ok = true;
           } catch (const std::exception& error) {
             message = QString::fromStdString(error.what());

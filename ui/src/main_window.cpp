@@ -435,11 +435,16 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   quit->setShortcut(QKeySequence::Quit);
 
   QMenu* export_menu = menuBar()->addMenu(tr("E&xport"));
+  // Checked: exports leave out the labels unticked in Map Labels.
+  auto* only_shown = new QAction(tr("Only Labels &Shown"), this);
+  only_shown->setCheckable(true);
+  only_shown->setToolTip(tr("Leave out of exports the labels hidden in the 3D view"));
   auto export_action = [&](const QString& text, ExportFormat format) {
     ExportOptions options;
     options.format = format;
     auto* reaction = new ExportMapReaction(export_menu->addAction(text), options, *session_, this,
                                            report_error_);
+    reaction->setOnlyShownAction(only_shown);
     connect(reaction, &ExportMapReaction::queued, this,
             [this](const QString& message) { statusBar()->showMessage(message); });
     connect(reaction, &ExportMapReaction::finished, this, [this](const QString& message, bool ok) {
@@ -455,6 +460,8 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   export_action(tr("Point Cloud (PCD)…"), ExportFormat::Pcd);
   export_action(tr("Colour Octree (OT)…"), ExportFormat::Ot);
   export_action(tr("Binary Octree (BT)…"), ExportFormat::Bt);
+  export_menu->addSeparator();
+  export_menu->addAction(only_shown);
 
   QMenu* fusion = menuBar()->addMenu(tr("F&usion"));
   auto fusion_action = [&](const QString& text, FusionReaction::Kind kind, const QKeySequence& key) {

@@ -20,6 +20,9 @@ class ExportMapReaction : public Reaction {
   // Exports to `path` without asking; the result arrives through finished().
   // While fusion runs the export waits for it to end, which queued() says.
   void exportTo(const QString& path);
+  // When `only_shown` is checked, exports leave out the labels hidden in the
+  // 3D view (Export > Only Labels Shown).
+  void setOnlyShownAction(const QAction* only_shown) { only_shown_ = only_shown; }
 
  signals:
   void queued(const QString& message);
@@ -30,6 +33,7 @@ class ExportMapReaction : public Reaction {
 
  private:
   ExportOptions options_;
+  const QAction* only_shown_ = nullptr;
   StudioSession& session_;
   QWidget* parent_;
   const ErrorReporter& report_;
