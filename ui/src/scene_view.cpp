@@ -270,6 +270,55 @@ void SceneView::zoomToMap() {
   render();
 }
 
+void SceneView::lookFrom(StandardView view) {
+  Eigen::Vector3d up = scene_->snapshot.up.value_or(
+      scene_->home_viewpoint ? scene_->home_viewpoint->up : Eigen::Vector3d::UnitZ());
+  up.normalize();
+  // The first camera's viewing direction, levelled; any level direction when
+  // it looked straight down or up.
+  Eigen::Vector3d forward = scene_->home_viewpoint ? scene_->home_viewpoint->forward : Eigen::Vector3d::UnitX();
+  forward -= forward.dot(up) * up;
+  if (forward.norm() < 1e-6) forward = up.unitOrthogonal();
+  forward.normalize();
+  const Eigen::Vector3d right = forward.cross(up);
+  Eigen::Vector3d direction = forward, view_up = up;
+  if (view == StandardView::Above) {
+    direction = -up;
+    view_up = forward;
+  } else if (view == StandardView::Side) {
+    direction = -right;  // standing on the right, looking left
+  }
+  double bounds[6];
+  if (scene_->voxel_count > 0)
+    scene_->voxels.actor()->GetBounds(bounds);
+  else
+    scene_->renderer->ComputeVisiblePropBounds(bounds);
+  if (!(bounds[0] <= bounds[1])) return;  // nothing to look at
+  const Eigen::Vector3d centre(0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
+                               0.5 * (bounds[4] + bounds[5]));
+  vtkCamera* camera = scene_->renderer->GetActiveCamera();
+  const Eigen::Vector3d position = centre - direction;
+  camera->SetFocalPoint(centre.data());
+  camera->SetPosition(position.data());
+  camera->SetViewUp(view_up.data());
+  scene_->renderer->ResetCamera(bounds);  // keeps the direction, frames the bounds
+  if (scene_->voxel_count > 0) camera->Dolly(1.25);
+  scene_->renderer->ResetCameraClippingRange();
+  render();
+}
+
+Eigen::Vector3d SceneView::cameraDirection() const {
+  double d[3];
+  scene_->renderer->GetActiveCamera()->GetDirectionOfProjection(d);
+  return Eigen::Vector3d(d[0], d[1], d[2]).normalized();
+}
+
+Eigen::Vector3d SceneView::cameraViewUp() const {
+  double u[3];
+  scene_->renderer->GetActiveCamera()->GetViewUp(u);
+  return Eigen::Vector3d(u[0], u[1], u[2]).normalized();
+}
+
 size_t SceneView::framePointCount() const { return scene_->point_count; }
 
 void SceneView::lookFromFrame(const Sequence& sequence, size_t index) {

@@ -12,7 +12,10 @@ namespace lom::ui {
 SceneViewReaction::SceneViewReaction(QAction* action, Kind kind, StudioSession& session,
                                      SceneView& scene)
     : Reaction(action), kind_(kind), session_(session), scene_(scene) {
-  action->setCheckable(kind_ != Kind::LookFromFrame && kind_ != Kind::ZoomToMap);
+  const bool one_shot = kind_ == Kind::LookFromFrame || kind_ == Kind::ZoomToMap ||
+                        kind_ == Kind::LookFromAbove || kind_ == Kind::LookFromFront ||
+                        kind_ == Kind::LookFromSide;
+  action->setCheckable(!one_shot);
   action->setChecked(kind_ == Kind::FramePoints);
   if (kind_ == Kind::ColourByHeight) {
     // Geometry without labels (a single label) shows its shape by height;
@@ -54,6 +57,15 @@ void SceneViewReaction::onTriggered() {
       break;
     case Kind::ProjectionVoxels:
       showProjection();
+      break;
+    case Kind::LookFromAbove:
+      scene_.lookFrom(SceneView::StandardView::Above);
+      break;
+    case Kind::LookFromFront:
+      scene_.lookFrom(SceneView::StandardView::Front);
+      break;
+    case Kind::LookFromSide:
+      scene_.lookFrom(SceneView::StandardView::Side);
       break;
   }
 }

@@ -44,6 +44,16 @@ class SceneView : public QWidget {
   void zoomToMap();
   // Puts the 3D camera where frame `index`'s camera was.
   void lookFromFrame(const Sequence& sequence, size_t index);
+  // Standard views of the map (of the whole scene before there is one),
+  // levelled with the map's up (the cameras' mean up; else the first
+  // camera's): from above, with the first camera's viewing direction pointing
+  // up the picture; from the front, looking as the first camera looked; from
+  // the side, from the first camera's right. Each frames what it looks at.
+  enum class StandardView { Above, Front, Side };
+  void lookFrom(StandardView view);
+  // The 3D camera's viewing direction and view up (unit vectors).
+  [[nodiscard]] Eigen::Vector3d cameraDirection() const;
+  [[nodiscard]] Eigen::Vector3d cameraViewUp() const;
 
   void showVoxels(const MapSnapshot& snapshot, const LabelSet& labels, const std::set<int>& hidden);
   void setOpacityByProbability(bool on);

@@ -19,7 +19,10 @@ class SceneViewReaction : public Reaction {
     FramePoints,
     ProjectionVoxels,
     OpacityByProbability,
-    ColourByHeight
+    ColourByHeight,
+    LookFromAbove,
+    LookFromFront,
+    LookFromSide
   };
   SceneViewReaction(QAction* action, Kind kind, StudioSession& session, SceneView& scene);
 

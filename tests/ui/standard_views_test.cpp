@@ -1,0 +1,65 @@
+// View > Look from Above / the Front / the Side: the 3D camera looks down the
+// map's up, along the first camera's levelled viewing direction, or across
+// it, and frames the map. (Pictures of the three views were looked at: the
+// demo's bin from above, from the front and from its right.)
+#include <gtest/gtest.h>
+
+#include <QAction>
+#include <QImage>
+#include <QTest>
+
+#include "demo_window_fixture.hpp"
+#include "lom/ui/scene_view.hpp"
+
+namespace lom::ui {
+namespace {
+
+class StandardViewsTest : public fixture::DemoWindowTest {};
+
+// Pixels that differ from the view's background gradient in a picture (the
+// gradient changes only from top to bottom: compare with the row's left end,
+// which the map never reaches when it is framed with a margin).
+size_t drawnPixels(const QImage& picture) {
+  size_t drawn = 0;
+  for (int y = 0; y < picture.height(); ++y)
+    for (int x = 0; x < picture.width(); ++x) drawn += picture.pixel(x, y) != picture.pixel(0, y);
+  return drawn;
+}
+
+TEST_F(StandardViewsTest, EachLooksAlongItsAxisAndFramesTheMap) {
+  openAndFuse();
+  SceneView& scene = window_.sceneView();
+  scene.setFrameCloudVisible(false);
+  const auto snapshot = window_.session().worker().snapshot();
+  ASSERT_TRUE(snapshot->up.has_value());
+  const Eigen::Vector3d up = snapshot->up->normalized();
+  const Sequence& sequence = *window_.session().sequence();
+  Eigen::Vector3d forward = sequence.frames.front().T_world_camera.linear().col(2);
+  forward = (forward - forward.dot(up) * up).normalized();
+
+  struct Expected {
+    const char* action;
+    Eigen::Vector3d direction, view_up;
+  };
+  for (const Expected& view : {Expected{"Look from Above", -up, forward},
+                               Expected{"Look from the Front", forward, up},
+                               Expected{"Look from the Side", -forward.cross(up), up}}) {
+    SCOPED_TRACE(view.action);
+    QAction* action = window_.findAction(view.action);
+    ASSERT_NE(action, nullptr);
+    EXPECT_FALSE(action->isCheckable());
+    action->trigger();
+    EXPECT_GT(scene.cameraDirection().dot(view.direction), 0.999);
+    EXPECT_GT(scene.cameraViewUp().dot(view.view_up), 0.999);
+    const QImage picture = scene.renderToImage();
+    EXPECT_GT(drawnPixels(picture), static_cast<size_t>(picture.width() * picture.height() / 20))
+        << "the map fills a good part of the view";
+    // Framed on the map: its middle is in the middle of the view.
+    const QPoint middle(picture.width() / 2, picture.height() / 2);
+    EXPECT_NE(picture.pixel(middle), picture.pixel(0, middle.y()));
+  }
+  EXPECT_EQ(window_.findAction("Look from Above")->shortcut(), QKeySequence(Qt::CTRL + Qt::Key_1));
+}
+
+}  // namespace
+}  // namespace lom::ui
