@@ -16,8 +16,7 @@
 
 namespace lom::test {
 
-namespace {
-}  // namespace
+namespace {}  // namespace
 
 CliResult runCli(const std::string& args, const CliLimits& limits) {
   TempDir dir;

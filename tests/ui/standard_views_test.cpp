@@ -41,9 +41,9 @@ TEST_F(StandardViewsTest, EachLooksAlongItsAxisAndFramesTheMap) {
     const char* action;
     Eigen::Vector3d direction, view_up;
   };
-  for (const Expected& view : {Expected{"Look from Above", -up, forward},
-                               Expected{"Look from the Front", forward, up},
-                               Expected{"Look from the Side", -forward.cross(up), up}}) {
+  for (const Expected& view :
+       {Expected{"Look from Above", -up, forward}, Expected{"Look from the Front", forward, up},
+        Expected{"Look from the Side", -forward.cross(up), up}}) {
     SCOPED_TRACE(view.action);
     QAction* action = window_.findAction(view.action);
     ASSERT_NE(action, nullptr);

@@ -487,7 +487,8 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   scene_action(tr("Look from &Current Camera"), SceneViewReaction::Kind::LookFromFrame,
                Qt::CTRL + Qt::Key_L);
   scene_action(tr("&Zoom to Map"), SceneViewReaction::Kind::ZoomToMap, Qt::CTRL + Qt::Key_M);
-  scene_action(tr("Look from &Above"), SceneViewReaction::Kind::LookFromAbove, Qt::CTRL + Qt::Key_1);
+  scene_action(tr("Look from &Above"), SceneViewReaction::Kind::LookFromAbove,
+               Qt::CTRL + Qt::Key_1);
   scene_action(tr("Look from the Fro&nt"), SceneViewReaction::Kind::LookFromFront,
                Qt::CTRL + Qt::Key_2);
   scene_action(tr("Look from the &Side"), SceneViewReaction::Kind::LookFromSide,

@@ -276,7 +276,8 @@ void SceneView::lookFrom(StandardView view) {
   up.normalize();
   // The first camera's viewing direction, levelled; any level direction when
   // it looked straight down or up.
-  Eigen::Vector3d forward = scene_->home_viewpoint ? scene_->home_viewpoint->forward : Eigen::Vector3d::UnitX();
+  Eigen::Vector3d forward =
+      scene_->home_viewpoint ? scene_->home_viewpoint->forward : Eigen::Vector3d::UnitX();
   forward -= forward.dot(up) * up;
   if (forward.norm() < 1e-6) forward = up.unitOrthogonal();
   forward.normalize();
