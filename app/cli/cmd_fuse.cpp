@@ -10,10 +10,12 @@
 #include <cstdlib>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "args.hpp"
 #include "commands.hpp"
+#include "lom/evaluation.hpp"
 #include "lom/error.hpp"
 #include "lom/fusion.hpp"
 #include "output_paths.hpp"
@@ -197,18 +199,27 @@ void checkFusionOptionsForSequence(const FusionOptions& options, const Sequence&
 int runFuse(const Words& words) {
   const Args args(words, {"quiet"});
   args.expectOnly({"out", "resolution", "max-range", "p-miss", "threshold", "candidates", "frames",
-                   "quiet", kSegmenterOption},
+                   "quiet", "start-from", kSegmenterOption},
                   1);
   const std::string sequence_path = args.positional(0, "SEQ (a sequence folder)");
   const std::filesystem::path out = args.required("out");
+  // --start-from MAP.ot: the frames are fused into that map, with its own parameters.
+  const std::optional<std::string> start_from = args.option("start-from");
+  if (start_from)
+    for (const char* own : {"resolution", "max-range", "p-miss"})
+      if (args.option(own))
+        throw UsageError(std::string("option --") + own + " cannot be given with --start-from: the frames are " +
+                         "fused into " + *start_from + " with its own " + own +
+                         " (labeloctomap info " + *start_from + " shows it)");
   FusionOptions options = fusionOptionsFromArgs(args);
-  checkOccupancyThreshold(options.map.occupancy_threshold, options.map, "");
+  if (!start_from) checkOccupancyThreshold(options.map.occupancy_threshold, options.map, "");
 
   // Fail before the long part if the result could not be written, or would replace an input.
   CommandInputs inputs;
   inputs.addSequencePath(sequence_path);
   if (const auto model = args.option(kSegmenterOption))
     inputs.addFile(*model, "the segmenter model");
+  if (start_from) inputs.addFile(*start_from, "the map to start from");
   const std::string what = "the LabelOctoMap map";
   checkOutputFile(out, "out", ".ot", what, inputs);
   options.segmenter = segmenterFromArgs(args);
@@ -216,6 +227,16 @@ int runFuse(const Words& words) {
   inputs.addSequence(sequence);
   checkOutputFile(out, "out", ".ot", what, inputs);
   checkFusionOptionsForSequence(options, sequence);
+  std::optional<LabelMap> earlier;
+  if (start_from) {
+    earlier.emplace(LabelMap::load(*start_from));
+    checkMapLabels(*earlier, sequence, *start_from);
+    if (args.option("threshold")) {
+      checkOccupancyThreshold(options.map.occupancy_threshold, earlier->parameters(), *start_from);
+      earlier->setOccupancyThreshold(options.map.occupancy_threshold);
+    }
+    options.map = earlier->parameters();  // what the checks and messages below speak of
+  }
   // Before the jumps: a camera outside the map is the wrong pose, not its neighbours.
   checkCamerasInsideMap(sequence, options.map.resolution, options.first_frame, options.last_frame);
   for (const auto& jump : cameraJumps(sequence))
@@ -228,13 +249,15 @@ int runFuse(const Words& words) {
   FrameStats totals;
   std::vector<size_t> frames_outside_map;
   const auto start = std::chrono::steady_clock::now();
-  LabelMap map = fuseSequence(sequence, options, [&](const FusionProgress& progress) {
+  const auto note = [&](const FusionProgress& progress) {
     frame_seconds.push_back(progress.stats.seconds);
     totals = progress.totals;
     if (progress.stats.outside_map_pixels > 0) frames_outside_map.push_back(progress.frame_index);
     if (show_progress) drawProgress(progress, progress.stats.seconds);
     return true;
-  });
+  };
+  LabelMap map = earlier ? std::move(*earlier) : LabelMap(sequence.labels, options.map);
+  fuseSequenceInto(map, sequence, options, note);
   const double total_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (show_progress) std::fprintf(stderr, "\n");

@@ -28,7 +28,7 @@ const Command kCommands[] = {
     {"fuse", lom::cli::runFuse,
      "fuse SEQ --out MAP.ot [--resolution R] [--max-range M] [--p-miss P] [--threshold T]\n"
      "     [--candidates 0,8,19 | --candidates none] [--frames A:B] [--segmenter MODEL.onnx]\n"
-     "     [--quiet]\n"
+     "     [--start-from EARLIER.ot] [--quiet]\n"
      "                                fuse a sequence into a LabelOctoMap"},
     {"score", lom::cli::runScore,
      "score SEQ --annotations BOXES.json|BOXES.yaml --out DIR [--map MAP.ot]\n"

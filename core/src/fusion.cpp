@@ -425,6 +425,12 @@ FrameEvidence makeEvidence(const Sequence& sequence, size_t index, const FrameDa
 LabelMap fuseSequence(const Sequence& sequence, const FusionOptions& options,
                       const std::function<bool(const FusionProgress&)>& progress) {
   LabelMap map(sequence.labels, options.map);
+  fuseSequenceInto(map, sequence, options, progress);
+  return map;
+}
+
+void fuseSequenceInto(LabelMap& map, const Sequence& sequence, const FusionOptions& options,
+                      const std::function<bool(const FusionProgress&)>& progress) {
   const size_t first = std::min(options.first_frame, sequence.frames.size());
   const size_t last = std::min(options.last_frame, sequence.frames.size());
   FusionProgress report;
@@ -453,7 +459,6 @@ LabelMap fuseSequence(const Sequence& sequence, const FusionOptions& options,
     if (progress && !progress(report)) break;
   }
   map.prune();  // merge every identical set of children once fusion is over
-  return map;
 }
 
 }  // namespace lom

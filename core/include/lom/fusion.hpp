@@ -222,5 +222,11 @@ struct FusionProgress {
 // `progress` (optional) is called after each frame; returning false cancels.
 [[nodiscard]] LabelMap fuseSequence(const Sequence& sequence, const FusionOptions& options,
                                     const std::function<bool(const FusionProgress&)>& progress = {});
+// The same into `map` (fused earlier, e.g. from another recording of the
+// scene with the same labels), with the map's own parameters: options.map is
+// not used. Fusing frames A then B this way gives the map of A and B fused at
+// once. The caller checks that the labels agree (lom::checkMapLabels).
+void fuseSequenceInto(LabelMap& map, const Sequence& sequence, const FusionOptions& options,
+                      const std::function<bool(const FusionProgress&)>& progress = {});
 
 }  // namespace lom
