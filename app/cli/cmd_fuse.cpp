@@ -15,8 +15,8 @@
 
 #include "args.hpp"
 #include "commands.hpp"
-#include "lom/evaluation.hpp"
 #include "lom/error.hpp"
+#include "lom/evaluation.hpp"
 #include "lom/fusion.hpp"
 #include "output_paths.hpp"
 #include "segmenter_option.hpp"
@@ -208,9 +208,10 @@ int runFuse(const Words& words) {
   if (start_from)
     for (const char* own : {"resolution", "max-range", "p-miss"})
       if (args.option(own))
-        throw UsageError(std::string("option --") + own + " cannot be given with --start-from: the frames are " +
-                         "fused into " + *start_from + " with its own " + own +
-                         " (labeloctomap info " + *start_from + " shows it)");
+        throw UsageError(std::string("option --") + own +
+                         " cannot be given with --start-from: the frames are " + "fused into " +
+                         *start_from + " with its own " + own + " (labeloctomap info " +
+                         *start_from + " shows it)");
   FusionOptions options = fusionOptionsFromArgs(args);
   if (!start_from) checkOccupancyThreshold(options.map.occupancy_threshold, options.map, "");
 

@@ -73,12 +73,17 @@ TEST_F(CliFuseTest, FrameRangeAndCandidatesAreApplied) {
 TEST_F(CliFuseTest, FramesFusedIntoAnEarlierMapGiveTheMapOfAllTheFrames) {
   TempDir out;
   const std::string fine = " --resolution 0.02 --max-range 1.5 --p-miss 0.35";
-  ASSERT_EQ(runCli("fuse " + scene() + " --frames 0:2 --out '" + (out / "first.ot").string() + "'" + fine).exit_code, 0);
-  const auto r = runCli("fuse " + scene() + " --frames 2: --start-from '" + (out / "first.ot").string() +
-                        "' --out '" + (out / "both.ot").string() + "'");
+  ASSERT_EQ(
+      runCli("fuse " + scene() + " --frames 0:2 --out '" + (out / "first.ot").string() + "'" + fine)
+          .exit_code,
+      0);
+  const auto r =
+      runCli("fuse " + scene() + " --frames 2: --start-from '" + (out / "first.ot").string() +
+             "' --out '" + (out / "both.ot").string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("fused 2 frames"), std::string::npos) << r.out;
-  ASSERT_EQ(runCli("fuse " + scene() + " --out '" + (out / "all.ot").string() + "'" + fine).exit_code, 0);
+  ASSERT_EQ(
+      runCli("fuse " + scene() + " --out '" + (out / "all.ot").string() + "'" + fine).exit_code, 0);
   EXPECT_EQ(lom::test::slurp(out / "both.ot"), lom::test::slurp(out / "all.ot"));
   const lom::LabelMap both = lom::LabelMap::load(out / "both.ot");
   EXPECT_DOUBLE_EQ(both.parameters().resolution, 0.02);
@@ -95,12 +100,17 @@ TEST_F(CliFuseTest, FramesFusedIntoAnEarlierMapGiveTheMapOfAllTheFrames) {
 
 TEST_F(CliFuseTest, StartingFromAnUnusableMapIsRefusedBeforeAnyWork) {
   TempDir out;
-  ASSERT_EQ(runCli("fuse " + scene() + " --frames 0:1 --resolution 0.02 --out '" + (out / "first.ot").string() + "'").exit_code, 0);
+  ASSERT_EQ(runCli("fuse " + scene() + " --frames 0:1 --resolution 0.02 --out '" +
+                   (out / "first.ot").string() + "'")
+                .exit_code,
+            0);
   const std::string first = "'" + (out / "first.ot").string() + "'";
   // The map's own parameters cannot be changed.
-  auto r = runCli("fuse " + scene() + " --start-from " + first + " --resolution 0.01 --out '" + (out / "x.ot").string() + "'");
+  auto r = runCli("fuse " + scene() + " --start-from " + first + " --resolution 0.01 --out '" +
+                  (out / "x.ot").string() + "'");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("--resolution cannot be given with --start-from"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--resolution cannot be given with --start-from"), std::string::npos)
+      << r.err;
   // The result never replaces the map it starts from.
   r = runCli("fuse " + scene() + " --start-from " + first + " --out " + first);
   EXPECT_EQ(r.exit_code, 2);
@@ -108,11 +118,13 @@ TEST_F(CliFuseTest, StartingFromAnUnusableMapIsRefusedBeforeAnyWork) {
   // A map of another label set.
   lom::LabelMap other(lom::LabelSet({{0, "floor", {1, 2, 3}}}), lom::MapParameters{});
   other.save(out / "other.ot");
-  r = runCli("fuse " + scene() + " --start-from '" + (out / "other.ot").string() + "' --out '" + (out / "x.ot").string() + "'");
+  r = runCli("fuse " + scene() + " --start-from '" + (out / "other.ot").string() + "' --out '" +
+             (out / "x.ot").string() + "'");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("other.ot: labels: expected 40 labels"), std::string::npos) << r.err;
   // No map at all.
-  r = runCli("fuse " + scene() + " --start-from '" + (out / "none.ot").string() + "' --out '" + (out / "x.ot").string() + "'");
+  r = runCli("fuse " + scene() + " --start-from '" + (out / "none.ot").string() + "' --out '" +
+             (out / "x.ot").string() + "'");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("none.ot"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(out / "x.ot"));
