@@ -498,6 +498,16 @@ void writeQuaternionFolder(const fs::path& dir) {
   writeText(dir / "pose.txt", poses.str());
 }
 
+// The quaternion folder at dir/room with `pose_text` as its pose.txt, imported
+// with the test camera into dir/out.
+ImportReport importQuaternionPoses(const fs::path& dir, const std::string& pose_text,
+                                   const std::string& out) {
+  ImportOptions options;
+  options.intrinsics = parseIntrinsics("30,31,15.5,11.5");
+  writeText(dir / "room" / "pose.txt", pose_text);
+  return importSource(SourceKind::Quaternion, dir / "room", dir / out, options);
+}
+
 TEST(ImportQuaternion, RoundTripWithIntrinsicsOption) {
   test::TempDir dir;
   writeQuaternionFolder(dir / "room");
@@ -522,22 +532,20 @@ TEST(ImportQuaternion, RoundTripWithIntrinsicsOption) {
 TEST(ImportQuaternion, KeepsALeadingTimeStampButNotAFrameNumber) {
   test::TempDir dir;
   writeQuaternionFolder(dir / "room");
-  ImportOptions options;
-  options.intrinsics = parseIntrinsics("30,31,15.5,11.5");
-  writeText(dir / "room" / "pose.txt",
-            "1305031102.5 0 0 0 0 0 0 1\n1305031102.75 0.1 0 0 0 0 0 1\n"
-            "1305031103.25 0.2 0 0 0 0 0 1\n");
-  ASSERT_EQ(
-      importSource(SourceKind::Quaternion, dir / "room", dir / "timed", options).frames_written,
-      3u);
+  ASSERT_EQ(importQuaternionPoses(dir.path(),
+                                  "1305031102.5 0 0 0 0 0 0 1\n1305031102.75 0.1 0 0 0 0 0 1\n"
+                                  "1305031103.25 0.2 0 0 0 0 0 1\n",
+                                  "timed")
+                .frames_written,
+            3u);
   const Sequence timed = loadSequence(dir / "timed");
   ASSERT_TRUE(timed.frames[2].stamp.has_value());
   EXPECT_DOUBLE_EQ(*timed.frames[2].stamp, 1305031103.25);
 
-  writeText(dir / "room" / "pose.txt", "1 0 0 0 0 0 0 1\n2 0.1 0 0 0 0 0 1\n3 0.2 0 0 0 0 0 1\n");
-  ASSERT_EQ(
-      importSource(SourceKind::Quaternion, dir / "room", dir / "numbered", options).frames_written,
-      3u);
+  ASSERT_EQ(importQuaternionPoses(dir.path(), "1 0 0 0 0 0 0 1\n2 0.1 0 0 0 0 0 1\n3 0.2 0 0 0 0 0 1\n",
+                                  "numbered")
+                .frames_written,
+            3u);
   for (const auto& frame : loadSequence(dir / "numbered").frames)
     EXPECT_FALSE(frame.stamp.has_value()) << "a frame number is not a time";
 }
@@ -545,14 +553,11 @@ TEST(ImportQuaternion, KeepsALeadingTimeStampButNotAFrameNumber) {
 TEST(ImportQuaternion, WholeNumbersTooLargeForFrameNumbersAreTimeStamps) {
   test::TempDir dir;
   writeQuaternionFolder(dir / "room");
-  ImportOptions options;
-  options.intrinsics = parseIntrinsics("30,31,15.5,11.5");
   // Whole numbers, but beyond any frame number (and beyond a 64-bit integer).
-  writeText(dir / "room" / "pose.txt",
-            "1e19 0 0 0 0 0 0 1\n2e19 0.1 0 0 0 0 0 1\n-3e30 0.2 0 0 0 0 0 1\n");
-  ASSERT_EQ(
-      importSource(SourceKind::Quaternion, dir / "room", dir / "timed", options).frames_written,
-      3u);
+  ASSERT_EQ(importQuaternionPoses(
+                dir.path(), "1e19 0 0 0 0 0 0 1\n2e19 0.1 0 0 0 0 0 1\n-3e30 0.2 0 0 0 0 0 1\n", "timed")
+                .frames_written,
+            3u);
   const Sequence timed = loadSequence(dir / "timed");
   ASSERT_TRUE(timed.frames[0].stamp.has_value());
   EXPECT_DOUBLE_EQ(*timed.frames[0].stamp, 1e19);
@@ -561,9 +566,8 @@ TEST(ImportQuaternion, WholeNumbersTooLargeForFrameNumbersAreTimeStamps) {
   EXPECT_NEAR(timed.frames[1].T_world_camera.translation().x(), 0.1, 1e-12);
 
   // Among frame numbers, such a line names no depth image: that image has no pose.
-  writeText(dir / "room" / "pose.txt", "1 0 0 0 0 0 0 1\n2 0.1 0 0 0 0 0 1\n1e19 0.2 0 0 0 0 0 1\n");
-  const ImportReport numbered =
-      importSource(SourceKind::Quaternion, dir / "room", dir / "numbered", options);
+  const ImportReport numbered = importQuaternionPoses(
+      dir.path(), "1 0 0 0 0 0 0 1\n2 0.1 0 0 0 0 0 1\n1e19 0.2 0 0 0 0 0 1\n", "numbered");
   EXPECT_EQ(numbered.frames_written, 2u) << numbered.text();
   EXPECT_TRUE(anySkipped(numbered, "no pose for it in pose.txt")) << numbered.text();
 }
