@@ -221,15 +221,24 @@ bool resolveDemo(StudioArguments& arguments) {
 
 constexpr qint64 kFusionTimeoutMs = 30 * 60 * 1000;
 
+// Runs the event loop while `busy` holds, for at most kFusionTimeoutMs;
+// false when it still holds then.
+template <class Busy>
+bool waitWhile(Busy busy) {
+  QElapsedTimer timer;
+  timer.start();
+  while (busy() && timer.elapsed() < kFusionTimeoutMs) {
+    QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
+    QThread::msleep(10);
+  }
+  return !busy();
+}
+
 // False when fusion did not end in time.
 bool waitForFusion(lom::ui::MainWindow& window) {
   QElapsedTimer timer;
   timer.start();
-  while (window.session().worker().isFusing() && timer.elapsed() < kFusionTimeoutMs) {
-    QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
-    QThread::msleep(10);
-  }
-  if (window.session().worker().isFusing()) return false;
+  if (!waitWhile([&] { return window.session().worker().isFusing(); })) return false;
   // Let the last snapshot and the evaluation it triggers reach the views.
   for (int i = 0; i < 50 || window.evaluationPanel().isBusy(); ++i) {
     QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
@@ -259,13 +268,7 @@ std::string inputAt(const std::filesystem::path& shot,
 // reading did not end in time (an unreadable map is an error the window reports).
 bool openMapAndWait(lom::ui::MainWindow& window, const QString& map) {
   window.session().openMap(map);
-  QElapsedTimer timer;
-  timer.start();
-  while (window.session().isOpeningMap() && timer.elapsed() < kFusionTimeoutMs) {
-    QCoreApplication::processEvents(QEventLoop::AllEvents, 50);
-    QThread::msleep(10);
-  }
-  return !window.session().isOpeningMap() && waitForFusion(window);
+  return waitWhile([&] { return window.session().isOpeningMap(); }) && waitForFusion(window);
 }
 
 int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments,

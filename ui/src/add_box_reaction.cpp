@@ -3,6 +3,8 @@
 #include <QAction>
 #include <QMetaObject>
 #include <QPointer>
+#include <optional>
+#include <vector>
 
 #include "lom/box_fit.hpp"
 #include "lom/ui/annotations_model.hpp"
@@ -11,6 +13,24 @@
 #include "lom/ui/studio_session.hpp"
 
 namespace lom::ui {
+
+namespace {
+
+// The box of a label's voxels: fitted to their largest cluster (none without voxels).
+std::optional<OrientedBox> fittedBox(const std::vector<VoxelKey>& voxels, double resolution) {
+  const std::vector<VoxelKey> cluster = largestCluster(voxels, 2.0);
+  if (cluster.empty()) return std::nullopt;
+  return fitOrientedBox(cluster, resolution);
+}
+
+// The index of `label`'s box, -1 when it has none (one box per object).
+int boxIndexOf(const AnnotationsModel& model, int label) {
+  for (int i = 0; i < model.boxCount(); ++i)
+    if (model.box(i).label == label) return i;
+  return -1;
+}
+
+}  // namespace
 
 AddBoxReaction::AddBoxReaction(QAction* action, Mode mode, StudioSession& session)
     : Reaction(action), mode_(mode), session_(session) {
@@ -33,15 +53,13 @@ void AddBoxReaction::updateEnabled() {
 bool AddBoxReaction::selectExistingBox(int label) {
   // One box per object: a label that has one gets it selected instead.
   AnnotationsModel& model = session_.annotations();
-  for (int i = 0; i < model.boxCount(); ++i)
-    if (model.box(i).label == label) {
-      model.select(i);
-      emit failed(tr("Label already boxed"),
-                  tr("%1 has a box already (selected now): edit or delete it.")
-                      .arg(QString::fromStdString(model.box(i).name)));
-      return true;
-    }
-  return false;
+  const int i = boxIndexOf(model, label);
+  if (i < 0) return false;
+  model.select(i);
+  emit failed(tr("Label already boxed"),
+              tr("%1 has a box already (selected now): edit or delete it.")
+                  .arg(QString::fromStdString(model.box(i).name)));
+  return true;
 }
 
 void AddBoxReaction::onTriggered() {
@@ -70,15 +88,12 @@ void AddBoxReaction::onTriggered() {
                     .arg(name));
   worker->withCurrentMap(
       [self, worker, box, generation](const LabelMap* map, bool final) mutable {
-        std::vector<VoxelKey> keys;
-        double resolution = 0.0;
-        if (map) {
-          keys = largestCluster(map->voxelsOfLabel(box.label), 2.0);
-          resolution = map->parameters().resolution;
-        }
-        if (keys.empty() && !final) return false;  // fusion may still bring some
-        if (!keys.empty()) box.box = fitOrientedBox(keys, resolution);
-        const bool fitted = !keys.empty();
+        const std::optional<OrientedBox> fitted_box =
+            map ? fittedBox(map->voxelsOfLabel(box.label), map->parameters().resolution)
+                : std::nullopt;
+        if (!fitted_box && !final) return false;  // fusion may still bring some
+        if (fitted_box) box.box = *fitted_box;
+        const bool fitted = fitted_box.has_value();
         QMetaObject::invokeMethod(
             worker,
             [self, box, fitted, generation] {
@@ -130,7 +145,7 @@ void AddBoxReaction::fitAllLabels() {
             GroundTruthBox box;
             box.label = label;
             box.name = labels.at(label).name;
-            box.box = fitOrientedBox(largestCluster(keys, 2.0), map->parameters().resolution);
+            box.box = *fittedBox(keys, map->parameters().resolution);  // keys: never empty here
             boxes.push_back(std::move(box));
           }
         QMetaObject::invokeMethod(
@@ -156,9 +171,7 @@ void AddBoxReaction::addAllFitted(const std::vector<GroundTruthBox>& boxes, unsi
   std::vector<const GroundTruthBox*> added;
   size_t already = 0;
   for (const GroundTruthBox& box : boxes) {
-    bool boxed = false;
-    for (int i = 0; i < model.boxCount() && !boxed; ++i) boxed = model.box(i).label == box.label;
-    if (boxed)
+    if (boxIndexOf(model, box.label) >= 0)
       ++already;
     else
       added.push_back(&box);

@@ -89,15 +89,20 @@ void MapWorker::publish(MapSnapshotPtr snapshot) {
   });
 }
 
-void MapWorker::startFusion(std::shared_ptr<const Sequence> sequence, const FusionOptions& options) {
+unsigned MapWorker::beginNewMap() {
   // The map changes generation before the running fusion is cancelled: the
   // worker may end that fusion and run the work queued behind it (an export
   // waiting for the map) at once, and that work must see the map replaced.
   ++map_generation_;
   cancel();
   paused_ = false;
-  const unsigned id = ++fusion_id_;
   fusion_cancel_ = std::make_shared<std::atomic<bool>>(false);
+  return ++fusion_id_;
+}
+
+void MapWorker::startFusion(std::shared_ptr<const Sequence> sequence,
+                            const FusionOptions& options) {
+  const unsigned id = beginNewMap();
   post([this, sequence, options, id, cancelled = fusion_cancel_] {
     fuse(sequence, options, id, cancelled);
   }, false);
@@ -106,11 +111,7 @@ void MapWorker::startFusion(std::shared_ptr<const Sequence> sequence, const Fusi
 }
 
 void MapWorker::adoptMap(std::shared_ptr<LabelMap> map, size_t frames, const QString& source) {
-  ++map_generation_;  // before the cancel, as in startFusion
-  cancel();
-  paused_ = false;
-  const unsigned id = ++fusion_id_;
-  fusion_cancel_ = std::make_shared<std::atomic<bool>>(false);
+  const unsigned id = beginNewMap();
   threshold_ = map->parameters().occupancy_threshold;
   threshold_pending_ = false;
   post(

@@ -302,9 +302,8 @@ void SceneView::lookFrom(StandardView view) {
   camera->SetFocalPoint(centre.data());
   camera->SetPosition(position.data());
   camera->SetViewUp(view_up.data());
-  scene_->renderer->ResetCamera(bounds);  // keeps the direction, frames the bounds
-  if (scene_->voxel_count > 0) camera->Dolly(1.25);
-  scene_->renderer->ResetCameraClippingRange();
+  if (scene_->voxel_count > 0) return zoomToMap();  // keeps the direction, frames the map
+  scene_->renderer->ResetCamera(bounds);
   render();
 }
 

@@ -107,6 +107,9 @@ class MapWorker : public QObject {
   void applyPendingThreshold();
   void inGui(std::function<void()> call);
   void setState(State state);
+  // A new map is on its way (fused or adopted): the map changes generation,
+  // the fusion in progress is cancelled; returns the new fusion's id.
+  unsigned beginNewMap();
   // Lists a described job in pendingWork() (0 when not listed); forget removes it.
   unsigned listWork(const QString& description);
   void forgetWork(unsigned id);
