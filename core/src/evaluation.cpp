@@ -95,21 +95,51 @@ std::vector<UnscorableBox> unscorableBoxes(const Annotations& annotations, int l
   return unscorable;
 }
 
-double voxelIou(const std::vector<VoxelKey>& voxels, double resolution, const OrientedBox& box,
-                IouMode mode) {
-  if (voxels.empty()) return 0.0;
+double IouVolumes::iou() const {
+  if (predicted <= 0.0) return 0.0;
+  // v_tp + v_fp + v_fn = v_pred + v_gt - v_tp
+  const double denominator = predicted + ground_truth - true_positive;
+  return denominator > 0.0 ? std::clamp(true_positive / denominator, 0.0, 1.0) : 0.0;
+}
+
+namespace {
+
+// The volume of a voxel centred at `center` that IU_3d counts inside the box.
+double volumeCounted(const VoxelBoxIntersector& intersector, const Eigen::Vector3d& center,
+                     double voxel_volume, IouMode mode) {
+  if (mode == IouMode::Exact) return intersector.volume(center);
+  return intersector.centerInside(center) ? voxel_volume : 0.0;
+}
+
+}  // namespace
+
+IouVolumes voxelIouVolumes(const std::vector<VoxelKey>& voxels, double resolution,
+                           const OrientedBox& box, IouMode mode) {
+  IouVolumes volumes;
+  volumes.ground_truth = box.volume();
   const VoxelBoxIntersector intersector(box, resolution);
   const double voxel_volume = resolution * resolution * resolution;
-  double true_positive = 0.0;
-  for (const auto& key : voxels) {
-    const Eigen::Vector3d center = voxelCenter(key, resolution);
-    true_positive += mode == IouMode::Exact ? intersector.volume(center)
-                                            : (intersector.centerInside(center) ? voxel_volume : 0.0);
-  }
-  const double predicted = voxel_volume * static_cast<double>(voxels.size());
-  // v_tp + v_fp + v_fn = v_pred + v_gt - v_tp
-  const double denominator = predicted + box.volume() - true_positive;
-  return denominator > 0.0 ? std::clamp(true_positive / denominator, 0.0, 1.0) : 0.0;
+  for (const auto& key : voxels)
+    volumes.true_positive += volumeCounted(intersector, voxelCenter(key, resolution), voxel_volume, mode);
+  volumes.predicted = voxel_volume * static_cast<double>(voxels.size());
+  return volumes;
+}
+
+double voxelIou(const std::vector<VoxelKey>& voxels, double resolution, const OrientedBox& box,
+                IouMode mode) {
+  return voxelIouVolumes(voxels, resolution, box, mode).iou();
+}
+
+std::vector<double> voxelSharesInBox(const std::vector<Eigen::Vector3d>& centres, double resolution,
+                                     const OrientedBox& box, IouMode mode) {
+  const VoxelBoxIntersector intersector(box, resolution);
+  const double voxel_volume = resolution * resolution * resolution;
+  std::vector<double> shares;
+  shares.reserve(centres.size());
+  for (const Eigen::Vector3d& centre : centres)
+    shares.push_back(std::clamp(volumeCounted(intersector, centre, voxel_volume, mode) / voxel_volume,
+                                0.0, 1.0));
+  return shares;
 }
 
 ScoreSummary summarize(const std::vector<ObjectScore>& objects) {
@@ -185,7 +215,8 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
 
     const std::vector<VoxelKey> mapped = map.voxelsOfLabel(box.label);
     object.voxels = mapped.size();
-    object.iou_3d.labeloctomap = voxelIou(mapped, resolution, box.box, options.iou_mode);
+    object.labeloctomap_volumes = voxelIouVolumes(mapped, resolution, box.box, options.iou_mode);
+    object.iou_3d.labeloctomap = object.labeloctomap_volumes.iou();
     object.box_iou.labeloctomap = fittedBoxIou(mapped, resolution, box.box,
                                                options.cluster_tolerance_voxels, &object.fitted_box);
     for (const auto& view : scan.view_voxels) {

@@ -21,6 +21,12 @@ Json scoresJson(const MethodScores& scores) {
               {"labeloctomap", scores.labeloctomap}};
 }
 
+Json volumesJson(const IouVolumes& volumes) {
+  return Json{{"true_positive", volumes.true_positive},
+              {"false_positive", volumes.falsePositive()},
+              {"false_negative", volumes.falseNegative()}};
+}
+
 Json boxJson(const OrientedBox& box) {
   const auto& q = box.rotation;
   return Json{{"center", {box.center.x(), box.center.y(), box.center.z()}},
@@ -90,6 +96,7 @@ std::string reportJson(const EvaluationReport& report) {
                            {"name", o.name},
                            {"voxels", o.voxels},
                            {"iou_3d", scoresJson(o.iou_3d)},
+                           {"labeloctomap_volumes", volumesJson(o.labeloctomap_volumes)},
                            {"per_view", o.per_view},
                            {"box_iou", scoresJson(o.box_iou)},
                            {"per_view_box_iou", o.per_view_box_iou},

@@ -75,6 +75,16 @@ TEST_F(CliScoreTest, WritesTheFourReports) {
     expectScores(object["iou_3d"]);
     expectScores(object["box_iou"]);
     EXPECT_EQ(object["per_view"].size(), 3u);
+    // The terms of LabelOctoMap's IU_3d, in cubic metres: tp / (tp + fp + fn).
+    const Json& volumes = object["labeloctomap_volumes"];
+    const double tp = volumes["true_positive"], fp = volumes["false_positive"],
+                 fn = volumes["false_negative"];
+    EXPECT_GE(tp, 0.0);
+    EXPECT_GE(fp, -1e-12);
+    EXPECT_GE(fn, -1e-12);
+    if (tp > 0.0) {
+      EXPECT_NEAR(tp / (tp + fp + fn), object["iou_3d"]["labeloctomap"].get<double>(), 1e-9);
+    }
   }
   const Json& summary = report["summary"];
   EXPECT_EQ(summary["objects"], 4);
@@ -95,6 +105,8 @@ TEST_F(CliScoreTest, WritesTheFourReports) {
   EXPECT_NE(markdown.find("| label | name | voxels | Projection (Mean) | Projection (Max) | LabelOctoMap |"),
             std::string::npos);
   EXPECT_NE(markdown.find("**"), std::string::npos);  // the best value of a row is bold
+  EXPECT_NE(markdown.find("| label | name | inside the box | outside | box not covered | box |"),
+            std::string::npos);
   const std::string svg = slurp(dir / "report.svg");
   EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
   EXPECT_NE(svg.find("</svg>"), std::string::npos);

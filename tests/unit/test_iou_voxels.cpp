@@ -114,6 +114,36 @@ TEST(IouVoxelSets, GridAlignedBoxes) {
   }
 }
 
+TEST(IouVoxelSets, VolumesAreTheTermsOfTheScore) {
+  OrientedBox box;  // shifted by a quarter voxel along x, as below
+  box.center = {0.02 + 0.0025, 0.01, 0.015};
+  box.size = {0.04, 0.02, 0.03};
+  const double voxel = kEdge * kEdge * kEdge;
+  const auto voxels = block(0, 4, 0, 2, 0, 3);
+  const lom::IouVolumes exact = lom::voxelIouVolumes(voxels, kEdge, box, lom::IouMode::Exact);
+  EXPECT_NEAR(exact.predicted, 24 * voxel, 1e-15);
+  EXPECT_NEAR(exact.ground_truth, 24 * voxel, 1e-15);
+  // The column of voxels at x = 0 is a quarter outside: 6 voxels x 1/4.
+  EXPECT_NEAR(exact.true_positive, 22.5 * voxel, 1e-15);
+  EXPECT_NEAR(exact.falsePositive(), 1.5 * voxel, 1e-15);
+  EXPECT_NEAR(exact.falseNegative(), 1.5 * voxel, 1e-15);
+  EXPECT_EQ(exact.iou(), lom::voxelIou(voxels, kEdge, box, lom::IouMode::Exact));
+  const lom::IouVolumes centre = lom::voxelIouVolumes(voxels, kEdge, box, lom::IouMode::Center);
+  EXPECT_NEAR(centre.true_positive, 24 * voxel, 1e-15);
+  EXPECT_NEAR(centre.falseNegative(), 0.0, 1e-15);
+  EXPECT_EQ(lom::voxelIouVolumes({}, kEdge, box, lom::IouMode::Exact).iou(), 0.0);
+
+  // Each voxel's share, in the centres' order: the first column 3/4, the rest whole.
+  std::vector<Eigen::Vector3d> centres;
+  for (const auto& key : voxels) centres.push_back(lom::voxelCenter(key, kEdge));
+  const std::vector<double> shares = lom::voxelSharesInBox(centres, kEdge, box, lom::IouMode::Exact);
+  ASSERT_EQ(shares.size(), voxels.size());
+  for (size_t i = 0; i < voxels.size(); ++i)
+    EXPECT_NEAR(shares[i], voxels[i].x == 32768 ? 0.75 : 1.0, 1e-12) << i;
+  const Eigen::Vector3d far_away(1.0, 1.0, 1.0);
+  EXPECT_EQ(lom::voxelSharesInBox({far_away}, kEdge, box, lom::IouMode::Center), std::vector<double>{0.0});
+}
+
 TEST(IouVoxelSets, ExactAndCentreModesDifferOnShiftedBoxes) {
   OrientedBox box;  // shifted by a quarter voxel along x: voxels straddle its faces
   box.center = {0.02 + 0.0025, 0.01, 0.015};

@@ -23,13 +23,6 @@ std::optional<OrientedBox> fittedBox(const std::vector<VoxelKey>& voxels, double
   return fitOrientedBox(cluster, resolution);
 }
 
-// The index of `label`'s box, -1 when it has none (one box per object).
-int boxIndexOf(const AnnotationsModel& model, int label) {
-  for (int i = 0; i < model.boxCount(); ++i)
-    if (model.box(i).label == label) return i;
-  return -1;
-}
-
 }  // namespace
 
 AddBoxReaction::AddBoxReaction(QAction* action, Mode mode, StudioSession& session)
@@ -53,7 +46,7 @@ void AddBoxReaction::updateEnabled() {
 bool AddBoxReaction::selectExistingBox(int label) {
   // One box per object: a label that has one gets it selected instead.
   AnnotationsModel& model = session_.annotations();
-  const int i = boxIndexOf(model, label);
+  const int i = model.indexOfLabel(label);
   if (i < 0) return false;
   model.select(i);
   emit failed(tr("Label already boxed"),
@@ -171,7 +164,7 @@ void AddBoxReaction::addAllFitted(const std::vector<GroundTruthBox>& boxes, unsi
   std::vector<const GroundTruthBox*> added;
   size_t already = 0;
   for (const GroundTruthBox& box : boxes) {
-    if (boxIndexOf(model, box.label) >= 0)
+    if (model.indexOfLabel(box.label) >= 0)
       ++already;
     else
       added.push_back(&box);

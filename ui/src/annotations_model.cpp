@@ -120,6 +120,12 @@ void AnnotationsModel::markSaved(const QString& path) {
   emit saved();
 }
 
+int AnnotationsModel::indexOfLabel(int label) const {
+  for (int i = 0; i < boxCount(); ++i)
+    if (box(i).label == label) return i;
+  return -1;
+}
+
 void AnnotationsModel::select(int index) {
   index = boxCount() == 0 ? -1 : std::clamp(index, -1, boxCount() - 1);
   if (index == selected_) return;

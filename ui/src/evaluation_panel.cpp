@@ -117,6 +117,15 @@ QTableWidgetItem* scoreItem(double value) {
   return new NumberItem(value, QString::number(value * 100.0, 'f', 1));
 }
 
+// What LabelOctoMap's IU_3d is made of (report.md's volumes table), in cm³.
+QString volumesTip(const IouVolumes& v) {
+  auto cm3 = [](double cubic_metres) { return QString::number(std::max(cubic_metres, 0.0) * 1e6, 'f', 1); };
+  return QObject::tr("IU_3d of LabelOctoMap: %1 cm³ of its voxels inside the box, %2 cm³ outside, "
+                     "%3 cm³ of the box (%4 cm³) without voxels. View ▸ Show Score Breakdown of "
+                     "Selected Box (Ctrl+E) shows which voxels.")
+      .arg(cm3(v.true_positive), cm3(v.falsePositive()), cm3(v.falseNegative()), cm3(v.ground_truth));
+}
+
 }  // namespace
 
 EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
@@ -164,6 +173,10 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   columns->setSortIndicator(Label, Qt::AscendingOrder);
   table_->setSortingEnabled(true);
   connect(table_->model(), &QAbstractItemModel::layoutChanged, this, &EvaluationPanel::syncChart);
+  table_->setSelectionMode(QAbstractItemView::SingleSelection);
+  connect(table_, &QTableWidget::itemSelectionChanged, this, &EvaluationPanel::selectBoxOfRow);
+  connect(&session_.annotations(), &AnnotationsModel::selectionChanged, this,
+          &EvaluationPanel::selectRowOfBox);
   summary_->setWordWrap(true);
   summary_->setTextInteractionFlags(Qt::TextSelectableByMouse);
   export_->setEnabled(false);
@@ -295,7 +308,9 @@ void EvaluationPanel::show(const EvaluationReport& report) {
     table_->setItem(row, Voxels, countItem(object.voxels));
     table_->setItem(row, ProjectionMean, scoreItem(object.iou_3d.projection_mean));
     table_->setItem(row, ProjectionMax, scoreItem(object.iou_3d.projection_max));
-    table_->setItem(row, LabelOctoMap, scoreItem(object.iou_3d.labeloctomap));
+    QTableWidgetItem* labeloctomap = scoreItem(object.iou_3d.labeloctomap);
+    labeloctomap->setToolTip(volumesTip(object.labeloctomap_volumes));
+    table_->setItem(row, LabelOctoMap, labeloctomap);
     table_->setItem(row, BoxIou, scoreItem(object.box_iou.labeloctomap));
   }
   table_->setSortingEnabled(true);
@@ -314,6 +329,7 @@ void EvaluationPanel::show(const EvaluationReport& report) {
                     (left_out_.isEmpty() ? QString() : " " + left_out_) +
                     (partial_.isEmpty() ? QString() : " " + partial_));
   syncChart();
+  selectRowOfBox();
   export_->setEnabled(!stale_);
   emit reportShown();
 }
@@ -331,6 +347,32 @@ void EvaluationPanel::syncChart() {
     }
   }
   chart_->setObjects(std::move(objects));
+}
+
+void EvaluationPanel::selectBoxOfRow() {
+  if (syncing_selection_) return;
+  const QList<QTableWidgetItem*> selected = table_->selectedItems();
+  if (selected.isEmpty()) return;  // a box stays selected when the table loses its selection
+  const QTableWidgetItem* label = table_->item(selected.front()->row(), Label);
+  if (!label) return;
+  AnnotationsModel& boxes = session_.annotations();
+  const int index = boxes.indexOfLabel(label->text().toInt());
+  if (index >= 0) boxes.select(index);
+}
+
+void EvaluationPanel::selectRowOfBox() {
+  const AnnotationsModel& boxes = session_.annotations();
+  const int selected = boxes.selected();
+  const QString label = selected >= 0 ? QString::number(boxes.box(selected).label) : QString();
+  syncing_selection_ = true;
+  table_->clearSelection();
+  for (int row = 0; row < table_->rowCount() && !label.isEmpty(); ++row)
+    if (const QTableWidgetItem* item = table_->item(row, Label); item && item->text() == label) {
+      table_->selectRow(row);
+      table_->scrollToItem(item);
+      break;
+    }
+  syncing_selection_ = false;
 }
 
 void EvaluationPanel::showMessage(const QString& message) {

@@ -46,6 +46,7 @@
 #include "lom/ui/save_screenshot_reaction.hpp"
 #include "lom/ui/scene_view.hpp"
 #include "lom/ui/scene_view_reaction.hpp"
+#include "lom/ui/score_breakdown_reaction.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/sequence_drop_handler.hpp"
 #include "lom/ui/shortcuts_help_reaction.hpp"
@@ -496,6 +497,15 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   scene_action(tr("Show &Frame Points"), SceneViewReaction::Kind::FramePoints, QKeySequence());
   scene_action(tr("Show &Projection Voxels of This View"), SceneViewReaction::Kind::ProjectionVoxels,
                QKeySequence());
+  QAction* breakdown = view->addAction(tr("Show Score &Breakdown of Selected Box"));
+  breakdown->setShortcut(Qt::CTRL + Qt::Key_E);
+  connect(new ScoreBreakdownReaction(breakdown, *session_, *scene_view_),
+          &ScoreBreakdownReaction::status, this, [this](const QString& message) {
+            if (message.isEmpty())
+              statusBar()->clearMessage();
+            else
+              statusBar()->showMessage(message);
+          });
   scene_action(tr("&Opacity by Probability"), SceneViewReaction::Kind::OpacityByProbability,
                QKeySequence());
   scene_action(tr("Colour by &Height"), SceneViewReaction::Kind::ColourByHeight, QKeySequence());

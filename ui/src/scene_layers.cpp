@@ -45,13 +45,6 @@ VoxelLayer::VoxelLayer() {
 size_t VoxelLayer::show(const MapSnapshot& snapshot, const LabelSet& labels,
                         const std::set<int>& hidden, bool opacity_by_probability,
                         VoxelColouring colouring) {
-  auto points = vtkSmartPointer<vtkPoints>::New();
-  points->SetDataTypeToFloat();
-  auto sizes = vtkSmartPointer<vtkFloatArray>::New();
-  sizes->SetName("size");
-  auto colors = vtkSmartPointer<vtkUnsignedCharArray>::New();
-  colors->SetName("colors");
-  colors->SetNumberOfComponents(4);
   const double low = snapshot.occupancy_threshold;
   const bool by_height = colouring == VoxelColouring::Height;
   std::vector<Eigen::Vector3d> centres;
@@ -63,10 +56,10 @@ size_t VoxelLayer::show(const MapSnapshot& snapshot, const LabelSet& labels,
   height_range_.reset();
   if (by_height && !centres.empty())
     height_range_ = std::make_pair(heights.lowest(), heights.highest());
+  std::vector<Cube> cubes;
+  cubes.reserve(snapshot.voxels.size());
   for (const OccupiedVoxel& voxel : snapshot.voxels) {
     if (hidden.count(voxel.label)) continue;
-    points->InsertNextPoint(voxel.center.x(), voxel.center.y(), voxel.center.z());
-    sizes->InsertNextValue(static_cast<float>(voxel.size * 0.96));
     // The background's palette colour is black; grey keeps the shelf readable.
     QColor c = voxel.label == 0 ? QColor(150, 150, 160) : labelColor(labels, voxel.label);
     if (by_height) {
@@ -76,10 +69,26 @@ size_t VoxelLayer::show(const MapSnapshot& snapshot, const LabelSet& labels,
     double alpha = 1.0;
     if (opacity_by_probability && low < 1.0)
       alpha = 0.15 + 0.85 * std::clamp((voxel.probability - low) / (1.0 - low), 0.0, 1.0);
-    const unsigned char rgba[4] = {static_cast<unsigned char>(c.red()),
-                                   static_cast<unsigned char>(c.green()),
-                                   static_cast<unsigned char>(c.blue()),
-                                   static_cast<unsigned char>(alpha * 255.0 + 0.5)};
+    c.setAlpha(static_cast<int>(alpha * 255.0 + 0.5));
+    cubes.push_back({voxel.center, voxel.size * 0.96, c});
+  }
+  return showCubes(cubes);
+}
+
+size_t VoxelLayer::showCubes(const std::vector<Cube>& cubes) {
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  points->SetDataTypeToFloat();
+  auto sizes = vtkSmartPointer<vtkFloatArray>::New();
+  sizes->SetName("size");
+  auto colors = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  colors->SetName("colors");
+  colors->SetNumberOfComponents(4);
+  for (const Cube& cube : cubes) {
+    points->InsertNextPoint(cube.center.x(), cube.center.y(), cube.center.z());
+    sizes->InsertNextValue(static_cast<float>(cube.size));
+    const unsigned char rgba[4] = {
+        static_cast<unsigned char>(cube.colour.red()), static_cast<unsigned char>(cube.colour.green()),
+        static_cast<unsigned char>(cube.colour.blue()), static_cast<unsigned char>(cube.colour.alpha())};
     colors->InsertNextTypedTuple(rgba);
   }
   auto data = vtkSmartPointer<vtkPolyData>::New();

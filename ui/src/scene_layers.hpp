@@ -27,11 +27,20 @@ class vtkRenderWindowInteractor;
 
 namespace lom::ui::scene {
 
+// One cube of a VoxelLayer: centre, edge and colour (with alpha).
+struct Cube {
+  Eigen::Vector3d center;
+  double size = 0.0;
+  QColor colour;
+};
+
 // Occupied voxels as instanced cubes coloured by label or by height.
 class VoxelLayer {
  public:
   VoxelLayer();
   [[nodiscard]] vtkActor* actor() { return actor_; }
+  // Draws exactly these cubes; returns how many.
+  size_t showCubes(const std::vector<Cube>& cubes);
   // Returns the number of voxels drawn.
   // Height colours span the drawn voxels along the snapshot's up (+z when it has none).
   size_t show(const MapSnapshot& snapshot, const LabelSet& labels, const std::set<int>& hidden,

@@ -99,6 +99,8 @@ struct SceneView::Scene {
   scene::VoxelLayer voxels;
   scene::VoxelLayer projection;
   size_t projection_count = 0;
+  scene::VoxelLayer breakdown;
+  size_t breakdown_count = 0;
   std::unique_ptr<scene::BoxHandles> handles;
   MapSnapshot snapshot;
   LabelSet labels;
@@ -152,6 +154,7 @@ struct SceneView::Scene {
     }
     renderer->AddActor(voxels.actor());
     renderer->AddActor(projection.actor());
+    renderer->AddActor(breakdown.actor());
     projection.actor()->GetProperty()->SetRepresentationToWireframe();
     projection.actor()->GetProperty()->SetLineWidth(1.5);
     projection.actor()->GetProperty()->LightingOff();
@@ -379,6 +382,21 @@ void SceneView::showProjectionVoxels(const MapSnapshot* voxels, const LabelSet& 
 }
 
 size_t SceneView::projectionVoxelCount() const { return scene_->projection_count; }
+
+void SceneView::showScoreBreakdown(const ScoreBreakdown* breakdown) {
+  std::vector<scene::Cube> cubes;
+  if (breakdown) {
+    cubes.reserve(breakdown->voxels.size());
+    // A little larger than the map's cubes (0.96 of a voxel), so that these
+    // cover the label's own cubes instead of flickering with them.
+    for (const ScoreBreakdown::Voxel& voxel : breakdown->voxels)
+      cubes.push_back({voxel.center, breakdown->resolution, scoreBreakdownColour(voxel.share)});
+  }
+  scene_->breakdown_count = scene_->breakdown.showCubes(cubes);
+  render();
+}
+
+size_t SceneView::scoreBreakdownCount() const { return scene_->breakdown_count; }
 
 size_t SceneView::voxelCount() const { return scene_->voxel_count; }
 

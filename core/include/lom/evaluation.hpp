@@ -38,6 +38,16 @@ struct EvaluationOptions {
   std::string map_file;
 };
 
+// The volumes behind a voxel set's IU_3d against a box, in cubic metres.
+struct IouVolumes {
+  double predicted = 0.0;      // v_pred: the voxels' volume
+  double ground_truth = 0.0;   // v_gt: the box's volume
+  double true_positive = 0.0;  // v_tp: the voxels' volume inside the box, as `mode` counts it
+  [[nodiscard]] double falsePositive() const { return predicted - true_positive; }   // v_fp
+  [[nodiscard]] double falseNegative() const { return ground_truth - true_positive; }  // v_fn
+  // v_tp / (v_tp + v_fp + v_fn), in [0, 1]; 0 for no voxels.
+  [[nodiscard]] double iou() const;
+};
 struct MethodScores {
   double projection_mean = 0.0;
   double projection_max = 0.0;
@@ -49,6 +59,7 @@ struct ObjectScore {
   std::string name;
   size_t voxels = 0;              // LabelOctoMap voxels of the label (finest resolution)
   MethodScores iou_3d;
+  IouVolumes labeloctomap_volumes;  // the terms of LabelOctoMap's IU_3d
   std::vector<double> per_view;   // projection IU_3d of each view, in view order
   MethodScores box_iou;
   std::vector<double> per_view_box_iou;
@@ -137,9 +148,17 @@ void checkMapLabels(const LabelMap& map, const Sequence& sequence, const std::st
                                         const LabelMap& map, const EvaluationOptions& options,
                                         const EvaluationProgressFn& progress = {});
 
+[[nodiscard]] IouVolumes voxelIouVolumes(const std::vector<VoxelKey>& voxels, double resolution,
+                                         const OrientedBox& box, IouMode mode);
 // IU_3d of a voxel set against a box (the paper's equation; 0 for no voxels).
 [[nodiscard]] double voxelIou(const std::vector<VoxelKey>& voxels, double resolution,
                               const OrientedBox& box, IouMode mode);
+// The share of each voxel (a cube of edge `resolution` centred at each of
+// `centres`) that IU_3d counts inside the box: exact, the share of its volume
+// inside; center, 1 when its centre is inside, else 0. In the centres' order.
+[[nodiscard]] std::vector<double> voxelSharesInBox(const std::vector<Eigen::Vector3d>& centres,
+                                                   double resolution, const OrientedBox& box,
+                                                   IouMode mode);
 
 struct ScoreInputs {
   std::filesystem::path sequence;     // folder or sequence.json

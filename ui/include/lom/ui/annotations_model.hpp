@@ -20,6 +20,8 @@ class AnnotationsModel : public QObject {
   [[nodiscard]] int boxCount() const { return static_cast<int>(annotations_.boxes.size()); }
   [[nodiscard]] const GroundTruthBox& box(int index) const { return annotations_.boxes.at(index); }
   [[nodiscard]] int selected() const { return selected_; }  // -1 for none
+  // The first box of `label` (one box per object), -1 when it has none.
+  [[nodiscard]] int indexOfLabel(int label) const;
   [[nodiscard]] QUndoStack& undoStack() { return undo_stack_; }
   [[nodiscard]] bool isDirty() const { return !undo_stack_.isClean(); }
   // The file the boxes were loaded from or last saved to (empty when new).

@@ -58,6 +58,10 @@ class EvaluationPanel : public QWidget {
   void showMessage(const QString& message);
   void clearReport(const QString& message);
   void syncChart();  // gives the chart the report's objects in the table's row order
+  // A row selected by the user selects its object's box, and the selected
+  // box's row is selected: one object selection across the panels.
+  void selectBoxOfRow();
+  void selectRowOfBox();
 
   StudioSession& session_;
   QTableWidget* table_;
@@ -68,6 +72,7 @@ class EvaluationPanel : public QWidget {
   std::optional<EvaluationReport> report_;
   bool stale_ = true;      // report_ is not of the current map and boxes
   bool awaiting_ = false;  // an evaluation was asked for since the last clear
+  bool syncing_selection_ = false;
   // Boxes left out of the scores being shown (label not an object of the
   // sequence, or a label boxed twice), for the summary.
   QString left_out_;

@@ -17,6 +17,7 @@
 #include "lom/planning.hpp"
 #include "lom/sequence.hpp"
 #include "lom/ui/map_snapshot.hpp"
+#include "lom/ui/score_breakdown.hpp"
 
 class QVTKOpenGLNativeWidget;
 
@@ -63,6 +64,10 @@ class SceneView : public QWidget {
   // Extra, smaller cubes (e.g. a single view's projection); null hides them.
   void showProjectionVoxels(const MapSnapshot* voxels, const LabelSet& labels);
   [[nodiscard]] size_t projectionVoxelCount() const;
+  // A box's label's voxels coloured by how much of each lies inside the box
+  // (scoreBreakdownColour), over the map's; null hides them.
+  void showScoreBreakdown(const ScoreBreakdown* breakdown);
+  [[nodiscard]] size_t scoreBreakdownCount() const;
   void setFrameCloudVisible(bool on);
   void showBoxes(const Annotations& boxes, int selected, const LabelSet& labels);
   [[nodiscard]] size_t voxelCount() const;

@@ -1,0 +1,192 @@
+// View > Show Score Breakdown of Selected Box: the selected box's label's
+// voxels coloured by how IU_3d counts them against the box, with counts that
+// add up to the score the Evaluation panel shows; and one object selection
+// shared by the Evaluation table and the boxes. (Pictures of the breakdown on
+// the demo were looked at: the object's voxels green inside its box, amber on
+// its faces, red where they spill out.)
+#include <gtest/gtest.h>
+
+#include <QAction>
+#include <QImage>
+#include <QStatusBar>
+#include <QTableWidget>
+#include <QTest>
+
+#include "demo_window_fixture.hpp"
+#include "lom/ui/annotations_model.hpp"
+#include "lom/ui/evaluation_panel.hpp"
+#include "lom/ui/scene_view.hpp"
+#include "lom/ui/score_breakdown.hpp"
+#include "lom/ui/score_breakdown_reaction.hpp"
+
+namespace lom::ui {
+namespace {
+
+using fixture::kTimeoutMs;
+
+class ScoreBreakdownTest : public fixture::DemoWindowTest {
+ protected:
+  EvaluationPanel& panel() { return window_.evaluationPanel(); }
+  AnnotationsModel& boxes() { return window_.session().annotations(); }
+  void openFuseAndScore() {
+    openAndFuse();
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !panel().isBusy() && panel().canExport(); }, kTimeoutMs))
+        << panel().summaryText().toStdString();
+  }
+  const ObjectScore& scoreOf(int label) {
+    for (const ObjectScore& object : panel().report()->objects)
+      if (object.label == label) return object;
+    ADD_FAILURE() << "no score for label " << label;
+    return panel().report()->objects.front();
+  }
+  QAction& breakdownAction() {
+    QAction* action = window_.findAction("Show Score Breakdown of Selected Box");
+    EXPECT_NE(action, nullptr);
+    return *action;
+  }
+  QString statusMessage() { return window_.statusBar()->currentMessage(); }
+  // The box of a visible object with the most voxels in the map.
+  int largestBoxedObject() {
+    const MapSnapshot& snapshot = *window_.session().worker().snapshot();
+    int best = -1;
+    size_t most = 0;
+    for (int i = 0; i < boxes().boxCount(); ++i) {
+      const auto it = snapshot.counts.find(boxes().box(i).label);
+      if (it != snapshot.counts.end() && it->second > most) most = it->second, best = i;
+    }
+    return best;
+  }
+};
+
+// Pixels of the picture whose colour is clearly `green` (else clearly red).
+size_t countColoured(const QImage& picture, bool green) {
+  size_t count = 0;
+  for (int y = 0; y < picture.height(); ++y)
+    for (int x = 0; x < picture.width(); ++x) {
+      const QColor c = picture.pixelColor(x, y);
+      const int main = green ? c.green() : c.red(), other = green ? c.red() : c.green();
+      count += main > 120 && main > other + 80 && main > c.blue() + 80;
+    }
+  return count;
+}
+
+TEST_F(ScoreBreakdownTest, SelectedBoxsVoxelsAddUpToItsScoreAndFollowItsEdits) {
+  openFuseAndScore();
+  SceneView& scene = window_.sceneView();
+  scene.setFrameCloudVisible(false);
+  QAction& action = breakdownAction();
+  EXPECT_TRUE(action.isCheckable());
+  EXPECT_EQ(action.shortcut(), QKeySequence("Ctrl+E"));
+
+  boxes().select(-1);
+  action.trigger();
+  ASSERT_TRUE(action.isChecked());
+  EXPECT_EQ(scene.scoreBreakdownCount(), 0u);
+  EXPECT_TRUE(statusMessage().startsWith("Score breakdown: select a box")) << statusMessage().toStdString();
+
+  const int index = largestBoxedObject();
+  ASSERT_GE(index, 0);
+  const GroundTruthBox box = boxes().box(index);
+  const QImage before = scene.renderToImage();
+  boxes().select(index);
+  const MapSnapshot& snapshot = *window_.session().worker().snapshot();
+  const ScoreBreakdown breakdown = scoreBreakdown(snapshot, box, IouMode::Exact);
+  // Every finest voxel of the label, each counted once.
+  ASSERT_EQ(breakdown.voxels.size(), snapshot.counts.at(box.label));
+  EXPECT_EQ(scene.scoreBreakdownCount(), breakdown.voxels.size());
+  EXPECT_EQ(breakdown.inside + breakdown.partly + breakdown.outside, breakdown.voxels.size());
+  EXPECT_GT(breakdown.inside, 0u);
+  // The same volumes as the Evaluation panel's score of the label.
+  const ObjectScore& score = scoreOf(box.label);
+  EXPECT_NEAR(breakdown.volumes.true_positive, score.labeloctomap_volumes.true_positive, 1e-12);
+  EXPECT_NEAR(breakdown.volumes.predicted, score.labeloctomap_volumes.predicted, 1e-12);
+  EXPECT_NEAR(breakdown.volumes.iou(), score.iou_3d.labeloctomap, 1e-9);
+  const QString name = QString::fromStdString(score.name);
+  EXPECT_EQ(statusMessage(), describeScoreBreakdown(breakdown, name));
+  EXPECT_TRUE(statusMessage().contains(QString("%1 voxels inside the box").arg(breakdown.inside)))
+      << statusMessage().toStdString();
+  const QImage shown = scene.renderToImage();
+  EXPECT_GT(countColoured(shown, true), countColoured(before, true) + 50)
+      << "the voxels inside the box are drawn green";
+
+  // The box moved away from its object: every voxel is outside, drawn red.
+  GroundTruthBox moved = box;
+  moved.box.center.x() += 2.0;
+  boxes().setBox(index, moved, "move away");
+  const ScoreBreakdown away = scoreBreakdown(snapshot, moved, IouMode::Exact);
+  EXPECT_EQ(away.outside, away.voxels.size());
+  EXPECT_EQ(away.volumes.iou(), 0.0);
+  EXPECT_EQ(scene.scoreBreakdownCount(), away.voxels.size());
+  EXPECT_TRUE(statusMessage().contains("IU_3d 0.0 %")) << statusMessage().toStdString();
+  const QImage spilled = scene.renderToImage();
+  EXPECT_GT(countColoured(spilled, false), countColoured(shown, false) + 50)
+      << "the voxels outside the box are drawn red";
+  boxes().undoStack().undo();
+  EXPECT_EQ(statusMessage(), describeScoreBreakdown(breakdown, name));
+
+  // Off: the overlay goes and the status bar no longer describes it.
+  action.trigger();
+  EXPECT_EQ(scene.scoreBreakdownCount(), 0u);
+  EXPECT_TRUE(statusMessage().isEmpty()) << statusMessage().toStdString();
+  boxes().select(-1);
+  boxes().select(index);
+  EXPECT_EQ(scene.scoreBreakdownCount(), 0u) << "the breakdown stays off";
+}
+
+TEST(ScoreBreakdown, CentreModeCountsWholeVoxelsAndPrunedVoxelsAreSplit) {
+  // A snapshot with one pruned node (2x2x2 voxels) and one single voxel.
+  MapSnapshot snapshot;
+  snapshot.resolution = 0.01;
+  snapshot.voxels.push_back({Eigen::Vector3d(0.01, 0.01, 0.01), 0.02, 3, 0.9f});
+  snapshot.voxels.push_back({Eigen::Vector3d(0.105, 0.005, 0.005), 0.01, 3, 0.9f});
+  snapshot.voxels.push_back({Eigen::Vector3d(0.205, 0.005, 0.005), 0.01, 4, 0.9f});  // another label
+  GroundTruthBox box;
+  box.label = 3;
+  // x from 0 to 0.014: the node's first layer of voxels inside, 40 % of its second.
+  box.box.center = Eigen::Vector3d(0.007, 0.01, 0.01);
+  box.box.size = Eigen::Vector3d(0.014, 0.02, 0.02);
+  const ScoreBreakdown exact = scoreBreakdown(snapshot, box, IouMode::Exact);
+  ASSERT_EQ(exact.voxels.size(), 9u);
+  EXPECT_EQ(exact.inside, 4u);   // x in [0, 0.01]
+  EXPECT_EQ(exact.partly, 4u);   // x in [0.01, 0.02]
+  EXPECT_EQ(exact.outside, 1u);  // the single voxel
+  EXPECT_NEAR(exact.volumes.true_positive, 5.6e-6, 1e-15);
+  EXPECT_NEAR(exact.volumes.predicted, 9e-6, 1e-15);
+  EXPECT_NEAR(exact.volumes.ground_truth, 5.6e-6, 1e-15);
+  const ScoreBreakdown centre = scoreBreakdown(snapshot, box, IouMode::Center);
+  EXPECT_EQ(centre.inside, 4u);  // centres at x = 0.005; those at 0.015 lie outside
+  EXPECT_EQ(centre.partly, 0u);
+  EXPECT_EQ(centre.outside, 5u);
+  EXPECT_EQ(scoreBreakdownColour(1.0), QColor(40, 200, 70));
+  EXPECT_EQ(scoreBreakdownColour(0.5), QColor(255, 180, 0));
+  EXPECT_EQ(scoreBreakdownColour(0.0), QColor(230, 45, 45));
+}
+
+TEST_F(ScoreBreakdownTest, EvaluationRowsAndBoxesShareOneSelection) {
+  openFuseAndScore();
+  QTableWidget& table = panel().table();
+  ASSERT_GE(table.rowCount(), 2);
+  for (int row : {1, 0}) {
+    table.selectRow(row);
+    const int label = table.item(row, EvaluationPanel::Label)->text().toInt();
+    ASSERT_GE(boxes().selected(), 0);
+    EXPECT_EQ(boxes().box(boxes().selected()).label, label);
+  }
+  // The other way: selecting a box selects its row, wherever the sort put it.
+  table.sortItems(EvaluationPanel::LabelOctoMap, Qt::DescendingOrder);
+  for (int i = 0; i < boxes().boxCount(); ++i) {
+    boxes().select(i);
+    const QList<QTableWidgetItem*> selected = table.selectedItems();
+    ASSERT_FALSE(selected.isEmpty());
+    EXPECT_EQ(table.item(selected.front()->row(), EvaluationPanel::Label)->text().toInt(),
+              boxes().box(i).label);
+  }
+  boxes().select(-1);
+  EXPECT_TRUE(table.selectedItems().isEmpty());
+  // The LabelOctoMap cell says what its score is made of.
+  const QString tip = table.item(0, EvaluationPanel::LabelOctoMap)->toolTip();
+  EXPECT_TRUE(tip.contains("cm³ of its voxels inside the box")) << tip.toStdString();
+}
+
+}  // namespace
+}  // namespace lom::ui

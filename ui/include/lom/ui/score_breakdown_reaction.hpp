@@ -1,0 +1,39 @@
+#pragma once
+// View > Show Score Breakdown of Selected Box: colours the selected box's
+// label's voxels by how IU_3d counts them against that box (inside, partly,
+// outside) and says how many there are of each. Follows the box while it is
+// edited, another box being selected and the map growing.
+#include <QString>
+
+#include "lom/ui/reaction.hpp"
+#include "lom/ui/score_breakdown.hpp"
+
+namespace lom::ui {
+
+class SceneView;
+class StudioSession;
+
+// One line for the status bar: the counts, their colours and the IU_3d they make.
+[[nodiscard]] QString describeScoreBreakdown(const ScoreBreakdown& breakdown, const QString& name);
+
+class ScoreBreakdownReaction : public Reaction {
+  Q_OBJECT
+
+ public:
+  ScoreBreakdownReaction(QAction* action, StudioSession& session, SceneView& scene);
+
+ signals:
+  // What the breakdown shows now; empty when it is switched off.
+  void status(const QString& message);
+
+ protected:
+  void onTriggered() override;
+
+ private:
+  void refresh();
+
+  StudioSession& session_;
+  SceneView& scene_;
+};
+
+}  // namespace lom::ui
