@@ -1,5 +1,6 @@
 // labeloctomap render: a picture of a map, rendered offscreen to a PNG.
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <optional>
@@ -9,6 +10,7 @@
 #include "args.hpp"
 #include "commands.hpp"
 #include "lom/error.hpp"
+#include "lom/evaluation.hpp"
 #include "lom/height_colours.hpp"
 #include "lom/sequence.hpp"
 #include "output_paths.hpp"
@@ -16,6 +18,7 @@
 #ifdef LOM_HAVE_RENDER
 #include "lom/label_map.hpp"
 #include "lom/render/map_render.hpp"
+#include "lom/score_breakdown.hpp"
 #endif
 
 namespace lom::cli {
@@ -37,6 +40,9 @@ struct RenderRequest {
   std::optional<std::pair<int, int>> size;
   std::optional<Eigen::Vector3d> up;  // --up
   std::optional<VoxelColouring> colouring;  // --colour
+  bool score = false;                       // --colour score
+  std::optional<fs::path> annotations;      // --annotations (with --colour score)
+  IouMode iou_mode = IouMode::Exact;        // --iou
 };
 
 // "1280x960" -> (1280, 960).
@@ -76,7 +82,9 @@ std::pair<fs::path, size_t> parseCamera(const std::string& text) {
 RenderRequest parseRequest(const Words& words) {
   const Args args(words, {"flat"});
   args.expectOnly(
-      {"out", "camera", "azimuth", "elevation", "up", "size", "labels", "flat", "colour"}, 1);
+      {"out", "camera", "azimuth", "elevation", "up", "size", "labels", "flat", "colour", "annotations",
+       "iou"},
+      1);
   RenderRequest request;
   request.map = args.positional(0, "MAP.ot");
   request.out = args.required("out");
@@ -95,8 +103,21 @@ RenderRequest parseRequest(const Words& words) {
       request.colouring = VoxelColouring::Labels;
     else if (*colour == "height")
       request.colouring = VoxelColouring::Height;
+    else if (*colour == "score")
+      request.score = true;
     else
-      throw UsageError("option --colour expects labels or height, got '" + *colour + "'");
+      throw UsageError("option --colour expects labels, height or score, got '" + *colour + "'");
+  }
+  if (const auto annotations = args.option("annotations")) request.annotations = *annotations;
+  if (request.score && !request.annotations)
+    throw UsageError("--colour score needs --annotations BOXES.json (the boxes to score the voxels against)");
+  if (!request.score && (request.annotations || args.option("iou")))
+    throw UsageError(std::string(request.annotations ? "--annotations" : "--iou") +
+                     " is for --colour score");
+  if (const auto iou = args.option("iou")) {
+    const auto mode = parseIouMode(*iou);
+    if (!mode) throw UsageError("option --iou expects exact or center, got '" + *iou + "'");
+    request.iou_mode = *mode;
   }
   if (const auto labels = args.option("labels")) {
     const auto list = parseLabelList(*labels, "labels");
@@ -108,6 +129,7 @@ RenderRequest parseRequest(const Words& words) {
 
   CommandInputs inputs;
   inputs.addFile(request.map, "the input map");
+  if (request.annotations) inputs.addFile(*request.annotations, "the annotations file");
   if (camera) inputs.addSequenceJson(camera->first);
   checkOutputFile(request.out, "out", ".png", "the picture", inputs);
   if (camera) {
@@ -154,6 +176,29 @@ void checkSomethingToRender(const LabelMap& map, const fs::path& map_path,
               "no occupied voxel of the selected labels");
 }
 
+// What the score colours show: per boxed label drawn, its voxels inside its
+// box, partly inside and outside, and the IU_3d they make.
+void printScoreColours(const LabelMap& map, const render::RenderOptions& options) {
+  const render::ScoreColours& score = *options.score;
+  std::cout << "colours: each boxed label's voxels by how IU_3d (" << iouModeName(score.mode)
+            << ") counts them: green wholly inside its box, red outside, from red through amber "
+               "to green by the share inside when partly inside; the other labels grey\n";
+  for (const GroundTruthBox& box : score.boxes) {
+    if (options.labels && !options.labels->count(box.label)) continue;
+    const ScoreBreakdown breakdown =
+        scoreBreakdown(map.voxelsOfLabel(box.label), map.parameters().resolution, box, score.mode);
+    std::cout << "  label " << box.label << " " << map.labels().at(box.label).name << ": ";
+    if (breakdown.centres.empty()) {
+      std::cout << "no voxels\n";
+      continue;
+    }
+    char iou[32];
+    std::snprintf(iou, sizeof iou, "%.2f", breakdown.volumes.iou() * 100.0);
+    std::cout << breakdown.inside << " voxels inside, " << breakdown.partly << " partly, "
+              << breakdown.outside << " outside; IU_3d " << iou << "\n";
+  }
+}
+
 }  // namespace
 
 int runRender(const Words& words) {
@@ -182,6 +227,11 @@ int runRender(const Words& words) {
   }
   const LabelMap map = LabelMap::load(request.map);
   checkSomethingToRender(map, request.map, options.labels);
+  if (request.annotations) {
+    const Annotations annotations = loadAnnotationsFor(*request.annotations, map.labels(), "world");
+    checkBoxLabels(annotations, map.numLabels(), request.annotations->string(), "the map");
+    options.score = render::ScoreColours{annotations.boxes, request.iou_mode};
+  }
   try {
     render::renderMapToPng(map, options, request.out);
   } catch (const Error& e) {
@@ -192,7 +242,9 @@ int runRender(const Words& words) {
   }
   std::cout << "wrote " << options.width << "x" << options.height << " picture to "
             << request.out.string() << "\n";
-  if (render::colouringFor(map, options) == VoxelColouring::Height) {
+  if (options.score) {
+    printScoreColours(map, options);
+  } else if (render::colouringFor(map, options) == VoxelColouring::Height) {
     const Eigen::Vector3d up = render::orbitUp(map, options);
     std::cout << "colours: height along (" << up.x() << ", " << up.y() << ", " << up.z()
               << "), blue lowest to red highest"

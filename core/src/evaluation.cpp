@@ -59,18 +59,24 @@ void checkAnnotationsForSequence(const Sequence& sequence, const Annotations& an
                 "the sequence's frame \"" + sequence.frame_id + "\" (" +
                     (sequence.root / "sequence.json").string() + ")",
                 "\"" + annotations.frame_id + "\"");
+  checkBoxLabels(annotations, sequence.labels.size(), file, "the sequence");
+}
+
+void checkBoxLabels(const Annotations& annotations, int label_count, const std::string& annotations_file,
+                    const std::string& labelled) {
+  const std::string file = orDefault(annotations_file, "(annotations)");
   if (annotations.boxes.empty()) throw Error(file, "boxes", "at least one box to score", "none");
-  const int n = sequence.labels.size();
+  const int n = label_count;
   const std::vector<UnscorableBox> unscorable = unscorableBoxes(annotations, n);
   if (unscorable.empty()) return;
   const UnscorableBox& box = unscorable.front();
   const std::string field = "boxes[" + std::to_string(box.index) + "].label";
   if (!box.boxed_before)
     throw Error(file, field,
-                n > 1 ? "an object label of the sequence (1.." + std::to_string(n - 1) +
+                n > 1 ? "an object label of " + labelled + " (1.." + std::to_string(n - 1) +
                             "; 0 is the background)"
-                      : std::string("an object label, but the sequence has none (only the "
-                                    "background, 0: it was recorded without label images)"),
+                      : "an object label, but " + labelled +
+                            " has none (only the background, 0: it was recorded without label images)",
                 std::to_string(box.label));
   throw Error(file, field, "each label in at most one box",
               "label " + std::to_string(box.label) + " again (also boxes[" +

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <fstream>
 #include <regex>
@@ -19,6 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using lom::test::runCli;
+using lom::test::slurp;
 using lom::test::TempDir;
 
 std::string q(const fs::path& p) { return "'" + p.string() + "'"; }  // for the shell
@@ -308,6 +310,73 @@ TEST_F(CliExportTest, RenderWritesAPictureOfTheMap) {
   EXPECT_FALSE(fs::exists(out / "empty.png"));
 }
 
+TEST_F(CliExportTest, RenderScoreColoursCountWhatTheScoreCounts) {
+  if (!std::getenv("DISPLAY") || !*std::getenv("DISPLAY"))
+    GTEST_SKIP() << "DISPLAY is not set: rendering needs an X server (run under xvfb-run)";
+  TempDir out;
+  const fs::path boxes = scene() / "annotations.json";
+  auto r = runCli("render " + q(map()) + " --out " + q(out / "score.png") +
+                  " --size 320x240 --flat --colour score --annotations " + q(boxes));
+  if (r.exit_code == 3) GTEST_SKIP() << r.err;
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("colours: each boxed label's voxels by how IU_3d (exact) counts them"),
+            std::string::npos)
+      << r.out;
+  // Every scored object's line gives the IU_3d that `score --map` gives it.
+  ASSERT_EQ(runCli("score " + q(scene()) + " --annotations " + q(boxes) + " --map " + q(map()) +
+                   " --out " + q(out / "report") + " --quiet")
+                .exit_code,
+            0);
+  const std::string report = slurp(out / "report" / "report.csv");
+  std::istringstream rows(report);
+  std::string row;
+  std::getline(rows, row);  // header
+  size_t objects = 0;
+  while (std::getline(rows, row)) {
+    std::vector<std::string> cells;
+    std::stringstream fields(row);
+    for (std::string cell; std::getline(fields, cell, ',');) cells.push_back(cell);
+    ASSERT_GE(cells.size(), 6u) << row;
+    char iou[32];
+    std::snprintf(iou, sizeof iou, "%.2f", std::stod(cells[5]) * 100.0);
+    const std::string prefix = "  label " + cells[0] + " " + cells[1] + ": ";
+    const size_t line = r.out.find(prefix);
+    ASSERT_NE(line, std::string::npos) << prefix << "\n" << r.out;
+    const std::string text = r.out.substr(line, r.out.find('\n', line) - line);
+    if (cells[2] == "0") {
+      EXPECT_EQ(text, prefix + "no voxels");
+    } else {
+      EXPECT_NE(text.find(" voxels inside, "), std::string::npos) << text;
+      EXPECT_NE(text.find("; IU_3d " + std::string(iou)), std::string::npos) << text << " vs " << iou;
+    }
+    ++objects;
+  }
+  EXPECT_GT(objects, 1u);
+  // Flat faces: the boxed objects in score colours (red where outside their
+  // box), everything else white background or grey.
+  const lom::ColorImage picture = lom::readColorImage(out / "score.png");
+  size_t scored = 0, red = 0;
+  for (size_t i = 0; i < picture.rgb.size(); i += 3) {
+    const std::array<int, 3> p{picture.rgb[i], picture.rgb[i + 1], picture.rgb[i + 2]};
+    const bool plain = p == std::array<int, 3>{255, 255, 255} || p == std::array<int, 3>{195, 195, 200} ||
+                       p == std::array<int, 3>{150, 150, 160};
+    scored += !plain;
+    red += p == std::array<int, 3>{230, 45, 45};
+  }
+  EXPECT_GT(scored, 200u);
+  EXPECT_GT(red, 0u);
+
+  // A box of a label the map does not have: the file and the box are named.
+  std::ofstream(out / "bad.json") << R"({"format": "labeloctomap-annotations", "version": 1,
+    "frame_id": "world", "boxes": [{"label": 99, "center": [0, 0, 0], "size": [0.1, 0.1, 0.1],
+    "rotation": [0, 0, 0, 1]}]})";
+  r = runCli("render " + q(map()) + " --out " + q(out / "bad.png") + " --colour score --annotations " +
+             q(out / "bad.json"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("boxes[0].label: expected an object label of the map"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out / "bad.png"));
+}
+
 TEST_F(CliExportTest, RenderUsageMistakes) {
   TempDir out;
   auto r =
@@ -324,8 +393,22 @@ TEST_F(CliExportTest, RenderUsageMistakes) {
   EXPECT_FALSE(fs::exists(out / "v.png"));
   r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --colour purple");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.err.find("option --colour expects labels or height, got 'purple'"), std::string::npos)
+  EXPECT_NE(r.err.find("option --colour expects labels, height or score, got 'purple'"),
+            std::string::npos)
       << r.err;
+  // Score colours need boxes, and boxes or an IoU mode need score colours.
+  const std::string boxes = q(scene() / "annotations.json");
+  const std::pair<std::string, std::string> mistakes[] = {
+      {" --colour score", "--colour score needs --annotations"},
+      {" --annotations " + boxes, "--annotations is for --colour score"},
+      {" --colour height --iou exact", "--iou is for --colour score"},
+      {" --colour score --annotations " + boxes + " --iou middle",
+       "option --iou expects exact or center, got 'middle'"}};
+  for (const auto& [args, message] : mistakes) {
+    r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + args);
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
+  }
   for (const char* size : {"640", "640x", "x480", "640x480px", "64ax48", "0x480"}) {
     r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --size " + size);
     EXPECT_EQ(r.exit_code, 2) << size;

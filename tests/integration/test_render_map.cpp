@@ -16,6 +16,7 @@
 #ifdef LOM_HAVE_RENDER
 #include "../unit/test_mesh_checks.hpp"
 #include "lom/render/map_render.hpp"
+#include "lom/score_breakdown.hpp"
 
 namespace {
 
@@ -94,6 +95,40 @@ TEST(RenderMap, FlatPictureShowsEveryLabelInItsColour) {
   }
   EXPECT_GT(labelled, 320u * 240 / 20);          // not blank: the map fills a good part of the view
   EXPECT_EQ(background + labelled, 320u * 240);  // nothing but background and label colours
+}
+
+TEST(RenderMap, ScoreColoursShowEachVoxelAgainstItsLabelsBox) {
+  LOM_REQUIRE_DISPLAY();
+  const lom::LabelMap map = sampleMap();
+  lom::render::RenderOptions options = flatPicture(320, 240);
+  // Label 1's box: x from -0.001 to 0.05 (two voxel layers inside, the third
+  // half inside, three outside), all of y and z. Labels 2 and 3 have none.
+  lom::GroundTruthBox box;
+  box.label = 1;
+  box.box.center = {0.0245, 0.06, 0.06};
+  box.box.size = {0.051, 0.122, 0.122};
+  options.score = lom::render::ScoreColours{{box}, lom::IouMode::Exact};
+  const lom::ColorImage image = lom::render::renderMap(map, options);
+  const size_t inside = countColour(image, rgb(lom::scoreShareColour(1.0)));
+  const size_t partly = countColour(image, rgb(lom::scoreShareColour(0.5)));
+  const size_t outside = countColour(image, rgb(lom::scoreShareColour(0.0)));
+  const size_t grey = countColour(image, {195, 195, 200});
+  EXPECT_GT(inside, 200u);
+  EXPECT_GT(partly, 100u);
+  EXPECT_GT(outside, 200u);
+  EXPECT_GT(grey, 200u) << "labels without a box";
+  for (int label = 1; label <= 3; ++label)
+    EXPECT_EQ(countColour(image, rgb(map.labels().at(label).color)), 0u) << "label " << label;
+  EXPECT_EQ(countColour(image, {255, 255, 255}) + inside + partly + outside + grey, 320u * 240)
+      << "nothing but the background and the score colours";
+
+  // Centre counting has no partial voxels: only green and red.
+  options.score->mode = lom::IouMode::Center;
+  const lom::ColorImage centres = lom::render::renderMap(map, options);
+  EXPECT_EQ(countColour(centres, {255, 255, 255}) + countColour(centres, {195, 195, 200}) +
+                countColour(centres, rgb(lom::scoreShareColour(1.0))) +
+                countColour(centres, rgb(lom::scoreShareColour(0.0))),
+            320u * 240);
 }
 
 TEST(RenderMap, ShadedPictureShowsShadesOfTheLabelColours) {

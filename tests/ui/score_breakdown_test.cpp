@@ -2,8 +2,8 @@
 // voxels coloured by how IU_3d counts them against the box, with counts that
 // add up to the score the Evaluation panel shows; and one object selection
 // shared by the Evaluation table and the boxes. (Pictures of the breakdown on
-// the demo were looked at: the object's voxels green inside its box, amber on
-// its faces, red where they spill out.)
+// the demo were looked at: the object's voxels green inside its box, blends
+// of amber on its faces, red where they spill out.)
 #include <gtest/gtest.h>
 
 #include <QAction>
@@ -16,7 +16,7 @@
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/scene_view.hpp"
-#include "lom/ui/score_breakdown.hpp"
+#include "lom/score_breakdown.hpp"
 #include "lom/ui/score_breakdown_reaction.hpp"
 
 namespace lom::ui {
@@ -90,11 +90,11 @@ TEST_F(ScoreBreakdownTest, SelectedBoxsVoxelsAddUpToItsScoreAndFollowItsEdits) {
   const QImage before = scene.renderToImage();
   boxes().select(index);
   const MapSnapshot& snapshot = *window_.session().worker().snapshot();
-  const ScoreBreakdown breakdown = scoreBreakdown(snapshot, box, IouMode::Exact);
+  const ScoreBreakdown breakdown = scoreBreakdown(snapshot.voxels, snapshot.resolution, box, IouMode::Exact);
   // Every finest voxel of the label, each counted once.
-  ASSERT_EQ(breakdown.voxels.size(), snapshot.counts.at(box.label));
-  EXPECT_EQ(scene.scoreBreakdownCount(), breakdown.voxels.size());
-  EXPECT_EQ(breakdown.inside + breakdown.partly + breakdown.outside, breakdown.voxels.size());
+  ASSERT_EQ(breakdown.centres.size(), snapshot.counts.at(box.label));
+  EXPECT_EQ(scene.scoreBreakdownCount(), breakdown.centres.size());
+  EXPECT_EQ(breakdown.inside + breakdown.partly + breakdown.outside, breakdown.centres.size());
   EXPECT_GT(breakdown.inside, 0u);
   // The same volumes as the Evaluation panel's score of the label.
   const ObjectScore& score = scoreOf(box.label);
@@ -113,10 +113,10 @@ TEST_F(ScoreBreakdownTest, SelectedBoxsVoxelsAddUpToItsScoreAndFollowItsEdits) {
   GroundTruthBox moved = box;
   moved.box.center.x() += 2.0;
   boxes().setBox(index, moved, "move away");
-  const ScoreBreakdown away = scoreBreakdown(snapshot, moved, IouMode::Exact);
-  EXPECT_EQ(away.outside, away.voxels.size());
+  const ScoreBreakdown away = scoreBreakdown(snapshot.voxels, snapshot.resolution, moved, IouMode::Exact);
+  EXPECT_EQ(away.outside, away.centres.size());
   EXPECT_EQ(away.volumes.iou(), 0.0);
-  EXPECT_EQ(scene.scoreBreakdownCount(), away.voxels.size());
+  EXPECT_EQ(scene.scoreBreakdownCount(), away.centres.size());
   EXPECT_TRUE(statusMessage().contains("IU_3d 0.0 %")) << statusMessage().toStdString();
   const QImage spilled = scene.renderToImage();
   EXPECT_GT(countColoured(spilled, false), countColoured(shown, false) + 50)
@@ -131,35 +131,6 @@ TEST_F(ScoreBreakdownTest, SelectedBoxsVoxelsAddUpToItsScoreAndFollowItsEdits) {
   boxes().select(-1);
   boxes().select(index);
   EXPECT_EQ(scene.scoreBreakdownCount(), 0u) << "the breakdown stays off";
-}
-
-TEST(ScoreBreakdown, CentreModeCountsWholeVoxelsAndPrunedVoxelsAreSplit) {
-  // A snapshot with one pruned node (2x2x2 voxels) and one single voxel.
-  MapSnapshot snapshot;
-  snapshot.resolution = 0.01;
-  snapshot.voxels.push_back({Eigen::Vector3d(0.01, 0.01, 0.01), 0.02, 3, 0.9f});
-  snapshot.voxels.push_back({Eigen::Vector3d(0.105, 0.005, 0.005), 0.01, 3, 0.9f});
-  snapshot.voxels.push_back({Eigen::Vector3d(0.205, 0.005, 0.005), 0.01, 4, 0.9f});  // another label
-  GroundTruthBox box;
-  box.label = 3;
-  // x from 0 to 0.014: the node's first layer of voxels inside, 40 % of its second.
-  box.box.center = Eigen::Vector3d(0.007, 0.01, 0.01);
-  box.box.size = Eigen::Vector3d(0.014, 0.02, 0.02);
-  const ScoreBreakdown exact = scoreBreakdown(snapshot, box, IouMode::Exact);
-  ASSERT_EQ(exact.voxels.size(), 9u);
-  EXPECT_EQ(exact.inside, 4u);   // x in [0, 0.01]
-  EXPECT_EQ(exact.partly, 4u);   // x in [0.01, 0.02]
-  EXPECT_EQ(exact.outside, 1u);  // the single voxel
-  EXPECT_NEAR(exact.volumes.true_positive, 5.6e-6, 1e-15);
-  EXPECT_NEAR(exact.volumes.predicted, 9e-6, 1e-15);
-  EXPECT_NEAR(exact.volumes.ground_truth, 5.6e-6, 1e-15);
-  const ScoreBreakdown centre = scoreBreakdown(snapshot, box, IouMode::Center);
-  EXPECT_EQ(centre.inside, 4u);  // centres at x = 0.005; those at 0.015 lie outside
-  EXPECT_EQ(centre.partly, 0u);
-  EXPECT_EQ(centre.outside, 5u);
-  EXPECT_EQ(scoreBreakdownColour(1.0), QColor(40, 200, 70));
-  EXPECT_EQ(scoreBreakdownColour(0.5), QColor(255, 180, 0));
-  EXPECT_EQ(scoreBreakdownColour(0.0), QColor(230, 45, 45));
 }
 
 TEST_F(ScoreBreakdownTest, EvaluationRowsAndBoxesShareOneSelection) {

@@ -12,12 +12,13 @@ namespace lom::ui {
 
 QString describeScoreBreakdown(const ScoreBreakdown& breakdown, const QString& name) {
   const QString object = QObject::tr("%1 (label %2)").arg(name).arg(breakdown.label);
-  if (breakdown.voxels.empty())
+  if (breakdown.centres.empty())
     return QObject::tr("Score breakdown of %1: the map has no voxels of this label.").arg(object);
   const IouVolumes& v = breakdown.volumes;
   const double covered = v.ground_truth > 0.0 ? v.true_positive / v.ground_truth : 0.0;
-  return QObject::tr("Score breakdown of %1: %2 voxels inside the box (green), %3 partly (amber), "
-                     "%4 outside (red); IU_3d %5 %, the voxels fill %6 % of the box.")
+  return QObject::tr("Score breakdown of %1: %2 voxels inside the box (green), %3 partly (red to "
+                     "amber to green by how much), %4 outside (red); IU_3d %5 %, the voxels fill "
+                     "%6 % of the box.")
       .arg(object)
       .arg(breakdown.inside)
       .arg(breakdown.partly)
@@ -59,8 +60,9 @@ void ScoreBreakdownReaction::refresh() {
   }
   const GroundTruthBox& box = boxes.box(selected);
   // The studio scores as `labeloctomap score` does by default: exact volumes.
+  const MapSnapshot& snapshot = *session_.worker().snapshot();
   const ScoreBreakdown breakdown =
-      scoreBreakdown(*session_.worker().snapshot(), box, EvaluationOptions().iou_mode);
+      scoreBreakdown(snapshot.voxels, snapshot.resolution, box, EvaluationOptions().iou_mode);
   scene_.showScoreBreakdown(&breakdown);
   const QString name = QString::fromStdString(
       !box.name.empty() ? box.name

@@ -136,6 +136,11 @@ struct UnscorableBox {
 void checkAnnotationsForSequence(const Sequence& sequence, const Annotations& annotations,
                                  const std::string& annotations_file);
 
+// Throws lom::Error (naming the file and the field) when there is no box, a
+// box's label is not an object label (1..label_count-1) of `labelled` ("the
+// sequence", "the map") or a label has two boxes.
+void checkBoxLabels(const Annotations& annotations, int label_count, const std::string& annotations_file,
+                    const std::string& labelled);
 // Throws lom::Error naming `map_file` and the field "labels" (or "labels[k]")
 // unless the map has the sequence's labels, with the same names in the same
 // order: a map fused from another sequence's label set.

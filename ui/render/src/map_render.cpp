@@ -23,6 +23,7 @@
 
 #include "lom/error.hpp"
 #include "lom/export.hpp"
+#include "lom/score_breakdown.hpp"
 #include "lom/sequence.hpp"
 
 namespace lom::render {
@@ -42,9 +43,35 @@ Eigen::Vector3d faceCentre(const SurfaceMesh& mesh, const std::array<std::uint32
   return bc >= ca ? 0.5 * (b + c) : 0.5 * (c + a);
 }
 
+// Colours of a label's unit faces by the share of each face's voxel inside
+// the label's box (the face's outward normal points away from its voxel);
+// grey for a label without a box.
+std::vector<Rgb> scoreColours(const SurfaceMesh& mesh, double resolution, const ScoreColours& score) {
+  const auto box = std::find_if(score.boxes.begin(), score.boxes.end(),
+                                [&](const GroundTruthBox& b) { return b.label == mesh.label; });
+  if (box == score.boxes.end()) {
+    const Rgb grey = mesh.label == 0 ? Rgb{150, 150, 160} : Rgb{195, 195, 200};
+    return std::vector<Rgb>(mesh.triangles.size(), grey);
+  }
+  std::vector<Eigen::Vector3d> voxels;
+  voxels.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d& a = mesh.vertices[t[0]];
+    const Eigen::Vector3d normal = (mesh.vertices[t[1]] - a).cross(mesh.vertices[t[2]] - a).normalized();
+    const Eigen::Vector3d inside = faceCentre(mesh, t) - 0.5 * resolution * normal;
+    // Snapped onto the voxel centres (voxelCenter's arithmetic).
+    voxels.push_back(((inside / resolution).array().floor() + 0.5).matrix() * resolution);
+  }
+  std::vector<Rgb> colours;
+  colours.reserve(voxels.size());
+  for (const double share : voxelSharesInBox(voxels, resolution, box->box, score.mode))
+    colours.push_back(scoreShareColour(share));
+  return colours;
+}
+
 // The voxel surfaces of the selected labels, coloured per triangle: by label,
-// or by the height of the triangle's centre (unit faces, so that colours
-// change from one voxel layer to the next).
+// by the height of the triangle's centre or by its voxel's share inside its
+// label's box (unit faces, so that colours change from one voxel to the next).
 vtkSmartPointer<vtkPolyData> labelSurfaces(const LabelMap& map, const RenderOptions& options,
                                            VoxelColouring colouring) {
   auto points = vtkSmartPointer<vtkPoints>::New();
@@ -56,7 +83,7 @@ vtkSmartPointer<vtkPolyData> labelSurfaces(const LabelMap& map, const RenderOpti
   std::vector<SurfaceMesh> meshes;
   for (const auto& [label, keys] : occupiedVoxelsByLabel(map, options.labels)) {
     VoxelSurfaceOptions surface;
-    surface.merge_coplanar = !by_height;
+    surface.merge_coplanar = !by_height && !options.score;
     meshes.push_back(voxelSurface(keys, map.parameters().resolution, surface));
     meshes.back().label = label;
   }
@@ -71,10 +98,17 @@ vtkSmartPointer<vtkPolyData> labelSurfaces(const LabelMap& map, const RenderOpti
     if (options.shading && color == Rgb{0, 0, 0}) color = {96, 96, 96};
     const vtkIdType offset = points->GetNumberOfPoints();
     for (const auto& v : mesh.vertices) points->InsertNextPoint(v.x(), v.y(), v.z());
-    for (const auto& t : mesh.triangles) {
+    const std::vector<Rgb> by_score =
+        options.score ? scoreColours(mesh, map.parameters().resolution, *options.score)
+                      : std::vector<Rgb>();
+    for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+      const auto& t = mesh.triangles[i];
       const vtkIdType ids[3] = {offset + t[0], offset + t[1], offset + t[2]};
       triangles->InsertNextCell(3, ids);
-      if (by_height) color = heights.colour(faceCentre(mesh, t));
+      if (options.score)
+        color = by_score[i];
+      else if (by_height)
+        color = heights.colour(faceCentre(mesh, t));
       colors->InsertNextTypedTuple(color.data());
     }
   }

@@ -15,9 +15,9 @@
 #include "lom/height_colours.hpp"
 #include "lom/objects.hpp"
 #include "lom/planning.hpp"
+#include "lom/score_breakdown.hpp"
 #include "lom/sequence.hpp"
 #include "lom/ui/map_snapshot.hpp"
-#include "lom/ui/score_breakdown.hpp"
 
 class QVTKOpenGLNativeWidget;
 
@@ -65,7 +65,7 @@ class SceneView : public QWidget {
   void showProjectionVoxels(const MapSnapshot* voxels, const LabelSet& labels);
   [[nodiscard]] size_t projectionVoxelCount() const;
   // A box's label's voxels coloured by how much of each lies inside the box
-  // (scoreBreakdownColour), over the map's; null hides them.
+  // (scoreShareColour), over the map's; null hides them.
   void showScoreBreakdown(const ScoreBreakdown* breakdown);
   [[nodiscard]] size_t scoreBreakdownCount() const;
   void setFrameCloudVisible(bool on);

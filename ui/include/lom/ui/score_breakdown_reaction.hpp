@@ -6,7 +6,7 @@
 #include <QString>
 
 #include "lom/ui/reaction.hpp"
-#include "lom/ui/score_breakdown.hpp"
+#include "lom/score_breakdown.hpp"
 
 namespace lom::ui {
 

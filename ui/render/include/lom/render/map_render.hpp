@@ -9,7 +9,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "lom/annotations.hpp"
 #include "lom/camera.hpp"
+#include "lom/evaluation.hpp"
 #include "lom/height_colours.hpp"
 #include "lom/images.hpp"
 #include "lom/label_map.hpp"
@@ -27,6 +29,15 @@ class RenderUnavailable : public std::runtime_error {
 struct PinholeView {
   CameraIntrinsics intrinsics;
   Eigen::Isometry3d T_world_camera = Eigen::Isometry3d::Identity();
+};
+
+// Score colours (render --colour score): each voxel of a boxed label in the
+// colour of its share inside that label's box as IU_3d counts it
+// (scoreShareColour: green inside, red outside, blends between); the voxels of
+// labels without a box in grey.
+struct ScoreColours {
+  std::vector<GroundTruthBox> boxes;  // at most one per label (checkBoxLabels)
+  IouMode mode = IouMode::Exact;
 };
 
 struct RenderOptions {
@@ -51,6 +62,8 @@ struct RenderOptions {
   // Label colours, or height along the orbit's up (orbitUp, also with a
   // camera view); when absent, see colouringFor.
   std::optional<VoxelColouring> colouring;
+  // Replaces `colouring` when set.
+  std::optional<ScoreColours> score;
   Rgb background{255, 255, 255};
 };
 
