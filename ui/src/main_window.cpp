@@ -35,6 +35,7 @@
 #include "lom/ui/fusion_reactions.hpp"
 #include "lom/ui/fusion_status.hpp"
 #include "lom/ui/map_legend_panel.hpp"
+#include "lom/ui/measure_reaction.hpp"
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/objects_panel.hpp"
 #include "lom/ui/open_map_reaction.hpp"
@@ -500,12 +501,11 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   QAction* breakdown = view->addAction(tr("Show Score &Breakdown of Selected Box"));
   breakdown->setShortcut(Qt::CTRL + Qt::Key_E);
   connect(new ScoreBreakdownReaction(breakdown, *session_, *scene_view_),
-          &ScoreBreakdownReaction::status, this, [this](const QString& message) {
-            if (message.isEmpty())
-              statusBar()->clearMessage();
-            else
-              statusBar()->showMessage(message);
-          });
+          &ScoreBreakdownReaction::status, this, &MainWindow::showStatusMessage);
+  QAction* measure = view->addAction(tr("&Measure Distance"));
+  measure->setShortcut(Qt::CTRL + Qt::Key_D);
+  connect(new MeasureReaction(measure, *session_, *scene_view_), &MeasureReaction::status, this,
+          &MainWindow::showStatusMessage);
   scene_action(tr("&Opacity by Probability"), SceneViewReaction::Kind::OpacityByProbability,
                QKeySequence());
   scene_action(tr("Colour by &Height"), SceneViewReaction::Kind::ColourByHeight, QKeySequence());
@@ -521,6 +521,13 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
 }
 
 QString MainWindow::statusText() const { return status_label_->text(); }
+
+void MainWindow::showStatusMessage(const QString& message) {
+  if (message.isEmpty())
+    statusBar()->clearMessage();
+  else
+    statusBar()->showMessage(message);
+}
 
 void MainWindow::onSequenceChanged() {
   updateTitle();

@@ -4,6 +4,8 @@
 #include <vtkActor.h>
 #include <vtkAxesActor.h>
 #include <vtkBillboardTextActor3D.h>
+#include <vtkCellArray.h>
+#include <vtkPoints.h>
 #include <vtkTextProperty.h>
 #include <vtkCamera.h>
 #include <vtkGenericOpenGLRenderWindow.h>
@@ -101,6 +103,12 @@ struct SceneView::Scene {
   size_t projection_count = 0;
   scene::VoxelLayer breakdown;
   size_t breakdown_count = 0;
+  // Drawn by a renderer of its own on top of the scene's (same camera).
+  vtkNew<vtkRenderer> overlay;
+  PolyActor measurement;
+  vtkNew<vtkBillboardTextActor3D> measurement_text;
+  size_t measurement_points = 0;
+  QString measurement_label;
   std::unique_ptr<scene::BoxHandles> handles;
   MapSnapshot snapshot;
   LabelSet labels;
@@ -155,6 +163,25 @@ struct SceneView::Scene {
     renderer->AddActor(voxels.actor());
     renderer->AddActor(projection.actor());
     renderer->AddActor(breakdown.actor());
+    render_window->SetNumberOfLayers(2);
+    overlay->SetLayer(1);
+    overlay->InteractiveOff();
+    overlay->SetActiveCamera(renderer->GetActiveCamera());
+    render_window->AddRenderer(overlay);
+    measurement.actor->GetProperty()->SetColor(1.0, 0.35, 0.9);
+    measurement.actor->GetProperty()->SetLineWidth(3);
+    measurement.actor->GetProperty()->SetPointSize(11);
+    measurement.actor->GetProperty()->SetRenderPointsAsSpheres(true);
+    measurement.actor->GetProperty()->LightingOff();
+    measurement.show(nullptr);
+    overlay->AddActor(measurement.actor);
+    measurement_text->GetTextProperty()->SetFontSize(16);
+    measurement_text->GetTextProperty()->SetBold(true);
+    measurement_text->GetTextProperty()->SetColor(1.0, 0.35, 0.9);
+    measurement_text->GetTextProperty()->SetBackgroundColor(0.1, 0.1, 0.12);
+    measurement_text->GetTextProperty()->SetBackgroundOpacity(0.7);
+    measurement_text->SetVisibility(false);
+    overlay->AddActor(measurement_text);
     projection.actor()->GetProperty()->SetRepresentationToWireframe();
     projection.actor()->GetProperty()->SetLineWidth(1.5);
     projection.actor()->GetProperty()->LightingOff();
@@ -400,6 +427,42 @@ void SceneView::showScoreBreakdown(const ScoreBreakdown* breakdown) {
 
 size_t SceneView::scoreBreakdownCount() const { return scene_->breakdown_count; }
 
+void SceneView::showMeasurement(const std::vector<Eigen::Vector3d>& points, const QString& label) {
+  scene_->measurement_points = points.size();
+  scene_->measurement_label = points.size() >= 2 ? label : QString();
+  if (points.empty()) {
+    scene_->measurement.show(nullptr);
+  } else {
+    auto data = vtkSmartPointer<vtkPolyData>::New();
+    auto vertices = vtkSmartPointer<vtkPoints>::New();
+    auto markers = vtkSmartPointer<vtkCellArray>::New();
+    for (const Eigen::Vector3d& p : points) {
+      const vtkIdType id = vertices->InsertNextPoint(p.x(), p.y(), p.z());
+      markers->InsertNextCell(1, &id);
+    }
+    data->SetPoints(vertices);
+    data->SetVerts(markers);
+    if (points.size() >= 2) {
+      auto lines = vtkSmartPointer<vtkCellArray>::New();
+      const vtkIdType ends[2] = {0, 1};
+      lines->InsertNextCell(2, ends);
+      data->SetLines(lines);
+    }
+    scene_->measurement.show(data);
+  }
+  scene_->measurement_text->SetVisibility(!scene_->measurement_label.isEmpty());
+  if (points.size() >= 2) {
+    const Eigen::Vector3d middle = 0.5 * (points[0] + points[1]);
+    scene_->measurement_text->SetPosition(middle.x(), middle.y(), middle.z());
+    scene_->measurement_text->SetInput(scene_->measurement_label.toStdString().c_str());
+  }
+  render();
+}
+
+size_t SceneView::measurementPointCount() const { return scene_->measurement_points; }
+
+QString SceneView::measurementLabel() const { return scene_->measurement_label; }
+
 size_t SceneView::voxelCount() const { return scene_->voxel_count; }
 
 bool SceneView::boxHandlesVisible() const { return scene_->handles->visible(); }
@@ -485,16 +548,33 @@ size_t SceneView::pickPlanArrowCount() const { return scene_->plan_arrow_count; 
 
 void SceneView::pickAt(int x, int y) {
   vtkRenderer* renderer = scene_->renderer;
-  if (renderer->GetZ(x, y) >= 1.0) return;  // background
-  vtkNew<vtkWorldPointPicker> picker;
-  picker->Pick(x, y, 0.0, renderer);
-  Eigen::Vector3d point;
-  picker->GetPickPosition(point.data());
+  // The voxels drawn are hit by a ray through the pixel, computed here: the
+  // depth buffer that a world-point picker reads is not always readable
+  // (multisampled, as under Xvfb's Mesa), and this picks exactly the voxel seen.
+  auto world = [renderer, x, y](double depth) {
+    renderer->SetDisplayPoint(x, y, depth);
+    renderer->DisplayToWorld();
+    const double* w = renderer->GetWorldPoint();
+    return Eigen::Vector3d(w[0] / w[3], w[1] / w[3], w[2] / w[3]);
+  };
+  const Eigen::Vector3d near_point = world(0.0);
+  std::optional<Eigen::Vector3d> point =
+      firstVoxelHit(scene_->snapshot, scene_->hidden, near_point, world(1.0) - near_point);
+  if (!point) {
+    // No voxel there: whatever else the depth buffer holds (the frame's points).
+    if (renderer->GetZ(x, y) >= 1.0) return;  // background, or an unreadable buffer
+    vtkNew<vtkWorldPointPicker> picker;
+    picker->Pick(x, y, 0.0, renderer);
+    point.emplace();
+    picker->GetPickPosition(point->data());
+  }
+  emit surfacePicked(*point);
   Eigen::Vector3d eye;
   renderer->GetActiveCamera()->GetPosition(eye.data());
   const double step = scene_->snapshot.resolution > 0 ? 0.3 * scene_->snapshot.resolution : 0.003;
-  if ((point - eye).norm() > 0) point += (point - eye).normalized() * step;
-  emit pointPicked(point);
+  Eigen::Vector3d inside = *point;
+  if ((inside - eye).norm() > 0) inside += (inside - eye).normalized() * step;
+  emit pointPicked(inside);
 }
 
 QImage SceneView::renderToImage() {

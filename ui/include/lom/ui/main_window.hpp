@@ -83,6 +83,8 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] bool confirmStopWork();
   void connectScene();
   void updateTitle();
+  // A reaction's message that lasts until the next one; empty clears it.
+  void showStatusMessage(const QString& message);
   void onSequenceChanged();
   void onCurrentFrameChanged();
 

@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <vector>
 
 #include "lom/label_map.hpp"
@@ -28,5 +29,14 @@ struct MapSnapshot {
 using MapSnapshotPtr = std::shared_ptr<const MapSnapshot>;
 
 [[nodiscard]] MapSnapshotPtr takeSnapshot(const LabelMap& map, size_t frames_fused);
+
+// Where the ray from `origin` along `direction` first enters a voxel of the
+// snapshot (a cube of the voxel's size; voxels of `hidden` labels left out):
+// the point on that voxel's face, or none when it meets no voxel. What a click
+// in the 3D view picks.
+[[nodiscard]] std::optional<Eigen::Vector3d> firstVoxelHit(const MapSnapshot& snapshot,
+                                                           const std::set<int>& hidden,
+                                                           const Eigen::Vector3d& origin,
+                                                           const Eigen::Vector3d& direction);
 
 }  // namespace lom::ui

@@ -4,12 +4,14 @@
 // one highlighted, and the ground-truth boxes with handles on the selected one.
 // VTK stays behind this header (see scene_adapters.hpp in src/).
 #include <QImage>
+#include <QString>
 #include <QWidget>
 #include <cstddef>
 #include <memory>
 #include <optional>
 #include <set>
 #include <utility>
+#include <vector>
 
 #include "lom/annotations.hpp"
 #include "lom/height_colours.hpp"
@@ -83,6 +85,13 @@ class SceneView : public QWidget {
   [[nodiscard]] size_t pickPlanBoxCount() const;    // occluders + target
   [[nodiscard]] size_t pickPlanArrowCount() const;  // one per step
 
+  // A measurement: a marker at each point, a line between two points and
+  // `label` beside the line's middle, drawn over everything else so that the
+  // voxels never hide it. No points hide it.
+  void showMeasurement(const std::vector<Eigen::Vector3d>& points, const QString& label);
+  [[nodiscard]] size_t measurementPointCount() const;
+  [[nodiscard]] QString measurementLabel() const;
+
   // Points of the current frame's cloud (one per valid depth pixel).
   [[nodiscard]] size_t framePointCount() const;
   // Renders now and returns the 3D view's pixels (same size as this widget).
@@ -92,6 +101,8 @@ class SceneView : public QWidget {
   // A click (press and release without dragging) hit the scene at this point,
   // nudged a little along the view ray so that it lies inside the voxel hit.
   void pointPicked(const Eigen::Vector3d& point_world);
+  // The same click: the point on the visible surface (a voxel's face), for measuring.
+  void surfacePicked(const Eigen::Vector3d& point_world);
   // The 3D handles changed the selected box.
   void boxEdited(const lom::OrientedBox& box);
   // After the map's voxels were drawn: the heights (metres along the map's up)

@@ -1,0 +1,125 @@
+// View > Measure Distance: clicks on the map place points on the surface
+// clicked; two give the distance, in the view and in the status bar, also
+// along and across the map's up. (A picture of a measurement across the
+// demo's bin was looked at: the line and its length stay in front of the voxels.)
+#include <gtest/gtest.h>
+
+#include <QAction>
+#include <QStatusBar>
+#include <QTest>
+#include <QVTKOpenGLNativeWidget.h>
+
+#include "demo_window_fixture.hpp"
+#include "lom/ui/map_snapshot.hpp"
+#include "lom/ui/measure_reaction.hpp"
+#include "lom/ui/scene_view.hpp"
+
+namespace lom::ui {
+namespace {
+
+class MeasureTest : public fixture::DemoWindowTest {
+ protected:
+  QString statusMessage() { return window_.statusBar()->currentMessage(); }
+};
+
+TEST(Measurement, DistanceAlongAndAcrossUp) {
+  const Eigen::Vector3d a(0.1, 0.2, 0.3), b(0.4, 0.2, 0.7);  // 30 cm across, 40 cm up
+  EXPECT_EQ(describeMeasurement(a, b, Eigen::Vector3d(0, 0, 2)),
+            "Distance 50.0 cm from (0.100, 0.200, 0.300) to (0.400, 0.200, 0.700); 40.0 cm along "
+            "the map's up, 30.0 cm across it (to within a voxel: points lie on the voxels' faces).");
+  EXPECT_EQ(describeMeasurement(b, a, std::nullopt),
+            "Distance 50.0 cm from (0.400, 0.200, 0.700) to (0.100, 0.200, 0.300) (to within a "
+            "voxel: points lie on the voxels' faces).");
+  EXPECT_EQ(formatLength(0.0123), "1.2 cm");
+  EXPECT_EQ(formatLength(2.5), "2.500 m");
+}
+
+TEST(Measurement, ClicksPickTheFaceOfTheFirstVoxelAlongTheRay) {
+  MapSnapshot snapshot;
+  snapshot.resolution = 0.01;
+  snapshot.voxels.push_back({Eigen::Vector3d(0.105, 0.005, 0.005), 0.01, 1, 0.9f});
+  snapshot.voxels.push_back({Eigen::Vector3d(0.21, 0.01, 0.01), 0.02, 2, 0.9f});  // a pruned node
+  const Eigen::Vector3d origin(0.0, 0.004, 0.006);
+  const auto hit = firstVoxelHit(snapshot, {}, origin, Eigen::Vector3d(2.0, 0.0, 0.0));
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_NEAR((*hit - Eigen::Vector3d(0.1, 0.004, 0.006)).norm(), 0.0, 1e-12);
+  // With label 1 hidden, the ray goes on to the larger voxel behind it.
+  const auto behind = firstVoxelHit(snapshot, {1}, origin, Eigen::Vector3d(1.0, 0.0, 0.0));
+  ASSERT_TRUE(behind.has_value());
+  EXPECT_NEAR(behind->x(), 0.2, 1e-12);
+  // Parallel to a face outside the voxels, pointing away, or no voxels at all: nothing.
+  EXPECT_FALSE(firstVoxelHit(snapshot, {}, Eigen::Vector3d(0, 0.05, 0.005), Eigen::Vector3d::UnitX()));
+  EXPECT_FALSE(firstVoxelHit(snapshot, {}, origin, -Eigen::Vector3d::UnitX()));
+  EXPECT_FALSE(firstVoxelHit(MapSnapshot{}, {}, origin, Eigen::Vector3d::UnitX()));
+  EXPECT_FALSE(firstVoxelHit(snapshot, {}, origin, Eigen::Vector3d::Zero()));
+  // A slanted ray enters through the face it meets first.
+  const auto slanted = firstVoxelHit(snapshot, {}, Eigen::Vector3d(0.095, -0.005, 0.005),
+                                     Eigen::Vector3d(1.0, 1.0, 0.0));
+  ASSERT_TRUE(slanted.has_value());
+  EXPECT_NEAR(slanted->x(), 0.1, 1e-12);
+  EXPECT_NEAR(slanted->y(), 0.0, 1e-12);
+}
+
+TEST_F(MeasureTest, ClicksOnTheMapMeasureBetweenSurfacePoints) {
+  openAndFuse();
+  SceneView& scene = window_.sceneView();
+  scene.setFrameCloudVisible(false);
+  scene.zoomToMap();
+  QAction* measure = window_.findAction("Measure Distance");
+  ASSERT_NE(measure, nullptr);
+  EXPECT_TRUE(measure->isCheckable());
+  EXPECT_EQ(measure->shortcut(), QKeySequence("Ctrl+D"));
+
+  // Off: a click on the map measures nothing.
+  auto* vtk = scene.findChild<QVTKOpenGLNativeWidget*>();
+  ASSERT_NE(vtk, nullptr);
+  std::vector<Eigen::Vector3d> surface;
+  QObject::connect(&scene, &SceneView::surfacePicked,
+                   [&](const Eigen::Vector3d& point) { surface.push_back(point); });
+  const QPoint middle(vtk->width() / 2, vtk->height() / 2);
+  QTest::mouseClick(vtk, Qt::LeftButton, Qt::NoModifier, middle);
+  ASSERT_EQ(surface.size(), 1u) << "the map lies in the middle of the view";
+  EXPECT_EQ(scene.measurementPointCount(), 0u);
+  // The click picks the voxel behind the surface point (Picked Voxel, Add Box at Clicked Point).
+  StudioSession& session = window_.session();
+  ASSERT_TRUE(session.pickedPoint().has_value());
+  bool occupied = false;
+  QObject::connect(&session.worker(), &MapWorker::voxelPicked,
+                   [&](const Eigen::Vector3d&, const VoxelState& voxel) { occupied = voxel.occupied; });
+  ASSERT_TRUE(QTest::qWaitFor([&] { return occupied; }, 5000)) << "the voxel clicked is occupied";
+
+  measure->trigger();
+  EXPECT_EQ(statusMessage().toStdString(), "Measure: click the first point on the map.");
+  QTest::mouseClick(vtk, Qt::LeftButton, Qt::NoModifier, middle);
+  ASSERT_EQ(surface.size(), 2u);
+  EXPECT_EQ(scene.measurementPointCount(), 1u);
+  EXPECT_EQ(statusMessage().toStdString(), "Measure: click the second point.");
+  // The point clicked lies on a voxel's face: within half a voxel's diagonal
+  // of an occupied voxel's centre.
+  const MapSnapshot& snapshot = *window_.session().worker().snapshot();
+  double nearest = 1e9;
+  for (const OccupiedVoxel& voxel : snapshot.voxels)
+    nearest = std::min(nearest, (voxel.center - surface.back()).norm() - 0.5 * std::sqrt(3.0) * voxel.size);
+  EXPECT_LE(nearest, 1e-3);
+
+  const Eigen::Vector3d first = surface.back();
+  const Eigen::Vector3d second = first + Eigen::Vector3d(0.12, 0.0, 0.05);
+  emit scene.surfacePicked(second);
+  EXPECT_EQ(scene.measurementPointCount(), 2u);
+  EXPECT_EQ(scene.measurementLabel().toStdString(), "13.0 cm");
+  EXPECT_EQ(statusMessage().toStdString(), describeMeasurement(first, second, snapshot.up).toStdString());
+  EXPECT_TRUE(statusMessage().startsWith("Distance 13.0 cm from ")) << statusMessage().toStdString();
+
+  // A third point starts a new measurement; off clears it.
+  emit scene.surfacePicked(second);
+  EXPECT_EQ(scene.measurementPointCount(), 1u);
+  EXPECT_TRUE(scene.measurementLabel().isEmpty());
+  measure->trigger();
+  EXPECT_EQ(scene.measurementPointCount(), 0u);
+  EXPECT_TRUE(statusMessage().isEmpty());
+  emit scene.surfacePicked(second);
+  EXPECT_EQ(scene.measurementPointCount(), 0u) << "measuring is off";
+}
+
+}  // namespace
+}  // namespace lom::ui
