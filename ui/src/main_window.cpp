@@ -498,7 +498,7 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   scene_action(tr("Show &Frame Points"), SceneViewReaction::Kind::FramePoints, QKeySequence());
   scene_action(tr("Show &Projection Voxels of This View"), SceneViewReaction::Kind::ProjectionVoxels,
                QKeySequence());
-  QAction* breakdown = view->addAction(tr("Show Score &Breakdown of Selected Box"));
+  QAction* breakdown = view->addAction(tr("Show Score &Breakdown"));
   breakdown->setShortcut(Qt::CTRL + Qt::Key_E);
   connect(new ScoreBreakdownReaction(breakdown, *session_, *scene_view_),
           &ScoreBreakdownReaction::status, this, &MainWindow::showStatusMessage);

@@ -410,15 +410,14 @@ void SceneView::showProjectionVoxels(const MapSnapshot* voxels, const LabelSet& 
 
 size_t SceneView::projectionVoxelCount() const { return scene_->projection_count; }
 
-void SceneView::showScoreBreakdown(const ScoreBreakdown* breakdown) {
+void SceneView::showScoreBreakdown(const std::vector<ScoreBreakdown>& breakdowns) {
   std::vector<scene::Cube> cubes;
-  if (breakdown) {
-    cubes.reserve(breakdown->centres.size());
+  for (const ScoreBreakdown& breakdown : breakdowns) {
     // A little larger than the map's cubes (0.96 of a voxel), so that these
     // cover the label's own cubes instead of flickering with them.
-    for (size_t i = 0; i < breakdown->centres.size(); ++i) {
-      const Rgb colour = scoreShareColour(breakdown->shares[i]);
-      cubes.push_back({breakdown->centres[i], breakdown->resolution, QColor(colour[0], colour[1], colour[2])});
+    for (size_t i = 0; i < breakdown.centres.size(); ++i) {
+      const Rgb colour = scoreShareColour(breakdown.shares[i]);
+      cubes.push_back({breakdown.centres[i], breakdown.resolution, QColor(colour[0], colour[1], colour[2])});
     }
   }
   scene_->breakdown_count = scene_->breakdown.showCubes(cubes);

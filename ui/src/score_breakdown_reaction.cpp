@@ -27,6 +27,19 @@ QString describeScoreBreakdown(const ScoreBreakdown& breakdown, const QString& n
       .arg(covered * 100.0, 0, 'f', 1);
 }
 
+QString describeScoreBreakdowns(const std::vector<ScoreBreakdown>& breakdowns) {
+  if (breakdowns.empty())
+    return QObject::tr("Score breakdown: no box to score; add one (Annotate menu).");
+  size_t inside = 0, partly = 0, outside = 0;
+  for (const ScoreBreakdown& b : breakdowns) inside += b.inside, partly += b.partly, outside += b.outside;
+  return QObject::tr("Score breakdown of all %1 boxes: %2 voxels inside their box (green), %3 partly "
+                     "(red to amber to green by how much), %4 outside (red). Select a box for its own.")
+      .arg(breakdowns.size())
+      .arg(inside)
+      .arg(partly)
+      .arg(outside);
+}
+
 ScoreBreakdownReaction::ScoreBreakdownReaction(QAction* action, StudioSession& session,
                                                SceneView& scene)
     : Reaction(action), session_(session), scene_(scene) {
@@ -48,27 +61,34 @@ void ScoreBreakdownReaction::refresh() {
   const AnnotationsModel& boxes = session_.annotations();
   const auto sequence = session_.sequence();
   if (!action()->isChecked() || !sequence) {
-    if (scene_.scoreBreakdownCount() > 0) scene_.showScoreBreakdown(nullptr);
+    if (scene_.scoreBreakdownCount() > 0) scene_.showScoreBreakdown({});
     return;
   }
-  const int selected = boxes.selected();
-  if (selected < 0) {
-    scene_.showScoreBreakdown(nullptr);
-    emit status(tr("Score breakdown: select a box (Boxes panel, Evaluation panel or Tab in the "
-                   "3D view)."));
-    return;
-  }
-  const GroundTruthBox& box = boxes.box(selected);
   // The studio scores as `labeloctomap score` does by default: exact volumes.
+  const IouMode mode = EvaluationOptions().iou_mode;
   const MapSnapshot& snapshot = *session_.worker().snapshot();
-  const ScoreBreakdown breakdown =
-      scoreBreakdown(snapshot.voxels, snapshot.resolution, box, EvaluationOptions().iou_mode);
-  scene_.showScoreBreakdown(&breakdown);
-  const QString name = QString::fromStdString(
-      !box.name.empty() ? box.name
-      : sequence->labels.contains(box.label) ? sequence->labels.at(box.label).name
-                                             : std::string("?"));
-  emit status(describeScoreBreakdown(breakdown, name));
+  const int selected = boxes.selected();
+  if (selected >= 0) {
+    const GroundTruthBox& box = boxes.box(selected);
+    const ScoreBreakdown breakdown = scoreBreakdown(snapshot.voxels, snapshot.resolution, box, mode);
+    scene_.showScoreBreakdown({breakdown});
+    const QString name = QString::fromStdString(
+        !box.name.empty() ? box.name
+        : sequence->labels.contains(box.label) ? sequence->labels.at(box.label).name
+                                               : std::string("?"));
+    emit status(describeScoreBreakdown(breakdown, name));
+    return;
+  }
+  // No box selected: every box that is scored (the first of its label, an
+  // object label of the sequence).
+  std::vector<ScoreBreakdown> breakdowns;
+  for (int i = 0; i < boxes.boxCount(); ++i) {
+    const GroundTruthBox& box = boxes.box(i);
+    if (box.label > 0 && sequence->labels.contains(box.label) && boxes.indexOfLabel(box.label) == i)
+      breakdowns.push_back(scoreBreakdown(snapshot.voxels, snapshot.resolution, box, mode));
+  }
+  scene_.showScoreBreakdown(breakdowns);
+  emit status(describeScoreBreakdowns(breakdowns));
 }
 
 }  // namespace lom::ui

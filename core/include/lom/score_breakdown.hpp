@@ -1,8 +1,8 @@
 #pragma once
 // Where a box's label's voxels stand against the box, voxel by voxel, as
 // IU_3d counts them (docs/evaluation.md): wholly inside, partly inside (exact
-// mode only) or outside. The studio's View > Show Score Breakdown of Selected
-// Box and `labeloctomap render --colour score` show it.
+// mode only) or outside. The studio's View > Show Score Breakdown and
+// `labeloctomap render --colour score` show it.
 #include <Eigen/Core>
 #include <cstddef>
 #include <vector>

@@ -66,9 +66,9 @@ class SceneView : public QWidget {
   // Extra, smaller cubes (e.g. a single view's projection); null hides them.
   void showProjectionVoxels(const MapSnapshot* voxels, const LabelSet& labels);
   [[nodiscard]] size_t projectionVoxelCount() const;
-  // A box's label's voxels coloured by how much of each lies inside the box
-  // (scoreShareColour), over the map's; null hides them.
-  void showScoreBreakdown(const ScoreBreakdown* breakdown);
+  // Boxes' labels' voxels coloured by how much of each lies inside its box
+  // (scoreShareColour), over the map's; none hides them.
+  void showScoreBreakdown(const std::vector<ScoreBreakdown>& breakdowns);
   [[nodiscard]] size_t scoreBreakdownCount() const;
   void setFrameCloudVisible(bool on);
   void showBoxes(const Annotations& boxes, int selected, const LabelSet& labels);
