@@ -1,6 +1,7 @@
-// View > Measure Distance: clicks on the map place points on the surface
-// clicked; two give the distance, in the view and in the status bar, also
-// along and across the map's up. (A picture of a measurement across the
+// Pointing at the map in the 3D view: a click picks the voxel seen, the
+// resting mouse names it in a tooltip, and View > Measure Distance turns
+// clicks into points on the surface clicked; two give the distance, in the
+// view and in the status bar, also along and across the map's up. (A picture of a measurement across the
 // demo's bin was looked at: the line and its length stay in front of the voxels.)
 #include <gtest/gtest.h>
 
@@ -42,11 +43,13 @@ TEST(Measurement, ClicksPickTheFaceOfTheFirstVoxelAlongTheRay) {
   const Eigen::Vector3d origin(0.0, 0.004, 0.006);
   const auto hit = firstVoxelHit(snapshot, {}, origin, Eigen::Vector3d(2.0, 0.0, 0.0));
   ASSERT_TRUE(hit.has_value());
-  EXPECT_NEAR((*hit - Eigen::Vector3d(0.1, 0.004, 0.006)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((hit->point - Eigen::Vector3d(0.1, 0.004, 0.006)).norm(), 0.0, 1e-12);
+  EXPECT_EQ(hit->voxel, 0u);
   // With label 1 hidden, the ray goes on to the larger voxel behind it.
   const auto behind = firstVoxelHit(snapshot, {1}, origin, Eigen::Vector3d(1.0, 0.0, 0.0));
   ASSERT_TRUE(behind.has_value());
-  EXPECT_NEAR(behind->x(), 0.2, 1e-12);
+  EXPECT_NEAR(behind->point.x(), 0.2, 1e-12);
+  EXPECT_EQ(behind->voxel, 1u);
   // Parallel to a face outside the voxels, pointing away, or no voxels at all: nothing.
   EXPECT_FALSE(firstVoxelHit(snapshot, {}, Eigen::Vector3d(0, 0.05, 0.005), Eigen::Vector3d::UnitX()));
   EXPECT_FALSE(firstVoxelHit(snapshot, {}, origin, -Eigen::Vector3d::UnitX()));
@@ -56,8 +59,8 @@ TEST(Measurement, ClicksPickTheFaceOfTheFirstVoxelAlongTheRay) {
   const auto slanted = firstVoxelHit(snapshot, {}, Eigen::Vector3d(0.095, -0.005, 0.005),
                                      Eigen::Vector3d(1.0, 1.0, 0.0));
   ASSERT_TRUE(slanted.has_value());
-  EXPECT_NEAR(slanted->x(), 0.1, 1e-12);
-  EXPECT_NEAR(slanted->y(), 0.0, 1e-12);
+  EXPECT_NEAR(slanted->point.x(), 0.1, 1e-12);
+  EXPECT_NEAR(slanted->point.y(), 0.0, 1e-12);
 }
 
 TEST_F(MeasureTest, ClicksOnTheMapMeasureBetweenSurfacePoints) {
@@ -119,6 +122,30 @@ TEST_F(MeasureTest, ClicksOnTheMapMeasureBetweenSurfacePoints) {
   EXPECT_TRUE(statusMessage().isEmpty());
   emit scene.surfacePicked(second);
   EXPECT_EQ(scene.measurementPointCount(), 0u) << "measuring is off";
+}
+
+TEST_F(MeasureTest, RestingTheMouseOnAVoxelNamesItsLabel) {
+  openAndFuse();
+  SceneView& scene = window_.sceneView();
+  scene.setFrameCloudVisible(false);
+  scene.zoomToMap();
+  auto* vtk = scene.findChild<QVTKOpenGLNativeWidget*>();
+  ASSERT_NE(vtk, nullptr);
+  QTest::mouseMove(vtk, QPoint(vtk->width() / 2, vtk->height() / 2));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !scene.hoverText().isEmpty(); }, 5000))
+      << "the map lies in the middle of the view";
+  const QString text = scene.hoverText();
+  const LabelSet& labels = window_.session().sequence()->labels;
+  bool named = false;
+  for (const LabelInfo& label : labels.all())
+    named = named || text.startsWith(QString::fromStdString(label.name) + " (label ");
+  EXPECT_TRUE(named) << text.toStdString();
+  EXPECT_TRUE(text.contains("), p = 0.")) << text.toStdString();
+  EXPECT_TRUE(text.contains("1 cm voxel at (")) << text.toStdString();
+  // Over the background of the view: no voxel, no text.
+  QTest::mouseMove(vtk, QPoint(3, 3));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return scene.hoverText().isEmpty(); }, 5000))
+      << scene.hoverText().toStdString();
 }
 
 }  // namespace

@@ -26,14 +26,15 @@ MapSnapshotPtr takeSnapshot(const LabelMap& map, size_t frames_fused) {
   return snapshot;
 }
 
-std::optional<Eigen::Vector3d> firstVoxelHit(const MapSnapshot& snapshot, const std::set<int>& hidden,
-                                             const Eigen::Vector3d& origin,
-                                             const Eigen::Vector3d& direction) {
+std::optional<VoxelHit> firstVoxelHit(const MapSnapshot& snapshot, const std::set<int>& hidden,
+                                      const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) {
   if (!(direction.squaredNorm() > 0.0)) return std::nullopt;
   const Eigen::Vector3d d = direction.normalized();
   const Eigen::Vector3d inverse = d.cwiseInverse();  // +-inf along axes the ray is parallel to
   double nearest = std::numeric_limits<double>::infinity();
-  for (const OccupiedVoxel& voxel : snapshot.voxels) {
+  size_t nearest_voxel = 0;
+  for (size_t index = 0; index < snapshot.voxels.size(); ++index) {
+    const OccupiedVoxel& voxel = snapshot.voxels[index];
     if (hidden.count(voxel.label)) continue;
     // Slabs: the ray's entry into the cube is the largest of its entries into
     // the three slabs, its exit the smallest exit.
@@ -51,10 +52,10 @@ std::optional<Eigen::Vector3d> firstVoxelHit(const MapSnapshot& snapshot, const 
       exit = std::min(exit, std::max(t0, t1));
       meets = entry <= exit;
     }
-    if (meets && entry < nearest) nearest = entry;
+    if (meets && entry < nearest) nearest = entry, nearest_voxel = index;
   }
   if (!std::isfinite(nearest)) return std::nullopt;
-  return origin + nearest * d;
+  return VoxelHit{origin + nearest * d, nearest_voxel};
 }
 
 }  // namespace lom::ui

@@ -22,6 +22,8 @@
 #include <vtkWorldPointPicker.h>
 
 #include <QSurfaceFormat>
+#include <QTimer>
+#include <QToolTip>
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
@@ -60,18 +62,43 @@ class StudioInteractorStyle : public vtkInteractorStyleTrackballCamera {
   vtkTypeMacro(StudioInteractorStyle, vtkInteractorStyleTrackballCamera);
 
   std::function<void(int, int)> on_click;
+  // The mouse moved with no button down (not turning or moving the view).
+  std::function<void(int, int)> on_hover;
 
   void OnLeftButtonDown() override {
     const int* position = GetInteractor()->GetEventPosition();
     press_[0] = position[0];
     press_[1] = position[1];
+    ++buttons_down_;
     vtkInteractorStyleTrackballCamera::OnLeftButtonDown();
   }
   void OnLeftButtonUp() override {
     vtkInteractorStyleTrackballCamera::OnLeftButtonUp();
+    buttons_down_ = std::max(buttons_down_ - 1, 0);
     const int* position = GetInteractor()->GetEventPosition();
     if (std::abs(position[0] - press_[0]) + std::abs(position[1] - press_[1]) <= 3 && on_click)
       on_click(position[0], position[1]);
+  }
+  void OnMiddleButtonDown() override {
+    ++buttons_down_;
+    vtkInteractorStyleTrackballCamera::OnMiddleButtonDown();
+  }
+  void OnMiddleButtonUp() override {
+    buttons_down_ = std::max(buttons_down_ - 1, 0);
+    vtkInteractorStyleTrackballCamera::OnMiddleButtonUp();
+  }
+  void OnRightButtonDown() override {
+    ++buttons_down_;
+    vtkInteractorStyleTrackballCamera::OnRightButtonDown();
+  }
+  void OnRightButtonUp() override {
+    buttons_down_ = std::max(buttons_down_ - 1, 0);
+    vtkInteractorStyleTrackballCamera::OnRightButtonUp();
+  }
+  void OnMouseMove() override {
+    vtkInteractorStyleTrackballCamera::OnMouseMove();
+    const int* position = GetInteractor()->GetEventPosition();
+    if (buttons_down_ == 0 && on_hover) on_hover(position[0], position[1]);
   }
   void OnChar() override {}
   void OnKeyPress() override {}
@@ -79,6 +106,7 @@ class StudioInteractorStyle : public vtkInteractorStyleTrackballCamera {
 
  private:
   int press_[2] = {0, 0};
+  int buttons_down_ = 0;
 };
 vtkStandardNewMacro(StudioInteractorStyle);
 
@@ -200,6 +228,16 @@ SceneView::SceneView(QWidget* parent)
   vtkRenderWindowInteractor* interactor = scene_->render_window->GetInteractor();
   vtkNew<StudioInteractorStyle> style;
   style->on_click = [this](int x, int y) { pickAt(x, y); };
+  // Hovering names the voxel under the mouse, once the mouse rests a moment
+  // (a ray cast over every voxel per mouse move would be wasted).
+  hover_timer_ = new QTimer(this);
+  hover_timer_->setSingleShot(true);
+  hover_timer_->setInterval(60);
+  connect(hover_timer_, &QTimer::timeout, this, [this] { hoverAt(hover_at_.x(), hover_at_.y()); });
+  style->on_hover = [this](int x, int y) {
+    hover_at_ = QPoint(x, y);
+    hover_timer_->start();
+  };
   interactor->SetInteractorStyle(style);
   scene_->handles = std::make_unique<scene::BoxHandles>(interactor, scene_->renderer);
   scene_->handles->onEdited([this](const OrientedBox& box) { emit boxEdited(box); });
@@ -545,11 +583,11 @@ size_t SceneView::pickPlanBoxCount() const { return scene_->plan_box_count; }
 
 size_t SceneView::pickPlanArrowCount() const { return scene_->plan_arrow_count; }
 
-void SceneView::pickAt(int x, int y) {
-  vtkRenderer* renderer = scene_->renderer;
+std::optional<VoxelHit> SceneView::voxelAt(int x, int y) const {
   // The voxels drawn are hit by a ray through the pixel, computed here: the
   // depth buffer that a world-point picker reads is not always readable
-  // (multisampled, as under Xvfb's Mesa), and this picks exactly the voxel seen.
+  // (multisampled, as under Xvfb's Mesa), and this finds exactly the voxel seen.
+  vtkRenderer* renderer = scene_->renderer;
   auto world = [renderer, x, y](double depth) {
     renderer->SetDisplayPoint(x, y, depth);
     renderer->DisplayToWorld();
@@ -557,9 +595,15 @@ void SceneView::pickAt(int x, int y) {
     return Eigen::Vector3d(w[0] / w[3], w[1] / w[3], w[2] / w[3]);
   };
   const Eigen::Vector3d near_point = world(0.0);
-  std::optional<Eigen::Vector3d> point =
-      firstVoxelHit(scene_->snapshot, scene_->hidden, near_point, world(1.0) - near_point);
-  if (!point) {
+  return firstVoxelHit(scene_->snapshot, scene_->hidden, near_point, world(1.0) - near_point);
+}
+
+void SceneView::pickAt(int x, int y) {
+  vtkRenderer* renderer = scene_->renderer;
+  std::optional<Eigen::Vector3d> point;
+  if (const auto hit = voxelAt(x, y)) {
+    point = hit->point;
+  } else {
     // No voxel there: whatever else the depth buffer holds (the frame's points).
     if (renderer->GetZ(x, y) >= 1.0) return;  // background, or an unreadable buffer
     vtkNew<vtkWorldPointPicker> picker;
@@ -574,6 +618,35 @@ void SceneView::pickAt(int x, int y) {
   Eigen::Vector3d inside = *point;
   if ((inside - eye).norm() > 0) inside += (inside - eye).normalized() * step;
   emit pointPicked(inside);
+}
+
+void SceneView::hoverAt(int x, int y) {
+  QString text;
+  if (const auto hit = voxelAt(x, y)) {
+    const OccupiedVoxel& voxel = scene_->snapshot.voxels[hit->voxel];
+    const QString name = scene_->labels.contains(voxel.label)
+                             ? QString::fromStdString(scene_->labels.at(voxel.label).name)
+                             : tr("label %1").arg(voxel.label);
+    const QString size = voxel.size < 1.0 ? tr("%1 cm").arg(voxel.size * 100.0, 0, 'g', 3)
+                                          : tr("%1 m").arg(voxel.size, 0, 'g', 3);
+    text = tr("%1 (label %2), p = %3\n%4 voxel at (%5, %6, %7)")
+               .arg(name)
+               .arg(voxel.label)
+               .arg(voxel.probability, 0, 'f', 2)
+               .arg(size)
+               .arg(voxel.center.x(), 0, 'f', 3)
+               .arg(voxel.center.y(), 0, 'f', 3)
+               .arg(voxel.center.z(), 0, 'f', 3);
+  }
+  hover_text_ = text;
+  if (text.isEmpty()) {
+    QToolTip::hideText();
+    return;
+  }
+  // VTK counts pixels from the bottom, in device pixels.
+  const double ratio = vtk_widget_->devicePixelRatioF();
+  const QPoint at(static_cast<int>(x / ratio), vtk_widget_->height() - static_cast<int>(y / ratio));
+  QToolTip::showText(vtk_widget_->mapToGlobal(at + QPoint(12, 12)), text, vtk_widget_);
 }
 
 QImage SceneView::renderToImage() {

@@ -32,11 +32,15 @@ using MapSnapshotPtr = std::shared_ptr<const MapSnapshot>;
 
 // Where the ray from `origin` along `direction` first enters a voxel of the
 // snapshot (a cube of the voxel's size; voxels of `hidden` labels left out):
-// the point on that voxel's face, or none when it meets no voxel. What a click
-// in the 3D view picks.
-[[nodiscard]] std::optional<Eigen::Vector3d> firstVoxelHit(const MapSnapshot& snapshot,
-                                                           const std::set<int>& hidden,
-                                                           const Eigen::Vector3d& origin,
-                                                           const Eigen::Vector3d& direction);
+// the point on that voxel's face and the voxel's index, or none when it meets
+// no voxel. What a click in the 3D view picks and the mouse hovers over.
+struct VoxelHit {
+  Eigen::Vector3d point;
+  size_t voxel = 0;  // in snapshot.voxels
+};
+[[nodiscard]] std::optional<VoxelHit> firstVoxelHit(const MapSnapshot& snapshot,
+                                                    const std::set<int>& hidden,
+                                                    const Eigen::Vector3d& origin,
+                                                    const Eigen::Vector3d& direction);
 
 }  // namespace lom::ui

@@ -4,6 +4,7 @@
 // one highlighted, and the ground-truth boxes with handles on the selected one.
 // VTK stays behind this header (see scene_adapters.hpp in src/).
 #include <QImage>
+#include <QPoint>
 #include <QString>
 #include <QWidget>
 #include <cstddef>
@@ -21,6 +22,7 @@
 #include "lom/sequence.hpp"
 #include "lom/ui/map_snapshot.hpp"
 
+class QTimer;
 class QVTKOpenGLNativeWidget;
 
 namespace lom::ui {
@@ -97,6 +99,10 @@ class SceneView : public QWidget {
   // Renders now and returns the 3D view's pixels (same size as this widget).
   [[nodiscard]] QImage renderToImage();
 
+  // What the tooltip says of the voxel under the resting mouse: its label,
+  // probability, size and centre; empty over no voxel.
+  [[nodiscard]] QString hoverText() const { return hover_text_; }
+
  signals:
   // A click (press and release without dragging) hit the scene at this point,
   // nudged a little along the view ray so that it lies inside the voxel hit.
@@ -112,11 +118,16 @@ class SceneView : public QWidget {
 
  private:
   void render();
+  [[nodiscard]] std::optional<VoxelHit> voxelAt(int x, int y) const;  // VTK display pixels
   void pickAt(int x, int y);
+  void hoverAt(int x, int y);
 
   struct Scene;
   std::unique_ptr<Scene> scene_;
   QVTKOpenGLNativeWidget* vtk_widget_;
+  QTimer* hover_timer_ = nullptr;
+  QPoint hover_at_;
+  QString hover_text_;
 };
 
 }  // namespace lom::ui
