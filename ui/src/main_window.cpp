@@ -498,14 +498,18 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   scene_action(tr("Show &Frame Points"), SceneViewReaction::Kind::FramePoints, QKeySequence());
   scene_action(tr("Show &Projection Voxels of This View"), SceneViewReaction::Kind::ProjectionVoxels,
                QKeySequence());
-  QAction* breakdown = view->addAction(tr("Show Score &Breakdown"));
-  breakdown->setShortcut(Qt::CTRL + Qt::Key_E);
-  connect(new ScoreBreakdownReaction(breakdown, *session_, *scene_view_),
-          &ScoreBreakdownReaction::status, this, &MainWindow::showStatusMessage);
-  QAction* measure = view->addAction(tr("&Measure Distance"));
-  measure->setShortcut(Qt::CTRL + Qt::Key_D);
-  connect(new MeasureReaction(measure, *session_, *scene_view_), &MeasureReaction::status, this,
-          &MainWindow::showStatusMessage);
+  auto toggle = [&](const QString& text, const QKeySequence& key, auto make) {
+    QAction* action = view->addAction(text);
+    action->setShortcut(key);
+    SceneToggleReaction* reaction = make(action);
+    connect(reaction, &SceneToggleReaction::status, this, &MainWindow::showStatusMessage);
+  };
+  toggle(tr("Show Score &Breakdown"), Qt::CTRL + Qt::Key_E, [this](QAction* action) {
+    return new ScoreBreakdownReaction(action, *session_, *scene_view_);
+  });
+  toggle(tr("&Measure Distance"), Qt::CTRL + Qt::Key_D, [this](QAction* action) {
+    return new MeasureReaction(action, *session_, *scene_view_);
+  });
   scene_action(tr("&Opacity by Probability"), SceneViewReaction::Kind::OpacityByProbability,
                QKeySequence());
   scene_action(tr("Colour by &Height"), SceneViewReaction::Kind::ColourByHeight, QKeySequence());

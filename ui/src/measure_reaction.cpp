@@ -32,8 +32,7 @@ QString describeMeasurement(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
 }
 
 MeasureReaction::MeasureReaction(QAction* action, StudioSession& session, SceneView& scene)
-    : Reaction(action), session_(session), scene_(scene) {
-  action->setCheckable(true);
+    : SceneToggleReaction(action, session, scene) {
   connect(&scene_, &SceneView::surfacePicked, this, [this](const Eigen::Vector3d& point) {
     if (this->action()->isChecked()) addPoint(point);
   });

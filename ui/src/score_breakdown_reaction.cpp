@@ -42,8 +42,7 @@ QString describeScoreBreakdowns(const std::vector<ScoreBreakdown>& breakdowns) {
 
 ScoreBreakdownReaction::ScoreBreakdownReaction(QAction* action, StudioSession& session,
                                                SceneView& scene)
-    : Reaction(action), session_(session), scene_(scene) {
-  action->setCheckable(true);
+    : SceneToggleReaction(action, session, scene) {
   AnnotationsModel& boxes = session_.annotations();
   connect(&boxes, &AnnotationsModel::boxesChanged, this, &ScoreBreakdownReaction::refresh);
   connect(&boxes, &AnnotationsModel::selectionChanged, this, &ScoreBreakdownReaction::refresh);

@@ -12,9 +12,6 @@
 
 namespace lom::ui {
 
-class SceneView;
-class StudioSession;
-
 // "Distance 23.4 cm ..." for the status bar: the length from `a` to `b`, and
 // along and across `up` when the map has one.
 [[nodiscard]] QString describeMeasurement(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
@@ -22,15 +19,11 @@ class StudioSession;
 // The length alone, for the label in the view: centimetres below a metre, else metres.
 [[nodiscard]] QString formatLength(double metres);
 
-class MeasureReaction : public Reaction {
+class MeasureReaction : public SceneToggleReaction {
   Q_OBJECT
 
  public:
   MeasureReaction(QAction* action, StudioSession& session, SceneView& scene);
-
- signals:
-  // What to click next or what was measured; empty when switched off.
-  void status(const QString& message);
 
  protected:
   void onTriggered() override;
@@ -39,8 +32,6 @@ class MeasureReaction : public Reaction {
   void addPoint(const Eigen::Vector3d& point);
   void show();
 
-  StudioSession& session_;
-  SceneView& scene_;
   std::vector<Eigen::Vector3d> points_;
 };
 

@@ -21,4 +21,24 @@ class Reaction : public QObject {
   QAction* action_;
 };
 
+class SceneView;
+class StudioSession;
+
+// A View menu toggle that draws on the 3D view and says in the status bar
+// what it shows (the score breakdown, measuring).
+class SceneToggleReaction : public Reaction {
+  Q_OBJECT
+
+ public:
+  SceneToggleReaction(QAction* action, StudioSession& session, SceneView& scene);
+
+ signals:
+  // What the toggle shows now, or what to do next; empty when it is switched off.
+  void status(const QString& message);
+
+ protected:
+  StudioSession& session_;
+  SceneView& scene_;
+};
+
 }  // namespace lom::ui

@@ -12,32 +12,22 @@
 
 namespace lom::ui {
 
-class SceneView;
-class StudioSession;
-
 // One line for the status bar: the counts, their colours and the IU_3d they make.
 [[nodiscard]] QString describeScoreBreakdown(const ScoreBreakdown& breakdown, const QString& name);
 // The same for every box at once (no box selected): the counts summed.
 [[nodiscard]] QString describeScoreBreakdowns(const std::vector<ScoreBreakdown>& breakdowns);
 
-class ScoreBreakdownReaction : public Reaction {
+class ScoreBreakdownReaction : public SceneToggleReaction {
   Q_OBJECT
 
  public:
   ScoreBreakdownReaction(QAction* action, StudioSession& session, SceneView& scene);
-
- signals:
-  // What the breakdown shows now; empty when it is switched off.
-  void status(const QString& message);
 
  protected:
   void onTriggered() override;
 
  private:
   void refresh();
-
-  StudioSession& session_;
-  SceneView& scene_;
 };
 
 }  // namespace lom::ui
