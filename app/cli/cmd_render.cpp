@@ -81,10 +81,9 @@ std::pair<fs::path, size_t> parseCamera(const std::string& text) {
 
 RenderRequest parseRequest(const Words& words) {
   const Args args(words, {"flat"});
-  args.expectOnly(
-      {"out", "camera", "azimuth", "elevation", "up", "size", "labels", "flat", "colour", "annotations",
-       "iou"},
-      1);
+  args.expectOnly({"out", "camera", "azimuth", "elevation", "up", "size", "labels", "flat",
+                   "colour", "annotations", "iou"},
+                  1);
   RenderRequest request;
   request.map = args.positional(0, "MAP.ot");
   request.out = args.required("out");
@@ -110,7 +109,8 @@ RenderRequest parseRequest(const Words& words) {
   }
   if (const auto annotations = args.option("annotations")) request.annotations = *annotations;
   if (request.score && !request.annotations)
-    throw UsageError("--colour score needs --annotations BOXES.json (the boxes to score the voxels against)");
+    throw UsageError(
+        "--colour score needs --annotations BOXES.json (the boxes to score the voxels against)");
   if (!request.score && (request.annotations || args.option("iou")))
     throw UsageError(std::string(request.annotations ? "--annotations" : "--iou") +
                      " is for --colour score");

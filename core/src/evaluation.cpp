@@ -62,8 +62,8 @@ void checkAnnotationsForSequence(const Sequence& sequence, const Annotations& an
   checkBoxLabels(annotations, sequence.labels.size(), file, "the sequence");
 }
 
-void checkBoxLabels(const Annotations& annotations, int label_count, const std::string& annotations_file,
-                    const std::string& labelled) {
+void checkBoxLabels(const Annotations& annotations, int label_count,
+                    const std::string& annotations_file, const std::string& labelled) {
   const std::string file = orDefault(annotations_file, "(annotations)");
   if (annotations.boxes.empty()) throw Error(file, "boxes", "at least one box to score", "none");
   const int n = label_count;
@@ -72,12 +72,13 @@ void checkBoxLabels(const Annotations& annotations, int label_count, const std::
   const UnscorableBox& box = unscorable.front();
   const std::string field = "boxes[" + std::to_string(box.index) + "].label";
   if (!box.boxed_before)
-    throw Error(file, field,
-                n > 1 ? "an object label of " + labelled + " (1.." + std::to_string(n - 1) +
-                            "; 0 is the background)"
-                      : "an object label, but " + labelled +
-                            " has none (only the background, 0: it was recorded without label images)",
-                std::to_string(box.label));
+    throw Error(
+        file, field,
+        n > 1 ? "an object label of " + labelled + " (1.." + std::to_string(n - 1) +
+                    "; 0 is the background)"
+              : "an object label, but " + labelled +
+                    " has none (only the background, 0: it was recorded without label images)",
+        std::to_string(box.label));
   throw Error(file, field, "each label in at most one box",
               "label " + std::to_string(box.label) + " again (also boxes[" +
                   std::to_string(*box.boxed_before) + "])");
@@ -126,7 +127,8 @@ IouVolumes voxelIouVolumes(const std::vector<VoxelKey>& voxels, double resolutio
   const VoxelBoxIntersector intersector(box, resolution);
   const double voxel_volume = resolution * resolution * resolution;
   for (const auto& key : voxels)
-    volumes.true_positive += volumeCounted(intersector, voxelCenter(key, resolution), voxel_volume, mode);
+    volumes.true_positive +=
+        volumeCounted(intersector, voxelCenter(key, resolution), voxel_volume, mode);
   volumes.predicted = voxel_volume * static_cast<double>(voxels.size());
   return volumes;
 }
@@ -143,8 +145,8 @@ std::vector<double> voxelSharesInBox(const std::vector<Eigen::Vector3d>& centres
   std::vector<double> shares;
   shares.reserve(centres.size());
   for (const Eigen::Vector3d& centre : centres)
-    shares.push_back(std::clamp(volumeCounted(intersector, centre, voxel_volume, mode) / voxel_volume,
-                                0.0, 1.0));
+    shares.push_back(std::clamp(
+        volumeCounted(intersector, centre, voxel_volume, mode) / voxel_volume, 0.0, 1.0));
   return shares;
 }
 

@@ -164,22 +164,26 @@ std::string reportMarkdown(const EvaluationReport& report) {
   for (int m = 0; m < 3; ++m)
     out << "| " << kMethodNames[m] << " | " << iou_cells[static_cast<size_t>(m)] << " | "
         << box_cells[static_cast<size_t>(m)] << " |\n";
-  out << "\nLabelOctoMap exceeds Projection (Max) for " << s.labeloctomap_beats_projection_max << " of "
-      << s.objects << " objects.\n\n![IU_3d per object](report.svg)\n\n"
+  out << "\nLabelOctoMap exceeds Projection (Max) for " << s.labeloctomap_beats_projection_max
+      << " of " << s.objects << " objects.\n\n![IU_3d per object](report.svg)\n\n"
       << "## LabelOctoMap's IU_3d in volumes\n\n"
-      << "In cm³: the voxels' volume inside the box (true positive), outside it (false positive) and "
+      << "In cm³: the voxels' volume inside the box (true positive), outside it (false positive) "
+         "and "
          "the box's volume without voxels (false negative; mostly the inside of objects, which no "
          "camera sees).\n\n"
       << "| label | name | inside the box | outside | box not covered | box |\n"
       << "|---:|---|---:|---:|---:|---:|\n";
   for (const auto& o : report.objects) {
     const IouVolumes& v = o.labeloctomap_volumes;
-    out << "| " << o.label << " | " << markdownText(o.name) << " | " << cubicCentimetres(v.true_positive)
-        << " | " << cubicCentimetres(v.falsePositive()) << " | " << cubicCentimetres(v.falseNegative())
-        << " | " << cubicCentimetres(v.ground_truth) << " |\n";
+    out << "| " << o.label << " | " << markdownText(o.name) << " | "
+        << cubicCentimetres(v.true_positive) << " | " << cubicCentimetres(v.falsePositive())
+        << " | " << cubicCentimetres(v.falseNegative()) << " | " << cubicCentimetres(v.ground_truth)
+        << " |\n";
   }
-  out << "\n## Box IU per object\n\nBoxes fitted to the largest cluster of each method's voxels.\n\n"
-      << "| label | name | Projection (Mean) | Projection (Max) | LabelOctoMap |\n|---:|---|---:|---:|---:|\n";
+  out << "\n## Box IU per object\n\nBoxes fitted to the largest cluster of each method's "
+         "voxels.\n\n"
+      << "| label | name | Projection (Mean) | Projection (Max) | LabelOctoMap "
+         "|\n|---:|---|---:|---:|---:|\n";
   for (const auto& o : report.objects) {
     const auto cells = markBest(o.box_iou);
     out << "| " << o.label << " | " << markdownText(o.name) << " | " << cells[0] << " | " << cells[1] << " | "

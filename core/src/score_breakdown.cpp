@@ -53,7 +53,8 @@ ScoreBreakdown scoreBreakdown(const std::vector<OccupiedVoxel>& leaves, double r
           leaf.center - Eigen::Vector3d::Constant(0.5 * leaf.size - 0.5 * resolution);
       for (int i = 0; i < per_edge; ++i)
         for (int j = 0; j < per_edge; ++j)
-          for (int k = 0; k < per_edge; ++k) centres.push_back(first + resolution * Eigen::Vector3d(i, j, k));
+          for (int k = 0; k < per_edge; ++k)
+            centres.push_back(first + resolution * Eigen::Vector3d(i, j, k));
     }
   return fromCentres(std::move(centres), resolution, box, mode);
 }
@@ -69,7 +70,8 @@ Rgb scoreShareColour(double share) {
   Rgb colour;
   for (int c = 0; c < 3; ++c)
     colour[static_cast<size_t>(c)] = static_cast<std::uint8_t>(
-        std::lround(from[static_cast<size_t>(c)] + t * (to[static_cast<size_t>(c)] - from[static_cast<size_t>(c)])));
+        std::lround(from[static_cast<size_t>(c)] +
+                    t * (to[static_cast<size_t>(c)] - from[static_cast<size_t>(c)])));
   return colour;
 }
 

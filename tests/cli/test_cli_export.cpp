@@ -347,7 +347,8 @@ TEST_F(CliExportTest, RenderScoreColoursCountWhatTheScoreCounts) {
       EXPECT_EQ(text, prefix + "no voxels");
     } else {
       EXPECT_NE(text.find(" voxels inside, "), std::string::npos) << text;
-      EXPECT_NE(text.find("; IU_3d " + std::string(iou)), std::string::npos) << text << " vs " << iou;
+      EXPECT_NE(text.find("; IU_3d " + std::string(iou)), std::string::npos)
+          << text << " vs " << iou;
     }
     ++objects;
   }
@@ -358,7 +359,8 @@ TEST_F(CliExportTest, RenderScoreColoursCountWhatTheScoreCounts) {
   size_t scored = 0, red = 0;
   for (size_t i = 0; i < picture.rgb.size(); i += 3) {
     const std::array<int, 3> p{picture.rgb[i], picture.rgb[i + 1], picture.rgb[i + 2]};
-    const bool plain = p == std::array<int, 3>{255, 255, 255} || p == std::array<int, 3>{195, 195, 200} ||
+    const bool plain = p == std::array<int, 3>{255, 255, 255} ||
+                       p == std::array<int, 3>{195, 195, 200} ||
                        p == std::array<int, 3>{150, 150, 160};
     scored += !plain;
     red += p == std::array<int, 3>{230, 45, 45};
@@ -370,10 +372,11 @@ TEST_F(CliExportTest, RenderScoreColoursCountWhatTheScoreCounts) {
   std::ofstream(out / "bad.json") << R"({"format": "labeloctomap-annotations", "version": 1,
     "frame_id": "world", "boxes": [{"label": 99, "center": [0, 0, 0], "size": [0.1, 0.1, 0.1],
     "rotation": [0, 0, 0, 1]}]})";
-  r = runCli("render " + q(map()) + " --out " + q(out / "bad.png") + " --colour score --annotations " +
-             q(out / "bad.json"));
+  r = runCli("render " + q(map()) + " --out " + q(out / "bad.png") +
+             " --colour score --annotations " + q(out / "bad.json"));
   EXPECT_EQ(r.exit_code, 1) << r.err;
-  EXPECT_NE(r.err.find("boxes[0].label: expected an object label of the map"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("boxes[0].label: expected an object label of the map"), std::string::npos)
+      << r.err;
   EXPECT_FALSE(fs::exists(out / "bad.png"));
 }
 

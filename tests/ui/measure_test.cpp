@@ -1,14 +1,14 @@
 // Pointing at the map in the 3D view: a click picks the voxel seen, the
 // resting mouse names it in a tooltip, and View > Measure Distance turns
 // clicks into points on the surface clicked; two give the distance, in the
-// view and in the status bar, also along and across the map's up. (A picture of a measurement across the
-// demo's bin was looked at: the line and its length stay in front of the voxels.)
+// view and in the status bar, also along and across the map's up. (A picture of a measurement
+// across the demo's bin was looked at: the line and its length stay in front of the voxels.)
+#include <QVTKOpenGLNativeWidget.h>
 #include <gtest/gtest.h>
 
 #include <QAction>
 #include <QStatusBar>
 #include <QTest>
-#include <QVTKOpenGLNativeWidget.h>
 
 #include "demo_window_fixture.hpp"
 #include "lom/ui/map_snapshot.hpp"
@@ -25,9 +25,10 @@ class MeasureTest : public fixture::DemoWindowTest {
 
 TEST(Measurement, DistanceAlongAndAcrossUp) {
   const Eigen::Vector3d a(0.1, 0.2, 0.3), b(0.4, 0.2, 0.7);  // 30 cm across, 40 cm up
-  EXPECT_EQ(describeMeasurement(a, b, Eigen::Vector3d(0, 0, 2)),
-            "Distance 50.0 cm from (0.100, 0.200, 0.300) to (0.400, 0.200, 0.700); 40.0 cm along "
-            "the map's up, 30.0 cm across it (to within a voxel: points lie on the voxels' faces).");
+  EXPECT_EQ(
+      describeMeasurement(a, b, Eigen::Vector3d(0, 0, 2)),
+      "Distance 50.0 cm from (0.100, 0.200, 0.300) to (0.400, 0.200, 0.700); 40.0 cm along "
+      "the map's up, 30.0 cm across it (to within a voxel: points lie on the voxels' faces).");
   EXPECT_EQ(describeMeasurement(b, a, std::nullopt),
             "Distance 50.0 cm from (0.400, 0.200, 0.700) to (0.100, 0.200, 0.300) (to within a "
             "voxel: points lie on the voxels' faces).");
@@ -51,7 +52,8 @@ TEST(Measurement, ClicksPickTheFaceOfTheFirstVoxelAlongTheRay) {
   EXPECT_NEAR(behind->point.x(), 0.2, 1e-12);
   EXPECT_EQ(behind->voxel, 1u);
   // Parallel to a face outside the voxels, pointing away, or no voxels at all: nothing.
-  EXPECT_FALSE(firstVoxelHit(snapshot, {}, Eigen::Vector3d(0, 0.05, 0.005), Eigen::Vector3d::UnitX()));
+  EXPECT_FALSE(
+      firstVoxelHit(snapshot, {}, Eigen::Vector3d(0, 0.05, 0.005), Eigen::Vector3d::UnitX()));
   EXPECT_FALSE(firstVoxelHit(snapshot, {}, origin, -Eigen::Vector3d::UnitX()));
   EXPECT_FALSE(firstVoxelHit(MapSnapshot{}, {}, origin, Eigen::Vector3d::UnitX()));
   EXPECT_FALSE(firstVoxelHit(snapshot, {}, origin, Eigen::Vector3d::Zero()));
@@ -87,8 +89,9 @@ TEST_F(MeasureTest, ClicksOnTheMapMeasureBetweenSurfacePoints) {
   StudioSession& session = window_.session();
   ASSERT_TRUE(session.pickedPoint().has_value());
   bool occupied = false;
-  QObject::connect(&session.worker(), &MapWorker::voxelPicked,
-                   [&](const Eigen::Vector3d&, const VoxelState& voxel) { occupied = voxel.occupied; });
+  QObject::connect(
+      &session.worker(), &MapWorker::voxelPicked,
+      [&](const Eigen::Vector3d&, const VoxelState& voxel) { occupied = voxel.occupied; });
   ASSERT_TRUE(QTest::qWaitFor([&] { return occupied; }, 5000)) << "the voxel clicked is occupied";
 
   measure->trigger();
@@ -102,7 +105,8 @@ TEST_F(MeasureTest, ClicksOnTheMapMeasureBetweenSurfacePoints) {
   const MapSnapshot& snapshot = *window_.session().worker().snapshot();
   double nearest = 1e9;
   for (const OccupiedVoxel& voxel : snapshot.voxels)
-    nearest = std::min(nearest, (voxel.center - surface.back()).norm() - 0.5 * std::sqrt(3.0) * voxel.size);
+    nearest = std::min(nearest,
+                       (voxel.center - surface.back()).norm() - 0.5 * std::sqrt(3.0) * voxel.size);
   EXPECT_LE(nearest, 1e-3);
 
   const Eigen::Vector3d first = surface.back();
@@ -110,8 +114,10 @@ TEST_F(MeasureTest, ClicksOnTheMapMeasureBetweenSurfacePoints) {
   emit scene.surfacePicked(second);
   EXPECT_EQ(scene.measurementPointCount(), 2u);
   EXPECT_EQ(scene.measurementLabel().toStdString(), "13.0 cm");
-  EXPECT_EQ(statusMessage().toStdString(), describeMeasurement(first, second, snapshot.up).toStdString());
-  EXPECT_TRUE(statusMessage().startsWith("Distance 13.0 cm from ")) << statusMessage().toStdString();
+  EXPECT_EQ(statusMessage().toStdString(),
+            describeMeasurement(first, second, snapshot.up).toStdString());
+  EXPECT_TRUE(statusMessage().startsWith("Distance 13.0 cm from "))
+      << statusMessage().toStdString();
 
   // A third point starts a new measurement; off clears it.
   emit scene.surfacePicked(second);

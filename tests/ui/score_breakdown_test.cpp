@@ -4,6 +4,8 @@
 // shared by the Evaluation table and the boxes. (Pictures of the breakdown on
 // the demo were looked at: the object's voxels green inside its box, blends
 // of amber on its faces, red where they spill out.)
+#include "lom/score_breakdown.hpp"
+
 #include <gtest/gtest.h>
 
 #include <QAction>
@@ -16,7 +18,6 @@
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/scene_view.hpp"
-#include "lom/score_breakdown.hpp"
 #include "lom/ui/score_breakdown_reaction.hpp"
 
 namespace lom::ui {
@@ -30,7 +31,8 @@ class ScoreBreakdownTest : public fixture::DemoWindowTest {
   AnnotationsModel& boxes() { return window_.session().annotations(); }
   void openFuseAndScore() {
     openAndFuse();
-    ASSERT_TRUE(QTest::qWaitFor([&] { return !panel().isBusy() && panel().canExport(); }, kTimeoutMs))
+    ASSERT_TRUE(
+        QTest::qWaitFor([&] { return !panel().isBusy() && panel().canExport(); }, kTimeoutMs))
         << panel().summaryText().toStdString();
   }
   const ObjectScore& scoreOf(int label) {
@@ -85,13 +87,16 @@ TEST_F(ScoreBreakdownTest, SelectedBoxsVoxelsAddUpToItsScoreAndFollowItsEdits) {
   const MapSnapshot& map = *window_.session().worker().snapshot();
   size_t boxed_voxels = 0, inside = 0;
   for (int i = 0; i < boxes().boxCount(); ++i) {
-    const ScoreBreakdown one = scoreBreakdown(map.voxels, map.resolution, boxes().box(i), IouMode::Exact);
+    const ScoreBreakdown one =
+        scoreBreakdown(map.voxels, map.resolution, boxes().box(i), IouMode::Exact);
     boxed_voxels += one.centres.size();
     inside += one.inside;
   }
   EXPECT_EQ(scene.scoreBreakdownCount(), boxed_voxels);
   EXPECT_TRUE(statusMessage().startsWith(
-      QString("Score breakdown of all %1 boxes: %2 voxels inside their box").arg(boxes().boxCount()).arg(inside)))
+      QString("Score breakdown of all %1 boxes: %2 voxels inside their box")
+          .arg(boxes().boxCount())
+          .arg(inside)))
       << statusMessage().toStdString();
 
   const int index = largestBoxedObject();
@@ -102,7 +107,8 @@ TEST_F(ScoreBreakdownTest, SelectedBoxsVoxelsAddUpToItsScoreAndFollowItsEdits) {
   action.trigger();
   boxes().select(index);
   const MapSnapshot& snapshot = *window_.session().worker().snapshot();
-  const ScoreBreakdown breakdown = scoreBreakdown(snapshot.voxels, snapshot.resolution, box, IouMode::Exact);
+  const ScoreBreakdown breakdown =
+      scoreBreakdown(snapshot.voxels, snapshot.resolution, box, IouMode::Exact);
   // Every finest voxel of the label, each counted once.
   ASSERT_EQ(breakdown.centres.size(), snapshot.counts.at(box.label));
   EXPECT_EQ(scene.scoreBreakdownCount(), breakdown.centres.size());
@@ -125,7 +131,8 @@ TEST_F(ScoreBreakdownTest, SelectedBoxsVoxelsAddUpToItsScoreAndFollowItsEdits) {
   GroundTruthBox moved = box;
   moved.box.center.x() += 2.0;
   boxes().setBox(index, moved, "move away");
-  const ScoreBreakdown away = scoreBreakdown(snapshot.voxels, snapshot.resolution, moved, IouMode::Exact);
+  const ScoreBreakdown away =
+      scoreBreakdown(snapshot.voxels, snapshot.resolution, moved, IouMode::Exact);
   EXPECT_EQ(away.outside, away.centres.size());
   EXPECT_EQ(away.volumes.iou(), 0.0);
   EXPECT_EQ(scene.scoreBreakdownCount(), away.centres.size());

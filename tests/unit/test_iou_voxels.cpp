@@ -136,12 +136,14 @@ TEST(IouVoxelSets, VolumesAreTheTermsOfTheScore) {
   // Each voxel's share, in the centres' order: the first column 3/4, the rest whole.
   std::vector<Eigen::Vector3d> centres;
   for (const auto& key : voxels) centres.push_back(lom::voxelCenter(key, kEdge));
-  const std::vector<double> shares = lom::voxelSharesInBox(centres, kEdge, box, lom::IouMode::Exact);
+  const std::vector<double> shares =
+      lom::voxelSharesInBox(centres, kEdge, box, lom::IouMode::Exact);
   ASSERT_EQ(shares.size(), voxels.size());
   for (size_t i = 0; i < voxels.size(); ++i)
     EXPECT_NEAR(shares[i], voxels[i].x == 32768 ? 0.75 : 1.0, 1e-12) << i;
   const Eigen::Vector3d far_away(1.0, 1.0, 1.0);
-  EXPECT_EQ(lom::voxelSharesInBox({far_away}, kEdge, box, lom::IouMode::Center), std::vector<double>{0.0});
+  EXPECT_EQ(lom::voxelSharesInBox({far_away}, kEdge, box, lom::IouMode::Center),
+            std::vector<double>{0.0});
 }
 
 TEST(IouVoxelSets, ExactAndCentreModesDifferOnShiftedBoxes) {

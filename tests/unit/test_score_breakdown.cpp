@@ -53,7 +53,8 @@ TEST(ScoreBreakdown, KeysGiveTheScoresVolumes) {
   std::vector<lom::VoxelKey> keys;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 2; ++j)
-      keys.push_back({static_cast<std::uint16_t>(32768 + i), static_cast<std::uint16_t>(32768 + j), 32768});
+      keys.push_back(
+          {static_cast<std::uint16_t>(32768 + i), static_cast<std::uint16_t>(32768 + j), 32768});
   const lom::GroundTruthBox box = boxOfLabel3();
   for (const lom::IouMode mode : {lom::IouMode::Exact, lom::IouMode::Center}) {
     const lom::ScoreBreakdown breakdown = lom::scoreBreakdown(keys, kEdge, box, mode);

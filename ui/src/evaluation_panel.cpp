@@ -119,11 +119,15 @@ QTableWidgetItem* scoreItem(double value) {
 
 // What LabelOctoMap's IU_3d is made of (report.md's volumes table), in cm³.
 QString volumesTip(const IouVolumes& v) {
-  auto cm3 = [](double cubic_metres) { return QString::number(std::max(cubic_metres, 0.0) * 1e6, 'f', 1); };
-  return QObject::tr("IU_3d of LabelOctoMap: %1 cm³ of its voxels inside the box, %2 cm³ outside, "
-                     "%3 cm³ of the box (%4 cm³) without voxels. View ▸ Show Score Breakdown "
-                     "(Ctrl+E) shows which voxels.")
-      .arg(cm3(v.true_positive), cm3(v.falsePositive()), cm3(v.falseNegative()), cm3(v.ground_truth));
+  auto cm3 = [](double cubic_metres) {
+    return QString::number(std::max(cubic_metres, 0.0) * 1e6, 'f', 1);
+  };
+  return QObject::tr(
+             "IU_3d of LabelOctoMap: %1 cm³ of its voxels inside the box, %2 cm³ outside, "
+             "%3 cm³ of the box (%4 cm³) without voxels. View ▸ Show Score Breakdown "
+             "(Ctrl+E) shows which voxels.")
+      .arg(cm3(v.true_positive), cm3(v.falsePositive()), cm3(v.falseNegative()),
+           cm3(v.ground_truth));
 }
 
 }  // namespace

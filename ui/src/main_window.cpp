@@ -35,8 +35,8 @@
 #include "lom/ui/fusion_reactions.hpp"
 #include "lom/ui/fusion_status.hpp"
 #include "lom/ui/map_legend_panel.hpp"
-#include "lom/ui/measure_reaction.hpp"
 #include "lom/ui/map_worker.hpp"
+#include "lom/ui/measure_reaction.hpp"
 #include "lom/ui/objects_panel.hpp"
 #include "lom/ui/open_map_reaction.hpp"
 #include "lom/ui/open_sequence_reaction.hpp"
@@ -507,9 +507,8 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   toggle(tr("Show Score &Breakdown"), Qt::CTRL + Qt::Key_E, [this](QAction* action) {
     return new ScoreBreakdownReaction(action, *session_, *scene_view_);
   });
-  toggle(tr("&Measure Distance"), Qt::CTRL + Qt::Key_D, [this](QAction* action) {
-    return new MeasureReaction(action, *session_, *scene_view_);
-  });
+  toggle(tr("&Measure Distance"), Qt::CTRL + Qt::Key_D,
+         [this](QAction* action) { return new MeasureReaction(action, *session_, *scene_view_); });
   scene_action(tr("&Opacity by Probability"), SceneViewReaction::Kind::OpacityByProbability,
                QKeySequence());
   scene_action(tr("Colour by &Height"), SceneViewReaction::Kind::ColourByHeight, QKeySequence());

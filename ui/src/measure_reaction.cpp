@@ -19,9 +19,13 @@ QString describeMeasurement(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                             const std::optional<Eigen::Vector3d>& up) {
   const Eigen::Vector3d d = b - a;
   auto point = [](const Eigen::Vector3d& p) {
-    return QString("(%1, %2, %3)").arg(p.x(), 0, 'f', 3).arg(p.y(), 0, 'f', 3).arg(p.z(), 0, 'f', 3);
+    return QString("(%1, %2, %3)")
+        .arg(p.x(), 0, 'f', 3)
+        .arg(p.y(), 0, 'f', 3)
+        .arg(p.z(), 0, 'f', 3);
   };
-  QString text = QObject::tr("Distance %1 from %2 to %3").arg(formatLength(d.norm()), point(a), point(b));
+  QString text =
+      QObject::tr("Distance %1 from %2 to %3").arg(formatLength(d.norm()), point(a), point(b));
   if (up && up->norm() > 0.0) {
     const double along = d.dot(up->normalized());
     text += QObject::tr("; %1 along the map's up, %2 across it")

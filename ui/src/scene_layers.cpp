@@ -86,9 +86,10 @@ size_t VoxelLayer::showCubes(const std::vector<Cube>& cubes) {
   for (const Cube& cube : cubes) {
     points->InsertNextPoint(cube.center.x(), cube.center.y(), cube.center.z());
     sizes->InsertNextValue(static_cast<float>(cube.size));
-    const unsigned char rgba[4] = {
-        static_cast<unsigned char>(cube.colour.red()), static_cast<unsigned char>(cube.colour.green()),
-        static_cast<unsigned char>(cube.colour.blue()), static_cast<unsigned char>(cube.colour.alpha())};
+    const unsigned char rgba[4] = {static_cast<unsigned char>(cube.colour.red()),
+                                   static_cast<unsigned char>(cube.colour.green()),
+                                   static_cast<unsigned char>(cube.colour.blue()),
+                                   static_cast<unsigned char>(cube.colour.alpha())};
     colors->InsertNextTypedTuple(rgba);
   }
   auto data = vtkSmartPointer<vtkPolyData>::New();

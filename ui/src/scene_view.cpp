@@ -4,21 +4,20 @@
 #include <vtkActor.h>
 #include <vtkAxesActor.h>
 #include <vtkBillboardTextActor3D.h>
-#include <vtkCellArray.h>
-#include <vtkPoints.h>
-#include <vtkTextProperty.h>
 #include <vtkCamera.h>
+#include <vtkCellArray.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkInteractorStyleTrackballCamera.h>
 #include <vtkNew.h>
+#include <vtkObjectFactory.h>
 #include <vtkOrientationMarkerWidget.h>
+#include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
 #include <vtkRenderWindowInteractor.h>
 #include <vtkRenderer.h>
-
-#include <vtkObjectFactory.h>
+#include <vtkTextProperty.h>
 #include <vtkWorldPointPicker.h>
 
 #include <QSurfaceFormat>
@@ -27,9 +26,9 @@
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <functional>
 #include <numeric>
+#include <string>
 
 #include "lom/ui/frame_labels.hpp"
 #include "scene_adapters.hpp"
@@ -455,7 +454,8 @@ void SceneView::showScoreBreakdown(const std::vector<ScoreBreakdown>& breakdowns
     // cover the label's own cubes instead of flickering with them.
     for (size_t i = 0; i < breakdown.centres.size(); ++i) {
       const Rgb colour = scoreShareColour(breakdown.shares[i]);
-      cubes.push_back({breakdown.centres[i], breakdown.resolution, QColor(colour[0], colour[1], colour[2])});
+      cubes.push_back(
+          {breakdown.centres[i], breakdown.resolution, QColor(colour[0], colour[1], colour[2])});
     }
   }
   scene_->breakdown_count = scene_->breakdown.showCubes(cubes);

@@ -16,9 +16,10 @@ QString describeScoreBreakdown(const ScoreBreakdown& breakdown, const QString& n
     return QObject::tr("Score breakdown of %1: the map has no voxels of this label.").arg(object);
   const IouVolumes& v = breakdown.volumes;
   const double covered = v.ground_truth > 0.0 ? v.true_positive / v.ground_truth : 0.0;
-  return QObject::tr("Score breakdown of %1: %2 voxels inside the box (green), %3 partly (red to "
-                     "amber to green by how much), %4 outside (red); IU_3d %5 %, the voxels fill "
-                     "%6 % of the box.")
+  return QObject::tr(
+             "Score breakdown of %1: %2 voxels inside the box (green), %3 partly (red to "
+             "amber to green by how much), %4 outside (red); IU_3d %5 %, the voxels fill "
+             "%6 % of the box.")
       .arg(object)
       .arg(breakdown.inside)
       .arg(breakdown.partly)
@@ -31,9 +32,11 @@ QString describeScoreBreakdowns(const std::vector<ScoreBreakdown>& breakdowns) {
   if (breakdowns.empty())
     return QObject::tr("Score breakdown: no box to score; add one (Annotate menu).");
   size_t inside = 0, partly = 0, outside = 0;
-  for (const ScoreBreakdown& b : breakdowns) inside += b.inside, partly += b.partly, outside += b.outside;
-  return QObject::tr("Score breakdown of all %1 boxes: %2 voxels inside their box (green), %3 partly "
-                     "(red to amber to green by how much), %4 outside (red). Select a box for its own.")
+  for (const ScoreBreakdown& b : breakdowns)
+    inside += b.inside, partly += b.partly, outside += b.outside;
+  return QObject::tr(
+             "Score breakdown of all %1 boxes: %2 voxels inside their box (green), %3 partly "
+             "(red to amber to green by how much), %4 outside (red). Select a box for its own.")
       .arg(breakdowns.size())
       .arg(inside)
       .arg(partly)
@@ -69,12 +72,13 @@ void ScoreBreakdownReaction::refresh() {
   const int selected = boxes.selected();
   if (selected >= 0) {
     const GroundTruthBox& box = boxes.box(selected);
-    const ScoreBreakdown breakdown = scoreBreakdown(snapshot.voxels, snapshot.resolution, box, mode);
+    const ScoreBreakdown breakdown =
+        scoreBreakdown(snapshot.voxels, snapshot.resolution, box, mode);
     scene_.showScoreBreakdown({breakdown});
-    const QString name = QString::fromStdString(
-        !box.name.empty() ? box.name
-        : sequence->labels.contains(box.label) ? sequence->labels.at(box.label).name
-                                               : std::string("?"));
+    const QString name = QString::fromStdString(!box.name.empty() ? box.name
+                                                : sequence->labels.contains(box.label)
+                                                    ? sequence->labels.at(box.label).name
+                                                    : std::string("?"));
     emit status(describeScoreBreakdown(breakdown, name));
     return;
   }

@@ -43,7 +43,7 @@ struct IouVolumes {
   double predicted = 0.0;      // v_pred: the voxels' volume
   double ground_truth = 0.0;   // v_gt: the box's volume
   double true_positive = 0.0;  // v_tp: the voxels' volume inside the box, as `mode` counts it
-  [[nodiscard]] double falsePositive() const { return predicted - true_positive; }   // v_fp
+  [[nodiscard]] double falsePositive() const { return predicted - true_positive; }     // v_fp
   [[nodiscard]] double falseNegative() const { return ground_truth - true_positive; }  // v_fn
   // v_tp / (v_tp + v_fp + v_fn), in [0, 1]; 0 for no voxels.
   [[nodiscard]] double iou() const;
@@ -139,8 +139,8 @@ void checkAnnotationsForSequence(const Sequence& sequence, const Annotations& an
 // Throws lom::Error (naming the file and the field) when there is no box, a
 // box's label is not an object label (1..label_count-1) of `labelled` ("the
 // sequence", "the map") or a label has two boxes.
-void checkBoxLabels(const Annotations& annotations, int label_count, const std::string& annotations_file,
-                    const std::string& labelled);
+void checkBoxLabels(const Annotations& annotations, int label_count,
+                    const std::string& annotations_file, const std::string& labelled);
 // Throws lom::Error naming `map_file` and the field "labels" (or "labels[k]")
 // unless the map has the sequence's labels, with the same names in the same
 // order: a map fused from another sequence's label set.

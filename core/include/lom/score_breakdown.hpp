@@ -31,8 +31,9 @@ struct ScoreBreakdown {
                                             const GroundTruthBox& box, IouMode mode);
 // The same from occupied leaves of any labels (LabelMap::forEachOccupied):
 // those of `box.label` only, pruned leaves split into their finest voxels.
-[[nodiscard]] ScoreBreakdown scoreBreakdown(const std::vector<OccupiedVoxel>& leaves, double resolution,
-                                            const GroundTruthBox& box, IouMode mode);
+[[nodiscard]] ScoreBreakdown scoreBreakdown(const std::vector<OccupiedVoxel>& leaves,
+                                            double resolution, const GroundTruthBox& box,
+                                            IouMode mode);
 
 // The colour of a voxel with this share in pictures of the breakdown: green
 // (40, 200, 70) wholly inside the box, red (230, 45, 45) outside, and for a

@@ -46,7 +46,8 @@ Eigen::Vector3d faceCentre(const SurfaceMesh& mesh, const std::array<std::uint32
 // Colours of a label's unit faces by the share of each face's voxel inside
 // the label's box (the face's outward normal points away from its voxel);
 // grey for a label without a box.
-std::vector<Rgb> scoreColours(const SurfaceMesh& mesh, double resolution, const ScoreColours& score) {
+std::vector<Rgb> scoreColours(const SurfaceMesh& mesh, double resolution,
+                              const ScoreColours& score) {
   const auto box = std::find_if(score.boxes.begin(), score.boxes.end(),
                                 [&](const GroundTruthBox& b) { return b.label == mesh.label; });
   if (box == score.boxes.end()) {
@@ -57,7 +58,8 @@ std::vector<Rgb> scoreColours(const SurfaceMesh& mesh, double resolution, const 
   voxels.reserve(mesh.triangles.size());
   for (const auto& t : mesh.triangles) {
     const Eigen::Vector3d& a = mesh.vertices[t[0]];
-    const Eigen::Vector3d normal = (mesh.vertices[t[1]] - a).cross(mesh.vertices[t[2]] - a).normalized();
+    const Eigen::Vector3d normal =
+        (mesh.vertices[t[1]] - a).cross(mesh.vertices[t[2]] - a).normalized();
     const Eigen::Vector3d inside = faceCentre(mesh, t) - 0.5 * resolution * normal;
     // Snapped onto the voxel centres (voxelCenter's arithmetic).
     voxels.push_back(((inside / resolution).array().floor() + 0.5).matrix() * resolution);

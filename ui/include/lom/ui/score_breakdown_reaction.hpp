@@ -7,8 +7,8 @@
 #include <QString>
 #include <vector>
 
-#include "lom/ui/reaction.hpp"
 #include "lom/score_breakdown.hpp"
+#include "lom/ui/reaction.hpp"
 
 namespace lom::ui {
 
