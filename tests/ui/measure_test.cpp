@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <QAction>
+#include <cmath>
 #include <QStatusBar>
 #include <QTest>
 
@@ -57,6 +58,7 @@ TEST(Measurement, ClicksPickTheFaceOfTheFirstVoxelAlongTheRay) {
   EXPECT_FALSE(firstVoxelHit(snapshot, {}, origin, -Eigen::Vector3d::UnitX()));
   EXPECT_FALSE(firstVoxelHit(MapSnapshot{}, {}, origin, Eigen::Vector3d::UnitX()));
   EXPECT_FALSE(firstVoxelHit(snapshot, {}, origin, Eigen::Vector3d::Zero()));
+  EXPECT_FALSE(firstVoxelHit(snapshot, {}, origin, Eigen::Vector3d(std::nan(""), 0.0, 0.0)));
   // A slanted ray enters through the face it meets first.
   const auto slanted = firstVoxelHit(snapshot, {}, Eigen::Vector3d(0.095, -0.005, 0.005),
                                      Eigen::Vector3d(1.0, 1.0, 0.0));

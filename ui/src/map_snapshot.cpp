@@ -29,7 +29,8 @@ MapSnapshotPtr takeSnapshot(const LabelMap& map, size_t frames_fused) {
 std::optional<VoxelHit> firstVoxelHit(const MapSnapshot& snapshot, const std::set<int>& hidden,
                                       const Eigen::Vector3d& origin,
                                       const Eigen::Vector3d& direction) {
-  if (!(direction.squaredNorm() > 0.0)) return std::nullopt;
+  if (!(direction.squaredNorm() > 0.0) || !direction.allFinite() || !origin.allFinite())
+    return std::nullopt;
   const Eigen::Vector3d d = direction.normalized();
   const Eigen::Vector3d inverse = d.cwiseInverse();  // +-inf along axes the ray is parallel to
   double nearest = std::numeric_limits<double>::infinity();
