@@ -137,6 +137,38 @@ TEST_F(EvaluationPanelTest, TableAndChartListTheObjectsInTheSameOrder) {
   EXPECT_EQ(chartLabels(), tableLabels());
 }
 
+TEST_F(EvaluationPanelTest, ProjectionScoresNameEachViewAndADoubleClickShowsTheBest) {
+  openAndFuse();
+  waitForScores();
+  const EvaluationReport& report = *panel().report();
+  ASSERT_GE(report.views.size(), 2u);
+  QTableWidget& table = panel().table();
+  // Sorted by the best projection, so that row order and report order differ.
+  table.sortItems(EvaluationPanel::ProjectionMax, Qt::DescendingOrder);
+  for (int row = 0; row < table.rowCount(); ++row) {
+    const int label = table.item(row, EvaluationPanel::Label)->text().toInt();
+    const auto object = std::find_if(report.objects.begin(), report.objects.end(),
+                                     [&](const ObjectScore& o) { return o.label == label; });
+    ASSERT_NE(object, report.objects.end());
+    const size_t best = static_cast<size_t>(
+        std::max_element(object->per_view.begin(), object->per_view.end()) - object->per_view.begin());
+    const size_t frame = report.views[best];
+    const QString tip = table.item(row, EvaluationPanel::ProjectionMax)->toolTip();
+    EXPECT_TRUE(tip.contains(QString("Best: frame %1.").arg(frame))) << tip.toStdString();
+    EXPECT_TRUE(tip.contains(QString("%1: %2").arg(report.views.front()).arg(object->per_view.front() * 100.0, 0, 'f', 1)))
+        << tip.toStdString();
+    EXPECT_EQ(table.item(row, EvaluationPanel::ProjectionMean)->toolTip(), tip);
+    // Elsewhere first, then a double-click on the score goes to the best view.
+    window_.controller().setCurrentFrame(frame == 0 ? 1 : 0);
+    emit table.cellDoubleClicked(row, EvaluationPanel::ProjectionMax);
+    EXPECT_EQ(window_.controller().currentFrame(), static_cast<int>(frame)) << "label " << label;
+  }
+  // A double-click on another column leaves the frame alone.
+  window_.controller().setCurrentFrame(1);
+  emit table.cellDoubleClicked(0, EvaluationPanel::LabelOctoMap);
+  EXPECT_EQ(window_.controller().currentFrame(), 1);
+}
+
 TEST_F(EvaluationPanelTest, SummarySaysOneObjectInTheSingular) {
   openAndFuse();
   waitForScores();

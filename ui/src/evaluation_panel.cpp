@@ -9,9 +9,11 @@
 #include <QScrollBar>
 #include <QStyleOptionHeader>
 #include <QTableWidget>
+#include <QStringList>
 #include <QTimer>
 #include <QVBoxLayout>
 #include <algorithm>
+#include <optional>
 #include <utility>
 
 #include "lom/report.hpp"
@@ -130,6 +132,28 @@ QString volumesTip(const IouVolumes& v) {
            cm3(v.ground_truth));
 }
 
+// The view whose projection scored highest (the first of equals), as a frame
+// index; none without views.
+std::optional<size_t> bestView(const ObjectScore& object, const std::vector<size_t>& views) {
+  const size_t n = std::min(object.per_view.size(), views.size());
+  if (n == 0) return std::nullopt;
+  const auto best = std::max_element(object.per_view.begin(), object.per_view.begin() + static_cast<long>(n));
+  return views[static_cast<size_t>(best - object.per_view.begin())];
+}
+
+// Each view's projection IU_3d, for the projection cells' tooltips.
+QString viewsTip(const ObjectScore& object, const std::vector<size_t>& views) {
+  const std::optional<size_t> best = bestView(object, views);
+  if (!best) return {};
+  QStringList each;
+  for (size_t i = 0; i < std::min(object.per_view.size(), views.size()); ++i)
+    each << QString("%1: %2").arg(views[i]).arg(object.per_view[i] * 100.0, 0, 'f', 1);
+  return QObject::tr("Projection IU_3d of each view (frame: %): %1. Best: frame %2. Double-click to "
+                     "show that frame.")
+      .arg(each.join(", "))
+      .arg(*best);
+}
+
 }  // namespace
 
 EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
@@ -179,6 +203,7 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   connect(table_->model(), &QAbstractItemModel::layoutChanged, this, &EvaluationPanel::syncChart);
   table_->setSelectionMode(QAbstractItemView::SingleSelection);
   connect(table_, &QTableWidget::itemSelectionChanged, this, &EvaluationPanel::selectBoxOfRow);
+  connect(table_, &QTableWidget::cellDoubleClicked, this, &EvaluationPanel::showBestView);
   connect(&session_.annotations(), &AnnotationsModel::selectionChanged, this,
           &EvaluationPanel::selectRowOfBox);
   summary_->setWordWrap(true);
@@ -310,8 +335,13 @@ void EvaluationPanel::show(const EvaluationReport& report) {
     name->setToolTip(name->text());
     table_->setItem(row, Name, name);
     table_->setItem(row, Voxels, countItem(object.voxels));
-    table_->setItem(row, ProjectionMean, scoreItem(object.iou_3d.projection_mean));
-    table_->setItem(row, ProjectionMax, scoreItem(object.iou_3d.projection_max));
+    const QString views = viewsTip(object, report.views);
+    for (const auto& [column, value] : {std::pair{ProjectionMean, object.iou_3d.projection_mean},
+                                        std::pair{ProjectionMax, object.iou_3d.projection_max}}) {
+      QTableWidgetItem* item = scoreItem(value);
+      item->setToolTip(views);
+      table_->setItem(row, column, item);
+    }
     QTableWidgetItem* labeloctomap = scoreItem(object.iou_3d.labeloctomap);
     labeloctomap->setToolTip(volumesTip(object.labeloctomap_volumes));
     table_->setItem(row, LabelOctoMap, labeloctomap);
@@ -351,6 +381,16 @@ void EvaluationPanel::syncChart() {
     }
   }
   chart_->setObjects(std::move(objects));
+}
+
+void EvaluationPanel::showBestView(int row, int column) {
+  if (!report_ || (column != ProjectionMean && column != ProjectionMax)) return;
+  const QTableWidgetItem* label = table_->item(row, Label);
+  if (!label) return;
+  const int index = label->data(kObjectRole).toInt();
+  if (index < 0 || static_cast<size_t>(index) >= report_->objects.size()) return;
+  if (const auto frame = bestView(report_->objects[static_cast<size_t>(index)], report_->views))
+    session_.controller().setCurrentFrame(static_cast<int>(*frame));
 }
 
 void EvaluationPanel::selectBoxOfRow() {

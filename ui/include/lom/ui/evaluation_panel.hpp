@@ -62,6 +62,9 @@ class EvaluationPanel : public QWidget {
   // box's row is selected: one object selection across the panels.
   void selectBoxOfRow();
   void selectRowOfBox();
+  // A double-click on a projection score shows the frame of the view that
+  // scored highest for that object (the view behind Projection (Max)).
+  void showBestView(int row, int column);
 
   StudioSession& session_;
   QTableWidget* table_;
