@@ -43,20 +43,7 @@ ScoreBreakdown scoreBreakdown(const std::vector<VoxelKey>& voxels, double resolu
 
 ScoreBreakdown scoreBreakdown(const std::vector<OccupiedVoxel>& leaves, double resolution,
                               const GroundTruthBox& box, IouMode mode) {
-  std::vector<Eigen::Vector3d> centres;
-  if (resolution > 0.0)
-    for (const OccupiedVoxel& leaf : leaves) {
-      if (leaf.label != box.label) continue;
-      // A pruned leaf of edge 2^d voxels stands for (2^d)^3 of them, centred on its sub-grid.
-      const int per_edge = std::max(1, static_cast<int>(std::lround(leaf.size / resolution)));
-      const Eigen::Vector3d first =
-          leaf.center - Eigen::Vector3d::Constant(0.5 * leaf.size - 0.5 * resolution);
-      for (int i = 0; i < per_edge; ++i)
-        for (int j = 0; j < per_edge; ++j)
-          for (int k = 0; k < per_edge; ++k)
-            centres.push_back(first + resolution * Eigen::Vector3d(i, j, k));
-    }
-  return fromCentres(std::move(centres), resolution, box, mode);
+  return fromCentres(finestVoxelCentres(leaves, resolution, box.label), resolution, box, mode);
 }
 
 Rgb scoreShareColour(double share) {

@@ -1,9 +1,11 @@
 // View > Show Score Breakdown: the selected box's label's
 // voxels coloured by how IU_3d counts them against the box, with counts that
 // add up to the score the Evaluation panel shows; and one object selection
-// shared by the Evaluation table and the boxes. (Pictures of the breakdown on
+// shared by the Evaluation table and the boxes; and T, which tightens a box
+// drawn roughly around an object onto the voxels it holds. (Pictures of the breakdown on
 // the demo were looked at: the object's voxels green inside its box, blends
 // of amber on its faces, red where they spill out.)
+#include "lom/box_fit.hpp"
 #include "lom/score_breakdown.hpp"
 
 #include <gtest/gtest.h>
@@ -175,6 +177,49 @@ TEST_F(ScoreBreakdownTest, EvaluationRowsAndBoxesShareOneSelection) {
   // The LabelOctoMap cell says what its score is made of.
   const QString tip = table.item(0, EvaluationPanel::LabelOctoMap)->toolTip();
   EXPECT_TRUE(tip.contains("cm³ of its voxels inside the box")) << tip.toStdString();
+}
+
+TEST_F(ScoreBreakdownTest, TightenPullsARoughBoxOntoTheVoxelsItHolds) {
+  openAndFuse();
+  const int index = largestBoxedObject();
+  ASSERT_GE(index, 0);
+  GroundTruthBox rough = boxes().box(index);
+  rough.box.size += Eigen::Vector3d::Constant(0.02);  // 1 cm of slack on every side
+  boxes().setBox(index, rough, "rough");
+  boxes().select(index);
+  QAction* tighten = window_.findAction("Tighten Box to the Voxels Inside");
+  ASSERT_NE(tighten, nullptr);
+  EXPECT_EQ(tighten->shortcut(), QKeySequence("T"));
+  ASSERT_TRUE(tighten->isEnabled());
+  tighten->trigger();
+
+  // The object voxels (any label but the background) inside the rough box.
+  const MapSnapshot& snapshot = *window_.session().worker().snapshot();
+  std::vector<OccupiedVoxel> objects;
+  for (const OccupiedVoxel& voxel : snapshot.voxels)
+    if (voxel.label != 0) objects.push_back(voxel);
+  const auto expected =
+      tightenBox(rough.box, finestVoxelCentres(objects, snapshot.resolution), snapshot.resolution);
+  ASSERT_TRUE(expected.has_value());
+  const OrientedBox tight = boxes().box(index).box;
+  EXPECT_NEAR((tight.center - expected->center).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((tight.size - expected->size).norm(), 0.0, 1e-12);
+  EXPECT_TRUE(tight.rotation.isApprox(rough.box.rotation));
+  EXPECT_LT(tight.volume(), rough.box.volume());
+  EXPECT_TRUE(statusMessage().startsWith("Box tightened onto the voxels inside it: "))
+      << statusMessage().toStdString();
+  // One undo step gives the rough box back.
+  boxes().undoStack().undo();
+  EXPECT_TRUE(boxes().box(index).box.size.isApprox(rough.box.size));
+
+  // Over no voxel: the box stays as it is, and the status bar says why.
+  GroundTruthBox away = rough;
+  away.box.center.z() += 5.0;
+  boxes().setBox(index, away, "away");
+  tighten->trigger();
+  EXPECT_TRUE(boxes().box(index).box.center.isApprox(away.box.center));
+  EXPECT_TRUE(statusMessage().startsWith("Tighten Box: no voxel of the map has its centre inside"))
+      << statusMessage().toStdString();
 }
 
 }  // namespace

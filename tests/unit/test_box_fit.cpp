@@ -186,6 +186,59 @@ TEST(BoxFit, RotatedObjectGetsARotatedBox) {
     }
 }
 
+TEST(BoxFit, TightenedBoxEnclosesTheVoxelsInsideItAndNoMore) {
+  constexpr double r = 0.01;
+  // A 3x2x1 block of voxels from the origin, and one voxel far away.
+  std::vector<Eigen::Vector3d> centres;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 2; ++j) centres.emplace_back((i + 0.5) * r, (j + 0.5) * r, 0.5 * r);
+  centres.emplace_back(0.205, 0.005, 0.005);
+  lom::OrientedBox rough;  // 5 cm around the block, not reaching the far voxel
+  rough.center = {0.015, 0.01, 0.005};
+  rough.size = {0.1, 0.1, 0.1};
+  const auto tight = lom::tightenBox(rough, centres, r);
+  ASSERT_TRUE(tight.has_value());
+  EXPECT_NEAR((tight->center - Eigen::Vector3d(0.015, 0.01, 0.005)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((tight->size - Eigen::Vector3d(0.03, 0.02, 0.01)).norm(), 0.0, 1e-12);
+  EXPECT_TRUE(tight->rotation.isApprox(rough.rotation));
+  // A voxel whose centre lies outside the box is left out, even if its cube reaches in.
+  lom::OrientedBox partial = rough;
+  partial.size.x() = 0.02 + 2 * 0.0004;  // centre at 0.015, x from 0.0046: the first column's centres (0.005) inside
+  partial.center.x() = 0.015;
+  const auto cut = lom::tightenBox(partial, centres, r);
+  ASSERT_TRUE(cut.has_value());
+  EXPECT_NEAR(cut->size.x(), 0.03, 1e-12) << "the columns at x = 0.005, 0.015 and 0.025";
+  partial.size.x() = 0.019;  // x from 0.0055 to 0.0245: only the middle column's centres
+  EXPECT_NEAR(lom::tightenBox(partial, centres, r)->size.x(), 0.01, 1e-12);
+  // A rotated box keeps its rotation and encloses each cube along its own axes.
+  lom::OrientedBox turned;
+  turned.center = {0.005, 0.005, 0.005};
+  turned.size = {0.05, 0.05, 0.05};
+  turned.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ()));
+  const auto one = lom::tightenBox(turned, {Eigen::Vector3d(0.005, 0.005, 0.005)}, r);
+  ASSERT_TRUE(one.has_value());
+  EXPECT_NEAR(one->size.x(), r * std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(one->size.y(), r * std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(one->size.z(), r, 1e-12);
+  EXPECT_TRUE(one->rotation.isApprox(turned.rotation));
+  // Nothing inside: no box.
+  rough.center = {1.0, 1.0, 1.0};
+  EXPECT_FALSE(lom::tightenBox(rough, centres, r).has_value());
+}
+
+TEST(BoxFit, FinestCentresSplitPrunedLeaves) {
+  const std::vector<lom::OccupiedVoxel> leaves = {
+      {Eigen::Vector3d(0.02, 0.02, 0.02), 0.04, 1, 0.9f},  // 4x4x4 voxels
+      {Eigen::Vector3d(0.105, 0.005, 0.005), 0.01, 2, 0.9f}};
+  const auto all = lom::finestVoxelCentres(leaves, 0.01);
+  ASSERT_EQ(all.size(), 65u);
+  EXPECT_NEAR((all.front() - Eigen::Vector3d(0.005, 0.005, 0.005)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((all[63] - Eigen::Vector3d(0.035, 0.035, 0.035)).norm(), 0.0, 1e-12);
+  EXPECT_EQ(lom::finestVoxelCentres(leaves, 0.01, 2).size(), 1u);
+  EXPECT_TRUE(lom::finestVoxelCentres(leaves, 0.01, 3).empty());
+  EXPECT_TRUE(lom::finestVoxelCentres(leaves, 0.0).empty());
+}
+
 TEST(BoxFit, NoVoxelsIsAnError) {
   EXPECT_THROW((void)lom::fitOrientedBox({}, kEdge), std::invalid_argument);
 }

@@ -5,8 +5,10 @@
 #include <QWidget>
 #include <cmath>
 
+#include "lom/box_fit.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/box_math.hpp"
+#include "lom/ui/map_worker.hpp"
 #include "lom/ui/studio_session.hpp"
 
 namespace lom::ui {
@@ -28,8 +30,8 @@ void BoxSteps::save() const {
 }
 
 BoxEditReaction::BoxEditReaction(QAction* action, Edit edit, StudioSession& session,
-                                 const BoxSteps& steps)
-    : Reaction(action), edit_(edit), session_(session), steps_(steps) {
+                                 const BoxSteps& steps, std::function<void(const QString&)> report)
+    : Reaction(action), edit_(edit), session_(session), steps_(steps), report_(std::move(report)) {
   connect(&session_.annotations(), &AnnotationsModel::selectionChanged, this,
           &BoxEditReaction::updateEnabled);
   connect(&session_.annotations(), &AnnotationsModel::boxesChanged, this,
@@ -69,13 +71,44 @@ void BoxEditReaction::onTriggered() {
     case Edit::ShrinkY: box.box = resized(box.box, 1, -r); text = tr("Resize box"); break;
     case Edit::GrowZ: box.box = resized(box.box, 2, r); text = tr("Resize box"); break;
     case Edit::ShrinkZ: box.box = resized(box.box, 2, -r); text = tr("Resize box"); break;
+    case Edit::Tighten: {
+      const std::optional<OrientedBox> tight = tightened(box.box);
+      if (!tight) {
+        report_(tr("Tighten Box: no voxel of the map has its centre inside the box; move the box "
+                   "over the object first."));
+        return;
+      }
+      box.box = *tight;
+      text = tr("Tighten box");
+      report_(tr("Box tightened onto the voxels inside it: %1 x %2 x %3 cm.")
+                  .arg(tight->size.x() * 100.0, 0, 'f', 1)
+                  .arg(tight->size.y() * 100.0, 0, 'f', 1)
+                  .arg(tight->size.z() * 100.0, 0, 'f', 1));
+      break;
+    }
     default: return;
   }
   model.setBox(index, box, text);
 }
 
+std::optional<OrientedBox> BoxEditReaction::tightened(const OrientedBox& box) const {
+  const MapSnapshotPtr snapshot = session_.worker().snapshot();
+  if (!snapshot || !(snapshot->resolution > 0.0)) return std::nullopt;
+  // Only leaves that can reach into the box are split into their voxels (a
+  // pruned leaf of a room's floor holds thousands).
+  const double box_radius = 0.5 * box.size.norm();
+  std::vector<OccupiedVoxel> near;
+  // Object voxels of any label: the support and the walls around (the
+  // background) stay out, labels mistaken between objects do not matter.
+  for (const OccupiedVoxel& leaf : snapshot->voxels)
+    if (leaf.label != 0 && (leaf.center - box.center).norm() <= box_radius + leaf.size)
+      near.push_back(leaf);
+  return tightenBox(box, finestVoxelCentres(near, snapshot->resolution), snapshot->resolution);
+}
+
 std::vector<QAction*> createBoxEditActions(QWidget& window, QWidget& scene, StudioSession& session,
-                                           const BoxSteps& steps) {
+                                           const BoxSteps& steps,
+                                           const std::function<void(const QString&)>& report) {
   using Edit = BoxEditReaction::Edit;
   struct Spec {
     QString text;
@@ -100,6 +133,7 @@ std::vector<QAction*> createBoxEditActions(QWidget& window, QWidget& scene, Stud
       {QObject::tr("Next Box"), Qt::Key_Tab, Edit::Next},
       {QObject::tr("Previous Box"), Qt::SHIFT + Qt::Key_Backtab, Edit::Previous},
       {QObject::tr("Delete Box"), QKeySequence::Delete, Edit::Delete},
+      {QObject::tr("Tighten Box to the Voxels Inside"), Qt::Key_T, Edit::Tighten},
   };
   std::vector<QAction*> actions;
   for (const Spec& spec : specs) {
@@ -108,7 +142,7 @@ std::vector<QAction*> createBoxEditActions(QWidget& window, QWidget& scene, Stud
     const bool tab = spec.edit == Edit::Next || spec.edit == Edit::Previous;
     action->setShortcutContext(tab ? Qt::WidgetWithChildrenShortcut : Qt::WindowShortcut);
     (tab ? scene : window).addAction(action);
-    new BoxEditReaction(action, spec.edit, session, steps);
+    new BoxEditReaction(action, spec.edit, session, steps, report);
     actions.push_back(action);
   }
   return actions;

@@ -2,12 +2,16 @@
 // Keyboard-first box editing, as in point-cloud labelling tools:
 //   W/S move along the box's x, A/D along its y, E/Q up/down its z,
 //   Z/X turn about its z, I/K grow/shrink x, O/L grow/shrink y,
-//   Shift+I/Shift+K grow/shrink z, Tab/Shift+Tab next/previous box, Delete.
+//   Shift+I/Shift+K grow/shrink z, Tab/Shift+Tab next/previous box, Delete,
+//   T tighten the box onto the map's object voxels inside it.
 // Step sizes are adjustable and remembered in the settings.
 #include <QObject>
 #include <QString>
+#include <functional>
+#include <optional>
 #include <vector>
 
+#include "lom/geometry.hpp"
 #include "lom/ui/reaction.hpp"
 
 class QWidget;
@@ -33,25 +37,33 @@ class BoxEditReaction : public Reaction {
     MoveForward, MoveBack, MoveLeft, MoveRight, MoveUp, MoveDown,
     TurnLeft, TurnRight,
     GrowX, ShrinkX, GrowY, ShrinkY, GrowZ, ShrinkZ,
-    Next, Previous, Delete,
+    Next, Previous, Delete, Tighten,
   };
-  BoxEditReaction(QAction* action, Edit edit, StudioSession& session, const BoxSteps& steps);
+  // `report` gets a sentence for the status bar when an edit cannot be made.
+  BoxEditReaction(QAction* action, Edit edit, StudioSession& session, const BoxSteps& steps,
+                  std::function<void(const QString&)> report);
 
  protected:
   void onTriggered() override;
 
  private:
   void updateEnabled();
+  // Tighten: the selected box shrunk onto the occupied voxels of any object
+  // label (not the background) whose centres it holds (lom::tightenBox),
+  // keeping its rotation.
+  [[nodiscard]] std::optional<OrientedBox> tightened(const OrientedBox& box) const;
 
   Edit edit_;
   StudioSession& session_;
   const BoxSteps& steps_;
+  std::function<void(const QString&)> report_;
 };
 
 // Creates the editing actions with their shortcuts. All but Tab/Shift+Tab act
 // window-wide (text fields keep their letter keys); Tab/Shift+Tab act while
 // the 3D view has the focus, so Tab still moves between fields elsewhere.
 std::vector<QAction*> createBoxEditActions(QWidget& window, QWidget& scene, StudioSession& session,
-                                           const BoxSteps& steps);
+                                           const BoxSteps& steps,
+                                           const std::function<void(const QString&)>& report);
 
 }  // namespace lom::ui
