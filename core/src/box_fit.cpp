@@ -144,24 +144,28 @@ OrientedBox fitOrientedBox(const std::vector<VoxelKey>& keys, double resolution)
   return box;
 }
 
-std::vector<Eigen::Vector3d> finestVoxelCentres(const std::vector<OccupiedVoxel>& leaves, double resolution,
-                                                std::optional<int> label) {
+std::vector<Eigen::Vector3d> finestVoxelCentres(const std::vector<OccupiedVoxel>& leaves,
+                                                double resolution, std::optional<int> label) {
   std::vector<Eigen::Vector3d> centres;
   if (!(resolution > 0.0)) return centres;
   for (const OccupiedVoxel& leaf : leaves) {
     if (label && leaf.label != *label) continue;
     const int per_edge = std::max(1, static_cast<int>(std::lround(leaf.size / resolution)));
-    const Eigen::Vector3d first = leaf.center - Eigen::Vector3d::Constant(0.5 * leaf.size - 0.5 * resolution);
+    const Eigen::Vector3d first =
+        leaf.center - Eigen::Vector3d::Constant(0.5 * leaf.size - 0.5 * resolution);
     for (int i = 0; i < per_edge; ++i)
       for (int j = 0; j < per_edge; ++j)
-        for (int k = 0; k < per_edge; ++k) centres.push_back(first + resolution * Eigen::Vector3d(i, j, k));
+        for (int k = 0; k < per_edge; ++k)
+          centres.push_back(first + resolution * Eigen::Vector3d(i, j, k));
   }
   return centres;
 }
 
-std::optional<OrientedBox> tightenBox(const OrientedBox& box, const std::vector<Eigen::Vector3d>& voxel_centres,
+std::optional<OrientedBox> tightenBox(const OrientedBox& box,
+                                      const std::vector<Eigen::Vector3d>& voxel_centres,
                                       double resolution) {
-  const Eigen::Matrix3d R = box.rotation.normalized().toRotationMatrix();  // box axes (columns) in the world
+  const Eigen::Matrix3d R =
+      box.rotation.normalized().toRotationMatrix();  // box axes (columns) in the world
   // Half the extent of an axis-aligned cube along each box axis.
   const Eigen::Vector3d reach = 0.5 * resolution * R.cwiseAbs().colwise().sum().transpose();
   const Eigen::Vector3d half = 0.5 * box.size;

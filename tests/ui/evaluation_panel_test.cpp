@@ -150,12 +150,15 @@ TEST_F(EvaluationPanelTest, ProjectionScoresNameEachViewAndADoubleClickShowsTheB
     const auto object = std::find_if(report.objects.begin(), report.objects.end(),
                                      [&](const ObjectScore& o) { return o.label == label; });
     ASSERT_NE(object, report.objects.end());
-    const size_t best = static_cast<size_t>(
-        std::max_element(object->per_view.begin(), object->per_view.end()) - object->per_view.begin());
+    const size_t best =
+        static_cast<size_t>(std::max_element(object->per_view.begin(), object->per_view.end()) -
+                            object->per_view.begin());
     const size_t frame = report.views[best];
     const QString tip = table.item(row, EvaluationPanel::ProjectionMax)->toolTip();
     EXPECT_TRUE(tip.contains(QString("Best: frame %1.").arg(frame))) << tip.toStdString();
-    EXPECT_TRUE(tip.contains(QString("%1: %2").arg(report.views.front()).arg(object->per_view.front() * 100.0, 0, 'f', 1)))
+    EXPECT_TRUE(tip.contains(QString("%1: %2")
+                                 .arg(report.views.front())
+                                 .arg(object->per_view.front() * 100.0, 0, 'f', 1)))
         << tip.toStdString();
     EXPECT_EQ(table.item(row, EvaluationPanel::ProjectionMean)->toolTip(), tip);
     // Elsewhere first, then a double-click on the score goes to the best view.

@@ -7,9 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <QAction>
-#include <cmath>
 #include <QStatusBar>
 #include <QTest>
+#include <cmath>
 
 #include "demo_window_fixture.hpp"
 #include "lom/ui/map_snapshot.hpp"

@@ -5,7 +5,6 @@
 // drawn roughly around an object onto the voxels it holds. (Pictures of the breakdown on
 // the demo were looked at: the object's voxels green inside its box, blends
 // of amber on its faces, red where they spill out.)
-#include "lom/box_fit.hpp"
 #include "lom/score_breakdown.hpp"
 
 #include <gtest/gtest.h>
@@ -17,6 +16,7 @@
 #include <QTest>
 
 #include "demo_window_fixture.hpp"
+#include "lom/box_fit.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/scene_view.hpp"

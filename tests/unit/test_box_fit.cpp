@@ -203,7 +203,9 @@ TEST(BoxFit, TightenedBoxEnclosesTheVoxelsInsideItAndNoMore) {
   EXPECT_TRUE(tight->rotation.isApprox(rough.rotation));
   // A voxel whose centre lies outside the box is left out, even if its cube reaches in.
   lom::OrientedBox partial = rough;
-  partial.size.x() = 0.02 + 2 * 0.0004;  // centre at 0.015, x from 0.0046: the first column's centres (0.005) inside
+  partial.size.x() =
+      0.02 +
+      2 * 0.0004;  // centre at 0.015, x from 0.0046: the first column's centres (0.005) inside
   partial.center.x() = 0.015;
   const auto cut = lom::tightenBox(partial, centres, r);
   ASSERT_TRUE(cut.has_value());

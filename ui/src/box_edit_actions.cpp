@@ -74,8 +74,9 @@ void BoxEditReaction::onTriggered() {
     case Edit::Tighten: {
       const std::optional<OrientedBox> tight = tightened(box.box);
       if (!tight) {
-        report_(tr("Tighten Box: no voxel of the map has its centre inside the box; move the box "
-                   "over the object first."));
+        report_(
+            tr("Tighten Box: no voxel of the map has its centre inside the box; move the box "
+               "over the object first."));
         return;
       }
       box.box = *tight;

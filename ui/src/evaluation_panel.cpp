@@ -7,9 +7,9 @@
 #include <QMessageBox>
 #include <QPushButton>
 #include <QScrollBar>
+#include <QStringList>
 #include <QStyleOptionHeader>
 #include <QTableWidget>
-#include <QStringList>
 #include <QTimer>
 #include <QVBoxLayout>
 #include <algorithm>
@@ -137,7 +137,8 @@ QString volumesTip(const IouVolumes& v) {
 std::optional<size_t> bestView(const ObjectScore& object, const std::vector<size_t>& views) {
   const size_t n = std::min(object.per_view.size(), views.size());
   if (n == 0) return std::nullopt;
-  const auto best = std::max_element(object.per_view.begin(), object.per_view.begin() + static_cast<long>(n));
+  const auto best =
+      std::max_element(object.per_view.begin(), object.per_view.begin() + static_cast<long>(n));
   return views[static_cast<size_t>(best - object.per_view.begin())];
 }
 
@@ -148,8 +149,9 @@ QString viewsTip(const ObjectScore& object, const std::vector<size_t>& views) {
   QStringList each;
   for (size_t i = 0; i < std::min(object.per_view.size(), views.size()); ++i)
     each << QString("%1: %2").arg(views[i]).arg(object.per_view[i] * 100.0, 0, 'f', 1);
-  return QObject::tr("Projection IU_3d of each view (frame: %): %1. Best: frame %2. Double-click to "
-                     "show that frame.")
+  return QObject::tr(
+             "Projection IU_3d of each view (frame: %): %1. Best: frame %2. Double-click to "
+             "show that frame.")
       .arg(each.join(", "))
       .arg(*best);
 }

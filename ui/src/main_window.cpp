@@ -298,10 +298,9 @@ void MainWindow::createAnnotateMenu() {
   add_box(tr("Add Box at Clicked Point"), AddBoxReaction::Mode::AtPickedPoint, Qt::SHIFT + Qt::Key_B);
   add_box(tr("Add Boxes for All Labels"), AddBoxReaction::Mode::FitAllLabels, Qt::CTRL + Qt::Key_B);
   menu->addSeparator();
-  for (QAction* action : createBoxEditActions(*this, *scene_view_, *session_, steps_,
-                                              [this](const QString& message) {
-                                                statusBar()->showMessage(message, 8000);
-                                              }))
+  for (QAction* action : createBoxEditActions(
+           *this, *scene_view_, *session_, steps_,
+           [this](const QString& message) { statusBar()->showMessage(message, 8000); }))
     menu->addAction(action);
 }
 

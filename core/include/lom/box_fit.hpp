@@ -39,17 +39,16 @@ inline constexpr double kMaxClusterTolerance = 20.0;
 // The centres of the finest-resolution voxels of occupied leaves (those of
 // `label` only, when given): a pruned leaf of edge 2^d voxels stands for
 // (2^d)^3 of them, centred on its sub-grid.
-[[nodiscard]] std::vector<Eigen::Vector3d> finestVoxelCentres(const std::vector<OccupiedVoxel>& leaves,
-                                                              double resolution,
-                                                              std::optional<int> label = std::nullopt);
+[[nodiscard]] std::vector<Eigen::Vector3d> finestVoxelCentres(
+    const std::vector<OccupiedVoxel>& leaves, double resolution,
+    std::optional<int> label = std::nullopt);
 
 // The box with `box`'s rotation that tightly encloses the cubes (edge
 // `resolution`) of the voxels whose centres lie inside `box`: a box drawn
 // roughly around an object, pulled onto the voxels it holds. A side can move
 // out by up to a cube's reach along a tilted axis (at most 0.87 of a voxel)
 // to hold the cubes whole. None when no centre lies inside.
-[[nodiscard]] std::optional<OrientedBox> tightenBox(const OrientedBox& box,
-                                                    const std::vector<Eigen::Vector3d>& voxel_centres,
-                                                    double resolution);
+[[nodiscard]] std::optional<OrientedBox> tightenBox(
+    const OrientedBox& box, const std::vector<Eigen::Vector3d>& voxel_centres, double resolution);
 
 }  // namespace lom

@@ -34,10 +34,24 @@ class BoxEditReaction : public Reaction {
 
  public:
   enum class Edit {
-    MoveForward, MoveBack, MoveLeft, MoveRight, MoveUp, MoveDown,
-    TurnLeft, TurnRight,
-    GrowX, ShrinkX, GrowY, ShrinkY, GrowZ, ShrinkZ,
-    Next, Previous, Delete, Tighten,
+    MoveForward,
+    MoveBack,
+    MoveLeft,
+    MoveRight,
+    MoveUp,
+    MoveDown,
+    TurnLeft,
+    TurnRight,
+    GrowX,
+    ShrinkX,
+    GrowY,
+    ShrinkY,
+    GrowZ,
+    ShrinkZ,
+    Next,
+    Previous,
+    Delete,
+    Tighten,
   };
   // `report` gets a sentence for the status bar when an edit cannot be made.
   BoxEditReaction(QAction* action, Edit edit, StudioSession& session, const BoxSteps& steps,
