@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "lom/error.hpp"
 #include "voxel_index.hpp"
 
 namespace lom {
@@ -148,9 +149,22 @@ std::vector<Eigen::Vector3d> finestVoxelCentres(const std::vector<OccupiedVoxel>
                                                 double resolution, std::optional<int> label) {
   std::vector<Eigen::Vector3d> centres;
   if (!(resolution > 0.0)) return centres;
+  auto perEdge = [resolution](const OccupiedVoxel& leaf) {
+    return std::max(1L, std::lround(leaf.size / resolution));
+  };
+  double total = 0.0;
+  for (const OccupiedVoxel& leaf : leaves)
+    if (!label || leaf.label == *label) total += std::pow(static_cast<double>(perEdge(leaf)), 3.0);
+  if (total > static_cast<double>(kMaxExpandedVoxels))
+    throw Error("(map)", "voxels",
+                "at most " + std::to_string(kMaxExpandedVoxels) +
+                    " voxels at the map's resolution (occupied leaves larger than a voxel stand "
+                    "for all their voxels)",
+                std::to_string(static_cast<unsigned long long>(total)) + " voxels");
+  centres.reserve(static_cast<size_t>(total));
   for (const OccupiedVoxel& leaf : leaves) {
     if (label && leaf.label != *label) continue;
-    const int per_edge = std::max(1, static_cast<int>(std::lround(leaf.size / resolution)));
+    const int per_edge = static_cast<int>(perEdge(leaf));
     const Eigen::Vector3d first =
         leaf.center - Eigen::Vector3d::Constant(0.5 * leaf.size - 0.5 * resolution);
     for (int i = 0; i < per_edge; ++i)

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "lom/box_fit.hpp"
+#include "lom/error.hpp"
 #include "lom/iou.hpp"
 #include "lom/objects.hpp"
 
@@ -239,6 +240,10 @@ TEST(BoxFit, FinestCentresSplitPrunedLeaves) {
   EXPECT_EQ(lom::finestVoxelCentres(leaves, 0.01, 2).size(), 1u);
   EXPECT_TRUE(lom::finestVoxelCentres(leaves, 0.01, 3).empty());
   EXPECT_TRUE(lom::finestVoxelCentres(leaves, 0.0).empty());
+  // A leaf standing for more voxels than a map lists (512^3 here) is refused, not allocated.
+  const std::vector<lom::OccupiedVoxel> huge = {{Eigen::Vector3d::Zero(), 5.12, 1, 0.9f}};
+  EXPECT_THROW((void)lom::finestVoxelCentres(huge, 0.01), lom::Error);
+  EXPECT_TRUE(lom::finestVoxelCentres(huge, 0.01, 2).empty()) << "another label's leaves are not counted";
 }
 
 TEST(BoxFit, NoVoxelsIsAnError) {

@@ -72,7 +72,13 @@ void BoxEditReaction::onTriggered() {
     case Edit::GrowZ: box.box = resized(box.box, 2, r); text = tr("Resize box"); break;
     case Edit::ShrinkZ: box.box = resized(box.box, 2, -r); text = tr("Resize box"); break;
     case Edit::Tighten: {
-      const std::optional<OrientedBox> tight = tightened(box.box);
+      std::optional<OrientedBox> tight;
+      try {
+        tight = tightened(box.box);
+      } catch (const std::exception& error) {  // leaves standing for too many voxels
+        report_(tr("Tighten Box: %1").arg(QString::fromStdString(error.what())));
+        return;
+      }
       if (!tight) {
         report_(
             tr("Tighten Box: no voxel of the map has its centre inside the box; move the box "

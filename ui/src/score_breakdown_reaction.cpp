@@ -60,12 +60,21 @@ void ScoreBreakdownReaction::onTriggered() {
 }
 
 void ScoreBreakdownReaction::refresh() {
-  const AnnotationsModel& boxes = session_.annotations();
-  const auto sequence = session_.sequence();
-  if (!action()->isChecked() || !sequence) {
+  if (!action()->isChecked() || !session_.sequence()) {
     if (scene_.scoreBreakdownCount() > 0) scene_.showScoreBreakdown({});
     return;
   }
+  try {
+    showBreakdowns();
+  } catch (const std::exception& error) {  // a map whose leaves stand for too many voxels
+    scene_.showScoreBreakdown({});
+    emit status(tr("Score breakdown: %1").arg(QString::fromStdString(error.what())));
+  }
+}
+
+void ScoreBreakdownReaction::showBreakdowns() {
+  const AnnotationsModel& boxes = session_.annotations();
+  const auto sequence = session_.sequence();
   // The studio scores as `labeloctomap score` does by default: exact volumes.
   const IouMode mode = EvaluationOptions().iou_mode;
   const MapSnapshot& snapshot = *session_.worker().snapshot();

@@ -38,7 +38,8 @@ inline constexpr double kMaxClusterTolerance = 20.0;
 
 // The centres of the finest-resolution voxels of occupied leaves (those of
 // `label` only, when given): a pruned leaf of edge 2^d voxels stands for
-// (2^d)^3 of them, centred on its sub-grid.
+// (2^d)^3 of them, centred on its sub-grid. Throws lom::Error (field
+// "voxels") beyond kMaxExpandedVoxels of them, as LabelMap does.
 [[nodiscard]] std::vector<Eigen::Vector3d> finestVoxelCentres(
     const std::vector<OccupiedVoxel>& leaves, double resolution,
     std::optional<int> label = std::nullopt);

@@ -28,6 +28,7 @@ class ScoreBreakdownReaction : public SceneToggleReaction {
 
  private:
   void refresh();
+  void showBreakdowns();  // refresh's work once the breakdown is on
 };
 
 }  // namespace lom::ui
