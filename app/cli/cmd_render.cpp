@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <set>
 #include <tuple>
@@ -183,10 +184,15 @@ void printScoreColours(const LabelMap& map, const render::RenderOptions& options
   std::cout << "colours: each boxed label's voxels by how IU_3d (" << iouModeName(score.mode)
             << ") counts them: green wholly inside its box, red outside, from red through amber "
                "to green by the share inside when partly inside; the other labels grey\n";
+  std::set<int> drawn;
+  for (const GroundTruthBox& box : score.boxes)
+    if (!options.labels || options.labels->count(box.label)) drawn.insert(box.label);
+  // Every drawn label's voxels in one pass over the map.
+  std::map<int, std::vector<VoxelKey>> voxels = map.voxelsByLabel(drawn);
   for (const GroundTruthBox& box : score.boxes) {
-    if (options.labels && !options.labels->count(box.label)) continue;
+    if (!drawn.count(box.label)) continue;
     const ScoreBreakdown breakdown =
-        scoreBreakdown(map.voxelsOfLabel(box.label), map.parameters().resolution, box, score.mode);
+        scoreBreakdown(voxels[box.label], map.parameters().resolution, box, score.mode);
     std::cout << "  label " << box.label << " " << map.labels().at(box.label).name << ": ";
     if (breakdown.centres.empty()) {
       std::cout << "no voxels\n";

@@ -1,6 +1,9 @@
 #include "lom/ui/score_breakdown_reaction.hpp"
 
 #include <QAction>
+#include <map>
+#include <set>
+#include <vector>
 
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/map_worker.hpp"
@@ -91,13 +94,19 @@ void ScoreBreakdownReaction::showBreakdowns() {
     emit status(describeScoreBreakdown(breakdown, name));
     return;
   }
-  // No box selected: every box that is scored (the first of its label, an
-  // object label of the sequence).
+  // No box selected: every box that is scored (lom::unscorableBoxes says
+  // which are not), each against its own label's voxels, gathered in one pass.
+  std::set<size_t> left_out;
+  for (const UnscorableBox& box : unscorableBoxes(boxes.annotations(), sequence->labels.size()))
+    left_out.insert(box.index);
+  std::map<int, std::vector<OccupiedVoxel>> leaves_of_label;
+  for (const OccupiedVoxel& leaf : snapshot.voxels) leaves_of_label[leaf.label].push_back(leaf);
   std::vector<ScoreBreakdown> breakdowns;
   for (int i = 0; i < boxes.boxCount(); ++i) {
+    if (left_out.count(static_cast<size_t>(i))) continue;
     const GroundTruthBox& box = boxes.box(i);
-    if (box.label > 0 && sequence->labels.contains(box.label) && boxes.indexOfLabel(box.label) == i)
-      breakdowns.push_back(scoreBreakdown(snapshot.voxels, snapshot.resolution, box, mode));
+    breakdowns.push_back(
+        scoreBreakdown(leaves_of_label[box.label], snapshot.resolution, box, mode));
   }
   scene_.showScoreBreakdown(breakdowns);
   emit status(describeScoreBreakdowns(breakdowns));
