@@ -399,7 +399,8 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   // Log-odds per pixel: 8-bit images through a 256-entry table (the same
   // clampedLogit the reference path calls, so the same bits); other images a
   // row at a time with the vectorised logit (within 1e-6 of clampedLogit).
-  const bool coded = direct && !direct->codes.empty() && direct->codes.size() == direct->values.size();
+  const bool coded = direct && !direct->codes.empty() &&
+                     (direct->values.empty() || direct->codes.size() == direct->values.size());
   const CodeTables& code_tables = codeTables();
   const std::array<float, 256>& code_logit = code_tables.logit;
   const std::array<std::uint8_t, 1024>& code_logit_bytes = code_tables.logit_bytes;

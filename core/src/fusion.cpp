@@ -67,9 +67,12 @@ FrameEvidence::FrameEvidence(int num_labels, const ProbabilityImage* proba, cons
 void FrameEvidence::probabilities(int u, int v, float* out) const {
   std::fill(out, out + num_labels_, 0.f);
   if (proba_) {
-    const float* pixel = proba_->pixel(u, v);
+    const size_t first =
+        (static_cast<size_t>(v) * static_cast<size_t>(proba_->width) + static_cast<size_t>(u)) *
+        static_cast<size_t>(proba_->channels);
     for (int c = 0; c < proba_->channels; ++c)
-      out[proba_->channel_labels[static_cast<size_t>(c)]] += pixel[c];
+      out[proba_->channel_labels[static_cast<size_t>(c)]] +=
+          proba_->probability(first + static_cast<size_t>(c));
   } else {
     const int id = label_->at(u, v);
     if (num_labels_ == 1) {
@@ -439,7 +442,7 @@ void fuseSequenceInto(LabelMap& map, const Sequence& sequence, const FusionOptio
   // the frames before it were fused.
   checkCamerasInsideMap(sequence, map.parameters().resolution, first, last);
   for (size_t i = first; i < last; ++i) {
-    const FrameData frame = loadFrameWithSegmenter(sequence, i, options.segmenter.get());
+    const FrameData frame = loadFusionFrame(sequence, i, options.segmenter.get());
     const FrameEvidence evidence = makeEvidence(sequence, i, frame, options);
     try {
       report.stats = integrateFrame(map, sequence.cameraOf(i), sequence.frames[i].T_world_camera,

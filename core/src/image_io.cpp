@@ -398,7 +398,7 @@ LabelImage readLabelImage(const fs::path& path) {
 }
 
 ProbabilityImage readProbabilityImage(const fs::path& path, const std::vector<int>& channel_labels,
-                                      int num_labels) {
+                                      int num_labels, bool floats_of_codes) {
   const std::string file = path.string();
   std::set<int> seen;
   for (size_t i = 0; i < channel_labels.size(); ++i) {
@@ -429,11 +429,12 @@ ProbabilityImage readProbabilityImage(const fs::path& path, const std::vector<in
   proba.channel_labels = channel_labels;
   if (proba.channel_labels.empty())
     for (int id = 0; id < num_labels; ++id) proba.channel_labels.push_back(id);
-  proba.values = array.toFloat(true);
-  if (array.type == NpyType::UInt8) {      // codes / 255: always probabilities
+  if (array.type == NpyType::UInt8) {  // codes / 255: always probabilities
+    if (floats_of_codes) proba.values = array.toFloat(true);
     proba.codes = std::move(array.bytes);  // C order, like values
     return proba;
   }
+  proba.values = array.toFloat(true);
   // Checked in one pass without branches, then searched only when one is off.
   bool all_probabilities = true;
   for (const float p : proba.values)

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 
@@ -310,48 +311,79 @@ size_t NpyArray::size() const {
   return count;
 }
 
+// Element i of an array converted by `convert(i)`, as an iterator: a vector
+// built from two of them writes each float once, where vector(count) would
+// first fill millions of zeros (a frame's probability image: 15 MB).
+template <class Convert>
+class ConvertingIterator {
+ public:
+  using iterator_category = std::random_access_iterator_tag;
+  using value_type = float;
+  using difference_type = std::ptrdiff_t;
+  using pointer = const float*;
+  using reference = float;
+  ConvertingIterator(size_t i, const Convert& convert) : i_(i), convert_(&convert) {}
+  float operator*() const { return (*convert_)(i_); }
+  ConvertingIterator& operator++() {
+    ++i_;
+    return *this;
+  }
+  difference_type operator-(const ConvertingIterator& o) const {
+    return static_cast<difference_type>(i_) - static_cast<difference_type>(o.i_);
+  }
+  bool operator==(const ConvertingIterator& o) const { return i_ == o.i_; }
+  bool operator!=(const ConvertingIterator& o) const { return i_ != o.i_; }
+
+ private:
+  size_t i_;
+  const Convert* convert_;
+};
+
+template <class Convert>
+std::vector<float> convertEach(size_t count, const Convert& convert) {
+  return std::vector<float>(ConvertingIterator<Convert>(0, convert),
+                            ConvertingIterator<Convert>(count, convert));
+}
+
 std::vector<float> NpyArray::toFloat(bool scale_integers) const {
   const size_t count = size();
-  std::vector<float> out(count);
   const std::uint8_t* data = bytes.data();
-  // One loop per type: a switch inside the loop keeps g++ from vectorising it
-  // (a frame's probability image holds millions of values).
+  // One conversion per type: a switch inside the loop keeps g++ from
+  // vectorising it (a frame's probability image holds millions of values).
   switch (type) {
-    case NpyType::Float32:
+    case NpyType::Float32: {
+      std::vector<float> out(count);
       std::memcpy(out.data(), data, 4 * count);
-      break;
+      return out;
+    }
     case NpyType::Float64:
-      for (size_t i = 0; i < count; ++i) {
+      return convertEach(count, [data](size_t i) {
         double v;
         std::memcpy(&v, data + 8 * i, 8);
-        out[i] = static_cast<float>(v);
-      }
-      break;
+        return static_cast<float>(v);
+      });
     case NpyType::Float16:
-      for (size_t i = 0; i < count; ++i) {
+      return convertEach(count, [data](size_t i) {
         std::uint16_t h;
         std::memcpy(&h, data + 2 * i, 2);
-        out[i] = halfToFloat(h);
-      }
-      break;
+        return halfToFloat(h);
+      });
     case NpyType::UInt8: {
       std::array<float, 256> value_of{};
       for (int code = 0; code < 256; ++code)
         value_of[static_cast<size_t>(code)] =
             scale_integers ? probabilityOfCode(static_cast<std::uint8_t>(code))
                            : static_cast<float>(code);
-      for (size_t i = 0; i < count; ++i) out[i] = value_of[data[i]];
-      break;
+      return convertEach(count, [data, &value_of](size_t i) { return value_of[data[i]]; });
     }
     case NpyType::UInt16:
-      for (size_t i = 0; i < count; ++i) {
+      return convertEach(count, [data, scale_integers](size_t i) {
         std::uint16_t v;
         std::memcpy(&v, data + 2 * i, 2);
-        out[i] = scale_integers ? static_cast<float>(v / 65535.0) : static_cast<float>(v);
-      }
-      break;
+        return scale_integers ? static_cast<float>(v / 65535.0) : static_cast<float>(v);
+      });
   }
-  return out;
+  return std::vector<float>(count);
 }
 
 NpyArray readNpy(const fs::path& path) {

@@ -692,9 +692,15 @@ ProbabilityImage segmentFrame(const Sequence& sequence, size_t index, const Colo
 FrameData loadFrameWithSegmenter(const Sequence& sequence, size_t index,
                                  const Segmenter* segmenter) {
   FrameData frame = loadFrame(sequence, index);
+  addSegmenterProbabilities(sequence, index, segmenter, frame);
+  return frame;
+}
+
+void addSegmenterProbabilities(const Sequence& sequence, size_t index, const Segmenter* segmenter,
+                               FrameData& frame) {
   // A proba an import made from the frame's own label image is no segmenter's
   // output: the network's replaces it.
-  if (!segmenter || (frame.proba && !sequence.frames[index].proba_from_label)) return frame;
+  if (!segmenter || (frame.proba && !sequence.frames[index].proba_from_label)) return;
   if (!frame.color)
     throw Error((sequence.root / "sequence.json").string(),
                 "frames[" + std::to_string(index) + "].color",
@@ -703,7 +709,6 @@ FrameData loadFrameWithSegmenter(const Sequence& sequence, size_t index,
                 "none");
   frame.proba = segmenter->segment(*frame.color, frame.depth.width, frame.depth.height,
                                    sequence.labels, segmenter->cacheDirFor(sequence));
-  return frame;
 }
 
 void writeProbabilityNpy(const fs::path& path, const ProbabilityImage& proba, NpyType dtype) {

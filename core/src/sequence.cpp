@@ -490,7 +490,8 @@ void checkLabelIds(const fs::path& path, const std::string& field, const LabelIm
            " pixel(s) with unknown ids"});
 }
 
-FrameData readFrame(const Sequence& sequence, size_t index, std::vector<Problem>& problems) {
+FrameData readFrame(const Sequence& sequence, size_t index, FrameParts parts,
+                    std::vector<Problem>& problems) {
   const FrameRecord& record = sequence.frames[index];
   const CameraIntrinsics& camera = sequence.cameraOf(index);
   const std::string field = indexed("frames", index);
@@ -499,18 +500,19 @@ FrameData readFrame(const Sequence& sequence, size_t index, std::vector<Problem>
           sequence, record.depth, join(field, "depth"), camera,
           [&](const fs::path& p) { return readDepthImage(p, camera.depth_scale); }, problems))
     data.depth = std::move(*depth);
-  if (!record.color.empty())
+  if (parts.color && !record.color.empty())
     data.color = readPart<ColorImage>(
         sequence, record.color, join(field, "color"), camera,
         [](const fs::path& p) { return readColorImage(p); }, problems);
-  if (!record.proba.empty())
+  if (parts.proba && !record.proba.empty())
     data.proba = readPart<ProbabilityImage>(
         sequence, record.proba, join(field, "proba"), camera,
         [&](const fs::path& p) {
-          return readProbabilityImage(p, record.proba_labels, sequence.labels.size());
+          return readProbabilityImage(p, record.proba_labels, sequence.labels.size(),
+                                      parts.proba_floats);
         },
         problems);
-  if (!record.label.empty()) {
+  if (parts.label && !record.label.empty()) {
     data.label = readPart<LabelImage>(
         sequence, record.label, join(field, "label"), camera,
         [](const fs::path& p) { return readLabelImage(p); }, problems);
@@ -594,18 +596,18 @@ std::vector<Problem> validateSequence(const Sequence& sequence) {
       problems.push_back({json_path.string(), indexed("frames", i),
                           "a \"proba\" or a \"label\" file (fusion needs per-pixel labels)",
                           "neither"});
-    (void)readFrame(sequence, i, problems);
+    (void)readFrame(sequence, i, FrameParts{}, problems);
   }
   return problems;
 }
 
-FrameData loadFrame(const Sequence& sequence, size_t index) {
+FrameData loadFrame(const Sequence& sequence, size_t index, FrameParts parts) {
   if (index >= sequence.frames.size())
     throw Error((sequence.root / "sequence.json").string(), indexed("frames", index),
                 "a frame index below " + std::to_string(sequence.frames.size()),
                 std::to_string(index));
   std::vector<Problem> problems;
-  FrameData data = readFrame(sequence, index, problems);
+  FrameData data = readFrame(sequence, index, parts, problems);
   if (!problems.empty()) throw Error(problems.front());
   return data;
 }

@@ -1,7 +1,8 @@
 // Fusion speed and memory. `lom_benchmarks --table` prints the comparison table
 // of docs/performance.md (fast path vs reference path vs OctoMap's own
-// insertPointCloud, measured in the same run on the same frames); without
-// --table it runs the Google Benchmark cases.
+// insertPointCloud, measured in the same run on the same frames) and the
+// table of reading and fusing frames from disk (`--reading` prints that one
+// alone); without either it runs the Google Benchmark cases.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -236,41 +237,108 @@ BENCHMARK(BM_FastFusionOneThread)->Unit(benchmark::kMillisecond);
 
 BENCHMARK(BM_ReferenceFusion)->Unit(benchmark::kMillisecond);
 
-// Reading a frame from disk (colour, depth, label and 8-bit probability
-// images, checked as fusion reads them): in `labeloctomap fuse` and the
-// studio this comes on top of integrating it.
-void BM_LoadFrame(benchmark::State& state) {
-  const int width = static_cast<int>(state.range(0));
+// The on-disk scene of scene(width, ...), 8 frames.
+lom::Sequence sceneOnDisk(int width) {
   const int frames = 8;
   scene(width, width * 3 / 4, frames);  // writes the scene once
-  const lom::Sequence sequence = lom::loadSequence(
+  return lom::loadSequence(
       benchmarkFolder() /
       (std::to_string(width) + "x" + std::to_string(width * 3 / 4) + "-" + std::to_string(frames)));
+}
+
+// Reading a frame from disk, checked as it is read: /0 every image (colour,
+// depth, label and the 8-bit probability image as codes and floats, what the
+// studio's frame view reads), /1 what fusion reads (lom::loadFusionFrame:
+// depth and the probability codes). In `labeloctomap fuse` and the studio
+// this comes on top of integrating the frame.
+void BM_LoadFrame(benchmark::State& state) {
+  const lom::Sequence sequence = sceneOnDisk(static_cast<int>(state.range(0)));
+  const bool for_fusion = state.range(1) != 0;
   size_t index = 0;
   for (auto _ : state) {
-    lom::FrameData frame = lom::loadFrame(sequence, index++ % sequence.frames.size());
+    const size_t i = index++ % sequence.frames.size();
+    lom::FrameData frame =
+        for_fusion ? lom::loadFusionFrame(sequence, i, nullptr) : lom::loadFrame(sequence, i);
     benchmark::DoNotOptimize(frame.depth.metres.data());
   }
   state.SetItemsProcessed(state.iterations());
   state.SetLabel("items = frames");
 }
-BENCHMARK(BM_LoadFrame)->Arg(640)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LoadFrame)->Args({640, 0})->Args({640, 1})->Unit(benchmark::kMillisecond);
+
+// What `labeloctomap fuse` spends per frame, reading included: each round
+// reads and fuses the 640x480 scene from disk into a fresh map (40 labels,
+// 1 cm), once reading every image of a frame (lom::loadFrame, as fusion did
+// before 2026-11-26) and once what fusion reads (lom::loadFusionFrame).
+int printReadingTable(int repeats) {
+  const lom::Sequence sequence = sceneOnDisk(640);
+  lom::MapParameters parameters;
+  parameters.resolution = 0.01;
+  struct Times {
+    std::vector<double> read, fuse, frame;
+  };
+  Times every, fusion_only;
+  const auto round = [&](bool for_fusion, Times& times) {
+    lom::LabelMap map(sequence.labels, parameters);
+    for (size_t i = 0; i < sequence.frames.size(); ++i) {
+      const auto start = std::chrono::steady_clock::now();
+      const lom::FrameData frame =
+          for_fusion ? lom::loadFusionFrame(sequence, i, nullptr) : lom::loadFrame(sequence, i);
+      const auto read = std::chrono::steady_clock::now();
+      const lom::FrameEvidence evidence(map.numLabels(), &*frame.proba, nullptr, std::nullopt, 0.9);
+      lom::integrateFrame(map, sequence.cameraOf(i), sequence.frames[i].T_world_camera, frame.depth,
+                          evidence, {});
+      const auto end = std::chrono::steady_clock::now();
+      times.read.push_back(std::chrono::duration<double>(read - start).count());
+      times.fuse.push_back(std::chrono::duration<double>(end - read).count());
+      times.frame.push_back(std::chrono::duration<double>(end - start).count());
+    }
+  };
+  for (int r = 0; r < repeats; ++r) {  // alternately, so that a slow spell slows both
+    round(false, every);
+    round(true, fusion_only);
+  }
+  std::printf(
+      "\nReading and fusing the 640x480 scene from disk (%zu frames, 40 labels, 1 cm), %d rounds;\n"
+      "ms/frame: median over the rounds' frames.\n\n",
+      sequence.frames.size(), repeats);
+  std::printf(
+      "| frames read as | read ms/frame | fuse ms/frame | read + fuse ms/frame | frames/s | x "
+      "every image |\n");
+  std::printf("|---|---|---|---|---|---|\n");
+  const double baseline = median(every.frame);
+  for (const auto& [name, t] :
+       {std::pair<const char*, const Times*>{"every image (loadFrame)", &every},
+        {"what fusion reads (loadFusionFrame)", &fusion_only}}) {
+    const double frame = median(t->frame);
+    std::printf("| %s | %.1f | %.1f | %.1f | %.0f | %.2f |\n", name, median(t->read) * 1e3,
+                median(t->fuse) * 1e3, frame * 1e3, 1.0 / frame, baseline / frame);
+  }
+  std::fflush(stdout);
+  return 0;
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
   int repeats = 5;
   size_t frames = 8, reference_frames = 8;
-  bool table = false;
+  bool table = false, reading = false;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--table")) table = true;
+    else if (!std::strcmp(argv[i], "--reading"))
+      reading = true;
     else if (!std::strncmp(argv[i], "--repeats=", 10)) repeats = std::atoi(argv[i] + 10);
     else if (!std::strncmp(argv[i], "--frames=", 9)) frames = static_cast<size_t>(std::atoi(argv[i] + 9));
     else if (!std::strncmp(argv[i], "--reference-frames=", 19))
       reference_frames = static_cast<size_t>(std::atoi(argv[i] + 19));
   }
-  if (table) return printTable(std::max(1, repeats), std::max<size_t>(1, frames),
-                               std::max<size_t>(1, reference_frames));
+  if (reading && !table) return printReadingTable(std::max(1, repeats));
+  if (table) {
+    const int status = printTable(std::max(1, repeats), std::max<size_t>(1, frames),
+                                  std::max<size_t>(1, reference_frames));
+    return status ? status : printReadingTable(std::max(1, repeats));
+  }
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

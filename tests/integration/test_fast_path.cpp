@@ -157,6 +157,45 @@ TEST(FastPathTest, EightBitAndFloatProbabilityImagesGiveTheSameMap) {
   expectSameMaps(reference, floats);
 }
 
+// Fusion reads 8-bit probability images as their codes only (no float copy):
+// both paths, with and without class candidates, give the same bits as from
+// the image with its floats.
+TEST(FastPathTest, ProbabilityCodesWithoutFloatsGiveTheSameBits) {
+  lom::test::TempDir dir;
+  const lom::Sequence sequence = generatedScene(dir, 9, 4, 3);
+  const int n = sequence.labels.size();
+  const std::vector<int> candidates{0, 4, 6, 10, 12, 28, 32, n - 1};
+  for (const bool restricted : {false, true}) {
+    for (const IntegrationPath path : {IntegrationPath::Fast, IntegrationPath::Reference}) {
+      SCOPED_TRACE(std::string(path == IntegrationPath::Fast ? "fast" : "reference") +
+                   (restricted ? ", candidates" : ""));
+      LabelMap with_floats(sequence.labels, lom::MapParameters{});
+      LabelMap codes_only(sequence.labels, lom::MapParameters{});
+      lom::IntegrationOptions options;
+      options.path = path;
+      const auto given = restricted ? std::optional<std::vector<int>>(candidates) : std::nullopt;
+      for (size_t i = 0; i < sequence.frames.size(); ++i) {
+        const lom::FrameData full = lom::loadFrame(sequence, i);
+        const lom::FrameData fused = lom::loadFusionFrame(sequence, i, nullptr);
+        ASSERT_TRUE(full.proba && fused.proba);
+        ASSERT_FALSE(full.proba->values.empty());
+        ASSERT_TRUE(fused.proba->values.empty());
+        ASSERT_EQ(fused.proba->codes.size(), full.proba->values.size());
+        integrate(with_floats, sequence, i, full.depth,
+                  lom::FrameEvidence(n, &*full.proba, nullptr, given, 0.9), options);
+        integrate(codes_only, sequence, i, fused.depth,
+                  lom::FrameEvidence(n, &*fused.proba, nullptr, given, 0.9), options);
+      }
+      Comparison result;
+      compareLeaves(with_floats, codes_only, result);
+      compareLeaves(codes_only, with_floats, result);
+      EXPECT_GT(result.checked, 1000u);
+      EXPECT_EQ(result.mismatched_state, 0u);
+      EXPECT_EQ(result.max_probability_difference, 0.0);
+    }
+  }
+}
+
 // A single float channel (a single-label map, or one label of many) sums each
 // run of pixels in a register: random probabilities per pixel, so that every
 // pixel of a voxel counts, give the reference path's map.

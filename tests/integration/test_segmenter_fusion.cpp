@@ -167,6 +167,20 @@ TEST(SegmenterFusion, FramesWithProbaKeepTheirOwn) {
   EXPECT_EQ(segmenter->stats().inferences, 1u);
   // Without a segmenter it is loadFrame.
   EXPECT_FALSE(lom::loadFrameWithSegmenter(sequence, 0, nullptr).proba);
+
+  // Fusion reads the colour image for the network and its own proba
+  // otherwise, and nothing it does not fuse (the label image is ground truth).
+  const lom::FrameData fused_0 = lom::loadFusionFrame(sequence, 0, segmenter.get());
+  ASSERT_TRUE(fused_0.proba);
+  EXPECT_EQ(fused_0.proba->values, with_label.proba->values);
+  EXPECT_FALSE(fused_0.label);
+  const lom::FrameData fused_1 = lom::loadFusionFrame(sequence, 1, segmenter.get());
+  ASSERT_TRUE(fused_1.proba);
+  EXPECT_EQ(fused_1.proba->values, own.values);
+  EXPECT_FALSE(fused_1.color);
+  EXPECT_FALSE(fused_1.label);
+  // Frame 0's network output came from the disk cache: still one inference.
+  EXPECT_EQ(segmenter->stats().inferences, 1u);
 }
 
 TEST(SegmenterFusion, ProbaMadeFromTheLabelImageIsReplacedByTheNetworks) {
@@ -187,6 +201,17 @@ TEST(SegmenterFusion, ProbaMadeFromTheLabelImageIsReplacedByTheNetworks) {
   const lom::FrameData own = lom::loadFrameWithSegmenter(sequence, 0, nullptr);
   ASSERT_TRUE(own.proba);
   EXPECT_EQ(own.proba->values, one_hot.values);
+
+  // Fusion with the network reads the colour image and not the one-hot proba
+  // it replaces: that file may even be gone.
+  const lom::FrameParts parts = lom::fusionPartsOf(sequence, 0, segmenter.get());
+  EXPECT_TRUE(parts.color);
+  EXPECT_FALSE(parts.proba);
+  std::filesystem::remove(dir / "seq" / "one_hot.npy");
+  const lom::FrameData fused = lom::loadFusionFrame(sequence, 0, segmenter.get());
+  ASSERT_TRUE(fused.proba);
+  EXPECT_EQ(fused.proba->values, frame.proba->values);
+  EXPECT_THROW((void)lom::loadFusionFrame(sequence, 0, nullptr), lom::Error);
 }
 
 TEST(SegmenterFusion, ProbaMadeFromTheLabelImageIsScoredIn2dOnlyWithASegmenter) {

@@ -5,6 +5,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "lom/fusion.hpp"
 #include "lom/npy.hpp"
 #include "lom/sequence.hpp"
 #include "test_support.hpp"
@@ -567,6 +568,63 @@ TEST_F(SequenceValidationTest, LoadFrameReturnsTheImagesAndThrowsOnProblems) {
     EXPECT_EQ(e.problem().file, (sequence.root / "proba/1.npy").string());
   }
   EXPECT_THROW((void)lom::loadFrame(sequence, 2), lom::Error);
+}
+
+// Fusion reads a frame's depth and the images it fuses, nothing else: a
+// broken colour or label image does not stop it (validate reports them),
+// and an 8-bit proba image comes as its codes only.
+TEST_F(SequenceValidationTest, FusionReadsOnlyTheImagesItFuses) {
+  std::ofstream(dir / "color/1.png", std::ios::binary) << "not a PNG";
+  std::ofstream(dir / "label/1.png", std::ios::binary) << "not a PNG";
+  EXPECT_THROW((void)lom::loadFrame(sequence, 1), lom::Error);
+  const lom::FrameParts parts = lom::fusionPartsOf(sequence, 1, nullptr);
+  EXPECT_TRUE(parts.proba);
+  EXPECT_FALSE(parts.proba_floats);
+  EXPECT_FALSE(parts.color);
+  EXPECT_FALSE(parts.label);
+  const lom::FrameData frame = lom::loadFusionFrame(sequence, 1, nullptr);
+  EXPECT_FALSE(frame.color);
+  EXPECT_FALSE(frame.label);
+  ASSERT_TRUE(frame.proba);
+  // A float image has no codes: its values are read as they are.
+  EXPECT_TRUE(frame.proba->codes.empty());
+  EXPECT_FLOAT_EQ(frame.proba->pixel(kWidth - 1, 4)[1], 1.0f);
+
+  // An 8-bit image: codes only for fusion, codes and floats for everyone else.
+  lom::NpyArray coded;
+  coded.type = lom::NpyType::UInt8;
+  coded.shape = {kHeight, kWidth, 2};
+  for (size_t i = 0; i < 2 * kWidth * kHeight; ++i)
+    coded.bytes.push_back(static_cast<std::uint8_t>(i * 5));
+  lom::writeNpy(dir / "proba/0.npy", coded);
+  const lom::FrameData codes_only = lom::loadFusionFrame(sequence, 0, nullptr);
+  ASSERT_TRUE(codes_only.proba);
+  EXPECT_TRUE(codes_only.proba->values.empty());
+  EXPECT_FALSE(codes_only.proba->hasValues());
+  EXPECT_EQ(codes_only.proba->codes, coded.bytes);
+  const lom::FrameData full = lom::loadFrame(sequence, 0);
+  ASSERT_EQ(full.proba->values.size(), coded.bytes.size());
+  for (size_t i = 0; i < coded.bytes.size(); ++i) {
+    EXPECT_EQ(codes_only.proba->probability(i), full.proba->values[i]) << i;
+    EXPECT_EQ(full.proba->probability(i), full.proba->values[i]) << i;
+  }
+
+  // Without a proba, fusion reads the label image; a missing depth still fails.
+  sequence.frames[1].proba.clear();
+  sequence.frames[1].proba_labels.clear();
+  EXPECT_THROW((void)lom::loadFusionFrame(sequence, 1, nullptr), lom::Error);  // the broken label
+  lom::writeLabelPng(dir / "label/1.png", {kWidth, kHeight, std::vector<std::uint16_t>(48, 2)});
+  const lom::FrameData labelled = lom::loadFusionFrame(sequence, 1, nullptr);
+  ASSERT_TRUE(labelled.label);
+  EXPECT_FALSE(labelled.proba);
+  EXPECT_EQ(labelled.label->at(3, 3), 2);
+  fs::remove(dir / "depth/1.png");
+  try {
+    (void)lom::loadFusionFrame(sequence, 1, nullptr);
+    ADD_FAILURE() << "fusion read a frame without its depth image";
+  } catch (const lom::Error& e) {
+    EXPECT_EQ(e.problem().field, "frames[1].depth");
+  }
 }
 
 // A minimal PNG encoder (stored, uncompressed deflate blocks) so that the

@@ -189,7 +189,7 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
       break;
     }
     try {
-      const FrameData frame = loadFrameWithSegmenter(*sequence, i, fusion.segmenter.get());
+      const FrameData frame = loadFusionFrame(*sequence, i, fusion.segmenter.get());
       const FrameEvidence evidence = makeEvidence(*sequence, i, frame, fusion);
       FrameStats stats =
           integrateFrame(*map_, sequence->cameraOf(i), sequence->frames[i].T_world_camera,

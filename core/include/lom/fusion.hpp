@@ -213,6 +213,20 @@ struct FusionProgress {
   FrameStats totals;
 };
 
+// The images fusion reads of frame `index` besides its depth image: the proba
+// image when it is fused as it is (an 8-bit one as its codes only), else the
+// colour image when `segmenter` (may be null) runs on it
+// (loadFrameWithSegmenter's rule), else the label image. The frame's other
+// images are not opened: reading all of a 640x480 frame takes twice as long
+// (docs/performance.md, "Reading frames").
+[[nodiscard]] FrameParts fusionPartsOf(const Sequence& sequence, size_t index,
+                                       const Segmenter* segmenter);
+
+// Frame `index` as fusion reads it (fusionPartsOf), with the segmenter's
+// probabilities where it runs. Throws lom::Error naming the file and field.
+[[nodiscard]] FrameData loadFusionFrame(const Sequence& sequence, size_t index,
+                                        const Segmenter* segmenter);
+
 // Builds the evidence of a loaded frame (proba if present, else label image).
 // Throws lom::Error naming the frame when it has neither.
 [[nodiscard]] FrameEvidence makeEvidence(const Sequence& sequence, size_t index,

@@ -43,8 +43,14 @@ struct ProbabilityImage {
   // When the image was read from 8-bit values: those values, one per element
   // of `values` (values[i] == probabilityOfCode(codes[i])); empty otherwise.
   // Fast fusion turns a code into log-odds with a 256-entry table. Whoever
-  // changes `values` of a read image must clear `codes`.
+  // changes `values` of a read image must clear `codes`. An image read for
+  // fusion only (FrameParts::proba_floats false) has its codes and no
+  // `values`: read it through probability(), or pixel() once hasValues().
   std::vector<std::uint8_t> codes;
+  [[nodiscard]] bool hasValues() const { return codes.empty() || !values.empty(); }
+  [[nodiscard]] float probability(size_t i) const {
+    return values.empty() ? probabilityOfCode(codes[i]) : values[i];
+  }
   [[nodiscard]] const float* pixel(int u, int v) const {
     return values.data() + (static_cast<size_t>(v) * width + u) * channels;
   }

@@ -139,6 +139,10 @@ class Segmenter {
 // segmenter this is loadFrame.
 [[nodiscard]] FrameData loadFrameWithSegmenter(const Sequence& sequence, size_t index,
                                                const Segmenter* segmenter);
+// The second half of loadFrameWithSegmenter, for a frame loaded already:
+// replaces or adds its proba with the segmenter's where the rule above says so.
+void addSegmenterProbabilities(const Sequence& sequence, size_t index, const Segmenter* segmenter,
+                               FrameData& frame);
 
 // Writes a probability image as an H x W x C .npy of `dtype` (Float32, Float16 or
 // UInt8 = round(p * 255)), atomically; the format of a sequence's proba files.

@@ -95,16 +95,31 @@ void saveSequence(const Sequence& sequence, const std::filesystem::path& folder)
 inline constexpr double kMaxPlausibleFieldOfView = 150.0;
 [[nodiscard]] std::vector<std::string> implausibleIntrinsics(const Sequence& sequence);
 
-// Loads one frame's images. Throws lom::Error naming the file and field.
-[[nodiscard]] FrameData loadFrame(const Sequence& sequence, size_t index);
+// Which of a frame's images loadFrame reads besides its depth image: a part
+// left out stays empty in FrameData and its file is not opened.
+struct FrameParts {
+  bool color = true;
+  bool proba = true;
+  bool label = true;
+  // False: an 8-bit proba image keeps only its codes, without the float copy
+  // of every value (15 MB for a 640x480 image of 12 channels); fusion
+  // (FrameEvidence, integrateFrame) reads either.
+  bool proba_floats = true;
+};
+
+// Loads one frame's images (those `parts` asks for). Throws lom::Error naming
+// the file and field.
+[[nodiscard]] FrameData loadFrame(const Sequence& sequence, size_t index, FrameParts parts = {});
 
 // Image file helpers (OpenCV behind the scenes). All throw lom::Error naming the file.
 [[nodiscard]] DepthImage readDepthImage(const std::filesystem::path& path, double depth_scale);
 [[nodiscard]] ColorImage readColorImage(const std::filesystem::path& path);
 [[nodiscard]] LabelImage readLabelImage(const std::filesystem::path& path);
+// With `floats_of_codes` false, an 8-bit image keeps only its codes (`values`
+// stays empty; see ProbabilityImage).
 [[nodiscard]] ProbabilityImage readProbabilityImage(const std::filesystem::path& path,
                                                     const std::vector<int>& channel_labels,
-                                                    int num_labels);
+                                                    int num_labels, bool floats_of_codes = true);
 // 16-bit PNG with value = round(metres / depth_scale), 0 for no measurement.
 void writeDepthPng(const std::filesystem::path& path, const DepthImage& depth, double depth_scale);
 void writeColorPng(const std::filesystem::path& path, const ColorImage& color);
