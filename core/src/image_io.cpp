@@ -8,20 +8,22 @@
 #include <fstream>
 #include <limits>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgcodecs.hpp>  // the IMREAD_ flags only
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <set>
 
 #include "file_checks.hpp"
 #include "image_header.hpp"
+#include "jpeg_decode.hpp"
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 #include "lom/npy.hpp"
 #include "lom/sequence.hpp"
-#include "jpeg_decode.hpp"
+#include "other_images.hpp"
 #include "png_check.hpp"
 #include "png_decode.hpp"
+#include "png_encode.hpp"
 
 namespace lom {
 
@@ -126,14 +128,7 @@ cv::Mat readImage(const fs::path& path) {
     return hasJpegSignature(bytes->data(), bytes->size())
                ? decodeJpeg(bytes->data(), bytes->size(), file)
                : decodePng(bytes->data(), bytes->size(), file);
-  cv::Mat mat;
-  try {
-    mat = cv::imread(file, cv::IMREAD_UNCHANGED);
-  } catch (const cv::Exception& e) {
-    throw Error(file, "", "a readable image", "OpenCV failed: " + std::string(e.what()));
-  }
-  if (mat.empty()) throw Error(file, "", "a readable image", "a file OpenCV cannot decode");
-  return mat;
+  return readOtherImage(file, cv::IMREAD_UNCHANGED);
 }
 
 std::string typeName(NpyType type) {
@@ -181,18 +176,8 @@ void writeMatPng(const fs::path& path, const cv::Mat& mat) {
     throw Error(path.string(), "output path", "a file name ending in .png",
                 "'" + path.extension().string() + "'");
   // Encoded in memory and written by the atomic writer: libpng writing to the
-  // file itself would print "libpng error: Write Error" on a full disk, and
-  // OpenCV would only say that it failed.
-  std::vector<std::uint8_t> png;
-  bool encoded = false;
-  try {
-    encoded = cv::imencode(".png", mat, png);
-  } catch (const cv::Exception& e) {
-    throw Error(path.string(), "output", "a writable PNG",
-                "OpenCV failed: " + std::string(e.what()));
-  }
-  if (!encoded)
-    throw Error(path.string(), "output", "a writable PNG", "OpenCV could not encode the image");
+  // file itself would print "libpng error: Write Error" on a full disk.
+  const std::vector<std::uint8_t> png = encodePng(mat, path.string());
   writeFileAtomically(path, [&](std::ostream& out) {
     out.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
   });

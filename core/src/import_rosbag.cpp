@@ -21,11 +21,12 @@
 #include <cmath>
 #include <cstring>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgcodecs.hpp>  // the IMREAD_ flags only
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "jpeg_decode.hpp"
+#include "other_images.hpp"
 #include "png_check.hpp"
 #include "png_decode.hpp"
 #include "rosbag_topics.hpp"
@@ -198,13 +199,7 @@ cv::Mat decodeBytes(const std::vector<std::uint8_t>& data, size_t offset, int fl
       bgr = image;
     return bgr;
   }
-  const cv::Mat buffer(1, static_cast<int>(data.size() - offset), CV_8UC1,
-                       const_cast<std::uint8_t*>(data.data() + offset));
-  try {
-    return cv::imdecode(buffer, flags);
-  } catch (const cv::Exception&) {
-    return {};
-  }
+  return decodeOtherImage(bytes, size, flags, "a compressed image of the bag");
 }
 
 // compressed_depth_image_transport: optional 12-byte header (format, quantA, quantB), then PNG.

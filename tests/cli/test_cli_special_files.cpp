@@ -111,4 +111,40 @@ TEST_F(CliSpecialFilesTest, BatchListThatIsADeviceOrAFifoSaysSo) {
   EXPECT_FALSE(fs::exists(dir_ / "r"));
 }
 
+// OpenCV's imgcodecs needs 139 libraries; loading them made every start of
+// the program take 0.2 s instead of 0.05 s. It is loaded only for an image
+// that is neither PNG nor JPEG, and such an image is still read.
+TEST(CliStartTest, ImageCodecsAreLoadedOnlyForOtherImageFormats) {
+  std::string libraries;
+  FILE* ldd = popen((std::string("ldd '") + LOM_CLI_PATH + "' 2>&1").c_str(), "r");
+  ASSERT_NE(ldd, nullptr);
+  char line[512];
+  while (fgets(line, sizeof(line), ldd)) libraries += line;
+  pclose(ldd);
+  ASSERT_NE(libraries.find("libopencv_core"), std::string::npos) << libraries;
+  EXPECT_EQ(libraries.find("libopencv_imgcodecs"), std::string::npos) << libraries;
+
+  lom::test::TempDir dir;
+  std::ofstream(dir / "labels.pgm", std::ios::binary) << "P5 4 3 255\n" << std::string(12, '\x02');
+  const lom::Sequence written = [&] {
+    lom::Sequence s;
+    s.root = dir.path();
+    s.labels = lom::apc2016Labels();
+    s.camera.width = 4;
+    s.camera.height = 3;
+    s.camera.fx = s.camera.fy = 4.0;
+    s.camera.cx = 2.0;
+    s.camera.cy = 1.5;
+    lom::FrameRecord frame;
+    frame.depth = "depth.png";
+    frame.label = "labels.pgm";
+    s.frames.push_back(frame);
+    lom::writeDepthPng(dir / "depth.png", {4, 3, std::vector<float>(12, 0.8f)}, 0.001);
+    lom::saveSequence(s, dir.path());
+    return s;
+  }();
+  const auto r = lom::test::runCli("validate '" + written.root.string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+}
+
 }  // namespace

@@ -14,6 +14,7 @@
 
 #include "lom/sequence.hpp"
 #include "png_decode.hpp"
+#include "png_encode.hpp"
 #include "test_input_helpers.hpp"
 
 namespace {
@@ -121,6 +122,38 @@ TEST(PngDecodeTest, GivesOpenCvsPixelsForEveryKindOfPng) {
     ASSERT_EQ(decoded.size(), expected.size());
     EXPECT_EQ(cv::norm(decoded, expected, cv::NORM_INF), 0.0);
   }
+}
+
+// The programs write PNGs with libpng (OpenCV's encoder is in imgcodecs, which
+// they no longer link): OpenCV reads every kind they write back to the same
+// samples, channel order included, and so does the decoder here.
+TEST(PngEncodeTest, OpenCvReadsBackTheSamplesOfEveryKindWritten) {
+  for (const int type : {CV_8UC1, CV_8UC3, CV_8UC4, CV_16UC1, CV_16UC3, CV_16UC4}) {
+    SCOPED_TRACE("OpenCV type " + std::to_string(type));
+    cv::Mat image(7, 13, type);
+    cv::randu(image, cv::Scalar::all(0),
+              cv::Scalar::all(CV_MAT_DEPTH(type) == CV_16U ? 65536 : 256));
+    const std::vector<std::uint8_t> png = lom::encodePng(image, "test.png");
+    const cv::Mat by_opencv = cv::imdecode(png, cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(by_opencv.type(), type);
+    EXPECT_EQ(cv::norm(by_opencv, image, cv::NORM_INF), 0.0);
+    const cv::Mat here = lom::decodePng(png.data(), png.size(), "test.png");
+    ASSERT_EQ(here.type(), type);
+    EXPECT_EQ(cv::norm(here, image, cv::NORM_INF), 0.0);
+  }
+  // A view into a larger image (rows not contiguous) is written as the view.
+  cv::Mat big(20, 30, CV_8UC3);
+  cv::randu(big, cv::Scalar::all(0), cv::Scalar::all(256));
+  const cv::Mat view = big(cv::Rect(3, 4, 11, 9));
+  const std::vector<std::uint8_t> png = lom::encodePng(view, "view.png");
+  EXPECT_EQ(cv::norm(cv::imdecode(png, cv::IMREAD_UNCHANGED), view, cv::NORM_INF), 0.0);
+  // What PNG cannot hold is an error naming the file, not a file.
+  const lom::Problem floats =
+      errorOf([] { (void)lom::encodePng(cv::Mat(3, 3, CV_32FC1), "f.png"); });
+  EXPECT_EQ(floats.file, "f.png");
+  EXPECT_EQ(floats.field, "output");
+  EXPECT_NE(floats.expected.find("8 or 16 bits"), std::string::npos);
+  EXPECT_THROW((void)lom::encodePng(cv::Mat(3, 3, CV_8UC2), "two.png"), lom::Error);
 }
 
 std::string chunk(const std::string& type, const std::string& data) {
