@@ -11,6 +11,7 @@
 #include "lom/images.hpp"
 #include "lom/sequence.hpp"
 #include "onnx_model_builder.hpp"
+#include "test_input_helpers.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -125,24 +126,10 @@ TEST(CliStartTest, ImageCodecsAreLoadedOnlyForOtherImageFormats) {
   EXPECT_EQ(libraries.find("libopencv_imgcodecs"), std::string::npos) << libraries;
 
   lom::test::TempDir dir;
-  std::ofstream(dir / "labels.pgm", std::ios::binary) << "P5 4 3 255\n" << std::string(12, '\x02');
-  const lom::Sequence written = [&] {
-    lom::Sequence s;
-    s.root = dir.path();
-    s.labels = lom::apc2016Labels();
-    s.camera.width = 4;
-    s.camera.height = 3;
-    s.camera.fx = s.camera.fy = 4.0;
-    s.camera.cx = 2.0;
-    s.camera.cy = 1.5;
-    lom::FrameRecord frame;
-    frame.depth = "depth.png";
-    frame.label = "labels.pgm";
-    s.frames.push_back(frame);
-    lom::writeDepthPng(dir / "depth.png", {4, 3, std::vector<float>(12, 0.8f)}, 0.001);
-    lom::saveSequence(s, dir.path());
-    return s;
-  }();
+  lom::Sequence written = lom::test::writeSequence(dir.path());
+  lom::test::writeText(dir / "labels.pgm", "P5 4 3 255\n" + std::string(12, '\x01'));
+  written.frames[0].label = "labels.pgm";
+  lom::saveSequence(written, dir.path());
   const auto r = lom::test::runCli("validate '" + written.root.string() + "'");
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
 }
