@@ -7,9 +7,7 @@ namespace lom {
 FrameParts fusionPartsOf(const Sequence& sequence, size_t index, const Segmenter* segmenter) {
   const FrameRecord& record = sequence.frames.at(index);
   FrameParts parts{false, false, false, false};
-  // As addSegmenterProbabilities: a segmenter replaces a proba made from the
-  // frame's label image and fills in a missing one.
-  if (segmenter && (record.proba.empty() || record.proba_from_label))
+  if (segmenterRunsOn(sequence, index, segmenter))
     parts.color = true;
   else if (!record.proba.empty())
     parts.proba = true;

@@ -52,24 +52,26 @@ const Codecs& codecs() {
   static Codecs loaded;
   static std::once_flag once;
   std::call_once(once, [] {
+    const auto missed = [](const fs::path& path, const std::string& why) {
+      loaded.looked += (loaded.looked.empty() ? "" : ", ") + path.string() +
+                       (why.empty() ? "" : " (" + why + ")");
+    };
     for (const fs::path& path : candidates()) {
       std::error_code ec;
       if (!fs::is_regular_file(path, ec)) {
-        loaded.looked += (loaded.looked.empty() ? "" : ", ") + path.string();
+        missed(path, "");
         continue;
       }
       void* module = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);  // kept loaded
       if (!module) {
         const char* why = dlerror();
-        loaded.looked += (loaded.looked.empty() ? "" : ", ") + path.string() + " (" +
-                         (why ? why : "cannot be loaded") + ")";
+        missed(path, why ? why : "cannot be loaded");
         continue;
       }
       loaded.read = reinterpret_cast<ReadFn>(dlsym(module, "lom_codecs_imread"));
       loaded.decode = reinterpret_cast<DecodeFn>(dlsym(module, "lom_codecs_imdecode"));
       if (loaded.read && loaded.decode) return;
-      loaded.looked +=
-          (loaded.looked.empty() ? "" : ", ") + path.string() + " (not this program's module)";
+      missed(path, "not this program's module");
       loaded.read = nullptr;
       loaded.decode = nullptr;
     }

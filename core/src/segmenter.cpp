@@ -696,11 +696,16 @@ FrameData loadFrameWithSegmenter(const Sequence& sequence, size_t index,
   return frame;
 }
 
-void addSegmenterProbabilities(const Sequence& sequence, size_t index, const Segmenter* segmenter,
-                               FrameData& frame) {
+bool segmenterRunsOn(const Sequence& sequence, size_t index, const Segmenter* segmenter) {
   // A proba an import made from the frame's own label image is no segmenter's
   // output: the network's replaces it.
-  if (!segmenter || (frame.proba && !sequence.frames[index].proba_from_label)) return;
+  const FrameRecord& record = sequence.frames.at(index);
+  return segmenter && (record.proba.empty() || record.proba_from_label);
+}
+
+void addSegmenterProbabilities(const Sequence& sequence, size_t index, const Segmenter* segmenter,
+                               FrameData& frame) {
+  if (!segmenterRunsOn(sequence, index, segmenter)) return;
   if (!frame.color)
     throw Error((sequence.root / "sequence.json").string(),
                 "frames[" + std::to_string(index) + "].color",

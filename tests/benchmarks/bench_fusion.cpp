@@ -37,17 +37,17 @@ struct Scene {
   std::vector<LoadedFrame> frames;
 };
 
-fs::path benchmarkFolder() {
-  return fs::temp_directory_path() / "labeloctomap-benchmark-scenes";
+// Where the scene of one image size and frame count is written (once).
+fs::path sceneFolder(int width, int height, int frames) {
+  return fs::temp_directory_path() / "labeloctomap-benchmark-scenes" /
+         (std::to_string(width) + "x" + std::to_string(height) + "-" + std::to_string(frames));
 }
 
 // The synthetic shelf-bin scene at one image size (cached between runs).
 const Scene& scene(int width, int height, int frames) {
-  static std::map<std::string, Scene> cache;
-  const std::string name = std::to_string(width) + "x" + std::to_string(height) + "-" +
-                           std::to_string(frames);
-  if (auto it = cache.find(name); it != cache.end()) return it->second;
-  const fs::path folder = benchmarkFolder() / name;
+  static std::map<fs::path, Scene> cache;
+  const fs::path folder = sceneFolder(width, height, frames);
+  if (auto it = cache.find(folder); it != cache.end()) return it->second;
   if (!fs::exists(folder / "sequence.json")) {
     lom::SynthOptions options;
     options.seed = 7;
@@ -73,7 +73,7 @@ const Scene& scene(int width, int height, int frames) {
                       std::vector<float>(f.depth.metres.size(), 0.7f), {}};
     s.frames.push_back(std::move(f));
   }
-  return cache.emplace(name, std::move(s)).first->second;
+  return cache.emplace(folder, std::move(s)).first->second;
 }
 
 lom::LabelSet singleLabel() { return lom::LabelSet({{0, "occupied", {255, 255, 255}}}); }
@@ -241,9 +241,7 @@ BENCHMARK(BM_ReferenceFusion)->Unit(benchmark::kMillisecond);
 lom::Sequence sceneOnDisk(int width) {
   const int frames = 8;
   scene(width, width * 3 / 4, frames);  // writes the scene once
-  return lom::loadSequence(
-      benchmarkFolder() /
-      (std::to_string(width) + "x" + std::to_string(width * 3 / 4) + "-" + std::to_string(frames)));
+  return lom::loadSequence(sceneFolder(width, width * 3 / 4, frames));
 }
 
 // Reading a frame from disk, checked as it is read: /0 every image (colour,

@@ -139,6 +139,11 @@ class Segmenter {
 // segmenter this is loadFrame.
 [[nodiscard]] FrameData loadFrameWithSegmenter(const Sequence& sequence, size_t index,
                                                const Segmenter* segmenter);
+// Whether `segmenter` (may be null) gives frame `index` its probabilities:
+// the frame has no proba, or one an import made from its label image.
+[[nodiscard]] bool segmenterRunsOn(const Sequence& sequence, size_t index,
+                                   const Segmenter* segmenter);
+
 // The second half of loadFrameWithSegmenter, for a frame loaded already:
 // replaces or adds its proba with the segmenter's where the rule above says so.
 void addSegmenterProbabilities(const Sequence& sequence, size_t index, const Segmenter* segmenter,
