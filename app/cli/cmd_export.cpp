@@ -229,8 +229,10 @@ int runExport(const Words& words) {
   const auto counts = map.occupiedCountPerLabel();
   checkSomethingToExport(map, map_path, options, counts);
   if (options.per_label)
-    for (const auto& file : perLabelFiles(map, options, counts, out_path))
+    for (const auto& file : perLabelFiles(map, options, counts, out_path)) {
       checkOutputInFolder(file, out_option, inputs);
+      checkNotASequenceFile(file, out_option);
+    }
 
   const ExportSummary summary = runExportTo(map, options, out_path, out_option);
   for (const int label : summary.empty_labels)

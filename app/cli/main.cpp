@@ -1,5 +1,6 @@
 // labeloctomap: the command-line program (needs no display).
 #include <algorithm>
+#include <csignal>
 #include <cstring>
 #include <iostream>
 #include <new>
@@ -34,7 +35,8 @@ const Command kCommands[] = {
      "score SEQ --annotations BOXES.json|BOXES.yaml --out DIR [--map MAP.ot]\n"
      "      [--resolution R] [--max-range M] [--p-miss P] [--threshold T] [--candidates ...]\n"
      "      [--frames A:B] [--iou exact|center] [--segmenter MODEL.onnx] [--quiet]\n"
-     "      | score --batch LIST.txt --out DIR [the same options, without --map and SEQ]\n"
+     "      | score --batch LIST.txt --out DIR [the same options, without SEQ, --annotations and "
+     "--map]\n"
      "                                per-object IU_3d against projection baselines"},
     {"export", lom::cli::runExport,
      "export MAP.ot --format ply|obj|stl|pcd|ot|bt|objects [--per-label] [--labels 8,19]\n"
@@ -77,6 +79,10 @@ void printUsage(std::ostream& out) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Beyond a file-size limit (ulimit -f, as batch systems set) the kernel
+  // kills a writer with SIGXFSZ, leaving its temporary files behind; ignored,
+  // the write fails with EFBIG and the command reports it and cleans up.
+  std::signal(SIGXFSZ, SIG_IGN);
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") ||
       !std::strcmp(argv[1], "help")) {
     printUsage(argc < 2 ? std::cerr : std::cout);

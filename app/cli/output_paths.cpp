@@ -80,7 +80,39 @@ void checkOutsideInputs(const fs::path& out, const std::string& option, const st
                      folder->path.string() + "; write " + what + " outside it");
 }
 
+// Whether `a` and `b` name the same file (existing or not).
+bool samePath(const fs::path& a, const fs::path& b) {
+  std::error_code ec;
+  return resolved(a) == resolved(b) || fs::equivalent(a, b, ec);
+}
+
 }  // namespace
+
+void checkNotASequenceFile(const fs::path& out, const std::string& option) {
+  const fs::path target = resolved(out);
+  std::error_code ec;
+  for (fs::path folder = target.parent_path();; folder = folder.parent_path()) {
+    if (fs::is_regular_file(folder / "sequence.json", ec)) {
+      std::vector<std::pair<fs::path, std::string>> owned = {
+          {folder / "sequence.json", "the sequence file"},
+          {folder / "annotations.json", "the ground-truth boxes"},
+          {folder / "annotations.yaml", "the ground-truth boxes"},
+          {folder / "annotations.yml", "the ground-truth boxes"}};
+      try {
+        for (const fs::path& file : frameFilesOf(loadSequence(folder)))
+          owned.emplace_back(file, "a frame file");
+      } catch (const std::exception&) {
+        // An unreadable sequence names no frame files; its own files stay protected.
+      }
+      for (const auto& [file, what] : owned)
+        if (samePath(out, file))
+          throw UsageError("--" + option + " " + out.string() + " would overwrite " + what + " " +
+                           file.string() + " of the sequence in " + folder.string() +
+                           "; choose another path");
+    }
+    if (!folder.has_parent_path() || folder.parent_path() == folder) break;
+  }
+}
 
 void CommandInputs::addSequenceFiles(const Sequence& sequence) {
   addFile(sequence.root / "sequence.json", "the sequence file");
@@ -125,6 +157,7 @@ void checkOutputFile(const fs::path& out, const std::string& option, const std::
     throw UsageError("--" + option + " " + out.string() + " is " + kind +
                      "; expected a file name for " + what);
   checkOutsideInputs(out, option, what, inputs);
+  checkNotASequenceFile(out, option);
   const fs::path folder = out.has_parent_path() ? out.parent_path() : fs::path(".");
   std::error_code ec;
   if (!fs::is_directory(folder, ec))

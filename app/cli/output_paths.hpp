@@ -49,9 +49,17 @@ struct CommandInputs {
 void requireExtension(const std::filesystem::path& out, const std::string& option,
                       const std::string& extension, const std::string& what);
 
+// Throws UsageError when `out` is a file of a sequence that the command does not
+// read: the sequence.json, the annotations (annotations.json/.yaml/.yml, the
+// boxes the studio saves) or a frame file of a sequence in the folder holding
+// `out` or in any folder above it. Nothing a user made is written over by an
+// output path mistyped into a sequence folder.
+void checkNotASequenceFile(const std::filesystem::path& out, const std::string& option);
+
 // Checks an output file given with --`option`: not empty, `extension` when not
 // empty (see requireExtension), not an existing folder, device or FIFO, not one of
-// the inputs or inside an input folder, and its folder exists (lom::Error otherwise).
+// the inputs or inside an input folder, not a sequence's file
+// (checkNotASequenceFile), and its folder exists (lom::Error otherwise).
 void checkOutputFile(const std::filesystem::path& out, const std::string& option,
                      const std::string& extension, const std::string& what,
                      const CommandInputs& inputs);

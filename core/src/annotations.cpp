@@ -51,9 +51,11 @@ struct BoxChecker {
   }
 
   void size(const Eigen::Vector3d& size, const std::string& where) const {
-    if ((size.array() > 0.0).all()) return;
+    // A finite volume too: scores divide by it (1e300 m edges overflow it).
+    if ((size.array() > 0.0).all() && std::isfinite(size.prod())) return;
     std::ostringstream found;
     found << "[" << size.x() << ", " << size.y() << ", " << size.z() << "]";
+    if ((size.array() > 0.0).all()) found << ", a volume too large for a number";
     throw Error(file, where, "3 positive edge lengths [dx, dy, dz]", found.str());
   }
 
@@ -159,7 +161,10 @@ class YamlReader {
   template <int N>
   Eigen::Matrix<double, N, 1> numbers(const YAML::Node& node, const std::string& where,
                                       const std::string& what) const {
-    if (!node.IsSequence() || node.size() != N) fail(where, what, describe(node));
+    // An absent key first: asking an absent node its type throws yaml-cpp's
+    // "invalid node", which names neither the file nor the field.
+    if (!node.IsDefined() || !node.IsSequence() || node.size() != N)
+      fail(where, what, describe(node));
     Eigen::Matrix<double, N, 1> out;
     for (int i = 0; i < N; ++i) {
       const YAML::Node item = node[static_cast<size_t>(i)];

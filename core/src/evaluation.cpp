@@ -130,6 +130,11 @@ IouVolumes voxelIouVolumes(const std::vector<VoxelKey>& voxels, double resolutio
     volumes.true_positive +=
         volumeCounted(intersector, voxelCenter(key, resolution), voxel_volume, mode);
   volumes.predicted = voxel_volume * static_cast<double>(voxels.size());
+  // The shares summed may exceed either volume in the last bits (a voxel
+  // wholly inside adds 1.0000000000000002 of itself): the overlap is at most
+  // each, so v_fp and v_fn are never negative.
+  volumes.true_positive =
+      std::min({volumes.true_positive, volumes.predicted, volumes.ground_truth});
   return volumes;
 }
 

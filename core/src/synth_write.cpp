@@ -1,9 +1,12 @@
 // Writes a synthetic scene as a sequence folder with annotations.
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <regex>
 #include <vector>
 
+#include "json_text.hpp"
+#include "lom/annotations.hpp"
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 #include "lom/npy.hpp"
@@ -24,6 +27,52 @@ constexpr double kSecondsPerFrame = 0.2;
   throw Error(out.string(), "output folder", expected, found);
 }
 
+bool sameBoxes(const Annotations& a, const Annotations& b) {
+  if (a.boxes.size() != b.boxes.size()) return false;
+  for (size_t i = 0; i < a.boxes.size(); ++i) {
+    const GroundTruthBox &x = a.boxes[i], &y = b.boxes[i];
+    constexpr double kWritten = 1e-9;  // what a round trip through the JSON text keeps
+    if (x.label != y.label || x.name != y.name || !x.box.center.isApprox(y.box.center, kWritten) ||
+        !x.box.size.isApprox(y.box.size, kWritten) ||
+        !x.box.rotation.coeffs().isApprox(y.box.rotation.coeffs(), kWritten))
+      return false;
+  }
+  return true;
+}
+
+// The annotations.json of an earlier synth output is replaced only when it
+// still holds the boxes that run wrote (its options are in synth.json): boxes
+// edited since, e.g. in the studio, are the user's work.
+void checkBoxesUnedited(const fs::path& out) {
+  std::error_code ec;
+  const fs::path boxes = out / "annotations.json";
+  if (!fs::exists(boxes, ec)) return;
+  const std::string keep = "; move annotations.json away to keep it, or choose another folder";
+  std::optional<Annotations> written;
+  try {
+    const nlohmann::json marker = json_text::parseFile(out / kMarkerFile, "synth.json");
+    SynthOptions earlier;
+    earlier.seed = marker.at("seed").get<std::uint64_t>();
+    earlier.objects = marker.at("objects").get<int>();
+    earlier.frames = marker.at("frames").get<int>();
+    earlier.views = marker.at("views").get<int>();
+    earlier.width = marker.at("width").get<int>();
+    earlier.height = marker.at("height").get<int>();
+    written = synthAnnotations(makeSynthLayout(earlier));
+  } catch (const std::exception&) {
+    failFolder(out, "an earlier synth output whose synth.json says which boxes it wrote",
+               "a synth.json that cannot be read, beside an annotations.json" + keep);
+  }
+  std::optional<Annotations> present;
+  try {
+    present = loadAnnotations(boxes);
+  } catch (const std::exception&) {
+  }
+  if (!present || !sameBoxes(*present, *written))
+    failFolder(out, "an earlier synth output whose annotations.json holds the boxes synth wrote",
+               "an annotations.json with other boxes (edited since, e.g. in the studio)" + keep);
+}
+
 // The folder may be new, empty, or an earlier synth output (marked by
 // synth.json), whose sequence.json and frame files are removed first so that
 // an interrupted run never leaves a sequence that mixes old and new frames.
@@ -36,8 +85,12 @@ void prepareFolder(const fs::path& out) {
       failFolder(out, "a new or empty folder, or an earlier synth output (holding synth.json)",
                  "a non-empty folder without synth.json; not overwriting it");
     if (earlier_output) {
+      checkBoxesUnedited(out);
       const std::regex frame_file(R"(\d{6}\.(png|npy))");
       fs::remove(out / "sequence.json", ec);
+      // The boxes the earlier run wrote (checked above): a run that fails
+      // leaves none of another seed's beside its own synth.json.
+      fs::remove(out / "annotations.json", ec);
       for (const char* folder : kFrameFolders) {
         if (!fs::is_directory(out / folder, ec)) continue;
         for (const auto& entry : fs::directory_iterator(out / folder, ec))

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "cli_scene_fixture.hpp"
@@ -128,6 +129,38 @@ TEST_F(CliOutputTest, PlanNeverReplacesTheSequenceItReads) {
   EXPECT_EQ(slurp(copy / "sequence.json"), before);
 }
 
+// A sequence the command does not read keeps its files: an output path typed
+// into a sequence folder never replaces its boxes, its sequence.json or a frame.
+TEST_F(CliOutputTest, NoCommandWritesOverTheFilesOfASequence) {
+  TempDir out;
+  const fs::path copy = out / "scene";
+  fs::copy(scene(), copy, fs::copy_options::recursive);
+  std::map<fs::path, std::string> before;
+  for (const fs::path& file : {copy / "annotations.json", copy / "sequence.json",
+                               copy / "color" / "000000.png", copy / "proba" / "000001.npy"})
+    before[file] = slurp(file);
+  const std::string plan =
+      "plan " + q(map()) + " --target " + target() + " --approach 1,0,0 --out ";
+  expectUsage(runCli(plan + q(copy / "annotations.json")),
+              "would overwrite the ground-truth boxes");
+  expectUsage(runCli(plan + q(copy / "sequence.json")), "would overwrite the sequence file");
+  expectUsage(
+      runCli("export " + q(map()) + " --format objects --out " + q(copy / "annotations.json")),
+      "would overwrite the ground-truth boxes");
+  expectUsage(runCli("render " + q(map()) + " --out " + q(copy / "color" / "000000.png")),
+              "would overwrite a frame file");
+  // A damaged sequence.json still protects itself and the boxes beside it.
+  std::ofstream(copy / "sequence.json", std::ios::app) << "not json";
+  before[copy / "sequence.json"] = slurp(copy / "sequence.json");
+  expectUsage(runCli(plan + q(copy / "annotations.json")),
+              "would overwrite the ground-truth boxes");
+  for (const auto& [file, text] : before) EXPECT_EQ(slurp(file), text) << file;
+  // Other files in a sequence folder are outputs like any other.
+  const auto written = runCli(plan + q(copy / "plan.json"));
+  EXPECT_EQ(written.exit_code, 0) << written.err;
+  EXPECT_TRUE(fs::exists(copy / "plan.json"));
+}
+
 TEST_F(CliOutputTest, ScoreNeverWritesIntoTheSequenceItReads) {
   TempDir out;
   const fs::path copy = out / "scene";
@@ -156,7 +189,7 @@ TEST_F(CliOutputTest, RenderWritesOnlyPngFilesAndNeverItsInputs) {
   fs::create_symlink(scene() / "color" / "000001.png", out / "link.png");
   expectUsage(runCli("render " + q(map()) + " --camera " + q(fs::path(scene().string() + ":1")) +
                      " --out " + q(out / "link.png")),
-              "is the frame file");
+              "would overwrite a frame file");
   EXPECT_EQ(slurp(scene() / "color" / "000001.png"), slurp(out / "frame.png"));
 }
 

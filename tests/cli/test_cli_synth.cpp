@@ -86,6 +86,36 @@ TEST(CliSynthTest, RefusesAForeignNonEmptyFolder) {
   EXPECT_FALSE(fs::exists(dir / "sequence.json"));
 }
 
+// A scene written again into its folder replaces the boxes it wrote, not the
+// boxes a user edited since (the studio saves them to annotations.json).
+TEST(CliSynthTest, BoxesEditedSinceTheLastRunAreKept) {
+  lom::test::TempDir dir;
+  const fs::path out = dir / "scene";
+  const std::string small = " --objects 4 --frames 5 --views 3 --width 160 --height 120";
+  ASSERT_EQ(lom::test::runCli("synth --out " + quoted(out) + small).exit_code, 0);
+  const auto again = lom::test::runCli("synth --out " + quoted(out) + small + " --seed 4");
+  ASSERT_EQ(again.exit_code, 0) << again.err;  // its own boxes, unedited: replaced
+  lom::Annotations boxes = lom::loadAnnotations(out / "annotations.json");
+  ASSERT_FALSE(boxes.boxes.empty());
+  boxes.boxes.front().box.size.x() += 0.01;
+  lom::saveAnnotations(boxes, out / "annotations.json");
+  const std::string edited = lom::test::slurp(out / "annotations.json");
+  const std::string sequence = lom::test::slurp(out / "sequence.json");
+
+  const auto refused = lom::test::runCli("synth --out " + quoted(out) + small + " --seed 5");
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_NE(refused.err.find("annotations.json with other boxes"), std::string::npos)
+      << refused.err;
+  EXPECT_NE(refused.err.find(out.string()), std::string::npos) << refused.err;
+  EXPECT_EQ(lom::test::slurp(out / "annotations.json"), edited);
+  EXPECT_EQ(lom::test::slurp(out / "sequence.json"), sequence);  // nothing removed
+
+  // Moved away, the boxes are kept and the scene is written.
+  fs::rename(out / "annotations.json", dir / "mine.json");
+  EXPECT_EQ(lom::test::runCli("synth --out " + quoted(out) + small + " --seed 5").exit_code, 0);
+  EXPECT_EQ(lom::test::slurp(dir / "mine.json"), edited);
+}
+
 }  // namespace
 
 namespace {

@@ -29,8 +29,9 @@ CliResult runCli(const std::string& args, const CliLimits& limits) {
   else if (limits.memory_kib > 0)
     limit += "ulimit -v " + std::to_string(limits.memory_kib) + " && ";
   if (limits.cpu_seconds > 0) limit += "ulimit -t " + std::to_string(limits.cpu_seconds) + " && ";
-  if (limits.file_kib > 0)
-    limit += "trap '' XFSZ && ulimit -f " + std::to_string(limits.file_kib) + " && ";
+  // The file-size limit as a batch system sets it: the program itself must
+  // turn the signal such a limit raises into a failed write (main.cpp).
+  if (limits.file_kib > 0) limit += "ulimit -f " + std::to_string(limits.file_kib) + " && ";
   if (limits.wall_seconds > 0)
     limit += "timeout -s KILL " + std::to_string(limits.wall_seconds) + " ";
   const std::string command = limit + "'" + LOM_CLI_PATH + "' " + args + " >'" + out.string() +

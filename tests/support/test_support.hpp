@@ -1,7 +1,9 @@
 #pragma once
 // Helpers shared by the test executables.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -72,8 +74,9 @@ struct CliResult {
 // process blocked on a pipe uses no processor time), after which it is killed too.
 // Under AddressSanitizer the memory limit bounds the resident memory instead (the
 // process is killed beyond it; allocations do not fail).
-// `file_kib` bounds the size of every file the process writes (ulimit -f, with
-// SIGXFSZ ignored): a write beyond it fails as on a full disk.
+// `file_kib` bounds the size of every file the process writes (ulimit -f, the
+// signal left as a batch system leaves it: the program must ignore SIGXFSZ
+// itself, so that a write beyond the limit fails as on a full disk).
 struct CliLimits {
   long memory_kib = 0;
   long cpu_seconds = 0;
@@ -81,6 +84,31 @@ struct CliLimits {
   long file_kib = 0;
 };
 CliResult runCli(const std::string& args, const CliLimits& limits = {});
+
+// While it lives, files this process and the processes it starts write cannot
+// grow beyond `bytes` (ulimit -f). With `ignore_signal`, this process ignores
+// SIGXFSZ (its writes fail with EFBIG) and so do the processes it starts;
+// without, a started process must ignore it itself or be killed.
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes, bool ignore_signal = true) {
+    getrlimit(RLIMIT_FSIZE, &old_);
+    old_handler_ = std::signal(SIGXFSZ, ignore_signal ? SIG_IGN : SIG_DFL);
+    rlimit limit = old_;
+    limit.rlim_cur = bytes;
+    setrlimit(RLIMIT_FSIZE, &limit);
+  }
+  ~FileSizeLimit() {
+    setrlimit(RLIMIT_FSIZE, &old_);
+    std::signal(SIGXFSZ, old_handler_);
+  }
+  FileSizeLimit(const FileSizeLimit&) = delete;
+  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
+
+ private:
+  rlimit old_{};
+  void (*old_handler_)(int) = SIG_DFL;
+};
 
 // How a process started by CliProcess ended.
 struct CliExit {

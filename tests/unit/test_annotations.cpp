@@ -176,6 +176,21 @@ TEST_F(AnnotationsYamlTest, TheSequencesFrameReplacesTheFrameTheFileNames) {
             "boxes[1].frame_id");
 }
 
+TEST_F(AnnotationsYamlTest, AMissingKeyIsNamedWithItsBox) {
+  for (const char* missing : {"dimensions", "position", "orientation"}) {
+    std::string box;
+    for (const char* key : {"dimensions", "position", "orientation"})
+      if (std::string(key) != missing)
+        box += std::string("    ") + key +
+               (std::string(key) == "orientation" ? ": [0, 0, 0, 1]\n" : ": [0.1, 0.1, 0.1]\n");
+    writeText(yaml(), "boxes:\n  - name: object_4\n" + box);
+    const lom::Problem error = errorOf([&] { (void)lom::importYamlBoxes(yaml()); });
+    EXPECT_EQ(error.file, yaml().string()) << missing;
+    EXPECT_EQ(error.field, std::string("boxes[0].") + missing);
+    EXPECT_EQ(error.found, "nothing") << missing;
+  }
+}
+
 TEST_F(AnnotationsYamlTest, RejectsBadDimensionsNamesAndDisagreeingFrames) {
   const std::string box = R"(
   - dimensions: [0.1, 0.1, 0.1]

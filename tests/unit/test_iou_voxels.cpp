@@ -114,6 +114,30 @@ TEST(IouVoxelSets, GridAlignedBoxes) {
   }
 }
 
+// Voxels wholly inside a much larger box: their summed shares must not come
+// out above their own volume (a false positive below zero in the report).
+TEST(IouVoxelSets, OverlapNeverExceedsEitherVolume) {
+  OrientedBox box;
+  box.center = {0.123, -0.456, 0.789};
+  box.size = {1.5, 1.5, 1.5};
+  box.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()));
+  for (const double edge : {0.01, 0.0073, 0.02}) {
+    const std::vector<lom::VoxelKey> voxels = block(5, 14, -50, -43, 70, 81);
+    for (lom::IouMode mode : {lom::IouMode::Exact, lom::IouMode::Center}) {
+      const lom::IouVolumes v = lom::voxelIouVolumes(voxels, edge, box, mode);
+      ASSERT_GT(v.true_positive, 0.0) << edge;
+      EXPECT_LE(v.true_positive, v.predicted) << edge;
+      EXPECT_GE(v.falsePositive(), 0.0) << edge;
+      EXPECT_GE(v.falseNegative(), 0.0) << edge;
+    }
+  }
+  // A box the size of everything: the overlap is the voxels', never more.
+  box.size = {1e5, 1e5, 1e5};
+  const lom::IouVolumes huge =
+      lom::voxelIouVolumes(block(0, 3, 0, 3, 0, 3), kEdge, box, lom::IouMode::Exact);
+  EXPECT_GE(huge.falsePositive(), 0.0);
+}
+
 TEST(IouVoxelSets, VolumesAreTheTermsOfTheScore) {
   OrientedBox box;  // shifted by a quarter voxel along x, as below
   box.center = {0.02 + 0.0025, 0.01, 0.015};

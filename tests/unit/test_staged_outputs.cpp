@@ -3,9 +3,7 @@
 // simulated with a file size limit: writes beyond it fail as they would on a
 // full disk.
 #include <gtest/gtest.h>
-#include <sys/resource.h>
 
-#include <csignal>
 #include <fstream>
 #include <set>
 
@@ -32,28 +30,6 @@ std::set<std::string> namesIn(const fs::path& folder) {
   return names;
 }
 
-// Files written while this lives cannot grow beyond `bytes` (EFBIG instead of SIGXFSZ).
-class FileSizeLimit {
- public:
-  explicit FileSizeLimit(rlim_t bytes) {
-    getrlimit(RLIMIT_FSIZE, &old_);
-    old_handler_ = std::signal(SIGXFSZ, SIG_IGN);
-    rlimit limit = old_;
-    limit.rlim_cur = bytes;
-    setrlimit(RLIMIT_FSIZE, &limit);
-  }
-  ~FileSizeLimit() {
-    setrlimit(RLIMIT_FSIZE, &old_);
-    std::signal(SIGXFSZ, old_handler_);
-  }
-  FileSizeLimit(const FileSizeLimit&) = delete;
-  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
-
- private:
-  rlimit old_{};
-  void (*old_handler_)(int) = SIG_DFL;
-};
-
 // Label 1: one voxel (small files); label 2: a 20^3 block (large files
 // without coplanar merging).
 lom::LabelMap smallAndLargeLabels() {
@@ -72,7 +48,7 @@ TEST(StagedOutputs, AFailedObjLeavesTheOldObjAndMtlTogether) {
   options.format = lom::ExportFormat::Obj;
   options.merge_coplanar = false;
   {
-    const FileSizeLimit limit(16 * 1024);  // room for the MTL, not for the OBJ
+    const lom::test::FileSizeLimit limit(16 * 1024);  // room for the MTL, not for the OBJ
     EXPECT_THROW((void)lom::exportMap(map, options, dir / "map.obj"), lom::Error);
   }
   EXPECT_EQ(readText(dir / "map.obj"), "old obj\n");
@@ -110,7 +86,7 @@ TEST(StagedOutputs, PerLabelFilesAreReplacedAllOrNone) {
   options.per_label = true;
   options.merge_coplanar = false;
   {
-    const FileSizeLimit limit(16 * 1024);  // label 1's file fits, label 2's does not
+    const lom::test::FileSizeLimit limit(16 * 1024);  // label 1's file fits, label 2's does not
     EXPECT_THROW((void)lom::exportMap(map, options, dir / "out"), lom::Error);
   }
   EXPECT_EQ(readText(dir / "out" / one), "old 1\n");
@@ -135,7 +111,7 @@ TEST(StagedOutputs, PerLabelPointCloudsAreReplacedAllOrNone) {
   options.format = lom::ExportFormat::Pcd;
   options.per_label = true;
   {
-    const FileSizeLimit limit(16 * 1024);  // 8000 points of label 2 need about 160 KB
+    const lom::test::FileSizeLimit limit(16 * 1024);  // 8000 points of label 2 need about 160 KB
     EXPECT_THROW((void)lom::exportMap(map, options, dir / "out"), lom::Error);
   }
   EXPECT_EQ(readText(dir / "out" / one), "old 1\n");
