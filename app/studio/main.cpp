@@ -10,7 +10,9 @@
 #include <QElapsedTimer>
 #include <QFileInfo>
 #include <QImage>
+#include <QImageWriter>
 #include <QThread>
+#include <csignal>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -274,6 +276,14 @@ bool openMapAndWait(lom::ui::MainWindow& window, const QString& map) {
 int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments,
                    const bool& failed) {
   auto& controller = window.controller();
+  // A picture format first, as `labeloctomap render` checks its --out: a
+  // mistake in the call, found before any fusion.
+  const QByteArray format = QFileInfo(arguments.screenshot).suffix().toLower().toLatin1();
+  if (!QImageWriter::supportedImageFormats().contains(format)) {
+    std::cerr << "labeloctomap-studio: --screenshot " << arguments.screenshot.toStdString()
+              << ": expected a file name ending in an image format such as .png or .jpg\n";
+    return 2;
+  }
   window.session().setAutoFuse(arguments.fuse);
   if (!controller.openSequence(arguments.sequence)) return 1;
   if (arguments.frame >= controller.frameCount()) {
@@ -332,6 +342,9 @@ int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A file-size limit (ulimit -f) makes writes fail with EFBIG, reported like
+  // a full disk, instead of killing the studio with unsaved work (SIGXFSZ).
+  std::signal(SIGXFSZ, SIG_IGN);
   QStringList words;
   for (int i = 0; i < argc; ++i) words << QString::fromLocal8Bit(argv[i]);
   StudioArguments arguments;

@@ -4,13 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <QImage>
-#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
-
-#include <sys/resource.h>
 
 #include "lom/atomic_file.hpp"
 #include "lom/ui/window_capture.hpp"
@@ -76,15 +73,11 @@ TEST(AtomicWrite, AScreenshotOnAFullDiskSaysSoAndKeepsTheOldPicture) {
     for (int x = 0; x < image.width(); ++x)
       image.setPixel(x, y, static_cast<QRgb>((x * 7919u + y * 104729u) * 2654435761u));
   // A limit on the size of any file written: a write beyond it fails as on a full disk.
-  rlimit before{};
-  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &before), 0);
-  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
-  rlimit full = before;
-  full.rlim_cur = 1024;
-  ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &full), 0);
-  const QString error = saveImageAtomically(image, qPath(png));
-  setrlimit(RLIMIT_FSIZE, &before);
-  std::signal(SIGXFSZ, old_handler);
+  QString error;
+  {
+    const lom::test::FileSizeLimit full(1024);
+    error = saveImageAtomically(image, qPath(png));
+  }
   EXPECT_TRUE(error.contains("shot.png")) << error.toStdString();
   EXPECT_TRUE(error.contains("the file-size limit of 1 KiB set by ulimit -f?"))
       << error.toStdString();

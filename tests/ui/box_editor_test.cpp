@@ -5,7 +5,9 @@
 
 #include <QAction>
 #include <QApplication>
+#include <QComboBox>
 #include <QDoubleSpinBox>
+#include <QStandardItemModel>
 #include <QTest>
 #include <QWheelEvent>
 #include <cmath>
@@ -46,6 +48,42 @@ class BoxEditorTest : public fixture::DemoWindowTest {
     ASSERT_FALSE(boxes().isDirty());  // not committed yet
   }
 };
+
+// One box per object: the selected box's label list offers only its own label
+// and labels without a box; the others are shown disabled.
+TEST_F(BoxEditorTest, LabelsOtherBoxesHaveCannotBeChosen) {
+  ASSERT_GE(boxes().boxCount(), 2);
+  QComboBox& labels = window_.boxEditor().boxLabel();
+  auto* items = qobject_cast<QStandardItemModel*>(labels.model());
+  ASSERT_NE(items, nullptr);
+  auto enabled = [&](int label) {
+    const int row = labels.findData(label);
+    EXPECT_GE(row, 0) << label;
+    return row >= 0 && items->item(row)->isEnabled();
+  };
+  const int own = boxes().box(0).label, other = boxes().box(1).label;
+  EXPECT_TRUE(enabled(own));
+  EXPECT_FALSE(enabled(other));
+  int unboxed = -1;
+  for (int row = 0; row < labels.count() && unboxed < 0; ++row)
+    if (boxes().indexOfLabel(labels.itemData(row).toInt()) < 0)
+      unboxed = labels.itemData(row).toInt();
+  ASSERT_GT(unboxed, 0);
+  EXPECT_TRUE(enabled(unboxed));
+
+  // Another box selected: the list follows it.
+  boxes().select(1);
+  EXPECT_TRUE(enabled(other));
+  EXPECT_FALSE(enabled(own));
+  // Its label changed to a free one: the old label becomes free.
+  labels.setCurrentIndex(labels.findData(unboxed));
+  emit labels.activated(labels.currentIndex());  // as a choice with the mouse
+  EXPECT_EQ(boxes().box(1).label, unboxed);
+  EXPECT_TRUE(enabled(other));
+  boxes().select(0);
+  EXPECT_FALSE(enabled(unboxed));
+  EXPECT_TRUE(enabled(other));
+}
 
 TEST_F(BoxEditorTest, ValueBeingTypedIsNotLostWhenTheWindowCloses) {
   typeIntoCentreX("0.777");

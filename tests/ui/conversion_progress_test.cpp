@@ -4,6 +4,7 @@
 // runs are handled, and without a window it still converts.
 #include <gtest/gtest.h>
 
+#include <QAction>
 #include <QApplication>
 #include <QEvent>
 #include <QProgressBar>
@@ -26,8 +27,11 @@
 #include "dialog_answerer.hpp"
 #include "lom/error.hpp"
 #include "lom/import.hpp"
+#include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/main_window.hpp"
+#include "lom/ui/map_worker.hpp"
 #include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/studio_session.hpp"
 #include "test_support.hpp"
 #include "tiny_sequence.hpp"
 
@@ -375,6 +379,24 @@ TEST_F(ConversionProgressTest, FramesLeftOutOfAConversionAreReportedEveryTimeItO
   warnings_.clear();
   ASSERT_TRUE(controller().openSequence(qPath(framesLayout("complete_frames"))));
   EXPECT_TRUE(warnings_.empty());
+}
+
+// A recording converted without label images or probabilities has the
+// background label only: nothing to box or score, and the window says so
+// instead of offering boxes it cannot make.
+TEST_F(ConversionProgressTest, ARecordingWithoutObjectLabelsOffersNoBoxes) {
+  ASSERT_TRUE(
+      window_.findAction("Add Boxes for All Labels")->isEnabled());  // the tiny shelf has a label
+  ASSERT_TRUE(controller().openSequence(qPath(framesLayout("geometry_only"))));
+  ASSERT_TRUE(errors_.empty());
+  ASSERT_EQ(controller().sequence().labels.size(), 1u);
+  EXPECT_FALSE(window_.findAction("Add Boxes for All Labels")->isEnabled());
+  EvaluationPanel& evaluation = window_.evaluationPanel();
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] { return !window_.session().worker().isFusing() && !evaluation.isBusy(); }, 60'000));
+  QTest::qWait(300);  // the panel's update is debounced
+  EXPECT_TRUE(evaluation.summaryText().contains("only the background label"))
+      << evaluation.summaryText().toStdString();
 }
 
 TEST_F(ConversionProgressTest, PlainSequenceOpensWithoutConversion) {

@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <QApplication>
+#include <QFontMetrics>
 #include <QHeaderView>
 #include <QScrollBar>
+#include <QStyle>
 #include <QTableWidget>
 #include <QTest>
 #include <algorithm>
@@ -84,6 +86,15 @@ TEST_F(EvaluationPanelTest, ScoresAndEveryRowAreInViewAtTheDefaultWindowSize) {
         const QAbstractItemView& view = table;  // sizeHintForColumn is public there
         EXPECT_GE(table.columnWidth(column), view.sizeHintForColumn(column)) << header;
         EXPECT_GE(table.columnWidth(column), table.horizontalHeader()->sectionSizeHint(column))
+            << header;
+        // The header is drawn bold while a row is selected (always, once
+        // scored): its text and the style's margins fit in bold too.
+        QFont bold = table.horizontalHeader()->font();
+        bold.setBold(true);
+        const int margin = table.style()->pixelMetric(QStyle::PM_HeaderMargin, nullptr, &table);
+        EXPECT_GE(table.columnWidth(column),
+                  QFontMetrics(bold).horizontalAdvance(table.horizontalHeaderItem(column)->text()) +
+                      2 * margin)
             << header;
       }
     }

@@ -47,6 +47,13 @@ TEST_F(ObjectsPanelTest, ListsTheFusedObjectsAndDrawsTheirBoxes) {
   EXPECT_TRUE(errors_.empty()) << errors_.front().toStdString();
   ObjectsPanel& panel = window_.objectsPanel();
   const std::vector<int> listed = panel.listedLabels();
+  // Listed by label, ascending, as the Evaluation panel lists them.
+  EXPECT_TRUE(std::is_sorted(listed.begin(), listed.end()));
+  EXPECT_EQ(panel.statusText(), QString("%1 objects in the map.").arg(panel.objects().size()));
+  for (int row = 0; row < panel.table().rowCount(); ++row) {  // three decimals, every row
+    const QString mean = panel.table().item(row, ObjectsPanel::MeanProbability)->text();
+    EXPECT_EQ(mean.size() - mean.indexOf('.'), 4) << mean.toStdString();
+  }
   for (int label : visibleObjectLabels())
     EXPECT_NE(std::find(listed.begin(), listed.end(), label), listed.end())
         << "objects table misses label " << label;
@@ -92,6 +99,12 @@ TEST_F(ObjectsPanelTest, PlanPickEndsWithPickingTheTargetAndDrawsThePlan) {
 
   EXPECT_TRUE(scene.pickPlanVisible());
   EXPECT_EQ(scene.pickPlanBoxCount(), plan.occluders.size() + 1);
+  const QString occluders =
+      plan.occluders.empty() ? QString("nothing to remove first.")
+      : plan.occluders.size() == 1
+          ? QString("1 occluder to remove first.")
+          : QString("%1 occluders to remove first.").arg(plan.occluders.size());
+  EXPECT_TRUE(panel.statusText().endsWith(occluders)) << panel.statusText().toStdString();
   EXPECT_EQ(scene.pickPlanArrowCount(), plan.steps.size());
   EXPECT_FALSE(scene.renderToImage().isNull());
 

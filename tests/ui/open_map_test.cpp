@@ -10,8 +10,10 @@
 #include <QDoubleSpinBox>
 #include <QDragEnterEvent>
 #include <QDropEvent>
+#include <QLineEdit>
 #include <QMimeData>
 #include <QProcess>
+#include <QPushButton>
 #include <QTest>
 #include <QUrl>
 #include <fstream>
@@ -101,6 +103,53 @@ TEST_F(OpenMapTest, AMapFromAFileReplacesTheFusedOneWithItsParameters) {
     EXPECT_DOUBLE_EQ(report->objects[i].box_iou.labeloctomap,
                      expected.objects[i].box_iou.labeloctomap);
   }
+}
+
+// `labeloctomap fuse` takes settings the Fusion panel's fields show rounded
+// (more decimals) or that the studio once did not offer (max range beyond 20
+// m). Such a map shows no change to re-fuse, and re-fusing for another edit
+// keeps the settings that were not edited exactly.
+TEST_F(OpenMapTest, SettingsTheFieldsShowRoundedAreKeptExactly) {
+  openAndFuse();
+  FusionOptions options;
+  options.map.resolution = 0.0325;  // shown 0.033 m (three decimals)
+  options.map.max_range = 25.125;   // shown 25.13 m; 774 voxels per ray, within the limit
+  options.map.p_miss = 0.4951;      // shown 0.495
+  const auto path = temp_.path() / "exact_settings.ot";
+  fuseSequence(loadSequence(folder_), options).save(path);
+  session().openMap(qPath(path));
+  waitForMap();
+  ASSERT_TRUE(errors_.empty()) << errors_.front().toStdString();
+  FusionPanel& panel = window_.fusionPanel();
+  EXPECT_NEAR(panel.maxRangeBox().value(), 25.13, 1e-9);  // not cut to an older 20 m limit
+  EXPECT_NEAR(panel.resolutionBox().value(), 0.033, 1e-9);
+  EXPECT_FALSE(panel.hasPendingChanges());
+  EXPECT_FALSE(panel.refuseButton().isEnabled());
+
+  // Another edit re-fuses with the map's exact settings for the fields left alone.
+  panel.candidatesEdit().setText("0 1");
+  ASSERT_TRUE(panel.refuseButton().isEnabled());
+  panel.refuseButton().click();
+  waitForMap();
+  const MapParameters& fused = session().fusionOptions().map;
+  EXPECT_EQ(fused.resolution, 0.0325);
+  EXPECT_EQ(fused.max_range, 25.125);
+  EXPECT_EQ(fused.p_miss, 0.4951);
+  EXPECT_EQ(session().worker().snapshot()->resolution, 0.0325);
+  EXPECT_FALSE(panel.hasPendingChanges());
+
+  // An edit that is undone leaves nothing to re-fuse; an edit re-fuses with the field's value.
+  panel.resolutionBox().setValue(0.05);
+  EXPECT_TRUE(panel.hasPendingChanges());
+  panel.resolutionBox().setValue(0.033);
+  EXPECT_FALSE(panel.hasPendingChanges());
+  panel.maxRangeBox().setValue(30.0);  // 909 voxels of 3.3 cm
+  ASSERT_TRUE(panel.refuseButton().isEnabled());
+  panel.refuseButton().click();
+  waitForMap();
+  EXPECT_EQ(session().fusionOptions().map.max_range, 30.0);
+  EXPECT_EQ(session().fusionOptions().map.resolution, 0.0325);
+  EXPECT_FALSE(panel.hasPendingChanges());
 }
 
 TEST_F(OpenMapTest, OpeningAMapDuringFusionStopsTheFusion) {

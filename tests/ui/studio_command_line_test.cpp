@@ -119,6 +119,17 @@ TEST(StudioCommandLine, FrameOutOfRangeIsAUsageError) {
   EXPECT_TRUE(run.err.contains("--frame 9")) << run.err.toStdString();
 }
 
+TEST(StudioCommandLine, AScreenshotNameWithoutAnImageFormatIsAUsageError) {
+  lom::test::TempDir temp;
+  const auto tiny = lom::test::writeTinySequence(temp / "seq");
+  for (const char* name : {"shot.txt", "shot"}) {
+    const StudioRun run = runStudio({"--screenshot", qPath(temp / name), qPath(tiny.folder)});
+    EXPECT_EQ(run.exit_code, 2) << name << run.err.toStdString();
+    EXPECT_TRUE(run.err.contains("image format such as .png")) << run.err.toStdString();
+    EXPECT_FALSE(std::filesystem::exists(temp / name)) << name;
+  }
+}
+
 TEST(StudioCommandLine, HelpAndVersionNeedNoDisplay) {
   const StudioRun help = runStudio({"--help"}, withoutDisplay());
   EXPECT_EQ(help.exit_code, 0) << help.err.toStdString();
@@ -185,11 +196,18 @@ TEST(StudioCommandLine, FusionStoppedExits1WithoutAPicture) {
 TEST(StudioCommandLine, FailedScreenshotLeavesTheExistingFileAlone) {
   lom::test::TempDir temp;
   const auto tiny = lom::test::writeTinySequence(temp / "seq");
-  const auto out = temp / "shot.unknown-format";
+  const auto out = temp / "shot.png";
   std::ofstream(out) << "an earlier file";
-  const StudioRun run = runStudio({"--screenshot", qPath(out), qPath(tiny.folder)});
+  // The picture cannot be written: files may not grow beyond 4 KiB (ulimit -f,
+  // as a batch system sets it: the studio must not be killed by the signal).
+  StudioRun run;
+  {
+    const lom::test::FileSizeLimit limit(4096, /*ignore_signal=*/false);
+    run = runStudio({"--screenshot", qPath(out), qPath(tiny.folder)});
+  }
   EXPECT_EQ(run.exit_code, 1) << run.err.toStdString();
-  EXPECT_TRUE(run.err.contains("shot.unknown-format")) << run.err.toStdString();
+  EXPECT_TRUE(run.err.contains("shot.png")) << run.err.toStdString();
+  EXPECT_TRUE(run.err.contains("file-size limit")) << run.err.toStdString();
   EXPECT_EQ(slurp(out), "an earlier file");
   // Nothing else is left in the folder (no temporary file).
   size_t entries = 0;

@@ -85,6 +85,39 @@ TEST_F(StudioSessionTest, FusesTheDemoLiveAndTheLegendListsItsLabels) {
   EXPECT_EQ(window_.sceneView().voxelCount(), snapshot->voxels.size());
 }
 
+// A fusion that fails says so in the status bar, with what it fused: nothing
+// before the first frame (no made-up "0/1"), else the frames fused.
+TEST_F(StudioSessionTest, TheStatusBarSaysWhereAFusionFailed) {
+  const Sequence sequence = loadSequence(folder_);
+  const auto depth_of = [&](size_t frame) { return sequence.pathOf(sequence.frames[frame].depth); };
+  const auto hidden = temp_.path() / "hidden_depth.png";
+  auto failAt = [&](size_t frame) {
+    std::filesystem::rename(depth_of(frame), hidden);
+    errors_.clear();
+    ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+    StudioSession& session = window_.session();
+    ASSERT_TRUE(QTest::qWaitFor([&] { return !session.worker().isFusing(); }, kTimeoutMs));
+    QTest::qWait(50);
+    std::filesystem::rename(hidden, depth_of(frame));
+    // The fusion's error (showing that frame's images may report it too).
+    const auto stopped = std::find_if(errors_.begin(), errors_.end(), [](const QString& error) {
+      return error.startsWith("Fusion stopped");
+    });
+    ASSERT_NE(stopped, errors_.end());
+    EXPECT_TRUE(stopped->contains("frames[" + QString::number(frame) + "]"))
+        << stopped->toStdString();
+  };
+  failAt(0);
+  EXPECT_EQ(window_.fusionStatusText(), "not fused failed before the first frame");
+  failAt(2);
+  EXPECT_EQ(window_.fusionStatusText(),
+            QString("fused 2/%1 failed after 2/%1").arg(sequence.frames.size()));
+  // A fusion that works afterwards shows its count alone.
+  openAndFuse();
+  EXPECT_FALSE(window_.fusionStatusText().contains("failed"))
+      << window_.fusionStatusText().toStdString();
+}
+
 TEST_F(StudioSessionTest, ThresholdReThresholdsAtOnceAndOtherParametersOfferReFusion) {
   openAndFuse();
   const size_t before = window_.session().worker().snapshot()->voxels.size();

@@ -186,6 +186,12 @@ TEST_F(StudioWindowTest, StepsThroughFramesWithActionsAndSlider) {
   previous->trigger();
   EXPECT_EQ(window_.controller().currentFrame(), 1);
   EXPECT_TRUE(errors_.empty());
+
+  // Playing stops when another sequence opens: it starts still.
+  window_.timeline().setPlaying(true);
+  ASSERT_TRUE(window_.timeline().isPlaying());
+  ASSERT_TRUE(openTiny());
+  EXPECT_FALSE(window_.timeline().isPlaying());
 }
 
 TEST_F(StudioWindowTest, ShortcutListHasTheMenusKeysAndThePlayButtons) {

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <QApplication>
+#include <QColor>
 #include <QDockWidget>
+#include <QFontMetrics>
 #include <QPushButton>
 #include <QStatusBar>
 #include <QTableWidget>
@@ -15,6 +17,7 @@
 #include "lom/fusion.hpp"
 #include "lom/sequence.hpp"
 #include "lom/ui/box_editor_panel.hpp"
+#include "lom/ui/colour_bar.hpp"
 #include "lom/ui/elision.hpp"
 #include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/frame_images_view.hpp"
@@ -221,6 +224,44 @@ TEST_F(WindowLayoutTest, HeatMapCaptionSaysWhatItShows) {
   EXPECT_EQ(heat.shownCaption(), heat.caption());  // short enough for the narrowest pane
   EXPECT_TRUE(heat.image().isNull());
   EXPECT_TRUE(errors_.empty());
+}
+
+// The colour bars' numbers never run into each other in a narrow dock: the
+// caption goes first, then the numbers; the colours stay.
+TEST(ColourBarTest, TextsThatWouldOverlapAreLeftOut) {
+  ColourBar bar([](double t) { return QColor::fromRgbF(t, 0.0, 1.0 - t); }, "depth");
+  bar.setRange(std::make_pair(0.24, 0.86));
+  bar.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&bar));
+  const QFontMetrics metrics = bar.fontMetrics();
+  auto widthOf = [&](const QStringList& texts) {
+    int sum = 0;
+    for (const QString& text : texts) sum += metrics.horizontalAdvance(text);
+    return sum;
+  };
+  bar.resize(400, 34);
+  EXPECT_EQ(bar.shownTexts(), QStringList({"0.24 m", "depth", "0.86 m"}));
+  int widest_without_caption = 0;
+  for (int width = 400; width >= 10; width -= 2) {
+    bar.resize(width, 34);
+    const QStringList texts = bar.shownTexts();
+    EXPECT_LE(widthOf(texts), width - 8) << width;  // side by side, they fit the bar
+    if (texts.size() == 2) {
+      EXPECT_EQ(texts, QStringList({"0.24 m", "0.86 m"})) << width;
+      widest_without_caption = std::max(widest_without_caption, width);
+    }
+    if (texts.size() == 3) {  // the caption centred, clear of the ends
+      const int ends =
+          std::max(metrics.horizontalAdvance(texts[0]), metrics.horizontalAdvance(texts[2]));
+      EXPECT_LT(2 * ends + metrics.horizontalAdvance(texts[1]), width - 8) << width;
+    }
+  }
+  EXPECT_GT(widest_without_caption, 0);  // the caption went first
+  bar.resize(12, 34);
+  EXPECT_TRUE(bar.shownTexts().isEmpty());
+  bar.setRange(std::nullopt);
+  bar.resize(400, 34);
+  EXPECT_TRUE(bar.shownTexts().isEmpty());
 }
 
 }  // namespace

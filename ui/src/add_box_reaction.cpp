@@ -36,7 +36,8 @@ AddBoxReaction::AddBoxReaction(QAction* action, Mode mode, StudioSession& sessio
 
 void AddBoxReaction::updateEnabled() {
   if (mode_ == Mode::FitAllLabels) {
-    action()->setEnabled(session_.sequence() != nullptr);
+    // A sequence of the background label alone has no object to box.
+    action()->setEnabled(session_.sequence() && session_.sequence()->labels.size() > 1);
     return;
   }
   const bool label = session_.sequence() && session_.selectedLabel() > 0;
@@ -170,10 +171,11 @@ void AddBoxReaction::addAllFitted(const std::vector<GroundTruthBox>& boxes, unsi
       added.push_back(&box);
   }
   if (added.empty()) {
-    emit failed(tr("No boxes to add"),
-                boxes.empty()
-                    ? tr("The map has no voxels of any object label. Fuse the sequence first.")
-                    : tr("Every object label of the map has a box already."));
+    emit failed(tr("No boxes to add"), !boxes.empty()
+                                           ? tr("Every object label of the map has a box already.")
+                                       : session_.worker().snapshot()->frames_fused == 0
+                                           ? tr("The map is empty: fuse the sequence first.")
+                                           : tr("The map has no voxels of any object label."));
     return;
   }
   const auto count = [](size_t n, const QString& one, const QString& many) {

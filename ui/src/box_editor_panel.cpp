@@ -9,6 +9,7 @@
 #include <QLabel>
 #include <QListWidget>
 #include <QSignalBlocker>
+#include <QStandardItemModel>
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
@@ -195,6 +196,15 @@ void BoxEditorPanel::showSelected() {
     }
     box_label_->setCurrentIndex(box_label_->findData(box.label));
   }
+  // One box per object: the labels other boxes have are shown but cannot be
+  // chosen (choosing one used to snap back without a word).
+  if (auto* items = qobject_cast<QStandardItemModel*>(box_label_->model()))
+    for (int row = 0; row < items->rowCount(); ++row) {
+      const int other = model.indexOfLabel(box_label_->itemData(row).toInt());
+      QStandardItem* item = items->item(row);
+      item->setEnabled(other < 0 || other == index);
+      item->setToolTip(other < 0 || other == index ? QString() : tr("Has a box already"));
+    }
   updating_ = false;
 }
 

@@ -1,8 +1,10 @@
 #include "lom/ui/colour_bar.hpp"
 
 #include <QColor>
+#include <QFontMetrics>
 #include <QLinearGradient>
 #include <QPainter>
+#include <algorithm>
 
 namespace lom::ui {
 
@@ -34,9 +36,26 @@ void ColourBar::paintEvent(QPaintEvent*) {
 
   painter.setPen(palette().color(QPalette::WindowText));
   const QRect text_row(bar.left(), bar.bottom() + 2, bar.width(), text_height);
-  painter.drawText(text_row, Qt::AlignLeft, QString::number(range_->first, 'f', 2) + " m");
-  painter.drawText(text_row, Qt::AlignHCenter, caption_);
-  painter.drawText(text_row, Qt::AlignRight, QString::number(range_->second, 'f', 2) + " m");
+  const QStringList texts = shownTexts();
+  if (texts.size() < 2) return;
+  painter.drawText(text_row, Qt::AlignLeft, texts.front());
+  if (texts.size() == 3) painter.drawText(text_row, Qt::AlignHCenter, texts[1]);
+  painter.drawText(text_row, Qt::AlignRight, texts.back());
+}
+
+QStringList ColourBar::shownTexts() const {
+  if (!range_) return {};
+  const QString low = QString::number(range_->first, 'f', 2) + " m";
+  const QString high = QString::number(range_->second, 'f', 2) + " m";
+  const QFontMetrics metrics = fontMetrics();
+  const int room = width() - 8;  // the bar's width
+  const int gap = metrics.horizontalAdvance(QStringLiteral("  "));
+  const int ends = std::max(metrics.horizontalAdvance(low), metrics.horizontalAdvance(high));
+  // The caption sits in the middle: it needs the ends' room on both sides.
+  if (2 * (ends + gap) + metrics.horizontalAdvance(caption_) <= room) return {low, caption_, high};
+  if (metrics.horizontalAdvance(low) + gap + metrics.horizontalAdvance(high) <= room)
+    return {low, high};
+  return {};  // too narrow for the numbers: the colours alone
 }
 
 }  // namespace lom::ui

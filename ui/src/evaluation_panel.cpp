@@ -1,6 +1,7 @@
 #include "lom/ui/evaluation_panel.hpp"
 
 #include <QFileDialog>
+#include <QFontMetrics>
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QLabel>
@@ -22,10 +23,14 @@
 #include "lom/ui/score_chart.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
+#include "number_item.hpp"
 
 namespace lom::ui {
 
 namespace {
+
+static_assert(EvaluationPanel::kValueRole == kNumberValueRole,
+              "number cells keep their value there");
 
 // The index into the report's objects of a row (on its Label cell).
 constexpr int kObjectRole = Qt::UserRole + 2;
@@ -76,6 +81,11 @@ class CompactHeader : public QHeaderView {
     option.section = logical;
     option.text = model()->headerData(logical, orientation()).toString();
     option.sortIndicator = QStyleOptionHeader::None;
+    // Measured in bold, as Qt measures its own size: the header of the
+    // selected row's columns is drawn bold (highlighted sections).
+    QFont bold = font();
+    bold.setBold(true);
+    option.fontMetrics = QFontMetrics(bold);
     const QSize bare = style()->sizeFromContents(QStyle::CT_HeaderSection, &option, QSize(), this);
     return {std::min(size.width(), bare.width()), size.height()};
   }
@@ -94,19 +104,6 @@ class ScoreTable : public QTableWidget {
                        rows * verticalHeader()->defaultSectionSize() + 2 * frameWidth() +
                        (horizontalScrollBar()->isVisible() ? horizontalScrollBar()->height() : 0);
     return {QTableWidget::sizeHint().width(), height};
-  }
-};
-
-// A number cell that sorts by its exact value, whatever text it shows.
-class NumberItem : public QTableWidgetItem {
- public:
-  NumberItem(double value, const QString& text) : QTableWidgetItem(text) {
-    setData(EvaluationPanel::kValueRole, value);
-    setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
-  }
-  [[nodiscard]] bool operator<(const QTableWidgetItem& other) const override {
-    return data(EvaluationPanel::kValueRole).toDouble() <
-           other.data(EvaluationPanel::kValueRole).toDouble();
   }
 };
 
@@ -288,7 +285,10 @@ void EvaluationPanel::evaluateNow() {
   if (session_.worker().isFusing()) return;  // fusionFinished asks again
   const Annotations& boxes = session_.annotations().annotations();
   if (boxes.boxes.empty()) {
-    clearReport(tr("No boxes: add one (Annotate menu) to score the map."));
+    clearReport(sequence->labels.size() > 1
+                    ? tr("No boxes: add one (Annotate menu) to score the map.")
+                    : tr("This sequence has only the background label: it has no objects to "
+                         "box or score."));
     return;
   }
   if (!session_.worker().snapshot() || session_.worker().snapshot()->frames_fused == 0) {

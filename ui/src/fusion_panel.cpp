@@ -65,11 +65,12 @@ QString segmenterText(const std::shared_ptr<const Segmenter>& segmenter) {
 FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
     : QWidget(parent),
       session_(session),
-      // The command line's limits (docs/fusion.md): voxels from 2 mm to 1 m, a
-      // miss that lowers occupancy, a threshold inside the clamping bounds.
+      // The command line's limits (docs/fusion.md): voxels from 2 mm to 1 m,
+      // rays of at most 1000 voxels (checked with the resolution in onEdited),
+      // a miss that lowers occupancy, a threshold inside the clamping bounds.
       resolution_(makeBox(kMinFusionResolution, kMaxFusionResolution, 0.005, 3, " m")),
-      max_range_(makeBox(0.0, 20.0, 0.1, 2, " m")),
-      p_miss_(makeBox(0.01, 0.49, 0.05, 2, "")),
+      max_range_(makeBox(0.0, kMaxFusionVoxelsPerRay * kMaxFusionResolution, 0.1, 2, " m")),
+      p_miss_(makeBox(0.001, 0.499, 0.05, 3, "")),
       threshold_(makeBox(MapParameters{}.clamp_min + 0.01, MapParameters{}.clamp_max, 0.05, 2, "")),
       candidates_(new QLineEdit),
       segmenter_path_(new QLineEdit),
@@ -150,6 +151,9 @@ void FusionPanel::loadFromSession() {
   max_range_->setValue(std::max(0.0, options.map.max_range));
   p_miss_->setValue(options.map.p_miss);
   threshold_->setValue(options.map.occupancy_threshold);
+  // What the boxes show, rounded to their decimals: a box still showing it
+  // stands for the map's exact value (effectiveOptions).
+  shown_ = {resolution_->value(), max_range_->value(), p_miss_->value()};
   candidates_->setText(candidatesText(options.candidates));
   segmenter_ = options.segmenter;
   segmenter_path_->setText(segmenterText(segmenter_));
@@ -185,14 +189,29 @@ void FusionPanel::setNote(const QString& text) {
   note_->setVisible(!text.isEmpty());  // no empty row above the fields
 }
 
-bool FusionPanel::hasPendingChanges() const {
-  const FusionOptions& options = session_.fusionOptions();
+FusionOptions FusionPanel::effectiveOptions() const {
+  FusionOptions options = session_.fusionOptions();
+  // A box the user left as loaded keeps the map's value, even one with more
+  // decimals than the box shows (a map fused by `labeloctomap fuse --p-miss
+  // 0.495`): re-fusing must not round the settings nobody changed.
+  auto edited = [](const QDoubleSpinBox* box, double shown) {
+    return !qFuzzyCompare(1.0 + box->value(), 1.0 + shown);
+  };
+  if (edited(resolution_, shown_.resolution)) options.map.resolution = resolution_->value();
+  if (edited(max_range_, shown_.max_range)) options.map.max_range = max_range_->value();
+  if (edited(p_miss_, shown_.p_miss)) options.map.p_miss = p_miss_->value();
   bool ok = true;
-  const auto candidates = parseCandidates(candidates_->text(), &ok);
-  return !qFuzzyCompare(resolution_->value(), options.map.resolution) ||
-         !qFuzzyCompare(1.0 + max_range_->value(), 1.0 + std::max(0.0, options.map.max_range)) ||
-         !qFuzzyCompare(p_miss_->value(), options.map.p_miss) || candidates != options.candidates ||
-         segmenter_ != options.segmenter;
+  options.candidates = parseCandidates(candidates_->text(), &ok);
+  options.segmenter = segmenter_;
+  return options;
+}
+
+bool FusionPanel::hasPendingChanges() const {
+  const FusionOptions& current = session_.fusionOptions();
+  const FusionOptions wanted = effectiveOptions();
+  return wanted.map.resolution != current.map.resolution ||
+         wanted.map.max_range != current.map.max_range || wanted.map.p_miss != current.map.p_miss ||
+         wanted.candidates != current.candidates || wanted.segmenter != current.segmenter;
 }
 
 void FusionPanel::onEdited() {
@@ -203,8 +222,9 @@ void FusionPanel::onEdited() {
   const std::optional<CandidateProblem> unknown =
       ok && session_.sequence() ? checkCandidates(candidates, session_.sequence()->labels)
                                 : std::nullopt;
+  const FusionOptions wanted = effectiveOptions();
   const std::optional<RayLengthProblem> too_long =
-      checkRayLength(max_range_->value(), resolution_->value());
+      checkRayLength(wanted.map.max_range, wanted.map.resolution);
   const bool pending = hasPendingChanges();
   refuse_->setEnabled(pending && ok && !unknown && !too_long);
   if (unknown)
@@ -273,14 +293,10 @@ void FusionPanel::refuse() {
   onEdited();
   if (!refuse_->isEnabled()) return;  // a field the note names is not valid
   bool ok = true;
-  FusionOptions options = session_.fusionOptions();
-  options.candidates = parseCandidates(candidates_->text(), &ok);
+  parseCandidates(candidates_->text(), &ok);
   if (!ok) return;
-  options.map.resolution = resolution_->value();
-  options.map.max_range = max_range_->value();
-  options.map.p_miss = p_miss_->value();
-  options.segmenter = segmenter_;
-  session_.setFusionOptions(options);
+  session_.setFusionOptions(effectiveOptions());
+  shown_ = {resolution_->value(), max_range_->value(), p_miss_->value()};  // the new map's
   session_.fuse();
   onEdited();
 }

@@ -22,6 +22,7 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
   layout->addWidget(progress_);
   layout->addWidget(rate_);
   connect(&worker, &MapWorker::fusionProgress, this, [this](int done, int total, double rate) {
+    progressed_ = true;
     progress_->setFormat(tr("fused %v/%m"));
     progress_->setRange(0, std::max(1, total));
     progress_->setValue(done);
@@ -30,6 +31,7 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
   // A new fusion: the last one's count is not this one's, also when it fails
   // on its first frame or replaces a fusion still running.
   connect(&worker, &MapWorker::fusionStarted, this, [this] {
+    progressed_ = failed_ = false;
     progress_->setFormat(tr("fusing"));
     progress_->setRange(0, 1);
     progress_->setValue(0);
@@ -47,8 +49,19 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
   connect(&worker, &MapWorker::stateChanged, this, [this](MapWorker::State state) {
     if (state == MapWorker::State::Paused) rate_->setText(tr("paused"));
   });
+  // A fusion that failed (the error was reported first) or was stopped; one
+  // that ended before its first frame fused nothing and has no count to show.
+  connect(&worker, &MapWorker::errorOccurred, this, [this] { failed_ = true; });
   connect(&worker, &MapWorker::fusionFinished, this, [this](bool completed) {
-    if (!completed) rate_->setText(tr("stopped at %1/%2").arg(progress_->value()).arg(progress_->maximum()));
+    if (completed) return;
+    if (!progressed_) {
+      progress_->setFormat(tr("not fused"));
+      rate_->setText(failed_ ? tr("failed before the first frame")
+                             : tr("stopped before the first frame"));
+      return;
+    }
+    const QString count = QStringLiteral("%1/%2").arg(progress_->value()).arg(progress_->maximum());
+    rate_->setText(failed_ ? tr("failed after %1").arg(count) : tr("stopped at %1").arg(count));
   });
   connect(&worker, &MapWorker::snapshotChanged, this, [this, &worker] {
     if (worker.snapshot()->frames_fused == 0 && !worker.isFusing()) {

@@ -536,6 +536,7 @@ void MainWindow::showStatusMessage(const QString& message) {
 
 void MainWindow::onSequenceChanged() {
   updateTitle();
+  timeline_->setPlaying(false);  // another sequence starts still, on its first frame
   timeline_->setFrameCount(controller_->frameCount());
   scene_view_->showSequence(controller_->sequence());
 }

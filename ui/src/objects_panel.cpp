@@ -17,16 +17,14 @@
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
+#include "number_item.hpp"
 
 namespace lom::ui {
 
 namespace {
 
-QTableWidgetItem* numberItem(double value) {
-  auto* item = new QTableWidgetItem;
-  item->setData(Qt::DisplayRole, value);
-  item->setTextAlignment(Qt::AlignRight | Qt::AlignVCenter);
-  return item;
+QTableWidgetItem* countItem(size_t count) {
+  return new NumberItem(static_cast<double>(count), QString::number(count));
 }
 
 QTableWidgetItem* textItem(const QString& text) {
@@ -71,6 +69,7 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
   setupTable(table_);
   table_->horizontalHeader()->setSectionResizeMode(Name, QHeaderView::Stretch);
   table_->setSortingEnabled(true);
+  table_->sortByColumn(Label, Qt::AscendingOrder);  // as the Evaluation panel lists objects
   steps_->setHorizontalHeaderLabels({tr("Step"), tr("Action"), tr("Object")});
   setupTable(steps_);
   steps_->horizontalHeader()->setSectionResizeMode(Object, QHeaderView::Stretch);
@@ -181,19 +180,21 @@ void ObjectsPanel::showObjects(std::vector<ObjectInstance> objects) {
   target_->clear();
   for (int row = 0; row < table_->rowCount(); ++row) {
     const ObjectInstance& object = objects_[static_cast<size_t>(row)];
-    table_->setItem(row, Label, numberItem(object.label));
+    table_->setItem(row, Label, countItem(static_cast<size_t>(object.label)));
     table_->setItem(row, Name, textItem(QString::fromStdString(object.name)));
-    table_->setItem(row, Voxels, numberItem(static_cast<double>(object.voxelCount())));
-    table_->setItem(row, MeanProbability,
-                    numberItem(std::round(object.mean_probability * 1000.0) / 1000.0));
+    table_->setItem(row, Voxels, countItem(object.voxelCount()));
+    table_->setItem(
+        row, MeanProbability,
+        new NumberItem(object.mean_probability, QString::number(object.mean_probability, 'f', 3)));
     if (object.instance == 0) target_->addItem(objectTitle(object), object.label);
   }
   table_->setSortingEnabled(true);
   const int keep = target_->findData(previous_target);
   if (keep >= 0) target_->setCurrentIndex(keep);
   plan_button_->setEnabled(target_->count() > 0);
-  showMessage(objects_.empty() ? tr("The map has no objects yet.")
-                               : tr("%n object(s) in the map.", nullptr, static_cast<int>(objects_.size())));
+  showMessage(objects_.empty()       ? tr("The map has no objects yet.")
+              : objects_.size() == 1 ? tr("1 object in the map.")
+                                     : tr("%1 objects in the map.").arg(objects_.size()));
   emitBoxes();
   emit objectsShown();
 }
@@ -221,15 +222,18 @@ void ObjectsPanel::showPlan(PickPlan plan) {
   steps_->setRowCount(static_cast<int>(plan_->steps.size()));
   for (int row = 0; row < steps_->rowCount(); ++row) {
     const PlanStep& step = plan_->steps[static_cast<size_t>(row)];
-    steps_->setItem(row, Step, numberItem(row + 1));
+    steps_->setItem(row, Step, countItem(static_cast<size_t>(row + 1)));
     steps_->setItem(row, Action, textItem(QString::fromLatin1(stepActionName(step.action))));
     const QString object =
         step.object < plan_->objects.size() ? objectTitle(plan_->objects[step.object]) : QString();
     steps_->setItem(row, Object, textItem(object));
   }
-  showMessage(tr("Pick %1: %n occluder(s) to remove first.", nullptr,
-                 static_cast<int>(plan_->occluders.size()))
-                  .arg(shortName(QString::fromStdString(plan_->target_name))));
+  const QString target = shortName(QString::fromStdString(plan_->target_name));
+  const size_t occluders = plan_->occluders.size();
+  showMessage(occluders == 0 ? tr("Pick %1: nothing to remove first.").arg(target)
+              : occluders == 1
+                  ? tr("Pick %1: 1 occluder to remove first.").arg(target)
+                  : tr("Pick %1: %2 occluders to remove first.").arg(target).arg(occluders));
   emit pickPlanChanged(&*plan_);
   emit planShown();
 }

@@ -24,6 +24,8 @@ class BoxEditorPanel : public QWidget {
   [[nodiscard]] QDoubleSpinBox& field(int index) { return *fields_[static_cast<size_t>(index)]; }
   [[nodiscard]] QListWidget& boxList() { return *list_; }
   [[nodiscard]] QComboBox& newBoxLabel() { return *new_label_; }
+  // The selected box's label; labels other boxes have are disabled.
+  [[nodiscard]] QComboBox& boxLabel() { return *box_label_; }
 
  private:
   void rebuildLabels();

@@ -1,5 +1,6 @@
 #pragma once
 #include <QString>
+#include <QStringList>
 #include <QWidget>
 #include <functional>
 #include <optional>
@@ -21,6 +22,10 @@ class ColourBar : public QWidget {
   // Low and high ends in metres; nothing is drawn without a range.
   void setRange(std::optional<std::pair<double, double>> range);
   [[nodiscard]] std::optional<std::pair<double, double>> range() const { return range_; }
+  // The texts drawn under the bar at its width: low end, caption and high
+  // end; without the caption when they would overlap; none when even the ends
+  // would (and none without a range).
+  [[nodiscard]] QStringList shownTexts() const;
   [[nodiscard]] QSize sizeHint() const override { return {240, 34}; }
   [[nodiscard]] QSize minimumSizeHint() const override { return {120, 34}; }
 

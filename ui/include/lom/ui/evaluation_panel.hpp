@@ -24,7 +24,8 @@ class EvaluationPanel : public QWidget {
  public:
   enum Column { Label, Name, Voxels, ProjectionMean, ProjectionMax, LabelOctoMap, BoxIou, Columns };
   // The exact value behind a score cell (the cell shows it x100).
-  static constexpr int kValueRole = Qt::UserRole + 1;
+  static constexpr int kValueRole =
+      Qt::UserRole + 1;  // a number cell's exact value (number_item.hpp)
 
   explicit EvaluationPanel(StudioSession& session, QWidget* parent = nullptr);
 

@@ -14,6 +14,7 @@ class QPushButton;
 namespace lom {
 class Segmenter;
 struct FrameStats;
+struct FusionOptions;
 }
 
 namespace lom::ui {
@@ -47,6 +48,9 @@ class FusionPanel : public QWidget {
 
  private:
   void loadFromSession();
+  // The session's options with the fields' edits: a box the user left as
+  // loaded keeps the map's exact value, which it may show rounded.
+  [[nodiscard]] FusionOptions effectiveOptions() const;
   void onEdited();
   void setNote(const QString& text);
   void refuse();
@@ -63,6 +67,9 @@ class FusionPanel : public QWidget {
   QLabel* note_;
   QPushButton* refuse_;
   QPushButton* extend_range_;
+  struct Shown {
+    double resolution = 0.0, max_range = 0.0, p_miss = 0.0;
+  } shown_;                       // the boxes' values after loadFromSession
   double suggested_range_ = 0.0;  // what extend_range_ re-fuses with
   double suggested_resolution_ = 0.0;
   QString range_note_;  // why it is shown

@@ -19,6 +19,8 @@ class FusionStatus : public QWidget {
  private:
   QProgressBar* progress_;
   QLabel* rate_;
+  bool progressed_ = false;  // the current fusion has reported a frame
+  bool failed_ = false;      // ... and reported an error
 };
 
 }  // namespace lom::ui
