@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -52,6 +53,9 @@ void parseFrameRange(const std::string& text, FusionOptions& options) {
     char* end = nullptr;
     errno = 0;
     const long value = std::strtol(part.c_str(), &end, 10);
+    if (*end == '\0' && errno == ERANGE && value > 0)
+      throw UsageError("option --frames: frame index " + part + " is too large (at most " +
+                       std::to_string(LONG_MAX) + "), got '" + text + "'");
     if (*end != '\0' || value < 0 || errno == ERANGE)
       throw UsageError("option --frames expects non-negative frame indices A:B, got '" + text + "'");
     return static_cast<size_t>(value);
@@ -240,7 +244,7 @@ int runFuse(const Words& words) {
   }
   // Before the jumps: a camera outside the map is the wrong pose, not its neighbours.
   checkCamerasInsideMap(sequence, options.map.resolution, options.first_frame, options.last_frame);
-  for (const auto& jump : cameraJumps(sequence))
+  for (const auto& jump : cameraJumps(sequence, 10.0, options.first_frame, options.last_frame))
     std::cerr << "warning: " << jump << ": the map will span that distance\n";
   for (const auto& camera : implausibleIntrinsics(sequence))
     std::cerr << "warning: " << (sequence.root / "sequence.json").string() << ": " << camera << "\n";

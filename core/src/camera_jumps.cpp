@@ -8,13 +8,14 @@
 
 namespace lom {
 
-std::vector<std::string> cameraJumps(const Sequence& sequence, double limit_metres) {
+std::vector<std::string> cameraJumps(const Sequence& sequence, double limit_metres, size_t first,
+                                     size_t last) {
   std::vector<std::string> jumps;
   // A camera outside every map's extent is a wrong pose of its own
   // (checkCameraExtents names it): measured from it, its neighbours would
   // seem to jump, and the warning would name the wrong frame.
   std::optional<size_t> previous;
-  for (size_t i = 0; i < sequence.frames.size(); ++i) {
+  for (size_t i = first; i < std::min(last, sequence.frames.size()); ++i) {
     const Eigen::Vector3d camera = sequence.frames[i].T_world_camera.translation();
     if (!insideMapExtent(camera, kMaxFusionResolution)) continue;
     const std::optional<size_t> before = previous;

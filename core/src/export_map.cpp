@@ -187,6 +187,11 @@ std::string labelFileStem(const LabelInfo& label, int num_labels) {
     const char l = static_cast<char>(std::tolower(c));
     name += (std::isalnum(c) || l == '_' || l == '-') ? l : '_';
   }
+  // A file name holds at most 255 bytes, and the temporary file written
+  // beside it adds a prefix and a suffix: names of up to 255 bytes (which
+  // labels may have) are cut to 200 (the id keeps stems apart).
+  constexpr size_t kMaxNameBytes = 200;
+  if (name.size() > kMaxNameBytes) name.resize(kMaxNameBytes);
   return name.empty() ? id : id + "_" + name;
 }
 

@@ -1,7 +1,9 @@
 // Human-readable reports: report.csv, report.md, the terminal table and the
 // aggregate of a batch. Values are fractions in the CSV, x100 elsewhere (as in the paper).
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
+#include <cstring>
 #include <sstream>
 
 #include "lom/labels.hpp"
@@ -52,6 +54,25 @@ std::string markdownText(const std::string& text) {
   for (char c : singleLineText(text)) {  // a line break would end the table row
     if (c == '|' || c == '*' || c == '_' || c == '\\' || c == '`') out += '\\';
     out += c;
+  }
+  return out;
+}
+
+// A relative link target: bytes that would end or break the link (spaces,
+// brackets, '|' of the table, '%', control and non-ASCII bytes) percent-encoded,
+// as URLs write them.
+std::string markdownLinkTarget(const std::string& path) {
+  static const char* const kHex = "0123456789ABCDEF";
+  std::string out;
+  for (const char c : path) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (std::isalnum(byte) || std::strchr("/._-~", c)) {
+      out += c;
+    } else {
+      out += '%';
+      out += kHex[byte >> 4];
+      out += kHex[byte & 15];
+    }
   }
   return out;
 }
@@ -245,7 +266,8 @@ std::string aggregateMarkdown(const std::vector<EvaluationReport>& reports) {
         << " | " << s.labeloctomap_beats_projection_max << " |\n";
   };
   for (const auto& r : reports)
-    row("[" + markdownText(r.sequence) + "](" + r.sequence + "/report.md)", r.summary);
+    row("[" + markdownText(r.sequence) + "](" + markdownLinkTarget(r.sequence + "/report.md") + ")",
+        r.summary);
   row("all", summarizeAll(reports));
   out << "\n![Mean IU_3d per sequence](aggregate.svg)\n";
   return out.str();

@@ -445,6 +445,9 @@ TEST(ExportFiles, FileStemsArePaddedIdsAndSafeNames) {
   EXPECT_EQ(lom::labelFileStem(apc.at(8), apc.size()), "08_creativity_chenille_stems");
   EXPECT_EQ(lom::labelFileStem({3, "Big Box/2", {}}, 200), "003_big_box_2");
   EXPECT_EQ(lom::labelFileStem({5, "", {}}, 10), "05");
+  // The longest label names make file names that fit, with room for a temporary prefix and suffix.
+  const std::string stem = lom::labelFileStem({12, std::string(255, 'a'), {}}, 40);
+  EXPECT_EQ(stem, "12_" + std::string(200, 'a'));
 }
 
 TEST(ExportFiles, UnusableRequestsNameTheOptionAndWriteNothing) {

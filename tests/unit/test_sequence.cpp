@@ -186,6 +186,13 @@ TEST(CameraJumps, NamesEachStepLongerThanTheLimit) {
   EXPECT_NE(jumps[1].find("291.1 m"), std::string::npos) << jumps[1];
   EXPECT_EQ(lom::cameraJumps(sequence, 1000.0).size(), 0u);
   EXPECT_EQ(lom::cameraJumps(sequence, 0.01).size(), 4u);
+  // Only the frames fused count (fuse --frames): 0:2 has no jump, 2:4 none
+  // either (frames[2] starts it), 3:5 the step from frames[3] to frames[4].
+  EXPECT_TRUE(lom::cameraJumps(sequence, 10.0, 0, 2).empty());
+  EXPECT_TRUE(lom::cameraJumps(sequence, 10.0, 2, 4).empty());
+  const auto last_two = lom::cameraJumps(sequence, 10.0, 3, 5);
+  ASSERT_EQ(last_two.size(), 1u);
+  EXPECT_NE(last_two[0].find("frames[4]"), std::string::npos) << last_two[0];
 }
 
 // A camera outside every map fusion can make is a wrong pose of its own

@@ -139,7 +139,8 @@ struct ExportSummary {
 };
 
 // File name stem of a label in a per-label folder: "08_creativity_chenille_stems"
-// (zero-padded id, name in lower case with characters other than [a-z0-9_-] as '_').
+// (zero-padded id, name in lower case with characters other than [a-z0-9_-] as '_',
+// cut to its first 200 bytes: file names hold 255).
 [[nodiscard]] std::string labelFileStem(const LabelInfo& label, int num_labels);
 
 // Writes `map` in `options.format` to `out` (a file, or with per_label a

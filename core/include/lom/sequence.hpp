@@ -78,9 +78,11 @@ void saveSequence(const Sequence& sequence, const std::filesystem::path& folder)
 // pixel. Each message: "frames[i].pose: the camera is 300 m from
 // where it was in frames[i-1] (a wrong pose?)". Cameras outside the extent
 // of every map fusion can make (lom::checkCameraExtents) are left out: each
-// step is measured from the camera before it that lies inside.
+// step is measured from the camera before it that lies inside. Only the
+// frames first..last-1 (fuse --frames) are looked at.
 [[nodiscard]] std::vector<std::string> cameraJumps(const Sequence& sequence,
-                                                   double limit_metres = 10.0);
+                                                   double limit_metres = 10.0, size_t first = 0,
+                                                   size_t last = static_cast<size_t>(-1));
 
 // Intrinsics whose field of view no depth camera has: wider than
 // kMaxPlausibleFieldOfView degrees on either image axis. Such a camera matrix
