@@ -12,12 +12,14 @@
 #include <set>
 #include <sstream>
 #include <string_view>
+#include <thread>
 
 #include "file_checks.hpp"
 #include "image_header.hpp"
 #include "json_text.hpp"
 #include "lom/atomic_file.hpp"
 #include "lom/import.hpp"
+#include "worker_pool.hpp"
 
 namespace lom {
 
@@ -496,30 +498,52 @@ FrameData readFrame(const Sequence& sequence, size_t index, FrameParts parts,
   const CameraIntrinsics& camera = sequence.cameraOf(index);
   const std::string field = indexed("frames", index);
   FrameData data;
-  if (auto depth = readPart<DepthImage>(
-          sequence, record.depth, join(field, "depth"), camera,
-          [&](const fs::path& p) { return readDepthImage(p, camera.depth_scale); }, problems))
-    data.depth = std::move(*depth);
-  if (parts.color && !record.color.empty())
-    data.color = readPart<ColorImage>(
-        sequence, record.color, join(field, "color"), camera,
-        [](const fs::path& p) { return readColorImage(p); }, problems);
-  if (parts.proba && !record.proba.empty())
-    data.proba = readPart<ProbabilityImage>(
-        sequence, record.proba, join(field, "proba"), camera,
-        [&](const fs::path& p) {
-          return readProbabilityImage(p, record.proba_labels, sequence.labels.size(),
-                                      parts.proba_floats);
-        },
-        problems);
-  if (parts.label && !record.label.empty()) {
-    data.label = readPart<LabelImage>(
-        sequence, record.label, join(field, "label"), camera,
-        [](const fs::path& p) { return readLabelImage(p); }, problems);
-    if (data.label)
-      checkLabelIds(sequence.pathOf(record.label), join(field, "label"), *data.label,
-                    sequence.labels.size(), problems);
+  std::vector<Problem> depth_problems, other_problems;
+  auto readDepth = [&] {
+    if (auto depth = readPart<DepthImage>(
+            sequence, record.depth, join(field, "depth"), camera,
+            [&](const fs::path& p) { return readDepthImage(p, camera.depth_scale); },
+            depth_problems))
+      data.depth = std::move(*depth);
+  };
+  auto readOthers = [&] {
+    std::vector<Problem>& out = other_problems;
+    if (parts.color && !record.color.empty())
+      data.color = readPart<ColorImage>(
+          sequence, record.color, join(field, "color"), camera,
+          [](const fs::path& p) { return readColorImage(p); }, out);
+    if (parts.proba && !record.proba.empty())
+      data.proba = readPart<ProbabilityImage>(
+          sequence, record.proba, join(field, "proba"), camera,
+          [&](const fs::path& p) {
+            return readProbabilityImage(p, record.proba_labels, sequence.labels.size(),
+                                        parts.proba_floats);
+          },
+          out);
+    if (parts.label && !record.label.empty()) {
+      data.label = readPart<LabelImage>(
+          sequence, record.label, join(field, "label"), camera,
+          [](const fs::path& p) { return readLabelImage(p); }, out);
+      if (data.label)
+        checkLabelIds(sequence.pathOf(record.label), join(field, "label"), *data.label,
+                      sequence.labels.size(), out);
+    }
+  };
+  // The depth image and the others are decoded at once, on two cores: a
+  // 640x480 depth PNG takes 3.5 ms to decode, the 8-bit proba 1 ms, a colour
+  // PNG (for a segmenter) 6.7 ms, and fusion does not run meanwhile.
+  const bool others = (parts.color && !record.color.empty()) ||
+                      (parts.proba && !record.proba.empty()) ||
+                      (parts.label && !record.label.empty());
+  if (others && std::thread::hardware_concurrency() > 1) {
+    runParts(2, [&](int part) { part == 0 ? readDepth() : readOthers(); });
+  } else {
+    readDepth();
+    readOthers();
   }
+  // Problems in the order of the fields, depth first, however the reads interleaved.
+  problems.insert(problems.end(), depth_problems.begin(), depth_problems.end());
+  problems.insert(problems.end(), other_problems.begin(), other_problems.end());
   return data;
 }
 
