@@ -78,6 +78,10 @@ TEST_F(StudioWindowTest, StartsEmptyWithNavigationDisabled) {
   EXPECT_EQ(window_.sceneView().framePointCount(), 0u);
   window_.controller().stepFrames(1);  // harmless without a sequence
   EXPECT_EQ(window_.controller().currentFrame(), -1);
+  // The empty 3D view says how to open a sequence, until one is open.
+  EXPECT_TRUE(window_.sceneView().emptyHintShown());
+  ASSERT_TRUE(openTiny());
+  EXPECT_FALSE(window_.sceneView().emptyHintShown());
 }
 
 TEST_F(StudioWindowTest, OpeningSetsTheTimelineAndStatus) {

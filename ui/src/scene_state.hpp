@@ -6,6 +6,7 @@
 #include <vtkActor.h>
 #include <vtkAxesActor.h>
 #include <vtkBillboardTextActor3D.h>
+#include <vtkCoordinate.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkNew.h>
 #include <vtkOrientationMarkerWidget.h>
@@ -14,6 +15,7 @@
 #include <vtkProperty.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
+#include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 
 #include <QString>
@@ -78,6 +80,8 @@ struct SceneView::Scene {
   size_t voxel_count = 0;
   vtkNew<vtkAxesActor> axes;
   vtkNew<vtkOrientationMarkerWidget> axes_widget;
+  // What to do in an empty window, centred in the view until a sequence opens.
+  vtkNew<vtkTextActor> empty_hint;
 
   std::optional<scene::Viewpoint> home_viewpoint;  // first frame's camera
   double frustum_depth = 0.1;
@@ -91,6 +95,19 @@ struct SceneView::Scene {
     renderer->GradientBackgroundOn();
     renderer->SetBackground(0.10, 0.11, 0.15);
     renderer->SetBackground2(0.32, 0.34, 0.43);
+
+    // Short lines: the view may be as narrow as 320 pixels.
+    empty_hint->SetInput(
+        "No sequence open\n\nFile > Open Sequence... (Ctrl+O),\nor drop a sequence folder,\n"
+        "a dataset folder or a ROS bag here");
+    vtkTextProperty* hint_text = empty_hint->GetTextProperty();
+    hint_text->SetJustificationToCentered();
+    hint_text->SetVerticalJustificationToCentered();
+    hint_text->SetFontSize(15);
+    hint_text->SetColor(0.85, 0.87, 0.92);
+    empty_hint->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+    empty_hint->GetPositionCoordinate()->SetValue(0.5, 0.5);
+    renderer->AddActor2D(empty_hint);
 
     // Points carry their final colour (label or image): no shading on them.
     cloud.mapper->SetScalarModeToUsePointData();

@@ -127,7 +127,10 @@ SceneView::SceneView(QWidget* parent)
 
 SceneView::~SceneView() = default;
 
+bool SceneView::emptyHintShown() const { return scene_->empty_hint->GetVisibility() != 0; }
+
 void SceneView::showSequence(const Sequence& sequence) {
+  scene_->empty_hint->SetVisibility(false);
   scene_->frustum_depth = scene::frustumDepth(sequence);
   scene_->home_viewpoint.reset();
   if (!sequence.frames.empty()) scene_->home_viewpoint = scene::viewpointOf(sequence, 0);

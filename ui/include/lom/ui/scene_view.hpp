@@ -44,6 +44,8 @@ class SceneView : public QWidget {
   void showFrame(const Sequence& sequence, size_t index, const FrameData* frame,
                  const std::optional<LabelImage>& labels);
   void clear();
+  // Whether the view says how to open a sequence (until one is shown).
+  [[nodiscard]] bool emptyHintShown() const;
   void resetCamera();
   // Keeps the view direction and frames the map's voxels.
   void zoomToMap();
