@@ -46,6 +46,10 @@ void checkOptionsForSequence(const fs::path& sequence_path, const EvaluationOpti
 // Fusion left out depth points outside the map's extent: the scores are of
 // what the map holds, so say so.
 void warnOutsideMap(const ScoreInputs& inputs, const EvaluationReport& report) {
+  if (inputs.map && report.map_fit)
+    if (const std::string warning = poorMapFitWarning(*report.map_fit, inputs.map->string());
+        !warning.empty())
+      std::cerr << "warning: " << warning << "\n";
   if (inputs.map || report.frames_outside_map.empty()) return;
   const fs::path file =
       inputs.sequence.extension() == ".json" ? inputs.sequence : inputs.sequence / "sequence.json";

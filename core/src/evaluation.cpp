@@ -1,6 +1,7 @@
 #include "lom/evaluation.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include "evaluation_frames.hpp"
@@ -191,6 +192,44 @@ void checkMapLabels(const LabelMap& map, const Sequence& sequence, const std::st
       throw Error(file, "labels[" + std::to_string(k) + "]",
                   "the sequence's label \"" + sequence.labels.at(k).name + "\"",
                   "\"" + map.labels().at(k).name + "\"");
+}
+
+MapFit mapFitOf(const LabelMap& map, const Sequence& sequence, int stride) {
+  MapFit fit;
+  if (sequence.frames.empty() || stride < 1) return fit;
+  const size_t last = sequence.frames.size() - 1;
+  std::vector<size_t> frames = {0, last / 2, last};
+  frames.erase(std::unique(frames.begin(), frames.end()), frames.end());
+  const double max_range = map.parameters().max_range;
+  for (const size_t index : frames) {
+    const FrameRecord& record = sequence.frames[index];
+    const CameraIntrinsics& camera = sequence.cameraOf(index);
+    DepthImage depth;
+    try {
+      depth = readDepthImage(sequence.pathOf(record.depth), camera.depth_scale);
+    } catch (const std::exception&) {
+      continue;  // validate and fusion name it; the other frames still tell
+    }
+    for (int v = stride / 2; v < depth.height; v += stride)
+      for (int u = stride / 2; u < depth.width; u += stride) {
+        const float z = depth.at(u, v);
+        if (!(z > 0.f) || !std::isfinite(z)) continue;
+        const Eigen::Vector3d in_camera = camera.backProject(u, v, z);
+        if (max_range > 0.0 && in_camera.norm() > max_range) continue;
+        ++fit.depths;
+        if (map.voxelAt(record.T_world_camera * in_camera).occupied) ++fit.occupied;
+      }
+  }
+  return fit;
+}
+
+std::string poorMapFitWarning(const MapFit& fit, const std::string& map_file) {
+  if (fit.depths == 0 || fit.fraction() >= kPoorMapFit) return {};
+  return map_file + ": only " +
+         std::to_string(static_cast<int>(std::round(100.0 * fit.fraction()))) +
+         "% of the sequence's depths (" + std::to_string(fit.depths) +
+         " sampled in its first, middle and last frames) fall on occupied voxels of the map: "
+         "was it fused from another sequence, or with other poses? Its scores would mean little.";
 }
 
 EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotations, const LabelMap& map,

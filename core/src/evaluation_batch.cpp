@@ -71,7 +71,9 @@ EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOption
     named.map_file = inputs.map->string();
     LabelMap map = LabelMap::load(*inputs.map);
     if (inputs.occupancy_threshold) map.setOccupancyThreshold(*inputs.occupancy_threshold);
-    return evaluate(sequence, annotations, map, named, progress);
+    EvaluationReport report = evaluate(sequence, annotations, map, named, progress);
+    report.map_fit = mapFitOf(map, sequence);
+    return report;
   }
   named.map_file = (sequence.root / "sequence.json").string() + " (fused)";
   FrameStats totals;

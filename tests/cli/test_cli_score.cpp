@@ -137,6 +137,24 @@ TEST_F(CliScoreTest, SavedMapScoresLikeTheFusedOne) {
   EXPECT_TRUE(std::filesystem::exists(out / "part" / "report.json"));
   EXPECT_EQ(runCli(scoreArgs(out / "whole") + " --map " + quoted(out / "m01.ot")).err.find("note:"),
             std::string::npos);
+  EXPECT_EQ(r.err.find("warning:"), std::string::npos) << r.err;  // the map fits its sequence
+  EXPECT_EQ(part.err.find("warning:"), std::string::npos)
+      << part.err;  // so does one of its first frame
+
+  // A map fused with every camera half a metre away does not fit: scored, with a warning.
+  std::filesystem::copy(scene(), out / "moved", std::filesystem::copy_options::recursive);
+  lom::Sequence moved = lom::loadSequence(out / "moved");
+  for (lom::FrameRecord& frame : moved.frames) frame.T_world_camera.translation().y() += 0.5;
+  lom::saveSequence(moved, out / "moved");
+  ASSERT_EQ(
+      runCli("fuse " + quoted(out / "moved") + " --out " + quoted(out / "moved.ot") + " --quiet")
+          .exit_code,
+      0);
+  const auto poor = runCli(scoreArgs(out / "poor") + " --map " + quoted(out / "moved.ot"));
+  EXPECT_EQ(poor.exit_code, 0) << poor.err;
+  EXPECT_NE(poor.err.find("warning: " + (out / "moved.ot").string() + ": only "), std::string::npos)
+      << poor.err;
+  EXPECT_NE(poor.err.find("fall on occupied voxels of the map"), std::string::npos) << poor.err;
 }
 
 TEST_F(CliScoreTest, YamlBoxesOfTheOriginalExperimentsScoreLikeTheirJson) {

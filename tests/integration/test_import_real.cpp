@@ -234,5 +234,55 @@ TEST(ImportRealData, KinectRoomViewsAgree) {
   checkViews(sequence, {"kinect-room-5", 0, 1, 0.02, 4.0}, 0.8);
 }
 
+// A map fits the depths of the recording it was fused from, not another
+// recording's (with the same, background-only, label set) nor its own frames
+// moved by a wrong pose: the warning of `score --map` and the studio.
+TEST(ImportRealData, AMapFitsTheDepthsOfItsOwnRecordingOnly) {
+  LOM_REQUIRE_SHARED_DATA("apc-box-realsense");
+  LOM_REQUIRE_SHARED_DATA("kinect-room-5");
+  test::TempDir dir;
+  ImportOptions apc_options;
+  apc_options.max_frames = 6;
+  (void)importSource(std::nullopt, test::sharedDataDir() / "apc-box-realsense", dir / "apc",
+                     apc_options);
+  ImportOptions room_options;
+  room_options.intrinsics = parseIntrinsics("518,519,325.5,253.5");
+  (void)importSource(SourceKind::Quaternion, test::sharedDataDir() / "kinect-room-5", dir / "room",
+                     room_options);
+  const Sequence apc = loadSequence(dir / "apc");
+  const Sequence room = loadSequence(dir / "room");
+  FusionOptions at_1cm;
+  at_1cm.map.resolution = 0.01;
+  at_1cm.map.max_range = 1.5;
+  const LabelMap apc_map = fuseSequence(apc, at_1cm);
+  FusionOptions at_4cm;
+  at_4cm.map.resolution = 0.04;
+  at_4cm.map.max_range = 4.0;
+  const LabelMap room_map = fuseSequence(room, at_4cm);
+
+  const MapFit own = mapFitOf(apc_map, apc);
+  const MapFit room_own = mapFitOf(room_map, room);
+  const MapFit crossed = mapFitOf(apc_map, room);
+  const MapFit crossed_back = mapFitOf(room_map, apc);
+  Sequence moved = apc;
+  for (FrameRecord& frame : moved.frames) frame.T_world_camera.translation().x() += 0.3;
+  const MapFit wrong_pose = mapFitOf(apc_map, moved);
+  std::cout << "[ map fit ] apc " << own.fraction() << " of " << own.depths << ", room "
+            << room_own.fraction() << ", apc map on room " << crossed.fraction() << " of "
+            << crossed.depths << ", room map on apc " << crossed_back.fraction()
+            << ", apc moved 30 cm " << wrong_pose.fraction() << "\n";
+  EXPECT_GT(own.depths, 1000u);
+  EXPECT_GE(own.fraction(), 0.5);
+  EXPECT_GE(room_own.fraction(), 0.5);
+  EXPECT_GT(crossed.depths, 100u);  // the room's near depths, within the box map's range
+  EXPECT_TRUE(poorMapFitWarning(own, "apc.ot").empty());
+  for (const MapFit& poor : {crossed, crossed_back, wrong_pose}) {
+    EXPECT_LT(poor.fraction(), kPoorMapFit);
+    if (poor.depths > 0) {
+      EXPECT_NE(poorMapFitWarning(poor, "apc.ot").find("apc.ot: only "), std::string::npos);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace lom

@@ -165,6 +165,33 @@ TEST_F(OpenMapTest, OpeningAMapDuringFusionStopsTheFusion) {
   EXPECT_EQ(session().worker().snapshot()->counts, occupied_);
 }
 
+// A map whose voxels are not where the sequence's depths are (fused from
+// another recording with the same labels, or with other poses) is shown with
+// a warning; a map of the sequence opens without one.
+TEST_F(OpenMapTest, AMapThatDoesNotFitTheDepthsIsShownWithAWarning) {
+  std::vector<QString> warnings;
+  window_.setWarningReporter([&](const QString& title, const QString& message) {
+    warnings.push_back(title + ": " + message);
+  });
+  openAndFuse();
+  session().openMap(qPath(writeFinerMap()));
+  waitForMap();
+  EXPECT_TRUE(warnings.empty()) << warnings.front().toStdString();
+
+  Sequence moved = loadSequence(folder_);
+  for (FrameRecord& frame : moved.frames) frame.T_world_camera.translation().y() += 0.5;
+  const auto path = temp_.path() / "moved.ot";
+  fuseSequence(moved, FusionOptions{}).save(path);
+  session().openMap(qPath(path));
+  waitForMap();
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_TRUE(warnings.front().startsWith("Map of another scene?"))
+      << warnings.front().toStdString();
+  EXPECT_TRUE(warnings.front().contains("moved.ot: only ")) << warnings.front().toStdString();
+  EXPECT_TRUE(errors_.empty());
+  EXPECT_TRUE(window_.fusionStatusText().contains("map from file"));  // shown all the same
+}
+
 TEST_F(OpenMapTest, AMapOfAnotherLabelSetOrNoMapAtAllIsRefused) {
   openAndFuse();
   const MapSnapshotPtr before = session().worker().snapshot();

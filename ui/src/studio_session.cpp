@@ -19,7 +19,7 @@ StudioSession::StudioSession(QObject* parent)
       map_reader_(new MapFileReader(this)) {
   connect(map_reader_, &MapFileReader::finished, this,
           [this](unsigned ticket, const QString& path, std::shared_ptr<LabelMap> map,
-                 const QString& error) {
+                 const QString& error, const QString& fit_warning) {
             if (ticket != map_reader_->latestTicket()) return;  // another map asked for since
             if (!map) return emit mapOpenFailed(tr("Cannot open map"), error);
             if (!sequence_) return;
@@ -29,6 +29,9 @@ StudioSession::StudioSession(QObject* parent)
               return emit mapOpenFailed(tr("Map of another label set"),
                                         QString::fromStdString(mismatch.what()));
             }
+            // Shown all the same: a map fused with other poses may be what the user wants to see.
+            if (!fit_warning.isEmpty())
+              emit controller_->warningOccurred(tr("Map of another scene?"), fit_warning);
             options_.map = map->parameters();
             emit fusionOptionsChanged();
             ++map_generation_;
@@ -66,7 +69,7 @@ void StudioSession::onSequenceChanged() {
 
 void StudioSession::openMap(const QString& path) {
   if (!sequence_) return;
-  map_reader_->read(path);
+  map_reader_->read(path, sequence_);
 }
 
 bool StudioSession::isOpeningMap() const { return map_reader_->isReading(); }

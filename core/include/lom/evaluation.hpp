@@ -75,6 +75,20 @@ struct ScoreSummary {
 };
 [[nodiscard]] ScoreSummary summarize(const std::vector<ObjectScore>& objects);
 
+// How well a map fits a sequence's depths: of the valid depths of the sampled
+// frames (every `stride`-th pixel of every `stride`-th row) that lie within
+// the map's max range, how many fall on an occupied voxel of the map. A map
+// fused from the sequence scores high (its surfaces are where the depths
+// are); a map of another scene, or of the same scene in another world frame,
+// scores near zero.
+struct MapFit {
+  size_t depths = 0;    // valid depths within the map's max range, sampled
+  size_t occupied = 0;  // ... that fall on an occupied voxel
+  [[nodiscard]] double fraction() const {
+    return depths ? static_cast<double>(occupied) / static_cast<double>(depths) : 0.0;
+  }
+};
+
 struct EvaluationReport {
   std::string sequence;          // the sequence folder's name
   double resolution = 0.0;       // of the map; also used by the projection baseline
@@ -101,6 +115,9 @@ struct EvaluationReport {
   // (FrameStats::outside_map_pixels), which the map left out.
   FrameStats fusion_totals;
   std::vector<size_t> frames_outside_map;
+  // Scored with a map from a file (score --map): how well it fits the
+  // sequence's depths (mapFitOf); poor fits are warned about.
+  std::optional<MapFit> map_fit;
 };
 
 // The summary over all objects of several reports (a batch).
@@ -145,6 +162,15 @@ void checkBoxLabels(const Annotations& annotations, int label_count,
 // unless the map has the sequence's labels, with the same names in the same
 // order: a map fused from another sequence's label set.
 void checkMapLabels(const LabelMap& map, const Sequence& sequence, const std::string& map_file);
+
+// Samples the sequence's first, middle and last frames (unreadable depth
+// images are left out). Below kPoorMapFit, `score --map` and the studio warn
+// that the map may not be of the sequence.
+[[nodiscard]] MapFit mapFitOf(const LabelMap& map, const Sequence& sequence, int stride = 8);
+inline constexpr double kPoorMapFit = 0.2;
+// The warning for a fit below kPoorMapFit, naming `map_file`; empty when the
+// fit is good or no depth could be sampled.
+[[nodiscard]] std::string poorMapFitWarning(const MapFit& fit, const std::string& map_file);
 
 // Scores every annotated object. Resolution and max range come from `map`.
 // Throws lom::Error for unusable inputs (see checkAnnotationsForSequence; a map
