@@ -234,6 +234,11 @@ int runExport(const Words& words) {
       checkNotASequenceFile(file, out_option);
     }
 
+  if (options.format == ExportFormat::Obj && !options.per_label &&
+      fs::path(out_path).filename().string().find_first_of(" \t") != std::string::npos)
+    std::cerr << "note: OBJ readers split the mtllib line at spaces: they will not find "
+              << fs::path(out_path).replace_extension(".mtl").filename().string()
+              << " (the label colours); a file name without spaces keeps them\n";
   const ExportSummary summary = runExportTo(map, options, out_path, out_option);
   for (const int label : summary.empty_labels)
     std::cerr << "note: label " << label << " (" << map.labels().at(label).name

@@ -126,6 +126,22 @@ TEST_F(CliExportTest, PerLabelFilesAreNamedByLabelIdAndName) {
   EXPECT_EQ(found, expected);
 }
 
+// OBJ cannot quote the material file's name: a space in it loses the colours
+// in OBJ readers, which the command says.
+TEST_F(CliExportTest, AnObjNamedWithASpaceGetsANote) {
+  TempDir out;
+  const auto spaced = runCli("export " + q(map()) + " --format obj --out " + q(out / "my map.obj"));
+  ASSERT_EQ(spaced.exit_code, 0) << spaced.err;
+  EXPECT_NE(spaced.err.find("note: OBJ readers split the mtllib line at spaces: they will not find "
+                            "my map.mtl"),
+            std::string::npos)
+      << spaced.err;
+  EXPECT_TRUE(fs::exists(out / "my map.mtl"));
+  const auto plain = runCli("export " + q(map()) + " --format obj --out " + q(out / "my_map.obj"));
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_EQ(plain.err.find("note:"), std::string::npos) << plain.err;
+}
+
 TEST_F(CliExportTest, LabelSelectionWritesOnlyThoseLabels) {
   TempDir out;
   const lom::LabelMap m = lom::LabelMap::load(map());
