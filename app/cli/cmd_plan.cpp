@@ -4,12 +4,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "args.hpp"
 #include "commands.hpp"
 #include "lom/box_fit.hpp"
 #include "lom/error.hpp"
+#include "lom/evaluation.hpp"
 #include "lom/label_map.hpp"
 #include "lom/planning.hpp"
 #include "lom/sequence.hpp"
@@ -87,15 +89,22 @@ int runPlan(const Words& words) {
   if (out) checkOutputFile(*out, "out", ".json", what, inputs);
 
   // The sequence is read before the map: it is the cheaper file to get wrong.
+  std::optional<Sequence> sequence;
   if (const auto sequence_path = args.option("sequence")) {
-    const Sequence sequence = loadSequence(*sequence_path);
-    inputs.addSequenceFiles(sequence);
+    sequence = loadSequence(*sequence_path);
+    inputs.addSequenceFiles(*sequence);
     if (out) checkOutputFile(*out, "out", ".json", what, inputs);
-    options.approach = meanViewingDirection(sequence);
+    options.approach = meanViewingDirection(*sequence);
     options.approach_source = ApproachSource::Sequence;
   }
 
   const LabelMap map = LabelMap::load(map_path);
+  // The approach comes from the sequence's cameras: only meaningful when the
+  // map was fused from them (in the same world frame).
+  if (sequence)
+    if (const std::string warning = poorMapFitWarning(mapFitOf(map, *sequence), map_path.string());
+        !warning.empty())
+      std::cerr << "warning: " << warning << " The approach from --sequence may point anywhere.\n";
   if (map.numLabels() < 2)
     throw Error(map_path.string(), "--target", "a map with object labels (1 and up) to plan for",
                 "a map whose only label is the background (0), so it has no objects");

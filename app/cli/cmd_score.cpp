@@ -49,7 +49,7 @@ void warnOutsideMap(const ScoreInputs& inputs, const EvaluationReport& report) {
   if (inputs.map && report.map_fit)
     if (const std::string warning = poorMapFitWarning(*report.map_fit, inputs.map->string());
         !warning.empty())
-      std::cerr << "warning: " << warning << "\n";
+      std::cerr << "warning: " << warning << " Its scores would mean little.\n";
   if (inputs.map || report.frames_outside_map.empty()) return;
   const fs::path file =
       inputs.sequence.extension() == ".json" ? inputs.sequence : inputs.sequence / "sequence.json";

@@ -229,7 +229,7 @@ std::string poorMapFitWarning(const MapFit& fit, const std::string& map_file) {
          std::to_string(static_cast<int>(std::round(100.0 * fit.fraction()))) +
          "% of the sequence's depths (" + std::to_string(fit.depths) +
          " sampled in its first, middle and last frames) fall on occupied voxels of the map: "
-         "was it fused from another sequence, or with other poses? Its scores would mean little.";
+         "was it fused from another sequence, or with other poses?";
 }
 
 EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotations, const LabelMap& map,

@@ -60,7 +60,15 @@ class CliPlanTest : public ::testing::Test {
       sequence.frames.push_back(frame);
       frame.depth = "depth/000001.png";
       sequence.frames.push_back(frame);
-      std::filesystem::create_directories(root_->path() / "side");
+      std::filesystem::create_directories(root_->path() / "side" / "depth");
+      // Their depths: a wall half a metre away, where the map has nothing.
+      lom::DepthImage wall;
+      wall.width = sequence.camera.width;
+      wall.height = sequence.camera.height;
+      wall.metres.assign(static_cast<size_t>(wall.width) * static_cast<size_t>(wall.height), 0.5f);
+      for (const auto& recorded : sequence.frames)
+        lom::writeDepthPng(root_->path() / "side" / recorded.depth, wall,
+                           sequence.camera.depth_scale);
       lom::saveSequence(sequence, root_->path() / "side");
     }
   }
@@ -119,6 +127,13 @@ TEST_F(CliPlanTest, SequenceGivesTheMeanViewingDirection) {
   EXPECT_NEAR(plan["approach"]["direction"][1].get<double>(), -1.0, 1e-9);
   EXPECT_TRUE(plan["occluders"].empty());
   EXPECT_EQ(plan["steps"].size(), 1u);
+  // The sequence's depths are not where the map's voxels are: planned, with a warning.
+  EXPECT_NE(
+      r.err.find("warning: " + path("bin.ot").string() + ": only 0% of the sequence's depths"),
+      std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("The approach from --sequence may point anywhere."), std::string::npos)
+      << r.err;
 }
 
 TEST_F(CliPlanTest, WithoutApproachTheMapsRecordedCamerasGiveIt) {

@@ -31,7 +31,10 @@ StudioSession::StudioSession(QObject* parent)
             }
             // Shown all the same: a map fused with other poses may be what the user wants to see.
             if (!fit_warning.isEmpty())
-              emit controller_->warningOccurred(tr("Map of another scene?"), fit_warning);
+              emit controller_->warningOccurred(
+                  tr("Map of another scene?"),
+                  fit_warning + " " +
+                      tr("It is shown all the same; its scores would mean little."));
             options_.map = map->parameters();
             emit fusionOptionsChanged();
             ++map_generation_;

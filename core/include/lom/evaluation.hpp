@@ -168,8 +168,9 @@ void checkMapLabels(const LabelMap& map, const Sequence& sequence, const std::st
 // that the map may not be of the sequence.
 [[nodiscard]] MapFit mapFitOf(const LabelMap& map, const Sequence& sequence, int stride = 8);
 inline constexpr double kPoorMapFit = 0.2;
-// The warning for a fit below kPoorMapFit, naming `map_file`; empty when the
-// fit is good or no depth could be sampled.
+// The warning for a fit below kPoorMapFit, naming `map_file` (one sentence,
+// to which callers add what it means for them); empty when the fit is good
+// or no depth could be sampled.
 [[nodiscard]] std::string poorMapFitWarning(const MapFit& fit, const std::string& map_file);
 
 // Scores every annotated object. Resolution and max range come from `map`.
