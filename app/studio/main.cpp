@@ -247,7 +247,8 @@ bool waitForFusion(lom::ui::MainWindow& window) {
     QThread::msleep(10);
     if (timer.elapsed() > kFusionTimeoutMs) break;
   }
-  window.sceneView().zoomToMap();
+  // The map, and the camera of the frame shown, which --frame chose.
+  window.sceneView().zoomToMap(/*with_current_camera=*/true);
   return true;
 }
 

@@ -118,6 +118,21 @@ TEST_F(StudioSessionTest, TheStatusBarSaysWhereAFusionFailed) {
       << window_.fusionStatusText().toStdString();
 }
 
+// Screenshots frame the map and the camera of the frame shown (the camera of
+// a later frame can lie outside the map's framing).
+TEST_F(StudioSessionTest, ZoomingToTheMapCanKeepTheCurrentCameraInView) {
+  openAndFuse();
+  SceneView& view = window_.sceneView();
+  for (int frame :
+       {0, window_.controller().frameCount() / 2, window_.controller().frameCount() - 1}) {
+    window_.controller().setCurrentFrame(frame);
+    QTest::qWait(
+        100);  // the panels' layout settles (the 3D view's size with it), as before a screenshot
+    view.zoomToMap(/*with_current_camera=*/true);
+    EXPECT_TRUE(view.currentCameraInView()) << "frame " << frame;
+  }
+}
+
 TEST_F(StudioSessionTest, ThresholdReThresholdsAtOnceAndOtherParametersOfferReFusion) {
   openAndFuse();
   const size_t before = window_.session().worker().snapshot()->voxels.size();

@@ -78,10 +78,19 @@ TEST_F(StudioWindowTest, StartsEmptyWithNavigationDisabled) {
   EXPECT_EQ(window_.sceneView().framePointCount(), 0u);
   window_.controller().stepFrames(1);  // harmless without a sequence
   EXPECT_EQ(window_.controller().currentFrame(), -1);
-  // The empty 3D view says how to open a sequence, until one is open.
+  // The empty 3D view says how to open a sequence, until one is open; the
+  // fusion settings and the legend's buttons have nothing to act on yet.
   EXPECT_TRUE(window_.sceneView().emptyHintShown());
+  EXPECT_FALSE(window_.fusionPanel().isEnabled());
+  auto* show_only = window_.findChild<QPushButton*>("showOnlyButton");
+  ASSERT_NE(show_only, nullptr);
+  EXPECT_FALSE(show_only->isEnabled());
   ASSERT_TRUE(openTiny());
   EXPECT_FALSE(window_.sceneView().emptyHintShown());
+  EXPECT_TRUE(window_.fusionPanel().isEnabled());
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !window_.session().worker().isFusing(); }, 60'000));
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return show_only->isEnabled(); }, 5'000));  // the map lists labels
 }
 
 TEST_F(StudioWindowTest, OpeningSetsTheTimelineAndStatus) {

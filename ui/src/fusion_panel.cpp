@@ -15,6 +15,7 @@
 #include "lom/fusion.hpp"
 #include "lom/segmenter.hpp"
 #include "lom/ui/map_worker.hpp"
+#include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
 #include "lom/ui/wheel_guard.hpp"
 
@@ -131,6 +132,10 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   });
 
   loadFromSession();
+  // Nothing to fuse until a sequence is open.
+  setEnabled(session_.sequence() != nullptr);
+  connect(&session_.controller(), &SequenceController::sequenceChanged, this,
+          [this] { setEnabled(session_.sequence() != nullptr); });
   // A map read from a file brings its own parameters (edits not yet applied
   // are of the map it replaced).
   connect(&session_, &StudioSession::mapOpened, this, &FusionPanel::loadFromSession);

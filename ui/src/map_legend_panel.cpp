@@ -48,9 +48,11 @@ MapLegendPanel::MapLegendPanel(StudioSession& session, QWidget* parent)
   table_->setSelectionMode(QAbstractItemView::SingleSelection);
   table_->setEditTriggers(QAbstractItemView::NoEditTriggers);
 
-  auto* only = new QPushButton(tr("Show only"));
+  auto* only = show_only_ = new QPushButton(tr("Show only"));
   only->setObjectName("showOnlyButton");
-  auto* all = new QPushButton(tr("Show all"));
+  auto* all = show_all_ = new QPushButton(tr("Show all"));
+  only->setEnabled(false);  // until a map has labels to list
+  all->setEnabled(false);
   auto* buttons = new QHBoxLayout;
   buttons->addWidget(only);
   buttons->addWidget(all);
@@ -91,7 +93,10 @@ void MapLegendPanel::rebuild() {
   const auto snapshot = session_.worker().snapshot();
   const auto sequence = session_.sequence();
   table_->setRowCount(0);
-  if (!snapshot || !sequence) return;
+  const bool listed = snapshot && sequence && !snapshot->counts.empty();
+  show_only_->setEnabled(listed);
+  show_all_->setEnabled(listed);
+  if (!listed) return;
   int row = 0;
   table_->setRowCount(static_cast<int>(snapshot->counts.size()));
   for (const auto& [label, count] : snapshot->counts) {

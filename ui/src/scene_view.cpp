@@ -209,13 +209,50 @@ void SceneView::resetCamera() {
   render();
 }
 
-void SceneView::zoomToMap() {
+void SceneView::zoomToMap(bool with_current_camera) {
   if (scene_->voxel_count == 0) return;
   double bounds[6];
   scene_->voxels.actor()->GetBounds(bounds);
+  if (with_current_camera && scene_->current_frustum.actor->GetVisibility()) {
+    double camera[6];
+    scene_->current_frustum.actor->GetBounds(camera);
+    for (int axis = 0; axis < 3; ++axis) {
+      bounds[2 * axis] = std::min(bounds[2 * axis], camera[2 * axis]);
+      bounds[2 * axis + 1] = std::max(bounds[2 * axis + 1], camera[2 * axis + 1]);
+    }
+  }
   scene_->renderer->ResetCamera(bounds);
-  scene_->renderer->GetActiveCamera()->Dolly(1.25);
+  vtkCamera* camera = scene_->renderer->GetActiveCamera();
+  if (!with_current_camera) {
+    // Closer: ResetCamera leaves room for the bounds' sphere, wider than the map's box.
+    camera->Dolly(1.25);
+  } else {
+    // ResetCamera fits the bounds' sphere, but not always across a view
+    // narrower than high (the docks take the sides): back off until the
+    // camera's frustum is wholly in the picture.
+    for (int step = 0; step < 12 && !currentCameraInView(); ++step) camera->Dolly(0.9);
+    scene_->renderer->ResetCameraClippingRange();
+  }
   render();
+}
+
+bool SceneView::currentCameraInView() const {
+  if (!scene_->current_frustum.actor->GetVisibility()) return false;
+  double bounds[6];
+  scene_->current_frustum.actor->GetBounds(bounds);
+  // Every corner of the frustum's box inside the picture.
+  for (int corner = 0; corner < 8; ++corner) {
+    double point[4] = {bounds[corner & 1], bounds[2 + ((corner >> 1) & 1)],
+                       bounds[4 + ((corner >> 2) & 1)], 1.0};
+    scene_->renderer->SetWorldPoint(point);
+    scene_->renderer->WorldToDisplay();
+    double display[3];
+    scene_->renderer->GetDisplayPoint(display);
+    const int* size = scene_->renderer->GetSize();
+    if (display[0] < 0 || display[1] < 0 || display[0] > size[0] || display[1] > size[1])
+      return false;
+  }
+  return true;
 }
 
 void SceneView::lookFrom(StandardView view) {

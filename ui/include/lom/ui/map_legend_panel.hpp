@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+class QPushButton;
 class QTableWidget;
 
 namespace lom::ui {
@@ -41,6 +42,8 @@ class MapLegendPanel : public QWidget {
   StudioSession& session_;
   QTableWidget* table_;
   ColourBar* height_bar_;
+  QPushButton* show_only_;  // both enabled only with labels to show
+  QPushButton* show_all_;
 };
 
 }  // namespace lom::ui

@@ -47,8 +47,11 @@ class SceneView : public QWidget {
   // Whether the view says how to open a sequence (until one is shown).
   [[nodiscard]] bool emptyHintShown() const;
   void resetCamera();
-  // Keeps the view direction and frames the map's voxels.
-  void zoomToMap();
+  // Keeps the view direction and frames the map's voxels, and with
+  // `with_current_camera` the current frame's camera too (screenshots).
+  void zoomToMap(bool with_current_camera = false);
+  // Whether the current frame's camera (its frustum) is wholly in the picture.
+  [[nodiscard]] bool currentCameraInView() const;
   // Puts the 3D camera where frame `index`'s camera was.
   void lookFromFrame(const Sequence& sequence, size_t index);
   // Standard views of the map (of the whole scene before there is one),
