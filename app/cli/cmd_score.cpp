@@ -45,11 +45,15 @@ void checkOptionsForSequence(const fs::path& sequence_path, const EvaluationOpti
 
 // Fusion left out depth points outside the map's extent: the scores are of
 // what the map holds, so say so.
+// A map given with --map whose voxels are not where the sequence's depths are.
+void warnPoorMapFit(const ScoreInputs& inputs, const EvaluationReport& report) {
+  if (!inputs.map || !report.map_fit) return;
+  if (const std::string warning = poorMapFitWarning(*report.map_fit, inputs.map->string());
+      !warning.empty())
+    std::cerr << "warning: " << warning << " Its scores would mean little.\n";
+}
+
 void warnOutsideMap(const ScoreInputs& inputs, const EvaluationReport& report) {
-  if (inputs.map && report.map_fit)
-    if (const std::string warning = poorMapFitWarning(*report.map_fit, inputs.map->string());
-        !warning.empty())
-      std::cerr << "warning: " << warning << " Its scores would mean little.\n";
   if (inputs.map || report.frames_outside_map.empty()) return;
   const fs::path file =
       inputs.sequence.extension() == ".json" ? inputs.sequence : inputs.sequence / "sequence.json";
@@ -171,6 +175,7 @@ int runScore(const Words& words) {
         throw;
       }
       if (show_progress) std::fprintf(stderr, "\n");
+      warnPoorMapFit(inputs, reports.back());
       warnOutsideMap(inputs, reports.back());
       if (inputs.map) noteResolution(args, reports.back(), *inputs.map);
       std::cout << reportTable(reports.back()) << "\n";
@@ -207,6 +212,7 @@ int runScore(const Words& words) {
     throw;
   }
   if (show_progress) std::fprintf(stderr, "\n");
+  warnPoorMapFit(inputs, report);
   warnOutsideMap(inputs, report);
   if (inputs.map) noteResolution(args, report, *inputs.map);
   writeReport(report, out);

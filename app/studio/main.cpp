@@ -10,7 +10,6 @@
 #include <QElapsedTimer>
 #include <QFileInfo>
 #include <QImage>
-#include <QImageWriter>
 #include <QThread>
 #include <csignal>
 #include <filesystem>
@@ -279,8 +278,7 @@ int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments
   auto& controller = window.controller();
   // A picture format first, as `labeloctomap render` checks its --out: a
   // mistake in the call, found before any fusion.
-  const QByteArray format = QFileInfo(arguments.screenshot).suffix().toLower().toLatin1();
-  if (!QImageWriter::supportedImageFormats().contains(format)) {
+  if (!lom::ui::namesWritableImageFormat(arguments.screenshot)) {
     std::cerr << "labeloctomap-studio: --screenshot " << arguments.screenshot.toStdString()
               << ": expected a file name ending in an image format such as .png or .jpg\n";
     return 2;

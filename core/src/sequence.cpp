@@ -498,6 +498,10 @@ FrameData readFrame(const Sequence& sequence, size_t index, FrameParts parts,
   const CameraIntrinsics& camera = sequence.cameraOf(index);
   const std::string field = indexed("frames", index);
   FrameData data;
+  // The images read besides the depth: asked for, and named by the frame.
+  const bool color = parts.color && !record.color.empty();
+  const bool proba = parts.proba && !record.proba.empty();
+  const bool label = parts.label && !record.label.empty();
   std::vector<Problem> depth_problems, other_problems;
   auto readDepth = [&] {
     if (auto depth = readPart<DepthImage>(
@@ -508,11 +512,11 @@ FrameData readFrame(const Sequence& sequence, size_t index, FrameParts parts,
   };
   auto readOthers = [&] {
     std::vector<Problem>& out = other_problems;
-    if (parts.color && !record.color.empty())
+    if (color)
       data.color = readPart<ColorImage>(
           sequence, record.color, join(field, "color"), camera,
           [](const fs::path& p) { return readColorImage(p); }, out);
-    if (parts.proba && !record.proba.empty())
+    if (proba)
       data.proba = readPart<ProbabilityImage>(
           sequence, record.proba, join(field, "proba"), camera,
           [&](const fs::path& p) {
@@ -520,7 +524,7 @@ FrameData readFrame(const Sequence& sequence, size_t index, FrameParts parts,
                                         parts.proba_floats);
           },
           out);
-    if (parts.label && !record.label.empty()) {
+    if (label) {
       data.label = readPart<LabelImage>(
           sequence, record.label, join(field, "label"), camera,
           [](const fs::path& p) { return readLabelImage(p); }, out);
@@ -532,10 +536,7 @@ FrameData readFrame(const Sequence& sequence, size_t index, FrameParts parts,
   // The depth image and the others are decoded at once, on two cores: a
   // 640x480 depth PNG takes 3.5 ms to decode, the 8-bit proba 1 ms, a colour
   // PNG (for a segmenter) 6.7 ms, and fusion does not run meanwhile.
-  const bool others = (parts.color && !record.color.empty()) ||
-                      (parts.proba && !record.proba.empty()) ||
-                      (parts.label && !record.label.empty());
-  if (others && std::thread::hardware_concurrency() > 1) {
+  if ((color || proba || label) && std::thread::hardware_concurrency() > 1) {
     runParts(2, [&](int part) { part == 0 ? readDepth() : readOthers(); });
   } else {
     readDepth();

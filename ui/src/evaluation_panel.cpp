@@ -107,10 +107,6 @@ class ScoreTable : public QTableWidget {
   }
 };
 
-QTableWidgetItem* countItem(size_t count) {
-  return new NumberItem(static_cast<double>(count), QString::number(count));
-}
-
 QTableWidgetItem* scoreItem(double value) {
   // Shown in percent with one decimal.
   return new NumberItem(value, QString::number(value * 100.0, 'f', 1));

@@ -156,9 +156,7 @@ void FusionPanel::loadFromSession() {
   max_range_->setValue(std::max(0.0, options.map.max_range));
   p_miss_->setValue(options.map.p_miss);
   threshold_->setValue(options.map.occupancy_threshold);
-  // What the boxes show, rounded to their decimals: a box still showing it
-  // stands for the map's exact value (effectiveOptions).
-  shown_ = {resolution_->value(), max_range_->value(), p_miss_->value()};
+  rememberShown();
   candidates_->setText(candidatesText(options.candidates));
   segmenter_ = options.segmenter;
   segmenter_path_->setText(segmenterText(segmenter_));
@@ -192,6 +190,12 @@ QString FusionPanel::noteText() const { return note_->text(); }
 void FusionPanel::setNote(const QString& text) {
   note_->setText(text);
   note_->setVisible(!text.isEmpty());  // no empty row above the fields
+}
+
+void FusionPanel::rememberShown() {
+  // What the boxes show, rounded to their decimals: a box still showing it
+  // stands for the map's exact value (effectiveOptions).
+  shown_ = {resolution_->value(), max_range_->value(), p_miss_->value()};
 }
 
 FusionOptions FusionPanel::effectiveOptions() const {
@@ -301,7 +305,7 @@ void FusionPanel::refuse() {
   parseCandidates(candidates_->text(), &ok);
   if (!ok) return;
   session_.setFusionOptions(effectiveOptions());
-  shown_ = {resolution_->value(), max_range_->value(), p_miss_->value()};  // the new map's
+  rememberShown();  // the new map's
   session_.fuse();
   onEdited();
 }

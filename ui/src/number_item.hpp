@@ -19,4 +19,9 @@ class NumberItem : public QTableWidgetItem {
   }
 };
 
+// A count, shown as it is.
+inline QTableWidgetItem* countItem(size_t count) {
+  return new NumberItem(static_cast<double>(count), QString::number(count));
+}
+
 }  // namespace lom::ui

@@ -23,10 +23,6 @@ namespace lom::ui {
 
 namespace {
 
-QTableWidgetItem* countItem(size_t count) {
-  return new NumberItem(static_cast<double>(count), QString::number(count));
-}
-
 QTableWidgetItem* textItem(const QString& text) {
   auto* item = new QTableWidgetItem(text);
   item->setToolTip(text);  // the table elides long names

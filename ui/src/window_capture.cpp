@@ -43,12 +43,23 @@ QImage captureWindow(QWidget& window, SceneView& scene) {
   return shot;
 }
 
+namespace {
+QByteArray imageFormatOf(const QString& path) {
+  return QFileInfo(path).suffix().toLower().toLatin1();
+}
+}  // namespace
+
+bool namesWritableImageFormat(const QString& path) {
+  const QByteArray format = imageFormatOf(path);
+  return !format.isEmpty() && QImageWriter::supportedImageFormats().contains(format);
+}
+
 QString saveImageAtomically(const QImage& image, const QString& path) {
   try {
     // Encoded in memory and written by the atomic writer, which names a full
     // disk as such; the image library writing to the file itself would only
     // print its own message on the terminal.
-    const QByteArray format = QFileInfo(path).suffix().toLower().toLatin1();
+    const QByteArray format = imageFormatOf(path);
     QByteArray bytes;
     QBuffer buffer(&bytes);
     buffer.open(QIODevice::WriteOnly);

@@ -51,6 +51,7 @@ class FusionPanel : public QWidget {
   // The session's options with the fields' edits: a box the user left as
   // loaded keeps the map's exact value, which it may show rounded.
   [[nodiscard]] FusionOptions effectiveOptions() const;
+  void rememberShown();  // shown_ = the boxes' values
   void onEdited();
   void setNote(const QString& text);
   void refuse();

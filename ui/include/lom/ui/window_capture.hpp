@@ -21,5 +21,8 @@ bool waitUntilExposed(QWidget& window, int timeout_ms = 5000);
 // complete picture). Returns an empty string on success, else a message
 // naming the file.
 [[nodiscard]] QString saveImageAtomically(const QImage& image, const QString& path);
+// Whether saveImageAtomically can write an image format named by `path`'s
+// extension (.png, .jpg, ...), the check a caller makes before any work.
+[[nodiscard]] bool namesWritableImageFormat(const QString& path);
 
 }  // namespace lom::ui
