@@ -8,6 +8,9 @@
 
 namespace lom {
 
+// The 32-bit big-endian number at `p` (PNG's lengths, sizes and CRCs).
+[[nodiscard]] std::uint32_t readBigEndian32(const std::uint8_t* p);
+
 // True when `data` starts with the 8-byte PNG signature.
 [[nodiscard]] bool hasPngSignature(const std::uint8_t* data, std::size_t size);
 

@@ -11,6 +11,7 @@
 #include "image_header.hpp"
 #include "lom/error.hpp"
 #include "png_check.hpp"
+#include "png_direct.hpp"
 
 namespace lom {
 
@@ -101,6 +102,7 @@ bool readGuarded(png_structp png, png_infop info, Decoding& decoding) {
 
 cv::Mat decodePng(const std::uint8_t* data, std::size_t size, const std::string& file) {
   checkPngChunks(data, size, file);
+  if (std::optional<cv::Mat> direct = decodePngDirectly(data, size)) return std::move(*direct);
   // On the heap, and never reassigned: the jump back from an error must find
   // it as libpng left it.
   const auto owned = std::make_unique<Decoding>();

@@ -13,11 +13,12 @@ namespace lom {
 
 // Checks the chunks first (checkPngChunks: one error naming the chunk of a
 // truncated or damaged file; libpng then skips its own CRC pass), then
-// decodes PNG data as cv::imdecode(data, cv::IMREAD_UNCHANGED) does: grey (1
-// channel), BGR (3) or BGRA (4; with an alpha channel or a transparency
-// chunk), 8 or 16 bits per sample; palette and 1-, 2- and 4-bit greys are
-// expanded to 8 bits. Throws lom::Error(file, "PNG data", "a PNG whose image
-// data can be decoded", libpng's reason) for data libpng rejects.
+// decodes the common kinds directly (png_direct.hpp) and the others, or data
+// that does not decode that way, with libpng. It decodes PNG data as cv::imdecode(data,
+// cv::IMREAD_UNCHANGED) does: grey (1 channel), BGR (3) or BGRA (4; with an alpha channel or a
+// transparency chunk), 8 or 16 bits per sample; palette and 1-, 2- and 4-bit greys are expanded to
+// 8 bits. Throws lom::Error(file, "PNG data", "a PNG whose image data can be decoded", libpng's
+// reason) for data libpng rejects.
 [[nodiscard]] cv::Mat decodePng(const std::uint8_t* data, std::size_t size,
                                 const std::string& file);
 

@@ -7,15 +7,19 @@
 #include <zlib.h>
 
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "lom/sequence.hpp"
 #include "png_decode.hpp"
+#include "png_direct.hpp"
 #include "png_encode.hpp"
 #include "test_input_helpers.hpp"
+#include "test_support.hpp"
 
 namespace {
 
@@ -187,6 +191,173 @@ std::string handMadePng(int width, int height, const std::string& rows,
                          std::min<size_t>(size, keep));
   return std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", header) + chunk("IDAT", data) +
          chunk("IEND", "");
+}
+
+// The predictor of PNG filter type 4, written as the specification gives it.
+int paethPredictor(int a, int b, int c) {
+  const int p = a + b - c;
+  const int pa = std::abs(p - a), pb = std::abs(p - b), pc = std::abs(p - c);
+  if (pa <= pb && pa <= pc) return a;
+  if (pb <= pc) return b;
+  return c;
+}
+
+// `raw` (rows of `row_bytes` samples, big-endian) filtered as a PNG encoder
+// would, row v with filter type filter_of(v); each row starts with its type.
+template <class FilterOf>
+std::string filterRows(const std::vector<std::uint8_t>& raw, size_t row_bytes, int bpp,
+                       FilterOf filter_of) {
+  std::string rows;
+  const size_t height = raw.size() / row_bytes;
+  for (size_t v = 0; v < height; ++v) {
+    const int filter = filter_of(v);
+    rows += static_cast<char>(filter);
+    for (size_t i = 0; i < row_bytes; ++i) {
+      const int x = raw[v * row_bytes + i];
+      const int a = i >= static_cast<size_t>(bpp) ? raw[v * row_bytes + i - bpp] : 0;
+      const int b = v > 0 ? raw[(v - 1) * row_bytes + i] : 0;
+      const int c = v > 0 && i >= static_cast<size_t>(bpp) ? raw[(v - 1) * row_bytes + i - bpp] : 0;
+      const int predicted = filter == 1   ? a
+                            : filter == 2 ? b
+                            : filter == 3 ? (a + b) / 2
+                            : filter == 4 ? paethPredictor(a, b, c)
+                                          : 0;
+      rows += static_cast<char>((x - predicted) & 0xff);
+    }
+  }
+  return rows;
+}
+
+// A PNG built from already filtered rows, the compressed stream split over
+// IDAT chunks of `chunk_bytes`.
+std::string pngOfRows(int width, int height, int bit_depth, int colour_type,
+                      const std::string& rows, size_t chunk_bytes) {
+  std::string header;
+  for (const int value : {width, height})
+    for (int shift = 24; shift >= 0; shift -= 8)
+      header += static_cast<char>((value >> shift) & 0xff);
+  header += static_cast<char>(bit_depth);
+  header += static_cast<char>(colour_type);
+  header += std::string(3, '\0');  // standard compression and filtering, not interlaced
+  std::vector<Bytef> compressed(compressBound(static_cast<uLong>(rows.size())));
+  uLongf size = static_cast<uLongf>(compressed.size());
+  EXPECT_EQ(compress(compressed.data(), &size, reinterpret_cast<const Bytef*>(rows.data()),
+                     static_cast<uLong>(rows.size())),
+            Z_OK);
+  std::string png = std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", header);
+  for (size_t at = 0; at < size; at += chunk_bytes)
+    png += chunk("IDAT", std::string(reinterpret_cast<const char*>(compressed.data()) + at,
+                                     std::min<size_t>(chunk_bytes, size - at)));
+  return png + chunk("IEND", "");
+}
+
+// Grey, RGB and RGBA PNGs of 8 and 16 bits, what cameras and this program
+// write, are inflated and unfiltered without libpng: every filter type, on
+// the first row (nothing above it) and on later ones, gives the samples
+// OpenCV reads.
+TEST(PngDecodeTest, DecodesCommonKindsDirectlyWithEveryFilter) {
+  struct Kind {
+    const char* name;
+    int bit_depth, colour_type, channels;
+  };
+  const Kind kinds[] = {{"grey", 8, 0, 1}, {"grey 16-bit", 16, 0, 1},
+                        {"RGB", 8, 2, 3},  {"RGB 16-bit", 16, 2, 3},
+                        {"RGBA", 8, 6, 4}, {"RGBA 16-bit", 16, 6, 4}};
+  cv::RNG random(7);
+  for (const Kind& kind : kinds)
+    for (const int width : {1, 2, 37})
+      for (int first_filter = 0; first_filter < 5; ++first_filter) {
+        SCOPED_TRACE(std::string(kind.name) + ", width " + std::to_string(width) +
+                     ", first row's filter " + std::to_string(first_filter));
+        const int height = 11, bpp = kind.channels * kind.bit_depth / 8;
+        const size_t row_bytes = static_cast<size_t>(width * bpp);
+        std::vector<std::uint8_t> raw(row_bytes * height);
+        for (size_t i = 0; i < raw.size(); ++i)  // smooth rows and noise, so predictors matter
+          raw[i] = static_cast<std::uint8_t>(i % 3 == 0 ? random.uniform(0, 256) : (i * 5) / 7);
+        const std::string rows = filterRows(raw, row_bytes, bpp, [&](size_t v) {
+          return static_cast<int>((v + static_cast<size_t>(first_filter)) % 5);
+        });
+        const std::string png =
+            pngOfRows(width, height, kind.bit_depth, kind.colour_type, rows, 50);
+        const auto* bytes = reinterpret_cast<const std::uint8_t*>(png.data());
+        ASSERT_TRUE(lom::isDirectPng(bytes, png.size()));
+        const cv::Mat expected = decodedByOpenCv(png);
+        ASSERT_FALSE(expected.empty());
+        const std::optional<cv::Mat> direct = lom::decodePngDirectly(bytes, png.size());
+        ASSERT_TRUE(direct.has_value());
+        ASSERT_EQ(direct->type(), expected.type());
+        ASSERT_EQ(direct->size(), expected.size());
+        EXPECT_EQ(cv::norm(*direct, expected, cv::NORM_INF), 0.0);
+      }
+}
+
+// Every other kind, and data the direct route cannot decode whole, goes to
+// libpng (which decodes the kinds as OpenCV does, above, and names what is
+// wrong with damaged data, below).
+TEST(PngDecodeTest, OtherKindsAndOddDataAreLeftToLibpng) {
+  const PngSpec others[] = {
+      {"grey 4-bit", 13, 7, 4, PNG_COLOR_TYPE_GRAY},
+      {"grey with a colour key", 13, 7, 8, PNG_COLOR_TYPE_GRAY, false, true},
+      {"grey and alpha", 13, 7, 8, PNG_COLOR_TYPE_GRAY_ALPHA},
+      {"RGB with a colour key", 13, 7, 8, PNG_COLOR_TYPE_RGB, false, true},
+      {"palette 8-bit", 13, 7, 8, PNG_COLOR_TYPE_PALETTE},
+      {"interlaced grey 16-bit", 13, 7, 16, PNG_COLOR_TYPE_GRAY, true},
+  };
+  for (const PngSpec& spec : others) {
+    SCOPED_TRACE(spec.name);
+    const std::string png = writePng(spec);
+    EXPECT_FALSE(lom::isDirectPng(reinterpret_cast<const std::uint8_t*>(png.data()), png.size()));
+  }
+  const PngSpec depth{"grey 16-bit (depth)", 13, 7, 16, PNG_COLOR_TYPE_GRAY};
+  EXPECT_TRUE(lom::isDirectPng(reinterpret_cast<const std::uint8_t*>(writePng(depth).data()),
+                               writePng(depth).size()));
+
+  const int width = 40, height = 30;
+  std::string rows;
+  for (int v = 0; v < height; ++v)
+    rows += std::string(1, '\0') + std::string(width, static_cast<char>(v * 5));
+  std::string bad_filter = rows;
+  bad_filter[static_cast<size_t>(5 * (width + 1))] = 9;
+  std::string extra_row = rows + std::string(1, '\0') + std::string(width, 'x');
+  const std::string odd[] = {
+      handMadePng(width, height, bad_filter),  // an unknown filter type
+      handMadePng(width, height, rows, 20),    // the stream stops early
+      handMadePng(width, height, extra_row),   // more data than the image's rows
+  };
+  for (const std::string& png : odd) {
+    const auto* bytes = reinterpret_cast<const std::uint8_t*>(png.data());
+    ASSERT_TRUE(lom::isDirectPng(bytes, png.size()));
+    EXPECT_FALSE(lom::decodePngDirectly(bytes, png.size()).has_value());
+  }
+  // libpng decodes the image with data to spare (and its warning is dropped).
+  testing::internal::CaptureStderr();
+  const cv::Mat spare = decodedHere(odd[2]);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  ASSERT_EQ(spare.rows, height);
+  EXPECT_EQ(spare.at<std::uint8_t>(29, 3), static_cast<std::uint8_t>(29 * 5));
+}
+
+// The depth and colour frames of the recordings take the direct route and
+// give the samples OpenCV reads (their encoders chose Paeth, Up, Sub and no
+// filter row by row).
+TEST(PngDecodeTest, RecordedFramesDecodeDirectlyAsOpenCvReadsThem) {
+  LOM_REQUIRE_SHARED_DATA("");
+  size_t decoded = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(lom::test::sharedDataDir())) {
+    if (entry.path().extension() != ".png") continue;
+    SCOPED_TRACE(entry.path().string());
+    const std::string png = lom::test::slurp(entry.path());
+    const auto* bytes = reinterpret_cast<const std::uint8_t*>(png.data());
+    ASSERT_TRUE(lom::isDirectPng(bytes, png.size()));
+    const std::optional<cv::Mat> direct = lom::decodePngDirectly(bytes, png.size());
+    ASSERT_TRUE(direct.has_value());
+    const cv::Mat expected = decodedByOpenCv(png);
+    ASSERT_EQ(direct->type(), expected.type());
+    ASSERT_EQ(direct->size(), expected.size());
+    EXPECT_EQ(cv::norm(*direct, expected, cv::NORM_INF), 0.0);
+    ++decoded;
+  }
+  if (decoded == 0) GTEST_SKIP() << "no PNG frames in " << lom::test::sharedDataDir();
 }
 
 TEST(PngDecodeTest, DamagedImageDataIsOneErrorWithLibpngsReasonAndNothingPrinted) {
