@@ -60,8 +60,9 @@ std::pair<int, int> parseSize(const std::string& text) {
         return {static_cast<int>(w), static_cast<int>(h)};
     }
   }
-  throw UsageError("option --size expects WIDTHxHEIGHT in pixels (e.g. 1280x960), got '" + text +
-                   "'");
+  throw UsageError(
+      "option --size expects WIDTHxHEIGHT in pixels, each from 1 to 16384 (e.g. 1280x960), got '" +
+      text + "'");
 }
 
 // "SEQ:INDEX": a sequence folder (or sequence.json) and a frame index.

@@ -182,7 +182,8 @@ int runScore(const Words& words) {
     }
     for (const auto& report : reports) writeReport(report, out / report.sequence);
     writeAggregate(reports, out);
-    std::cout << aggregateTable(reports) << "wrote " << reports.size() << " reports and "
+    std::cout << aggregateTable(reports) << "wrote " << reports.size()
+              << (reports.size() == 1 ? " report and " : " reports and ")
               << (out / "aggregate.{json,md,svg}").string() << "\n";
     return 0;
   }

@@ -11,6 +11,7 @@
 
 #include "args.hpp"
 #include "commands.hpp"
+#include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 #include "lom/npy.hpp"
 #include "lom/segmenter.hpp"
@@ -150,6 +151,13 @@ int runSegment(const Words& words) {
                   ec ? ec.message() : "not a folder");
   };
 
+  // The images are staged beside their targets and renamed into place only
+  // once every frame is segmented: a failure half-way (an unreadable colour
+  // image, a full disk) leaves the sequence's images, those --all would
+  // replace included, and sequence.json as they were, and removes the output
+  // folder again if this run created it.
+  NewFolders new_folders(folder);
+  StagedFiles staged;
   const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
   const auto start = std::chrono::steady_clock::now();
   for (size_t n = 0; n < frames.size(); ++n) {
@@ -166,7 +174,8 @@ int runSegment(const Words& words) {
     const ProbabilityImage proba = segmentFrame(sequence, i, color, *segmenter);
     if (n == 0) makeFolder();  // only once the network has produced something
     const std::string name = probaFileName(i);
-    writeProbabilityNpy(folder / name, proba, dtype);
+    staged.addPath(folder / name,
+                   [&](const fs::path& path) { writeProbabilityNpy(path, proba, dtype); });
     record.proba = (out_dir / name).generic_string();
     record.proba_from_label = false;  // the network's output is independent of the label image
     record.proba_labels = allLabelsInOrder(proba.channel_labels, sequence.labels.size())
@@ -179,7 +188,9 @@ int runSegment(const Words& words) {
   }
   if (show_progress) std::fprintf(stderr, "\n");
   // Every probability image is in place before sequence.json names them.
+  staged.commit();
   saveSequence(sequence, sequence.root);
+  new_folders.keep();
 
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -233,10 +233,13 @@ const GroundTruthBox* Annotations::find(int label) const {
 Annotations loadAnnotations(const fs::path& path) {
   const JsonReader in(path.string());
   const Json root = json_text::parseFile(path, "a readable annotations file");
-  in.allowOnly(root, "", {"format", "version", "frame_id", "boxes"});
+  if (!root.is_object()) in.fail("(top level)", "an object", describe(root));
+  // The format first: another kind of file (a sequence.json given by
+  // mistake) is named as such, not by its first key this one lacks.
   const Json& format = in.required(root, "", "format");
   if (!format.is_string() || format.get<std::string>() != kFormat)
     in.fail("format", std::string("\"") + kFormat + "\"", describe(format));
+  in.allowOnly(root, "", {"format", "version", "frame_id", "boxes"});
   const Json& version = in.required(root, "", "version");
   if (!version.is_number() || version.get<double>() != kVersion)
     in.fail("version", std::to_string(kVersion) + " (the only version this program reads)",

@@ -185,8 +185,10 @@ ScoreSummary summarizeAll(const std::vector<EvaluationReport>& reports) {
 void checkMapLabels(const LabelMap& map, const Sequence& sequence, const std::string& map_file) {
   const std::string file = orDefault(map_file, "(map)");
   if (map.numLabels() != sequence.labels.size())
-    throw Error(file, "labels", std::to_string(sequence.labels.size()) + " labels (the sequence's)",
-                std::to_string(map.numLabels()) + " labels");
+    throw Error(file, "labels",
+                std::to_string(sequence.labels.size()) +
+                    (sequence.labels.size() == 1 ? " label" : " labels") + " (the sequence's)",
+                std::to_string(map.numLabels()) + (map.numLabels() == 1 ? " label" : " labels"));
   for (int k = 0; k < map.numLabels(); ++k)
     if (map.labels().at(k).name != sequence.labels.at(k).name)
       throw Error(file, "labels[" + std::to_string(k) + "]",

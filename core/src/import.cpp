@@ -265,8 +265,13 @@ CameraIntrinsics parseIntrinsics(const std::string& text_or_file) {
   try {
     numbers = parseNumbers(text_or_file, "", 0);
   } catch (const Error&) {
-    throw Error(text_or_file, "intrinsics", "fx,fy,cx,cy or an existing file with the camera matrix",
-                "neither numbers nor a file");
+    std::error_code ec;
+    const auto status = fs::status(text_or_file, ec);
+    throw Error(
+        text_or_file, "intrinsics", "fx,fy,cx,cy or an existing file with the camera matrix",
+        fs::is_directory(status) ? "a folder, not a file"
+        : fs::exists(status)     ? "a special file (a device, FIFO or socket), not a regular file"
+                                 : "neither numbers nor a file");
   }
   if (numbers.size() != 4)
     throw Error(text_or_file, "intrinsics", "4 numbers fx,fy,cx,cy or a file with the camera matrix",

@@ -367,10 +367,30 @@ void importQuaternion(const fs::path& source, const ImportOptions& options,
       by_number = any;
     }
   }
-  if (!by_number && lines.size() != depth_files.size())
+  if (!by_number && lines.size() != depth_files.size()) {
+    // Line i is the pose of the i-th image only if no image is missing from
+    // the numbering: with a gap, or numbers that do not start at 0 or 1, a
+    // line may belong to an image that is not there, and every later image
+    // would take the pose of the one before it.
+    const long first = depth_files.front().number;
+    std::string gap;
+    if (first != 0 && first != 1) gap = "no image 0 or 1";
+    for (size_t i = 1; i < depth_files.size() && gap.empty(); ++i)
+      if (depth_files[i].number != depth_files[i - 1].number + 1)
+        gap = "no image " + std::to_string(depth_files[i - 1].number + 1);
+    if (!gap.empty())
+      throw Error(
+          pose_file.string(), "poses",
+          "one pose per depth image in the order of their numbers, or lines of 8 numbers "
+          "starting with the depth image's number",
+          std::to_string(lines.size()) + " poses for " + std::to_string(depth_files.size()) +
+              " depth images numbered " + std::to_string(first) + " to " +
+              std::to_string(depth_files.back().number) + ", with " + gap +
+              ": which line is whose pose is ambiguous (start each line with its image's number)");
     writer.note("pose.txt has " + std::to_string(lines.size()) + " poses for " +
                 std::to_string(depth_files.size()) +
                 " depth images: line i is the pose of the i-th depth image by number");
+  }
 
   setCameraFromIntrinsicsFile(
       source, "pose", options, writer,

@@ -514,7 +514,12 @@ void SequenceWriter::finish(const std::string& source_description) {
   if (report_.cancelled) return;
   if (records_.empty()) {
     std::string found = "none";
-    if (!report_.skipped.empty())
+    if (report_.skipped.empty() && report_.frames_found > 0 &&
+        options_.first_frame >= report_.frames_found)
+      found = "none: --first " + std::to_string(options_.first_frame) +
+              " is past the last of the " + std::to_string(report_.frames_found) +
+              " frames found (--first counts from 0)";
+    else if (!report_.skipped.empty())
       found = "none of " + std::to_string(report_.skipped.size()) + " frames; the first, " +
               report_.skipped.front().frame + ", because " + report_.skipped.front().reason;
     throw Error(source_description, "frames", "at least one frame that can be imported", found);

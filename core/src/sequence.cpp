@@ -555,11 +555,12 @@ Sequence loadSequence(const fs::path& folder_or_json) {
   const Reader in(json_path.string());
   const Json root = json_text::parseFile(json_path, "a readable sequence.json");
   in.expectObject(root, "(top level)");
-  in.allowOnly(root, "", {"format", "version", "frame_id", "labels", "camera", "frames"});
-
+  // The format first: another kind of file (an annotations.json given by
+  // mistake) is named as such, not by its first key this one lacks.
   const Json& format = in.required(root, "", "format");
   if (!format.is_string() || format.get<std::string>() != kFormat)
     in.fail("format", std::string("\"") + kFormat + "\"", describe(format));
+  in.allowOnly(root, "", {"format", "version", "frame_id", "labels", "camera", "frames"});
   const Json& version = in.required(root, "", "version");
   if (!version.is_number() || version.get<double>() != kVersion)
     in.fail("version", std::to_string(kVersion) + " (the only version this program reads)",

@@ -428,10 +428,11 @@ TEST_F(CliExportTest, RenderUsageMistakes) {
     EXPECT_EQ(r.exit_code, 2) << args;
     EXPECT_NE(r.err.find(message), std::string::npos) << args << ": " << r.err;
   }
-  for (const char* size : {"640", "640x", "x480", "640x480px", "64ax48", "0x480"}) {
+  for (const char* size : {"640", "640x", "x480", "640x480px", "64ax48", "0x480", "16385x10"}) {
     r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --size " + size);
     EXPECT_EQ(r.exit_code, 2) << size;
-    EXPECT_NE(r.err.find("WIDTHxHEIGHT"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("WIDTHxHEIGHT in pixels, each from 1 to 16384"), std::string::npos)
+        << r.err;
   }
   // The frame index is checked to its last character (parsed from a part of the text).
   for (const char* camera : {"x:1a", "x:-1", "x:", ":1", "x"}) {

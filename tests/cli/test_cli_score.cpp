@@ -406,6 +406,7 @@ TEST_F(CliScoreTest, BatchWritesOneReportPerSequenceAndTheAggregate) {
   for (const char* name : {"bin_a", "bin_b"})
     for (const char* file : {"report.json", "report.csv", "report.md", "report.svg"})
       EXPECT_TRUE(std::filesystem::exists(out / "reports" / name / file)) << name << "/" << file;
+  EXPECT_NE(r.out.find("wrote 2 reports and "), std::string::npos) << r.out;
   const Json aggregate = Json::parse(slurp(out / "reports" / "aggregate.json"));
   ASSERT_EQ(aggregate["sequences"].size(), 2u);
   EXPECT_EQ(aggregate["sequences"][0]["sequence"], "bin_a");
@@ -419,6 +420,13 @@ TEST_F(CliScoreTest, BatchWritesOneReportPerSequenceAndTheAggregate) {
   EXPECT_NEAR(aggregate["summary"]["iou_3d"]["labeloctomap"].get<double>(), sum / 8, 1e-12);
   EXPECT_TRUE(std::filesystem::exists(out / "reports" / "aggregate.md"));
   EXPECT_TRUE(std::filesystem::exists(out / "reports" / "aggregate.svg"));
+  // One sequence, one report.
+  std::ofstream(list) << scene("bin_a").string() << " "
+                      << (scene("bin_a") / "annotations.json").string() << "\n";
+  const auto one =
+      runCli("score --batch " + quoted(list) + " --out " + quoted(out / "one") + " --quiet");
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  EXPECT_NE(one.out.find("wrote 1 report and "), std::string::npos) << one.out;
 }
 
 // --out DIR writes DIR/<name>/ for each sequence: with DIR the folder holding a

@@ -206,6 +206,34 @@ TEST_F(CliSegmentTest, NeverWritesOverAnotherFileOfTheSequence) {
   EXPECT_EQ(slurp(dir_ / "seq" / "sequence.json"), json);
 }
 
+// A run that fails half-way (here frame 1's colour image is damaged) changes
+// nothing: the images --all would replace stay as they were, and a new output
+// folder is removed again.
+TEST_F(CliSegmentTest, AFailedRunLeavesTheImagesItWouldReplace) {
+  const std::string segment = "segment " + quoted(dir_ / "seq") + " --segmenter " + quoted(model_);
+  ASSERT_EQ(runCli(segment + " --out-dir net").exit_code, 0);
+  const std::string json = slurp(dir_ / "seq" / "sequence.json");
+  const std::string image = slurp(dir_ / "seq" / "net" / "000000.npy");
+  const std::filesystem::path colour = sequence_.pathOf(sequence_.frames[1].color);
+  const std::string png = slurp(colour);
+  std::ofstream(colour, std::ios::binary | std::ios::trunc) << png.substr(0, 60);
+
+  auto r = runCli(segment + " --all --out-dir net --dtype float16");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("frames[1].color"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(dir_ / "seq" / "net" / "000000.npy"), image);
+  EXPECT_EQ(slurp(dir_ / "seq" / "sequence.json"), json);
+  std::vector<std::string> left;
+  for (const auto& entry : std::filesystem::directory_iterator(dir_ / "seq" / "net"))
+    left.push_back(entry.path().filename().string());
+  EXPECT_EQ(left.size(), 2u) << "temporary files left: " << ::testing::PrintToString(left);
+
+  r = runCli(segment + " --all --out-dir fresh");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "seq" / "fresh"));
+  EXPECT_EQ(slurp(dir_ / "seq" / "sequence.json"), json);
+}
+
 TEST_F(CliSegmentTest, FuseRunsTheSegmenterOnFramesWithoutProba) {
   const auto r = runCli("fuse " + quoted(dir_ / "seq") + " --out " + quoted(dir_ / "m.ot") +
                         " --resolution 0.05 --max-range 5 --frames 0:1 --segmenter " + quoted(model_));

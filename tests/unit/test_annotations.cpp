@@ -108,6 +108,11 @@ TEST_F(AnnotationsTest, RejectsMalformedFields) {
   auto format = loadError(R"({"format": "labeloctomap-sequence", "version": 1, "boxes": []})");
   EXPECT_EQ(format.field, "format");
   EXPECT_EQ(format.file, file().string());
+  // A whole sequence.json, keys and all, is named by its format too.
+  auto sequence = loadError(
+      R"({"format": "labeloctomap-sequence", "version": 1, "labels": [], "camera": {}, "frames": []})");
+  EXPECT_EQ(sequence.field, "format");
+  EXPECT_NE(sequence.found.find("labeloctomap-sequence"), std::string::npos) << sequence.message();
 
   auto json = loadError(R"({"format": "labeloctomap-annotations", "version": 1, "boxes": [}")");
   EXPECT_EQ(json.expected, "valid JSON");

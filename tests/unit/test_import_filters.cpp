@@ -203,6 +203,19 @@ TEST(ImportIntrinsics, TextAndFiles) {
   EXPECT_THROW((void)parseIntrinsics("518,519"), Error);
   EXPECT_THROW((void)parseIntrinsics("-5,519,1,1"), Error);
   EXPECT_THROW((void)parseIntrinsics("not-a-file"), Error);
+  // A folder or a device is named as what it is.
+  try {
+    (void)parseIntrinsics(dir.path().string());
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.problem().found, "a folder, not a file");
+  }
+  try {
+    (void)parseIntrinsics("/dev/null");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(e.problem().found.find("a special file"), std::string::npos) << e.what();
+  }
   touch(dir / "skew.txt", "600 3 320\n0 600 240\n0 0 1\n");
   try {
     (void)parseIntrinsics((dir / "skew.txt").string());

@@ -8,6 +8,7 @@
 #include <iterator>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <sstream>
 
 #include "lom/import.hpp"
 #include "lom/npy.hpp"
@@ -300,6 +301,12 @@ TEST(ImportFrames, SubsetAndCancel) {
   const ImportReport report = importSource(SourceKind::Frames, dir / "src", dir / "seq", options);
   EXPECT_EQ(report.frames_found, 3u);
   EXPECT_EQ(report.frames_written, 1u);  // 17 written, 20 has no pose
+  // A first frame past the last says so.
+  options.first_frame = 3;
+  const std::string past =
+      errorOf([&] { importSource(SourceKind::Frames, dir / "src", dir / "past", options); });
+  EXPECT_TRUE(contains(past, "--first 3 is past the last of the 3 frames found")) << past;
+  EXPECT_FALSE(fs::exists(dir / "past"));
   const ImportReport cancelled = importSource(
       SourceKind::Frames, dir / "src", dir / "cancelled", {},
       [](const ImportProgress& p) { return p.done < 1; });
@@ -586,6 +593,34 @@ TEST(ImportQuaternion, MalformedInputs) {
   EXPECT_EQ(report.frames_written, 2u);
   EXPECT_TRUE(anySkipped(report, "no pose for it in pose.txt"));
   EXPECT_TRUE(anyNote(report, "2 poses for 3 depth images"));
+  // With an image missing from the numbering, line i may be the pose of the
+  // missing image: every later image would take the wrong pose. Refused,
+  // nothing written.
+  writeQuaternionFolder(dir / "gap");
+  fs::remove(dir / "gap" / "depth" / "2.pgm");
+  const std::string gap =
+      errorOf([&] { importSource(SourceKind::Quaternion, dir / "gap", dir / "seq-gap"); });
+  EXPECT_TRUE(contains(
+      gap, (dir / "gap" / "pose.txt").string() + ": poses: expected one pose per depth image"))
+      << gap;
+  EXPECT_TRUE(contains(gap, "found 3 poses for 2 depth images numbered 1 to 3, with no image 2"))
+      << gap;
+  EXPECT_FALSE(fs::exists(dir / "seq-gap"));
+  // Numbered from 2: image 1 (or 0) may be the one missing.
+  writeQuaternionFolder(dir / "late");
+  fs::remove(dir / "late" / "depth" / "1.pgm");
+  EXPECT_TRUE(contains(
+      errorOf([&] { importSource(SourceKind::Quaternion, dir / "late", dir / "seq-late"); }),
+      "with no image 0 or 1"));
+  // Lines that name their image match by number, gap or not.
+  std::string numbered;
+  int number = 1;
+  std::istringstream lines(test::slurp(dir / "gap" / "pose.txt"));
+  for (std::string line; std::getline(lines, line);)
+    numbered += std::to_string(number++) + " " + line + "\n";
+  writeText(dir / "gap" / "pose.txt", numbered);
+  writeText(dir / "gap" / "intrinsics.txt", "30 31 15.5 11.5\n");
+  EXPECT_EQ(importSource(SourceKind::Quaternion, dir / "gap", dir / "seq-gap").frames_written, 2u);
   writeText(dir / "room" / "pose.txt", "0 0 0 0 0 1\n");
   const std::string short_line =
       errorOf([&] { importSource(SourceKind::Quaternion, dir / "room", dir / "seq3"); });

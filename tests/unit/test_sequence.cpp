@@ -381,6 +381,13 @@ TEST_F(SequenceTest, RejectsUnknownFormatAndVersion) {
   EXPECT_NE(format.found.find("something-else"), std::string::npos);
   EXPECT_NE(format.expected.find("labeloctomap-sequence"), std::string::npos);
 
+  // Another kind of file is named by its format, not by a key a sequence lacks.
+  auto boxes = errorAfterEdit([](Json& j) {
+    j = Json{{"format", "labeloctomap-annotations"}, {"version", 1}, {"boxes", Json::array()}};
+  });
+  EXPECT_EQ(boxes.field, "format");
+  EXPECT_NE(boxes.found.find("labeloctomap-annotations"), std::string::npos) << boxes.message();
+
   auto version = errorAfterEdit([](Json& j) { j["version"] = 2; });
   EXPECT_EQ(version.field, "version");
   EXPECT_NE(version.found.find("2"), std::string::npos);
