@@ -112,31 +112,38 @@ double IouVolumes::iou() const {
 
 namespace {
 
-// The volume of a voxel centred at `center` that IU_3d counts inside the box.
-double volumeCounted(const VoxelBoxIntersector& intersector, const Eigen::Vector3d& center,
-                     double voxel_volume, IouMode mode) {
-  if (mode == IouMode::Exact) return intersector.volume(center);
-  return intersector.centerInside(center) ? voxel_volume : 0.0;
+// The share of a voxel centred at `center` that IU_3d counts inside the box.
+double shareCounted(const VoxelBoxIntersector& intersector, const Eigen::Vector3d& center,
+                    double voxel_volume, IouMode mode) {
+  if (mode == IouMode::Center) return intersector.centerInside(center) ? 1.0 : 0.0;
+  return std::clamp(intersector.volume(center) / voxel_volume, 0.0, 1.0);
 }
 
 }  // namespace
 
+IouVolumes iouVolumesOf(double share_sum, size_t voxels, double resolution, const OrientedBox& box,
+                        IouMode mode) {
+  const double voxel_volume = resolution * resolution * resolution;
+  IouVolumes volumes;
+  volumes.ground_truth = mode == IouMode::Exact
+                             ? box.volume()
+                             : VoxelBoxIntersector(box, resolution).centresInside() * voxel_volume;
+  volumes.predicted = voxel_volume * static_cast<double>(voxels);
+  // A voxel wholly inside adds 1.0000000000000002 of itself: the overlap is
+  // at most each volume, so v_fp and v_fn are never negative.
+  volumes.true_positive =
+      std::min({share_sum * voxel_volume, volumes.predicted, volumes.ground_truth});
+  return volumes;
+}
+
 IouVolumes voxelIouVolumes(const std::vector<VoxelKey>& voxels, double resolution,
                            const OrientedBox& box, IouMode mode) {
-  IouVolumes volumes;
-  volumes.ground_truth = box.volume();
   const VoxelBoxIntersector intersector(box, resolution);
   const double voxel_volume = resolution * resolution * resolution;
+  double share_sum = 0.0;
   for (const auto& key : voxels)
-    volumes.true_positive +=
-        volumeCounted(intersector, voxelCenter(key, resolution), voxel_volume, mode);
-  volumes.predicted = voxel_volume * static_cast<double>(voxels.size());
-  // The shares summed may exceed either volume in the last bits (a voxel
-  // wholly inside adds 1.0000000000000002 of itself): the overlap is at most
-  // each, so v_fp and v_fn are never negative.
-  volumes.true_positive =
-      std::min({volumes.true_positive, volumes.predicted, volumes.ground_truth});
-  return volumes;
+    share_sum += shareCounted(intersector, voxelCenter(key, resolution), voxel_volume, mode);
+  return iouVolumesOf(share_sum, voxels.size(), resolution, box, mode);
 }
 
 double voxelIou(const std::vector<VoxelKey>& voxels, double resolution, const OrientedBox& box,
@@ -151,8 +158,7 @@ std::vector<double> voxelSharesInBox(const std::vector<Eigen::Vector3d>& centres
   std::vector<double> shares;
   shares.reserve(centres.size());
   for (const Eigen::Vector3d& centre : centres)
-    shares.push_back(std::clamp(
-        volumeCounted(intersector, centre, voxel_volume, mode) / voxel_volume, 0.0, 1.0));
+    shares.push_back(shareCounted(intersector, centre, voxel_volume, mode));
   return shares;
 }
 

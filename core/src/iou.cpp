@@ -2,11 +2,13 @@
 // voxel/box and box/box intersection volumes.
 #include "lom/iou.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
-
-#include <Eigen/Geometry>
+#include <cstdint>
+#include <limits>
+#include <utility>
 
 namespace lom {
 
@@ -172,6 +174,65 @@ VoxelBoxIntersector::VoxelBoxIntersector(const OrientedBox& box, double voxel_ed
 
 bool VoxelBoxIntersector::centerInside(const Eigen::Vector3d& voxel_center) const {
   return box_.contains(voxel_center);
+}
+
+double VoxelBoxIntersector::centresInside() const {
+  auto centre = [this](std::int64_t i) { return (static_cast<double>(i) + 0.5) * edge_; };
+  // Grid indices whose centres may be inside: the box's world-axis extent,
+  // one index wider on each side (the test below decides).
+  auto range = [&](int axis) {
+    const double low = box_.center[axis] - box_reach_on_world_axes_[axis];
+    const double high = box_.center[axis] + box_reach_on_world_axes_[axis];
+    return std::pair<std::int64_t, std::int64_t>{
+        static_cast<std::int64_t>(std::floor(low / edge_ - 0.5)) - 1,
+        static_cast<std::int64_t>(std::ceil(high / edge_ - 0.5)) + 1};
+  };
+  const auto [x0, x1] = range(0);
+  const auto [y0, y1] = range(1);
+  const auto [z0, z1] = range(2);
+  // A box wider than any object (40 m at 1 cm) is counted by its volume: the
+  // columns would take seconds, and a layer of voxels more or less is a small
+  // part of it.
+  if (static_cast<double>(x1 - x0 + 1) * static_cast<double>(y1 - y0 + 1) > kMaxCentreColumns)
+    return box_.volume() / (edge_ * edge_ * edge_);
+  // Along a column (x, y fixed) the box coordinates are a + z r: each of the
+  // box's slabs |a_j + z r_j| <= h_j bounds z to an interval.
+  const Eigen::Vector3d r = world_to_box_.col(2);
+  double count = 0.0;
+  for (std::int64_t ix = x0; ix <= x1; ++ix)
+    for (std::int64_t iy = y0; iy <= y1; ++iy) {
+      const Eigen::Vector3d a =
+          world_to_box_ * (Eigen::Vector3d(centre(ix), centre(iy), 0.0) - box_.center);
+      double low = -std::numeric_limits<double>::infinity(), high = -low;
+      for (int j = 0; j < 3; ++j) {
+        if (std::abs(r[j]) < 1e-12) {
+          if (std::abs(a[j]) > half_size_[j] + 1e-9 * edge_)
+            high = low;  // the column misses the slab
+          continue;
+        }
+        const double t0 = (-half_size_[j] - a[j]) / r[j], t1 = (half_size_[j] - a[j]) / r[j];
+        low = std::max(low, std::min(t0, t1));
+        high = std::min(high, std::max(t0, t1));
+      }
+      if (!(low <= high + edge_)) continue;
+      // The estimate's ends, settled by the test itself (rounding may move a
+      // centre on a face to either side).
+      auto inside = [&](std::int64_t iz) {
+        return iz >= z0 && iz <= z1 &&
+               centerInside(Eigen::Vector3d(centre(ix), centre(iy), centre(iz)));
+      };
+      std::int64_t first =
+          std::clamp(static_cast<std::int64_t>(std::ceil(low / edge_ - 0.5)), z0, z1);
+      std::int64_t last =
+          std::clamp(static_cast<std::int64_t>(std::floor(high / edge_ - 0.5)), z0, z1);
+      if (first > last) last = first;  // a column that grazes the box: its one candidate
+      while (inside(first - 1)) --first;
+      while (first <= last && !inside(first)) ++first;
+      while (inside(last + 1)) ++last;
+      while (last >= first && !inside(last)) --last;
+      if (first <= last) count += static_cast<double>(last - first + 1);
+    }
+  return count;
 }
 
 double VoxelBoxIntersector::volume(const Eigen::Vector3d& voxel_center) const {

@@ -14,10 +14,9 @@ ScoreBreakdown fromCentres(std::vector<Eigen::Vector3d> centres, double resoluti
   ScoreBreakdown breakdown;
   breakdown.label = box.label;
   breakdown.resolution = resolution;
-  breakdown.volumes.ground_truth = box.box.volume();
   breakdown.shares = voxelSharesInBox(centres, resolution, box.box, mode);
   breakdown.centres = std::move(centres);
-  const double voxel_volume = resolution * resolution * resolution;
+  double share_sum = 0.0;
   for (const double share : breakdown.shares) {
     if (share >= 1.0)
       ++breakdown.inside;
@@ -25,9 +24,9 @@ ScoreBreakdown fromCentres(std::vector<Eigen::Vector3d> centres, double resoluti
       ++breakdown.outside;
     else
       ++breakdown.partly;
-    breakdown.volumes.true_positive += share * voxel_volume;
+    share_sum += share;
   }
-  breakdown.volumes.predicted = voxel_volume * static_cast<double>(breakdown.centres.size());
+  breakdown.volumes = iouVolumesOf(share_sum, breakdown.centres.size(), resolution, box.box, mode);
   return breakdown;
 }
 

@@ -7,6 +7,7 @@
 #include "lom/box_fit.hpp"
 #include "lom/evaluation.hpp"
 #include "lom/iou.hpp"
+#include "lom/score_breakdown.hpp"
 
 namespace {
 
@@ -179,6 +180,75 @@ TEST(IouVoxelSets, ExactAndCentreModesDifferOnShiftedBoxes) {
   EXPECT_NEAR(lom::voxelIou(voxels, kEdge, box, lom::IouMode::Exact), 15.0 / 17.0, 1e-9);
   // Centres: all 24 centres are inside, so the IU is v_pred / v_gt = 1.
   EXPECT_NEAR(lom::voxelIou(voxels, kEdge, box, lom::IouMode::Center), 1.0, 1e-9);
+}
+
+// In centre mode the box is counted as the grid voxels whose centres are in
+// it, as the prediction is: a box thinner than a voxel still holds a layer of
+// them, and the score counts them against that layer, not against the
+// thinner box (which gave a true positive below the voxels inside and a
+// false negative below zero). The report and the breakdown agree.
+TEST(IouVoxelSets, CentreModeCountsTheBoxInGridVoxels) {
+  OrientedBox box;  // 10 x 10 voxels, 0.93 of a voxel thick, on the layer z = 0
+  box.center = {0.05, 0.05, 0.005};
+  box.size = {0.1, 0.1, 0.0093};
+  const double voxel = kEdge * kEdge * kEdge;
+  std::vector<lom::VoxelKey> voxels = block(0, 10, 0, 10, 0, 1);
+  for (const lom::VoxelKey& above : block(0, 10, 0, 1, 1, 2)) voxels.push_back(above);
+  const lom::IouVolumes v = lom::voxelIouVolumes(voxels, kEdge, box, lom::IouMode::Center);
+  EXPECT_NEAR(v.ground_truth, 100 * voxel, 1e-15);
+  EXPECT_NEAR(v.true_positive, 100 * voxel, 1e-15);
+  EXPECT_NEAR(v.falsePositive(), 10 * voxel, 1e-15);
+  EXPECT_NEAR(v.falseNegative(), 0.0, 1e-15);
+  EXPECT_NEAR(v.iou(), 100.0 / 110.0, 1e-12);
+  const lom::ScoreBreakdown breakdown = lom::scoreBreakdown(
+      voxels, kEdge, lom::GroundTruthBox{32, "mailer", box}, lom::IouMode::Center);
+  EXPECT_EQ(breakdown.inside, 100u);
+  EXPECT_EQ(breakdown.outside, 10u);
+  EXPECT_EQ(breakdown.volumes.iou(), v.iou());
+  EXPECT_EQ(breakdown.volumes.ground_truth, v.ground_truth);
+  // Exact mode keeps the box's own volume.
+  EXPECT_NEAR(lom::voxelIouVolumes(voxels, kEdge, box, lom::IouMode::Exact).ground_truth,
+              93 * voxel, 1e-15);
+}
+
+// The count of grid centres inside a box, column by column, is the count of a
+// test of every centre of the box's surroundings.
+TEST(IouVoxelSets, CentresInsideCountsEveryGridCentreTheTestAccepts) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<OrientedBox> boxes = {tiltedBox()};
+  for (int i = 0; i < 12; ++i) {
+    OrientedBox b;
+    b.center = {0.3 * unit(rng), 0.3 * unit(rng), 0.3 * unit(rng)};
+    b.size = {0.005 + 0.1 * std::abs(unit(rng)), 0.005 + 0.1 * std::abs(unit(rng)),
+              0.003 + 0.05 * std::abs(unit(rng))};
+    b.rotation = Eigen::Quaterniond(unit(rng), unit(rng), unit(rng), unit(rng)).normalized();
+    if (i % 4 == 0)
+      b.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(unit(rng), Eigen::Vector3d::UnitZ()));
+    if (i % 4 == 1) b.rotation = Eigen::Quaterniond::Identity();
+    boxes.push_back(b);
+  }
+  for (const double edge : {kEdge, 0.0073}) {
+    for (size_t n = 0; n < boxes.size(); ++n) {
+      const OrientedBox& box = boxes[n];
+      const lom::VoxelBoxIntersector intersector(box, edge);
+      const double reach = 0.5 * box.size.norm() + 2 * edge;
+      double brute = 0.0;
+      auto index = [&](double x) { return static_cast<long>(std::floor(x / edge)); };
+      for (long i = index(box.center.x() - reach); i <= index(box.center.x() + reach); ++i)
+        for (long j = index(box.center.y() - reach); j <= index(box.center.y() + reach); ++j)
+          for (long k = index(box.center.z() - reach); k <= index(box.center.z() + reach); ++k)
+            brute += intersector.centerInside(
+                Eigen::Vector3d((i + 0.5) * edge, (j + 0.5) * edge, (k + 0.5) * edge));
+      EXPECT_EQ(intersector.centresInside(), brute) << "box " << n << ", edge " << edge;
+      EXPECT_GT(brute, 0.0) << "box " << n;
+    }
+  }
+  // A box wider than any object is counted by its volume, in no time.
+  OrientedBox field;
+  field.size = {400.0, 300.0, 0.5};
+  EXPECT_NEAR(lom::VoxelBoxIntersector(field, kEdge).centresInside(),
+              field.volume() / (kEdge * kEdge * kEdge), 1.0);
 }
 
 }  // namespace

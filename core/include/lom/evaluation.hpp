@@ -182,6 +182,14 @@ inline constexpr double kPoorMapFit = 0.2;
 
 [[nodiscard]] IouVolumes voxelIouVolumes(const std::vector<VoxelKey>& voxels, double resolution,
                                          const OrientedBox& box, IouMode mode);
+// The volumes of `voxels` voxels of edge `resolution` whose shares inside the
+// box (voxelSharesInBox) sum to `share_sum`. v_gt as `mode` counts it: exact,
+// the box's volume; center, the volume of the grid voxels whose centres are
+// inside the box, so that both sides count whole voxels by one test and v_tp
+// never exceeds v_gt. v_tp is at most each volume (the shares' sum may pass
+// them in the last bits).
+[[nodiscard]] IouVolumes iouVolumesOf(double share_sum, size_t voxels, double resolution,
+                                      const OrientedBox& box, IouMode mode);
 // IU_3d of a voxel set against a box (the paper's equation; 0 for no voxels).
 [[nodiscard]] double voxelIou(const std::vector<VoxelKey>& voxels, double resolution,
                               const OrientedBox& box, IouMode mode);

@@ -36,6 +36,14 @@ class VoxelBoxIntersector {
   VoxelBoxIntersector(const OrientedBox& box, double voxel_edge);
   [[nodiscard]] double volume(const Eigen::Vector3d& voxel_center) const;
   [[nodiscard]] bool centerInside(const Eigen::Vector3d& voxel_center) const;
+  // How many voxels of the grid (centres at (i + 0.5) * edge on each axis)
+  // have their centres inside the box, by the test of centerInside: the box
+  // rasterised on the map's grid. Column by column along z, so the cost grows
+  // with the box's footprint in voxels, not its volume; a box whose
+  // footprint spans more than kMaxCentreColumns columns is counted as its
+  // volume in voxels instead.
+  [[nodiscard]] double centresInside() const;
+  static constexpr double kMaxCentreColumns = 16777216.0;  // 2^24
 
  private:
   OrientedBox box_;
