@@ -168,6 +168,27 @@ TEST_F(OpenMapTest, OpeningAMapDuringFusionStopsTheFusion) {
 // A map whose voxels are not where the sequence's depths are (fused from
 // another recording with the same labels, or with other poses) is shown with
 // a warning; a map of the sequence opens without one.
+// Fuse and Reset Map, asked for while a map file is still being read, are
+// what the user wants last: the file read afterwards is dropped.
+TEST_F(OpenMapTest, AFusionOrResetStartedWhileAMapIsReadIsNotReplacedByIt) {
+  openAndFuse();
+  const auto path = writeFinerMap();
+  session().openMap(qPath(path));
+  session().fuse();
+  waitForMap();
+  EXPECT_DOUBLE_EQ(session().worker().snapshot()->resolution, 0.01);
+  EXPECT_DOUBLE_EQ(session().fusionOptions().map.resolution, 0.01);
+  EXPECT_FALSE(window_.fusionStatusText().contains("map from file"))
+      << window_.fusionStatusText().toStdString();
+
+  session().openMap(qPath(path));
+  session().resetMap();
+  waitForMap();
+  EXPECT_EQ(session().worker().snapshot()->frames_fused, 0u);
+  EXPECT_TRUE(session().worker().snapshot()->empty());
+  EXPECT_TRUE(errors_.empty()) << errors_.front().toStdString();
+}
+
 TEST_F(OpenMapTest, AMapThatDoesNotFitTheDepthsIsShownWithAWarning) {
   std::vector<QString> warnings;
   window_.setWarningReporter([&](const QString& title, const QString& message) {

@@ -93,12 +93,14 @@ void StudioSession::setOccupancyThreshold(double threshold) {
 void StudioSession::fuse() {
   if (!sequence_) return;
   ++map_generation_;
+  map_reader_->forget();  // the map asked for last is this fusion's, not a file still being read
   worker_->setOccupancyThreshold(options_.map.occupancy_threshold);
   worker_->startFusion(sequence_, options_);
 }
 
 void StudioSession::resetMap() {
   ++map_generation_;
+  map_reader_->forget();  // a file still being read must not fill the map just emptied
   worker_->reset();
 }
 
