@@ -139,6 +139,28 @@ TEST_F(BoxFilesTest, UnreadableBoxesFileIsOnlyReplacedAfterAnExplicitConfirmatio
   EXPECT_EQ(slurp(file), before);
 }
 
+// The name chosen through the question's Save As… is checked like any other:
+// the sequence's own files are never written.
+TEST_F(BoxFilesTest, SaveAsFromTheUnreadableFileQuestionNeverWritesASequenceFile) {
+  const fs::path file = tiny_.folder / "annotations.json";
+  std::ofstream(file) << "not json at all";
+  const fs::path sequence_json = tiny_.folder / "sequence.json";
+  const std::string sequence_before = slurp(sequence_json);
+  ASSERT_TRUE(open(tiny_.folder));
+  errors_.clear();
+  boxes().addBox(boxOf(1, "square_box"));
+  {  // "Yes": the file dialog's own question about replacing an existing file.
+    test::DialogAnswerer answer("Save As|Yes", qPath(sequence_json));
+    window_.findAction("Save Boxes")->trigger();
+    ASSERT_EQ(answer.proposed_files.size(), 1);
+  }
+  EXPECT_EQ(slurp(sequence_json), sequence_before);
+  EXPECT_TRUE(boxes().isDirty());
+  ASSERT_EQ(errors_.size(), 1);
+  EXPECT_TRUE(errors_.front().contains("is a file of the sequence"))
+      << errors_.front().toStdString();
+}
+
 TEST_F(BoxFilesTest, UnreadableBoxesFileStaysProtectedAfterAYamlImport) {
   const fs::path file = tiny_.folder / "annotations.json";
   std::ofstream(file) << "not json at all";

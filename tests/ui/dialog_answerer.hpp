@@ -1,6 +1,7 @@
 #pragma once
 // Answers the modal dialogs the studio opens while a test runs: every message
-// box gets the button whose text (without '&') starts with `button`, and every
+// box gets the button whose text (without '&') starts with `button` (or with
+// one of its alternatives separated by '|', the first that fits), and every
 // file dialog gets `file` chosen (or is cancelled when `file` is empty). What
 // was asked is recorded for the test to check.
 #include <QAbstractButton>
@@ -41,11 +42,12 @@ class DialogAnswerer {
       if (answered_.contains(box)) continue;
       answered_ << box;
       questions << box->text();
-      for (QAbstractButton* candidate : box->buttons())
-        if (candidate->text().remove('&').startsWith(button_)) {
-          QMetaObject::invokeMethod(candidate, "click", Qt::QueuedConnection);
-          return;
-        }
+      for (const QString& wanted : button_.split('|'))
+        for (QAbstractButton* candidate : box->buttons())
+          if (candidate->text().remove('&').startsWith(wanted)) {
+            QMetaObject::invokeMethod(candidate, "click", Qt::QueuedConnection);
+            return;
+          }
       QMetaObject::invokeMethod(box, "reject", Qt::QueuedConnection);  // as Escape would
       return;
     }

@@ -103,15 +103,20 @@ void BoxFileReaction::onTriggered() {
   if (!error.isEmpty()) report_(tr("Boxes"), error);
 }
 
+bool BoxFileReaction::refuseSequenceFile(const QString& path) {
+  const QString input = session_.controller().sequenceFileAt(path);
+  if (input.isEmpty()) return false;
+  report_(tr("Boxes"), tr("%1 is a file of the sequence (%2): boxes are never saved over it. "
+                          "Choose another name.")
+                           .arg(QDir::toNativeSeparators(path), QDir::toNativeSeparators(input)));
+  return true;
+}
+
 void BoxFileReaction::saveTo(QString path) {
   commitPendingEdits();  // a value still being typed belongs to the boxes
-  if (const QString input = session_.controller().sequenceFileAt(path); !input.isEmpty()) {
-    report_(tr("Boxes"), tr("%1 is a file of the sequence (%2): boxes are never saved over it. "
-                            "Choose another name.")
-                             .arg(QDir::toNativeSeparators(path), QDir::toNativeSeparators(input)));
-    return;
-  }
-  if (!confirmTarget(path)) return;
+  if (refuseSequenceFile(path)) return;
+  // The unreadable-file question may have had another name chosen.
+  if (!confirmTarget(path) || refuseSequenceFile(path)) return;
   const QString error = saveBoxes(session_, path);
   if (!error.isEmpty()) report_(tr("Boxes"), error);
 }

@@ -33,6 +33,8 @@ class BoxFileReaction : public Reaction {
   // Confirms saving to `path`; may replace it by another name the user picks.
   // False cancels the save.
   bool confirmTarget(QString& path);
+  // Reports and returns true when `path` names a file of the open sequence.
+  bool refuseSequenceFile(const QString& path);
 
   Kind kind_;
   StudioSession& session_;
