@@ -21,6 +21,7 @@
 #include "lom/import.hpp"
 #include "lom/render/map_render.hpp"
 #include "lom/ui/about_reaction.hpp"
+#include "lom/ui/annotation_files.hpp"
 #include "lom/ui/demo_scene.hpp"
 #include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/main_window.hpp"
@@ -379,6 +380,8 @@ int main(int argc, char** argv) {
     // No one is there to close a dialog: errors go to stderr and the exit code.
     bool failed = false;
     window.recentSequences().freeze();  // a picture taken is not a session to reopen
+    // Unsaved boxes of an earlier session stay for the next interactive one.
+    window.autosave().leaveRecoveryFilesAlone();
     window.setWarningReporter([](const QString& title, const QString& message) {
       std::cerr << "labeloctomap-studio: warning: " << title.toStdString() << ": "
                 << message.toStdString() << "\n";

@@ -1,6 +1,7 @@
 // labeloctomap-studio run as a program: screenshot mode and its errors.
 #include <gtest/gtest.h>
 
+#include <QFileInfo>
 #include <QImage>
 #include <QProcess>
 #include <filesystem>
@@ -10,6 +11,7 @@
 
 #include "lom/annotations.hpp"
 #include "lom/sequence.hpp"
+#include "lom/ui/annotation_files.hpp"
 #include "test_support.hpp"
 #include "tiny_sequence.hpp"
 
@@ -86,6 +88,36 @@ TEST(StudioCommandLine, ScreenshotWarnsAboutUnknownLabelsAndLeavesTheRecentListA
     for (const auto& entry : std::filesystem::recursive_directory_iterator(temp / "config"))
       if (entry.is_regular_file()) settings += slurp(entry.path());
   EXPECT_EQ(settings.find("recentSequences"), std::string::npos) << settings;
+}
+
+// Unsaved boxes left by a session that ended are neither asked about (no one
+// is there to answer) nor dropped: the next interactive session offers them.
+TEST(StudioCommandLine, ScreenshotLeavesTheBoxRecoveryFileForTheNextSession) {
+  lom::test::TempDir temp;
+  const auto tiny = lom::test::writeTinySequence(temp / "seq");
+  // Where the studio keeps its recovery files under this XDG_DATA_HOME.
+  const QString name =
+      QFileInfo(lom::ui::BoxesAutosave::recoveryPath(qPath(tiny.folder))).fileName();
+  const auto recovery =
+      temp / "data" / "LabelOctoMap" / "LabelOctoMap Studio" / "recovery" / name.toStdString();
+  std::filesystem::create_directories(recovery.parent_path());
+  lom::Annotations boxes;
+  lom::GroundTruthBox box;
+  box.label = 1;
+  box.name = "square_box";
+  box.box.center = {0.1, 0.0, 0.6};
+  box.box.size = {0.05, 0.05, 0.05};
+  boxes.boxes.push_back(box);
+  lom::saveAnnotations(boxes, recovery);
+  const std::string before = slurp(recovery);
+  QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
+  environment.insert("XDG_DATA_HOME", qPath(temp / "data"));
+  const auto out = temp / "window.png";
+  const StudioRun run = runStudio({"--screenshot", qPath(out), qPath(tiny.folder)}, environment);
+  EXPECT_EQ(run.exit_code, 0) << run.err.toStdString();
+  EXPECT_FALSE(QImage(qPath(out)).isNull());
+  ASSERT_TRUE(std::filesystem::exists(recovery));
+  EXPECT_EQ(slurp(recovery), before);
 }
 
 // The picture never replaces a file of the sequence it shows.

@@ -239,7 +239,7 @@ void BoxesAutosave::onSequenceChanged() {
   // The previous sequence's boxes were discarded (or clean) when the new one
   // replaced them, which removed its recovery file; from now on the file is
   // the new sequence's.
-  recovery_path_ = session_.controller().hasSequence()
+  recovery_path_ = session_.controller().hasSequence() && !leave_files_alone_
                        ? recoveryPath(session_.controller().sequencePath())
                        : QString();
   const QString path = recovery_path_;

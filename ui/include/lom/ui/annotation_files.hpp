@@ -76,6 +76,10 @@ class BoxesAutosave : public QObject {
   [[nodiscard]] static QString recoveryPath(const QString& sequence_path);
   [[nodiscard]] QString currentRecoveryPath() const { return recovery_path_; }
   void setOffer(std::function<bool(const QString&)> offer) { offer_ = std::move(offer); }
+  // From now on no recovery file is offered, written or removed: for a run
+  // with no one to answer the offer (a screenshot), whose boxes are not the
+  // unsaved ones of the session that left the file.
+  void leaveRecoveryFilesAlone() { leave_files_alone_ = true; }
   void writeNow();
   void discard();  // removes the recovery file of the open sequence
 
@@ -87,6 +91,7 @@ class BoxesAutosave : public QObject {
   QTimer* timer_;
   QString recovery_path_;  // of the open sequence
   bool restoring_ = false;
+  bool leave_files_alone_ = false;
 };
 
 }  // namespace lom::ui
