@@ -314,6 +314,42 @@ TEST_F(BoxFilesTest, RecoveryFileDoesNotDependOnHowThePathIsTyped) {
   EXPECT_EQ(offered, QStringList{expected});
 }
 
+// Boxes opened from another file, restored after the studio was killed, are
+// saved to that file again, not over the sequence's own annotations.json.
+TEST_F(BoxFilesTest, RestoredBoxesAreSavedWhereTheyCameFrom) {
+  Annotations own;
+  own.boxes.push_back(boxOf(2, "blue_cup"));
+  saveAnnotations(own, tiny_.folder / "annotations.json");
+  const std::string own_before = slurp(tiny_.folder / "annotations.json");
+  Annotations other;
+  other.boxes.push_back(boxOf(1, "square_box"));
+  saveAnnotations(other, temp_ / "other.json");
+  ASSERT_TRUE(open(tiny_.folder));
+  ASSERT_EQ(loadBoxes(window_.session(), qPath(temp_ / "other.json")), QString());
+  GroundTruthBox moved = boxes().box(0);
+  moved.box.center.x() += 0.01;
+  boxes().setBox(0, moved, "Edit box");
+  window_.autosave().writeNow();
+  ASSERT_TRUE(QFileInfo::exists(window_.autosave().currentRecoveryPath()));
+
+  MainWindow next;
+  next.setErrorReporter([](const QString&, const QString&) {});
+  next.setWarningReporter([](const QString&, const QString&) {});
+  next.setRecoveryOffer([](const QString&) { return true; });
+  next.session().setAutoFuse(false);
+  ASSERT_TRUE(next.controller().openSequence(qPath(tiny_.folder)));
+  AnnotationsModel& restored = next.session().annotations();
+  ASSERT_EQ(restored.boxCount(), 1);
+  EXPECT_TRUE(restored.isDirty());
+  EXPECT_EQ(QFileInfo(restored.path()), QFileInfo(qPath(temp_ / "other.json")));
+  next.findAction("Save Boxes")->trigger();
+  EXPECT_FALSE(restored.isDirty());
+  EXPECT_EQ(slurp(tiny_.folder / "annotations.json"), own_before);
+  const Annotations saved = loadAnnotations(temp_ / "other.json");
+  ASSERT_EQ(saved.boxes.size(), 1u);
+  EXPECT_DOUBLE_EQ(saved.boxes.front().box.center.x(), moved.box.center.x());
+}
+
 TEST_F(BoxFilesTest, RecoveryFileGoesWhenTheBoxesAreCleanAgain) {
   ASSERT_TRUE(open(tiny_.folder));
   const QString recovery = window_.autosave().currentRecoveryPath();

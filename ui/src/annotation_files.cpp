@@ -3,11 +3,16 @@
 #include <QCryptographicHash>
 #include <QDir>
 #include <QFileInfo>
+#include <QJsonDocument>
+#include <QJsonObject>
 #include <QMessageBox>
 #include <QStandardPaths>
 #include <QTimer>
 #include <filesystem>
+#include <optional>
+#include <stdexcept>
 
+#include "lom/atomic_file.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
@@ -44,6 +49,54 @@ void reportUnknownLabels(StudioSession& session, const Annotations& boxes, const
                     "shown and scored as if they were in \"%3\", and saving writes frame_id "
                     "\"%3\".")
             .arg(file, QString::fromStdString(boxes.frame_id), QString::fromStdString(frame)));
+}
+
+// A recovery file holds the boxes (as annotations v1, under "boxes") and the
+// file they were to be saved to: boxes opened from another file must not be
+// saved over the sequence's own once restored. Older recovery files are the
+// bare annotations file.
+constexpr const char* kRecoveryFormat = "labeloctomap-studio-recovery";
+
+struct RecoveredBoxes {
+  Annotations boxes;
+  std::optional<QString> save_to;  // none in an older recovery file
+};
+
+void writeRecoveryFile(const Annotations& boxes, const QString& save_to, const QString& path) {
+  // The boxes are written by the core, as Save Boxes writes them, then wrapped.
+  const QString boxes_file = path + ".boxes";
+  saveAnnotations(boxes, toPath(boxes_file));
+  QFile written(boxes_file);
+  const bool read = written.open(QIODevice::ReadOnly);
+  const QJsonDocument annotations = QJsonDocument::fromJson(written.readAll());
+  written.close();
+  written.remove();
+  if (!read || !annotations.isObject()) throw std::runtime_error("recovery copy not written");
+  const QJsonObject recovery{
+      {"format", kRecoveryFormat}, {"save_to", save_to}, {"boxes", annotations.object()}};
+  writeTextFileAtomically(toPath(path), QJsonDocument(recovery).toJson().toStdString());
+}
+
+RecoveredBoxes readRecoveryFile(const QString& path) {
+  QFile file(path);
+  if (!file.open(QIODevice::ReadOnly)) return {loadAnnotations(toPath(path)), std::nullopt};
+  const QJsonObject recovery = QJsonDocument::fromJson(file.readAll()).object();
+  if (recovery.value("format").toString() != QLatin1String(kRecoveryFormat))
+    return {loadAnnotations(toPath(path)), std::nullopt};
+  // Read back through the core, which checks every field of the boxes.
+  const QString boxes_file = path + ".boxes";
+  writeTextFileAtomically(toPath(boxes_file),
+                          QJsonDocument(recovery.value("boxes").toObject()).toJson().toStdString());
+  RecoveredBoxes recovered;
+  try {
+    recovered.boxes = loadAnnotations(toPath(boxes_file));
+  } catch (...) {
+    QFile::remove(boxes_file);
+    throw;
+  }
+  QFile::remove(boxes_file);
+  recovered.save_to = recovery.value("save_to").toString();
+  return recovered;
 }
 
 bool isSequenceJson(const QFileInfo& info) {
@@ -225,7 +278,7 @@ void BoxesAutosave::writeNow() {
   if (recovery_path_.isEmpty() || !session_.annotations().isDirty()) return;
   QDir().mkpath(QFileInfo(recovery_path_).path());
   try {
-    saveAnnotations(boxesToSave(session_), toPath(recovery_path_));
+    writeRecoveryFile(boxesToSave(session_), session_.annotations().path(), recovery_path_);
   } catch (const std::exception&) {
     // A failed recovery copy must not interrupt the work; the next tick retries.
   }
@@ -254,12 +307,19 @@ void BoxesAutosave::onSequenceChanged() {
   const QString unreadable_error = model.unreadableError();
   restoring_ = true;
   try {
-    // The real file stays the save target; the restored boxes are unsaved.
-    const Annotations restored = loadAnnotations(toPath(path));
-    if (unreadable_path.isEmpty())
-      model.reset(restored, saved_path);
-    else
+    // The file the boxes were to be saved to stays their save target (the
+    // file just loaded, for older recovery files); the restored boxes are unsaved.
+    const RecoveredBoxes recovered = readRecoveryFile(path);
+    const Annotations& restored = recovered.boxes;
+    const QString target = recovered.save_to.value_or(saved_path);
+    const bool unreadable_target =
+        !unreadable_path.isEmpty() &&
+        (target.isEmpty() ||
+         QFileInfo(target).absoluteFilePath() == QFileInfo(unreadable_path).absoluteFilePath());
+    if (unreadable_target)
       model.resetUnreadable(restored, unreadable_path, unreadable_error);
+    else
+      model.reset(restored, target);
     model.undoStack().resetClean();
     reportUnknownLabels(session_, restored, path);
   } catch (const std::exception&) {
