@@ -184,5 +184,32 @@ TEST_F(BoxEditorTest, CtrlZInAFieldUndoesTheBoxEdit) {
   EXPECT_NEAR(boxes().box(0).box.center.x(), 0.4, 1e-12);
 }
 
+// A box fit arrives after it was asked for (it runs on the map's thread): the
+// value being typed into another box's field is kept, and so is that box's
+// selection.
+TEST_F(BoxEditorTest, ABoxFitArrivingLaterKeepsTheValueBeingTypedAndTheSelection) {
+  StudioSession& session = window_.session();
+  session.fuse();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !session.worker().isFusing(); }, fixture::kTimeoutMs));
+  const int label = *visibleObjectLabels().begin();
+  boxes().removeBox(boxes().indexOfLabel(label));
+  boxes().undoStack().setClean();
+  boxes().select(0);
+  const int edited = boxes().box(0).label;
+  const int count = boxes().boxCount();
+  session.setSelectedLabel(label);
+  typeIntoCentreX("0.123");
+  window_.findAction("Add Box from Label Voxels")->trigger();
+  ASSERT_EQ(boxes().boxCount(), count);  // not yet: the fit is on its way
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return boxes().boxCount() == count + 1; }, fixture::kTimeoutMs));
+  EXPECT_GE(boxes().indexOfLabel(label), 0);
+  const int index = boxes().indexOfLabel(edited);
+  ASSERT_GE(index, 0);
+  EXPECT_NEAR(boxes().box(index).box.center.x(), 0.123, 1e-9);
+  EXPECT_EQ(boxes().selected(), index);
+  EXPECT_NEAR(window_.boxEditor().field(0).value(), 0.123, 1e-9);
+}
+
 }  // namespace
 }  // namespace lom::ui

@@ -9,6 +9,7 @@
 #include "lom/box_fit.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/map_worker.hpp"
+#include "lom/ui/pending_edits.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
 
@@ -75,13 +76,14 @@ void AddBoxReaction::onTriggered() {
   QPointer<AddBoxReaction> self(this);
   MapWorker* worker = &session_.worker();  // outlives its thread's jobs
   const unsigned generation = session_.mapGeneration();
+  const int asked_with = selectedBoxLabel();
   const QString name = QString::fromStdString(box.name);
   if (worker->isFusing())
     emit status(tr("Box for %1: fitted to the voxels fused so far; if there are none yet, when "
                    "fusion finishes.")
                     .arg(name));
   worker->withCurrentMap(
-      [self, worker, box, generation](const LabelMap* map, bool final) mutable {
+      [self, worker, box, generation, asked_with](const LabelMap* map, bool final) mutable {
         const std::optional<OrientedBox> fitted_box =
             map ? fittedBox(map->voxelsOfLabel(box.label), map->parameters().resolution)
                 : std::nullopt;
@@ -90,8 +92,8 @@ void AddBoxReaction::onTriggered() {
         const bool fitted = fitted_box.has_value();
         QMetaObject::invokeMethod(
             worker,
-            [self, box, fitted, generation] {
-              if (self) self->addFitted(box, fitted, generation);
+            [self, box, fitted, generation, asked_with] {
+              if (self) self->addFitted(box, fitted, generation, asked_with);
             },
             Qt::QueuedConnection);
         return true;
@@ -99,7 +101,35 @@ void AddBoxReaction::onTriggered() {
       tr("box fit for %1").arg(name));
 }
 
-void AddBoxReaction::addFitted(const GroundTruthBox& box, bool fitted, unsigned generation) {
+int AddBoxReaction::selectedBoxLabel() const {
+  const AnnotationsModel& model = session_.annotations();
+  return model.selected() >= 0 ? model.box(model.selected()).label : -1;
+}
+
+void AddBoxReaction::addArrived(const std::vector<GroundTruthBox>& boxes, int asked_with,
+                                bool one_step) {
+  // Adding rebuilds the Boxes panel, whose fields then show the boxes' values
+  // over what is being typed.
+  const bool editing = commitPendingEdits();
+  AnnotationsModel& model = session_.annotations();
+  const int kept = selectedBoxLabel();
+  if (!one_step) {
+    for (const GroundTruthBox& box : boxes) model.addBox(box);
+  } else {
+    const auto count = [](size_t n, const QString& one, const QString& many) {
+      return QString::number(n) + " " + (n == 1 ? one : many);
+    };
+    // One undo step for the lot.
+    model.undoStack().beginMacro(
+        tr("Add %1 from label voxels").arg(count(boxes.size(), tr("box"), tr("boxes"))));
+    for (const GroundTruthBox& box : boxes) model.addBox(box);
+    model.undoStack().endMacro();
+  }
+  if (kept >= 0 && (editing || kept != asked_with)) model.select(model.indexOfLabel(kept));
+}
+
+void AddBoxReaction::addFitted(const GroundTruthBox& box, bool fitted, unsigned generation,
+                               int asked_with) {
   const QString name = QString::fromStdString(box.name);
   emit status(QString());
   if (generation != session_.mapGeneration()) {
@@ -118,7 +148,7 @@ void AddBoxReaction::addFitted(const GroundTruthBox& box, bool fitted, unsigned 
   // The label may have got a box while the fit waited (B pressed twice, or a
   // box added by hand).
   if (selectExistingBox(box.label)) return;
-  session_.annotations().addBox(box);
+  addArrived({box}, asked_with, false);
 }
 
 void AddBoxReaction::fitAllLabels() {
@@ -127,9 +157,10 @@ void AddBoxReaction::fitAllLabels() {
   MapWorker* worker = &session_.worker();  // outlives its thread's jobs
   const unsigned generation = session_.mapGeneration();
   const LabelSet labels = session_.sequence()->labels;
+  const int asked_with = selectedBoxLabel();
   if (worker->isFusing()) emit status(tr("Boxes for every label: when fusion finishes."));
   worker->withCurrentMap(
-      [self, worker, labels, generation](const LabelMap* map, bool final) {
+      [self, worker, labels, generation, asked_with](const LabelMap* map, bool final) {
         // Labels keep appearing while frames are fused: fit once all are in.
         if (!final) return false;
         std::vector<GroundTruthBox> boxes;
@@ -144,8 +175,8 @@ void AddBoxReaction::fitAllLabels() {
           }
         QMetaObject::invokeMethod(
             worker,
-            [self, boxes, generation] {
-              if (self) self->addAllFitted(boxes, generation);
+            [self, boxes, generation, asked_with] {
+              if (self) self->addAllFitted(boxes, generation, asked_with);
             },
             Qt::QueuedConnection);
         return true;
@@ -153,7 +184,8 @@ void AddBoxReaction::fitAllLabels() {
       tr("box fits for every label"));
 }
 
-void AddBoxReaction::addAllFitted(const std::vector<GroundTruthBox>& boxes, unsigned generation) {
+void AddBoxReaction::addAllFitted(const std::vector<GroundTruthBox>& boxes, unsigned generation,
+                                  int asked_with) {
   emit status(QString());
   if (generation != session_.mapGeneration()) {
     emit status(
@@ -162,13 +194,13 @@ void AddBoxReaction::addAllFitted(const std::vector<GroundTruthBox>& boxes, unsi
     return;
   }
   AnnotationsModel& model = session_.annotations();
-  std::vector<const GroundTruthBox*> added;
+  std::vector<GroundTruthBox> added;
   size_t already = 0;
   for (const GroundTruthBox& box : boxes) {
     if (model.indexOfLabel(box.label) >= 0)
       ++already;
     else
-      added.push_back(&box);
+      added.push_back(box);
   }
   if (added.empty()) {
     emit failed(tr("No boxes to add"), !boxes.empty()
@@ -181,11 +213,7 @@ void AddBoxReaction::addAllFitted(const std::vector<GroundTruthBox>& boxes, unsi
   const auto count = [](size_t n, const QString& one, const QString& many) {
     return QString::number(n) + " " + (n == 1 ? one : many);
   };
-  // One undo step for the lot.
-  model.undoStack().beginMacro(
-      tr("Add %1 from label voxels").arg(count(added.size(), tr("box"), tr("boxes"))));
-  for (const GroundTruthBox* box : added) model.addBox(*box);
-  model.undoStack().endMacro();
+  addArrived(added, asked_with, true);
   QString message =
       tr("Added %1 fitted to label voxels").arg(count(added.size(), tr("box"), tr("boxes")));
   if (already)

@@ -6,13 +6,14 @@
 
 namespace lom::ui {
 
-void commitPendingEdits() {
+bool commitPendingEdits() {
   // The focus is on the spin box's line edit, a child of the spin box.
   for (QWidget* widget = QApplication::focusWidget(); widget; widget = widget->parentWidget())
     if (auto* spin = qobject_cast<QAbstractSpinBox*>(widget)) {
       spin->interpretText();
-      return;
+      return true;
     }
+  return false;
 }
 
 }  // namespace lom::ui

@@ -38,9 +38,16 @@ class AddBoxReaction : public Reaction {
   void updateEnabled();
   // Selects the label's box and says so; false when the label has none.
   bool selectExistingBox(int label);
-  void addFitted(const GroundTruthBox& box, bool fitted, unsigned generation);
+  // The label of the selected box (-1 for none).
+  [[nodiscard]] int selectedBoxLabel() const;
+  // A fit arrives after it was asked for: the value being typed into a box
+  // field is committed first, and a box the user has turned to since
+  // (`asked_with` is selectedBoxLabel() when asked) or is editing stays selected.
+  // `one_step`: the boxes are added in one undo step.
+  void addArrived(const std::vector<GroundTruthBox>& boxes, int asked_with, bool one_step);
+  void addFitted(const GroundTruthBox& box, bool fitted, unsigned generation, int asked_with);
   void fitAllLabels();
-  void addAllFitted(const std::vector<GroundTruthBox>& boxes, unsigned generation);
+  void addAllFitted(const std::vector<GroundTruthBox>& boxes, unsigned generation, int asked_with);
 
   Mode mode_;
   StudioSession& session_;

@@ -5,7 +5,8 @@
 // it is neither lost nor left out.
 namespace lom::ui {
 
-// Commits the text of the spin box that has the keyboard focus, if any.
-void commitPendingEdits();
+// Commits the text of the spin box that has the keyboard focus, if any; true
+// when a spin box has the focus (a value may be being typed).
+bool commitPendingEdits();
 
 }  // namespace lom::ui
