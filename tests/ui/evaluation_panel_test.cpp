@@ -289,5 +289,40 @@ TEST_F(EvaluationPanelTest, AMapFusedPartWayIsScoredAgainstTheViewsItFused) {
   EXPECT_GT(panel().report()->views.back(), 2u);
 }
 
+// Scores of the map being replaced are neither shown nor exportable while the
+// new map is fused, also when they were still being computed when it started.
+TEST_F(EvaluationPanelTest, ScoresOfTheMapBeingReplacedAreDroppedWhenFusionStarts) {
+  openAndFuse();
+  // The new fusion waits after its first frame until the end of the test.
+  auto released = std::make_shared<std::atomic<bool>>(false);
+  MapWorker& worker = window_.session().worker();
+  worker.setFrameFusedHook([released](size_t frames) {
+    while (frames == 1 && !*released) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  });
+  const std::shared_ptr<void> release(nullptr, [released](void*) { *released = true; });
+  // Fused again as soon as the scores of the fused map are asked for: before
+  // they can arrive.
+  bool refused = false;
+  QObject guard;
+  QObject::connect(
+      &worker, &MapWorker::evaluationStarted, &guard,
+      [&] {
+        if (refused) return;
+        refused = true;
+        window_.session().fuse();
+      },
+      Qt::QueuedConnection);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return refused && !worker.isEvaluating(); }, kTimeoutMs));
+  QTest::qWait(50);
+  ASSERT_TRUE(worker.isFusing());
+  EXPECT_FALSE(panel().report().has_value());
+  EXPECT_FALSE(panel().canExport());
+  EXPECT_EQ(panel().table().rowCount(), 0);
+  EXPECT_TRUE(panel().summaryText().contains("Fusing")) << panel().summaryText().toStdString();
+  *released = true;
+  waitForFusion();
+  waitForScores();
+}
+
 }  // namespace
 }  // namespace lom::ui

@@ -231,8 +231,9 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   });
   // A report belongs to one map and one set of boxes: once either changes it
   // cannot be exported until it is recomputed.
+  // So is the evaluation of the earlier map still on its way.
   connect(&worker, &MapWorker::stateChanged, this, [this](MapWorker::State state) {
-    if (state == MapWorker::State::Fusing && report_)
+    if (state == MapWorker::State::Fusing && (report_ || awaiting_))
       clearReport(tr("Fusing: the map is scored when fusion finishes."));
   });
   connect(&session_.controller(), &SequenceController::sequenceChanged, this,

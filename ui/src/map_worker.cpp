@@ -94,6 +94,8 @@ unsigned MapWorker::beginNewMap() {
   // worker may end that fusion and run the work queued behind it (an export
   // waiting for the map) at once, and that work must see the map replaced.
   ++map_generation_;
+  // An evaluation still running scores the map being replaced: it stops.
+  evaluation_generation_ += 1;
   cancel();
   paused_ = false;
   fusion_cancel_ = std::make_shared<std::atomic<bool>>(false);
