@@ -64,6 +64,7 @@ class BoxFilesTest : public ::testing::Test {
       offered_ << file;
       return accept_offer_;
     });
+    window_.setMapDiscardQuestion([](const QString&) { return true; });  // see unsaved_map_test.cpp
     window_.session().setAutoFuse(false);
     window_.resize(1280, 800);
     window_.show();

@@ -143,6 +143,7 @@ class ConversionProgressTest : public ::testing::Test {
       warnings_.push_back({title, message});
     });
     window_.setRecoveryOffer([](const QString&) { return false; });
+    window_.setMapDiscardQuestion([](const QString&) { return true; });  // see unsaved_map_test.cpp
     window_.resize(1280, 800);
     window_.show();
     ASSERT_TRUE(QTest::qWaitForWindowExposed(&window_));

@@ -46,6 +46,8 @@ class DemoWindowTest : public ::testing::Test {
       errors_.push_back(title + ": " + message);
     });
     window_.setRecoveryOffer([](const QString&) { return false; });
+    // Maps fused here are dropped without the question (unsaved_map_test.cpp asks it).
+    window_.setMapDiscardQuestion([](const QString&) { return true; });
     window_.resize(1280, 860);
     window_.show();
     ASSERT_TRUE(QTest::qWaitForWindowExposed(&window_));

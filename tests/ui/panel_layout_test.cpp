@@ -22,6 +22,7 @@ QDockWidget* panel(const MainWindow& window, const QString& object_name) {
 
 std::unique_ptr<MainWindow> shownWindow(bool remember) {
   auto window = std::make_unique<MainWindow>();
+  window->setMapDiscardQuestion([](const QString&) { return true; });  // see unsaved_map_test.cpp
   if (remember) window->rememberLayout();
   window->show();
   EXPECT_TRUE(QTest::qWaitForWindowExposed(window.get()));

@@ -47,6 +47,7 @@ class StudioWindowTest : public ::testing::Test {
     window_.setErrorReporter([this](const QString& title, const QString& message) {
       errors_.push_back({title, message});
     });
+    window_.setMapDiscardQuestion([](const QString&) { return true; });  // see unsaved_map_test.cpp
     window_.resize(1280, 800);
     window_.show();
     ASSERT_TRUE(QTest::qWaitForWindowExposed(&window_));

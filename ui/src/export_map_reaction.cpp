@@ -87,9 +87,13 @@ void ExportMapReaction::exportTo(const QString& path) {
             message = QString::fromStdString(error.what());
           }
         }
+        // The whole map in a colour octree is the map saved; other formats
+        // and a part of its labels are not.
+        const bool saved = ok && options.format == ExportFormat::Ot && !options.labels;
         QMetaObject::invokeMethod(
             worker,
-            [self, message, ok] {
+            [self, worker, message, ok, saved, generation] {
+              if (saved) worker->markMapSaved(generation);
               if (self) emit self->finished(message, ok);
             },
             Qt::QueuedConnection);

@@ -181,7 +181,9 @@ MainWindow::MainWindow(QWidget* parent)
               .arg(map));
   });
   new ConversionProgress(this, *controller_);
-  controller_->setDiscardGuard([this] { return confirmDiscard(); });
+  controller_->setDiscardGuard([this] { return confirmDiscard(tr("Opening another sequence")); });
+  session_->setMapDiscardGuard(
+      [this](const QString& replaced_by) { return confirmDiscardMap(replaced_by); });
 
   connect(controller_, &SequenceController::errorOccurred, this,
           [this](const QString& title, const QString& message) { report_error_(title, message); });
@@ -304,21 +306,40 @@ void MainWindow::createAnnotateMenu() {
     menu->addAction(action);
 }
 
-bool MainWindow::confirmDiscard() {
+bool MainWindow::confirmDiscard(const QString& replaced_by, bool ask_map) {
   // The recovery file stays until the boxes are really replaced: when the
   // other sequence fails to open, they are still the ones being worked on.
-  switch (askAboutUnsavedBoxes(this)) {
-    case UnsavedBoxesAnswer::Discard:
-      return true;
-    case UnsavedBoxesAnswer::Cancel:
-      return false;
-    case UnsavedBoxesAnswer::Save:
-      // Saving asks where it must (an unreadable file); a save that did not
-      // happen keeps the boxes and the window as they are.
-      findAction(tr("Save Boxes"))->trigger();
-      return !session_->annotations().isDirty();
+  if (session_->annotations().isDirty()) {
+    switch (askAboutUnsavedBoxes(this)) {
+      case UnsavedBoxesAnswer::Discard:
+        break;
+      case UnsavedBoxesAnswer::Cancel:
+        return false;
+      case UnsavedBoxesAnswer::Save:
+        // Saving asks where it must (an unreadable file); a save that did not
+        // happen keeps the boxes and the window as they are.
+        findAction(tr("Save Boxes"))->trigger();
+        if (session_->annotations().isDirty()) return false;
+        break;
+    }
   }
-  return false;
+  return !ask_map || !session_->worker().hasUnsavedMap() || confirmDiscardMap(replaced_by);
+}
+
+bool MainWindow::confirmDiscardMap(const QString& replaced_by) {
+  if (map_discard_question_) return map_discard_question_(replaced_by);
+  const bool fusing = session_->worker().isFusing();
+  QMessageBox question(
+      QMessageBox::Question, tr("Discard the fused map?"),
+      tr("The map %1 %2 has not been saved. %3 discards it.\n\nTo keep it, choose Cancel "
+         "and save it with Export ▸ Colour Octree (OT)… first.")
+          .arg(fusing ? tr("being fused from") : tr("fused from"), controller_->sequenceName(),
+               replaced_by),
+      QMessageBox::Cancel, this);
+  QPushButton* discard = question.addButton(tr("Discard Map"), QMessageBox::DestructiveRole);
+  question.setDefaultButton(QMessageBox::Cancel);
+  question.exec();
+  return question.clickedButton() == discard;
 }
 
 bool MainWindow::confirmStopWork() {
@@ -558,7 +579,10 @@ void MainWindow::onCurrentFrameChanged() {
 
 void MainWindow::closeEvent(QCloseEvent* event) {
   const bool unsaved = controller_->hasUnsavedWork();  // commits a value being typed first
-  if ((unsaved && !confirmDiscard()) || !confirmStopWork()) {
+  // A map still being fused is asked about with the rest of the work that
+  // closing stops.
+  const bool ask_map = !session_->worker().isFusing();
+  if ((unsaved && !confirmDiscard(tr("Closing the studio"), ask_map)) || !confirmStopWork()) {
     event->ignore();
     return;
   }

@@ -105,6 +105,7 @@ unsigned MapWorker::beginNewMap() {
 void MapWorker::startFusion(std::shared_ptr<const Sequence> sequence,
                             const FusionOptions& options) {
   const unsigned id = beginNewMap();
+  unsaved_map_ = true;
   post([this, sequence, options, id, cancelled = fusion_cancel_] {
     fuse(sequence, options, id, cancelled);
   }, false);
@@ -114,6 +115,7 @@ void MapWorker::startFusion(std::shared_ptr<const Sequence> sequence,
 
 void MapWorker::adoptMap(std::shared_ptr<LabelMap> map, size_t frames, const QString& source) {
   const unsigned id = beginNewMap();
+  unsaved_map_ = false;
   threshold_ = map->parameters().occupancy_threshold;
   threshold_pending_ = false;
   post(
@@ -244,6 +246,7 @@ void MapWorker::cancel() {
 }
 
 void MapWorker::reset() {
+  unsaved_map_ = false;
   evaluation_generation_ += 1;
   ++map_generation_;  // before the cancel, as in startFusion
   cancel();

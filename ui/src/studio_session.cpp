@@ -1,5 +1,7 @@
 #include "lom/ui/studio_session.hpp"
 
+#include <QFileInfo>
+
 #include "lom/annotations.hpp"
 #include "lom/evaluation.hpp"
 #include "lom/ui/annotation_files.hpp"
@@ -43,7 +45,7 @@ StudioSession::StudioSession(QObject* parent)
           });
   controller_->setUnsavedWorkCheck([this] {
     commitPendingEdits();  // a value still being typed is part of the work
-    return annotations_->isDirty();
+    return annotations_->isDirty() || worker_->hasUnsavedMap();
   });
   connect(controller_, &SequenceController::sequenceChanged, this,
           &StudioSession::onSequenceChanged);
@@ -72,6 +74,9 @@ void StudioSession::onSequenceChanged() {
 
 void StudioSession::openMap(const QString& path) {
   if (!sequence_) return;
+  if (worker_->hasUnsavedMap() && map_discard_guard_ &&
+      !map_discard_guard_(tr("Opening %1").arg(QFileInfo(path).fileName())))
+    return;
   map_reader_->read(path, sequence_);
 }
 
@@ -99,6 +104,8 @@ void StudioSession::fuse() {
 }
 
 void StudioSession::resetMap() {
+  if (worker_->hasUnsavedMap() && map_discard_guard_ && !map_discard_guard_(tr("Reset Map")))
+    return;
   ++map_generation_;
   map_reader_->forget();  // a file still being read must not fill the map just emptied
   worker_->reset();

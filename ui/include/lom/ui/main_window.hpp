@@ -62,6 +62,12 @@ class MainWindow : public QMainWindow {
   void setWarningReporter(ErrorReporter reporter) { report_warning_ = std::move(reporter); }
   // Replaces the question asked before restoring a recovery file (tests).
   void setRecoveryOffer(std::function<bool(const QString&)> offer);
+  // Replaces the question asked before a map fused here and not saved is
+  // dropped (confirmDiscardMap; argument: what replaces it; true drops it).
+  // Empty: the question is a message box.
+  void setMapDiscardQuestion(std::function<bool(const QString&)> ask) {
+    map_discard_question_ = std::move(ask);
+  }
   // Restores the window's size, position and panels from the last session
   // that remembered them, and saves them when the window closes. Off unless
   // called: screenshots and tests start from the default layout and leave the
@@ -77,7 +83,12 @@ class MainWindow : public QMainWindow {
   void createMenus(const TimelineWidget::StepActions& step_actions);
   void createDocks();
   void createAnnotateMenu();
-  [[nodiscard]] bool confirmDiscard();
+  // Asks before unsaved boxes, and (with `ask_map`) a map fused here and not
+  // saved, are dropped by `replaced_by`; true to go on.
+  [[nodiscard]] bool confirmDiscard(const QString& replaced_by, bool ask_map = true);
+  // Asks before the map fused here and not saved is dropped by `replaced_by`
+  // (another sequence, a map file, Reset Map, closing); true to go on.
+  [[nodiscard]] bool confirmDiscardMap(const QString& replaced_by);
   // Asks before closing drops a conversion, a running fusion or queued map
   // work (exports, box fits); true when there is none or the user agrees.
   [[nodiscard]] bool confirmStopWork();
@@ -107,6 +118,7 @@ class MainWindow : public QMainWindow {
   SceneView* scene_view_;
   TimelineWidget* timeline_;
   QLabel* status_label_;
+  std::function<bool(const QString&)> map_discard_question_;
 };
 
 }  // namespace lom::ui

@@ -65,6 +65,14 @@ class MapWorker : public QObject {
   // fusion compares it with the value it was queued with to tell whether the
   // map it was asked for was replaced meanwhile (re-fused, another sequence).
   [[nodiscard]] unsigned mapGeneration() const { return map_generation_; }
+  // Whether the map was fused here (in whole or in part) and not written to a
+  // colour octree since: work that closing the window or replacing the map
+  // would lose. A map opened from a file, or no map, is not.
+  [[nodiscard]] bool hasUnsavedMap() const { return unsaved_map_; }
+  // The map of `generation` was written whole to a .ot file.
+  void markMapSaved(unsigned generation) {
+    if (generation == map_generation_) unsaved_map_ = false;
+  }
 
   [[nodiscard]] State state() const { return state_; }
   [[nodiscard]] bool isFusing() const { return state_ != State::Idle; }
@@ -127,6 +135,7 @@ class MapWorker : public QObject {
   std::atomic<bool> paused_{false};
   std::atomic<bool> threshold_pending_{false};
   std::atomic<double> threshold_{0.5};
+  bool unsaved_map_ = false;  // GUI thread
   std::atomic<unsigned> evaluation_generation_{0};
   std::atomic<int> snapshot_interval_ms_{200};
   std::function<void(size_t)> frame_fused_hook_;  // guarded by mutex_

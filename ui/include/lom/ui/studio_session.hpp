@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <QObject>
 #include <QString>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <set>
@@ -39,7 +40,14 @@ class StudioSession : public QObject {
   void setAutoFuse(bool on) { auto_fuse_ = on; }
 
   void fuse();        // (re)starts fusion of the whole sequence
-  void resetMap();    // cancels and drops the map
+  void resetMap();    // cancels and drops the map (after the map guard, below)
+  // Asked before Reset Map or Open Map drops a map with unsaved work
+  // (MapWorker::hasUnsavedMap), with what is about to replace it; false
+  // cancels. A new fusion replaces the map unasked: it is the map of the same
+  // sequence, fused again with the settings the Fusion panel shows.
+  void setMapDiscardGuard(std::function<bool(const QString& replaced_by)> guard) {
+    map_discard_guard_ = std::move(guard);
+  }
   // Reads a map fused earlier (a .ot file, e.g. by `labeloctomap fuse`) in the
   // background and, when it has the open sequence's labels, makes it the map
   // instead of fusing: a fusion in progress is cancelled and the fusion
@@ -85,6 +93,7 @@ class StudioSession : public QObject {
   int selected_label_ = -1;
   std::optional<Eigen::Vector3d> picked_point_;
   MapFileReader* map_reader_;
+  std::function<bool(const QString&)> map_discard_guard_;
 };
 
 }  // namespace lom::ui

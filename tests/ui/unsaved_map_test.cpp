@@ -1,0 +1,139 @@
+// A map fused in the studio is work: closing the window, opening another
+// sequence, opening a map file or Reset Map ask before they drop it, until it
+// is saved as a colour octree (.ot). A map opened from a file is saved work;
+// fusing again replaces the map without asking (the same sequence, the
+// settings the Fusion panel shows).
+#include <gtest/gtest.h>
+
+#include <QAction>
+#include <QTest>
+#include <filesystem>
+
+#include "demo_window_fixture.hpp"
+#include "dialog_answerer.hpp"
+#include "lom/fusion.hpp"
+#include "lom/ui/export_map_reaction.hpp"
+#include "lom/ui/open_map_reaction.hpp"
+
+namespace lom::ui {
+namespace {
+
+using fixture::kTimeoutMs;
+using fixture::qPath;
+
+class UnsavedMapTest : public fixture::DemoWindowTest {
+ protected:
+  void SetUp() override {
+    DemoWindowTest::SetUp();
+    window_.setMapDiscardQuestion({});  // the window's own question
+  }
+  StudioSession& session() { return window_.session(); }
+  // Exports the map with the Export menu's item `item`; true when written.
+  bool exportWith(const QString& item, const std::filesystem::path& path) {
+    auto* exporter = window_.findAction(item)->findChild<ExportMapReaction*>();
+    EXPECT_NE(exporter, nullptr);
+    if (!exporter) return false;
+    bool done = false, ok = false;
+    const auto connection = QObject::connect(exporter, &ExportMapReaction::finished, &window_,
+                                             [&](const QString&, bool written) {
+                                               done = true;
+                                               ok = written;
+                                             });
+    exporter->exportTo(qPath(path));
+    EXPECT_TRUE(QTest::qWaitFor([&] { return done; }, kTimeoutMs));
+    QObject::disconnect(connection);
+    return ok;
+  }
+  void openMapFile(const std::filesystem::path& path) {
+    auto* reaction = window_.findAction("Open Map…")->findChild<OpenMapReaction*>();
+    ASSERT_NE(reaction, nullptr);
+    reaction->setChooser([path](const QString&) { return qPath(path); });
+    window_.findAction("Open Map…")->trigger();
+    ASSERT_TRUE(QTest::qWaitFor(
+        [&] { return !session().isOpeningMap() && !session().worker().isFusing(); }, kTimeoutMs));
+    QTest::qWait(50);
+  }
+  [[nodiscard]] size_t framesShown() { return session().worker().snapshot()->frames_fused; }
+};
+
+TEST_F(UnsavedMapTest, ClosingAfterAFusionAsksAndCancelKeepsTheWindow) {
+  openAndFuse();
+  EXPECT_TRUE(session().worker().hasUnsavedMap());
+  {
+    test::DialogAnswerer answer("Cancel");
+    EXPECT_FALSE(window_.close());
+    ASSERT_EQ(answer.questions.size(), 1);
+    EXPECT_TRUE(
+        answer.questions.front().contains("has not been saved. Closing the studio discards it"))
+        << answer.questions.front().toStdString();
+  }
+  EXPECT_EQ(framesShown(), static_cast<size_t>(fixture::smallDemo().frames));
+  test::DialogAnswerer answer("Discard Map");
+  EXPECT_TRUE(window_.close());
+  EXPECT_EQ(answer.questions.size(), 1);
+}
+
+TEST_F(UnsavedMapTest, ReplacingTheMapAsksFirstAndCancelKeepsIt) {
+  openAndFuse();
+  const unsigned generation = session().mapGeneration();
+  const auto file = temp_.path() / "other.ot";
+  fuseSequence(loadSequence(folder_), FusionOptions{}).save(file);
+  {  // Reset Map, Open Map… and another sequence, each cancelled.
+    test::DialogAnswerer answer("Cancel");
+    window_.findAction("Reset Map")->trigger();
+    openMapFile(file);
+    EXPECT_FALSE(window_.controller().openSequence(qPath(folder_)));
+    ASSERT_EQ(answer.questions.size(), 3);
+    EXPECT_TRUE(answer.questions[0].contains("Reset Map discards it"));
+    EXPECT_TRUE(answer.questions[1].contains("Opening other.ot discards it"));
+    EXPECT_TRUE(answer.questions[2].contains("Opening another sequence discards it"));
+  }
+  EXPECT_EQ(session().mapGeneration(), generation);
+  EXPECT_EQ(framesShown(), static_cast<size_t>(fixture::smallDemo().frames));
+  EXPECT_TRUE(session().worker().hasUnsavedMap());
+
+  // Discarded: Reset Map empties it, and an empty map is nothing to lose.
+  {
+    test::DialogAnswerer answer("Discard Map");
+    window_.findAction("Reset Map")->trigger();
+    EXPECT_EQ(answer.questions.size(), 1);
+  }
+  ASSERT_TRUE(QTest::qWaitFor([&] { return framesShown() == 0; }, kTimeoutMs));
+  EXPECT_FALSE(session().worker().hasUnsavedMap());
+
+  // A map opened from its file is saved work: closing asks nothing.
+  openMapFile(file);
+  EXPECT_TRUE(errors_.empty());
+  EXPECT_FALSE(session().worker().hasUnsavedMap());
+  test::DialogAnswerer answer("Cancel");
+  EXPECT_TRUE(window_.close());
+  EXPECT_TRUE(answer.questions.isEmpty());
+}
+
+TEST_F(UnsavedMapTest, TheWholeMapExportedAsAColourOctreeIsSaved) {
+  openAndFuse();
+  // A mesh or a part of the labels is not the map.
+  ASSERT_TRUE(exportWith("Voxel Mesh (PLY)…", temp_.path() / "map.ply"));
+  EXPECT_TRUE(session().worker().hasUnsavedMap());
+  window_.findAction("Only Labels Shown")->setChecked(true);
+  session().setHiddenLabels({1});
+  ASSERT_TRUE(exportWith("Colour Octree (OT)…", temp_.path() / "part.ot"));
+  EXPECT_TRUE(session().worker().hasUnsavedMap());
+  window_.findAction("Only Labels Shown")->setChecked(false);
+  ASSERT_TRUE(exportWith("Colour Octree (OT)…", temp_.path() / "map.ot"));
+  EXPECT_FALSE(session().worker().hasUnsavedMap());
+  // Fusing again makes a new map to save; it replaces the saved one unasked.
+  {
+    test::DialogAnswerer answer("Cancel");
+    window_.findAction("Fuse Sequence")->trigger();
+    waitForFusion();
+    EXPECT_TRUE(answer.questions.isEmpty());
+  }
+  EXPECT_TRUE(session().worker().hasUnsavedMap());
+  test::DialogAnswerer answer("Discard Map");
+  EXPECT_TRUE(window_.close());
+  EXPECT_EQ(answer.questions.size(), 1);
+}
+
+}  // namespace
+}  // namespace lom::ui
