@@ -61,20 +61,25 @@ TEST(StudioCommandLine, ScreenshotWritesAPictureOfTheWindow) {
   EXPECT_GE(shot.width(), 800);
 }
 
+// A 5 cm box of `label` in front of the tiny sequence's camera.
+lom::Annotations oneBox(int label, const char* name) {
+  lom::Annotations boxes;
+  lom::GroundTruthBox box;
+  box.label = label;
+  box.name = name;
+  box.box.center = {0.1, 0.0, 0.6};
+  box.box.size = {0.05, 0.05, 0.05};
+  boxes.boxes.push_back(box);
+  return boxes;
+}
+
 // Boxes of a label the sequence lacks are kept and reported: a warning on
 // stderr, not a failure; and taking a picture is not a session to reopen, so
 // the Recent list stays as it was.
 TEST(StudioCommandLine, ScreenshotWarnsAboutUnknownLabelsAndLeavesTheRecentListAlone) {
   lom::test::TempDir temp;
   const auto tiny = lom::test::writeTinySequence(temp / "seq");
-  lom::Annotations boxes;
-  lom::GroundTruthBox box;
-  box.label = 99;
-  box.name = "mystery";
-  box.box.center = {0.1, 0.0, 0.6};
-  box.box.size = {0.05, 0.05, 0.05};
-  boxes.boxes.push_back(box);
-  lom::saveAnnotations(boxes, tiny.folder / "annotations.json");
+  lom::saveAnnotations(oneBox(99, "mystery"), tiny.folder / "annotations.json");
   QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
   environment.insert("XDG_CONFIG_HOME", qPath(temp / "config"));
   const auto out = temp / "window.png";
@@ -101,14 +106,7 @@ TEST(StudioCommandLine, ScreenshotLeavesTheBoxRecoveryFileForTheNextSession) {
   const auto recovery =
       temp / "data" / "LabelOctoMap" / "LabelOctoMap Studio" / "recovery" / name.toStdString();
   std::filesystem::create_directories(recovery.parent_path());
-  lom::Annotations boxes;
-  lom::GroundTruthBox box;
-  box.label = 1;
-  box.name = "square_box";
-  box.box.center = {0.1, 0.0, 0.6};
-  box.box.size = {0.05, 0.05, 0.05};
-  boxes.boxes.push_back(box);
-  lom::saveAnnotations(boxes, recovery);
+  lom::saveAnnotations(oneBox(1, "square_box"), recovery);
   const std::string before = slurp(recovery);
   QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
   environment.insert("XDG_DATA_HOME", qPath(temp / "data"));
