@@ -17,6 +17,11 @@ namespace lom::ui {
 
 namespace {
 
+// "1 box", "3 boxes".
+QString count(size_t n, const QString& one, const QString& many) {
+  return QString::number(n) + " " + (n == 1 ? one : many);
+}
+
 // The box of a label's voxels: fitted to their largest cluster (none without voxels).
 std::optional<OrientedBox> fittedBox(const std::vector<VoxelKey>& voxels, double resolution) {
   const std::vector<VoxelKey> cluster = largestCluster(voxels, 2.0);
@@ -116,9 +121,6 @@ void AddBoxReaction::addArrived(const std::vector<GroundTruthBox>& boxes, int as
   if (!one_step) {
     for (const GroundTruthBox& box : boxes) model.addBox(box);
   } else {
-    const auto count = [](size_t n, const QString& one, const QString& many) {
-      return QString::number(n) + " " + (n == 1 ? one : many);
-    };
     // One undo step for the lot.
     model.undoStack().beginMacro(
         tr("Add %1 from label voxels").arg(count(boxes.size(), tr("box"), tr("boxes"))));
@@ -210,9 +212,6 @@ void AddBoxReaction::addAllFitted(const std::vector<GroundTruthBox>& boxes, unsi
                                            : tr("The map has no voxels of any object label."));
     return;
   }
-  const auto count = [](size_t n, const QString& one, const QString& many) {
-    return QString::number(n) + " " + (n == 1 ? one : many);
-  };
   addArrived(added, asked_with, true);
   QString message =
       tr("Added %1 fitted to label voxels").arg(count(added.size(), tr("box"), tr("boxes")));
