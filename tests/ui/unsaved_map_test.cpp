@@ -8,6 +8,7 @@
 #include <QAction>
 #include <QTest>
 #include <filesystem>
+#include <fstream>
 
 #include "demo_window_fixture.hpp"
 #include "dialog_answerer.hpp"
@@ -133,6 +134,20 @@ TEST_F(UnsavedMapTest, TheWholeMapExportedAsAColourOctreeIsSaved) {
   test::DialogAnswerer answer("Discard Map");
   EXPECT_TRUE(window_.close());
   EXPECT_EQ(answer.questions.size(), 1);
+}
+
+// A fusion that fused nothing (its first frame unreadable) leaves nothing to lose.
+TEST_F(UnsavedMapTest, AFusionThatFusedNothingIsNotAsked) {
+  const Sequence sequence = loadSequence(folder_);
+  std::ofstream(sequence.pathOf(sequence.frames.front().depth), std::ios::trunc) << "not a PNG";
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !session().worker().isFusing(); }, kTimeoutMs));
+  QTest::qWait(50);
+  EXPECT_FALSE(errors_.empty());
+  EXPECT_FALSE(session().worker().hasUnsavedMap());
+  test::DialogAnswerer answer("Cancel");
+  EXPECT_TRUE(window_.close());
+  EXPECT_TRUE(answer.questions.isEmpty()) << answer.questions.join('\n').toStdString();
 }
 
 }  // namespace

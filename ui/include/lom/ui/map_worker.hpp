@@ -65,10 +65,13 @@ class MapWorker : public QObject {
   // fusion compares it with the value it was queued with to tell whether the
   // map it was asked for was replaced meanwhile (re-fused, another sequence).
   [[nodiscard]] unsigned mapGeneration() const { return map_generation_; }
-  // Whether the map was fused here (in whole or in part) and not written to a
-  // colour octree since: work that closing the window or replacing the map
-  // would lose. A map opened from a file, or no map, is not.
-  [[nodiscard]] bool hasUnsavedMap() const { return unsaved_map_; }
+  // Whether the map shown was fused here (in whole or in part) and not
+  // written to a colour octree since: work that closing the window or
+  // replacing the map would lose. A map opened from a file is not, nor a map
+  // without voxels (a fusion that failed or has fused nothing yet).
+  [[nodiscard]] bool hasUnsavedMap() const {
+    return unsaved_map_ && snapshot_ && !snapshot_->empty();
+  }
   // The map of `generation` was written whole to a .ot file.
   void markMapSaved(unsigned generation) {
     if (generation == map_generation_) unsaved_map_ = false;
