@@ -1,6 +1,7 @@
 // A map fused in the studio is work: closing the window, opening another
 // sequence, opening a map file or Reset Map ask before they drop it, until it
-// is saved as a colour octree (.ot). A map opened from a file is saved work;
+// is saved (File ▸ Save Map…, the map's own .ot that Open Map… reads back).
+// A map opened from a file is saved work;
 // fusing again replaces the map without asking (the same sequence, the
 // settings the Fusion panel shows).
 #include <gtest/gtest.h>
@@ -69,9 +70,24 @@ TEST_F(UnsavedMapTest, ClosingAfterAFusionAsksAndCancelKeepsTheWindow) {
         << answer.questions.front().toStdString();
   }
   EXPECT_EQ(framesShown(), static_cast<size_t>(fixture::smallDemo().frames));
-  test::DialogAnswerer answer("Discard Map");
+  // Save Map… writes the whole map (Only Labels Shown or not) where the file
+  // dialog says, and the window closes; a cancelled dialog keeps it open.
+  window_.findAction("Only Labels Shown")->setChecked(true);
+  const int hidden = *visibleObjectLabels().begin();
+  session().setHiddenLabels({hidden});
+  {
+    test::DialogAnswerer answer("Save Map");
+    EXPECT_FALSE(window_.close());
+    EXPECT_EQ(answer.questions.size(), 1);
+    EXPECT_TRUE(session().worker().hasUnsavedMap());
+  }
+  const auto saved = temp_.path() / "kept.ot";
+  test::DialogAnswerer answer("Save Map", qPath(saved));
   EXPECT_TRUE(window_.close());
   EXPECT_EQ(answer.questions.size(), 1);
+  ASSERT_TRUE(std::filesystem::exists(saved));
+  const LabelMap kept = LabelMap::load(saved);
+  EXPECT_GT(kept.occupiedCountPerLabel().count(hidden), 0u);  // hidden, and saved all the same
 }
 
 TEST_F(UnsavedMapTest, ReplacingTheMapAsksFirstAndCancelKeepsIt) {
@@ -111,17 +127,22 @@ TEST_F(UnsavedMapTest, ReplacingTheMapAsksFirstAndCancelKeepsIt) {
   EXPECT_TRUE(answer.questions.isEmpty());
 }
 
-TEST_F(UnsavedMapTest, TheWholeMapExportedAsAColourOctreeIsSaved) {
+TEST_F(UnsavedMapTest, SaveMapWritesTheMapThatOpenMapReadsBack) {
   openAndFuse();
-  // A mesh or a part of the labels is not the map.
+  // Exports are not the map: a mesh, a colour octree (for octovis).
   ASSERT_TRUE(exportWith("Voxel Mesh (PLY)…", temp_.path() / "map.ply"));
+  ASSERT_TRUE(exportWith("Colour Octree (OT)…", temp_.path() / "colour.ot"));
   EXPECT_TRUE(session().worker().hasUnsavedMap());
+  // Save Map… writes every label, whatever the 3D view hides.
   window_.findAction("Only Labels Shown")->setChecked(true);
-  session().setHiddenLabels({1});
-  ASSERT_TRUE(exportWith("Colour Octree (OT)…", temp_.path() / "part.ot"));
-  EXPECT_TRUE(session().worker().hasUnsavedMap());
-  window_.findAction("Only Labels Shown")->setChecked(false);
-  ASSERT_TRUE(exportWith("Colour Octree (OT)…", temp_.path() / "map.ot"));
+  const int hidden = *visibleObjectLabels().begin();
+  session().setHiddenLabels({hidden});
+  ASSERT_TRUE(exportWith("Save Map…", temp_.path() / "map.ot"));
+  EXPECT_FALSE(session().worker().hasUnsavedMap());
+  const LabelMap saved = LabelMap::load(temp_.path() / "map.ot");
+  EXPECT_GT(saved.occupiedCountPerLabel().count(hidden), 0u);
+  openMapFile(temp_.path() / "map.ot");
+  EXPECT_TRUE(errors_.empty());
   EXPECT_FALSE(session().worker().hasUnsavedMap());
   // Fusing again makes a new map to save; it replaces the saved one unasked.
   {

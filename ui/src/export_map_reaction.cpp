@@ -1,6 +1,7 @@
 #include "lom/ui/export_map_reaction.hpp"
 
 #include <QAction>
+#include <QEventLoop>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QMetaObject>
@@ -29,27 +30,48 @@ ExportMapReaction::ExportMapReaction(QAction* action, ExportOptions options,
   });
 }
 
-void ExportMapReaction::onTriggered() {
+QString ExportMapReaction::askPath() const {
   const QString extension = QString::fromLatin1(exportFormatName(options_.format));
-  const QString path = QFileDialog::getSaveFileName(
-      parent_, tr("Export Map"), "map." + extension,
-      tr("%1 files (*.%2)").arg(extension.toUpper(), extension));
+  return QFileDialog::getSaveFileName(parent_, options_.native ? tr("Save Map") : tr("Export Map"),
+                                      "map." + extension,
+                                      tr("%1 files (*.%2)").arg(extension.toUpper(), extension));
+}
+
+void ExportMapReaction::onTriggered() {
+  const QString path = askPath();
   if (!path.isEmpty()) exportTo(path);
 }
 
-void ExportMapReaction::exportTo(const QString& path) {
+bool ExportMapReaction::exportAndWait() {
+  const QString path = askPath();
+  if (path.isEmpty()) return false;
+  bool done = false, written = false;
+  QEventLoop loop;
+  const auto connection =
+      connect(this, &ExportMapReaction::finished, &loop, [&](const QString&, bool ok) {
+        done = true;
+        written = ok;
+        loop.quit();
+      });
+  if (exportTo(path, true) && !done) loop.exec();
+  disconnect(connection);
+  return written;
+}
+
+bool ExportMapReaction::exportTo(const QString& path, bool whole_map) {
   if (const QString input = session_.controller().sequenceFileAt(path); !input.isEmpty()) {
     report_(tr("Export"), tr("%1 is a file of the sequence (%2): exports never replace it. "
                              "Choose another name.")
                               .arg(path, input));
-    return;
+    return false;
   }
   QPointer<ExportMapReaction> self(this);
   MapWorker* worker = &session_.worker();
   ExportOptions options = options_;
   QString shown_note;
   const std::set<int>& hidden = session_.hiddenLabels();
-  if (only_shown_ && only_shown_->isChecked() && !hidden.empty() && session_.sequence()) {
+  if (!whole_map && only_shown_ && only_shown_->isChecked() && !hidden.empty() &&
+      session_.sequence()) {
     std::set<int> shown;
     const int count = static_cast<int>(session_.sequence()->labels.size());
     for (int label = 0; label < count; ++label)
@@ -87,9 +109,11 @@ void ExportMapReaction::exportTo(const QString& path) {
             message = QString::fromStdString(error.what());
           }
         }
-        // The whole map in a colour octree is the map saved; other formats
-        // and a part of its labels are not.
-        const bool saved = ok && options.format == ExportFormat::Ot && !options.labels;
+        // The map's own tree, every label, is the map saved (Open Map reads
+        // it back); a colour octree, other formats and a part of the labels
+        // are not.
+        const bool saved =
+            ok && options.format == ExportFormat::Ot && options.native && !options.labels;
         QMetaObject::invokeMethod(
             worker,
             [self, worker, message, ok, saved, generation] {
@@ -99,6 +123,7 @@ void ExportMapReaction::exportTo(const QString& path) {
             Qt::QueuedConnection);
       },
       tr("export of the map to %1").arg(path));
+  return true;
 }
 
 }  // namespace lom::ui

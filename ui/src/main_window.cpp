@@ -328,17 +328,29 @@ bool MainWindow::confirmDiscard(const QString& replaced_by, bool ask_map) {
 
 bool MainWindow::confirmDiscardMap(const QString& replaced_by) {
   if (map_discard_question_) return map_discard_question_(replaced_by);
+  // A map still being fused is saved once fusion ends (Cancel Fusion ends
+  // it now): not from this question, which would wait for it.
   const bool fusing = session_->worker().isFusing();
   QMessageBox question(
-      QMessageBox::Question, tr("Discard the fused map?"),
-      tr("The map %1 %2 has not been saved. %3 discards it.\n\nTo keep it, choose Cancel "
-         "and save it with Export ▸ Colour Octree (OT)… first.")
-          .arg(fusing ? tr("being fused from") : tr("fused from"), controller_->sequenceName(),
-               replaced_by),
+      QMessageBox::Question, tr("Save the fused map?"),
+      tr("The map %1 %2 has not been saved. %3 discards it.")
+              .arg(fusing ? tr("being fused from") : tr("fused from"), controller_->sequenceName(),
+                   replaced_by) +
+          (fusing ? tr("\n\nTo keep it, choose Cancel and save it (File ▸ Save Map…) once "
+                       "fusion ends.")
+                  : QString()),
       QMessageBox::Cancel, this);
+  QPushButton* save = fusing || !map_saver_
+                          ? nullptr
+                          : question.addButton(tr("Save Map…"), QMessageBox::AcceptRole);
   QPushButton* discard = question.addButton(tr("Discard Map"), QMessageBox::DestructiveRole);
-  question.setDefaultButton(QMessageBox::Cancel);
+  if (save)
+    question.setDefaultButton(save);
+  else
+    question.setDefaultButton(QMessageBox::Cancel);
   question.exec();
+  if (save && question.clickedButton() == save)
+    return map_saver_->exportAndWait() && !session_->worker().hasUnsavedMap();
   return question.clickedButton() == discard;
 }
 
@@ -440,6 +452,19 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
                            this);
   new RecentSequencesReaction(file->addMenu(tr("Open &Recent")), recent_, *controller_);
   new OpenMapReaction(file->addAction(tr("Open &Map…")), *session_, this);
+  {  // The map itself (a LabelOcTree .ot, as `labeloctomap fuse` writes it), every label.
+    ExportOptions options;
+    options.format = ExportFormat::Ot;
+    options.native = true;
+    map_saver_ = new ExportMapReaction(file->addAction(tr("Save M&ap…")), options, *session_, this,
+                                       report_error_);
+    connect(map_saver_, &ExportMapReaction::queued, this,
+            [this](const QString& message) { statusBar()->showMessage(message); });
+    connect(map_saver_, &ExportMapReaction::finished, this,
+            [this](const QString& message, bool ok) {
+              if (ok) statusBar()->showMessage(message, 8000);
+            });
+  }
   file->addSeparator();
   auto box_file = [&](const QString& text, BoxFileReaction::Kind kind, const QKeySequence& key) {
     QAction* action = file->addAction(text);

@@ -19,7 +19,12 @@ class ExportMapReaction : public Reaction {
                     QWidget* parent, const ErrorReporter& report);
   // Exports to `path` without asking; the result arrives through finished().
   // While fusion runs the export waits for it to end, which queued() says.
-  void exportTo(const QString& path);
+  // False when refused at once (a file of the sequence): then no finished().
+  // `whole_map` ignores Only Labels Shown.
+  bool exportTo(const QString& path, bool whole_map = false);
+  // Asks where (the file dialog of the menu item), writes the whole map there
+  // and waits for it, the window's events still running; true when written.
+  [[nodiscard]] bool exportAndWait();
   // When `only_shown` is checked, exports leave out the labels hidden in the
   // 3D view (Export > Only Labels Shown).
   void setOnlyShownAction(const QAction* only_shown) { only_shown_ = only_shown; }
@@ -32,6 +37,8 @@ class ExportMapReaction : public Reaction {
   void onTriggered() override;
 
  private:
+  [[nodiscard]] QString askPath() const;
+
   ExportOptions options_;
   const QAction* only_shown_ = nullptr;
   StudioSession& session_;

@@ -14,6 +14,7 @@ namespace lom::ui {
 
 class BoxEditorPanel;
 class EvaluationPanel;
+class ExportMapReaction;
 class BoxesAutosave;
 class FrameImagesView;
 class FusionPanel;
@@ -119,6 +120,7 @@ class MainWindow : public QMainWindow {
   TimelineWidget* timeline_;
   QLabel* status_label_;
   std::function<bool(const QString&)> map_discard_question_;
+  ExportMapReaction* map_saver_ = nullptr;  // File ▸ Save Map…
 };
 
 }  // namespace lom::ui

@@ -66,13 +66,13 @@ class MapWorker : public QObject {
   // map it was asked for was replaced meanwhile (re-fused, another sequence).
   [[nodiscard]] unsigned mapGeneration() const { return map_generation_; }
   // Whether the map shown was fused here (in whole or in part) and not
-  // written to a colour octree since: work that closing the window or
+  // saved since (File ▸ Save Map…, the map's own .ot): work that closing the window or
   // replacing the map would lose. A map opened from a file is not, nor a map
   // without voxels (a fusion that failed or has fused nothing yet).
   [[nodiscard]] bool hasUnsavedMap() const {
     return unsaved_map_ && snapshot_ && !snapshot_->empty();
   }
-  // The map of `generation` was written whole to a .ot file.
+  // The map of `generation` was written whole, as its own tree, to a .ot file.
   void markMapSaved(unsigned generation) {
     if (generation == map_generation_) unsaved_map_ = false;
   }
