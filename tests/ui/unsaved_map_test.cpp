@@ -34,17 +34,7 @@ class UnsavedMapTest : public fixture::DemoWindowTest {
   bool exportWith(const QString& item, const std::filesystem::path& path) {
     auto* exporter = window_.findAction(item)->findChild<ExportMapReaction*>();
     EXPECT_NE(exporter, nullptr);
-    if (!exporter) return false;
-    bool done = false, ok = false;
-    const auto connection = QObject::connect(exporter, &ExportMapReaction::finished, &window_,
-                                             [&](const QString&, bool written) {
-                                               done = true;
-                                               ok = written;
-                                             });
-    exporter->exportTo(qPath(path));
-    EXPECT_TRUE(QTest::qWaitFor([&] { return done; }, kTimeoutMs));
-    QObject::disconnect(connection);
-    return ok;
+    return exporter && exporter->exportToAndWait(qPath(path));
   }
   void openMapFile(const std::filesystem::path& path) {
     auto* reaction = window_.findAction("Open Map…")->findChild<OpenMapReaction*>();

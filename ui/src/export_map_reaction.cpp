@@ -44,7 +44,10 @@ void ExportMapReaction::onTriggered() {
 
 bool ExportMapReaction::exportAndWait() {
   const QString path = askPath();
-  if (path.isEmpty()) return false;
+  return !path.isEmpty() && exportToAndWait(path);
+}
+
+bool ExportMapReaction::exportToAndWait(const QString& path) {
   bool done = false, written = false;
   QEventLoop loop;
   const auto connection =
@@ -53,12 +56,12 @@ bool ExportMapReaction::exportAndWait() {
         written = ok;
         loop.quit();
       });
-  if (exportTo(path, true) && !done) loop.exec();
+  if (exportTo(path) && !done) loop.exec();
   disconnect(connection);
   return written;
 }
 
-bool ExportMapReaction::exportTo(const QString& path, bool whole_map) {
+bool ExportMapReaction::exportTo(const QString& path) {
   if (const QString input = session_.controller().sequenceFileAt(path); !input.isEmpty()) {
     report_(tr("Export"), tr("%1 is a file of the sequence (%2): exports never replace it. "
                              "Choose another name.")
@@ -70,8 +73,7 @@ bool ExportMapReaction::exportTo(const QString& path, bool whole_map) {
   ExportOptions options = options_;
   QString shown_note;
   const std::set<int>& hidden = session_.hiddenLabels();
-  if (!whole_map && only_shown_ && only_shown_->isChecked() && !hidden.empty() &&
-      session_.sequence()) {
+  if (only_shown_ && only_shown_->isChecked() && !hidden.empty() && session_.sequence()) {
     std::set<int> shown;
     const int count = static_cast<int>(session_.sequence()->labels.size());
     for (int label = 0; label < count; ++label)

@@ -354,6 +354,17 @@ bool MainWindow::confirmDiscardMap(const QString& replaced_by) {
   return question.clickedButton() == discard;
 }
 
+void MainWindow::showProgressOf(ExportMapReaction* reaction) {
+  connect(reaction, &ExportMapReaction::queued, this,
+          [this](const QString& message) { statusBar()->showMessage(message); });
+  connect(reaction, &ExportMapReaction::finished, this, [this](const QString& message, bool ok) {
+    if (ok)
+      statusBar()->showMessage(message, 8000);
+    else
+      statusBar()->clearMessage();
+  });
+}
+
 bool MainWindow::confirmStopWork() {
   const MapWorker& worker = session_->worker();
   QStringList work;
@@ -458,12 +469,7 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
     options.native = true;
     map_saver_ = new ExportMapReaction(file->addAction(tr("Save M&ap…")), options, *session_, this,
                                        report_error_);
-    connect(map_saver_, &ExportMapReaction::queued, this,
-            [this](const QString& message) { statusBar()->showMessage(message); });
-    connect(map_saver_, &ExportMapReaction::finished, this,
-            [this](const QString& message, bool ok) {
-              if (ok) statusBar()->showMessage(message, 8000);
-            });
+    showProgressOf(map_saver_);
   }
   file->addSeparator();
   auto box_file = [&](const QString& text, BoxFileReaction::Kind kind, const QKeySequence& key) {
@@ -495,14 +501,7 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
     auto* reaction = new ExportMapReaction(export_menu->addAction(text), options, *session_, this,
                                            report_error_);
     reaction->setOnlyShownAction(only_shown);
-    connect(reaction, &ExportMapReaction::queued, this,
-            [this](const QString& message) { statusBar()->showMessage(message); });
-    connect(reaction, &ExportMapReaction::finished, this, [this](const QString& message, bool ok) {
-      if (ok)
-        statusBar()->showMessage(message, 8000);
-      else
-        statusBar()->clearMessage();
-    });
+    showProgressOf(reaction);
   };
   export_action(tr("Voxel Mesh (PLY)…"), ExportFormat::Ply);
   export_action(tr("Voxel Mesh (OBJ)…"), ExportFormat::Obj);

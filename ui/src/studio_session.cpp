@@ -72,11 +72,13 @@ void StudioSession::onSequenceChanged() {
   if (auto_fuse_) fuse();
 }
 
+bool StudioSession::mayDropMap(const QString& replaced_by) const {
+  return !worker_->hasUnsavedMap() || !map_discard_guard_ || map_discard_guard_(replaced_by);
+}
+
 void StudioSession::openMap(const QString& path) {
   if (!sequence_) return;
-  if (worker_->hasUnsavedMap() && map_discard_guard_ &&
-      !map_discard_guard_(tr("Opening %1").arg(QFileInfo(path).fileName())))
-    return;
+  if (!mayDropMap(tr("Opening %1").arg(QFileInfo(path).fileName()))) return;
   map_reader_->read(path, sequence_);
 }
 
@@ -104,8 +106,7 @@ void StudioSession::fuse() {
 }
 
 void StudioSession::resetMap() {
-  if (worker_->hasUnsavedMap() && map_discard_guard_ && !map_discard_guard_(tr("Reset Map")))
-    return;
+  if (!mayDropMap(tr("Reset Map"))) return;
   ++map_generation_;
   map_reader_->forget();  // a file still being read must not fill the map just emptied
   worker_->reset();

@@ -20,10 +20,11 @@ class ExportMapReaction : public Reaction {
   // Exports to `path` without asking; the result arrives through finished().
   // While fusion runs the export waits for it to end, which queued() says.
   // False when refused at once (a file of the sequence): then no finished().
-  // `whole_map` ignores Only Labels Shown.
-  bool exportTo(const QString& path, bool whole_map = false);
-  // Asks where (the file dialog of the menu item), writes the whole map there
-  // and waits for it, the window's events still running; true when written.
+  bool exportTo(const QString& path);
+  // exportTo, waiting for the result with the window's events still running;
+  // true when written.
+  [[nodiscard]] bool exportToAndWait(const QString& path);
+  // The same after asking where (the file dialog of the menu item).
   [[nodiscard]] bool exportAndWait();
   // When `only_shown` is checked, exports leave out the labels hidden in the
   // 3D view (Export > Only Labels Shown).

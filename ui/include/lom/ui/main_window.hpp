@@ -93,6 +93,8 @@ class MainWindow : public QMainWindow {
   // Asks before closing drops a conversion, a running fusion or queued map
   // work (exports, box fits); true when there is none or the user agrees.
   [[nodiscard]] bool confirmStopWork();
+  // An export's queued and written messages in the status bar.
+  void showProgressOf(ExportMapReaction* reaction);
   void connectScene();
   void updateTitle();
   // A reaction's message that lasts until the next one; empty clears it.

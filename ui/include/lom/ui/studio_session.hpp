@@ -81,6 +81,8 @@ class StudioSession : public QObject {
 
  private:
   void onSequenceChanged();
+  // False when the map holds unsaved work and the guard says to keep it.
+  [[nodiscard]] bool mayDropMap(const QString& replaced_by) const;
 
   SequenceController* controller_;
   MapWorker* worker_;
