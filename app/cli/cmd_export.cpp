@@ -75,6 +75,12 @@ void checkSwitches(const ExportOptions& o) {
   if (o.native && o.labels)
     throw UsageError(
         "option --labels does not go with --native (the native map keeps every label)");
+  if (!o.merge_coplanar && (!isMesh(o) || o.smooth))
+    throw UsageError(
+        "option --no-merge applies to the voxel meshes of formats ply, obj and stl (without "
+        "--smooth or --points), not to " +
+        (isMesh(o) ? std::string("--smooth")
+                   : "format " + format + (o.points ? " with --points" : "")));
 }
 
 // The files that a per-label export writes into `folder` for the labels with voxels.
@@ -111,13 +117,12 @@ void checkSomethingToExport(const LabelMap& map, const fs::path& map_path,
         throw Error(map_path.string(), "--labels",
                     "label ids of the map, 0 to " + std::to_string(map.numLabels() - 1),
                     std::to_string(label));
-  if (options.format == ExportFormat::Ot || options.format == ExportFormat::Bt) {
-    // Octrees carry free space too: only a map with no voxel at all has nothing.
-    if (map.numLeaves() == 0)
-      throw Error(map_path.string(), "map", "at least one known voxel to export",
-                  "an empty map (no voxel was ever observed)");
-    return;
-  }
+  const bool octree = options.format == ExportFormat::Ot || options.format == ExportFormat::Bt;
+  // Octrees carry free space too: only a map with no voxel at all has nothing.
+  if (octree && map.numLeaves() == 0)
+    throw Error(map_path.string(), "map", "at least one known voxel to export",
+                "an empty map (no voxel was ever observed)");
+  if (octree && !options.labels) return;
   size_t occupied = 0;
   for (const auto& [label, count] : counts) occupied += count;
   if (options.labels) {

@@ -321,7 +321,8 @@ int runFuse(const Words& words) {
   std::vector<double> sorted = frame_seconds;
   std::sort(sorted.begin(), sorted.end());
   const double median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
-  std::cout << "fused " << frame_seconds.size() << " frames of " << sequence_path << " in "
+  std::cout << "fused " << frame_seconds.size()
+            << (frame_seconds.size() == 1 ? " frame of " : " frames of ") << sequence_path << " in "
             << std::fixed << std::setprecision(2) << total_seconds << " s (median "
             << std::setprecision(1) << median * 1000.0 << " ms/frame integration)\n";
   std::cout << std::defaultfloat << "map: resolution " << map.parameters().resolution << " m, "

@@ -76,7 +76,8 @@ void printProbaLabels(const Sequence& sequence, std::ostream& out) {
   }
   out << used.size() << "\n";
   for (int id : used)
-    out << "  " << std::setw(5) << id << "  " << sequence.labels.at(id).name << "\n";
+    out << "  " << std::setw(5) << id << "  " << singleLineText(sequence.labels.at(id).name)
+        << "\n";
 }
 
 void printTimeSpan(const Sequence& sequence, std::ostream& out) {
@@ -172,9 +173,11 @@ void printMapInfo(const std::filesystem::path& path, std::ostream& out) {
   out << "labels:           " << map.numLabels()
       << (map.labels() == apc2016Labels() ? " (the APC 2016 set)" : "") << "\n";
   out << "parameters:       p_miss " << p.p_miss << "  threshold " << p.occupancy_threshold
-      << "  clamping [" << p.clamp_min << ", " << p.clamp_max << "]  max range "
-      << (p.max_range > 0.0 ? std::to_string(p.max_range) + " m" : std::string("unlimited"))
-      << "\n";
+      << "  clamping [" << p.clamp_min << ", " << p.clamp_max << "]  max range ";
+  if (p.max_range > 0.0)
+    out << p.max_range << " m\n";
+  else
+    out << "unlimited\n";
   out << "camera views:     " << map.cameraViews().views;
   if (const auto up = map.camerasUp())
     out << ", mean up (" << up->x() << ", " << up->y() << ", " << up->z() << ")";
@@ -204,7 +207,8 @@ void printMapInfo(const std::filesystem::path& path, std::ostream& out) {
   out << "occupied voxels:  " << occupied << "\n";
   for (const auto& [label, count] : counts)
     out << "  " << std::setw(5) << label << "  " << std::left << std::setw(36)
-        << map.labels().at(label).name << std::right << std::setw(8) << count << "\n";
+        << singleLineText(map.labels().at(label).name) << std::right << std::setw(8) << count
+        << "\n";
 }
 
 }  // namespace

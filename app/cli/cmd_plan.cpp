@@ -117,11 +117,11 @@ int runPlan(const Words& words) {
                  "(no --approach or --sequence given, and the map records no camera views); it can "
                  "point the wrong way when the cameras went round the objects. --sequence SEQ uses "
                  "the recorded cameras' viewing direction, --approach x,y,z sets it\n";
+  // The file first: a run that cannot write it fails without printing a plan
+  // as though it had succeeded.
+  if (out) writePlanJson(plan, *out, map_path.string());
   std::cout << planTable(plan);
-  if (out) {
-    writePlanJson(plan, *out, map_path.string());
-    std::cout << "wrote " << *out << "\n";
-  }
+  if (out) std::cout << "wrote " << *out << "\n";
   return 0;
 }
 

@@ -1,5 +1,6 @@
 // labeloctomap render: a picture of a map, rendered offscreen to a PNG.
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -143,6 +144,21 @@ RenderRequest parseRequest(const Words& words) {
                        ", which has " + std::to_string(count) +
                        (count == 1 ? " frame" : " frames") + " (a frame index below " +
                        std::to_string(count) + ")");
+    if (request.size) {
+      // A picture from a recorded camera keeps its shape: fy sets the field of
+      // view, so another aspect ratio would crop or widen the view instead of
+      // scaling it, and the picture would no longer line up with the frame.
+      const CameraIntrinsics k = sequence.cameraOf(camera->second);
+      const auto [width, height] = *request.size;
+      const double ratio =
+          (static_cast<double>(width) / height) / (static_cast<double>(k.width) / k.height);
+      if (std::abs(ratio - 1.0) > 0.01)
+        throw UsageError("option --size " + std::to_string(width) + "x" + std::to_string(height) +
+                         " with --camera: the camera's images are " + std::to_string(k.width) +
+                         "x" + std::to_string(k.height) +
+                         " and its picture keeps that shape (e.g. --size " +
+                         std::to_string(2 * k.width) + "x" + std::to_string(2 * k.height) + ")");
+    }
     inputs.addSequenceFiles(sequence);
     checkOutputFile(request.out, "out", ".png", "the picture", inputs);
     request.camera_sequence = std::move(sequence);

@@ -187,9 +187,13 @@ int runSegment(const Words& words) {
     }
   }
   if (show_progress) std::fprintf(stderr, "\n");
-  // Every probability image is in place before sequence.json names them.
+  // sequence.json is staged too, last, so that it is renamed only after every
+  // probability image it names is in place, and a sequence.json that cannot be
+  // written leaves the old images (and the old file) as they were.
+  const std::string json = sequenceJsonText(sequence, sequence.root);
+  staged.add(
+      sequence.root / "sequence.json", [&](std::ostream& out) { out << json; }, false);
   staged.commit();
-  saveSequence(sequence, sequence.root);
   new_folders.keep();
 
   const double seconds =

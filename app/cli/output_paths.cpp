@@ -149,6 +149,22 @@ void requireExtension(const fs::path& out, const std::string& option, const std:
                      what + "), got '" + out.string() + "'");
 }
 
+namespace {
+
+// Why `folder` is not a folder: it is a file, a file above it hides the rest
+// of the path, or it does not exist.
+std::string missingFolderProblem(const fs::path& folder) {
+  std::error_code ec;
+  for (fs::path part = folder; !part.empty(); part = part.parent_path()) {
+    if (fs::is_directory(part, ec)) break;
+    if (fs::exists(part, ec)) return part.string() + " is a file, not a folder";
+    if (part == part.parent_path()) break;
+  }
+  return "folder " + folder.string() + " does not exist";
+}
+
+}  // namespace
+
 void checkOutputFile(const fs::path& out, const std::string& option, const std::string& extension,
                      const std::string& what, const CommandInputs& inputs) {
   if (out.empty()) throw UsageError("option --" + option + " expects a file name, got none");
@@ -162,7 +178,7 @@ void checkOutputFile(const fs::path& out, const std::string& option, const std::
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
     throw Error(out.string(), "--" + option, "a path in an existing folder",
-                "folder " + folder.string() + " does not exist");
+                missingFolderProblem(folder));
 }
 
 void checkOutputFolder(const fs::path& out, const std::string& option, const std::string& what,

@@ -75,6 +75,10 @@ void checkOptions(const LabelMap& map, const ExportOptions& o, const fs::path& o
   if (o.native && o.labels)
     throw Error(file, "labels", "no label selection with the native map (it keeps every label)",
                 "a label list");
+  if (!o.merge_coplanar && (!isMesh(o) || o.smooth))
+    throw Error(file, "no-merge",
+                "the voxel meshes of formats ply, obj and stl (without smoothing)",
+                o.smooth ? "a smooth surface" : "format " + format);
   if (o.per_label) {
     std::error_code ec;
     if (fs::exists(out, ec) && !fs::is_directory(out, ec))
@@ -146,6 +150,21 @@ class StagingFolder {
 
   [[nodiscard]] const fs::path& path() const { return path_; }
 
+  // Runs `write` (which writes into path()); an error naming a staged file
+  // names the file it stands for in the output folder instead, since the
+  // staging folder is gone once the error is read.
+  template <class Write>
+  void write(const Write& write) {
+    try {
+      write();
+    } catch (const Error& e) {
+      Problem problem = e.problem();
+      const fs::path file(problem.file);
+      if (file.parent_path() == path_) problem.file = (out_ / file.filename()).string();
+      throw Error(problem);
+    }
+  }
+
   // Moves the staged files into the output folder; returns their new paths.
   std::vector<fs::path> publish(const std::vector<fs::path>& staged) {
     created_.keep();
@@ -210,6 +229,16 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
 
   const std::set<int> selected = selectedLabels(map, options);
   if (options.format == ExportFormat::Ot || options.format == ExportFormat::Bt) {
+    // A label selection keeps the free space, but needs occupied voxels of
+    // its labels, as every other format does.
+    if (options.labels) {
+      const auto counts = map.occupiedCountPerLabel();
+      for (const int label : *options.labels)
+        if (!counts.count(label)) summary.empty_labels.push_back(label);
+      if (summary.empty_labels.size() == options.labels->size())
+        throw Error(file, "map", "at least one occupied voxel to export",
+                    "no occupied voxel of the selected labels");
+    }
     OctreeExportOptions octree;
     octree.labels = options.labels;
     summary.items = options.format == ExportFormat::Ot ? writeColorOcTree(map, out, octree)
@@ -271,7 +300,8 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
     if (!options.per_label) {
       write(selected, out);
     } else {
-      for (const auto& [label, keys] : voxels) write({label}, pathFor(label));
+      for (const auto& [label, keys] : voxels)
+        staging->write([&, label = label] { write({label}, pathFor(label)); });
       summary.files = staging->publish(summary.files);
     }
     return summary;
@@ -286,7 +316,8 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
     mesh.label = label;
     summary.items += mesh.triangles.size();
     if (options.per_label) {
-      writeMeshes({mesh}, map, options.format, pathFor(label), summary.files);
+      staging->write(
+          [&] { writeMeshes({mesh}, map, options.format, pathFor(label), summary.files); });
     } else {
       meshes.push_back(std::move(mesh));
     }

@@ -300,6 +300,30 @@ CameraExtentCheck checkCameraExtents(const Sequence& sequence) {
   return check;
 }
 
+namespace {
+
+// IntegrationOptions::max_voxels_per_ray: with an unlimited range, the
+// farthest depth must lie within the limit.
+void checkUnlimitedRays(const MapParameters& parameters, const CameraIntrinsics& camera,
+                        const DepthImage& depth, double max_voxels_per_ray) {
+  if (parameters.max_range > 0.0 || !(max_voxels_per_ray > 0.0)) return;
+  const double farthest = countDepthRanges(camera, depth, 0.0).farthest;
+  const double voxels = farthest / parameters.resolution;
+  if (!(voxels > max_voxels_per_ray)) return;
+  char found[96];
+  std::snprintf(found, sizeof found, "a depth %.2f m from the camera (%.0f voxels)", farthest,
+                voxels);
+  throw Error("", "depth",
+              "depths within " + formatMetres(max_voxels_per_ray * parameters.resolution) +
+                  " m of the camera (" + formatMetres(max_voxels_per_ray) + " voxels of " +
+                  formatMetres(parameters.resolution) +
+                  " m) with an unlimited max range: longer rays take gigabytes; set a max range "
+                  "(depths beyond it only clear free space) or coarser voxels",
+              found);
+}
+
+}  // namespace
+
 FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
                           const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
                           const FrameEvidence& evidence, const IntegrationOptions& integration) {
@@ -309,6 +333,7 @@ FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
   if (!insideMapExtent(T_world_camera.translation(), resolution))
     throw Error("", "pose", cameraExtentExpected(T_world_camera.translation(), resolution),
                 "the camera at " + formatPosition(T_world_camera.translation()));
+  checkUnlimitedRays(map.parameters(), camera, depth, integration.max_voxels_per_ray);
   const FrameStats stats =
       integration.path == IntegrationPath::Reference
           ? integrateFrameReference(map, camera, T_world_camera, depth, evidence)

@@ -581,7 +581,7 @@ Sequence loadSequence(const fs::path& folder_or_json) {
   return sequence;
 }
 
-void saveSequence(const Sequence& sequence, const fs::path& folder) {
+std::string sequenceJsonText(const Sequence& sequence, const fs::path& folder) {
   const fs::path file = folder / "sequence.json";
   if (sequence.labels.empty())
     throw Error(file.string(), "labels", "at least one label", "an empty label set");
@@ -608,9 +608,14 @@ void saveSequence(const Sequence& sequence, const fs::path& folder) {
 
   std::string text;
   prettyJson(root, 0, 0, text);
+  return text + "\n";
+}
+
+void saveSequence(const Sequence& sequence, const fs::path& folder) {
+  const std::string text = sequenceJsonText(sequence, folder);
   std::error_code ec;
   fs::create_directories(folder, ec);
-  writeTextFileAtomically(file, text + "\n");
+  writeTextFileAtomically(folder / "sequence.json", text);
 }
 
 std::vector<Problem> validateSequence(const Sequence& sequence) {

@@ -162,6 +162,25 @@ TEST_F(CliExportTest, OctreesAndObjectsAreWritten) {
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_GT(written(r.out), 0u);
   }
+  // A label selection needs occupied voxels of its labels, octrees included;
+  // a label without any is reported and skipped.
+  const auto counts = lom::LabelMap::load(map()).occupiedCountPerLabel();
+  int absent = 1;
+  while (counts.count(absent)) ++absent;
+  const int present = std::next(counts.begin())->first;
+  for (const std::string format : {"ot", "bt"}) {
+    auto r = runCli("export " + q(map()) + " --format " + format + " --labels " +
+                    std::to_string(absent) + " --out " + q(out / ("none." + format)));
+    EXPECT_EQ(r.exit_code, 1) << r.out;
+    EXPECT_NE(r.err.find("without any occupied voxel"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out / ("none." + format)));
+    r = runCli("export " + q(map()) + " --format " + format + " --labels " +
+               std::to_string(present) + "," + std::to_string(absent) + " --out " +
+               q(out / ("some." + format)));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("note: label " + std::to_string(absent) + " "), std::string::npos)
+        << r.err;
+  }
   std::ifstream ot(out / "map.ot");
   std::string first;
   std::getline(ot, first);
@@ -197,11 +216,29 @@ TEST_F(CliExportTest, MistakesGiveClearMessagesAndNoFile) {
   r = runCli("export " + q(map()) + " --format pcd --smooth --out " + q(out / "m.pcd"));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("smooth"), std::string::npos) << r.err;
+  // --no-merge changes only the voxel meshes: elsewhere it would do nothing.
+  for (const std::string options : {"--format pcd", "--format ot", "--format ply --points",
+                                    "--format ply --smooth", "--format objects"}) {
+    const std::string name = options == "--format pcd"       ? "m.pcd"
+                             : options == "--format ot"      ? "m.ot"
+                             : options == "--format objects" ? "m.json"
+                                                             : "m.ply";
+    r = runCli("export " + q(map()) + " " + options + " --no-merge --out " + q(out / name));
+    EXPECT_EQ(r.exit_code, 2) << options;
+    EXPECT_NE(r.err.find("--no-merge applies to the voxel meshes"), std::string::npos) << r.err;
+  }
   r = runCli("export " + q(map()) + " --voxels " + q(out / "v.pcd") + " --format ply");
   EXPECT_EQ(r.exit_code, 2);
   r = runCli("export " + q(map()) + " --format ot --out " + q(map()));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("input map"), std::string::npos) << r.err;
+  // A folder in the way of the output's folder is named as a file.
+  std::ofstream(out / "afile") << "x";
+  r = runCli("export " + q(map()) + " --format ply --out " + q(out / "afile" / "m.ply"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find((out / "afile").string() + " is a file, not a folder"), std::string::npos)
+      << r.err;
+  fs::remove(out / "afile");
   EXPECT_TRUE(fs::is_empty(out.path()));
   EXPECT_NO_THROW((void)lom::LabelMap::load(map()));
 }
@@ -239,6 +276,9 @@ TEST_F(CliExportTest, AFullDiskFailsEveryExportAndKeepsTheOldFile) {
       EXPECT_EQ(kept, "an earlier file");
     } else {
       EXPECT_FALSE(fs::exists(target)) << "the folder it created is taken away again";
+      // The file named is where it was going, not the staging folder gone with it.
+      EXPECT_NE(r.err.find((target / "00___background__.ply").string() + ": "), std::string::npos)
+          << r.err;
     }
   }
   EXPECT_EQ(std::distance(fs::directory_iterator(out.path()), fs::directory_iterator()), 8)
@@ -440,6 +480,13 @@ TEST_F(CliExportTest, RenderUsageMistakes) {
     EXPECT_EQ(r.exit_code, 2) << camera;
     EXPECT_NE(r.err.find("option --camera expects SEQ:INDEX"), std::string::npos) << r.err;
   }
+  // A recorded camera's picture keeps the camera's shape (the scene's is 160x120).
+  r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --camera " +
+             q(scene().string() + ":0") + " --size 120x120");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("the camera's images are 160x120 and its picture keeps that shape"),
+            std::string::npos)
+      << r.err;
   EXPECT_FALSE(fs::exists(out / "v.png"));
 }
 

@@ -199,6 +199,45 @@ TEST_P(FusionRulesTest, BeyondMaxRangeOnlyMissesUpToMaxRange) {
   EXPECT_TRUE(unlimited.voxelAt(at(1.505)).occupied);
 }
 
+// With an unlimited range the farthest depth sets the rays' length: a frame
+// whose rays would cross more voxels than the limit is refused before
+// anything is integrated, naming the depth; a limited range cuts such rays
+// instead, and a limit of 0 lets them through.
+TEST_P(FusionRulesTest, UnlimitedRangeRefusesRaysLongerThanTheLimit) {
+  MapParameters parameters;
+  parameters.max_range = 0.0;
+  LabelMap map(threeLabels(), parameters);
+  try {
+    integrate(map, {{0.5, {0.1f, 0.8f, 0.1f}}, {12.0, {0.1f, 0.8f, 0.1f}}});
+    FAIL() << "a depth 1200 voxels away was fused with an unlimited range";
+  } catch (const lom::Error& e) {
+    EXPECT_EQ(e.problem().field, "depth");
+    EXPECT_NE(e.problem().found.find("12.00 m"), std::string::npos) << e.what();
+    EXPECT_NE(e.problem().found.find("1200 voxels"), std::string::npos) << e.what();
+    EXPECT_NE(e.problem().expected.find("within 10 m"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(map.voxelAt(at(0.505)).known);  // nothing of the frame was integrated
+  EXPECT_EQ(integrate(map, {{9.9, {0.1f, 0.8f, 0.1f}}}).hit_voxels, 1u);  // 990 voxels
+
+  parameters.max_range = 5.0;
+  LabelMap limited(threeLabels(), parameters);
+  integrate(limited, {{12.0, {0.1f, 0.8f, 0.1f}}});
+  EXPECT_NEAR(limited.voxelAt(at(4.005)).probabilities[1], 0.3, 1e-6);
+
+  parameters.max_range = 0.0;
+  LabelMap unbounded(threeLabels(), parameters);
+  const int width = 1;
+  DepthImage depth{width, 1, {12.0f}};
+  ProbabilityImage proba{1, 1, 3, {0, 1, 2}, {0.1f, 0.8f, 0.1f}, {}};
+  FrameEvidence evidence(3, &proba, nullptr, std::nullopt, 0.9);
+  lom::IntegrationOptions options;
+  options.path = g_path;
+  options.max_voxels_per_ray = 0.0;
+  lom::integrateFrame(unbounded, pencilCamera(width), poseAtVoxelCentre(), depth, evidence,
+                      options);
+  EXPECT_EQ(unbounded.voxelAt(at(12.005)).label, 1);
+}
+
 TEST_P(FusionRulesTest, CandidatesZeroOtherLabelsAndRenormalise) {
   LabelMap map(threeLabels());
   integrate(map, {{0.5, {0.5f, 0.3f, 0.2f}}}, std::vector<int>{1, 2});

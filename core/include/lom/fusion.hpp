@@ -86,8 +86,20 @@ enum class VectorKernels {
   Baseline,  // the baseline x86-64 instructions only
 };
 
+// Voxel sizes that the command line and the studio fuse with, in metres, and
+// the longest ray, in voxels (max range / resolution), that they accept: both
+// bound the memory a frame needs (docs/fusion.md, "Limits of the command line").
+inline constexpr double kMinFusionResolution = 0.002;
+inline constexpr double kMaxFusionResolution = 1.0;
+inline constexpr double kMaxFusionVoxelsPerRay = 1000.0;
+
 struct IntegrationOptions {
   IntegrationPath path = IntegrationPath::Fast;
+  // With an unlimited max range (<= 0) the farthest depth sets how long the
+  // rays are, and with them the memory a frame needs: a frame with a depth
+  // farther than this many voxels from the camera is refused (lom::Error,
+  // field "depth") before it is integrated. 0 = no limit.
+  double max_voxels_per_ray = kMaxFusionVoxelsPerRay;
   int threads = 0;  // fast path worker threads; 0 = one per core
   // Fast path: which vector kernels may run (where the processor has them).
   // Every choice gives the same map to the last bit; the others are for checks.
@@ -164,13 +176,6 @@ struct CameraExtentCheck {
 FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
                           const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
                           const FrameEvidence& evidence, const IntegrationOptions& integration = {});
-
-// Voxel sizes that the command line and the studio fuse with, in metres, and
-// the longest ray, in voxels (max range / resolution), that they accept: both
-// bound the memory a frame needs (docs/fusion.md, "Limits of the command line").
-inline constexpr double kMinFusionResolution = 0.002;
-inline constexpr double kMaxFusionResolution = 1.0;
-inline constexpr double kMaxFusionVoxelsPerRay = 1000.0;
 
 // The checks of fusion settings that the command line and the studio share:
 // each returns what is wrong (nothing when all is well), which the command

@@ -67,6 +67,11 @@ struct FrameData {
 // Writes `folder/sequence.json` atomically (frame files are written by the caller).
 void saveSequence(const Sequence& sequence, const std::filesystem::path& folder);
 
+// The text saveSequence writes to `folder/sequence.json`, checked the same way
+// (for callers that stage it with other files and rename them together).
+[[nodiscard]] std::string sequenceJsonText(const Sequence& sequence,
+                                           const std::filesystem::path& folder);
+
 // Opens every file of every frame and checks existence, image size, bit depth,
 // channel count, proba dtype, label ids. Returns all problems found (empty = valid).
 [[nodiscard]] std::vector<Problem> validateSequence(const Sequence& sequence);
