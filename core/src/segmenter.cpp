@@ -624,8 +624,8 @@ ProbabilityImage Segmenter::segment(const ColorImage& color, int width, int heig
   } else {
     if (channels != labels.size())
       throw Error(impl.modelFile(), "output channels",
-                  std::to_string(labels.size()) +
-                      " channels, one per label of the sequence (or list the label of each "
+                  std::to_string(labels.size()) + (labels.size() == 1 ? " channel" : " channels") +
+                      ", one per label of the sequence (or list the label of each "
                       "channel as \"labels\" in " +
                       impl.configFile() + ")",
                   std::to_string(channels) + " channels (output 1 x " + std::to_string(channels) +

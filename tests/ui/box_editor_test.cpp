@@ -85,6 +85,31 @@ TEST_F(BoxEditorTest, LabelsOtherBoxesHaveCannotBeChosen) {
   EXPECT_TRUE(enabled(other));
 }
 
+// Letters typed into a label drop-down search its labels; they are not the
+// window's one-key box edits (W moves the box forward) there, and still are
+// with the focus elsewhere.
+TEST_F(BoxEditorTest, LettersTypedIntoALabelDropDownDoNotEditTheBox) {
+  window_.activateWindow();
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&window_));
+  const double x = boxes().box(0).box.center.x();
+  for (QComboBox* labels :
+       {&window_.boxEditor().boxLabel(), window_.findChild<QComboBox*>("newBoxLabel")}) {
+    ASSERT_NE(labels, nullptr);
+    labels->setFocus();
+    ASSERT_TRUE(QTest::qWaitFor([&] { return labels->hasFocus(); }, 5000));
+    QTest::keyClick(labels, Qt::Key_W);
+    QTest::keyClick(labels, Qt::Key_B);
+    EXPECT_FALSE(boxes().isDirty()) << labels->objectName().toStdString();
+    EXPECT_EQ(boxes().box(0).box.center.x(), x);
+  }
+  QWidget& list = *window_.findChild<QWidget*>("boxList");
+  list.setFocus();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return list.hasFocus(); }, 5000));
+  QTest::keyClick(&list, Qt::Key_W);
+  EXPECT_TRUE(boxes().isDirty());
+  EXPECT_GT(boxes().box(0).box.center.x(), x);
+}
+
 TEST_F(BoxEditorTest, ValueBeingTypedIsNotLostWhenTheWindowCloses) {
   typeIntoCentreX("0.777");
   test::DialogAnswerer answer("Cancel");

@@ -148,6 +148,68 @@ TEST_F(EvaluationPanelTest, TableAndChartListTheObjectsInTheSameOrder) {
   EXPECT_EQ(chartLabels(), tableLabels());
 }
 
+// The selection stays on the box the user last saw selected: new scores
+// rebuild the table without moving it, and undo and redo of a delete keep the
+// model and the table on the same box.
+TEST_F(EvaluationPanelTest, NewScoresAndUndoNeverMoveTheSelectionToAnotherBox) {
+  openAndFuse();
+  waitForScores();
+  AnnotationsModel& boxes = window_.session().annotations();
+  ASSERT_GE(boxes.boxCount(), 4);
+  const auto selectedLabel = [&] {
+    return boxes.selected() < 0 ? -1 : boxes.box(boxes.selected()).label;
+  };
+  const auto tableSelectedLabel = [&] {
+    const QList<QTableWidgetItem*> items = panel().table().selectedItems();
+    return items.isEmpty() ? -1
+                           : panel()
+                                 .table()
+                                 .item(items.front()->row(), EvaluationPanel::Label)
+                                 ->data(Qt::DisplayRole)
+                                 .toInt();
+  };
+  // The boxes in an order other than the table's, so that the rows move.
+  std::vector<GroundTruthBox> shuffled;
+  for (const int i : {2, 0, 3, 1}) shuffled.push_back(boxes.box(i));
+  for (int i = 4; i < boxes.boxCount(); ++i) shuffled.push_back(boxes.box(i));
+  for (int i = boxes.boxCount() - 1; i >= 0; --i) boxes.removeBox(i);
+  for (const GroundTruthBox& box : shuffled) boxes.addBox(box);
+  waitForScores();
+
+  for (int deleted = 0; deleted < 3; ++deleted) {
+    SCOPED_TRACE(deleted);
+    boxes.select(1);
+    const int removed = selectedLabel();
+    boxes.removeBox(1);
+    EXPECT_TRUE(panel().summaryText().startsWith("Updating the scores…"))
+        << panel().summaryText().toStdString();
+    const int successor = selectedLabel();
+    ASSERT_NE(successor, removed);
+    waitForScores();
+    EXPECT_EQ(selectedLabel(), successor) << "new scores moved the selection";
+    EXPECT_EQ(tableSelectedLabel(), successor);
+
+    boxes.undoStack().undo();  // the box comes back, selected
+    EXPECT_EQ(selectedLabel(), removed);
+    // Its row comes with the new scores; until then no other row is selected.
+    EXPECT_EQ(tableSelectedLabel(), -1) << "the table stayed on another box";
+    waitForScores();
+    EXPECT_EQ(selectedLabel(), removed);
+    EXPECT_EQ(tableSelectedLabel(), removed);
+
+    // Redo while a later box is selected: that box stays selected.
+    boxes.select(boxes.boxCount() - 1);
+    const int last = selectedLabel();
+    boxes.undoStack().redo();
+    EXPECT_EQ(selectedLabel(), last);
+    EXPECT_EQ(tableSelectedLabel(), last);
+    waitForScores();
+    EXPECT_EQ(selectedLabel(), last);
+    boxes.undoStack().undo();
+    waitForScores();
+  }
+}
+
 TEST_F(EvaluationPanelTest, ProjectionScoresNameEachViewAndADoubleClickShowsTheBest) {
   openAndFuse();
   waitForScores();

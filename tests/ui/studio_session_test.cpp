@@ -13,9 +13,12 @@
 #include <QPushButton>
 #include <QTableWidget>
 #include <QTest>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <set>
+#include <thread>
 
 #include "demo_window_fixture.hpp"
 #include "lom/annotations.hpp"
@@ -307,7 +310,9 @@ TEST_F(StudioSessionTest, BoxAddedMovedUndoneRedoneSavedAndReloaded) {
   save->trigger();
   EXPECT_TRUE(errors_.empty()) << errors_.front().toStdString();
   EXPECT_FALSE(boxes.isDirty());
-  EXPECT_FALSE(window_.isWindowModified());
+  // The title still marks the map fused here, which is not saved.
+  EXPECT_TRUE(window_.session().worker().hasUnsavedMap());
+  EXPECT_TRUE(window_.isWindowModified());  // unsaved_map_test: Save Map… clears it
 
   const Annotations saved = boxes.annotations();
   boxes.reset({}, {});
@@ -475,6 +480,66 @@ TEST_F(StudioSessionTest, HeatMapHoverPickingAndProjectionVoxels) {
   EXPECT_GT(window_.sceneView().projectionVoxelCount(), 0u);
   projection->trigger();
   EXPECT_EQ(window_.sceneView().projectionVoxelCount(), 0u);
+}
+
+// The Picked Voxel panel tells the voxel of the map shown: after Reset Map the
+// point clicked is unknown, after a new fusion it is looked up again, and
+// another sequence forgets it.
+TEST_F(StudioSessionTest, PickedVoxelFollowsTheMap) {
+  openAndFuse();
+  const auto snapshot = window_.session().worker().snapshot();
+  ASSERT_FALSE(snapshot->voxels.empty());
+  const Eigen::Vector3d point = snapshot->voxels.front().center;
+  auto* picked = window_.findChild<PickedVoxelView*>("pickedVoxel");
+  ASSERT_NE(picked, nullptr);
+  window_.session().setPickedPoint(point);
+  window_.session().worker().pick(point);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return picked->text().contains("Occupied"); }, 10'000));
+
+  window_.session().resetMap();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return picked->text().contains("Unknown voxel"); }, 10'000))
+      << picked->text().toStdString();
+  window_.session().fuse();
+  waitForFusion();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return picked->text().contains("Occupied"); }, 10'000))
+      << picked->text().toStdString();
+
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  EXPECT_FALSE(window_.session().pickedPoint());
+  EXPECT_TRUE(picked->text().startsWith("Click a voxel")) << picked->text().toStdString();
+  waitForFusion();
+  QTest::qWait(100);
+  EXPECT_TRUE(picked->text().startsWith("Click a voxel")) << picked->text().toStdString();
+}
+
+// Pause usually lands while a frame is being fused: that frame's progress,
+// reported after it, moves the count on but leaves "paused" in the status bar.
+TEST_F(StudioSessionTest, PauseStaysShownWhenTheFrameInFlightReports) {
+  MapWorker& worker = window_.session().worker();
+  std::atomic<bool> entered{false}, release{false};
+  worker.setFrameFusedHook([&](size_t frames_fused) {
+    if (frames_fused != 2) return;
+    entered = true;
+    while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  });
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return entered.load(); }, kTimeoutMs));
+  worker.setPaused(true);
+  EXPECT_TRUE(window_.fusionStatusText().contains("paused"));
+  EXPECT_TRUE(window_.evaluationPanel().summaryText().startsWith("Fusion paused"))
+      << window_.evaluationPanel().summaryText().toStdString();
+  release = true;
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return window_.fusionStatusText().contains("fused 2/"); }, kTimeoutMs))
+      << window_.fusionStatusText().toStdString();
+  QTest::qWait(100);
+  EXPECT_TRUE(window_.fusionStatusText().contains("paused"))
+      << window_.fusionStatusText().toStdString();
+  worker.setPaused(false);
+  worker.setFrameFusedHook({});
+  waitForFusion();
+  EXPECT_FALSE(window_.fusionStatusText().contains("paused"))
+      << window_.fusionStatusText().toStdString();
 }
 
 TEST_F(StudioSessionTest, ExportsCanLeaveOutTheLabelsHiddenInThe3DView) {

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <QAction>
+#include <QApplication>
 #include <QTest>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,7 @@
 #include "demo_window_fixture.hpp"
 #include "dialog_answerer.hpp"
 #include "lom/fusion.hpp"
+#include "lom/ui/annotations_model.hpp"
 #include "lom/ui/export_map_reaction.hpp"
 #include "lom/ui/open_map_reaction.hpp"
 
@@ -74,7 +76,7 @@ TEST_F(UnsavedMapTest, ClosingAfterAFusionAsksAndCancelKeepsTheWindow) {
   const auto saved = temp_.path() / "kept.ot";
   test::DialogAnswerer answer("Save Map", qPath(saved));
   EXPECT_TRUE(window_.close());
-  EXPECT_EQ(answer.questions.size(), 1);
+  EXPECT_EQ(answer.questions.size(), 1) << answer.questions.join("\n").toStdString();
   ASSERT_TRUE(std::filesystem::exists(saved));
   const LabelMap kept = LabelMap::load(saved);
   EXPECT_GT(kept.occupiedCountPerLabel().count(hidden), 0u);  // hidden, and saved all the same
@@ -123,12 +125,17 @@ TEST_F(UnsavedMapTest, SaveMapWritesTheMapThatOpenMapReadsBack) {
   ASSERT_TRUE(exportWith("Voxel Mesh (PLY)…", temp_.path() / "map.ply"));
   ASSERT_TRUE(exportWith("Colour Octree (OT)…", temp_.path() / "colour.ot"));
   EXPECT_TRUE(session().worker().hasUnsavedMap());
+  QApplication::processEvents();
+  EXPECT_TRUE(window_.isWindowModified()) << "the title marks the unsaved map";
+  EXPECT_FALSE(session().annotations().isDirty());
   // Save Map… writes every label, whatever the 3D view hides.
   window_.findAction("Only Labels Shown")->setChecked(true);
   const int hidden = *visibleObjectLabels().begin();
   session().setHiddenLabels({hidden});
   ASSERT_TRUE(exportWith("Save Map…", temp_.path() / "map.ot"));
   EXPECT_FALSE(session().worker().hasUnsavedMap());
+  QApplication::processEvents();
+  EXPECT_FALSE(window_.isWindowModified());
   const LabelMap saved = LabelMap::load(temp_.path() / "map.ot");
   EXPECT_GT(saved.occupiedCountPerLabel().count(hidden), 0u);
   openMapFile(temp_.path() / "map.ot");
@@ -142,6 +149,7 @@ TEST_F(UnsavedMapTest, SaveMapWritesTheMapThatOpenMapReadsBack) {
     EXPECT_TRUE(answer.questions.isEmpty());
   }
   EXPECT_TRUE(session().worker().hasUnsavedMap());
+  EXPECT_TRUE(window_.isWindowModified());
   test::DialogAnswerer answer("Discard Map");
   EXPECT_TRUE(window_.close());
   EXPECT_EQ(answer.questions.size(), 1);

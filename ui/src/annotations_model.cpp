@@ -154,14 +154,22 @@ void AnnotationsModel::setBox(int index, const GroundTruthBox& box, const QStrin
   undo_stack_.push(new SetBoxCommand(*this, index, box, text, merge_id));
 }
 
+// The selection follows the box, not its position: a box inserted or removed
+// before the selected one moves the selected index with it, and every view
+// hears of the new index (an undo or redo otherwise left the views on one box
+// and the model on another).
 void AnnotationsModel::insertRaw(int index, const GroundTruthBox& box) {
   annotations_.boxes.insert(annotations_.boxes.begin() + index, box);
+  const bool moved = selected_ >= index;
+  if (moved) ++selected_;
   emit boxesChanged();
+  if (moved) emit selectionChanged(selected_);
 }
 
 void AnnotationsModel::removeRaw(int index) {
   annotations_.boxes.erase(annotations_.boxes.begin() + index);
-  if (selected_ >= boxCount()) selected_ = boxCount() - 1;
+  // The removed box's successor takes its place (the last box's predecessor).
+  if (index < selected_ || selected_ >= boxCount()) --selected_;
   emit boxesChanged();
   emit selectionChanged(selected_);
 }

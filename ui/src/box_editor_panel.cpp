@@ -44,6 +44,25 @@ class BoxUndoKeys : public QObject {
   }
 };
 
+// A label drop-down with the focus takes the letters typed into it (Qt's
+// search by name) instead of the window's one-key box edits (W moves a box,
+// B adds one), which would otherwise edit the box while the user picks a label.
+class LabelSearchKeys : public QObject {
+ public:
+  using QObject::QObject;
+
+ protected:
+  bool eventFilter(QObject*, QEvent* event) override {
+    if (event->type() != QEvent::ShortcutOverride) return false;
+    const auto* key = static_cast<QKeyEvent*>(event);
+    const Qt::KeyboardModifiers chords = Qt::ControlModifier | Qt::AltModifier | Qt::MetaModifier;
+    if ((key->modifiers() & chords) || key->text().isEmpty() || !key->text().at(0).isPrint())
+      return false;
+    event->accept();  // the drop-down's: it gets the key press
+    return true;
+  }
+};
+
 QDoubleSpinBox* makeField(double low, double high, int decimals, double step, const QString& suffix) {
   auto* box = new QDoubleSpinBox;
   box->setRange(low, high);
@@ -141,6 +160,9 @@ BoxEditorPanel::BoxEditorPanel(StudioSession& session, BoxSteps& steps, QWidget*
   guardWheel(*this);
   auto* undo_keys = new BoxUndoKeys(this);
   for (QDoubleSpinBox* field : fields_) field->installEventFilter(undo_keys);
+  auto* search_keys = new LabelSearchKeys(this);
+  box_label_->installEventFilter(search_keys);
+  new_label_->installEventFilter(search_keys);
 }
 
 void BoxEditorPanel::rebuildLabels() {

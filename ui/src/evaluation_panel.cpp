@@ -233,8 +233,10 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   // cannot be exported until it is recomputed.
   // So is the evaluation of the earlier map still on its way.
   connect(&worker, &MapWorker::stateChanged, this, [this](MapWorker::State state) {
-    if (state == MapWorker::State::Fusing && (report_ || awaiting_))
+    if (state == MapWorker::State::Fusing)
       clearReport(tr("Fusing: the map is scored when fusion finishes."));
+    else if (state == MapWorker::State::Paused)
+      clearReport(tr("Fusion paused: the map is scored when fusion finishes."));
   });
   connect(&session_.controller(), &SequenceController::sequenceChanged, this,
           [this] { clearReport(tr("Fuse the sequence to score the map.")); });
@@ -259,9 +261,12 @@ bool EvaluationPanel::isBusy() const {
 }
 
 void EvaluationPanel::requestUpdate() {
-  // The scores shown are out of date until the new ones arrive.
+  // The scores shown are out of date until the new ones arrive, and say so.
   stale_ = true;
   export_->setEnabled(false);
+  const QString updating = tr("Updating the scores…");
+  if (report_ && !summary_->text().startsWith(updating))
+    summary_->setText(updating + " " + summary_->text());
   debounce_->start();
 }
 
@@ -269,7 +274,9 @@ void EvaluationPanel::clearReport(const QString& message) {
   report_.reset();
   stale_ = true;
   awaiting_ = false;  // results of evaluations asked for before are dropped
+  syncing_selection_ = true;
   table_->setRowCount(0);
+  syncing_selection_ = false;
   table_->updateGeometry();  // its height follows its rows
   chart_->setObjects({});
   export_->setEnabled(false);
@@ -322,6 +329,10 @@ void EvaluationPanel::show(const EvaluationReport& report) {
   report_ = report;
   // Boxes changed again while scoring: newer scores are on their way.
   stale_ = debounce_->isActive() || session_.worker().isEvaluating();
+  // Rebuilding the rows moves the table's selection to whatever row lands
+  // under it: that is no choice of the user's, and must not select a box
+  // (selectRowOfBox below puts the selection back on the selected box's row).
+  syncing_selection_ = true;
   table_->setSortingEnabled(false);
   table_->setRowCount(static_cast<int>(report.objects.size()));
   table_->updateGeometry();  // its height follows its rows
@@ -347,6 +358,7 @@ void EvaluationPanel::show(const EvaluationReport& report) {
     table_->setItem(row, BoxIou, scoreItem(object.box_iou.labeloctomap));
   }
   table_->setSortingEnabled(true);
+  syncing_selection_ = false;
   const ScoreSummary& s = report.summary;
   const QString over =
       s.objects == 1 ? tr("Mean over 1 object") : tr("Mean over %1 objects").arg(s.objects);

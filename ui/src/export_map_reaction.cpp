@@ -1,6 +1,7 @@
 #include "lom/ui/export_map_reaction.hpp"
 
 #include <QAction>
+#include <QCoreApplication>
 #include <QEventLoop>
 #include <QFileDialog>
 #include <QFileInfo>
@@ -13,6 +14,17 @@
 #include "lom/ui/studio_session.hpp"
 
 namespace lom::ui {
+
+namespace {
+
+// How an export to `path` is listed among the worker's work (closing asks
+// before stopping it).
+QString workDescription(const QString& path) {
+  return QCoreApplication::translate("lom::ui::ExportMapReaction", "export of the map to %1")
+      .arg(path);
+}
+
+}  // namespace
 
 ExportMapReaction::ExportMapReaction(QAction* action, ExportOptions options,
                                      StudioSession& session, QWidget* parent,
@@ -56,8 +68,15 @@ bool ExportMapReaction::exportToAndWait(const QString& path) {
         written = ok;
         loop.quit();
       });
-  if (exportTo(path) && !done) loop.exec();
+  const bool started = exportTo(path);
+  if (started && !done) loop.exec();
   disconnect(connection);
+  // The worker takes the export off its list of work just after announcing
+  // it: wait for that too, so that a window closing after Save Map… does not
+  // ask to stop an export that is over.
+  const QString work = workDescription(path);
+  while (started && session_.worker().pendingWork().contains(work))
+    QCoreApplication::processEvents(QEventLoop::AllEvents, 10);
   return written;
 }
 
@@ -124,7 +143,7 @@ bool ExportMapReaction::exportTo(const QString& path) {
             },
             Qt::QueuedConnection);
       },
-      tr("export of the map to %1").arg(path));
+      workDescription(path));
   return true;
 }
 

@@ -21,13 +21,18 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
   layout->setContentsMargins(0, 0, 0, 0);
   layout->addWidget(progress_);
   layout->addWidget(rate_);
-  connect(&worker, &MapWorker::fusionProgress, this, [this](int done, int total, double rate) {
-    progressed_ = true;
-    progress_->setFormat(tr("fused %v/%m"));
-    progress_->setRange(0, std::max(1, total));
-    progress_->setValue(done);
-    rate_->setText(tr("%1 frames/s").arg(rate, 0, 'f', 1));
-  });
+  connect(&worker, &MapWorker::fusionProgress, this,
+          [this, &worker](int done, int total, double rate) {
+            progressed_ = true;
+            progress_->setFormat(tr("fused %v/%m"));
+            progress_->setRange(0, std::max(1, total));
+            progress_->setValue(done);
+            // The frame being fused when Pause came reports after it: the
+            // count moves on, "paused" stays.
+            rate_->setText(worker.state() == MapWorker::State::Paused
+                               ? tr("paused")
+                               : tr("%1 frames/s").arg(rate, 0, 'f', 1));
+          });
   // A new fusion: the last one's count is not this one's, also when it fails
   // on its first frame or replaces a fusion still running.
   connect(&worker, &MapWorker::fusionStarted, this, [this] {

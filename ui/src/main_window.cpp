@@ -421,6 +421,8 @@ void MainWindow::connectScene() {
   connect(&session_->annotations(), &AnnotationsModel::boxesChanged, this, show_boxes);
   connect(&session_->annotations(), &AnnotationsModel::selectionChanged, this, show_boxes);
   connect(&session_->annotations(), &AnnotationsModel::dirtyChanged, this, &MainWindow::updateTitle);
+  // Every change of the map (a fusion's snapshots, Reset Map, a map opened).
+  connect(&session_->worker(), &MapWorker::snapshotChanged, this, &MainWindow::updateTitle);
   connect(scene_view_, &SceneView::boxEdited, this, [this](const OrientedBox& edited) {
     AnnotationsModel& boxes = session_->annotations();
     if (boxes.selected() < 0) return;
@@ -446,7 +448,8 @@ void MainWindow::updateTitle() {
   const QString name = controller_->hasSequence() ? controller_->sequenceName() + "[*] — "
                                                   : QString();
   setWindowTitle(name + tr("LabelOctoMap Studio"));
-  setWindowModified(session_->annotations().isDirty());
+  // Unsaved boxes, or a map fused here and not saved: what closing would lose.
+  setWindowModified(session_->annotations().isDirty() || session_->worker().hasUnsavedMap());
 }
 
 QString MainWindow::fusionStatusText() const { return fusion_status_->text(); }
@@ -462,14 +465,18 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   new OpenSequenceReaction(open_folder, OpenSequenceReaction::Pick::Folder, *controller_, recent_,
                            this);
   new RecentSequencesReaction(file->addMenu(tr("Open &Recent")), recent_, *controller_);
-  new OpenMapReaction(file->addAction(tr("Open &Map…")), *session_, this);
+  QAction* open_map = file->addAction(tr("Open &Map…"));
+  open_map->setShortcut(tr("Ctrl+Alt+O"));
+  new OpenMapReaction(open_map, *session_, this);
   {  // The map itself (a LabelOcTree .ot, as `labeloctomap fuse` writes it), every label.
     ExportOptions options;
     options.format = ExportFormat::Ot;
     options.native = true;
-    map_saver_ = new ExportMapReaction(file->addAction(tr("Save M&ap…")), options, *session_, this,
-                                       report_error_);
+    QAction* save_map = file->addAction(tr("Save M&ap…"));
+    save_map->setShortcut(tr("Ctrl+Alt+S"));
+    map_saver_ = new ExportMapReaction(save_map, options, *session_, this, report_error_);
     showProgressOf(map_saver_);
+    connect(map_saver_, &ExportMapReaction::finished, this, &MainWindow::updateTitle);
   }
   file->addSeparator();
   auto box_file = [&](const QString& text, BoxFileReaction::Kind kind, const QKeySequence& key) {
@@ -479,13 +486,16 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   };
   box_file(tr("&Save Boxes"), BoxFileReaction::Kind::Save, QKeySequence::Save);
   box_file(tr("Save Boxes &As…"), BoxFileReaction::Kind::SaveAs, QKeySequence::SaveAs);
-  box_file(tr("Open &Boxes…"), BoxFileReaction::Kind::Open, QKeySequence());
+  box_file(tr("Open &Boxes…"), BoxFileReaction::Kind::Open, QKeySequence(tr("Ctrl+Alt+B")));
   box_file(tr("&Import YAML Boxes…"), BoxFileReaction::Kind::ImportYaml, QKeySequence());
   file->addSeparator();
-  new SaveScreenshotReaction(file->addAction(tr("Save Screens&hot…")), *this, *scene_view_,
-                             *controller_);
-  new SaveScreenshotReaction(file->addAction(tr("Save 3D &View…")), *this, *scene_view_,
-                             *controller_, SaveScreenshotReaction::Kind::SceneView);
+  QAction* screenshot = file->addAction(tr("Save Screens&hot…"));
+  screenshot->setShortcut(Qt::Key_F12);
+  new SaveScreenshotReaction(screenshot, *this, *scene_view_, *controller_);
+  QAction* scene_picture = file->addAction(tr("Save 3D &View…"));
+  scene_picture->setShortcut(Qt::SHIFT + Qt::Key_F12);
+  new SaveScreenshotReaction(scene_picture, *this, *scene_view_, *controller_,
+                             SaveScreenshotReaction::Kind::SceneView);
   file->addSeparator();
   auto* quit = file->addAction(tr("&Quit"), this, &QWidget::close);
   quit->setShortcut(QKeySequence::Quit);
@@ -521,7 +531,7 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   fusion_action(tr("&Fuse Sequence"), FusionReaction::Kind::Fuse, Qt::Key_F5);
   fusion_action(tr("&Pause Fusion"), FusionReaction::Kind::Pause, Qt::Key_F6);
   fusion_action(tr("&Cancel Fusion"), FusionReaction::Kind::Cancel, Qt::SHIFT + Qt::Key_F5);
-  fusion_action(tr("&Reset Map"), FusionReaction::Kind::Reset, QKeySequence());
+  fusion_action(tr("&Reset Map"), FusionReaction::Kind::Reset, Qt::CTRL + Qt::Key_F5);
 
   QMenu* view = menuBar()->addMenu(tr("&View"));
   view->addActions(

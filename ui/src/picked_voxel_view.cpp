@@ -15,7 +15,20 @@ PickedVoxelView::PickedVoxelView(StudioSession& session, QWidget* parent)
   setWordWrap(true);
   setAlignment(Qt::AlignTop | Qt::AlignLeft);
   setTextInteractionFlags(Qt::TextSelectableByMouse);
-  setText(tr("Click a voxel in the 3D view to see its probabilities."));
+  const QString hint = tr("Click a voxel in the 3D view to see its probabilities.");
+  setText(hint);
+  // The voxel clicked is looked up again whenever the map changes (each
+  // snapshot of a fusion, a threshold, Reset Map, a map opened), so that the
+  // panel never shows the probabilities of a map that is gone; another
+  // sequence forgets the point.
+  connect(&session_.worker(), &MapWorker::snapshotChanged, this, [this] {
+    if (const auto& point = session_.pickedPoint()) session_.worker().pick(*point);
+  });
+  connect(&session_, &StudioSession::pickedPointChanged, this, [this, hint] {
+    if (session_.pickedPoint()) return;
+    setText(hint);
+    setToolTip({});
+  });
   connect(&session_.worker(), &MapWorker::voxelPicked, this,
           [this](const Eigen::Vector3d& point, const VoxelState& voxel) {
             const auto sequence = session_.sequence();

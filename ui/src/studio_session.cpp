@@ -58,6 +58,7 @@ void StudioSession::onSequenceChanged() {
   hidden_labels_.clear();
   picked_point_.reset();
   emit hiddenLabelsChanged();
+  emit pickedPointChanged();
 
   // The boxes of the sequence, when there are any, are the ones to edit.
   loadSequenceBoxes(*this);
