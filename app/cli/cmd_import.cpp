@@ -259,12 +259,8 @@ int runImport(const Words& words) {
   if (const int signal = g_stop_signal; signal && report.cancelled) {
     std::cerr << "labeloctomap import: interrupted by " << signalName(signal) << " after "
               << report.frames_written << " frames; nothing was kept: the files written to " << out
-              << " were removed\n";
-    std::error_code ec;
-    if (options.overwrite &&
-        !std::filesystem::exists(std::filesystem::path(out) / "sequence.json", ec))
-      std::cerr << "note: the sequence " << out
-                << " held before is gone too: --overwrite removes it when writing starts\n";
+              << " were removed"
+              << (options.overwrite ? " (a sequence it held before is as it was)" : "") << "\n";
     return 128 + signal;
   }
   if (g_stop_signal)

@@ -35,7 +35,9 @@ struct SourceFrame {
 };
 
 // Writes the converted frames and, last, sequence.json. On destruction without
-// finish() (an exception, a cancel) it removes what it wrote.
+// finish() (an exception, a cancel) it removes what it wrote; a sequence it
+// replaces (the overwrite option) is removed only by finish(), once every new
+// frame is written.
 class SequenceWriter {
  public:
   SequenceWriter(const fs::path& out_folder, const ImportOptions& options, ImportReport& report,
@@ -75,6 +77,8 @@ class SequenceWriter {
   // that nothing goes into (proba/ of a geometry-only import) is not made.
   fs::path fileIn(const char* sub, const std::string& name);
   void cleanUp() noexcept;
+  // Replaces the old sequence's frame folders with the staged ones.
+  void swapInStagedFrames();
   // The steps of convert(): each returns why the frame cannot be used, if it cannot.
   [[nodiscard]] std::optional<std::string> convert(SourceFrame& frame, FrameRecord& record);
   [[nodiscard]] std::optional<std::string> convertPose(const SourceFrame& frame,
@@ -104,6 +108,10 @@ class SequenceWriter {
   bool prepared_ = false;
   bool created_out_ = false;
   std::vector<fs::path> created_dirs_;
+  // With the overwrite option over an existing sequence: the folder inside the
+  // output where the new frames are written until finish() swaps them in, so
+  // that a failure or a cancel leaves the old sequence as it was.
+  fs::path staging_;
   DepthFilterStats filter_totals_;
   std::map<std::string, size_t> note_counts_;
   std::vector<std::string> note_order_;

@@ -1,14 +1,19 @@
 // The sequence writer every importer feeds: pose checks, depth filtering,
 // resampling of colour and label evidence to the depth camera, label images to
 // one-hot probabilities, frame files and, last, sequence.json.
+#include <unistd.h>
+
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <random>
 #include <sstream>
 
 #include "import_internal.hpp"
+#include "lom/atomic_file.hpp"
 #include "lom/npy.hpp"
+#include "lom/sequence.hpp"
 
 namespace lom::import_detail {
 
@@ -233,15 +238,36 @@ void SequenceWriter::prepareFolder() {
       throw Error(out_.string(), "output", "a folder that can be created", ec.message());
     created_out_ = true;
   } else if (options_.overwrite) {
-    fs::remove(out_ / "sequence.json", ec);  // first: a half-replaced folder is never a sequence
-    for (const char* sub : {"depth", "color", "proba", "label"}) fs::remove_all(out_ / sub, ec);
+    std::random_device random;
+    staging_ = out_ / (".labeloctomap-import-" + std::to_string(::getpid()) + "-" +
+                       std::to_string(random() % 1000000));
+    if (!fs::create_directory(staging_, ec) || ec)
+      throw Error(
+          out_.string(), "output", "a writable folder",
+          "a folder where no folder can be created" + (ec ? ": " + ec.message() : std::string()));
   }
   prepared_ = true;
 }
 
+void SequenceWriter::swapInStagedFrames() {
+  if (staging_.empty()) return;
+  std::error_code ec;
+  fs::remove(out_ / "sequence.json", ec);  // first: a half-replaced folder is never a sequence
+  for (const char* sub : {"depth", "color", "proba", "label"}) {
+    fs::remove_all(out_ / sub, ec);
+    if (!fs::is_directory(staging_ / sub, ec)) continue;
+    fs::rename(staging_ / sub, out_ / sub, ec);
+    if (ec)
+      throw Error((out_ / sub).string(), "output", "a folder the new frames can be moved to",
+                  "rename failed: " + ec.message());
+  }
+  fs::remove_all(staging_, ec);
+  staging_.clear();
+}
+
 fs::path SequenceWriter::fileIn(const char* sub, const std::string& name) {
   prepareFolder();
-  const fs::path dir = out_ / sub;
+  const fs::path dir = (staging_.empty() ? out_ : staging_) / sub;
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) {
     fs::create_directories(dir, ec);
@@ -253,6 +279,7 @@ fs::path SequenceWriter::fileIn(const char* sub, const std::string& name) {
 
 void SequenceWriter::cleanUp() noexcept {
   std::error_code ec;
+  if (!staging_.empty()) fs::remove_all(staging_, ec);
   if (created_out_) {
     fs::remove_all(out_, ec);
     return;
@@ -531,7 +558,9 @@ void SequenceWriter::finish(const std::string& source_description) {
   sequence.camera = camera_;
   sequence.camera.depth_scale = depth_scale_;
   sequence.frames = std::move(records_);
-  saveSequence(sequence, out_);
+  const std::string json = sequenceJsonText(sequence, out_);  // checked before anything moves
+  swapInStagedFrames();
+  writeTextFileAtomically(out_ / "sequence.json", json);
   finished_ = true;
 }
 

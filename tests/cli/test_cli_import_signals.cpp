@@ -2,6 +2,7 @@
 // cancel, it removes what it wrote and exits with 128 + the signal number.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <fstream>
@@ -44,14 +45,27 @@ void writeLongRecording(const fs::path& dir) {
   }
 }
 
+// Whether a depth file was written under `out` (in its depth/ folder, or in
+// the hidden folder where --overwrite stages the new frames).
+bool wroteADepthFile(const fs::path& out) {
+  std::error_code ec;
+  if (fs::is_directory(out / "depth", ec) && !fs::is_empty(out / "depth", ec) &&
+      !fs::exists(out / "sequence.json", ec))
+    return true;
+  for (const auto& entry : fs::directory_iterator(out, ec))
+    if (entry.path().filename().string().rfind(".labeloctomap-import-", 0) == 0 &&
+        fs::is_directory(entry.path() / "depth", ec) && !fs::is_empty(entry.path() / "depth", ec))
+      return true;
+  return false;
+}
+
 // Waits until the import has written its first depth file, so that the signal
 // comes while the output folder holds a part of the sequence.
 bool waitForFirstFrame(test::CliProcess& process, const fs::path& out) {
   const auto deadline =
       std::chrono::steady_clock::now() + std::chrono::duration<double>(kTimeoutSeconds);
   while (std::chrono::steady_clock::now() < deadline) {
-    std::error_code ec;
-    if (fs::is_directory(out / "depth", ec) && !fs::is_empty(out / "depth", ec)) return true;
+    if (wroteADepthFile(out)) return true;
     if (!process.running()) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
@@ -72,9 +86,13 @@ class CliImportSignalTest : public ::testing::Test {
 
   // Imports into `out`, sends `signal` once the first frame is written; returns
   // how the import ended, with its stderr.
-  static std::pair<test::CliExit, std::string> importStoppedBy(int signal, const fs::path& out) {
-    test::CliProcess process({"import", "frames", source().string(), "--out", out.string(),
-                              "--bilateral", "2", "--quiet"});
+  static std::pair<test::CliExit, std::string> importStoppedBy(int signal, const fs::path& out,
+                                                               bool overwrite = false) {
+    std::vector<std::string> words{"import", "frames",     source().string(),
+                                   "--out",  out.string(), "--bilateral",
+                                   "2",      "--quiet"};
+    if (overwrite) words.push_back("--overwrite");
+    test::CliProcess process(words);
     if (!waitForFirstFrame(process, out)) {
       ADD_FAILURE() << "the import ended or wrote nothing before it could be stopped\n"
                     << process.err();
@@ -119,6 +137,44 @@ TEST_F(CliImportSignalTest, SigtermKeepsOnlyWhatTheFolderHeldBeforeAndExits143) 
   const auto again = test::runCli("import frames '" + source().string() + "' --out '" +
                                   out.string() + "' --max-frames 2 --quiet");
   EXPECT_EQ(again.exit_code, 0) << again.err;
+}
+
+// An interrupted --overwrite leaves the sequence it was replacing as it was.
+TEST_F(CliImportSignalTest, AnInterruptedOverwriteKeepsTheOldSequence) {
+  const fs::path out = dir_->path() / "seq-kept";
+  auto r = test::runCli("import frames '" + source().string() + "' --out '" + out.string() +
+                        "' --max-frames 2 --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ofstream(out / "annotations.json") << "{}";
+  const auto listing = [&] {
+    std::vector<std::string> files;
+    for (const auto& entry : fs::recursive_directory_iterator(out))
+      files.push_back(fs::relative(entry.path(), out).string() + " " +
+                      (entry.is_regular_file() ? std::to_string(entry.file_size()) : "dir"));
+    std::sort(files.begin(), files.end());
+    return files;
+  };
+  const std::vector<std::string> before = listing();
+  const std::string json = test::slurp(out / "sequence.json");
+
+  const auto [ended, err] = importStoppedBy(SIGINT, out, true);
+  EXPECT_TRUE(ended.exited) << "killed by signal " << ended.signal;
+  EXPECT_EQ(ended.exit_code, 130) << err;
+  EXPECT_NE(err.find("a sequence it held before is as it was"), std::string::npos) << err;
+  EXPECT_EQ(listing(), before);
+  EXPECT_EQ(test::slurp(out / "sequence.json"), json);
+  r = test::runCli("validate '" + out.string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+
+  // Not interrupted, it replaces the frames and keeps the boxes.
+  r = test::runCli("import frames '" + source().string() + "' --out '" + out.string() +
+                   "' --max-frames 3 --overwrite --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(lom::loadSequence(out).frames.size(), 3u);
+  EXPECT_TRUE(fs::exists(out / "annotations.json"));
+  for (const auto& entry : fs::directory_iterator(out))
+    EXPECT_NE(entry.path().filename().string().rfind(".labeloctomap", 0), 0u)
+        << "left behind: " << entry.path();
 }
 
 }  // namespace
