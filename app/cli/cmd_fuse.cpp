@@ -281,9 +281,11 @@ int runFuse(const Words& words) {
                 "frames with valid depths (finite, > 0) to map",
                 "none in the " + std::to_string(frame_seconds.size()) +
                     " frames fused: every depth pixel is 0 (no measurement) or invalid");
-  // Max range drops farther surfaces without a trace: say so when it took most of the depths.
-  if (mostDepthsBeyondMaxRange(totals, options.map.max_range)) {
-    const size_t beyond = std::min(totals.beyond_range_pixels, totals.valid_pixels);
+  // Max range drops farther surfaces without a trace: a warning when it took
+  // most of the depths, a note when it took a fifth or more.
+  const size_t beyond = std::min(totals.beyond_range_pixels, totals.valid_pixels);
+  const bool most_beyond = mostDepthsBeyondMaxRange(totals, options.map.max_range);
+  if (most_beyond || (options.map.max_range > 0.0 && 5 * beyond >= totals.valid_pixels)) {
     const double reach = std::ceil(totals.farthest_range * 10.0) / 10.0;
     std::string how;
     // Only settings fuse takes: a finite range, rays of at most 1000 voxels of at most 1 m.
@@ -305,18 +307,22 @@ int runFuse(const Words& words) {
             (sequence.root / "sequence.json").string();
     }
     std::fprintf(stderr,
-                 "warning: %zu of %zu valid depth pixels (%.1f%%) were beyond the max range of "
+                 "%s: %zu of %zu valid depth pixels (%.1f%%) were beyond the max range of "
                  "%g m: they only cleared free space and mapped nothing. %s\n",
-                 beyond, totals.valid_pixels, 100.0 * beyond / totals.valid_pixels,
-                 options.map.max_range, how.c_str());
+                 most_beyond ? "warning" : "note", beyond, totals.valid_pixels,
+                 100.0 * beyond / totals.valid_pixels, options.map.max_range, how.c_str());
   }
   if (const std::string warning =
           outsideMapWarning((sequence.root / "sequence.json").string(), totals, frames_outside_map,
                             options.map.resolution);
       !warning.empty())
     std::cerr << warning << "\n";
-  map.prune();
+  // fuseSequenceInto has pruned the map; writing a large one takes a while
+  // of its own, reported beside the fusion's time.
+  const auto save_start = std::chrono::steady_clock::now();
   map.save(out);
+  const double save_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - save_start).count();
 
   std::vector<double> sorted = frame_seconds;
   std::sort(sorted.begin(), sorted.end());
@@ -324,7 +330,8 @@ int runFuse(const Words& words) {
   std::cout << "fused " << frame_seconds.size()
             << (frame_seconds.size() == 1 ? " frame of " : " frames of ") << sequence_path << " in "
             << std::fixed << std::setprecision(2) << total_seconds << " s (median "
-            << std::setprecision(1) << median * 1000.0 << " ms/frame integration)\n";
+            << std::setprecision(1) << median * 1000.0 << " ms/frame integration); written in "
+            << std::setprecision(2) << save_seconds << " s\n";
   std::cout << std::defaultfloat << "map: resolution " << map.parameters().resolution << " m, "
             << map.numNodes()
             << " nodes, " << map.numLeaves() << " leaves, " << map.memoryBytes() / 1024

@@ -1,7 +1,9 @@
 // labeloctomap plan: which objects to remove, in which order, before picking a
 // target, with grasps and placements (docs/planning.md).
+#include <algorithm>
 #include <climits>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <optional>
@@ -111,6 +113,18 @@ int runPlan(const Words& words) {
   const int target = resolveObjectLabel(map.labels(), target_text, map_path.string(), "--target");
   if (const auto candidates = args.option("candidates"))
     options.objects.labels = parseCandidates(*candidates, map.labels(), map_path.string());
+  // The bin's placements stack along +z: a map whose up is far from it (the
+  // world of a recording is often its first camera's) puts them on a wall.
+  if (options.empty_bin)
+    if (const auto up = map.upDirection(); up && up->z() < std::cos(30.0 * M_PI / 180.0)) {
+      char text[160];
+      std::snprintf(text, sizeof text, "(%.2f, %.2f, %.2f), %.0f deg from +z", up->x(), up->y(),
+                    up->z(), std::acos(std::clamp(up->z(), -1.0, 1.0)) * 180.0 / M_PI);
+      std::cerr << "warning: --empty-bin places the objects along the map's +z, but up in "
+                << map_path.string() << " is " << text
+                << " (its level plane or cameras): the placements assume z up and may lie on "
+                   "their side (docs/planning.md)\n";
+    }
   const PickPlan plan = planPick(map, target, options);
   if (plan.approach_source == ApproachSource::FreeSpace)
     std::cerr << "note: the approach direction was guessed from the map's observed free space "

@@ -7,6 +7,8 @@
 #include <string>
 
 #include "cli_scene_fixture.hpp"
+#include "lom/fusion.hpp"
+#include "lom/images.hpp"
 #include "lom/label_map.hpp"
 #include "lom/sequence.hpp"
 #include "test_support.hpp"
@@ -280,6 +282,40 @@ TEST_F(CliFuseTest, DepthsBeyondAnyRangeFusionTakesPointAtTheIntrinsics) {
       << r.err;
   EXPECT_EQ(r.err.find("--max-range inf"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find(" inf m"), std::string::npos) << r.err;
+}
+
+// Depths beyond max range are a warning when they are most of the valid
+// pixels, a note (same words) from a fifth of them, and nothing below.
+TEST_F(CliFuseTest, DepthsBeyondMaxRangeAreNotedFromAFifthAndWarnedFromAHalf) {
+  TempDir out;
+  const lom::Sequence sequence = lom::loadSequence(scene_->path() / "scene");
+  std::vector<lom::DepthImage> depths;
+  for (size_t i = 0; i < sequence.frames.size(); ++i)
+    depths.push_back(lom::loadFrame(sequence, i).depth);
+  int notes = 0;
+  for (int cm = 50; cm <= 100; cm += 5) {
+    const double range = cm / 100.0;
+    size_t valid = 0, beyond = 0;
+    for (size_t i = 0; i < depths.size(); ++i) {
+      const lom::DepthRanges ranges = lom::countDepthRanges(sequence.cameraOf(i), depths[i], range);
+      valid += ranges.measured;
+      beyond += ranges.beyond;
+    }
+    const double share = static_cast<double>(beyond) / static_cast<double>(valid);
+    const auto r =
+        runCli("fuse '" + (scene_->path() / "scene").string() + "' --max-range " +
+               std::to_string(range) + " --quiet --out '" + (out / "m.ot").string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const bool warned = r.err.find("warning: ") != std::string::npos &&
+                        r.err.find("were beyond the max range") != std::string::npos;
+    const bool noted = r.err.find("note: ") != std::string::npos &&
+                       r.err.find("were beyond the max range") != std::string::npos;
+    SCOPED_TRACE(std::to_string(range) + " m: " + std::to_string(share));
+    EXPECT_EQ(warned, share > 0.5) << r.err;
+    EXPECT_EQ(noted, share >= 0.2 && share <= 0.5) << r.err;
+    notes += noted;
+  }
+  EXPECT_GT(notes, 0) << "no max range of the scene gave a note";
 }
 
 // 400 m out, the cameras lie outside the map: fuse fails at once, naming the

@@ -351,6 +351,82 @@ TEST_F(BoxFilesTest, RestoredBoxesAreSavedWhereTheyCameFrom) {
   EXPECT_DOUBLE_EQ(saved.boxes.front().box.center.x(), moved.box.center.x());
 }
 
+// Boxes opened from beside another sequence's sequence.json are that
+// sequence's ground truth: they become this sequence's unsaved boxes, and
+// Save Boxes writes this sequence's file, never theirs.
+TEST_F(BoxFilesTest, BoxesOfAnotherSequenceAreSavedAsThisSequencesBoxes) {
+  const lom::test::TinySequence other = lom::test::writeTinySequence(temp_ / "other_shelf");
+  Annotations theirs;
+  theirs.boxes.push_back(boxOf(1, "square_box"));
+  saveAnnotations(theirs, other.folder / "annotations.json");
+  const std::string theirs_before = slurp(other.folder / "annotations.json");
+  ASSERT_TRUE(open(tiny_.folder));
+  warnings_.clear();
+  ASSERT_EQ(loadBoxes(window_.session(), qPath(other.folder / "annotations.json")), QString());
+  ASSERT_EQ(boxes().boxCount(), 1);
+  EXPECT_TRUE(boxes().isDirty());
+  ASSERT_EQ(warnings_.size(), 1) << warnings_.join('\n').toStdString();
+  EXPECT_TRUE(warnings_.front().contains("Boxes of another sequence"))
+      << warnings_.front().toStdString();
+  GroundTruthBox moved = boxes().box(0);
+  moved.box.center.x() += 0.01;
+  boxes().setBox(0, moved, "Edit box");
+  window_.findAction("Save Boxes")->trigger();
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_EQ(slurp(other.folder / "annotations.json"), theirs_before);
+  const Annotations saved = loadAnnotations(tiny_.folder / "annotations.json");
+  ASSERT_EQ(saved.boxes.size(), 1u);
+  EXPECT_DOUBLE_EQ(saved.boxes.front().box.center.x(), moved.box.center.x());
+
+  // A file of this sequence's own folder is edited in place, as before.
+  ASSERT_EQ(loadBoxes(window_.session(), qPath(tiny_.folder / "annotations.json")), QString());
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_EQ(QFileInfo(boxes().path()), QFileInfo(qPath(tiny_.folder / "annotations.json")));
+}
+
+// A recovery file that cannot be read is named in a message and kept aside,
+// not dropped without a word after the user asked to restore it.
+TEST_F(BoxFilesTest, AnUnreadableRecoveryFileIsReportedAndKept) {
+  const QString recovery = BoxesAutosave::recoveryPath(qPath(tiny_.folder));
+  QDir().mkpath(QFileInfo(recovery).path());
+  {
+    QFile file(recovery);
+    ASSERT_TRUE(file.open(QIODevice::WriteOnly));
+    file.write(
+        "{\"format\": \"labeloctomap-annotations\", \"boxes\": [{\"label\": 1, "
+        "\"center\": [0.1, 0.2]}]}");
+  }
+  accept_offer_ = true;
+  ASSERT_TRUE(open(tiny_.folder));
+  EXPECT_EQ(offered_.size(), 1);
+  ASSERT_FALSE(warnings_.isEmpty());
+  EXPECT_TRUE(warnings_.back().startsWith("Boxes not restored")) << warnings_.back().toStdString();
+  EXPECT_TRUE(warnings_.back().contains(recovery + ".unreadable"))
+      << warnings_.back().toStdString();
+  EXPECT_FALSE(QFileInfo::exists(recovery));
+  EXPECT_TRUE(QFileInfo::exists(recovery + ".unreadable"));
+  EXPECT_FALSE(boxes().isDirty());
+  QFile::remove(recovery + ".unreadable");
+}
+
+// A box file opened with the item for the other kind says which item reads it.
+TEST_F(BoxFilesTest, ABoxFileOfTheOtherKindNamesTheItemThatReadsIt) {
+  ASSERT_TRUE(open(tiny_.folder));
+  const fs::path yaml = temp_ / "boxes.yaml";
+  std::ofstream(yaml) << "- name: object_1\n  center: [0.1, 0.0, 0.6]\n";
+  Annotations json_boxes;
+  json_boxes.boxes.push_back(boxOf(1, "square_box"));
+  saveAnnotations(json_boxes, temp_ / "boxes.json");
+  const QString yaml_error = loadBoxes(window_.session(), qPath(yaml));
+  EXPECT_TRUE(yaml_error.contains("read with File ▸ Import YAML Boxes"))
+      << yaml_error.toStdString();
+  const QString json_error = importYamlBoxes(window_.session(), qPath(temp_ / "boxes.json"));
+  EXPECT_TRUE(json_error.contains("read with File ▸ Open Boxes")) << json_error.toStdString();
+  // Files of the right kind that are broken get no such hint.
+  std::ofstream(temp_ / "broken.json") << "{";
+  EXPECT_FALSE(loadBoxes(window_.session(), qPath(temp_ / "broken.json")).contains("▸"));
+}
+
 TEST_F(BoxFilesTest, RecoveryFileGoesWhenTheBoxesAreCleanAgain) {
   ASSERT_TRUE(open(tiny_.folder));
   const QString recovery = window_.autosave().currentRecoveryPath();

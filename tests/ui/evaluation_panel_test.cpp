@@ -15,11 +15,13 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <fstream>
 #include <memory>
 #include <thread>
 #include <vector>
 
 #include "demo_window_fixture.hpp"
+#include "dialog_answerer.hpp"
 #include "lom/evaluation.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/demo_scene.hpp"
@@ -207,6 +209,39 @@ TEST_F(EvaluationPanelTest, NewScoresAndUndoNeverMoveTheSelectionToAnotherBox) {
     EXPECT_EQ(selectedLabel(), last);
     boxes.undoStack().undo();
     waitForScores();
+  }
+}
+
+// Export report asks before replacing a report the folder holds, and never
+// writes into the sequence's own files.
+TEST_F(EvaluationPanelTest, ExportReportAsksBeforeReplacingAReport) {
+  openAndFuse();
+  waitForScores();
+  const auto out = temp_.path() / "reports";
+  std::filesystem::create_directories(out);
+  std::ofstream(out / "report.md") << "my notes\n";
+  {
+    test::DialogAnswerer answer("Cancel");
+    EXPECT_FALSE(panel().exportReportTo(qPath(out)));
+    ASSERT_EQ(answer.questions.size(), 1);
+    EXPECT_TRUE(answer.questions.front().contains("already holds report.md"))
+        << answer.questions.front().toStdString();
+  }
+  EXPECT_EQ(lom::test::slurp(out / "report.md"), "my notes\n");
+  EXPECT_FALSE(std::filesystem::exists(out / "report.json"));
+  {
+    test::DialogAnswerer answer("Replace");
+    EXPECT_TRUE(panel().exportReportTo(qPath(out)));
+    EXPECT_EQ(answer.questions.size(), 1);
+  }
+  EXPECT_TRUE(std::filesystem::exists(out / "report.json"));
+  EXPECT_NE(lom::test::slurp(out / "report.md"), "my notes\n");
+  {
+    test::DialogAnswerer answer("Replace");  // four files now, one question
+    EXPECT_TRUE(panel().exportReportTo(qPath(out)));
+    ASSERT_EQ(answer.questions.size(), 1);
+    EXPECT_TRUE(answer.questions.front().contains("report.json, report.csv, report.md, report.svg"))
+        << answer.questions.front().toStdString();
   }
 }
 

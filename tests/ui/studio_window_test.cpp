@@ -5,11 +5,13 @@
 #include <QApplication>
 #include <QDragEnterEvent>
 #include <QDropEvent>
+#include <QFileInfo>
 #include <QMimeData>
 #include <QPushButton>
 #include <QSlider>
 #include <QTest>
 #include <QUrl>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -136,6 +138,17 @@ TEST_F(StudioWindowTest, OpensADatasetFolderByConvertingIt) {
   ASSERT_NE(menuAction("Colour by Height"), nullptr);
   EXPECT_TRUE(menuAction("Colour by Height")->isChecked());
   EXPECT_EQ(window_.sceneView().voxelColouring(), VoxelColouring::Height);
+  // The recording's own files are the sequence's: no output of the studio
+  // replaces them (a new file beside them is allowed).
+  int recording_files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    if (!entry.is_regular_file()) continue;
+    ++recording_files;
+    EXPECT_FALSE(window_.controller().sequenceFileAt(qPath(entry.path())).isEmpty())
+        << entry.path();
+  }
+  EXPECT_GT(recording_files, 0);
+  EXPECT_TRUE(window_.controller().sequenceFileAt(qPath(folder / "new.png")).isEmpty());
   // A labelled sequence opens in label colours.
   window_.controller().setDiscardGuard([] { return true; });
   ASSERT_TRUE(openTiny());
@@ -300,6 +313,22 @@ TEST_F(StudioWindowTest, RememberedAsRecentAndOpenedByDrop) {
       QTest::qWaitFor([&] { return window_.controller().sequenceName() == "dropped_shelf"; }));
   EXPECT_EQ(window_.controller().sequenceName(), "dropped_shelf");
   EXPECT_TRUE(errors_.empty());
+
+  // The same sequence opened by its sequence.json is one entry, first again.
+  window_.controller().setDiscardGuard([] { return true; });
+  ASSERT_TRUE(window_.controller().openSequence(qPath(tiny_.folder / "sequence.json")));
+  const QStringList recent = window_.recentSequences().paths();
+  ASSERT_GE(recent.size(), 2);
+  EXPECT_EQ(std::filesystem::path(recent.front().toStdString()),
+            std::filesystem::canonical(tiny_.folder));
+  EXPECT_EQ(recent.count(recent.front()), 1);
+  EXPECT_EQ(std::count_if(recent.begin(), recent.end(),
+                          [&](const QString& path) {
+                            return QFileInfo(path).canonicalFilePath() ==
+                                   QFileInfo(qPath(tiny_.folder)).canonicalFilePath();
+                          }),
+            1)
+      << recent.join('\n').toStdString();
 }
 
 // The views still show the open sequence's frame while the new one is being
@@ -343,6 +372,22 @@ TEST_F(StudioWindowTest, DroppedRosBagIsAccepted) {
   QMimeData other;
   other.setUrls({QUrl::fromLocalFile(qPath(text))});
   EXPECT_EQ(SequenceDropHandler::droppedSequencePath(&other), QString());
+
+  // So are JSON files that are no sequence (boxes); a sequence.json under
+  // another name is one.
+  const auto boxes = temp_ / "annotations.json";
+  std::ofstream(boxes) << "{\"format\": \"labeloctomap-annotations\", \"boxes\": []}\n";
+  QMimeData json;
+  json.setUrls({QUrl::fromLocalFile(qPath(boxes))});
+  EXPECT_EQ(SequenceDropHandler::droppedSequencePath(&json), QString());
+  QDragEnterEvent refused(QPoint(40, 40), Qt::CopyAction, &json, Qt::LeftButton, Qt::NoModifier);
+  QApplication::sendEvent(&window_, &refused);
+  EXPECT_FALSE(refused.isAccepted());
+  const auto renamed = temp_ / "shelf-copy.json";
+  std::ofstream(renamed) << "{\n  \"format\": \"labeloctomap-sequence\",\n  \"version\": 1\n}\n";
+  QMimeData sequence;
+  sequence.setUrls({QUrl::fromLocalFile(qPath(renamed))});
+  EXPECT_EQ(SequenceDropHandler::droppedSequencePath(&sequence), qPath(renamed));
 }
 
 bool isNear(QRgb pixel, const Rgb& color, int tolerance) {

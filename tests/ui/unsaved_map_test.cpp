@@ -136,6 +136,17 @@ TEST_F(UnsavedMapTest, SaveMapWritesTheMapThatOpenMapReadsBack) {
   EXPECT_FALSE(session().worker().hasUnsavedMap());
   QApplication::processEvents();
   EXPECT_FALSE(window_.isWindowModified());
+  // Re-thresholded, the map is no longer the one saved (a .ot keeps its
+  // threshold); the same threshold again changes nothing.
+  const double threshold = session().fusionOptions().map.occupancy_threshold;
+  session().setOccupancyThreshold(threshold);
+  EXPECT_FALSE(session().worker().hasUnsavedMap());
+  session().setOccupancyThreshold(threshold + 0.1);
+  EXPECT_TRUE(session().worker().hasUnsavedMap());
+  ASSERT_TRUE(exportWith("Save Map…", temp_.path() / "map.ot"));
+  EXPECT_FALSE(session().worker().hasUnsavedMap());
+  EXPECT_NEAR(LabelMap::load(temp_.path() / "map.ot").parameters().occupancy_threshold,
+              threshold + 0.1, 1e-9);
   const LabelMap saved = LabelMap::load(temp_.path() / "map.ot");
   EXPECT_GT(saved.occupiedCountPerLabel().count(hidden), 0u);
   openMapFile(temp_.path() / "map.ot");

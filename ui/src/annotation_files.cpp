@@ -117,13 +117,55 @@ QString saveBoxes(StudioSession& session, const QString& path) {
   return {};
 }
 
+namespace {
+
+// The folder of the sequence that `boxes_file` lies beside, when that is not
+// `sequence` (the boxes are then another sequence's ground truth).
+QString otherSequenceOf(const QString& boxes_file,
+                        const std::shared_ptr<const Sequence>& sequence) {
+  const QFileInfo beside(QFileInfo(boxes_file).dir(), QStringLiteral("sequence.json"));
+  if (!sequence || !beside.isFile()) return {};
+  std::error_code ec;
+  if (std::filesystem::equivalent(toPath(beside.absoluteFilePath()),
+                                  sequence->root / "sequence.json", ec))
+    return {};
+  return beside.absolutePath();
+}
+
+}  // namespace
+
 QString loadBoxes(StudioSession& session, const QString& path) {
   try {
     const Annotations loaded = loadAnnotations(toPath(path));
-    session.annotations().reset(loaded, QFileInfo(path).absoluteFilePath());
+    const QString other = otherSequenceOf(path, session.sequence());
+    AnnotationsModel& model = session.annotations();
+    if (other.isEmpty()) {
+      model.reset(loaded, QFileInfo(path).absoluteFilePath());
+    } else {
+      // Another sequence's boxes are a start for this one's, not a file to
+      // edit: as an import, they are unsaved and Save Boxes writes this
+      // sequence's file (an unreadable one stays protected), never theirs.
+      if (!model.unreadablePath().isEmpty())
+        model.resetUnreadable(loaded, model.unreadablePath(), model.unreadableError());
+      else
+        model.reset(loaded, QString());
+      model.undoStack().resetClean();
+      emit session.controller().warningOccurred(
+          QObject::tr("Boxes of another sequence"),
+          QObject::tr("%1 holds the boxes of the sequence in %2. They are shown as this "
+                      "sequence's boxes, not yet saved: Save Boxes writes them to %3, and %1 "
+                      "is left as it is.")
+              .arg(QDir::toNativeSeparators(path), QDir::toNativeSeparators(other),
+                   QDir::toNativeSeparators(defaultBoxesPath(session))));
+    }
     reportUnknownLabels(session, loaded, path);
   } catch (const std::exception& error) {
-    return QString::fromStdString(error.what());
+    // A YAML box file chosen with Open Boxes…: say which item reads it.
+    const QString suffix = QFileInfo(path).suffix().toLower();
+    return QString::fromStdString(error.what()) +
+           (suffix == "yaml" || suffix == "yml"
+                ? QObject::tr("\n\nA YAML box file is read with File ▸ Import YAML Boxes….")
+                : QString());
   }
   return {};
 }
@@ -146,7 +188,11 @@ QString importYamlBoxes(StudioSession& session, const QString& path) {
     session.annotations().undoStack().resetClean();
     reportUnknownLabels(session, imported, path);
   } catch (const std::exception& error) {
-    return QString::fromStdString(error.what());
+    // An annotations JSON file chosen with Import YAML Boxes…: say which item reads it.
+    return QString::fromStdString(error.what()) +
+           (QFileInfo(path).suffix().toLower() == "json"
+                ? QObject::tr("\n\nAn annotations JSON file is read with File ▸ Open Boxes….")
+                : QString());
   }
   return {};
 }
@@ -322,8 +368,20 @@ void BoxesAutosave::onSequenceChanged() {
       model.reset(restored, target);
     model.undoStack().resetClean();
     reportUnknownLabels(session_, restored, path);
-  } catch (const std::exception&) {
-    QFile::remove(path);  // unreadable: nothing to restore
+  } catch (const std::exception& error) {
+    // Unreadable: nothing restored. The copy is kept (renamed, so that it is
+    // not offered again) for the user to look into, and the message says where.
+    const QString kept = path + QStringLiteral(".unreadable");
+    QFile::remove(kept);
+    const bool moved = QFile::rename(path, kept);
+    emit session_.controller().warningOccurred(
+        QObject::tr("Boxes not restored"),
+        QObject::tr("The unsaved boxes could not be restored: %1%2")
+            .arg(
+                QString::fromStdString(error.what()),
+                moved
+                    ? QObject::tr("\n\nThe copy is kept as %1.").arg(QDir::toNativeSeparators(kept))
+                    : QString()));
   }
   restoring_ = false;
 }

@@ -1,6 +1,8 @@
 #include "lom/ui/evaluation_panel.hpp"
 
+#include <QDir>
 #include <QFileDialog>
+#include <QFileInfo>
 #include <QFontMetrics>
 #include <QHBoxLayout>
 #include <QHeaderView>
@@ -244,10 +246,12 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   connect(&worker, &MapWorker::evaluationFailed, this,
           [this](const QString& message) { clearReport(message); });
   connect(export_, &QPushButton::clicked, this, [this] {
-    const QString dir = QFileDialog::getExistingDirectory(this, tr("Export Report To"));
-    if (dir.isEmpty()) return;
-    const QString error = exportReport(dir);
-    if (!error.isEmpty()) QMessageBox::warning(this, tr("Export report"), error);
+    // The folder dialog starts beside the sequence, not wherever the studio started.
+    const auto sequence = session_.sequence();
+    const QString start =
+        sequence ? QString::fromStdString(sequence->root.parent_path().string()) : QString();
+    const QString dir = QFileDialog::getExistingDirectory(this, tr("Export Report To"), start);
+    if (!dir.isEmpty()) exportReportTo(dir);
   });
   showMessage(tr("Open a sequence, fuse it and add boxes to score the map."));
 }
@@ -435,6 +439,35 @@ void EvaluationPanel::showMessage(const QString& message) {
 }
 
 QString EvaluationPanel::summaryText() const { return summary_->text(); }
+
+bool EvaluationPanel::exportReportTo(const QString& dir) {
+  QStringList existing;
+  for (const char* name : {"report.json", "report.csv", "report.md", "report.svg"}) {
+    const QString path = QDir(dir).filePath(name);
+    if (const QString own = session_.controller().sequenceFileAt(path); !own.isEmpty()) {
+      QMessageBox::warning(this, tr("Export report"),
+                           tr("%1 is a file of the sequence (%2): the report never replaces it. "
+                              "Choose another folder.")
+                               .arg(path, own));
+      return false;
+    }
+    if (QFileInfo::exists(path)) existing << name;
+  }
+  if (!existing.isEmpty()) {
+    QMessageBox question(QMessageBox::Question, tr("Replace the report?"),
+                         tr("%1 already holds %2. Exporting the report replaces %3.")
+                             .arg(QDir::toNativeSeparators(dir), existing.join(", "),
+                                  existing.size() == 1 ? tr("it") : tr("them")),
+                         QMessageBox::Cancel, this);
+    QPushButton* replace = question.addButton(tr("Replace"), QMessageBox::AcceptRole);
+    question.setDefaultButton(QMessageBox::Cancel);
+    question.exec();
+    if (question.clickedButton() != replace) return false;
+  }
+  const QString error = exportReport(dir);
+  if (!error.isEmpty()) QMessageBox::warning(this, tr("Export report"), error);
+  return error.isEmpty();
+}
 
 QString EvaluationPanel::exportReport(const QString& dir) const {
   if (!report_) return tr("Nothing to export yet.");

@@ -266,6 +266,9 @@ void MapWorker::applyPendingThreshold() {
 }
 
 void MapWorker::setOccupancyThreshold(double threshold) {
+  // A map re-thresholded differs from the file it was saved to or read from
+  // (a .ot keeps its threshold): it is unsaved again.
+  if (threshold != threshold_) unsaved_map_ = true;
   threshold_ = threshold;
   threshold_pending_ = true;
   post([this] { applyPendingThreshold(); }, true);

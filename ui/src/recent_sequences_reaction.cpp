@@ -31,7 +31,10 @@ void RecentSequencesReaction::rebuildMenu() {
     const QString name = info.isDir() || !info.exists() ? info.fileName() : info.dir().dirName();
     QAction* entry = menu_->addAction(
         tr("&%1 %2  (%3)").arg(number++).arg(name, QDir::toNativeSeparators(path)));
-    connect(entry, &QAction::triggered, this, [this, path] { controller_.openSequence(path); });
+    // An entry whose sequence is gone is reported once (by the open) and dropped.
+    connect(entry, &QAction::triggered, this, [this, path] {
+      if (!controller_.openSequence(path) && !QFileInfo::exists(path)) recent_.remove(path);
+    });
   }
   menu_->addSeparator();
   connect(menu_->addAction(tr("Clear Recent")), &QAction::triggered, this,

@@ -289,6 +289,22 @@ QString SequenceController::sequenceFileAt(const QString& path) const {
     std::error_code ec;
     if (fs::equivalent(target, file, ec)) return QString::fromStdString(file.string());
   }
+  if (converted_) {
+    // A converted recording's own files are the sequence's too: the bag, and
+    // every file already in the dataset folder (its images, poses, intrinsics).
+    std::error_code ec;
+    const fs::path source = sequence_path_.toStdString();
+    if (fs::equivalent(target, source, ec)) return sequence_path_;
+    if (fs::is_directory(source, ec) && fs::exists(target, ec)) {
+      const fs::path folder = fs::canonical(source, ec);
+      const fs::path file = fs::canonical(target, ec);
+      if (!ec && !folder.empty()) {
+        const auto [end, ignored] =
+            std::mismatch(folder.begin(), folder.end(), file.begin(), file.end());
+        if (end == folder.end()) return QString::fromStdString(file.string());
+      }
+    }
+  }
   return {};
 }
 

@@ -2,6 +2,7 @@
 
 #include <QDragEnterEvent>
 #include <QDropEvent>
+#include <QFile>
 #include <QFileInfo>
 #include <QMimeData>
 #include <QTimer>
@@ -18,14 +19,29 @@ SequenceDropHandler::SequenceDropHandler(QWidget* target, SequenceController& co
   target->installEventFilter(this);
 }
 
+namespace {
+
+// A file named sequence.json, or a JSON file whose beginning names the
+// sequence format (a sequence.json saved under another name).
+bool isSequenceJson(const QFileInfo& info) {
+  if (info.fileName() == QLatin1String("sequence.json")) return true;
+  QFile file(info.absoluteFilePath());
+  if (!file.open(QIODevice::ReadOnly)) return false;
+  return file.read(4096).contains("\"labeloctomap-sequence\"");
+}
+
+}  // namespace
+
 QString SequenceDropHandler::droppedSequencePath(const QMimeData* mime) {
   if (!mime || !mime->hasUrls()) return {};
   for (const QUrl& url : mime->urls()) {
     if (!url.isLocalFile()) continue;
     const QFileInfo info(url.toLocalFile());
     // A sequence folder or its sequence.json, a dataset folder, or a ROS bag.
-    if (info.isDir() || info.suffix().compare("json", Qt::CaseInsensitive) == 0 ||
-        info.suffix().compare("bag", Qt::CaseInsensitive) == 0)
+    // Another JSON file (boxes, a report) is no sequence: the drop is refused
+    // rather than asking about unsaved work for an open that cannot succeed.
+    if (info.isDir() || info.suffix().compare("bag", Qt::CaseInsensitive) == 0 ||
+        (info.suffix().compare("json", Qt::CaseInsensitive) == 0 && isSequenceJson(info)))
       return info.absoluteFilePath();
   }
   return {};

@@ -46,6 +46,10 @@ class EvaluationPanel : public QWidget {
   // Writes report.json/csv/md/svg into `dir`; returns an error message or ""
   // (an error when the report is missing or out of date).
   QString exportReport(const QString& dir) const;
+  // What Export report… does once `dir` is chosen: asks before replacing the
+  // report files `dir` already holds, refuses files of the sequence, writes
+  // and reports an error in a message box. True when the report was written.
+  bool exportReportTo(const QString& dir);
 
  public slots:
   void requestUpdate();  // debounced

@@ -47,9 +47,10 @@ class SequenceController : public QObject {
   // Whether the open sequence is the conversion of a bag or dataset folder
   // (its folder is then in the import cache, not beside the recording).
   [[nodiscard]] bool isConverted() const { return converted_; }
-  // The file of the open sequence (its sequence.json or a frame file) that
-  // `path` names, under any name; empty when it names none (or no sequence
-  // is open). The studio never writes its outputs over them.
+  // The file of the open sequence (its sequence.json or a frame file, and for
+  // a converted recording the bag or any file already in the recording's
+  // folder) that `path` names, under any name; empty when it names none (or
+  // no sequence is open). The studio never writes its outputs over them.
   [[nodiscard]] QString sequenceFileAt(const QString& path) const;
   // Options of the conversion of bags and dataset folders (the camera
   // intrinsics of a layout without them, for instance).
