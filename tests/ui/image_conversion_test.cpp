@@ -52,14 +52,15 @@ TEST(ImageConversion, DepthIsColourMappedAndMissingDepthIsBlack) {
   EXPECT_FALSE(validDepthRange(DepthImage{1, 1, {0.f}}));
 }
 
-TEST(ImageConversion, LabelsBlendOverTheBaseAndKeepItForBackground) {
+TEST(ImageConversion, LabelsBlendOverTheBaseDimmedToGrey) {
   const LabelSet labels({{0, "bg", {0, 0, 0}}, {1, "a", {200, 0, 0}}});
   const LabelImage ids{2, 1, {0, 1}};
   QImage base(2, 1, QImage::Format_RGB32);
   base.fill(QColor(0, 0, 100));
   const QImage blended = labelsToQImage(ids, labels, base, 0.5);
-  EXPECT_EQ(blended.pixelColor(0, 0), QColor(0, 0, 100));
-  EXPECT_EQ(blended.pixelColor(1, 0), QColor(100, 0, 50));
+  // Grey 0.6 x (0.114 x 100) = 6.84 -> 7; the label is blended over that grey.
+  EXPECT_EQ(blended.pixelColor(0, 0), QColor(7, 7, 7));
+  EXPECT_EQ(blended.pixelColor(1, 0), QColor(104, 4, 4));
   EXPECT_EQ(labelsToQImage(ids, labels).pixelColor(1, 0), QColor(200, 0, 0));
 }
 

@@ -123,7 +123,13 @@ TEST_F(ScoreBreakdownTest, SelectedBoxsVoxelsAddUpToItsScoreAndFollowItsEdits) {
   EXPECT_NEAR(breakdown.volumes.iou(), score.iou_3d.labeloctomap, 1e-9);
   const QString name = QString::fromStdString(score.name);
   EXPECT_EQ(statusMessage(), describeScoreBreakdown(breakdown, name));
-  EXPECT_TRUE(statusMessage().contains(QString("%1 voxels inside the box").arg(breakdown.inside)))
+  EXPECT_TRUE(statusMessage().contains(QString("%1 voxels inside it").arg(breakdown.inside)))
+      << statusMessage().toStdString();
+  // The score comes right after the object's name: a narrow status bar cuts the end.
+  EXPECT_TRUE(statusMessage().startsWith(QString("%1 (label %2): IU_3d %3 %")
+                                             .arg(name)
+                                             .arg(box.label)
+                                             .arg(score.iou_3d.labeloctomap * 100.0, 0, 'f', 1)))
       << statusMessage().toStdString();
   const QImage shown = scene.renderToImage();
   EXPECT_GT(countColoured(shown, true), countColoured(before, true) + 50)

@@ -215,6 +215,18 @@ TEST_F(WindowLayoutTest, HeatMapCaptionSaysWhatItShows) {
   // Elided or not, depending on the pane's width: the tooltip tells what is cut.
   EXPECT_EQ(heat.captionToolTip().isEmpty(), heat.shownCaption() == heat.caption());
   EXPECT_FALSE(heat.image().isNull());
+  // Its scale, 0 to 1, under it (no unit), and only with a heat map.
+  const auto* scale = window_.findChild<ColourBar*>("heatLegend");
+  ASSERT_NE(scale, nullptr);
+  ASSERT_TRUE(scale->range().has_value());
+  EXPECT_EQ(*scale->range(), std::make_pair(0.0, 1.0));
+  EXPECT_TRUE(scale->shownTexts().isEmpty() || scale->shownTexts().front() == "0.00")
+      << scale->shownTexts().join(' ').toStdString();
+  window_.frameImages().setHeatLabel(-1);
+  EXPECT_FALSE(scale->range().has_value());
+  window_.session().setSelectedLabel(label);
+  window_.frameImages().setHeatLabel(label);
+  EXPECT_TRUE(scale->range().has_value());
 
   // A recording without probability images (the tiny sequence has label images only).
   const test::TinySequence tiny = test::writeTinySequence(temp_.path() / "tiny");
@@ -223,6 +235,7 @@ TEST_F(WindowLayoutTest, HeatMapCaptionSaysWhatItShows) {
   EXPECT_EQ(heat.caption().toStdString(), "Probability: none");
   EXPECT_EQ(heat.shownCaption(), heat.caption());  // short enough for the narrowest pane
   EXPECT_TRUE(heat.image().isNull());
+  EXPECT_FALSE(scale->range().has_value());
   EXPECT_TRUE(errors_.empty());
 }
 
@@ -262,6 +275,13 @@ TEST(ColourBarTest, TextsThatWouldOverlapAreLeftOut) {
   bar.setRange(std::nullopt);
   bar.resize(400, 34);
   EXPECT_TRUE(bar.shownTexts().isEmpty());
+
+  // A quantity without a unit (probability).
+  ColourBar probability([](double t) { return QColor::fromRgbF(t, t, t); }, "probability", nullptr,
+                        QString());
+  probability.setRange(std::make_pair(0.0, 1.0));
+  probability.resize(400, 34);
+  EXPECT_EQ(probability.shownTexts(), QStringList({"0.00", "probability", "1.00"}));
 }
 
 }  // namespace

@@ -8,8 +8,12 @@
 
 namespace lom::ui {
 
-ColourBar::ColourBar(std::function<QColor(double)> colour, QString caption, QWidget* parent)
-    : QWidget(parent), colour_(std::move(colour)), caption_(std::move(caption)) {
+ColourBar::ColourBar(std::function<QColor(double)> colour, QString caption, QWidget* parent,
+                     QString unit)
+    : QWidget(parent),
+      colour_(std::move(colour)),
+      caption_(std::move(caption)),
+      unit_(std::move(unit)) {
   setSizePolicy(QSizePolicy::Expanding, QSizePolicy::Fixed);
 }
 
@@ -45,8 +49,8 @@ void ColourBar::paintEvent(QPaintEvent*) {
 
 QStringList ColourBar::shownTexts() const {
   if (!range_) return {};
-  const QString low = QString::number(range_->first, 'f', 2) + " m";
-  const QString high = QString::number(range_->second, 'f', 2) + " m";
+  const QString low = QString::number(range_->first, 'f', 2) + unit_;
+  const QString high = QString::number(range_->second, 'f', 2) + unit_;
   const QFontMetrics metrics = fontMetrics();
   const int room = width() - 8;  // the bar's width
   const int gap = metrics.horizontalAdvance(QStringLiteral("  "));

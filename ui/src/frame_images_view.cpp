@@ -26,6 +26,7 @@ FrameImagesView::FrameImagesView(QWidget* parent)
       label_pane_(new ImagePane(tr("Labels"))),
       label_legend_(new LabelLegend),
       heat_pane_(new ImagePane(tr("Probability"))),
+      heat_legend_(new ColourBar(probabilityColor, tr("probability"), nullptr, QString())),
       readout_(new QLabel) {
   heat_pane_->setObjectName("heatPane");
   readout_->setObjectName("pixelReadout");
@@ -47,7 +48,11 @@ FrameImagesView::FrameImagesView(QWidget* parent)
   grid->addWidget(color_pane_, 0, 0);
   grid->addLayout(depth_column, 0, 1);
   grid->addLayout(label_column, 1, 0);
-  grid->addWidget(heat_pane_, 1, 1);
+  auto* heat_column = new QVBoxLayout;
+  heat_column->addWidget(heat_pane_, 1);
+  heat_column->addWidget(heat_legend_);
+  heat_legend_->setObjectName("heatLegend");
+  grid->addLayout(heat_column, 1, 1);
   layout->addLayout(grid, 1);
   layout->addWidget(readout_);
   for (ImagePane* pane : {color_pane_, depth_pane_, label_pane_, heat_pane_})
@@ -62,6 +67,7 @@ void FrameImagesView::setHeatLabel(int label) {
 
 void FrameImagesView::showHeatMap() {
   const bool known_label = sequence_ && sequence_->labels.contains(heat_label_);
+  heat_legend_->setRange(std::nullopt);  // shown with a heat map only
   if (!frame_) {
     heat_pane_->setCaption(tr("Probability"));
     heat_pane_->setPlaceholder(QString());
@@ -76,6 +82,7 @@ void FrameImagesView::showHeatMap() {
         tr("Probability of %1")
             .arg(QString::fromStdString(sequence_->labels.at(heat_label_).name)));
     heat_pane_->setImage(probabilityHeatMap(*frame_->proba, heat_label_));
+    heat_legend_->setRange(std::make_pair(0.0, 1.0));
   }
 }
 

@@ -263,7 +263,7 @@ void FusionPanel::showDepthRanges(const FrameStats& totals, double max_range) {
     const int percent = static_cast<int>(
         100 * std::min(totals.beyond_range_pixels, totals.valid_pixels) / totals.valid_pixels);
     range_note_ = tr("%1% of the depths lay beyond the max range of %2 m and mapped nothing "
-                     "(they reach %3 m).")
+                     "(the farthest lies %3 m from the camera).")
                       .arg(percent)
                       .arg(max_range, 0, 'f', 2)
                       .arg(totals.farthest_range, 0, 'f', 1);

@@ -69,6 +69,10 @@ QImage depthToQImage(const DepthImage& depth, const DepthRange& range) {
   return image;
 }
 
+namespace {
+constexpr double kBaseBrightness = 0.6;  // of the grey photo under the labels
+}  // namespace
+
 QImage labelsToQImage(const LabelImage& labels, const LabelSet& label_set, const QImage& base,
                       double opacity) {
   if (labels.ids.size() != static_cast<size_t>(labels.width) * labels.height) return {};
@@ -80,6 +84,15 @@ QImage labelsToQImage(const LabelImage& labels, const LabelSet& label_set, const
     auto* row = reinterpret_cast<QRgb*>(image.scanLine(v));
     for (int u = 0; u < labels.width; ++u) {
       const int id = labels.at(u, v);
+      if (has_base) {
+        // The photo dimmed to grey, so that the labels stand out from it and
+        // the pane never looks like the colour image (whose objects may be
+        // painted in their label colours).
+        const int grey = static_cast<int>(
+            std::lround(kBaseBrightness *
+                        (0.299 * qRed(row[u]) + 0.587 * qGreen(row[u]) + 0.114 * qBlue(row[u]))));
+        row[u] = qRgb(grey, grey, grey);
+      }
       if (has_base && id == 0) continue;
       const QColor label = labelColor(label_set, id);
       if (!has_base) {

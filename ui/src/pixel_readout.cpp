@@ -22,6 +22,14 @@ float probabilityOf(const ProbabilityImage& proba, int u, int v, int label) {
   return channel < 0 ? 0.f : proba.pixel(u, v)[channel];
 }
 
+QColor probabilityColor(double p) {
+  // depthColor runs from blue to yellow; a dark start keeps p = 0 dark.
+  const QColor c = depthColor(p);
+  const double fade = 0.25 + 0.75 * p;
+  return QColor(static_cast<int>(c.red() * fade), static_cast<int>(c.green() * fade),
+                static_cast<int>(c.blue() * fade));
+}
+
 QImage probabilityHeatMap(const ProbabilityImage& proba, int label) {
   if (proba.width <= 0 || proba.height <= 0) return {};
   QImage image(proba.width, proba.height, QImage::Format_RGB32);
@@ -30,11 +38,7 @@ QImage probabilityHeatMap(const ProbabilityImage& proba, int label) {
     auto* row = reinterpret_cast<QRgb*>(image.scanLine(v));
     for (int u = 0; u < proba.width; ++u) {
       const double p = channel < 0 ? 0.0 : std::clamp<double>(proba.pixel(u, v)[channel], 0.0, 1.0);
-      // depthColor runs from blue to yellow; a dark start keeps p = 0 dark.
-      const QColor c = depthColor(p);
-      const double fade = 0.25 + 0.75 * p;
-      row[u] = qRgb(static_cast<int>(c.red() * fade), static_cast<int>(c.green() * fade),
-                    static_cast<int>(c.blue() * fade));
+      row[u] = probabilityColor(p).rgb();
     }
   }
   return image;

@@ -19,16 +19,16 @@ QString describeScoreBreakdown(const ScoreBreakdown& breakdown, const QString& n
     return QObject::tr("Score breakdown of %1: the map has no voxels of this label.").arg(object);
   const IouVolumes& v = breakdown.volumes;
   const double covered = v.ground_truth > 0.0 ? v.true_positive / v.ground_truth : 0.0;
+  // The score first: a narrow status bar cuts the end of the line.
   return QObject::tr(
-             "Score breakdown of %1: %2 voxels inside the box (green), %3 partly (red to "
-             "amber to green by how much), %4 outside (red); IU_3d %5 %, the voxels fill "
-             "%6 % of the box.")
+             "%1: IU_3d %2 %, the voxels fill %3 % of the box; %4 voxels inside it (green), "
+             "%5 partly (red to amber to green by how much), %6 outside (red).")
       .arg(object)
+      .arg(v.iou() * 100.0, 0, 'f', 1)
+      .arg(covered * 100.0, 0, 'f', 1)
       .arg(breakdown.inside)
       .arg(breakdown.partly)
-      .arg(breakdown.outside)
-      .arg(v.iou() * 100.0, 0, 'f', 1)
-      .arg(covered * 100.0, 0, 'f', 1);
+      .arg(breakdown.outside);
 }
 
 QString describeScoreBreakdowns(const std::vector<ScoreBreakdown>& breakdowns) {

@@ -16,8 +16,10 @@ class ColourBar : public QWidget {
   Q_OBJECT
 
  public:
-  // `colour` maps 0..1 (low to high) to a colour; `caption` names the quantity.
-  ColourBar(std::function<QColor(double)> colour, QString caption, QWidget* parent = nullptr);
+  // `colour` maps 0..1 (low to high) to a colour; `caption` names the quantity
+  // and `unit` follows the ends' values (" m" for metres, "" for a probability).
+  ColourBar(std::function<QColor(double)> colour, QString caption, QWidget* parent = nullptr,
+            QString unit = QStringLiteral(" m"));
 
   // Low and high ends in metres; nothing is drawn without a range.
   void setRange(std::optional<std::pair<double, double>> range);
@@ -35,6 +37,7 @@ class ColourBar : public QWidget {
  private:
   std::function<QColor(double)> colour_;
   QString caption_;
+  QString unit_;
   std::optional<std::pair<double, double>> range_;
 };
 

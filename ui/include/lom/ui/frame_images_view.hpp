@@ -46,6 +46,7 @@ class FrameImagesView : public QWidget {
   ImagePane* label_pane_;
   LabelLegend* label_legend_;
   ImagePane* heat_pane_;
+  ColourBar* heat_legend_;  // 0..1 under the probability pane
   QLabel* readout_;
   // The frame shown (owned by the sequence controller until the next frame).
   const Sequence* sequence_ = nullptr;

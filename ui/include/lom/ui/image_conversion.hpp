@@ -26,7 +26,8 @@ struct DepthRange {
 [[nodiscard]] QImage depthToQImage(const DepthImage& depth, const DepthRange& range);
 
 // Label colours blended over `base` (same size, or null for plain label
-// colours). Background pixels (label 0) keep the base image.
+// colours), which is shown as a dimmed grey image: background pixels (label
+// 0) show it, labelled pixels are their label's colour over it.
 [[nodiscard]] QImage labelsToQImage(const LabelImage& labels, const LabelSet& label_set,
                                     const QImage& base = {}, double opacity = 0.65);
 
