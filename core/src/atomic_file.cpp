@@ -105,6 +105,18 @@ void writeStream(const fs::path& target, const fs::path& temporary,
 
 }  // namespace
 
+fs::path createStagingFolder(const fs::path& parent, const std::string& what) {
+  static thread_local std::mt19937_64 rng{std::random_device{}()};
+  const fs::path folder = parent / (".labeloctomap-" + what + "-" + std::to_string(::getpid()) +
+                                    "-" + std::to_string(rng() % 1000000));
+  std::error_code ec;
+  if (!fs::create_directory(folder, ec) || ec)
+    throw Error(
+        parent.string(), "output", "a writable folder",
+        "a folder where no folder can be created" + (ec ? ": " + ec.message() : std::string()));
+  return folder;
+}
+
 StagedFiles::~StagedFiles() {
   for (const auto& [target, temporary] : staged_) {
     std::error_code ignored;

@@ -1,9 +1,7 @@
 // exportMap: one entry point for every export format (the CLI's `export`).
-#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
-#include <random>
 
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
@@ -133,13 +131,7 @@ class StagingFolder {
     if (ec)
       throw Error(out.string(), "output path", "a folder for the per-label files",
                   "a folder that cannot be created: " + ec.message());
-    std::random_device random;
-    path_ = out / (".labeloctomap-export-" + std::to_string(::getpid()) + "-" +
-                   std::to_string(random() % 1000000));
-    if (!fs::create_directory(path_, ec) || ec)
-      throw Error(
-          out.string(), "output path", "a writable folder for the per-label files",
-          "a folder where no file can be created" + (ec ? ": " + ec.message() : std::string()));
+    path_ = createStagingFolder(out, "export");
   }
   StagingFolder(const StagingFolder&) = delete;
   StagingFolder& operator=(const StagingFolder&) = delete;

@@ -1,13 +1,11 @@
 // The sequence writer every importer feeds: pose checks, depth filtering,
 // resampling of colour and label evidence to the depth camera, label images to
 // one-hot probabilities, frame files and, last, sequence.json.
-#include <unistd.h>
 
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <random>
 #include <sstream>
 
 #include "import_internal.hpp"
@@ -238,13 +236,7 @@ void SequenceWriter::prepareFolder() {
       throw Error(out_.string(), "output", "a folder that can be created", ec.message());
     created_out_ = true;
   } else if (options_.overwrite) {
-    std::random_device random;
-    staging_ = out_ / (".labeloctomap-import-" + std::to_string(::getpid()) + "-" +
-                       std::to_string(random() % 1000000));
-    if (!fs::create_directory(staging_, ec) || ec)
-      throw Error(
-          out_.string(), "output", "a writable folder",
-          "a folder where no folder can be created" + (ec ? ": " + ec.message() : std::string()));
+    staging_ = createStagingFolder(out_, "import");
   }
   prepared_ = true;
 }

@@ -357,37 +357,33 @@ TEST_F(StudioWindowTest, OpensASequenceWhoseBoxesChooseAnotherLabel) {
 
 // README says ROS bags open like sequences; dropping one must too.
 TEST_F(StudioWindowTest, DroppedRosBagIsAccepted) {
+  // Whether a drag of `file` onto the window is taken as a sequence.
+  const auto accepted = [&](const std::filesystem::path& file) {
+    QMimeData mime;
+    mime.setUrls({QUrl::fromLocalFile(qPath(file))});
+    const bool named = SequenceDropHandler::droppedSequencePath(&mime) == qPath(file);
+    QDragEnterEvent enter(QPoint(40, 40), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(&window_, &enter);
+    EXPECT_EQ(enter.isAccepted(), named) << file;
+    return named;
+  };
   const auto bag = temp_ / "recording.bag";
   std::ofstream(bag) << "#ROSBAG V2.0\n";
-  QMimeData mime;
-  mime.setUrls({QUrl::fromLocalFile(qPath(bag))});
-  EXPECT_EQ(SequenceDropHandler::droppedSequencePath(&mime), qPath(bag));
-  QDragEnterEvent enter(QPoint(40, 40), Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
-  QApplication::sendEvent(&window_, &enter);
-  EXPECT_TRUE(enter.isAccepted());
+  EXPECT_TRUE(accepted(bag));
 
   // Other files are still refused.
   const auto text = temp_ / "notes.txt";
   std::ofstream(text) << "notes\n";
-  QMimeData other;
-  other.setUrls({QUrl::fromLocalFile(qPath(text))});
-  EXPECT_EQ(SequenceDropHandler::droppedSequencePath(&other), QString());
+  EXPECT_FALSE(accepted(text));
 
   // So are JSON files that are no sequence (boxes); a sequence.json under
   // another name is one.
   const auto boxes = temp_ / "annotations.json";
   std::ofstream(boxes) << "{\"format\": \"labeloctomap-annotations\", \"boxes\": []}\n";
-  QMimeData json;
-  json.setUrls({QUrl::fromLocalFile(qPath(boxes))});
-  EXPECT_EQ(SequenceDropHandler::droppedSequencePath(&json), QString());
-  QDragEnterEvent refused(QPoint(40, 40), Qt::CopyAction, &json, Qt::LeftButton, Qt::NoModifier);
-  QApplication::sendEvent(&window_, &refused);
-  EXPECT_FALSE(refused.isAccepted());
+  EXPECT_FALSE(accepted(boxes));
   const auto renamed = temp_ / "shelf-copy.json";
   std::ofstream(renamed) << "{\n  \"format\": \"labeloctomap-sequence\",\n  \"version\": 1\n}\n";
-  QMimeData sequence;
-  sequence.setUrls({QUrl::fromLocalFile(qPath(renamed))});
-  EXPECT_EQ(SequenceDropHandler::droppedSequencePath(&sequence), qPath(renamed));
+  EXPECT_TRUE(accepted(renamed));
 }
 
 bool isNear(QRgb pixel, const Rgb& color, int tolerance) {

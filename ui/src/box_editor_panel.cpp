@@ -13,6 +13,8 @@
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <optional>
 
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/box_edit_actions.hpp"
@@ -27,41 +29,45 @@ namespace lom::ui {
 
 namespace {
 
-// Ctrl+Z / Ctrl+Shift+Z in a field undo and redo box edits, as everywhere in
-// the window: the field's own text undo would otherwise take the keys, and a
-// value entered with Enter could not be undone until the focus left it.
-class BoxUndoKeys : public QObject {
+// Decides, for a widget with the focus, who gets a key the window has a
+// shortcut for: `take` returns true when the widget takes it (it gets the key
+// press), false when it leaves it to the window's shortcut, nothing for Qt's
+// default.
+class ShortcutKeys : public QObject {
  public:
-  using QObject::QObject;
+  ShortcutKeys(QObject* parent, std::function<std::optional<bool>(const QKeyEvent&)> take)
+      : QObject(parent), take_(std::move(take)) {}
 
  protected:
   bool eventFilter(QObject*, QEvent* event) override {
     if (event->type() != QEvent::ShortcutOverride) return false;
-    const auto* key = static_cast<QKeyEvent*>(event);
-    if (!key->matches(QKeySequence::Undo) && !key->matches(QKeySequence::Redo)) return false;
-    event->ignore();  // not the field's: the window's Undo and Redo take it
+    const std::optional<bool> take = take_(*static_cast<QKeyEvent*>(event));
+    if (!take) return false;
+    event->setAccepted(*take);
     return true;
   }
+
+ private:
+  std::function<std::optional<bool>(const QKeyEvent&)> take_;
 };
+
+// Ctrl+Z / Ctrl+Shift+Z in a field undo and redo box edits, as everywhere in
+// the window: the field's own text undo would otherwise take the keys, and a
+// value entered with Enter could not be undone until the focus left it.
+std::optional<bool> leaveUndoToTheWindow(const QKeyEvent& key) {
+  if (key.matches(QKeySequence::Undo) || key.matches(QKeySequence::Redo)) return false;
+  return std::nullopt;
+}
 
 // A label drop-down with the focus takes the letters typed into it (Qt's
 // search by name) instead of the window's one-key box edits (W moves a box,
 // B adds one), which would otherwise edit the box while the user picks a label.
-class LabelSearchKeys : public QObject {
- public:
-  using QObject::QObject;
-
- protected:
-  bool eventFilter(QObject*, QEvent* event) override {
-    if (event->type() != QEvent::ShortcutOverride) return false;
-    const auto* key = static_cast<QKeyEvent*>(event);
-    const Qt::KeyboardModifiers chords = Qt::ControlModifier | Qt::AltModifier | Qt::MetaModifier;
-    if ((key->modifiers() & chords) || key->text().isEmpty() || !key->text().at(0).isPrint())
-      return false;
-    event->accept();  // the drop-down's: it gets the key press
-    return true;
-  }
-};
+std::optional<bool> takeTypedLetters(const QKeyEvent& key) {
+  const Qt::KeyboardModifiers chords = Qt::ControlModifier | Qt::AltModifier | Qt::MetaModifier;
+  if ((key.modifiers() & chords) || key.text().isEmpty() || !key.text().at(0).isPrint())
+    return std::nullopt;
+  return true;
+}
 
 QDoubleSpinBox* makeField(double low, double high, int decimals, double step, const QString& suffix) {
   auto* box = new QDoubleSpinBox;
@@ -158,9 +164,9 @@ BoxEditorPanel::BoxEditorPanel(StudioSession& session, BoxSteps& steps, QWidget*
           &BoxEditorPanel::rebuildLabels);
   rebuildList();
   guardWheel(*this);
-  auto* undo_keys = new BoxUndoKeys(this);
+  auto* undo_keys = new ShortcutKeys(this, leaveUndoToTheWindow);
   for (QDoubleSpinBox* field : fields_) field->installEventFilter(undo_keys);
-  auto* search_keys = new LabelSearchKeys(this);
+  auto* search_keys = new ShortcutKeys(this, takeTypedLetters);
   box_label_->installEventFilter(search_keys);
   new_label_->installEventFilter(search_keys);
 }

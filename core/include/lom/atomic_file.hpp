@@ -61,6 +61,12 @@ class NewFolders {
   std::vector<std::filesystem::path> missing_;  // innermost first
 };
 
+// Creates a new hidden folder `.labeloctomap-<what>-<pid>-<random>` inside
+// `parent` (which must exist), where outputs are staged before they are
+// moved into place; throws lom::Error naming `parent` when it cannot be made.
+std::filesystem::path createStagingFolder(const std::filesystem::path& parent,
+                                          const std::string& what);
+
 // Files that belong together (an OBJ and its MTL): each is written to a
 // temporary file beside its target, and commit() renames them into place, in
 // the order added, only once every one is complete. Until then no target is
