@@ -367,23 +367,22 @@ TEST_F(StudioWindowTest, DroppedRosBagIsAccepted) {
     EXPECT_EQ(enter.isAccepted(), named) << file;
     return named;
   };
-  const auto bag = temp_ / "recording.bag";
-  std::ofstream(bag) << "#ROSBAG V2.0\n";
-  EXPECT_TRUE(accepted(bag));
-
-  // Other files are still refused.
-  const auto text = temp_ / "notes.txt";
-  std::ofstream(text) << "notes\n";
-  EXPECT_FALSE(accepted(text));
-
-  // So are JSON files that are no sequence (boxes); a sequence.json under
-  // another name is one.
-  const auto boxes = temp_ / "annotations.json";
-  std::ofstream(boxes) << "{\"format\": \"labeloctomap-annotations\", \"boxes\": []}\n";
-  EXPECT_FALSE(accepted(boxes));
-  const auto renamed = temp_ / "shelf-copy.json";
-  std::ofstream(renamed) << "{\n  \"format\": \"labeloctomap-sequence\",\n  \"version\": 1\n}\n";
-  EXPECT_TRUE(accepted(renamed));
+  // A bag; other files are still refused, and so are JSON files that are no
+  // sequence (boxes); a sequence.json under another name is one.
+  const struct {
+    const char* name;
+    const char* content;
+    bool sequence;
+  } files[] = {
+      {"recording.bag", "#ROSBAG V2.0\n", true},
+      {"notes.txt", "notes\n", false},
+      {"annotations.json", "{\"format\": \"labeloctomap-annotations\", \"boxes\": []}\n", false},
+      {"shelf-copy.json", "{\n  \"format\": \"labeloctomap-sequence\",\n  \"version\": 1\n}\n",
+       true}};
+  for (const auto& file : files) {
+    std::ofstream(temp_ / file.name) << file.content;
+    EXPECT_EQ(accepted(temp_ / file.name), file.sequence) << file.name;
+  }
 }
 
 bool isNear(QRgb pixel, const Rgb& color, int tolerance) {
