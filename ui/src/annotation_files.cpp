@@ -119,6 +119,17 @@ QString saveBoxes(StudioSession& session, const QString& path) {
 
 namespace {
 
+// Boxes that have no file of their own yet (imported, or another sequence's):
+// unsaved, and saved to the sequence's file, while an annotations.json that
+// could not be read stays protected from being saved over unasked.
+void adoptAsUnsaved(AnnotationsModel& model, const Annotations& boxes) {
+  if (!model.unreadablePath().isEmpty())
+    model.resetUnreadable(boxes, model.unreadablePath(), model.unreadableError());
+  else
+    model.reset(boxes, QString());
+  model.undoStack().resetClean();
+}
+
 // The folder of the sequence that `boxes_file` lies beside, when that is not
 // `sequence` (the boxes are then another sequence's ground truth).
 QString otherSequenceOf(const QString& boxes_file,
@@ -145,11 +156,7 @@ QString loadBoxes(StudioSession& session, const QString& path) {
       // Another sequence's boxes are a start for this one's, not a file to
       // edit: as an import, they are unsaved and Save Boxes writes this
       // sequence's file (an unreadable one stays protected), never theirs.
-      if (!model.unreadablePath().isEmpty())
-        model.resetUnreadable(loaded, model.unreadablePath(), model.unreadableError());
-      else
-        model.reset(loaded, QString());
-      model.undoStack().resetClean();
+      adoptAsUnsaved(model, loaded);
       emit session.controller().warningOccurred(
           QObject::tr("Boxes of another sequence"),
           QObject::tr("%1 holds the boxes of the sequence in %2. They are shown as this "
@@ -180,12 +187,7 @@ QString importYamlBoxes(StudioSession& session, const QString& path) {
                  : lom::importYamlBoxes(toPath(path));
     // The imported boxes have no file yet: an annotations.json that could not
     // be read stays protected from being saved over unasked.
-    AnnotationsModel& model = session.annotations();
-    if (!model.unreadablePath().isEmpty())
-      model.resetUnreadable(imported, model.unreadablePath(), model.unreadableError());
-    else
-      model.reset(imported, QString());
-    session.annotations().undoStack().resetClean();
+    adoptAsUnsaved(session.annotations(), imported);
     reportUnknownLabels(session, imported, path);
   } catch (const std::exception& error) {
     // An annotations JSON file chosen with Import YAML Boxes…: say which item reads it.

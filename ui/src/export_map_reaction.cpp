@@ -1,11 +1,9 @@
 #include "lom/ui/export_map_reaction.hpp"
 
 #include <QAction>
-#include <QCoreApplication>
 #include <QEventLoop>
 #include <QFileDialog>
 #include <QFileInfo>
-#include <QMetaObject>
 #include <QPointer>
 #include <set>
 
@@ -14,17 +12,6 @@
 #include "lom/ui/studio_session.hpp"
 
 namespace lom::ui {
-
-namespace {
-
-// How an export to `path` is listed among the worker's work (closing asks
-// before stopping it).
-QString workDescription(const QString& path) {
-  return QCoreApplication::translate("lom::ui::ExportMapReaction", "export of the map to %1")
-      .arg(path);
-}
-
-}  // namespace
 
 ExportMapReaction::ExportMapReaction(QAction* action, ExportOptions options,
                                      StudioSession& session, QWidget* parent,
@@ -68,15 +55,10 @@ bool ExportMapReaction::exportToAndWait(const QString& path) {
         written = ok;
         loop.quit();
       });
-  const bool started = exportTo(path);
-  if (started && !done) loop.exec();
+  // `finished` comes once the export is off the worker's list of work, so a
+  // window closing after Save Map… does not ask to stop an export that is over.
+  if (exportTo(path) && !done) loop.exec();
   disconnect(connection);
-  // The worker takes the export off its list of work just after announcing
-  // it: wait for that too, so that a window closing after Save Map… does not
-  // ask to stop an export that is over.
-  const QString work = workDescription(path);
-  while (started && session_.worker().pendingWork().contains(work))
-    QCoreApplication::processEvents(QEventLoop::AllEvents, 10);
   return written;
 }
 
@@ -108,7 +90,7 @@ bool ExportMapReaction::exportTo(const QString& path) {
   // or another sequence replaces the map the export was asked for.
   const unsigned generation = worker->mapGeneration();
   const bool behind_fusion = worker->isFusing();
-  worker->withMap(
+  worker->withMapThen(
       [self, worker, options, path, generation, behind_fusion, shown_note](const LabelMap* map) {
         QString message;
         bool ok = false;
@@ -135,15 +117,12 @@ bool ExportMapReaction::exportTo(const QString& path) {
         // are not.
         const bool saved =
             ok && options.format == ExportFormat::Ot && options.native && !options.labels;
-        QMetaObject::invokeMethod(
-            worker,
-            [self, worker, message, ok, saved, generation] {
-              if (saved) worker->markMapSaved(generation);
-              if (self) emit self->finished(message, ok);
-            },
-            Qt::QueuedConnection);
+        return std::function<void()>([self, worker, message, ok, saved, generation] {
+          if (saved) worker->markMapSaved(generation);
+          if (self) emit self->finished(message, ok);
+        });
       },
-      workDescription(path));
+      tr("export of the map to %1").arg(path));
   return true;
 }
 

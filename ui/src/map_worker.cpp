@@ -331,23 +331,29 @@ unsigned MapWorker::listWork(const QString& description) {
   return id;
 }
 
-void MapWorker::forgetWork(unsigned id) {
-  if (id == 0) return;
-  inGui([this, id] {
+void MapWorker::forgetWork(unsigned id, std::function<void()> then) {
+  if (id == 0 && !then) return;
+  inGui([this, id, then = std::move(then)] {
     pending_work_.erase(std::remove_if(pending_work_.begin(), pending_work_.end(),
                                        [id](const auto& work) { return work.first == id; }),
                         pending_work_.end());
+    if (then) then();
   });
 }
 
 void MapWorker::withMap(std::function<void(const LabelMap*)> job, const QString& description) {
-  const unsigned id = listWork(description);
-  post(
-      [this, id, job = std::move(job)] {
-        job(map_.get());
-        forgetWork(id);
+  withMapThen(
+      [job = std::move(job)](const LabelMap* map) {
+        job(map);
+        return std::function<void()>();
       },
-      false);
+      description);
+}
+
+void MapWorker::withMapThen(std::function<std::function<void()>(const LabelMap*)> job,
+                            const QString& description) {
+  const unsigned id = listWork(description);
+  post([this, id, job = std::move(job)] { forgetWork(id, job(map_.get())); }, false);
 }
 
 void MapWorker::withCurrentMap(std::function<bool(const LabelMap*, bool)> job,

@@ -53,6 +53,11 @@ class MapWorker : public QObject {
   // `description` ("export to map.ply") lists the job in pendingWork() until it
   // has run: work the user asked for that closing the window would drop.
   void withMap(std::function<void(const LabelMap*)> job, const QString& description = {});
+  // The same for a job with something to say when it is done: the function it
+  // returns runs in the GUI thread once the job is off pendingWork() (so that
+  // what it announces never finds its own work still listed).
+  void withMapThen(std::function<std::function<void()>(const LabelMap*)> job,
+                   const QString& description = {});
   // Runs `job` on the worker thread with the map as it is now: between two
   // fused frames (also while paused) when fusing, at once otherwise. `final`
   // is false while a fusion is in progress; a job that then returns false
@@ -123,7 +128,8 @@ class MapWorker : public QObject {
   unsigned beginNewMap();
   // Lists a described job in pendingWork() (0 when not listed); forget removes it.
   unsigned listWork(const QString& description);
-  void forgetWork(unsigned id);
+  // Takes job `id` off pendingWork() in the GUI thread, then runs `then`.
+  void forgetWork(unsigned id, std::function<void()> then = {});
 
   // Worker thread only.
   std::unique_ptr<LabelMap> map_;
