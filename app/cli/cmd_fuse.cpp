@@ -140,6 +140,16 @@ FusionOptions fusionOptionsFromArgs(const Args& args) {
                      " voxels long; at most " + number(rays->limit) +
                      " voxels are allowed (a coarser --resolution or a shorter --max-range; "
                      "docs/fusion.md, \"Limits\")");
+  if (args.option("frame-memory")) {
+    const double gib = args.number("frame-memory", 0.0);
+    if (!(gib > 0.0) || !std::isfinite(gib))
+      throw UsageError(
+          "option --frame-memory expects the memory a frame may take while it is "
+          "fused, in GiB (more than 0; by default the memory the system has "
+          "available), got " +
+          number(gib));
+    options.integration.frame_memory_limit_bytes = gib * 1024.0 * 1024.0 * 1024.0;
+  }
   options.map.p_miss = args.number("p-miss", options.map.p_miss);
   options.map.occupancy_threshold = args.number("threshold", options.map.occupancy_threshold);
   if (auto candidates = args.option("candidates"); candidates && *candidates != "none")
@@ -203,7 +213,7 @@ void checkFusionOptionsForSequence(const FusionOptions& options, const Sequence&
 int runFuse(const Words& words) {
   const Args args(words, {"quiet"});
   args.expectOnly({"out", "resolution", "max-range", "p-miss", "threshold", "candidates", "frames",
-                   "quiet", "start-from", kSegmenterOption},
+                   "frame-memory", "quiet", "start-from", kSegmenterOption},
                   1);
   const std::string sequence_path = args.positional(0, "SEQ (a sequence folder)");
   const std::filesystem::path out = args.required("out");

@@ -102,7 +102,7 @@ void noteResolution(const Args& args, const EvaluationReport& report, const fs::
 int runScore(const Words& words) {
   const Args args(words, {"quiet"});
   args.expectOnly({"annotations", "out", "map", "batch", "iou", "resolution", "max-range", "p-miss",
-                   "threshold", "candidates", "frames", "quiet", kSegmenterOption},
+                   "threshold", "candidates", "frames", "frame-memory", "quiet", kSegmenterOption},
                   1);
   const fs::path out = args.required("out");
   EvaluationOptions options;

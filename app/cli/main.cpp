@@ -29,12 +29,13 @@ const Command kCommands[] = {
     {"fuse", lom::cli::runFuse,
      "fuse SEQ --out MAP.ot [--resolution R] [--max-range M] [--p-miss P] [--threshold T]\n"
      "     [--candidates 0,8,19 | --candidates none] [--frames A:B] [--segmenter MODEL.onnx]\n"
-     "     [--start-from EARLIER.ot] [--quiet]\n"
+     "     [--start-from EARLIER.ot] [--frame-memory GIB] [--quiet]\n"
      "                                fuse a sequence into a LabelOctoMap"},
     {"score", lom::cli::runScore,
      "score SEQ --annotations BOXES.json|BOXES.yaml --out DIR [--map MAP.ot]\n"
      "      [--resolution R] [--max-range M] [--p-miss P] [--threshold T] [--candidates ...]\n"
-     "      [--frames A:B] [--iou exact|center] [--segmenter MODEL.onnx] [--quiet]\n"
+     "      [--frames A:B] [--iou exact|center] [--segmenter MODEL.onnx] [--frame-memory GIB]\n"
+     "      [--quiet]\n"
      "      | score --batch LIST.txt --out DIR [the same options, without SEQ, --annotations and "
      "--map]\n"
      "                                per-object IU_3d against projection baselines"},

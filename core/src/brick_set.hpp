@@ -53,6 +53,14 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
     }
     for (size_t i = 0; i < count; ++i) markWalk(walks[i]);
   }
+  [[nodiscard]] size_t brickCount() const { return keys_.size(); }
+  // The voxels marked (one per voxel however many rays crossed it).
+  [[nodiscard]] size_t markedCount() const {
+    size_t marked = 0;
+    for (const std::uint64_t word : words_)
+      marked += static_cast<size_t>(__builtin_popcountll(word));
+    return marked;
+  }
   void clear(const grid::Key& key) {
     const std::uint32_t* index = index_.find(packBrick(key[0], key[1], key[2]));
     if (!index) return;

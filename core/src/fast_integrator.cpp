@@ -377,7 +377,8 @@ bool hasDuplicateChannels(const ProbabilityImage& proba) {
 
 FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
                               const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
-                              const FrameEvidence& evidence, int threads, VectorKernels kernels) {
+                              const FrameEvidence& evidence, int threads, VectorKernels kernels,
+                              double frame_memory_limit_bytes) {
   const bool vector_kernels = kernels != VectorKernels::Baseline;
   const auto start = std::chrono::steady_clock::now();
   checkFrameInputs(map, camera, depth, evidence);
@@ -556,6 +557,17 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     }
     if (!merged) mergeGroups();  // every part was ready before its rays were taken
   });
+
+  // A frame whose rays crossed more voxels than the memory can take is
+  // refused here, before it changes the map (the streams and the new nodes
+  // below grow with the crossed voxels; the marks are bits).
+  size_t bricks = 0;
+  for (const BrickSet& mark : marks) bricks += mark.brickCount();
+  if (frameMemoryNeedsCheck(bricks * BrickSet::kWords * 64, frame_memory_limit_bytes)) {
+    size_t crossed = 0;  // a voxel both threads marked counts twice: an upper bound
+    for (const BrickSet& mark : marks) crossed += mark.markedCount();
+    checkFrameMemory(crossed, frame_memory_limit_bytes, map.parameters().resolution);
+  }
 
   // 3. Hits: full per-label log-odds; they are never also misses in this
   // frame. The hit stream and the miss stream are built at once.

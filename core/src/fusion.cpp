@@ -1,9 +1,14 @@
 #include "lom/fusion.hpp"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <limits>
 #include <unordered_map>
 #include <unordered_set>
@@ -322,7 +327,86 @@ void checkUnlimitedRays(const MapParameters& parameters, const CameraIntrinsics&
               found);
 }
 
+// A number of the first line of `file` that starts with `key` (its first
+// number when `key` is empty), or nullopt.
+std::optional<double> readNumber(const char* file, const std::string& key) {
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.compare(0, key.size(), key) != 0) continue;
+    char* end = nullptr;
+    const double value = std::strtod(line.c_str() + key.size(), &end);
+    if (end == line.c_str() + key.size()) return std::nullopt;
+    return value;
+  }
+  return std::nullopt;
+}
+
+std::string formatBytes(double bytes) {
+  char text[32];
+  if (bytes >= 1024.0 * 1024.0 * 1024.0)
+    std::snprintf(text, sizeof text, "%.1f GiB", bytes / (1024.0 * 1024.0 * 1024.0));
+  else if (bytes >= 1024.0 * 1024.0)
+    std::snprintf(text, sizeof text, "%.0f MiB", bytes / (1024.0 * 1024.0));
+  else
+    std::snprintf(text, sizeof text, "%.0f bytes", bytes);
+  return text;
+}
+
+std::string countOf(double count) {
+  char text[32];
+  if (count < 1e5)
+    std::snprintf(text, sizeof text, "%.0f", count);
+  else
+    std::snprintf(text, sizeof text, count < 1e7 ? "%.1f million" : "%.0f million", count / 1e6);
+  return text;
+}
+
 }  // namespace
+
+std::optional<double> availableMemoryBytes() {
+  std::optional<double> available;
+  auto atMost = [&](double bytes) { available = available ? std::min(*available, bytes) : bytes; };
+  if (const auto kib = readNumber("/proc/meminfo", "MemAvailable:")) atMost(*kib * 1024.0);
+  // A container's memory limit (cgroup v2): "max" reads as no number.
+  if (const auto limit = readNumber("/sys/fs/cgroup/memory.max", ""))
+    if (const auto used = readNumber("/sys/fs/cgroup/memory.current", ""))
+      atMost(std::max(0.0, *limit - *used));
+  rlimit address_space{};
+  if (getrlimit(RLIMIT_AS, &address_space) == 0 && address_space.rlim_cur != RLIM_INFINITY)
+    if (const auto pages = readNumber("/proc/self/statm", "")) {
+      const double used = *pages * static_cast<double>(sysconf(_SC_PAGESIZE));
+      atMost(std::max(0.0, static_cast<double>(address_space.rlim_cur) - used));
+    }
+  return available;
+}
+
+bool frameMemoryNeedsCheck(size_t most_crossed, double limit_bytes) {
+  constexpr double kCheckFrom = 256.0 * 1024 * 1024;  // no smaller frame reads the system's memory
+  return limit_bytes > 0.0 ||
+         static_cast<double>(most_crossed) * kFusionBytesPerCrossedVoxel > kCheckFrom;
+}
+
+void checkFrameMemory(size_t crossed, double limit_bytes, double resolution) {
+  const double needed = static_cast<double>(crossed) * kFusionBytesPerCrossedVoxel;
+  const bool given = limit_bytes > 0.0;
+  double room = limit_bytes;
+  if (!given) {
+    const std::optional<double> available = availableMemoryBytes();
+    if (!available) return;  // nothing to check against
+    room = *available;
+  }
+  if (needed <= room) return;
+  throw Error("", "depth",
+              "rays that cross few enough voxels to fuse in the " + formatBytes(room) +
+                  " of memory " + (given ? "allowed per frame" : "available") + " (at most " +
+                  countOf(room / kFusionBytesPerCrossedVoxel) + " voxels of " +
+                  formatMetres(resolution) + " m, about " +
+                  formatMetres(kFusionBytesPerCrossedVoxel) +
+                  " bytes each); coarser voxels or a shorter max range cross fewer",
+              "rays crossing " + countOf(static_cast<double>(crossed)) + " voxels (about " +
+                  formatBytes(needed) + ")");
+}
 
 FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
                           const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
@@ -338,7 +422,7 @@ FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
       integration.path == IntegrationPath::Reference
           ? integrateFrameReference(map, camera, T_world_camera, depth, evidence)
           : integrateFrameFast(map, camera, T_world_camera, depth, evidence, integration.threads,
-                               integration.kernels);
+                               integration.kernels, integration.frame_memory_limit_bytes);
   map.noteCameraView(T_world_camera.linear());
   return stats;
 }

@@ -107,7 +107,16 @@ FrameStats integrateFrameReference(LabelMap& map, const CameraIntrinsics& camera
                                    const DepthImage& depth, const FrameEvidence& evidence);
 FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
                               const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
-                              const FrameEvidence& evidence, int threads, VectorKernels kernels);
+                              const FrameEvidence& evidence, int threads, VectorKernels kernels,
+                              double frame_memory_limit_bytes);
+
+// IntegrationOptions::frame_memory_limit_bytes, in the fast path once the
+// frame's rays are marked: whether a frame whose rays crossed at most
+// `most_crossed` voxels is to be checked, and the check, which throws
+// lom::Error (field "depth") when `crossed` voxels would take more than the
+// limit (0: more than availableMemoryBytes).
+[[nodiscard]] bool frameMemoryNeedsCheck(size_t most_crossed, double limit_bytes);
+void checkFrameMemory(size_t crossed, double limit_bytes, double resolution);
 
 // logit of a probability clamped to [kProbabilityEpsilon, 1 - kProbabilityEpsilon].
 float clampedLogit(float p);

@@ -320,6 +320,38 @@ TEST_F(CliFuseTest, DepthsBeyondMaxRangeAreNotedFromAFifthAndWarnedFromAHalf) {
 
 // 400 m out, the cameras lie outside the map: fuse fails at once, naming the
 // first such frame's pose and the extent, and writes nothing.
+// --frame-memory: a frame whose rays cross more voxels than the memory given
+// takes is refused, naming the frame's depth, before anything is written; the
+// option takes GiB above 0.
+TEST_F(CliFuseTest, AFrameNeedingMoreThanTheFrameMemoryIsAnErrorAndWritesNothing) {
+  TempDir out;
+  const auto map_path = out / "m.ot";
+  const auto r =
+      runCli("fuse " + scene() + " --out '" + map_path.string() + "' --frame-memory 0.001");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("sequence.json: frames[0].depth: expected rays that cross few enough voxels "
+                       "to fuse in the 1 MiB of memory allowed per frame (at most 8948 voxels of "
+                       "0.01 m, about 120 bytes each); coarser voxels or a shorter max range cross "
+                       "fewer, found rays crossing "),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(map_path));
+
+  const auto coarse = runCli("fuse " + scene() + " --out '" + map_path.string() +
+                             "' --frame-memory 0.05 --resolution 0.02");
+  EXPECT_EQ(coarse.exit_code, 0) << coarse.err;
+  EXPECT_TRUE(std::filesystem::exists(map_path));
+
+  for (const char* bad : {"0", "-1"}) {
+    const auto refused = runCli("fuse " + scene() + " --out '" + (out / "n.ot").string() +
+                                "' --frame-memory " + bad);
+    EXPECT_EQ(refused.exit_code, 2) << bad << ": " << refused.err;
+    EXPECT_NE(refused.err.find("option --frame-memory expects the memory a frame may take"),
+              std::string::npos)
+        << refused.err;
+  }
+}
+
 TEST_F(CliFuseTest, CameraOutsideTheMapIsAnErrorNamingThePose) {
   TempDir out;
   const auto copy = shiftedScene(out, scene_->path() / "scene", 400.0);

@@ -25,14 +25,29 @@ TEST_F(CliMessageTest, RunningOutOfMemoryIsReportedPlainly) {
                     "ulimit -v (its shadow memory needs terabytes of address space)";
   TempDir out;
   // 2 mm voxels need more than 600 MB here; the program itself starts in less.
+  // Each frame's memory check lets the frame through with a --frame-memory
+  // far above the limit, so the allocations fail part way.
   const auto r = runCli("fuse " + q(scene()) + " --out " + q(out / "m.ot") +
-                            " --resolution 0.002 --max-range 2 --quiet",
+                            " --resolution 0.002 --max-range 2 --frame-memory 100 --quiet",
                         {600 * 1024, 120});
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("labeloctomap fuse: out of memory while running"), std::string::npos)
       << r.err;
   EXPECT_NE(r.err.find(scene().string()), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find("std::bad_alloc"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_empty(out.path()));
+
+  // By default the frame is checked against what the limit leaves, and
+  // refused before its update streams and nodes are allocated.
+  const auto checked = runCli("fuse " + q(scene()) + " --out " + q(out / "m.ot") +
+                                  " --resolution 0.002 --max-range 2 --quiet",
+                              {600 * 1024, 120});
+  EXPECT_EQ(checked.exit_code, 1) << checked.err;
+  EXPECT_NE(checked.err.find("sequence.json: frames[0].depth: expected rays that cross few enough "
+                             "voxels to fuse in the "),
+            std::string::npos)
+      << checked.err;
+  EXPECT_NE(checked.err.find(" of memory available (at most "), std::string::npos) << checked.err;
   EXPECT_TRUE(fs::is_empty(out.path()));
 }
 

@@ -1,7 +1,11 @@
 // Hand-computed log-odds for short hit/miss sequences (docs/fusion.md).
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 
 #include "lom/error.hpp"
 #include "lom/fusion.hpp"
@@ -236,6 +240,67 @@ TEST_P(FusionRulesTest, UnlimitedRangeRefusesRaysLongerThanTheLimit) {
   lom::integrateFrame(unbounded, pencilCamera(width), poseAtVoxelCentre(), depth, evidence,
                       options);
   EXPECT_EQ(unbounded.voxelAt(at(12.005)).label, 1);
+}
+
+// IntegrationOptions::frame_memory_limit_bytes: a frame whose rays cross more
+// voxels than the limit takes (kFusionBytesPerCrossedVoxel each) is refused
+// before it changes the map, naming the depth, the voxels and the memory; one
+// that fits is fused. The fast path checks (the reference path does not).
+TEST(FrameMemoryLimit, RefusesAFrameWhoseRaysCrossMoreVoxelsThanTheLimitTakes) {
+  LabelMap map(threeLabels());
+  const int width = 2;
+  DepthImage depth{width, 1, {0.5f, 0.5f}};  // rays of 50 voxels along z
+  ProbabilityImage proba{width, 1, 3, {0, 1, 2}, {0.1f, 0.8f, 0.1f, 0.1f, 0.8f, 0.1f}, {}};
+  FrameEvidence evidence(3, &proba, nullptr, std::nullopt, 0.9);
+  lom::IntegrationOptions options;
+  options.path = lom::IntegrationPath::Fast;
+  options.frame_memory_limit_bytes = 40 * lom::kFusionBytesPerCrossedVoxel;
+  try {
+    lom::integrateFrame(map, pencilCamera(width), poseAtVoxelCentre(), depth, evidence, options);
+    FAIL() << "a frame crossing 50 voxels was fused in the memory of 40";
+  } catch (const lom::Error& e) {
+    EXPECT_EQ(e.problem().field, "depth");
+    EXPECT_NE(e.problem().found.find("rays crossing "), std::string::npos) << e.what();
+    EXPECT_NE(e.problem().expected.find("of memory allowed per frame"), std::string::npos)
+        << e.what();
+    EXPECT_NE(e.problem().expected.find("coarser voxels or a shorter max range"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(map.voxelAt(at(0.505)).known);  // nothing of the frame was integrated
+  EXPECT_FALSE(map.voxelAt(at(0.205)).known);
+
+  options.frame_memory_limit_bytes =
+      60 * lom::kFusionBytesPerCrossedVoxel;  // both rays cross the same 50
+  lom::integrateFrame(map, pencilCamera(width), poseAtVoxelCentre(), depth, evidence, options);
+  EXPECT_EQ(map.voxelAt(at(0.505)).label, 1);
+  EXPECT_TRUE(map.voxelAt(at(0.205)).known);
+
+  options.frame_memory_limit_bytes = 0.0;  // the memory available: a frame this small fits
+  lom::integrateFrame(map, pencilCamera(width), poseAtVoxelCentre(), depth, evidence, options);
+}
+
+// In a child process: limits the address space to 64 MiB more than it uses,
+// and exits with 0 when availableMemoryBytes keeps within what that leaves.
+[[noreturn]] void exitWithAvailableMemoryUnderALimit() {
+  std::ifstream statm("/proc/self/statm");
+  double pages = 0;
+  statm >> pages;
+  const double room = 64.0 * 1024 * 1024;
+  const auto limit = static_cast<rlim_t>(pages * static_cast<double>(sysconf(_SC_PAGESIZE)) + room);
+  rlimit address_space{};
+  address_space.rlim_cur = address_space.rlim_max = limit;
+  if (setrlimit(RLIMIT_AS, &address_space) != 0) std::exit(3);
+  const std::optional<double> available = lom::availableMemoryBytes();
+  std::exit(available && *available <= room && *available > 0.0 ? 0 : 4);
+}
+
+// Under a limit on the address space (ulimit -v), no more memory is available
+// than the limit leaves (checked in a child process, whose limit ends with it).
+TEST(FrameMemoryLimit, AvailableMemoryKeepsWithinTheAddressSpaceLimit) {
+  const std::optional<double> unlimited = lom::availableMemoryBytes();
+  ASSERT_TRUE(unlimited) << "/proc/meminfo gave no MemAvailable";
+  EXPECT_GT(*unlimited, 64.0 * 1024 * 1024);
+  EXPECT_EXIT(exitWithAvailableMemoryUnderALimit(), ::testing::ExitedWithCode(0), "");
 }
 
 TEST_P(FusionRulesTest, CandidatesZeroOtherLabelsAndRenormalise) {

@@ -92,6 +92,10 @@ enum class VectorKernels {
 inline constexpr double kMinFusionResolution = 0.002;
 inline constexpr double kMaxFusionResolution = 1.0;
 inline constexpr double kMaxFusionVoxelsPerRay = 1000.0;
+// What fusing a frame takes per voxel its rays cross, at most, in bytes: the
+// voxel's place in the frame's update streams and, for a voxel new to the map,
+// its nodes (measured in docs/fusion.md, "Limits of the command line").
+inline constexpr double kFusionBytesPerCrossedVoxel = 120.0;
 
 struct IntegrationOptions {
   IntegrationPath path = IntegrationPath::Fast;
@@ -100,11 +104,23 @@ struct IntegrationOptions {
   // farther than this many voxels from the camera is refused (lom::Error,
   // field "depth") before it is integrated. 0 = no limit.
   double max_voxels_per_ray = kMaxFusionVoxelsPerRay;
+  // A frame whose rays cross so many voxels that fusing it would take more
+  // than this many bytes (kFusionBytesPerCrossedVoxel per voxel) is refused
+  // (lom::Error, field "depth") before it changes the map. 0 = the memory
+  // the system has available when the frame is fused (availableMemoryBytes);
+  // a frame that could take more than 256 MiB is checked against it. Only
+  // the fast path checks: the reference path is for tests and benchmarks.
+  double frame_memory_limit_bytes = 0.0;
   int threads = 0;  // fast path worker threads; 0 = one per core
   // Fast path: which vector kernels may run (where the processor has them).
   // Every choice gives the same map to the last bit; the others are for checks.
   VectorKernels kernels = VectorKernels::Best;
 };
+
+// The memory this process can still take, in bytes: MemAvailable of
+// /proc/meminfo and, under a limit on the address space (`ulimit -v`), no more
+// than the limit leaves. nullopt when neither can be read.
+[[nodiscard]] std::optional<double> availableMemoryBytes();
 
 // Distances of a depth image's measured pixels from the camera, as fusion
 // measures them against max range: pixel (u, v) at depth z is the point
