@@ -23,8 +23,11 @@ inline constexpr double kMaxLevelTiltDegrees = 30.0;
 // one voxel edge) whose normal is within kMaxLevelTiltDegrees of `cameras_up`
 // and which holds at least a twelfth of the sampled voxels (at least 200): found by a
 // consensus search with a fixed seed over at most 4096 evenly spaced centres,
-// then fitted by least squares to the centres on it. nullopt when no such plane
-// exists. The same input always gives the same plane.
+// in which every candidate plane is refitted by least squares to the centres
+// on it, again as long as that gathers more of them, before candidates are
+// compared and the largest is judged (three noisy centres span a tilted plane
+// that holds only a strip of a wide floor). nullopt when no such plane exists.
+// The same input always gives the same plane.
 [[nodiscard]] std::optional<LevelPlane> findLevelPlane(const std::vector<Eigen::Vector3d>& centres,
                                                        const Eigen::Vector3d& cameras_up,
                                                        double resolution);
