@@ -3,6 +3,8 @@
 // the fixture shared by the GUI tests that fuse a scene.
 #include <gtest/gtest.h>
 
+#include <QApplication>
+#include <QDockWidget>
 #include <QString>
 #include <QTest>
 #include <filesystem>
@@ -63,6 +65,16 @@ class DemoWindowTest : public ::testing::Test {
     ASSERT_TRUE(QTest::qWaitFor([&] { return !session.worker().isFusing(); }, kTimeoutMs));
     QTest::qWait(50);  // the last snapshot arrives through the event loop
     ASSERT_EQ(session.worker().snapshot()->frames_fused, static_cast<size_t>(smallDemo().frames));
+  }
+  static void settle() {
+    QApplication::processEvents();
+    QTest::qWait(100);  // posted layout requests and resizes
+  }
+  // One of the window's panels, by its object name.
+  QDockWidget& dock(const char* name) {
+    auto* widget = window_.findChild<QDockWidget*>(name);
+    EXPECT_NE(widget, nullptr) << name;
+    return *widget;
   }
   // Object labels that have depth (the transparent bottle has none).
   [[nodiscard]] std::set<int> visibleObjectLabels() const {

@@ -48,15 +48,6 @@ std::string longName(const std::string& name) {
 
 class WindowLayoutTest : public fixture::DemoWindowTest {
  protected:
-  static void settle() {
-    QApplication::processEvents();
-    QTest::qWait(100);  // posted layout requests and resizes
-  }
-  QDockWidget& dock(const char* name) {
-    auto* widget = window_.findChild<QDockWidget*>(name);
-    EXPECT_NE(widget, nullptr) << name;
-    return *widget;
-  }
   void expectFitsALaptop(const char* when) {
     settle();
     EXPECT_LE(window_.minimumSizeHint().height(), kLaptopWindowHeight) << when;

@@ -69,7 +69,8 @@ std::optional<bool> takeTypedLetters(const QKeyEvent& key) {
   return true;
 }
 
-QDoubleSpinBox* makeField(double low, double high, int decimals, double step, const QString& suffix) {
+QDoubleSpinBox* makeField(double low, double high, int decimals, double step,
+                          const QString& suffix) {
   auto* box = new QDoubleSpinBox;
   box->setRange(low, high);
   box->setDecimals(decimals);
@@ -106,16 +107,33 @@ BoxEditorPanel::BoxEditorPanel(StudioSession& session, BoxSteps& steps, QWidget*
   layout->addLayout(new_form);
   layout->addWidget(list_, 1);
 
+  // One column per quantity and one row per axis (roll, pitch and yaw turn
+  // about x, y and z): three fields side by side under short headings keep
+  // the panel narrow enough for a 1024-pixel-wide screen.
   auto* grid = new QGridLayout;
-  const QString rows[3] = {tr("Centre"), tr("Size"), tr("Roll/Pitch/Yaw")};
+  const QString columns[3] = {tr("Centre (m)"), tr("Size (m)"), tr("Roll/Pitch/Yaw")};
+  const QString axes[3] = {QStringLiteral("x"), QStringLiteral("y"), QStringLiteral("z")};
+  const QString tips[9] = {tr("Centre x, m"),
+                           tr("Centre y, m"),
+                           tr("Centre z, m"),
+                           tr("Length (size along x), m"),
+                           tr("Width (size along y), m"),
+                           tr("Height (size along z), m"),
+                           tr("Roll (about x), degrees"),
+                           tr("Pitch (about y), degrees"),
+                           tr("Yaw (about z), degrees")};
+  for (int column = 0; column < 3; ++column) {
+    grid->addWidget(new QLabel(columns[column]), 0, 1 + column, Qt::AlignLeft | Qt::AlignBottom);
+    grid->addWidget(new QLabel(axes[column]), 1 + column, 0);
+  }
   for (int i = 0; i < 9; ++i) {
     const bool angle = i >= 6;
-    fields_[static_cast<size_t>(i)] =
-        angle ? makeField(-180.0, 180.0, 1, 1.0, QStringLiteral("°"))
-              : (i >= 3 ? makeField(0.002, 100.0, 3, 0.005, "") : makeField(-1000, 1000, 3, 0.005, ""));
+    fields_[static_cast<size_t>(i)] = angle ? makeField(-180.0, 180.0, 1, 1.0, QStringLiteral("°"))
+                                            : (i >= 3 ? makeField(0.002, 100.0, 3, 0.005, "")
+                                                      : makeField(-1000, 1000, 3, 0.005, ""));
     fields_[static_cast<size_t>(i)]->setObjectName(QString("boxField%1").arg(i));
-    if (i % 3 == 0) grid->addWidget(new QLabel(rows[i / 3]), i / 3, 0);
-    grid->addWidget(fields_[static_cast<size_t>(i)], i / 3, 1 + i % 3);
+    fields_[static_cast<size_t>(i)]->setToolTip(tips[i]);
+    grid->addWidget(fields_[static_cast<size_t>(i)], 1 + i % 3, 1 + i / 3);
     connect(fields_[static_cast<size_t>(i)], qOverload<double>(&QDoubleSpinBox::valueChanged), this,
             &BoxEditorPanel::onFieldEdited);
   }
@@ -196,8 +214,8 @@ void BoxEditorPanel::rebuildList() {
   const auto sequence = session_.sequence();
   for (int i = 0; i < model.boxCount(); ++i) {
     const GroundTruthBox& box = model.box(i);
-    auto* item = new QListWidgetItem(
-        QString("%1  %2").arg(box.label).arg(QString::fromStdString(box.name)));
+    auto* item =
+        new QListWidgetItem(QString("%1  %2").arg(box.label).arg(QString::fromStdString(box.name)));
     item->setToolTip(item->text());  // the list elides long names
     if (sequence) item->setIcon(swatch(labelColor(sequence->labels, box.label)));
     list_->addItem(item);

@@ -10,8 +10,10 @@
 namespace lom::ui {
 
 namespace {
-// Enough for a label id and a name of average length.
-constexpr int kMinimumContentsLength = 16;
+// Enough for a label id and a short name (longer ones are elided, told
+// whole in the tooltip), and narrow enough for the docks of a 1024-pixel-wide
+// window.
+constexpr int kMinimumContentsLength = 12;
 }  // namespace
 
 QString shortName(const QString& name, int max_characters) {

@@ -65,6 +65,10 @@ namespace {
 constexpr QSize kPreferredWindowSize(1280, 1000);
 // Room left on the screen for the window manager's title bar and borders.
 constexpr QSize kWindowFrameAllowance(16, 40);
+// The widths the frame images and the 3D view start with when the window has
+// room for both.
+constexpr int kPreferredFrameImagesWidth = 430;
+constexpr int kPreferredSceneWidth = 380;
 // A dock shrinks to this height and scrolls its content when the window is
 // too short for it, so that the docks of a 1366x768 screen fit beside each other.
 constexpr int kMinimumDockContentHeight = 80;
@@ -148,16 +152,15 @@ MainWindow::MainWindow(QWidget* parent)
   timeline_ = new TimelineWidget(step_actions);
   timeline_->setObjectName("timeline");
 
-  auto* views = new QSplitter(Qt::Horizontal);
-  views->addWidget(frame_images_);
-  views->addWidget(scene_view_);
-  views->setStretchFactor(1, 1);
-  views->setSizes({430, 520});
+  views_ = new QSplitter(Qt::Horizontal);
+  views_->addWidget(frame_images_);
+  views_->addWidget(scene_view_);
+  views_->setStretchFactor(1, 1);
   auto* central = new QWidget;
   auto* layout = new QVBoxLayout(central);
   layout->setContentsMargins(0, 0, 0, 0);
   layout->setSpacing(0);
-  layout->addWidget(views, 1);
+  layout->addWidget(views_, 1);
   layout->addWidget(timeline_);
   setCentralWidget(central);
 
@@ -260,11 +263,25 @@ void MainWindow::createDocks() {
   QDockWidget* scores = dock(evaluation_panel_, tr("Evaluation"), "evaluationDock");
   objects_panel_ = new ObjectsPanel(*session_);
   QDockWidget* objects = dock(objects_panel_, tr("Objects"), "objectsDock");
-  // On a short screen the three dock groups share the height in about these
-  // proportions (each scrolls what does not fit) rather than the map's labels
-  // shrinking to two rows. The Evaluation tab is raised in its group.
+  // The three dock groups share the height in about these proportions (each
+  // scrolls what does not fit) rather than the map's labels shrinking to two
+  // rows. A window shorter than 800 pixels (a 1366x768 or 1024x768 screen)
+  // has two groups, the map's labels in front of the fusion settings, so that
+  // the scores keep the table, the summary and a readable chart. The
+  // Evaluation tab is raised in its group.
   panel_layout_ = new PanelLayout(
-      *this, {{{labels}, 6}, {{fusion, picked}, 6}, {{boxes, scores, objects}, 10, 1}});
+      *this, {{{labels}, 6}, {{fusion, picked}, 6}, {{boxes, scores, objects}, 10, 1}},
+      {{{labels, fusion, picked}, 2}, {{boxes, scores, objects}, 3, 1}});
+  connect(panel_layout_, &PanelLayout::arrangedDefault, this, [this] {
+    // The frame images take their preferred width, less in a narrow window,
+    // where the 3D view keeps kPreferredSceneWidth; the 3D view takes the rest.
+    // (In a window on screen the panels take their new width first: the
+    // splitter keeps the frame images' width through later resizes.)
+    if (isVisible()) layout()->activate();
+    const int views_width = width() - panel_layout_->defaultPanelsWidth();
+    views_->setSizes({std::min(kPreferredFrameImagesWidth, views_width - kPreferredSceneWidth),
+                      kPreferredSceneWidth});
+  });
   panel_layout_->arrangeDefault();
   connect(objects_panel_, &ObjectsPanel::objectBoxesChanged, this,
           [this](const std::vector<ObjectInstance>& shown) {
@@ -287,8 +304,9 @@ void MainWindow::createAnnotateMenu() {
     QAction* action = menu->addAction(text);
     action->setShortcut(key);
     auto* reaction = new AddBoxReaction(action, mode, *session_);
-    connect(reaction, &AddBoxReaction::failed, this,
-            [this](const QString& title, const QString& message) { report_error_(title, message); });
+    connect(
+        reaction, &AddBoxReaction::failed, this,
+        [this](const QString& title, const QString& message) { report_error_(title, message); });
     connect(reaction, &AddBoxReaction::status, this, [this](const QString& message) {
       if (message.isEmpty())
         statusBar()->clearMessage();
@@ -297,7 +315,8 @@ void MainWindow::createAnnotateMenu() {
     });
   };
   add_box(tr("Add Box from Label Voxels"), AddBoxReaction::Mode::FitLabelVoxels, Qt::Key_B);
-  add_box(tr("Add Box at Clicked Point"), AddBoxReaction::Mode::AtPickedPoint, Qt::SHIFT + Qt::Key_B);
+  add_box(tr("Add Box at Clicked Point"), AddBoxReaction::Mode::AtPickedPoint,
+          Qt::SHIFT + Qt::Key_B);
   add_box(tr("Add Boxes for All Labels"), AddBoxReaction::Mode::FitAllLabels, Qt::CTRL + Qt::Key_B);
   menu->addSeparator();
   for (QAction* action : createBoxEditActions(
@@ -420,7 +439,8 @@ void MainWindow::connectScene() {
   };
   connect(&session_->annotations(), &AnnotationsModel::boxesChanged, this, show_boxes);
   connect(&session_->annotations(), &AnnotationsModel::selectionChanged, this, show_boxes);
-  connect(&session_->annotations(), &AnnotationsModel::dirtyChanged, this, &MainWindow::updateTitle);
+  connect(&session_->annotations(), &AnnotationsModel::dirtyChanged, this,
+          &MainWindow::updateTitle);
   // Every change of the map (a fusion's snapshots, Reset Map, a map opened).
   connect(&session_->worker(), &MapWorker::snapshotChanged, this, &MainWindow::updateTitle);
   connect(scene_view_, &SceneView::boxEdited, this, [this](const OrientedBox& edited) {
@@ -440,13 +460,14 @@ void MainWindow::connectScene() {
           &FrameImagesView::setHeatLabel);
   connect(scene_view_, &SceneView::heightColoursShown, map_legend_,
           &MapLegendPanel::showHeightColours);
-  connect(map_legend_, &MapLegendPanel::currentLabelChanged, session_,
-          [this](int label) { if (label > 0) session_->setSelectedLabel(label); });
+  connect(map_legend_, &MapLegendPanel::currentLabelChanged, session_, [this](int label) {
+    if (label > 0) session_->setSelectedLabel(label);
+  });
 }
 
 void MainWindow::updateTitle() {
-  const QString name = controller_->hasSequence() ? controller_->sequenceName() + "[*] — "
-                                                  : QString();
+  const QString name =
+      controller_->hasSequence() ? controller_->sequenceName() + "[*] — " : QString();
   setWindowTitle(name + tr("LabelOctoMap Studio"));
   // Unsaved boxes, or a map fused here and not saved: what closing would lose.
   setWindowModified(session_->annotations().isDirty() || session_->worker().hasUnsavedMap());
@@ -523,7 +544,8 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   export_menu->addAction(only_shown);
 
   QMenu* fusion = menuBar()->addMenu(tr("F&usion"));
-  auto fusion_action = [&](const QString& text, FusionReaction::Kind kind, const QKeySequence& key) {
+  auto fusion_action = [&](const QString& text, FusionReaction::Kind kind,
+                           const QKeySequence& key) {
     QAction* action = fusion->addAction(text);
     action->setShortcut(key);
     new FusionReaction(action, kind, *session_);
@@ -538,7 +560,8 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
       {step_actions.first, step_actions.previous, step_actions.next, step_actions.last});
   view->addSeparator();
   new ResetCameraReaction(view->addAction(tr("&Reset Camera")), *scene_view_);
-  auto scene_action = [&](const QString& text, SceneViewReaction::Kind kind, const QKeySequence& key) {
+  auto scene_action = [&](const QString& text, SceneViewReaction::Kind kind,
+                          const QKeySequence& key) {
     QAction* action = view->addAction(text);
     action->setShortcut(key);
     new SceneViewReaction(action, kind, *session_, *scene_view_);
@@ -553,8 +576,8 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   scene_action(tr("Look from the &Side"), SceneViewReaction::Kind::LookFromSide,
                Qt::CTRL + Qt::Key_3);
   scene_action(tr("Show &Frame Points"), SceneViewReaction::Kind::FramePoints, QKeySequence());
-  scene_action(tr("Show &Projection Voxels of This View"), SceneViewReaction::Kind::ProjectionVoxels,
-               QKeySequence());
+  scene_action(tr("Show &Projection Voxels of This View"),
+               SceneViewReaction::Kind::ProjectionVoxels, QKeySequence());
   auto toggle = [&](const QString& text, const QKeySequence& key, auto make) {
     QAction* action = view->addAction(text);
     action->setShortcut(key);

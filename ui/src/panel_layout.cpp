@@ -5,16 +5,22 @@
 #include <QMainWindow>
 #include <QMenu>
 #include <QSettings>
+#include <algorithm>
 
 namespace lom::ui {
 
-PanelLayout::PanelLayout(QMainWindow& window, std::vector<Group> groups)
-    : QObject(&window), window_(window), groups_(std::move(groups)) {}
+PanelLayout::PanelLayout(QMainWindow& window, std::vector<Group> groups,
+                         std::vector<Group> short_groups)
+    : QObject(&window),
+      window_(window),
+      groups_(std::move(groups)),
+      short_groups_(std::move(short_groups)) {}
 
 void PanelLayout::arrangeDefault() {
+  const bool short_window = !short_groups_.empty() && window_.height() < kShortWindowHeight;
   QList<QDockWidget*> shown;
   QList<int> stretches;
-  for (const Group& group : groups_) {
+  for (const Group& group : short_window ? short_groups_ : groups_) {
     for (QDockWidget* dock : group.tabs) {
       dock->setFloating(false);
       // Adding a panel that is already in the window moves it: the order of
@@ -31,6 +37,23 @@ void PanelLayout::arrangeDefault() {
     }
   }
   window_.resizeDocks(shown, stretches, Qt::Vertical);
+  if (!shown.isEmpty())
+    window_.resizeDocks({shown.front()}, {defaultPanelsWidth()}, Qt::Horizontal);
+  emit arrangedDefault();
+}
+
+int PanelLayout::defaultPanelsWidth() const {
+  // As wide as the widest panel asks, unless that leaves the views (frame
+  // images, 3D view) too little of a narrow window.
+  int preferred = 0;
+  int minimum = 0;
+  for (const Group& group : groups_)
+    for (const QDockWidget* dock : group.tabs) {
+      preferred = std::max(preferred, dock->sizeHint().width());
+      minimum = std::max(minimum, dock->minimumSizeHint().width());
+    }
+  const auto share = static_cast<int>(kPanelsWidthShare * window_.width());
+  return std::clamp(share, minimum, std::max(minimum, preferred));
 }
 
 void PanelLayout::addActionsTo(QMenu& menu) {

@@ -6,6 +6,7 @@
 #include <vtkActor.h>
 #include <vtkAxesActor.h>
 #include <vtkBillboardTextActor3D.h>
+#include <vtkCaptionActor2D.h>
 #include <vtkCoordinate.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkNew.h>
@@ -108,6 +109,28 @@ struct SceneView::Scene {
     empty_hint->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
     empty_hint->GetPositionCoordinate()->SetValue(0.5, 0.5);
     renderer->AddActor2D(empty_hint);
+
+    // The axes' letters in a fixed size, tinted like their axes and centred
+    // a little beyond their tips: VTK fits them to a share of the marker (too
+    // small to read in a small marker) and starts them at the tips, where the
+    // letters of two axes pointing alike run into each other.
+    axes->SetNormalizedLabelPosition(1.2, 1.2, 1.2);
+    const double tints[3][3] = {{1.0, 0.55, 0.55}, {0.55, 1.0, 0.55}, {0.6, 0.75, 1.0}};
+    vtkCaptionActor2D* captions[3] = {axes->GetXAxisCaptionActor2D(),
+                                      axes->GetYAxisCaptionActor2D(),
+                                      axes->GetZAxisCaptionActor2D()};
+    for (int axis = 0; axis < 3; ++axis) {
+      captions[axis]->GetTextActor()->SetTextScaleModeToNone();
+      captions[axis]->SetPadding(0);
+      vtkTextProperty* text = captions[axis]->GetCaptionTextProperty();
+      text->SetFontSize(SceneView::kAxesLabelFontSize);
+      text->SetItalic(false);
+      text->SetBold(true);
+      text->SetShadow(true);
+      text->SetJustificationToCentered();
+      text->SetVerticalJustificationToCentered();
+      text->SetColor(tints[axis]);
+    }
 
     // Points carry their final colour (label or image): no shading on them.
     cloud.mapper->SetScalarModeToUsePointData();

@@ -4,6 +4,7 @@
 #include <vtkActor.h>
 #include <vtkAxesActor.h>
 #include <vtkCamera.h>
+#include <vtkCaptionActor2D.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkInteractorStyleTrackballCamera.h>
 #include <vtkNew.h>
@@ -14,7 +15,10 @@
 #include <vtkProperty.h>
 #include <vtkRenderWindowInteractor.h>
 #include <vtkRenderer.h>
+#include <vtkRendererCollection.h>
+#include <vtkTextActor.h>
 
+#include <QResizeEvent>
 #include <QSurfaceFormat>
 #include <QTimer>
 #include <QVBoxLayout>
@@ -120,12 +124,68 @@ SceneView::SceneView(QWidget* parent)
   scene_->handles->onEdited([this](const OrientedBox& box) { emit boxEdited(box); });
   scene_->axes_widget->SetOrientationMarker(scene_->axes);
   scene_->axes_widget->SetInteractor(interactor);
-  scene_->axes_widget->SetViewport(0.0, 0.0, 0.16, 0.22);
   scene_->axes_widget->SetEnabled(1);
   scene_->axes_widget->InteractiveOff();
+  // The axes larger in their square than VTK draws them (it leaves room for
+  // them turned every way), their letters still inside it.
+  scene_->axes_widget->SetZoom(1.25);
+  placeAxesMarker();
 }
 
 SceneView::~SceneView() = default;
+
+void SceneView::resizeEvent(QResizeEvent* event) {
+  QWidget::resizeEvent(event);
+  placeAxesMarker();
+}
+
+void SceneView::placeAxesMarker() {
+  // A square of a fixed number of pixels: a share of the view's width and
+  // height would squeeze the axes in a narrow view until their letters
+  // overlap, and blow them up in a wide one.
+  const int side =
+      std::clamp(std::min(width(), height()) / 4, kAxesMarkerMinPixels, kAxesMarkerMaxPixels);
+  scene_->axes_widget->SetViewport(0.0, 0.0, std::min(1.0, side / std::max(1.0, 1.0 * width())),
+                                   std::min(1.0, side / std::max(1.0, 1.0 * height())));
+}
+
+QRect SceneView::axesMarkerRect() const {
+  const double* viewport = scene_->axes_widget->GetViewport();
+  const QPoint bottom_left(static_cast<int>(std::lround(viewport[0] * width())),
+                           static_cast<int>(std::lround((1.0 - viewport[1]) * height())));
+  const QPoint top_right(static_cast<int>(std::lround(viewport[2] * width())),
+                         static_cast<int>(std::lround((1.0 - viewport[3]) * height())));
+  return QRect(QPoint(bottom_left.x(), top_right.y()), QPoint(top_right.x(), bottom_left.y()))
+      .adjusted(0, 0, -1, -1);
+}
+
+std::vector<QRect> SceneView::axesLabelRects() const {
+  // The marker is drawn by a renderer of the orientation widget's own: the
+  // render window's renderer that holds the axes.
+  vtkRenderer* marker = nullptr;
+  vtkRendererCollection* renderers = scene_->render_window->GetRenderers();
+  renderers->InitTraversal();
+  while (vtkRenderer* renderer = renderers->GetNextItem())
+    if (renderer->HasViewProp(scene_->axes)) marker = renderer;
+  if (!marker) return {};
+  const int window_height = scene_->render_window->GetSize()[1];
+  const double scale = devicePixelRatioF();
+  std::vector<QRect> rects;
+  for (vtkCaptionActor2D* caption :
+       {scene_->axes->GetXAxisCaptionActor2D(), scene_->axes->GetYAxisCaptionActor2D(),
+        scene_->axes->GetZAxisCaptionActor2D()}) {
+    vtkTextActor* text = caption->GetTextActor();
+    // Where the caption put its text at the last render, and the text's box
+    // around that point (display pixels from the window's bottom-left corner).
+    const int* anchor = text->GetPositionCoordinate()->GetComputedDisplayValue(marker);
+    double box[4];
+    text->GetBoundingBox(marker, box);
+    const QRectF device(anchor[0] + box[0], window_height - (anchor[1] + box[3]), box[1] - box[0],
+                        box[3] - box[2]);
+    rects.push_back(QRectF(device.topLeft() / scale, device.size() / scale).toAlignedRect());
+  }
+  return rects;
+}
 
 bool SceneView::emptyHintShown() const { return scene_->empty_hint->GetVisibility() != 0; }
 

@@ -15,7 +15,7 @@ constexpr int kAxisLabelGap = 6;
 
 ScoreChart::ScoreChart(QWidget* parent) : QWidget(parent) {
   setObjectName("scoreChart");
-  setMinimumHeight(76);  // the legend, a short plot and the axis labels: fits a laptop's dock
+  setMinimumHeight(kMinimumHeight);
 }
 
 void ScoreChart::setObjects(std::vector<ObjectScore> objects) {

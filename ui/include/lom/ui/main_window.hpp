@@ -9,6 +9,7 @@
 #include "lom/ui/timeline_widget.hpp"
 
 class QLabel;
+class QSplitter;
 
 namespace lom::ui {
 
@@ -119,6 +120,7 @@ class MainWindow : public QMainWindow {
   BoxesAutosave* autosave_ = nullptr;
   FrameImagesView* frame_images_;
   SceneView* scene_view_;
+  QSplitter* views_ = nullptr;  // the frame images beside the 3D view
   TimelineWidget* timeline_;
   QLabel* status_label_;
   std::function<bool(const QString&)> map_discard_question_;

@@ -24,9 +24,23 @@ class PanelLayout : public QObject {
     int stretch = 1;
     size_t raised = 0;
   };
-  PanelLayout(QMainWindow& window, std::vector<Group> groups);
+  // `short_groups` (the same panels in fewer groups) is the arrangement of a
+  // window shorter than kShortWindowHeight, where `groups` would leave each
+  // panel too little height; empty: `groups` at any height.
+  PanelLayout(QMainWindow& window, std::vector<Group> groups, std::vector<Group> short_groups = {});
 
-  // Puts every panel back where the window starts with, shown and docked.
+  // A window shorter than this (that of a 1366x768 or 1024x768 screen) starts
+  // with the short arrangement.
+  static constexpr int kShortWindowHeight = 800;
+  // The panels' column takes about this share of the window's width, within
+  // the panels' minimum and preferred widths: in a narrow window the 3D view
+  // keeps room.
+  static constexpr double kPanelsWidthShare = 0.36;
+  // The width arrangeDefault gives the panels' column in the window's present width.
+  [[nodiscard]] int defaultPanelsWidth() const;
+
+  // Puts every panel back where the window starts with, shown and docked, in
+  // the arrangement that suits the window's present size.
   void arrangeDefault();
   // View > Panels (one check item per panel) and Reset Layout, added to `menu`.
   void addActionsTo(QMenu& menu);
@@ -41,9 +55,14 @@ class PanelLayout : public QObject {
   bool restoreSaved();
   void save() const;
 
+ signals:
+  // arrangeDefault put the panels back (at the start, or View > Reset Layout).
+  void arrangedDefault();
+
  private:
   QMainWindow& window_;
   std::vector<Group> groups_;
+  std::vector<Group> short_groups_;
 };
 
 }  // namespace lom::ui

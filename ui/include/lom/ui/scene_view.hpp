@@ -5,6 +5,7 @@
 // VTK stays behind this header (see scene_adapters.hpp in src/).
 #include <QImage>
 #include <QPoint>
+#include <QRect>
 #include <QString>
 #include <QWidget>
 #include <cstddef>
@@ -108,6 +109,17 @@ class SceneView : public QWidget {
   // probability, size and centre; empty over no voxel.
   [[nodiscard]] QString hoverText() const { return hover_text_; }
 
+  // The orientation axes in the bottom-left corner: a square of this many
+  // pixels (a quarter of the view's shorter side, within these bounds), its
+  // X, Y and Z drawn in a fixed font size just beyond the axes' tips.
+  static constexpr int kAxesMarkerMinPixels = 120;
+  static constexpr int kAxesMarkerMaxPixels = 160;
+  static constexpr int kAxesLabelFontSize = 14;
+  // Where the axes are drawn, and where their X, Y and Z were drawn at the
+  // last render, in this widget's coordinates.
+  [[nodiscard]] QRect axesMarkerRect() const;
+  [[nodiscard]] std::vector<QRect> axesLabelRects() const;
+
  signals:
   // A click (press and release without dragging) hit the scene at this point,
   // nudged a little along the view ray so that it lies inside the voxel hit.
@@ -121,8 +133,12 @@ class SceneView : public QWidget {
   // voxels are in label colours (or there are none).
   void heightColoursShown(std::optional<std::pair<double, double>> range);
 
+ protected:
+  void resizeEvent(QResizeEvent* event) override;
+
  private:
   void render();
+  void placeAxesMarker();
   [[nodiscard]] std::optional<VoxelHit> voxelAt(int x, int y) const;  // VTK display pixels
   void pickAt(int x, int y);
   void hoverAt(int x, int y);

@@ -35,7 +35,10 @@ class ScoreChart : public QWidget {
     QRect rect;
   };
   [[nodiscard]] std::vector<GridLabel> gridLabels() const;
-  [[nodiscard]] QSize sizeHint() const override { return {320, 130}; }
+  // The legend, the axis labels and a plot of about 70 pixels between them,
+  // with grid lines every 25 %: the bars of a few percent stay apart from 0.
+  static constexpr int kMinimumHeight = 120;
+  [[nodiscard]] QSize sizeHint() const override { return {320, 160}; }
   // Colours of the three methods, in the order above.
   [[nodiscard]] static QColor methodColor(int method);
 
