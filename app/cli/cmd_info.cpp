@@ -178,6 +178,15 @@ void printMapInfo(const std::filesystem::path& path, std::ostream& out) {
     out << p.max_range << " m\n";
   else
     out << "unlimited\n";
+  out << "candidates:       ";
+  if (!map.fusedCandidates().recorded) {
+    out << "not recorded (a map of data version 1 or 2)\n";
+  } else if (const auto& ids = map.fusedCandidates().labels) {
+    for (size_t i = 0; i < ids->size(); ++i) out << (i ? "," : "") << (*ids)[i];
+    out << " (the labels its frames were fused with)\n";
+  } else {
+    out << "every label\n";
+  }
   out << "camera views:     " << map.cameraViews().views;
   if (const auto up = map.camerasUp())
     out << ", mean up (" << up->x() << ", " << up->y() << ", " << up->z() << ")";

@@ -53,6 +53,15 @@ void warnPoorMapFit(const ScoreInputs& inputs, const EvaluationReport& report) {
     std::cerr << "warning: " << warning << " Its scores would mean little.\n";
 }
 
+// A map given with --map fused with other candidates than the baselines use,
+// or whose candidates the baselines took.
+void sayMapCandidates(const EvaluationReport& report, const Args& args) {
+  if (!report.map_candidates_warning.empty())
+    std::cerr << "warning: " << report.map_candidates_warning << "\n";
+  if (!report.map_candidates_note.empty() && !args.flag("quiet"))
+    std::cerr << "note: " << report.map_candidates_note << "\n";
+}
+
 void warnOutsideMap(const ScoreInputs& inputs, const EvaluationReport& report) {
   if (inputs.map || report.frames_outside_map.empty()) return;
   const fs::path file =
@@ -107,6 +116,9 @@ int runScore(const Words& words) {
   const fs::path out = args.required("out");
   EvaluationOptions options;
   options.fusion = fusionOptionsFromArgs(args);
+  // A map fused earlier is compared with baselines of its own candidates
+  // unless --candidates says otherwise.
+  options.candidates_from_map = !args.option("candidates");
   if (const auto mode = args.option("iou")) {
     const auto parsed = parseIouMode(*mode);
     if (!parsed) throw UsageError("option --iou expects exact or center, got '" + *mode + "'");
@@ -176,6 +188,7 @@ int runScore(const Words& words) {
       }
       if (show_progress) std::fprintf(stderr, "\n");
       warnPoorMapFit(inputs, reports.back());
+      sayMapCandidates(reports.back(), args);
       warnOutsideMap(inputs, reports.back());
       if (inputs.map) noteResolution(args, reports.back(), *inputs.map);
       std::cout << reportTable(reports.back()) << "\n";
@@ -214,6 +227,7 @@ int runScore(const Words& words) {
   }
   if (show_progress) std::fprintf(stderr, "\n");
   warnPoorMapFit(inputs, report);
+  sayMapCandidates(report, args);
   warnOutsideMap(inputs, report);
   if (inputs.map) noteResolution(args, report, *inputs.map);
   writeReport(report, out);

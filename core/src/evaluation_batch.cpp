@@ -1,4 +1,5 @@
 // Scoring from files: one sequence (scoreSequence) or a batch list of them.
+#include <algorithm>
 #include <cctype>
 #include <fstream>
 #include <map>
@@ -44,6 +45,40 @@ std::string trimmed(const std::string& text) {
   return text.substr(first, text.find_last_not_of(" \t\r") - first + 1);
 }
 
+std::string candidateList(const std::optional<std::vector<int>>& candidates) {
+  if (!candidates) return "every label";
+  std::string text;
+  for (const int id : *candidates) text += (text.empty() ? "" : ",") + std::to_string(id);
+  return "candidates " + text;
+}
+
+// Candidates as a set: sorted, once each, nullopt when every label is listed.
+std::optional<std::vector<int>> candidateSet(std::optional<std::vector<int>> candidates,
+                                             int label_count) {
+  if (!candidates) return candidates;
+  std::sort(candidates->begin(), candidates->end());
+  candidates->erase(std::unique(candidates->begin(), candidates->end()), candidates->end());
+  if (static_cast<int>(candidates->size()) >= label_count) candidates.reset();
+  return candidates;
+}
+
+void describeMapCandidates(EvaluationReport& report, const FusedCandidates& fused, int label_count,
+                           const std::string& map_file, bool from_map) {
+  if (!fused.recorded) return;
+  const auto used = candidateSet(report.candidates, label_count);
+  if (from_map) {
+    if (fused.labels)
+      report.map_candidates_note = map_file + " was fused with " + candidateList(fused.labels) +
+                                   "; the projection baselines and the 2D metrics use them too";
+    return;
+  }
+  if (used == fused.labels) return;
+  report.map_candidates_warning =
+      map_file + " was fused with " + candidateList(fused.labels) +
+      ", but the projection baselines and the 2D metrics use " + candidateList(used) +
+      ": the comparison is not matched (leave out --candidates to use the map's)";
+}
+
 }  // namespace
 
 std::string sequenceName(const fs::path& sequence_folder_or_json) {
@@ -71,8 +106,12 @@ EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOption
     named.map_file = inputs.map->string();
     LabelMap map = LabelMap::load(*inputs.map);
     if (inputs.occupancy_threshold) map.setOccupancyThreshold(*inputs.occupancy_threshold);
+    const FusedCandidates& fused = map.fusedCandidates();
+    if (options.candidates_from_map && fused.recorded) named.fusion.candidates = fused.labels;
     EvaluationReport report = evaluate(sequence, annotations, map, named, progress);
     report.map_fit = mapFitOf(map, sequence);
+    describeMapCandidates(report, fused, sequence.labels.size(), named.map_file,
+                          options.candidates_from_map);
     return report;
   }
   named.map_file = (sequence.root / "sequence.json").string() + " (fused)";

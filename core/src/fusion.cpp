@@ -48,6 +48,8 @@ FrameEvidence::FrameEvidence(int num_labels, const ProbabilityImage* proba, cons
     if (candidates->empty())
       throw Error("", "candidates", "at least one candidate label", "an empty list");
     restricted_ = std::find(allowed_.begin(), allowed_.end(), 0) != allowed_.end();
+    // Every label listed is no restriction at all.
+    if (restricted_) candidates_ = candidates;
   }
   if (proba_) {
     width_ = proba_->width;
@@ -423,6 +425,7 @@ FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
           ? integrateFrameReference(map, camera, T_world_camera, depth, evidence)
           : integrateFrameFast(map, camera, T_world_camera, depth, evidence, integration.threads,
                                integration.kernels, integration.frame_memory_limit_bytes);
+  map.noteFusedCandidates(evidence.candidates());
   map.noteCameraView(T_world_camera.linear());
   return stats;
 }

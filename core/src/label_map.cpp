@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <sstream>
 
@@ -112,6 +113,30 @@ void LabelMap::noteCameraView(const Eigen::Matrix3d& R_world_camera) {
 }
 
 const CameraViewRecord& LabelMap::cameraViews() const { return tree_->cameraViews(); }
+
+void LabelMap::noteFusedCandidates(const std::optional<std::vector<int>>& candidates) {
+  std::optional<std::vector<int>> sorted = candidates;
+  if (sorted) {
+    std::sort(sorted->begin(), sorted->end());
+    sorted->erase(std::unique(sorted->begin(), sorted->end()), sorted->end());
+  }
+  FusedCandidates record = tree_->fusedCandidates();
+  if (tree_->cameraViews().views == 0) {
+    record = FusedCandidates{true, std::move(sorted)};
+  } else if (!record.recorded || !record.labels) {
+    return;  // unknown (an old file), or every label already
+  } else if (!sorted) {
+    record.labels.reset();
+  } else {
+    std::vector<int> both;
+    std::set_union(record.labels->begin(), record.labels->end(), sorted->begin(), sorted->end(),
+                   std::back_inserter(both));
+    record.labels = std::move(both);
+  }
+  tree_->setFusedCandidates(record);
+}
+
+const FusedCandidates& LabelMap::fusedCandidates() const { return tree_->fusedCandidates(); }
 
 std::vector<Eigen::Vector3d> LabelMap::occupiedCentres() const {
   std::vector<Eigen::Vector3d> centres;

@@ -498,8 +498,9 @@ size_t LabelOcTree::labelArrayBytes() const {
 namespace {
 
 constexpr char kMagic[4] = {'L', 'O', 'M', 'T'};
-// 1: labels, parameters, nodes. 2: and the camera view record after the parameters.
-constexpr std::uint32_t kFileVersion = 2;
+// 1: labels, parameters, nodes. 2: and the camera view record after the
+// parameters. 3: and the fused candidates after the camera views.
+constexpr std::uint32_t kFileVersion = 3;
 
 template <typename T>
 void writePod(std::ostream& s, const T& v) {
@@ -530,6 +531,13 @@ std::ostream& LabelOcTree::writeData(std::ostream& s) const {
   for (const double component : camera_views_.up_sum) writePod(s, component);
   for (const double component : camera_views_.forward_sum) writePod(s, component);
   writePod(s, camera_views_.views);
+  // Candidates: 0 (every label) or 1 and the listed label ids.
+  const auto& candidates = fused_candidates_.labels;
+  writePod(s, static_cast<std::uint8_t>(candidates.has_value()));
+  if (candidates) {
+    writePod(s, static_cast<std::uint16_t>(candidates->size()));
+    for (const int id : *candidates) writePod(s, static_cast<std::uint16_t>(id));
+  }
   // OctoMap's node stream cannot express an empty tree, so say whether one follows.
   writePod(s, static_cast<std::uint8_t>(root != nullptr));
   return octomap::OccupancyOcTreeBase<LabelOcTreeNode>::writeData(s);
@@ -555,9 +563,9 @@ void LabelOcTree::readLabelledData(std::istream& s) {
     throw Error("", "data", "LabelOcTree data starting with 'LOMT'", "other bytes");
   std::uint32_t version = 0;
   if (!readPod(s, version)) truncated("data version", "a data version");
-  if (version != 1 && version != kFileVersion)
+  if (version < 1 || version > kFileVersion)
     throw Error("", "data version",
-                "version 1 or " + std::to_string(kFileVersion) +
+                "version 1 to " + std::to_string(kFileVersion) +
                     " (the LabelOcTree data versions this program reads)",
                 "version " + std::to_string(version) +
                     (version > kFileVersion ? " (written by a newer program?)" : ""));
@@ -605,6 +613,33 @@ void LabelOcTree::readLabelledData(std::istream& s) {
                         std::to_string(sum.z()) + ")");
     }
   }
+  FusedCandidates candidates;
+  candidates.recorded = version >= 3;
+  if (candidates.recorded) {
+    std::uint8_t listed = 0;
+    if (!readPod(s, listed)) truncated("candidates", "a candidate flag");
+    if (listed > 1)
+      throw Error("", "candidates", "a candidate flag 0 (every label) or 1 (a list)",
+                  std::to_string(listed));
+    if (listed) {
+      std::uint16_t n = 0;
+      if (!readPod(s, n)) truncated("candidates", "a candidate count");
+      if (n == 0 || n > count)
+        throw Error("", "candidates", "1 to " + std::to_string(count) + " candidate labels",
+                    std::to_string(n));
+      std::vector<int> ids;
+      for (std::uint16_t i = 0; i < n; ++i) {
+        std::uint16_t id = 0;
+        if (!readPod(s, id)) truncated("candidates", std::to_string(n) + " candidate label ids");
+        if (id >= count || (!ids.empty() && id <= ids.back()))
+          throw Error("", "candidates[" + std::to_string(i) + "]",
+                      "label ids below " + std::to_string(count) + " in increasing order",
+                      std::to_string(id));
+        ids.push_back(id);
+      }
+      candidates.labels = std::move(ids);
+    }
+  }
   std::uint8_t has_nodes = 0;
   if (!readPod(s, has_nodes)) truncated("nodes", "a node flag");
   if (has_nodes > 1)
@@ -613,6 +648,7 @@ void LabelOcTree::readLabelledData(std::istream& s) {
   labels_ = LabelSet(std::move(labels));
   parameters_ = parameters;
   camera_views_ = camera_views;
+  fused_candidates_ = std::move(candidates);
   applyParameters();
   if (!has_nodes) return;
   root = new LabelOcTreeNode();

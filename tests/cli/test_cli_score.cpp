@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 #include "cli_scene_fixture.hpp"
@@ -213,6 +214,76 @@ TEST_F(CliScoreTest, CentreModeAndCandidatesAreReported) {
   ASSERT_TRUE(report.contains("metrics_2d_candidates"));
   EXPECT_GE(report["metrics_2d_candidates"]["pixel_accuracy"].get<double>(),
             report["metrics_2d"]["pixel_accuracy"].get<double>());
+}
+
+// A map fused with candidates records them: scored without --candidates, its
+// projection baselines use the same, as when the sequence is fused and scored
+// in one go; other candidates are used as asked, with a warning.
+TEST_F(CliScoreTest, AMapsCandidatesAreTheBaselinesCandidates) {
+  TempDir out;
+  const Json annotations = Json::parse(slurp(scene() / "annotations.json"));
+  // The background and all boxed objects but the last: that one cannot be
+  // segmented by the fusion nor by the projection.
+  std::set<int> ids{0};
+  for (size_t i = 0; i + 1 < annotations["boxes"].size(); ++i)
+    ids.insert(annotations["boxes"][i]["label"].get<int>());
+  std::string candidates;  // in ascending order, as the messages list them
+  for (const int id : ids) candidates += (candidates.empty() ? "" : ",") + std::to_string(id);
+  const int left_out = annotations["boxes"].back()["label"].get<int>();
+  ASSERT_EQ(runCli("fuse " + quoted(scene()) + " --candidates " + candidates + " --out " +
+                   quoted(out / "map.ot") + " --quiet")
+                .exit_code,
+            0);
+  const auto info = runCli("info " + quoted(out / "map.ot"));
+  EXPECT_NE(info.out.find("candidates:       " + candidates), std::string::npos) << info.out;
+  ASSERT_EQ(runCli(scoreArgs(out / "together") + " --candidates " + candidates).exit_code, 0);
+  const auto r = runCli(scoreArgs(out / "loaded") + " --map " + quoted(out / "map.ot"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("note: " + (out / "map.ot").string() + " was fused with candidates " +
+                       candidates + "; the projection baselines and the 2D metrics use them too"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("warning:"), std::string::npos) << r.err;
+  const Json together = Json::parse(slurp(out / "together" / "report.json"));
+  const Json loaded = Json::parse(slurp(out / "loaded" / "report.json"));
+  EXPECT_EQ(loaded["candidates"], together["candidates"]);
+  EXPECT_EQ(loaded["objects"], together["objects"]);
+  for (const Json& object : loaded["objects"])
+    if (object["label"].get<int>() == left_out) {
+      EXPECT_EQ(object["iou_3d"]["projection_max"].get<double>(), 0.0);
+      EXPECT_EQ(object["iou_3d"]["labeloctomap"].get<double>(), 0.0);
+    }
+
+  // Every label for the baselines of this map: used as asked, with a warning.
+  const auto every =
+      runCli(scoreArgs(out / "every") + " --map " + quoted(out / "map.ot") + " --candidates none");
+  ASSERT_EQ(every.exit_code, 0) << every.err;
+  EXPECT_NE(every.err.find("warning: " + (out / "map.ot").string() + " was fused with candidates " +
+                           candidates +
+                           ", but the projection baselines and the 2D metrics use "
+                           "every label: the comparison is not matched"),
+            std::string::npos)
+      << every.err;
+  EXPECT_TRUE(Json::parse(slurp(out / "every" / "report.json"))["candidates"].is_null());
+  // The same candidates given again: nothing to say.
+  const auto same = runCli(scoreArgs(out / "same") + " --map " + quoted(out / "map.ot") +
+                           " --candidates " + candidates);
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_EQ(same.err.find("candidates"), std::string::npos) << same.err;
+  // A map fused with every label, scored with candidates: a warning too.
+  ASSERT_EQ(
+      runCli("fuse " + quoted(scene()) + " --out " + quoted(out / "all.ot") + " --quiet").exit_code,
+      0);
+  EXPECT_NE(runCli("info " + quoted(out / "all.ot")).out.find("candidates:       every label"),
+            std::string::npos);
+  const auto fewer = runCli(scoreArgs(out / "fewer") + " --map " + quoted(out / "all.ot") +
+                            " --candidates " + candidates);
+  ASSERT_EQ(fewer.exit_code, 0) << fewer.err;
+  EXPECT_NE(fewer.err.find("was fused with every label, but the projection baselines and the 2D "
+                           "metrics use candidates " +
+                           candidates),
+            std::string::npos)
+      << fewer.err;
 }
 
 // The frames layout (frame-NNNNNN.depth/pose/label + intrinsics) of a generated scene,

@@ -115,12 +115,20 @@ TEST_F(OpenMapTest, SettingsTheFieldsShowRoundedAreKeptExactly) {
   options.map.resolution = 0.0325;  // shown 0.033 m (three decimals)
   options.map.max_range = 25.125;   // shown 25.13 m; 774 voxels per ray, within the limit
   options.map.p_miss = 0.4951;      // shown 0.495
+  options.candidates = std::vector<int>{4, 0, 6};  // recorded with the map, sorted
   const auto path = temp_.path() / "exact_settings.ot";
   fuseSequence(loadSequence(folder_), options).save(path);
   session().openMap(qPath(path));
   waitForMap();
   ASSERT_TRUE(errors_.empty()) << errors_.front().toStdString();
   FusionPanel& panel = window_.fusionPanel();
+  // The map's candidates are the panel's and the projection baselines'.
+  EXPECT_EQ(panel.candidatesEdit().text(), "0 4 6");
+  EXPECT_EQ(session().fusionOptions().candidates, (std::vector<int>{0, 4, 6}));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !window_.evaluationPanel().isBusy(); }, kTimeoutMs));
+  QTest::qWait(50);
+  ASSERT_TRUE(window_.evaluationPanel().report().has_value());
+  EXPECT_EQ(window_.evaluationPanel().report()->candidates, (std::vector<int>{0, 4, 6}));
   EXPECT_NEAR(panel.maxRangeBox().value(), 25.13, 1e-9);  // not cut to an older 20 m limit
   EXPECT_NEAR(panel.resolutionBox().value(), 0.033, 1e-9);
   EXPECT_FALSE(panel.hasPendingChanges());

@@ -57,6 +57,8 @@ struct MapFile {
   double up_sum[3] = {};      // data version 2: the cameras' summed up directions,
   double forward_sum[3] = {};  // their summed viewing directions
   std::uint32_t up_views = 0;  // and the count
+  // Data version 3: the fused candidates (absent: every label).
+  std::optional<std::vector<std::uint16_t>> candidates;
   std::string nodes;          // the node flag and OctoMap's node stream
 
   static MapFile read(const fs::path& path) {
@@ -88,6 +90,17 @@ struct MapFile {
       file.up_views = get<std::uint32_t>(bytes, at);
       at += 4;
     }
+    if (file.version >= 3) {
+      const auto listed = get<std::uint8_t>(bytes, at);
+      at += 1;
+      if (listed) {
+        const auto n = get<std::uint16_t>(bytes, at);
+        at += 2;
+        file.candidates.emplace();
+        for (int i = 0; i < n; ++i, at += 2)
+          file.candidates->push_back(get<std::uint16_t>(bytes, at));
+      }
+    }
     file.nodes = bytes.substr(at);
     return file;
   }
@@ -106,6 +119,13 @@ struct MapFile {
       for (const double u : up_sum) put(bytes, u);
       for (const double f : forward_sum) put(bytes, f);
       put(bytes, up_views);
+    }
+    if (version >= 3) {
+      put(bytes, static_cast<std::uint8_t>(candidates.has_value()));
+      if (candidates) {
+        put(bytes, static_cast<std::uint16_t>(candidates->size()));
+        for (const std::uint16_t id : *candidates) put(bytes, id);
+      }
     }
     writeBytes(path, bytes + nodes);
   }
@@ -188,15 +208,15 @@ TEST_F(MapFileTest, ResolutionOutOfRangeIsRefused) {
 }
 
 TEST_F(MapFileTest, AnUnknownDataVersionIsNamed) {
-  const lom::Problem problem = loadError(changed([](MapFile& f) { f.version = 3; }));
+  const lom::Problem problem = loadError(changed([](MapFile& f) { f.version = 4; }));
   EXPECT_EQ(problem.field, "data version");
-  EXPECT_EQ(problem.found, "version 3 (written by a newer program?)");
-  EXPECT_NE(problem.expected.find("version 1 or 2"), std::string::npos);
+  EXPECT_EQ(problem.found, "version 4 (written by a newer program?)");
+  EXPECT_NE(problem.expected.find("version 1 to 3"), std::string::npos);
 }
 
 TEST_F(MapFileTest, VersionOneMapsWithoutTheCameraViewRecordStillLoad) {
   const fs::path path = changed([](MapFile& f) {
-    EXPECT_EQ(f.version, 2u);
+    EXPECT_EQ(f.version, 3u);
     f.version = 1;
   });
   const lom::LabelMap map = lom::LabelMap::load(path);
@@ -204,6 +224,57 @@ TEST_F(MapFileTest, VersionOneMapsWithoutTheCameraViewRecordStillLoad) {
   EXPECT_EQ(map.cameraViews().views, 0u);
   EXPECT_FALSE(map.upDirection());
   EXPECT_FALSE(map.meanViewingDirection());
+  EXPECT_FALSE(map.fusedCandidates().recorded);
+}
+
+TEST_F(MapFileTest, VersionTwoMapsLoadWithTheirCandidatesUnknown) {
+  const fs::path path = changed([](MapFile& f) { f.version = 2; });
+  const lom::LabelMap map = lom::LabelMap::load(path);
+  EXPECT_EQ(map.occupiedCountPerLabel().at(1), 27u);
+  EXPECT_FALSE(map.fusedCandidates().recorded);
+}
+
+TEST_F(MapFileTest, FusedCandidatesAreSavedWithTheMapAndWidenedByLaterViews) {
+  lom::LabelMap map(lom::test::numberedLabels(5));
+  EXPECT_TRUE(map.fusedCandidates().recorded);
+  map.noteFusedCandidates(std::vector<int>{3, 0, 3});
+  map.noteCameraView(Eigen::Matrix3d::Identity());
+  map.save(dir / "candidates.ot");
+  const MapFile file = MapFile::read(dir / "candidates.ot");
+  ASSERT_TRUE(file.candidates);
+  EXPECT_EQ(*file.candidates, (std::vector<std::uint16_t>{0, 3}));
+  const lom::LabelMap loaded = lom::LabelMap::load(dir / "candidates.ot");
+  EXPECT_TRUE(loaded.fusedCandidates().recorded);
+  EXPECT_EQ(loaded.fusedCandidates().labels, (std::vector<int>{0, 3}));
+  // A later view with other candidates widens the record to both; one with
+  // every label makes it every label.
+  map.noteFusedCandidates(std::vector<int>{1});
+  map.noteCameraView(Eigen::Matrix3d::Identity());
+  EXPECT_EQ(map.fusedCandidates().labels, (std::vector<int>{0, 1, 3}));
+  map.noteFusedCandidates(std::nullopt);
+  map.noteCameraView(Eigen::Matrix3d::Identity());
+  EXPECT_FALSE(map.fusedCandidates().labels);
+  map.noteFusedCandidates(std::vector<int>{2});
+  EXPECT_FALSE(map.fusedCandidates().labels);
+  map.save(dir / "every.ot");
+  EXPECT_FALSE(MapFile::read(dir / "every.ot").candidates);
+  EXPECT_FALSE(lom::LabelMap::load(dir / "every.ot").fusedCandidates().labels);
+}
+
+TEST_F(MapFileTest, CandidatesOutOfRangeOrOrderAreRefused) {
+  const lom::Problem beyond = loadError(changed([](MapFile& f) {
+    f.candidates = std::vector<std::uint16_t>{0, 7};
+  }));
+  EXPECT_EQ(beyond.field, "candidates[1]");
+  EXPECT_EQ(beyond.found, "7");
+  const lom::Problem order = loadError(changed([](MapFile& f) {
+    f.candidates = std::vector<std::uint16_t>{2, 1};
+  }));
+  EXPECT_EQ(order.field, "candidates[1]");
+  EXPECT_NE(order.expected.find("increasing order"), std::string::npos);
+  const lom::Problem none =
+      loadError(changed([](MapFile& f) { f.candidates = std::vector<std::uint16_t>{}; }));
+  EXPECT_EQ(none.field, "candidates");
 }
 
 TEST_F(MapFileTest, CameraViewsAreSavedWithTheMap) {

@@ -38,6 +38,10 @@ StudioSession::StudioSession(QObject* parent)
                   fit_warning + " " +
                       tr("It is shown all the same; its scores would mean little."));
             options_.map = map->parameters();
+            // The projection baselines see the labels the map was fused with
+            // (maps written before the record keep the panel's candidates).
+            if (map->fusedCandidates().recorded)
+              options_.candidates = map->fusedCandidates().labels;
             emit fusionOptionsChanged();
             ++map_generation_;
             worker_->adoptMap(std::move(map), sequence_->frames.size(), path);

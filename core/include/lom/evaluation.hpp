@@ -33,6 +33,11 @@ struct EvaluationOptions {
   // Box fit: voxels whose centres are at most this many voxel edges apart are
   // in the same cluster; only the largest cluster is boxed.
   double cluster_tolerance_voxels = 2.0;
+  // Scoring a map fused earlier (ScoreInputs::map) whose file records the
+  // candidates it was fused with (FusedCandidates): use those for the
+  // projection baselines and the 2D metrics instead of fusion.candidates, so
+  // that both sides of the comparison saw the same labels.
+  bool candidates_from_map = false;
   // Only for error messages.
   std::string annotations_file;
   std::string map_file;
@@ -118,6 +123,12 @@ struct EvaluationReport {
   // Scored with a map from a file (score --map): how well it fits the
   // sequence's depths (mapFitOf); poor fits are warned about.
   std::optional<MapFit> map_fit;
+  // ... and how its candidates compare with the baselines' (one sentence
+  // each, empty when there is nothing to say): a warning when the baselines
+  // used other candidates than the map was fused with (its file records
+  // them), a note when they took the map's (candidates_from_map).
+  std::string map_candidates_warning;
+  std::string map_candidates_note;
 };
 
 // The summary over all objects of several reports (a batch).

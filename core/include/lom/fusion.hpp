@@ -43,6 +43,8 @@ class FrameEvidence {
   // For fast paths: the probability image when it is used as is (no candidates),
   // so that only its channels need a logit per pixel; nullptr otherwise.
   [[nodiscard]] const ProbabilityImage* directProbabilities() const;
+  // The class candidates given (nullopt: every label).
+  [[nodiscard]] const std::optional<std::vector<int>>& candidates() const { return candidates_; }
 
  private:
   int num_labels_;
@@ -51,6 +53,7 @@ class FrameEvidence {
   const LabelImage* label_;
   std::vector<char> allowed_;  // per label: 1 if candidate (or no candidates given)
   bool restricted_ = false;    // some label is not a candidate: renormalise each pixel
+  std::optional<std::vector<int>> candidates_;
   double label_confidence_;
   std::vector<int> channel_of_label_;  // -1 when the label has no channel
 };

@@ -72,6 +72,16 @@ struct CameraViewRecord {
   std::uint32_t views = 0;
 };
 
+// The class candidates the fused frames were restricted to (fuse --candidates):
+// the labels the fusion may have put in the map, which the projection
+// baselines of a score of the map must use too. `labels` is nullopt when some
+// frame was fused with every label. `recorded` is false for maps written
+// before the record existed (data versions 1 and 2).
+struct FusedCandidates {
+  bool recorded = true;
+  std::optional<std::vector<int>> labels;
+};
+
 struct VoxelState {
   bool known = false;       // observed at least once
   bool occupied = false;
@@ -94,6 +104,11 @@ class LabelMap {
   // Records a fused view's camera (integrateFrame does, for every frame).
   void noteCameraView(const Eigen::Matrix3d& R_world_camera);
   [[nodiscard]] const CameraViewRecord& cameraViews() const;
+  // Records the candidates of a frame about to be fused (integrateFrame
+  // does): the first view sets them, later views widen them to the union
+  // (every label once a frame had none).
+  void noteFusedCandidates(const std::optional<std::vector<int>>& candidates);
+  [[nodiscard]] const FusedCandidates& fusedCandidates() const;
   // Which way is up in the map's world, as its cameras saw it: the mean of
   // their up directions, normalised, when they agree (the mean is at least
   // half a unit long); nullopt when no view was recorded (maps of data

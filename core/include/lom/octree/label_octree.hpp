@@ -135,6 +135,10 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   // map (data version 2).
   [[nodiscard]] const CameraViewRecord& cameraViews() const { return camera_views_; }
   void setCameraViews(const CameraViewRecord& record) { camera_views_ = record; }
+  // The fused frames' class candidates (LabelMap::noteFusedCandidates);
+  // written with the map (data version 3).
+  [[nodiscard]] const FusedCandidates& fusedCandidates() const { return fused_candidates_; }
+  void setFusedCandidates(const FusedCandidates& record) { fused_candidates_ = record; }
 
   // Finest-depth leaf for `key`, created (and pruned ancestors expanded) when
   // needed. Inner nodes are not refreshed: call refreshAncestors afterwards.
@@ -231,6 +235,7 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   LabelSet labels_;
   MapParameters parameters_;
   CameraViewRecord camera_views_;
+  FusedCandidates fused_candidates_;
 
   // Registers the tree type with OctoMap's factory so AbstractOcTree::read works.
   class StaticMemberInitializer {
