@@ -152,8 +152,16 @@ FusionOptions fusionOptionsFromArgs(const Args& args) {
   }
   options.map.p_miss = args.number("p-miss", options.map.p_miss);
   options.map.occupancy_threshold = args.number("threshold", options.map.occupancy_threshold);
-  if (auto candidates = args.option("candidates"); candidates && *candidates != "none")
+  if (auto candidates = args.option("candidates"); candidates && *candidates != "none") {
     options.candidates = parseLabelList(*candidates, "candidates");
+    // Renormalised over object labels only, every pixel becomes an object.
+    const auto& ids = *options.candidates;
+    if (std::find(ids.begin(), ids.end(), 0) == ids.end() && !args.flag("quiet"))
+      std::cerr << "note: --candidates " << *candidates
+                << " leaves out 0, the background: each pixel's probabilities are renormalised "
+                   "over these object labels, so background pixels are fused (and projected) "
+                   "as objects\n";
+  }
   if (auto frames = args.option("frames")) parseFrameRange(*frames, options);
   try {
     checkMapParameters(options.map);

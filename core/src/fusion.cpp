@@ -71,7 +71,7 @@ FrameEvidence::FrameEvidence(int num_labels, const ProbabilityImage* proba, cons
   }
 }
 
-void FrameEvidence::probabilities(int u, int v, float* out) const {
+bool FrameEvidence::probabilities(int u, int v, float* out) const {
   std::fill(out, out + num_labels_, 0.f);
   if (proba_) {
     const size_t first =
@@ -90,7 +90,7 @@ void FrameEvidence::probabilities(int u, int v, float* out) const {
       if (id >= 0 && id < num_labels_) out[id] = static_cast<float>(label_confidence_);
     }
   }
-  if (!restricted_) return;
+  if (!restricted_) return true;
   // Class candidates: drop the other labels and renormalise over the candidates.
   double sum = 0.0;
   int allowed_count = 0;
@@ -103,6 +103,7 @@ void FrameEvidence::probabilities(int u, int v, float* out) const {
     if (!allowed_[static_cast<size_t>(k)]) continue;
     out[k] = sum > 0.0 ? static_cast<float>(out[k] / sum) : 1.f / static_cast<float>(allowed_count);
   }
+  return sum > 0.0;
 }
 
 float clampedLogit(float p) {
@@ -120,7 +121,7 @@ const ProbabilityImage* FrameEvidence::directProbabilities() const {
 
 int FrameEvidence::argmax(int u, int v) const {
   float p[256];  // a map has at most 256 labels; no allocation per pixel
-  probabilities(u, v, p);
+  if (!probabilities(u, v, p)) return -1;
   return static_cast<int>(std::max_element(p, p + num_labels_) - p);
 }
 

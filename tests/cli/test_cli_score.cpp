@@ -276,6 +276,19 @@ TEST_F(CliScoreTest, AMapsCandidatesAreTheBaselinesCandidates) {
       0);
   EXPECT_NE(runCli("info " + quoted(out / "all.ot")).out.find("candidates:       every label"),
             std::string::npos);
+  // Candidates without the background make every pixel an object: said.
+  const std::string objects_only = candidates.substr(2);
+  const auto no_background = runCli("fuse " + quoted(scene()) + " --candidates " + objects_only +
+                                    " --out " + quoted(out / "objects.ot"));
+  ASSERT_EQ(no_background.exit_code, 0) << no_background.err;
+  EXPECT_NE(no_background.err.find("note: --candidates " + objects_only +
+                                   " leaves out 0, the background"),
+            std::string::npos)
+      << no_background.err;
+  EXPECT_EQ(runCli("fuse " + quoted(scene()) + " --candidates " + candidates + " --out " +
+                   quoted(out / "with0.ot"))
+                .err.find("leaves out 0"),
+            std::string::npos);
   const auto fewer = runCli(scoreArgs(out / "fewer") + " --map " + quoted(out / "all.ot") +
                             " --candidates " + candidates);
   ASSERT_EQ(fewer.exit_code, 0) << fewer.err;

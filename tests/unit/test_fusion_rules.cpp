@@ -317,10 +317,18 @@ TEST_P(FusionRulesTest, CandidatesWithNoMassBecomeUniform) {
   ProbabilityImage proba{1, 1, 3, {0, 1, 2}, {1.f, 0.f, 0.f}, {}};
   FrameEvidence evidence(3, &proba, nullptr, std::vector<int>{1, 2}, 0.9);
   float p[3];
-  evidence.probabilities(0, 0, p);
+  EXPECT_FALSE(evidence.probabilities(0, 0, p));  // no probability for any candidate
   EXPECT_FLOAT_EQ(p[0], 0.f);
   EXPECT_FLOAT_EQ(p[1], 0.5f);
   EXPECT_FLOAT_EQ(p[2], 0.5f);
+  // Such a pixel has no label to project (not the lower of the tied candidates).
+  EXPECT_EQ(evidence.argmax(0, 0), -1);
+  // A pixel with some probability for a candidate has its argmax.
+  ProbabilityImage some{1, 1, 3, {0, 1, 2}, {0.9f, 0.f, 0.1f}, {}};
+  FrameEvidence with_mass(3, &some, nullptr, std::vector<int>{1, 2}, 0.9);
+  EXPECT_TRUE(with_mass.probabilities(0, 0, p));
+  EXPECT_FLOAT_EQ(p[2], 1.f);
+  EXPECT_EQ(with_mass.argmax(0, 0), 2);
 }
 
 TEST_P(FusionRulesTest, ZeroAndOneProbabilitiesGiveFiniteLogOdds) {

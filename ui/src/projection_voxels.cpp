@@ -26,7 +26,7 @@ MapSnapshot projectionVoxels(const Sequence& sequence, size_t index, const Frame
       const Eigen::Vector3d p_camera = camera.backProject(u, v, z);
       if (options.map.max_range > 0 && p_camera.norm() > options.map.max_range) continue;
       const int label = evidence.argmax(u, v);
-      if (label == 0) continue;
+      if (label <= 0) continue;  // background, or no probability for any candidate
       const Eigen::Vector3d p = T * p_camera;
       // Outside the map's extent: the fusion and the scored baseline leave such
       // points out too (and their cell would not fit the grid's integers).

@@ -33,11 +33,15 @@ class FrameEvidence {
   [[nodiscard]] int numLabels() const { return num_labels_; }
   [[nodiscard]] int width() const { return width_; }
   [[nodiscard]] int height() const { return height_; }
-  // Probabilities of pixel (u, v) after candidates and renormalisation (not clamped).
-  void probabilities(int u, int v, float* out) const;
+  // Probabilities of pixel (u, v) after candidates and renormalisation (not
+  // clamped). A pixel that gives no probability to any candidate gets the
+  // same probability for each of them; false is returned for it (true for
+  // every other pixel).
+  bool probabilities(int u, int v, float* out) const;
   // logit of the clamped probabilities.
   void logOdds(int u, int v, float* out) const;
-  // Argmax label of pixel (u, v) (ties to the lower id).
+  // Argmax label of pixel (u, v) (ties to the lower id); -1 for a pixel that
+  // gives no probability to any candidate (it has no label to project).
   [[nodiscard]] int argmax(int u, int v) const;
 
   // For fast paths: the probability image when it is used as is (no candidates),
