@@ -170,10 +170,14 @@ VoxelBoxIntersector::VoxelBoxIntersector(const OrientedBox& box, double voxel_ed
   const Eigen::Matrix3d abs_rotation = world_to_box_.cwiseAbs();
   voxel_reach_on_box_axes_ = 0.5 * edge_ * abs_rotation.rowwise().sum();
   box_reach_on_world_axes_ = abs_rotation.transpose() * half_size_;
+  counted_box_ = box_;
+  counted_box_.size = box_.size.cwiseMax(edge_);
+  counted_half_size_ = 0.5 * counted_box_.size;
+  counted_reach_on_world_axes_ = abs_rotation.transpose() * counted_half_size_;
 }
 
 bool VoxelBoxIntersector::centerInside(const Eigen::Vector3d& voxel_center) const {
-  return box_.contains(voxel_center);
+  return counted_box_.contains(voxel_center);
 }
 
 double VoxelBoxIntersector::centresInside() const {
@@ -181,8 +185,8 @@ double VoxelBoxIntersector::centresInside() const {
   // Grid indices whose centres may be inside: the box's world-axis extent,
   // one index wider on each side (the test below decides).
   auto range = [&](int axis) {
-    const double low = box_.center[axis] - box_reach_on_world_axes_[axis];
-    const double high = box_.center[axis] + box_reach_on_world_axes_[axis];
+    const double low = box_.center[axis] - counted_reach_on_world_axes_[axis];
+    const double high = box_.center[axis] + counted_reach_on_world_axes_[axis];
     return std::pair<std::int64_t, std::int64_t>{
         static_cast<std::int64_t>(std::floor(low / edge_ - 0.5)) - 1,
         static_cast<std::int64_t>(std::ceil(high / edge_ - 0.5)) + 1};
@@ -194,7 +198,7 @@ double VoxelBoxIntersector::centresInside() const {
   // columns would take seconds, and a layer of voxels more or less is a small
   // part of it.
   if (static_cast<double>(x1 - x0 + 1) * static_cast<double>(y1 - y0 + 1) > kMaxCentreColumns)
-    return box_.volume() / (edge_ * edge_ * edge_);
+    return counted_box_.volume() / (edge_ * edge_ * edge_);
   // Along a column (x, y fixed) the box coordinates are a + z r: each of the
   // box's slabs |a_j + z r_j| <= h_j bounds z to an interval.
   const Eigen::Vector3d r = world_to_box_.col(2);
@@ -206,11 +210,12 @@ double VoxelBoxIntersector::centresInside() const {
       double low = -std::numeric_limits<double>::infinity(), high = -low;
       for (int j = 0; j < 3; ++j) {
         if (std::abs(r[j]) < 1e-12) {
-          if (std::abs(a[j]) > half_size_[j] + 1e-9 * edge_)
+          if (std::abs(a[j]) > counted_half_size_[j] + 1e-9 * edge_)
             high = low;  // the column misses the slab
           continue;
         }
-        const double t0 = (-half_size_[j] - a[j]) / r[j], t1 = (half_size_[j] - a[j]) / r[j];
+        const double t0 = (-counted_half_size_[j] - a[j]) / r[j],
+                     t1 = (counted_half_size_[j] - a[j]) / r[j];
         low = std::max(low, std::min(t0, t1));
         high = std::min(high, std::max(t0, t1));
       }

@@ -211,6 +211,39 @@ TEST(IouVoxelSets, CentreModeCountsTheBoxInGridVoxels) {
               93 * voxel, 1e-15);
 }
 
+// A box thinner than a voxel that lies between two layers of voxel centres
+// (here z from 0.0082 to 0.0122, between the centres at 0.005 and 0.015)
+// holds no centre itself; centre mode takes it one voxel thick, so it holds
+// the one layer nearest to it, and that layer mapped scores 1, not 0.
+TEST(IouVoxelSets, CentreModeGivesABoxBetweenCentrePlanesItsNearestLayer) {
+  OrientedBox box;
+  box.center = {0.05, 0.05, 0.0102};
+  box.size = {0.1, 0.1, 0.004};
+  const double voxel = kEdge * kEdge * kEdge;
+  const lom::VoxelBoxIntersector intersector(box, kEdge);
+  EXPECT_EQ(intersector.centresInside(), 100.0);
+  EXPECT_TRUE(intersector.centerInside({0.005, 0.005, 0.015}));
+  EXPECT_FALSE(intersector.centerInside({0.005, 0.005, 0.005}));
+  EXPECT_FALSE(intersector.centerInside({0.005, 0.005, 0.025}));
+  const std::vector<lom::VoxelKey> layer = block(0, 10, 0, 10, 1, 2);
+  const lom::IouVolumes v = lom::voxelIouVolumes(layer, kEdge, box, lom::IouMode::Center);
+  EXPECT_NEAR(v.ground_truth, 100 * voxel, 1e-15);
+  EXPECT_NEAR(v.true_positive, 100 * voxel, 1e-15);
+  EXPECT_NEAR(v.iou(), 1.0, 1e-12);
+  EXPECT_EQ(lom::voxelIou(block(0, 10, 0, 10, 0, 1), kEdge, box, lom::IouMode::Center), 0.0);
+  // Tilted by 30 degrees about x, the thin box still holds a voxel centre in
+  // every grid column it crosses.
+  box.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 6, Eigen::Vector3d::UnitX()));
+  const lom::VoxelBoxIntersector tilted(box, kEdge);
+  for (int i = 1; i < 9; ++i)
+    for (int j = 1; j < 8; ++j) {
+      int held = 0;
+      for (int k = -10; k < 10; ++k)
+        held += tilted.centerInside({(i + 0.5) * kEdge, (j + 0.5) * kEdge, (k + 0.5) * kEdge});
+      EXPECT_GE(held, 1) << "column " << i << ", " << j;
+    }
+}
+
 // The count of grid centres inside a box, column by column, is the count of a
 // test of every centre of the box's surroundings.
 TEST(IouVoxelSets, CentresInsideCountsEveryGridCentreTheTestAccepts) {

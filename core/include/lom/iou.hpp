@@ -35,6 +35,9 @@ class VoxelBoxIntersector {
  public:
   VoxelBoxIntersector(const OrientedBox& box, double voxel_edge);
   [[nodiscard]] double volume(const Eigen::Vector3d& voxel_center) const;
+  // Centre mode's test: the voxel's centre is inside the box, taken at least
+  // one voxel edge thick along each of its axes (a thinner box still holds
+  // one layer of voxels).
   [[nodiscard]] bool centerInside(const Eigen::Vector3d& voxel_center) const;
   // How many voxels of the grid (centres at (i + 0.5) * edge on each axis)
   // have their centres inside the box, by the test of centerInside: the box
@@ -54,6 +57,12 @@ class VoxelBoxIntersector {
   Eigen::Vector3d voxel_reach_on_box_axes_;
   // Half extent of the box along each world axis.
   Eigen::Vector3d box_reach_on_world_axes_;
+  // The box as centre mode counts it: at least one voxel edge thick along
+  // each of its axes, so that a box thinner than a voxel holds one layer of
+  // voxel centres wherever it lies between the grid's centre planes.
+  OrientedBox counted_box_;
+  Eigen::Vector3d counted_half_size_;
+  Eigen::Vector3d counted_reach_on_world_axes_;
 };
 
 }  // namespace lom
