@@ -53,9 +53,12 @@ void warnPoorMapFit(const ScoreInputs& inputs, const EvaluationReport& report) {
     std::cerr << "warning: " << warning << " Its scores would mean little.\n";
 }
 
-// A map given with --map fused with other candidates than the baselines use,
-// or whose candidates the baselines took.
-void sayMapCandidates(const EvaluationReport& report, const Args& args) {
+// What the report found worth saying: boxes named for other labels than
+// theirs, a map given with --map fused with other candidates than the
+// baselines use, or whose candidates the baselines took.
+void sayReportWarnings(const EvaluationReport& report, const Args& args) {
+  for (const std::string& warning : report.box_name_warnings)
+    std::cerr << "warning: " << warning << "\n";
   if (!report.map_candidates_warning.empty())
     std::cerr << "warning: " << report.map_candidates_warning << "\n";
   if (!report.map_candidates_note.empty() && !args.flag("quiet"))
@@ -188,7 +191,7 @@ int runScore(const Words& words) {
       }
       if (show_progress) std::fprintf(stderr, "\n");
       warnPoorMapFit(inputs, reports.back());
-      sayMapCandidates(reports.back(), args);
+      sayReportWarnings(reports.back(), args);
       warnOutsideMap(inputs, reports.back());
       if (inputs.map) noteResolution(args, reports.back(), *inputs.map);
       std::cout << reportTable(reports.back()) << "\n";
@@ -227,7 +230,7 @@ int runScore(const Words& words) {
   }
   if (show_progress) std::fprintf(stderr, "\n");
   warnPoorMapFit(inputs, report);
-  sayMapCandidates(report, args);
+  sayReportWarnings(report, args);
   warnOutsideMap(inputs, report);
   if (inputs.map) noteResolution(args, report, *inputs.map);
   writeReport(report, out);

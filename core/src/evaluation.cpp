@@ -258,6 +258,17 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
   report.occupancy_threshold = map.parameters().occupancy_threshold;
   report.iou_mode = options.iou_mode;
   report.candidates = options.fusion.candidates;
+  for (size_t i = 0; i < annotations.boxes.size(); ++i) {
+    const GroundTruthBox& box = annotations.boxes[i];
+    const std::string& name = sequence.labels.at(box.label).name;
+    if (box.name.empty() || box.name == name) continue;
+    report.box_name_warnings.push_back(
+        orDefault(options.annotations_file, "(annotations)") + ": boxes[" + std::to_string(i) +
+        "].name is '" + box.name + "', but label " + std::to_string(box.label) + " of " +
+        (sequence.root / "sequence.json").string() + " is '" + name +
+        "': the box is scored, and named, as label " + std::to_string(box.label) +
+        " (were the boxes drawn for another label numbering?)");
+  }
 
   detail::FrameScan scan = detail::scanFrames(sequence, map, labels, options, progress);
   if (scan.views.empty())
@@ -270,7 +281,7 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
   for (const auto& box : boxes) {
     ObjectScore object;
     object.label = box.label;
-    object.name = box.name.empty() ? sequence.labels.at(box.label).name : box.name;
+    object.name = sequence.labels.at(box.label).name;
     object.ground_truth = box.box;
 
     const std::vector<VoxelKey> mapped = map.voxelsOfLabel(box.label);

@@ -299,6 +299,36 @@ TEST_F(CliScoreTest, AMapsCandidatesAreTheBaselinesCandidates) {
       << fewer.err;
 }
 
+// A box named for another label than its own (boxes drawn for another label
+// numbering?) is scored by its label, named as the sequence names that
+// label, with a warning naming the box.
+TEST_F(CliScoreTest, ABoxNamedForAnotherLabelIsWarnedAbout) {
+  TempDir out;
+  Json annotations = Json::parse(slurp(scene() / "annotations.json"));
+  const std::string name = annotations["boxes"][1]["name"].get<std::string>();
+  const int label = annotations["boxes"][1]["label"].get<int>();
+  annotations["boxes"][1]["name"] = "dasani_water_bottle_2";
+  std::ofstream(out / "renamed.json") << annotations.dump(2);
+  const auto r = runCli(scoreArgs(out / "r", (out / "renamed.json").string()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: " + (out / "renamed.json").string() +
+                       ": boxes[1].name is 'dasani_water_bottle_2', but label " +
+                       std::to_string(label) + " of "),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("is '" + name + "'"), std::string::npos) << r.err;
+  const Json report = Json::parse(slurp(out / "r" / "report.json"));
+  bool found = false;
+  for (const Json& object : report["objects"])
+    if (object["label"].get<int>() == label) {
+      EXPECT_EQ(object["name"], name);
+      found = true;
+    }
+  EXPECT_TRUE(found);
+  // The file as written: no warning.
+  EXPECT_EQ(runCli(scoreArgs(out / "plain")).err.find("warning:"), std::string::npos);
+}
+
 // The frames layout (frame-NNNNNN.depth/pose/label + intrinsics) of a generated scene,
 // as TSDF-fusion tools store recordings whose label images were drawn by hand.
 void writeFramesLayout(const std::filesystem::path& scene, const std::filesystem::path& out) {

@@ -129,6 +129,10 @@ struct EvaluationReport {
   // them), a note when they took the map's (candidates_from_map).
   std::string map_candidates_warning;
   std::string map_candidates_note;
+  // Boxes whose name in the annotations file is not the name of their label
+  // in the sequence (boxes drawn for another label numbering?), one sentence
+  // each. Objects are scored, and named in the report, by the sequence's label.
+  std::vector<std::string> box_name_warnings;
 };
 
 // The summary over all objects of several reports (a batch).
