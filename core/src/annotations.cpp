@@ -11,6 +11,7 @@
 #include <initializer_list>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 #include "file_checks.hpp"
@@ -149,6 +150,25 @@ class YamlReader {
   [[noreturn]] void fail(const std::string& where, const std::string& expected,
                          const std::string& found) const {
     throw Error(file_, where, expected, found);
+  }
+
+  // A mapping's keys are among `keys` and each is given once (a misspelt
+  // frame_id would otherwise be ignored, and a repeated key keep one value).
+  void allowOnly(const YAML::Node& mapping, const std::string& where,
+                 std::initializer_list<const char*> keys) const {
+    std::string list;
+    for (const char* key : keys) list += (list.empty() ? "" : ", ") + std::string(key);
+    std::set<std::string> seen;
+    for (const auto& item : mapping) {
+      const std::string key =
+          item.first.IsScalar() ? item.first.Scalar() : "(a " + describe(item.first) + ")";
+      bool known = false;
+      for (const char* allowed : keys) known = known || key == allowed;
+      if (!known) fail(field(where, key), "only the keys " + list, "an unknown key");
+      if (!seen.insert(key).second)
+        fail(field(where, key), "each key once in its mapping",
+             "the key '" + key + "' a second time");
+    }
   }
 
   static std::string describe(const YAML::Node& node) {
@@ -309,6 +329,7 @@ Annotations importYamlBoxes(const fs::path& path, const LabelSet& labels,
   const YAML::Node root = loadYamlFile(path);
   if (!root.IsMap())
     in.fail("(top level)", "a mapping with a 'boxes' list", YamlReader::describe(root));
+  in.allowOnly(root, "", {"boxes"});
   const YAML::Node list = root["boxes"];
   if (!list.IsDefined() || !list.IsSequence())
     in.fail("boxes", "a list of boxes", YamlReader::describe(list));
@@ -322,6 +343,7 @@ Annotations importYamlBoxes(const fs::path& path, const LabelSet& labels,
     if (!item.IsMap())
       in.fail(where, "a mapping with dimensions, position, orientation, name",
               YamlReader::describe(item));
+    in.allowOnly(item, where, {"dimensions", "position", "orientation", "name", "frame_id"});
     GroundTruthBox box;
     const std::string object_name = in.text(item["name"], field(where, "name"));
     box.label = labelFromObjectName(in, object_name, field(where, "name"));

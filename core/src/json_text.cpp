@@ -1,6 +1,7 @@
 #include "json_text.hpp"
 
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -87,8 +88,15 @@ class TrackingBuilder {
     path_.push_back({false, 0, {}});
     return dom_.start_object(size);
   }
+  // A key given twice in one object would silently keep the last value:
+  // refused, naming the field.
   bool key(Json::string_t& k) {
     path_.back().key = k;
+    if (!path_.back().keys.insert(k).second) {
+      duplicate_field_ = nextField();
+      duplicate_key_ = k;
+      return false;
+    }
     return dom_.key(k);
   }
   bool end_object() {
@@ -119,12 +127,16 @@ class TrackingBuilder {
   [[nodiscard]] int errorId() const { return error_id_; }
   [[nodiscard]] const std::string& errorMessage() const { return error_message_; }
   [[nodiscard]] const std::string& errorField() const { return error_field_; }
+  // The field of a key given twice in its object; empty when none was.
+  [[nodiscard]] const std::string& duplicateField() const { return duplicate_field_; }
+  [[nodiscard]] const std::string& duplicateKey() const { return duplicate_key_; }
 
  private:
   struct Level {
     bool array;
     size_t count;     // values seen so far (arrays)
     std::string key;  // the current key (objects)
+    std::set<std::string> keys;  // the keys seen so far (objects)
   };
 
   // Every value advances the index of the array holding it.
@@ -158,6 +170,8 @@ class TrackingBuilder {
   int error_id_ = 0;
   std::string error_message_;
   std::string error_field_;
+  std::string duplicate_field_;
+  std::string duplicate_key_;
 };
 
 void appendScalar(const Json& value, std::string& out) {
@@ -239,6 +253,9 @@ Json parseText(const std::string& text, const std::string& file) {
   Json result;
   TrackingBuilder builder(result);
   if (Json::sax_parse(text, &builder, Json::input_format_t::json, /*strict=*/true)) return result;
+  if (!builder.duplicateField().empty())
+    throw Error(file, builder.duplicateField(), "each key once in its object",
+                "the key \"" + builder.duplicateKey() + "\" a second time");
   // 406: a number that does not fit a double ("1e999"); nlohmann reports it
   // as out of range, and as the parser's error only to a SAX handler. The
   // position is where the number ends: report where it starts.

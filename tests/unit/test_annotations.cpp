@@ -196,6 +196,29 @@ TEST_F(AnnotationsYamlTest, AMissingKeyIsNamedWithItsBox) {
   }
 }
 
+// A misspelt key (frameid) would otherwise be ignored, and a key given twice
+// keep one of its values: both are refused, naming the field.
+TEST_F(AnnotationsYamlTest, UnknownAndRepeatedKeysAreRefused) {
+  const std::string box =
+      "    dimensions: [0.1, 0.1, 0.1]\n    position: [0, 0, 0]\n"
+      "    orientation: [0, 0, 0, 1]\n    name: object_4\n";
+  writeText(yaml(),
+            "boxes:\n  - " + box.substr(4) + "  - " + box.substr(4) + "    frameid: base\n");
+  const lom::Problem unknown = errorOf([&] { (void)lom::importYamlBoxes(yaml()); });
+  EXPECT_EQ(unknown.file, yaml().string());
+  EXPECT_EQ(unknown.field, "boxes[1].frameid");
+  EXPECT_EQ(unknown.expected, "only the keys dimensions, position, orientation, name, frame_id");
+  EXPECT_EQ(unknown.found, "an unknown key");
+  writeText(yaml(), "boxes:\n  - " + box.substr(4) + "    position: [1, 0, 0]\n");
+  const lom::Problem twice = errorOf([&] { (void)lom::importYamlBoxes(yaml()); });
+  EXPECT_EQ(twice.field, "boxes[0].position");
+  EXPECT_EQ(twice.found, "the key 'position' a second time");
+  writeText(yaml(), "boxs: []\nboxes:\n  - " + box.substr(4));
+  EXPECT_EQ(errorOf([&] { (void)lom::importYamlBoxes(yaml()); }).field, "boxs");
+  writeText(yaml(), "boxes:\n  - " + box.substr(4));
+  EXPECT_EQ(lom::importYamlBoxes(yaml()).boxes.size(), 1u);
+}
+
 TEST_F(AnnotationsYamlTest, RejectsBadDimensionsNamesAndDisagreeingFrames) {
   const std::string box = R"(
   - dimensions: [0.1, 0.1, 0.1]

@@ -70,6 +70,37 @@ TEST(JsonInputTest, DeeplyNestedSegmenterConfigurationIsRefused) {
   EXPECT_NE(problem.expected.find("nested at most"), std::string::npos) << problem.message();
 }
 
+// A key given twice would keep only its last value (a box moved by an edit
+// that left the old centre above it): refused, naming the field.
+TEST(JsonInputTest, AKeyGivenTwiceIsRefusedNamingTheField) {
+  lom::test::TempDir dir;
+  writeText(dir / "boxes.json",
+            R"({"format": "labeloctomap-annotations", "version": 1, "boxes": [)"
+            R"({"label": 3, "center": [0, 0, 0], "size": [0.1, 0.1, 0.1]},)"
+            R"({"label": 4, "center": [1, 0, 0], "size": [0.1, 0.1, 0.1], "center": [2, 0, 0]}]})");
+  const lom::Problem problem = errorOf([&] { (void)lom::loadAnnotations(dir / "boxes.json"); });
+  EXPECT_EQ(problem.file, (dir / "boxes.json").string());
+  EXPECT_EQ(problem.field, "boxes[1].center");
+  EXPECT_EQ(problem.expected, "each key once in its object");
+  EXPECT_EQ(problem.found, "the key \"center\" a second time");
+  // The same key in two objects is no repetition.
+  writeText(dir / "fine.json", R"({"format": "labeloctomap-annotations", "version": 1, "boxes": [)"
+                               R"({"label": 3, "center": [0, 0, 0], "size": [0.1, 0.1, 0.1]},)"
+                               R"({"label": 4, "center": [1, 0, 0], "size": [0.1, 0.1, 0.1]}]})");
+  EXPECT_EQ(lom::loadAnnotations(dir / "fine.json").boxes.size(), 2u);
+  // Nor at the top level of a sequence.
+  writeSequence(dir.path());
+  std::string text;
+  {
+    std::ifstream in(dir / "sequence.json");
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  writeText(dir / "sequence.json", "{\"frames\": [], " + text.substr(text.find('{') + 1));
+  const lom::Problem top = errorOf([&] { (void)lom::loadSequence(dir.path()); });
+  EXPECT_EQ(top.field, "frames");
+  EXPECT_EQ(top.found, "the key \"frames\" a second time");
+}
+
 TEST(JsonInputTest, NumberBeyondADoubleNamesFieldAndPosition) {
   lom::test::TempDir dir;
   writeSequence(dir.path());
