@@ -96,8 +96,10 @@ std::string describeSettings(const EvaluationReport& r) {
   if (r.max_range > 0.0) out << r.max_range << " m";
   else out << "unlimited";
   out << ", occupancy threshold " << r.occupancy_threshold << ", IU_3d from "
-      << (r.iou_mode == IouMode::Exact ? "exact voxel/box intersection volumes" : "voxel centres inside the box")
-      << ", " << r.views.size() << " views (frames " << joinViews(r.views) << ")";
+      << (r.iou_mode == IouMode::Exact ? "exact voxel/box intersection volumes"
+                                       : "voxel centres inside the box")
+      << ", " << r.views.size() << (r.views.size() == 1 ? " view (frame " : " views (frames ")
+      << joinViews(r.views) << ")";
   if (r.candidates) {
     std::string list;
     for (int c : *r.candidates) list += (list.empty() ? "" : ",") + std::to_string(c);

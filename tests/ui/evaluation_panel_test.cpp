@@ -263,9 +263,11 @@ TEST_F(EvaluationPanelTest, ProjectionScoresNameEachViewAndADoubleClickShowsTheB
                             object->per_view.begin());
     const size_t frame = report.views[best];
     const QString tip = table.item(row, EvaluationPanel::ProjectionMax)->toolTip();
-    EXPECT_TRUE(tip.contains(QString("Best: frame %1.").arg(frame))) << tip.toStdString();
+    // Frames as the timeline numbers them (from 1), the best also as in sequence.json.
+    EXPECT_TRUE(tip.contains(QString("Best: frame %1 (frames[%2]).").arg(frame + 1).arg(frame)))
+        << tip.toStdString();
     EXPECT_TRUE(tip.contains(QString("%1: %2")
-                                 .arg(report.views.front())
+                                 .arg(report.views.front() + 1)
                                  .arg(object->per_view.front() * 100.0, 0, 'f', 1)))
         << tip.toStdString();
     EXPECT_EQ(table.item(row, EvaluationPanel::ProjectionMean)->toolTip(), tip);

@@ -137,17 +137,20 @@ std::optional<size_t> bestView(const ObjectScore& object, const std::vector<size
   return views[static_cast<size_t>(best - object.per_view.begin())];
 }
 
-// Each view's projection IU_3d, for the projection cells' tooltips.
+// Each view's projection IU_3d, for the projection cells' tooltips. Frames
+// are numbered as the timeline numbers them (from 1), the best one also by
+// its index in sequence.json, as the reports give views.
 QString viewsTip(const ObjectScore& object, const std::vector<size_t>& views) {
   const std::optional<size_t> best = bestView(object, views);
   if (!best) return {};
   QStringList each;
   for (size_t i = 0; i < std::min(object.per_view.size(), views.size()); ++i)
-    each << QString("%1: %2").arg(views[i]).arg(object.per_view[i] * 100.0, 0, 'f', 1);
+    each << QString("%1: %2").arg(views[i] + 1).arg(object.per_view[i] * 100.0, 0, 'f', 1);
   return QObject::tr(
-             "Projection IU_3d of each view (frame: %): %1. Best: frame %2. Double-click to "
-             "show that frame.")
+             "Projection IU_3d of each view (frame: %): %1. Best: frame %2 (frames[%3]). "
+             "Double-click to show that frame.")
       .arg(each.join(", "))
+      .arg(*best + 1)
       .arg(*best);
 }
 

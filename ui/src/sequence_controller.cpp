@@ -274,8 +274,9 @@ void SequenceController::loadCurrentFrame() {
     frame_data_.reset();
     frame_labels_.reset();
     if (reported_broken_frames_.insert(current_frame_).second)
-      emit errorOccurred(tr("Cannot load frame %1").arg(current_frame_),
-                         describeFailure(error, sequence_path_));
+      emit errorOccurred(
+          tr("Cannot load frame %1 (frames[%2])").arg(current_frame_ + 1).arg(current_frame_),
+          describeFailure(error, sequence_path_));
   }
 }
 
