@@ -531,10 +531,11 @@ std::ostream& LabelOcTree::writeData(std::ostream& s) const {
   for (const double component : camera_views_.up_sum) writePod(s, component);
   for (const double component : camera_views_.forward_sum) writePod(s, component);
   writePod(s, camera_views_.views);
-  // Candidates: 0 (every label) or 1 and the listed label ids.
+  // Candidates: 0 (every label), 1 and the listed label ids, or 2 (not
+  // known: a map read from a file of version 1 or 2).
   const auto& candidates = fused_candidates_.labels;
-  writePod(s, static_cast<std::uint8_t>(candidates.has_value()));
-  if (candidates) {
+  writePod(s, static_cast<std::uint8_t>(!fused_candidates_.recorded ? 2 : candidates ? 1 : 0));
+  if (fused_candidates_.recorded && candidates) {
     writePod(s, static_cast<std::uint16_t>(candidates->size()));
     for (const int id : *candidates) writePod(s, static_cast<std::uint16_t>(id));
   }
@@ -618,10 +619,11 @@ void LabelOcTree::readLabelledData(std::istream& s) {
   if (candidates.recorded) {
     std::uint8_t listed = 0;
     if (!readPod(s, listed)) truncated("candidates", "a candidate flag");
-    if (listed > 1)
-      throw Error("", "candidates", "a candidate flag 0 (every label) or 1 (a list)",
+    if (listed > 2)
+      throw Error("", "candidates", "a candidate flag 0 (every label), 1 (a list) or 2 (not known)",
                   std::to_string(listed));
-    if (listed) {
+    candidates.recorded = listed != 2;
+    if (listed == 1) {
       std::uint16_t n = 0;
       if (!readPod(s, n)) truncated("candidates", "a candidate count");
       if (n == 0 || n > count)

@@ -57,7 +57,8 @@ struct MapFile {
   double up_sum[3] = {};      // data version 2: the cameras' summed up directions,
   double forward_sum[3] = {};  // their summed viewing directions
   std::uint32_t up_views = 0;  // and the count
-  // Data version 3: the fused candidates (absent: every label).
+  // Data version 3: the fused candidates (absent: every label, or not known).
+  std::uint8_t candidate_flag = 0;
   std::optional<std::vector<std::uint16_t>> candidates;
   std::string nodes;          // the node flag and OctoMap's node stream
 
@@ -92,8 +93,9 @@ struct MapFile {
     }
     if (file.version >= 3) {
       const auto listed = get<std::uint8_t>(bytes, at);
+      file.candidate_flag = listed;
       at += 1;
-      if (listed) {
+      if (listed == 1) {
         const auto n = get<std::uint16_t>(bytes, at);
         at += 2;
         file.candidates.emplace();
@@ -121,7 +123,7 @@ struct MapFile {
       put(bytes, up_views);
     }
     if (version >= 3) {
-      put(bytes, static_cast<std::uint8_t>(candidates.has_value()));
+      put(bytes, candidates ? std::uint8_t{1} : candidate_flag);
       if (candidates) {
         put(bytes, static_cast<std::uint16_t>(candidates->size()));
         for (const std::uint16_t id : *candidates) put(bytes, id);
@@ -232,6 +234,12 @@ TEST_F(MapFileTest, VersionTwoMapsLoadWithTheirCandidatesUnknown) {
   const lom::LabelMap map = lom::LabelMap::load(path);
   EXPECT_EQ(map.occupiedCountPerLabel().at(1), 27u);
   EXPECT_FALSE(map.fusedCandidates().recorded);
+  // Saved again, they stay unknown (not "every label").
+  map.save(dir / "again.ot");
+  const MapFile again = MapFile::read(dir / "again.ot");
+  EXPECT_EQ(again.version, 3u);
+  EXPECT_EQ(again.candidate_flag, 2);
+  EXPECT_FALSE(lom::LabelMap::load(dir / "again.ot").fusedCandidates().recorded);
 }
 
 TEST_F(MapFileTest, FusedCandidatesAreSavedWithTheMapAndWidenedByLaterViews) {
@@ -275,6 +283,9 @@ TEST_F(MapFileTest, CandidatesOutOfRangeOrOrderAreRefused) {
   const lom::Problem none =
       loadError(changed([](MapFile& f) { f.candidates = std::vector<std::uint16_t>{}; }));
   EXPECT_EQ(none.field, "candidates");
+  const lom::Problem flag = loadError(changed([](MapFile& f) { f.candidate_flag = 3; }));
+  EXPECT_EQ(flag.field, "candidates");
+  EXPECT_EQ(flag.found, "3");
 }
 
 TEST_F(MapFileTest, CameraViewsAreSavedWithTheMap) {
