@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <QApplication>
+#include <QComboBox>
 #include <QFontMetrics>
 #include <QHeaderView>
 #include <QScrollBar>
@@ -280,6 +281,52 @@ TEST_F(EvaluationPanelTest, ProjectionScoresNameEachViewAndADoubleClickShowsTheB
   window_.controller().setCurrentFrame(1);
   emit table.cellDoubleClicked(0, EvaluationPanel::LabelOctoMap);
   EXPECT_EQ(window_.controller().currentFrame(), 1);
+}
+
+// Voxel centres instead of exact volumes: the scores and the score breakdown
+// count as `labeloctomap score --iou center` does, and back.
+TEST_F(EvaluationPanelTest, VoxelCentresScoreAsScoreWithIouCenter) {
+  openAndFuse();
+  waitForScores();
+  ASSERT_EQ(panel().report()->iou_mode, IouMode::Exact);
+  QComboBox& mode = panel().iouModeBox();
+  ASSERT_EQ(mode.count(), 2);
+  EXPECT_EQ(mode.currentText(), "Exact volumes");
+  const EvaluationReport exact = *panel().report();
+  mode.setCurrentIndex(mode.findText("Voxel centres"));
+  EXPECT_EQ(window_.session().iouMode(), IouMode::Center);
+  waitForScores();
+  ASSERT_TRUE(
+      QTest::qWaitFor([&] { return panel().report()->iou_mode == IouMode::Center; }, kTimeoutMs));
+  const EvaluationReport& centres = *panel().report();
+  const Sequence sequence = loadSequence(folder_);
+  EvaluationOptions options;
+  options.fusion = window_.session().fusionOptions();
+  options.iou_mode = IouMode::Center;
+  const EvaluationReport expected =
+      evaluate(sequence, truth_, fuseSequence(sequence, options.fusion), options);
+  ASSERT_EQ(centres.objects.size(), expected.objects.size());
+  bool differs = false;
+  for (size_t i = 0; i < expected.objects.size(); ++i) {
+    EXPECT_DOUBLE_EQ(centres.objects[i].iou_3d.labeloctomap,
+                     expected.objects[i].iou_3d.labeloctomap);
+    EXPECT_DOUBLE_EQ(centres.objects[i].iou_3d.projection_max,
+                     expected.objects[i].iou_3d.projection_max);
+    differs =
+        differs || centres.objects[i].iou_3d.labeloctomap != exact.objects[i].iou_3d.labeloctomap;
+  }
+  EXPECT_TRUE(differs) << "centre counts should move some score";
+  // Back to exact volumes: the first scores again.
+  mode.setCurrentIndex(mode.findText("Exact volumes"));
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] {
+        return !panel().isBusy() && panel().canExport() &&
+               panel().report()->iou_mode == IouMode::Exact;
+      },
+      kTimeoutMs));
+  for (size_t i = 0; i < exact.objects.size(); ++i)
+    EXPECT_DOUBLE_EQ(panel().report()->objects[i].iou_3d.labeloctomap,
+                     exact.objects[i].iou_3d.labeloctomap);
 }
 
 TEST_F(EvaluationPanelTest, SummarySaysOneObjectInTheSingular) {

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <QAction>
+#include <QComboBox>
 #include <QImage>
 #include <QStatusBar>
 #include <QTableWidget>
@@ -149,6 +150,17 @@ TEST_F(ScoreBreakdownTest, SelectedBoxsVoxelsAddUpToItsScoreAndFollowItsEdits) {
   EXPECT_GT(countColoured(spilled, false), countColoured(shown, false) + 50)
       << "the voxels outside the box are drawn red";
   boxes().undoStack().undo();
+  EXPECT_EQ(statusMessage(), describeScoreBreakdown(breakdown, name));
+
+  // Scored by voxel centres (the Evaluation panel's choice): the breakdown
+  // counts whole voxels by their centres, as the scores do.
+  QComboBox& mode = window_.evaluationPanel().iouModeBox();
+  mode.setCurrentIndex(mode.findText("Voxel centres"));
+  const ScoreBreakdown centres =
+      scoreBreakdown(snapshot.voxels, snapshot.resolution, box, IouMode::Center);
+  EXPECT_EQ(centres.partly, 0u);
+  EXPECT_EQ(statusMessage(), describeScoreBreakdown(centres, name));
+  mode.setCurrentIndex(mode.findText("Exact volumes"));
   EXPECT_EQ(statusMessage(), describeScoreBreakdown(breakdown, name));
 
   // Off: the overlay goes and the status bar no longer describes it.

@@ -1,5 +1,6 @@
 #include "lom/ui/evaluation_panel.hpp"
 
+#include <QComboBox>
 #include <QDir>
 #include <QFileDialog>
 #include <QFileInfo>
@@ -163,6 +164,7 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
       summary_(new QLabel),
       chart_(new ScoreChart),
       export_(new QPushButton(tr("Export report…"))),
+      iou_mode_(new QComboBox),
       debounce_(new QTimer(this)) {
   setObjectName("evaluationPanel");
   table_->setObjectName("evaluationTable");
@@ -209,6 +211,16 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   summary_->setWordWrap(true);
   summary_->setTextInteractionFlags(Qt::TextSelectableByMouse);
   export_->setEnabled(false);
+  iou_mode_->setObjectName("evaluationIouMode");
+  iou_mode_->addItem(tr("Exact volumes"), static_cast<int>(IouMode::Exact));
+  iou_mode_->addItem(tr("Voxel centres"), static_cast<int>(IouMode::Center));
+  iou_mode_->setCurrentIndex(iou_mode_->findData(static_cast<int>(session_.iouMode())));
+  iou_mode_->setToolTip(
+      tr("How IU_3d counts a voxel in a box: by the exact volume of the voxel inside it, or "
+         "whole when its centre is inside (labeloctomap score --iou exact|center)"));
+  connect(iou_mode_, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int index) {
+    session_.setIouMode(static_cast<IouMode>(iou_mode_->itemData(index).toInt()));
+  });
 
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(2, 2, 2, 2);
@@ -218,9 +230,14 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   layout->addWidget(table_);
   // The button sits beside the summary, above the chart: in a short window
   // (a 1366x768 laptop) the chart gives way and the button stays in view.
+  // The IU_3d mode under it: how the scores were counted, beside them.
   auto* summary_row = new QHBoxLayout;
   summary_row->addWidget(summary_, 1);
-  summary_row->addWidget(export_, 0, Qt::AlignTop);
+  auto* buttons = new QVBoxLayout;
+  buttons->addWidget(export_);
+  buttons->addWidget(iou_mode_);
+  buttons->addStretch(1);
+  summary_row->addLayout(buttons);
   layout->addLayout(summary_row);
   layout->addWidget(chart_, 1);
 
@@ -231,6 +248,11 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   connect(&session_.annotations(), &AnnotationsModel::boxesChanged, this,
           &EvaluationPanel::requestUpdate);
   connect(&worker, &MapWorker::fusionFinished, this, &EvaluationPanel::requestUpdate);
+  connect(&session_, &StudioSession::iouModeChanged, this, [this] {
+    const int index = iou_mode_->findData(static_cast<int>(session_.iouMode()));
+    if (index != iou_mode_->currentIndex()) iou_mode_->setCurrentIndex(index);
+    requestUpdate();
+  });
   connect(&worker, &MapWorker::snapshotChanged, this, [this] {
     if (!session_.worker().isFusing()) requestUpdate();  // re-thresholded or reset
   });
@@ -313,6 +335,7 @@ void EvaluationPanel::evaluateNow() {
   }
   EvaluationOptions options;
   options.fusion = session_.fusionOptions();
+  options.iou_mode = session_.iouMode();
   annotations.frame_id = sequence->frame_id;
   // A fusion cancelled or stopped part way fused only the first frames: the
   // baselines project the views among those, as `score --frames` does.

@@ -53,6 +53,7 @@ ScoreBreakdownReaction::ScoreBreakdownReaction(QAction* action, StudioSession& s
   connect(&boxes, &AnnotationsModel::boxesChanged, this, &ScoreBreakdownReaction::refresh);
   connect(&boxes, &AnnotationsModel::selectionChanged, this, &ScoreBreakdownReaction::refresh);
   connect(&session_.worker(), &MapWorker::snapshotChanged, this, &ScoreBreakdownReaction::refresh);
+  connect(&session_, &StudioSession::iouModeChanged, this, &ScoreBreakdownReaction::refresh);
   connect(&session_.controller(), &SequenceController::sequenceChanged, this,
           &ScoreBreakdownReaction::refresh);
 }
@@ -78,8 +79,8 @@ void ScoreBreakdownReaction::refresh() {
 void ScoreBreakdownReaction::showBreakdowns() {
   const AnnotationsModel& boxes = session_.annotations();
   const auto sequence = session_.sequence();
-  // The studio scores as `labeloctomap score` does by default: exact volumes.
-  const IouMode mode = EvaluationOptions().iou_mode;
+  // As the Evaluation panel scores (exact volumes unless voxel centres are chosen).
+  const IouMode mode = session_.iouMode();
   const MapSnapshot& snapshot = *session_.worker().snapshot();
   const int selected = boxes.selected();
   if (selected >= 0) {

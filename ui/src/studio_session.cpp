@@ -77,6 +77,12 @@ void StudioSession::onSequenceChanged() {
   if (auto_fuse_) fuse();
 }
 
+void StudioSession::setIouMode(IouMode mode) {
+  if (mode == iou_mode_) return;
+  iou_mode_ = mode;
+  emit iouModeChanged();
+}
+
 bool StudioSession::mayDropMap(const QString& replaced_by) const {
   return !worker_->hasUnsavedMap() || !map_discard_guard_ || map_discard_guard_(replaced_by);
 }

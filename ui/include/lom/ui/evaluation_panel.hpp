@@ -8,6 +8,7 @@
 
 #include "lom/evaluation.hpp"
 
+class QComboBox;
 class QLabel;
 class QPushButton;
 class QTableWidget;
@@ -33,6 +34,9 @@ class EvaluationPanel : public QWidget {
   // The bar chart: its objects are in the table's row order.
   [[nodiscard]] const ScoreChart& chart() const { return *chart_; }
   [[nodiscard]] const QPushButton& exportButton() const { return *export_; }
+  // How IU_3d counts voxels in a box: "Exact volumes" or "Voxel centres"
+  // (StudioSession::iouMode; `labeloctomap score --iou exact|center`).
+  [[nodiscard]] QComboBox& iouModeBox() { return *iou_mode_; }
   [[nodiscard]] const std::optional<EvaluationReport>& report() const { return report_; }
   [[nodiscard]] QString summaryText() const;
   [[nodiscard]] bool isBusy() const;
@@ -76,6 +80,7 @@ class EvaluationPanel : public QWidget {
   QLabel* summary_;
   ScoreChart* chart_;
   QPushButton* export_;
+  QComboBox* iou_mode_;
   QTimer* debounce_;
   std::optional<EvaluationReport> report_;
   bool stale_ = true;      // report_ is not of the current map and boxes

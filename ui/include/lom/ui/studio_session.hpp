@@ -10,6 +10,7 @@
 #include <optional>
 #include <set>
 
+#include "lom/evaluation.hpp"
 #include "lom/fusion.hpp"
 
 namespace lom::ui {
@@ -67,12 +68,18 @@ class StudioSession : public QObject {
   [[nodiscard]] const std::optional<Eigen::Vector3d>& pickedPoint() const { return picked_point_; }
   void setPickedPoint(const Eigen::Vector3d& point);
 
+  // How IU_3d counts voxels in the box, for the scores and their breakdown
+  // (as `labeloctomap score --iou`): exact volumes by default.
+  [[nodiscard]] IouMode iouMode() const { return iou_mode_; }
+  void setIouMode(IouMode mode);
+
   // Labels hidden in the 3D view.
   [[nodiscard]] const std::set<int>& hiddenLabels() const { return hidden_labels_; }
   void setHiddenLabels(std::set<int> hidden);
 
  signals:
   void fusionOptionsChanged();
+  void iouModeChanged();
   void hiddenLabelsChanged();
   void selectedLabelChanged(int label);
   void pickedPointChanged();
@@ -93,6 +100,7 @@ class StudioSession : public QObject {
   unsigned map_generation_ = 0;
   std::set<int> hidden_labels_;
   int selected_label_ = -1;
+  IouMode iou_mode_ = EvaluationOptions().iou_mode;
   std::optional<Eigen::Vector3d> picked_point_;
   MapFileReader* map_reader_;
   std::function<bool(const QString&)> map_discard_guard_;
