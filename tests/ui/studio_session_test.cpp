@@ -183,6 +183,12 @@ TEST_F(StudioSessionTest, FusionFieldsKeepTheCommandLinesLimits) {
       << panel.noteText().toStdString();
   panel.candidatesEdit().setText("0 1");
   EXPECT_TRUE(panel.refuseButton().isEnabled());
+  EXPECT_FALSE(panel.noteText().contains("leave out 0")) << panel.noteText().toStdString();
+  // Candidates without the background make every pixel an object: said, not refused.
+  panel.candidatesEdit().setText("1 2");
+  EXPECT_TRUE(panel.refuseButton().isEnabled());
+  EXPECT_TRUE(panel.noteText().contains("The candidates leave out 0, the background"))
+      << panel.noteText().toStdString();
 }
 
 // Frames without probability images fuse once a segmentation network is

@@ -247,6 +247,11 @@ void FusionPanel::onEdited() {
                "resolution or a shorter max range.")
                 .arg(too_long->voxels, 0, 'f', 0)
                 .arg(too_long->limit, 0, 'f', 0));
+  else if (candidates && std::find(candidates->begin(), candidates->end(), 0) == candidates->end())
+    // As `labeloctomap fuse` notes: renormalised over objects only, every pixel becomes one.
+    setNote((pending ? tr("Changed: re-fuse to apply. ") : QString()) +
+            tr("The candidates leave out 0, the background: background pixels are fused (and "
+               "projected) as objects."));
   else
     setNote(pending ? tr("Changed: re-fuse to apply.") : range_note_);
 }
