@@ -43,6 +43,9 @@ std::vector<int> parseCandidates(const std::string& text, const LabelSet& labels
   while (std::getline(stream, item, ','))
     ids.push_back(resolveObjectLabel(labels, item, map_file, "--candidates"));
   if (ids.empty()) throw UsageError("option --candidates expects a comma-separated list of labels (ids or names)");
+  // Each label once, in ascending order (plan.json lists them so).
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
   return ids;
 }
 

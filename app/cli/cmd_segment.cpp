@@ -59,6 +59,15 @@ void checkOutputs(const Sequence& sequence, const std::vector<size_t>& frames,
     throw UsageError("--out-dir " + folder.string() +
                      " is an existing file; expected a folder for the probability images "
                      "(created when missing)");
+  // A folder to create under an existing file cannot be made: said before any work.
+  for (fs::path part = folder.parent_path(); !part.empty(); part = part.parent_path()) {
+    if (fs::is_directory(part, ec)) break;
+    if (fs::exists(part, ec))
+      throw UsageError("--out-dir " + folder.string() + " lies under " + part.string() +
+                       ", an existing file; expected a folder for the probability images "
+                       "(created when missing)");
+    if (part == part.parent_path()) break;
+  }
   if (!fs::is_directory(folder, ec)) return;  // nothing can be in the way yet
   struct Named {
     size_t frame;
@@ -84,7 +93,11 @@ void checkOutputs(const Sequence& sequence, const std::vector<size_t>& frames,
     const fs::path path = fs::canonical(target, ec);
     if (ec) continue;  // not there yet
     const auto found = named.find(path);
-    if (found == named.end()) continue;
+    if (found == named.end()) {
+      // Nor a file of another sequence (its frames, its sequence.json, its boxes).
+      checkNotASequenceFile(target, "out-dir");
+      continue;
+    }
     const auto& [frame, field] = found->second;
     if (frame == i && std::string(field) == "proba") continue;  // replaced on purpose
     throw UsageError("--out-dir: writing " + target.string() + " for frame " + std::to_string(i) +

@@ -83,9 +83,13 @@ int resolveObjectLabel(const LabelSet& labels, const std::string& id_or_name, co
     return std::isdigit(static_cast<unsigned char>(c)) != 0;
   });
   if (numeric) {
-    if (id_or_name.size() > 6 || !labels.contains(std::atoi(id_or_name.c_str())))
+    // Leading zeros are no part of the id (007 is label 7); more digits than
+    // any label id has cannot name a label.
+    const std::string digits =
+        id_or_name.substr(std::min(id_or_name.find_first_not_of('0'), id_or_name.size() - 1));
+    if (digits.size() > 6 || !labels.contains(std::atoi(digits.c_str())))
       throw Error(file, field, expected, "label " + id_or_name + ", which the map does not have");
-    label = std::atoi(id_or_name.c_str());
+    label = std::atoi(digits.c_str());
   } else if (const auto found = labels.findByName(id_or_name)) {
     label = *found;
   } else {

@@ -575,6 +575,41 @@ ProbabilityImage Segmenter::segment(const ColorImage& color, int width, int heig
                           : !cache_dir.empty()     ? cache_dir
                                                    : impl.options.cache_dir;
 
+  // The sequence label of each output channel (-1: dropped); throws when the
+  // channels do not match the labels, before a bad output reaches the cache.
+  const auto labelsOfChannels = [&](const NetOutputPtr& output) {
+    const int channels = output->channels;
+    std::vector<int> channel_label(static_cast<size_t>(channels), -1);
+    if (impl.config.labels) {
+      const auto& configured = *impl.config.labels;
+      if (static_cast<int>(configured.size()) != channels)
+        throw Error(impl.modelFile(), "output channels",
+                    std::to_string(configured.size()) +
+                        " channels (one per entry of \"labels\" in " + impl.configFile() + ")",
+                    std::to_string(channels) + " channels (output 1 x " + std::to_string(channels) +
+                        " x " + std::to_string(output->height) + " x " +
+                        std::to_string(output->width) + ")");
+      for (int c = 0; c < channels; ++c) {
+        const SegmenterLabel& label = configured[static_cast<size_t>(c)];
+        if (!label.dropped())
+          channel_label[static_cast<size_t>(c)] =
+              label.name.empty() ? label.id : *labels.findByName(label.name);
+      }
+    } else {
+      if (channels != labels.size())
+        throw Error(
+            impl.modelFile(), "output channels",
+            std::to_string(labels.size()) + (labels.size() == 1 ? " channel" : " channels") +
+                ", one per label of the sequence (or list the label of each "
+                "channel as \"labels\" in " +
+                impl.configFile() + ")",
+            std::to_string(channels) + " channels (output 1 x " + std::to_string(channels) + " x " +
+                std::to_string(output->height) + " x " + std::to_string(output->width) + ")");
+      for (int c = 0; c < channels; ++c) channel_label[static_cast<size_t>(c)] = c;
+    }
+    return channel_label;
+  };
+
   NetOutputPtr output;
   {
     const std::lock_guard<std::mutex> lock(impl.mutex);
@@ -587,6 +622,7 @@ ProbabilityImage Segmenter::segment(const ColorImage& color, int width, int heig
     } else {
       output = impl.infer(color, input_width, input_height);
       ++impl.stats.inferences;
+      (void)labelsOfChannels(output);  // an output of the wrong shape is not kept
       impl.memory.put(key, output);
       if (!folder.empty() && !impl.disk_write_failed) {
         try {
@@ -603,36 +639,8 @@ ProbabilityImage Segmenter::segment(const ColorImage& color, int width, int heig
     }
   }
 
-  // Channel labels.
+  const std::vector<int> channel_label = labelsOfChannels(output);
   const int channels = output->channels;
-  std::vector<int> channel_label(static_cast<size_t>(channels), -1);
-  if (impl.config.labels) {
-    const auto& configured = *impl.config.labels;
-    if (static_cast<int>(configured.size()) != channels)
-      throw Error(impl.modelFile(), "output channels",
-                  std::to_string(configured.size()) + " channels (one per entry of \"labels\" in " +
-                      impl.configFile() + ")",
-                  std::to_string(channels) + " channels (output 1 x " + std::to_string(channels) +
-                      " x " + std::to_string(output->height) + " x " +
-                      std::to_string(output->width) + ")");
-    for (int c = 0; c < channels; ++c) {
-      const SegmenterLabel& label = configured[static_cast<size_t>(c)];
-      if (!label.dropped())
-        channel_label[static_cast<size_t>(c)] =
-            label.name.empty() ? label.id : *labels.findByName(label.name);
-    }
-  } else {
-    if (channels != labels.size())
-      throw Error(impl.modelFile(), "output channels",
-                  std::to_string(labels.size()) + (labels.size() == 1 ? " channel" : " channels") +
-                      ", one per label of the sequence (or list the label of each "
-                      "channel as \"labels\" in " +
-                      impl.configFile() + ")",
-                  std::to_string(channels) + " channels (output 1 x " + std::to_string(channels) +
-                      " x " + std::to_string(output->height) + " x " +
-                      std::to_string(output->width) + ")");
-    for (int c = 0; c < channels; ++c) channel_label[static_cast<size_t>(c)] = c;
-  }
 
   // Resize every kept channel to the requested size and interleave.
   ProbabilityImage proba;

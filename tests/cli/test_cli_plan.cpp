@@ -159,12 +159,15 @@ TEST_F(CliPlanTest, WithoutApproachTheMapsRecordedCamerasGiveIt) {
 
 TEST_F(CliPlanTest, EmptyBinCandidatesAndAllClusters) {
   TempDir out;
-  const auto r = runCli("plan " + map() + " --target 19 --approach 1,0,0 --empty-bin 0,0.6,0.1,0.4,0.3,0.2"
-                        " --candidates 8,rolodex_jumbo_pencil_cup --all-clusters --out " + quoted(out / "plan.json"));
+  const auto r = runCli("plan " + map() +
+                        " --target 19 --approach 1,0,0 --empty-bin 0,0.6,0.1,0.4,0.3,0.2"
+                        " --candidates 30,8,rolodex_jumbo_pencil_cup --all-clusters --out " +
+                        quoted(out / "plan.json"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Json plan = Json::parse(slurp(out / "plan.json"));
   EXPECT_EQ(plan["objects"].size(), 3u);  // 8, 19 (the target is always kept), 30; not 13
   EXPECT_EQ(plan["options"]["all_clusters"], true);
+  // Each candidate once (30 was given by id and by name), then the target.
   EXPECT_EQ(plan["options"]["candidates"], Json::array({8, 30, 19}));
   for (int k = 0; k < 2; ++k) {
     const auto& placement = plan["steps"][k]["placement"];
@@ -183,6 +186,20 @@ TEST_F(CliPlanTest, UnknownTargetLabelFailsNamingTheMap) {
     EXPECT_NE(r.err.find("--target"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("expected"), std::string::npos) << r.err;
   }
+}
+
+// Leading zeros are no part of a label id, however many there are.
+TEST_F(CliPlanTest, TargetIdsWithLeadingZerosNameTheirLabel) {
+  for (const std::string target : {"019", "0000019", "00000000019"}) {
+    TempDir out;
+    const auto r = runCli("plan " + map() + " --target " + target + " --approach 1,0,0 --out " +
+                          quoted(out / "plan.json"));
+    ASSERT_EQ(r.exit_code, 0) << target << ": " << r.err;
+    EXPECT_EQ(Json::parse(slurp(out / "plan.json"))["target"]["label"], 19) << target;
+  }
+  const auto background = runCli("plan " + map() + " --target 0000 --approach 1,0,0");
+  EXPECT_EQ(background.exit_code, 1);
+  EXPECT_NE(background.err.find("the background"), std::string::npos) << background.err;
 }
 
 TEST_F(CliPlanTest, TargetWithoutVoxelsFails) {

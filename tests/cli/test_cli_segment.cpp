@@ -168,6 +168,8 @@ TEST_F(CliSegmentTest, ErrorsAreClearAndLeaveTheSequenceAlone) {
       << r.err;
   EXPECT_NE(r.err.find("found 3 channels"), std::string::npos) << r.err;
   EXPECT_EQ(slurp(other / "seq" / "sequence.json"), five);
+  // Nor is such an output kept in the sequence's cache.
+  EXPECT_FALSE(std::filesystem::exists(other / "seq" / ".segmenter-cache"));
 
   // A sequence without colour images.
   TempDir grey;
@@ -204,6 +206,31 @@ TEST_F(CliSegmentTest, NeverWritesOverAnotherFileOfTheSequence) {
   EXPECT_NE(r.err.find("is an existing file; expected a folder"), std::string::npos) << r.err;
   EXPECT_EQ(slurp(dir_ / "seq" / "notes"), "keep");
   EXPECT_EQ(slurp(dir_ / "seq" / "sequence.json"), json);
+  // A folder to create under a file: refused before any frame is segmented.
+  std::filesystem::remove_all(dir_ / "seq" / ".segmenter-cache");
+  r = runCli(segment + "sequence.json/sub");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("an existing file; expected a folder"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "seq" / ".segmenter-cache")) << "no work was done";
+  EXPECT_EQ(slurp(dir_ / "seq" / "sequence.json"), json);
+}
+
+// Another sequence's frame files are not this run's to replace: an --out-dir
+// pointing into it is refused, and its images stay as they were.
+TEST_F(CliSegmentTest, NeverWritesOverTheFramesOfAnotherSequence) {
+  std::filesystem::copy(dir_ / "seq", dir_ / "other", std::filesystem::copy_options::recursive);
+  ASSERT_EQ(runCli("segment " + quoted(dir_ / "other") + " --segmenter " + quoted(model_) +
+                   " --out-dir net")
+                .exit_code,
+            0);
+  const std::string image = slurp(dir_ / "other" / "net" / "000000.npy");
+  const auto r = runCli("segment " + quoted(dir_ / "seq") + " --segmenter " + quoted(model_) +
+                        " --out-dir ../other/net");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("would overwrite a frame file"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find((dir_ / "other").string()), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(dir_ / "other" / "net" / "000000.npy"), image);
+  EXPECT_TRUE(lom::loadSequence(dir_ / "seq").frames[0].proba.empty());
 }
 
 // A run that fails half-way (here frame 1's colour image is damaged) changes
