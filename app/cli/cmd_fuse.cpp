@@ -312,11 +312,21 @@ int runFuse(const Words& words) {
       const bool coarser = resolution > options.map.resolution + 1e-9;
       char farthest[32];
       std::snprintf(farthest, sizeof farthest, "%.1f", totals.farthest_range);
-      how = std::string("The depths reach ") + farthest + " m; fuse with --max-range " + formatNumber(reach) +
-            (coarser ? " --resolution " + formatNumber(resolution) : std::string()) + " to map them" +
-            (coarser ? " (rays of at most 250 voxels: finer voxels over that range take far more "
-                       "memory)"
-                     : "");
+      // Past 250 m even 1 m voxels make rays longer than 250 voxels: such
+      // depths suggest wrong intrinsics or depth scale more than a far wall.
+      const double voxels = std::ceil(reach / resolution - 1e-9);
+      const std::string why =
+          voxels > 250.0
+              ? " (1 m voxels, the coarsest fusion takes, and rays of " + formatNumber(voxels) +
+                    " voxels; depths this far suggest wrong camera intrinsics or "
+                    "depth scale in sequence.json)"
+          : coarser ? " (rays of at most 250 voxels: finer voxels over that range take far more "
+                      "memory)"
+                    : "";
+      how = std::string("The depths reach ") + farthest + " m; fuse with --max-range " +
+            formatNumber(reach) +
+            (coarser ? " --resolution " + formatNumber(resolution) : std::string()) +
+            " to map them" + why;
     } else {
       how = "The depths reach farther than " +
             formatNumber(kMaxFusionVoxelsPerRay * kMaxFusionResolution) +

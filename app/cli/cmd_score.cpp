@@ -104,7 +104,9 @@ void noteYamlBoxes(const fs::path& annotations, const Args& args) {
 }
 
 void noteResolution(const Args& args, const EvaluationReport& report, const fs::path& map) {
-  if (!args.option("resolution") || args.number("resolution", 0.0) == report.resolution) return;
+  if (!args.option("resolution") || args.number("resolution", 0.0) == report.resolution ||
+      args.flag("quiet"))
+    return;
   std::cerr << "note: " << map.string() << " has resolution " << report.resolution
             << " m; it overrides --resolution " << args.number("resolution", 0.0) << "\n";
 }
@@ -135,7 +137,7 @@ int runScore(const Words& words) {
   // with --map was fused from frames this command cannot know: say so, since
   // its column is only comparable when it was fused from the same frames.
   const auto noteFramesWithMap = [&](const std::string& where) {
-    if (!args.option("frames")) return;
+    if (!args.option("frames") || args.flag("quiet")) return;
     std::cerr << "note: " << where << " is scored as it was fused; --frames "
               << *args.option("frames")
               << " chooses the frames projected for the baselines and the 2D metrics, so the "

@@ -282,6 +282,22 @@ TEST_F(CliFuseTest, DepthsBeyondAnyRangeFusionTakesPointAtTheIntrinsics) {
       << r.err;
   EXPECT_EQ(r.err.find("--max-range inf"), std::string::npos) << r.err;
   EXPECT_EQ(r.err.find(" inf m"), std::string::npos) << r.err;
+
+  // Depths of a few hundred metres can be fused with 1 m voxels, in rays
+  // longer than the 250 voxels the suggestion otherwise keeps to: it says so,
+  // and that such depths point at the intrinsics too.
+  sequence.camera.fx = sequence.camera.fy = 0.2;
+  lom::saveSequence(sequence, copy);
+  const auto far =
+      runCli("fuse '" + copy.string() + "' --frames 0:1 --out '" + (out / "far.ot").string() + "'");
+  ASSERT_EQ(far.exit_code, 0) << far.err;
+  EXPECT_NE(far.err.find("--resolution 1 to map them (1 m voxels, the coarsest fusion takes, "
+                         "and rays of "),
+            std::string::npos)
+      << far.err;
+  EXPECT_NE(far.err.find("suggest wrong camera intrinsics or depth scale"), std::string::npos)
+      << far.err;
+  EXPECT_EQ(far.err.find("rays of at most 250 voxels"), std::string::npos) << far.err;
 }
 
 // Depths beyond max range are a warning when they are most of the valid

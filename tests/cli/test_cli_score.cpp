@@ -136,6 +136,11 @@ TEST_F(CliScoreTest, SavedMapScoresLikeTheFusedOne) {
             std::string::npos)
       << part.err;
   EXPECT_TRUE(std::filesystem::exists(out / "part" / "report.json"));
+  // --quiet leaves out every note (warnings stay).
+  const auto quiet = runCli(scoreArgs(out / "quiet") + " --map " + quoted(out / "m01.ot") +
+                            " --frames 0:1 --resolution 0.02 --quiet");
+  EXPECT_EQ(quiet.exit_code, 0) << quiet.err;
+  EXPECT_EQ(quiet.err.find("note:"), std::string::npos) << quiet.err;
   EXPECT_EQ(runCli(scoreArgs(out / "whole") + " --map " + quoted(out / "m01.ot")).err.find("note:"),
             std::string::npos);
   EXPECT_EQ(r.err.find("warning:"), std::string::npos) << r.err;  // the map fits its sequence
