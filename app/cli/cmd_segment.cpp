@@ -60,14 +60,10 @@ void checkOutputs(const Sequence& sequence, const std::vector<size_t>& frames,
                      " is an existing file; expected a folder for the probability images "
                      "(created when missing)");
   // A folder to create under an existing file cannot be made: said before any work.
-  for (fs::path part = folder.parent_path(); !part.empty(); part = part.parent_path()) {
-    if (fs::is_directory(part, ec)) break;
-    if (fs::exists(part, ec))
-      throw UsageError("--out-dir " + folder.string() + " lies under " + part.string() +
-                       ", an existing file; expected a folder for the probability images "
-                       "(created when missing)");
-    if (part == part.parent_path()) break;
-  }
+  if (const auto file = fileInPlaceOfFolder(folder.parent_path()))
+    throw UsageError("--out-dir " + folder.string() + " lies under " + file->string() +
+                     ", an existing file; expected a folder for the probability images "
+                     "(created when missing)");
   if (!fs::is_directory(folder, ec)) return;  // nothing can be in the way yet
   struct Named {
     size_t frame;

@@ -149,17 +149,23 @@ void requireExtension(const fs::path& out, const std::string& option, const std:
                      what + "), got '" + out.string() + "'");
 }
 
+std::optional<fs::path> fileInPlaceOfFolder(const fs::path& folder) {
+  std::error_code ec;
+  for (fs::path part = folder; !part.empty(); part = part.parent_path()) {
+    if (fs::is_directory(part, ec)) break;
+    if (fs::exists(part, ec)) return part;
+    if (part == part.parent_path()) break;
+  }
+  return std::nullopt;
+}
+
 namespace {
 
 // Why `folder` is not a folder: it is a file, a file above it hides the rest
 // of the path, or it does not exist.
 std::string missingFolderProblem(const fs::path& folder) {
-  std::error_code ec;
-  for (fs::path part = folder; !part.empty(); part = part.parent_path()) {
-    if (fs::is_directory(part, ec)) break;
-    if (fs::exists(part, ec)) return part.string() + " is a file, not a folder";
-    if (part == part.parent_path()) break;
-  }
+  if (const auto file = fileInPlaceOfFolder(folder))
+    return file->string() + " is a file, not a folder";
   return "folder " + folder.string() + " does not exist";
 }
 

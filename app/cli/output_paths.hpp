@@ -5,6 +5,7 @@
 // extension. Failures are usage mistakes (UsageError, exit 2), except an output
 // folder that does not exist (lom::Error, exit 1), which names the option.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,10 @@ void requireExtension(const std::filesystem::path& out, const std::string& optio
 // `out` or in any folder above it. Nothing a user made is written over by an
 // output path mistyped into a sequence folder.
 void checkNotASequenceFile(const std::filesystem::path& out, const std::string& option);
+
+// The existing file (not a folder) that stands where `folder` or one of the
+// folders above it should be; none when the path can be a folder.
+std::optional<std::filesystem::path> fileInPlaceOfFolder(const std::filesystem::path& folder);
 
 // Checks an output file given with --`option`: not empty, `extension` when not
 // empty (see requireExtension), not an existing folder, device or FIFO, not one of

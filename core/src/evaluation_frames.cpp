@@ -22,25 +22,22 @@ VoxelKey unpack(std::uint64_t packed) {
           static_cast<std::uint16_t>(packed)};
 }
 
-// A pixel that gives no probability to any candidate: -1 for a projection
-// (no label to project), the lowest candidate for the 2D metrics (the argmax
-// of the equal probabilities the fusion gives it, so that the pixel still
-// counts, as a mistake unless that is its true label).
+// The argmax for the 2D metrics: a pixel that gives no probability to any
+// candidate gets the lowest candidate (the argmax of the equal probabilities
+// the fusion gives it), so that it still counts, as a mistake unless that is
+// its true label. Projections use FrameEvidence::argmax, which gives it none.
 class ArgmaxOf {
  public:
-  ArgmaxOf(const FrameEvidence& evidence, bool unlabelled_as_none)
-      : evidence_(evidence),
-        buffer_(static_cast<size_t>(evidence.numLabels())),
-        unlabelled_as_none_(unlabelled_as_none) {}
+  explicit ArgmaxOf(const FrameEvidence& evidence)
+      : evidence_(evidence), buffer_(static_cast<size_t>(evidence.numLabels())) {}
   int operator()(int u, int v) {
-    if (!evidence_.probabilities(u, v, buffer_.data()) && unlabelled_as_none_) return -1;
+    evidence_.probabilities(u, v, buffer_.data());
     return static_cast<int>(std::max_element(buffer_.begin(), buffer_.end()) - buffer_.begin());
   }
 
  private:
   const FrameEvidence& evidence_;
   std::vector<float> buffer_;
-  bool unlabelled_as_none_;
 };
 
 // The voxels each scored label occupies when only this frame's argmax labels
@@ -62,14 +59,13 @@ std::map<int, std::vector<VoxelKey>> projectView(const Sequence& sequence, size_
                     std::to_string(depth.height),
                 std::to_string(evidence.width()) + "x" + std::to_string(evidence.height()));
 
-  ArgmaxOf argmax(evidence, true);
   std::vector<std::unordered_set<std::uint64_t>> keys(scored_labels.size());
   for (int v = 0; v < depth.height; ++v) {
     for (int u = 0; u < depth.width; ++u) {
       const float z = depth.at(u, v);
       if (!(z > 0.f) || !std::isfinite(z)) continue;
-      const int label = argmax(u, v);
-      if (label < 0) continue;
+      const int label = evidence.argmax(u, v);
+      if (label < 0) continue;  // no probability for any candidate
       const int slot = slot_of_label[static_cast<size_t>(label)];
       if (slot < 0) continue;
       const Eigen::Vector3d point = T_world_camera * camera.backProject(u, v, z);
@@ -101,7 +97,7 @@ void addToConfusion(const Sequence& sequence, size_t index, const FrameData& fra
                 "a label image of the proba image's size " + std::to_string(evidence.width()) + "x" +
                     std::to_string(evidence.height()),
                 std::to_string(truth.width) + "x" + std::to_string(truth.height));
-  ArgmaxOf argmax(evidence, false);
+  ArgmaxOf argmax(evidence);
   for (int v = 0; v < truth.height; ++v)
     for (int u = 0; u < truth.width; ++u) confusion.add(truth.at(u, v), argmax(u, v));
 }

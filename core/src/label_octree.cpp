@@ -553,10 +553,46 @@ std::istream& LabelOcTree::readData(std::istream& s) {
   return s;
 }
 
+namespace {
+
+[[noreturn]] void truncated(const std::string& field, const std::string& expected) {
+  throw Error("", field, expected, "the end of the file (truncated data)");
+}
+
+// The fused candidates of data version 3 (writeData): a flag, 0 every label,
+// 1 a list of `count`-bounded ascending ids, 2 not known.
+FusedCandidates readFusedCandidates(std::istream& s, std::uint16_t count) {
+  FusedCandidates candidates;
+  std::uint8_t listed = 0;
+  if (!readPod(s, listed)) truncated("candidates", "a candidate flag");
+  if (listed > 2)
+    throw Error("", "candidates", "a candidate flag 0 (every label), 1 (a list) or 2 (not known)",
+                std::to_string(listed));
+  candidates.recorded = listed != 2;
+  if (listed == 1) {
+    std::uint16_t n = 0;
+    if (!readPod(s, n)) truncated("candidates", "a candidate count");
+    if (n == 0 || n > count)
+      throw Error("", "candidates", "1 to " + std::to_string(count) + " candidate labels",
+                  std::to_string(n));
+    std::vector<int> ids;
+    for (std::uint16_t i = 0; i < n; ++i) {
+      std::uint16_t id = 0;
+      if (!readPod(s, id)) truncated("candidates", std::to_string(n) + " candidate label ids");
+      if (id >= count || (!ids.empty() && id <= ids.back()))
+        throw Error("", "candidates[" + std::to_string(i) + "]",
+                    "label ids below " + std::to_string(count) + " in increasing order",
+                    std::to_string(id));
+      ids.push_back(id);
+    }
+    candidates.labels = std::move(ids);
+  }
+  return candidates;
+}
+
+}  // namespace
+
 void LabelOcTree::readLabelledData(std::istream& s) {
-  const auto truncated = [](const std::string& field, const std::string& expected) {
-    throw Error("", field, expected, "the end of the file (truncated data)");
-  };
   char magic[4] = {};
   s.read(magic, sizeof(magic));
   if (!s) truncated("data", "LabelOcTree data starting with 'LOMT'");
@@ -614,34 +650,8 @@ void LabelOcTree::readLabelledData(std::istream& s) {
                         std::to_string(sum.z()) + ")");
     }
   }
-  FusedCandidates candidates;
-  candidates.recorded = version >= 3;
-  if (candidates.recorded) {
-    std::uint8_t listed = 0;
-    if (!readPod(s, listed)) truncated("candidates", "a candidate flag");
-    if (listed > 2)
-      throw Error("", "candidates", "a candidate flag 0 (every label), 1 (a list) or 2 (not known)",
-                  std::to_string(listed));
-    candidates.recorded = listed != 2;
-    if (listed == 1) {
-      std::uint16_t n = 0;
-      if (!readPod(s, n)) truncated("candidates", "a candidate count");
-      if (n == 0 || n > count)
-        throw Error("", "candidates", "1 to " + std::to_string(count) + " candidate labels",
-                    std::to_string(n));
-      std::vector<int> ids;
-      for (std::uint16_t i = 0; i < n; ++i) {
-        std::uint16_t id = 0;
-        if (!readPod(s, id)) truncated("candidates", std::to_string(n) + " candidate label ids");
-        if (id >= count || (!ids.empty() && id <= ids.back()))
-          throw Error("", "candidates[" + std::to_string(i) + "]",
-                      "label ids below " + std::to_string(count) + " in increasing order",
-                      std::to_string(id));
-        ids.push_back(id);
-      }
-      candidates.labels = std::move(ids);
-    }
-  }
+  FusedCandidates candidates =
+      version >= 3 ? readFusedCandidates(s, count) : FusedCandidates{false, std::nullopt};
   std::uint8_t has_nodes = 0;
   if (!readPod(s, has_nodes)) truncated("nodes", "a node flag");
   if (has_nodes > 1)
