@@ -7,6 +7,8 @@
 #include <QAbstractButton>
 #include <QApplication>
 #include <QFileDialog>
+#include <QFileInfo>
+#include <QLineEdit>
 #include <QList>
 #include <QMessageBox>
 #include <QMetaObject>
@@ -61,6 +63,11 @@ class DialogAnswerer {
         QMetaObject::invokeMethod(dialog, "reject", Qt::QueuedConnection);
       } else {
         dialog->selectFile(file_);
+        // selectFile leaves the name field alone while it has the keyboard
+        // focus (a dialog that became active before this answer): the name
+        // is typed into it, as a user would.
+        if (auto* name = dialog->findChild<QLineEdit*>(QStringLiteral("fileNameEdit")))
+          name->setText(QFileInfo(file_).fileName());
         // As the Save/Open button does.
         QMetaObject::invokeMethod(dialog, "accept", Qt::QueuedConnection);
       }
