@@ -63,7 +63,14 @@ class DemoWindowTest : public ::testing::Test {
   void waitForFusion() {
     StudioSession& session = window_.session();
     ASSERT_TRUE(QTest::qWaitFor([&] { return !session.worker().isFusing(); }, kTimeoutMs));
-    QTest::qWait(50);  // the last snapshot arrives through the event loop
+    // The last snapshot arrives through the event loop (a loaded machine may
+    // take a while to deliver it).
+    const auto all_fused = [&] {
+      const auto snapshot = session.worker().snapshot();
+      return snapshot && snapshot->frames_fused == static_cast<size_t>(smallDemo().frames);
+    };
+    ASSERT_TRUE(QTest::qWaitFor(all_fused, kTimeoutMs));
+    QTest::qWait(20);
     ASSERT_EQ(session.worker().snapshot()->frames_fused, static_cast<size_t>(smallDemo().frames));
   }
   static void settle() {
