@@ -1,17 +1,20 @@
 // The panels: View > Panels shows a closed panel again, View > Reset Layout
 // puts every panel back, and a window that remembers its layout (the studio's
-// interactive runs) reopens with the size and panels it was closed with.
+// interactive runs) reopens with the size and panels it was closed with, and
+// with the Evaluation panel's IU_3d mode last chosen.
 #include "lom/ui/panel_layout.hpp"
 
 #include <gtest/gtest.h>
 
 #include <QAction>
+#include <QComboBox>
 #include <QDockWidget>
 #include <QSettings>
 #include <QTest>
 #include <memory>
 
 #include "lom/ui/main_window.hpp"
+#include "lom/ui/studio_session.hpp"
 
 namespace lom::ui {
 namespace {
@@ -38,6 +41,7 @@ class PanelLayoutTest : public ::testing::Test {
     QSettings settings;
     settings.remove(PanelLayout::kGeometryKey);
     settings.remove(PanelLayout::kPanelsKey);
+    settings.remove(MainWindow::kIouModeKey);
   }
 };
 
@@ -151,6 +155,39 @@ TEST_F(PanelLayoutTest, ALayoutSavedWithOtherPanelsIsNotRestored) {
   }
   auto window = shownWindow(true);
   EXPECT_FALSE(panel(*window, "objectsDock")->isHidden());
+}
+
+TEST_F(PanelLayoutTest, TheIouModeChosenComesBackInTheNextSession) {
+  auto combo = [](const MainWindow& window) {
+    auto* box = window.findChild<QComboBox*>("evaluationIouMode");
+    EXPECT_NE(box, nullptr);
+    return box;
+  };
+  {
+    auto window = shownWindow(true);
+    EXPECT_EQ(window->session().iouMode(), IouMode::Exact);  // nothing saved yet
+    QComboBox* mode = combo(*window);
+    mode->setCurrentIndex(mode->findData(static_cast<int>(IouMode::Center)));
+    ASSERT_EQ(window->session().iouMode(), IouMode::Center);
+    ASSERT_TRUE(window->close());
+  }
+  {
+    auto window = shownWindow(true);
+    EXPECT_EQ(window->session().iouMode(), IouMode::Center);
+    EXPECT_EQ(combo(*window)->currentData().toInt(), static_cast<int>(IouMode::Center));
+  }
+  {
+    // Screenshots and tests keep the default and leave the saved mode alone.
+    auto window = shownWindow(false);
+    EXPECT_EQ(window->session().iouMode(), IouMode::Exact);
+    window->session().setIouMode(IouMode::Center);
+    window->session().setIouMode(IouMode::Exact);
+  }
+  EXPECT_EQ(QSettings().value(MainWindow::kIouModeKey).toString(), "center");
+  // A value this version does not know leaves the default.
+  QSettings().setValue(MainWindow::kIouModeKey, "median");
+  auto window = shownWindow(true);
+  EXPECT_EQ(window->session().iouMode(), IouMode::Exact);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <QScreen>
 #include <QScrollArea>
 #include <QScrollBar>
+#include <QSettings>
 #include <QSplitter>
 #include <QStatusBar>
 #include <QStyle>
@@ -654,6 +655,16 @@ void MainWindow::closeEvent(QCloseEvent* event) {
 void MainWindow::rememberLayout() {
   remember_layout_ = true;
   panel_layout_->restoreSaved();
+  // The Evaluation panel's IU_3d mode is a preference like the layout: the
+  // last one chosen comes back (an unknown stored value leaves the default).
+  const QString stored = QSettings().value(kIouModeKey).toString();
+  if (stored == QLatin1String("center"))
+    session_->setIouMode(IouMode::Center);
+  else if (stored == QLatin1String("exact"))
+    session_->setIouMode(IouMode::Exact);
+  connect(session_, &StudioSession::iouModeChanged, this, [this] {
+    QSettings().setValue(kIouModeKey, session_->iouMode() == IouMode::Center ? "center" : "exact");
+  });
 }
 
 }  // namespace lom::ui

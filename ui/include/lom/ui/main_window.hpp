@@ -71,10 +71,12 @@ class MainWindow : public QMainWindow {
     map_discard_question_ = std::move(ask);
   }
   // Restores the window's size, position and panels from the last session
-  // that remembered them, and saves them when the window closes. Off unless
+  // that remembered them, and saves them when the window closes; the
+  // Evaluation panel's IU_3d mode likewise (saved when chosen). Off unless
   // called: screenshots and tests start from the default layout and leave the
   // saved one alone.
   void rememberLayout();
+  static constexpr const char* kIouModeKey = "studio/evaluation/iouMode";
   [[nodiscard]] PanelLayout& panelLayout() { return *panel_layout_; }
 
  protected:
