@@ -128,7 +128,30 @@ cv::Mat readImage(const fs::path& path) {
     return hasJpegSignature(bytes->data(), bytes->size())
                ? decodeJpeg(bytes->data(), bytes->size(), file)
                : decodePng(bytes->data(), bytes->size(), file);
-  return readOtherImage(file, cv::IMREAD_UNCHANGED);
+  // Say what is wrong with an empty file or a .png / .jpg that holds other
+  // data, rather than that no decoder took it.
+  std::error_code ec;
+  if (fs::file_size(path, ec) == 0 && !ec)
+    throw Error(file, "", "a readable image", "an empty file (0 bytes)");
+  const std::string ext = lowerExtension(path);
+  if (ext != ".png" && ext != ".jpg" && ext != ".jpeg")
+    return readOtherImage(file, cv::IMREAD_UNCHANGED);
+  try {
+    return readOtherImage(file, cv::IMREAD_UNCHANGED);  // misnamed, in a format OpenCV knows
+  } catch (const Error&) {
+    std::ifstream in(path, std::ios::binary);
+    unsigned char first[8] = {};
+    in.read(reinterpret_cast<char*>(first), sizeof first);
+    std::string shown;
+    for (std::streamsize i = 0; i < in.gcount(); ++i) {
+      char hex[4];
+      std::snprintf(hex, sizeof hex, "%s%02x", i ? " " : "", first[i]);
+      shown += hex;
+    }
+    throw Error(file, "",
+                ext == ".png" ? "PNG data (as its name says)" : "JPEG data (as its name says)",
+                "a file of other data (it starts with the bytes " + shown + ")");
+  }
 }
 
 std::string typeName(NpyType type) {

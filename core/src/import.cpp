@@ -94,11 +94,24 @@ void checkOptions(const ImportOptions& options) {
   filterDepth(empty, options.depth_filter);  // checks the filter options
 }
 
-bool samePath(const fs::path& a, const fs::path& b) {
+fs::path canonicalPath(const fs::path& path) {
   std::error_code ec;
-  const fs::path ca = fs::weakly_canonical(fs::absolute(a, ec), ec);
-  const fs::path cb = fs::weakly_canonical(fs::absolute(b, ec), ec);
-  return !ca.empty() && ca == cb;
+  return fs::weakly_canonical(fs::absolute(path, ec), ec);
+}
+
+bool samePath(const fs::path& a, const fs::path& b) {
+  const fs::path ca = canonicalPath(a);
+  return !ca.empty() && ca == canonicalPath(b);
+}
+
+// Whether `path` is `folder` or lies inside it.
+bool sameOrInside(const fs::path& path, const fs::path& folder) {
+  const fs::path p = canonicalPath(path), f = canonicalPath(folder);
+  if (p.empty() || f.empty()) return false;
+  auto pi = p.begin();
+  for (auto fi = f.begin(); fi != f.end(); ++fi, ++pi)
+    if (pi == p.end() || *pi != *fi) return false;
+  return true;
 }
 
 std::uint64_t fnv1a(const std::string& text, std::uint64_t hash = 1469598103934665603ull) {
@@ -297,6 +310,14 @@ ImportReport importSource(std::optional<SourceKind> kind, const fs::path& source
                 "a sequence already (open or fuse it directly)");
   if (samePath(source, out_folder))
     throw Error(out_folder.string(), "output", "a folder other than the source", "the source itself");
+  // The import replaces the sequence file and the frame folders of its
+  // output: a source among them would be deleted with them.
+  for (const char* part : {"sequence.json", "depth", "color", "proba", "label"})
+    if (sameOrInside(source, out_folder / part))
+      throw Error(source.string(), "source",
+                  "a recording outside the files the import writes in " + out_folder.string() +
+                      " (sequence.json and the depth, color, proba and label folders)",
+                  "a path in " + (out_folder / part).string());
   checkOptions(options);
 
   ImportReport report;

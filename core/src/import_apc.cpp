@@ -129,7 +129,7 @@ void importApcShelf(const fs::path& source, const ImportOptions& options, Sequen
       for (float& z : frame.depth.metres)
         z = static_cast<float>(unrotateApcDepth(static_cast<std::uint16_t>(z)) * scale);
       const fs::path color = source / (name + ".color.png");
-      if (isFile(color)) frame.color = readColorImage(color);
+      if (isFile(color)) frame.color = readColorOrLeaveOut(color, writer);
 
       // Ground truth: value / 6 is the label id.
       const fs::path segm = source / "segm" / (name + ".segm.png");

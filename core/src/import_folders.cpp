@@ -73,7 +73,8 @@ std::vector<TumEntry> readTumList(const fs::path& path) {
     in >> stamp_text >> file;
     char* end = nullptr;
     const double stamp = std::strtod(stamp_text.c_str(), &end);
-    if (stamp_text.empty() || *end != '\0' || file.empty() || (in >> extra))
+    if (stamp_text.empty() || *end != '\0' || !std::isfinite(stamp) || file.empty() ||
+        (in >> extra))
       throw Error(path.string(), "line " + std::to_string(number),
                   "'timestamp filename' (e.g. 1305031102.175304 rgb/1305031102.175304.png)",
                   "'" + (line.size() > 60 ? line.substr(0, 57) + "..." : line) + "'");
@@ -93,6 +94,9 @@ std::vector<TimedPose> readTumPoses(const fs::path& path) {
     if (n.size() != 8)
       throw Error(path.string(), "line " + std::to_string(number),
                   "8 numbers: timestamp tx ty tz qx qy qz qw", std::to_string(n.size()) + " numbers");
+    if (!std::isfinite(n[0]))
+      throw Error(path.string(), "line " + std::to_string(number), "a finite time stamp first",
+                  "'" + (line.size() > 60 ? line.substr(0, 57) + "..." : line) + "'");
     TimedPose pose;
     pose.stamp = n[0];
     pose.t = Eigen::Vector3d(n[1], n[2], n[3]);
@@ -142,6 +146,20 @@ void setCameraFromIntrinsicsFile(const fs::path& source, const std::string& skip
 }  // namespace
 
 // frames: frame-NNNNNN.color.png / .depth.png (mm) / .pose.txt (4x4), intrinsics file.
+// Colour is shown, never fused: an image that cannot be read leaves its
+// frame without colour (as the bag import does), with a note naming it,
+// instead of dropping the frame's depth.
+std::optional<ColorImage> readColorOrLeaveOut(const fs::path& path, SequenceWriter& writer) {
+  try {
+    return readColorImage(path);
+  } catch (const Error& e) {
+    writer.note(std::string("a colour image that cannot be read was left out (its frame was "
+                            "imported without colour): ") +
+                e.what());
+    return std::nullopt;
+  }
+}
+
 void importFrames(const fs::path& source, const ImportOptions& options, SequenceWriter& writer) {
   const auto depth_files = numberedFiles(source, "frame-", ".depth.png");
   if (depth_files.empty())
@@ -196,7 +214,7 @@ void importFrames(const fs::path& source, const ImportOptions& options, Sequence
       for (const char* ext : {".color.png", ".color.jpg"}) {
         const fs::path color = fs::path(base.string() + ext);
         if (isFile(color)) {
-          frame.color = readColorImage(color);
+          frame.color = readColorOrLeaveOut(color, writer);
           break;
         }
       }
@@ -291,6 +309,23 @@ void importTum(const fs::path& source, const ImportOptions& options, SequenceWri
   writer.setFound(depth_list.size());
   const auto selected = selectFrames(depth_list.size(), options);
   writer.setTotal(selected.size());
+  // Depth and groundtruth stamps that do not overlap at all are two clocks:
+  // every frame's reason says by how much they differ.
+  std::string clocks;
+  if (!depth_list.empty() && !poses.empty()) {
+    const double begin = depth_list.front().stamp + options.time_offset;
+    const double end = depth_list.back().stamp + options.time_offset;
+    const double tol = options.time_tolerance;
+    if (end < poses.front().stamp - tol || begin > poses.back().stamp + tol) {
+      clocks =
+          "the depth stamps (" + stampText(begin) + " to " + stampText(end) +
+          ") and the groundtruth (" + stampText(poses.front().stamp) + " to " +
+          stampText(poses.back().stamp) + ") do not overlap: the clocks differ by about " +
+          formatNumber(0.5 * (poses.front().stamp + poses.back().stamp) - 0.5 * (begin + end), 4) +
+          " s (give it as the time offset option)";
+      writer.note(clocks);
+    }
+  }
   for (size_t index : selected) {
     const TumEntry& entry = depth_list[index];
     const std::string name = stampText(entry.stamp);
@@ -299,8 +334,10 @@ void importTum(const fs::path& source, const ImportOptions& options, SequenceWri
     if (!pose) {
       const std::string reason =
           "no groundtruth pose within " + formatNumber(options.time_tolerance) + " s of " +
-          stampText(pose_stamp) + " (groundtruth covers " + stampText(poses.front().stamp) +
-          " to " + stampText(poses.back().stamp) + ")";
+          stampText(pose_stamp) +
+          (clocks.empty() ? " (groundtruth covers " + stampText(poses.front().stamp) + " to " +
+                                stampText(poses.back().stamp) + ")"
+                          : "; " + clocks);
       if (!writer.skip(name, reason)) return;
       continue;
     }
@@ -311,7 +348,7 @@ void importTum(const fs::path& source, const ImportOptions& options, SequenceWri
     const auto error = tryRead([&] {
       frame.depth = readDepth16(source / entry.file, scale);
       if (auto rgb = nearestStamp(rgb_stamps, entry.stamp, options.time_tolerance))
-        frame.color = readColorImage(source / rgb_list[*rgb].file);
+        frame.color = readColorOrLeaveOut(source / rgb_list[*rgb].file, writer);
       else if (!rgb_list.empty())
         writer.note("depth images without an rgb image within " +
                     formatNumber(options.time_tolerance) + " s were imported without colour");
@@ -343,6 +380,9 @@ void importQuaternion(const fs::path& source, const ImportOptions& options,
       throw Error(pose_file.string(), "line " + std::to_string(number),
                   "7 numbers 'tx ty tz qx qy qz qw' (or 8 with a leading frame number or stamp)",
                   std::to_string(n.size()) + " numbers");
+    if (n.size() == 8 && !std::isfinite(n[0]))
+      throw Error(pose_file.string(), "line " + std::to_string(number),
+                  "a finite frame number or time stamp first", "'" + line + "'");
     lines.push_back(std::move(n));
     line_numbers.push_back(number);
   }
@@ -439,7 +479,7 @@ void importQuaternion(const fs::path& source, const ImportOptions& options,
     const auto error = tryRead([&] {
       frame.depth = readDepth16(depth_file.path, scale);
       if (auto it = color_of.find(depth_file.number); it != color_of.end())
-        frame.color = readColorImage(it->second);
+        frame.color = readColorOrLeaveOut(it->second, writer);
     });
     if (error) {
       if (!writer.skip(name, *error)) return;
@@ -587,7 +627,7 @@ void importScanNet(const fs::path& source, const ImportOptions& options, Sequenc
       for (const char* ext : {".jpg", ".png"}) {
         const fs::path color = source / "color" / (number + ext);
         if (isFile(color)) {
-          frame.color = readColorImage(color);
+          frame.color = readColorOrLeaveOut(color, writer);
           break;
         }
       }

@@ -231,11 +231,22 @@ void SequenceWriter::prepareFolder() {
   if (prepared_) return;
   std::error_code ec;
   if (!fs::exists(out_, ec)) {
+    // The first folder of the path that is missing goes too when the import
+    // fails or is cancelled (out/new/seq leaves no empty out/new behind).
+    fs::path missing = fs::absolute(out_, ec).lexically_normal();
+    if (!missing.has_filename()) missing = missing.parent_path();
+    while (missing.has_parent_path() && missing.parent_path() != missing &&
+           !fs::exists(missing.parent_path(), ec))
+      missing = missing.parent_path();
     fs::create_directories(out_, ec);
     if (ec)
       throw Error(out_.string(), "output", "a folder that can be created", ec.message());
     created_out_ = true;
-  } else if (options_.overwrite) {
+    created_root_ = missing;
+  } else {
+    // An existing folder (empty frame folders, or --overwrite) gets the
+    // frames only once they are all written: a failed or cancelled import
+    // leaves it as it was.
     staging_ = createStagingFolder(out_, "import");
   }
   prepared_ = true;
@@ -273,7 +284,7 @@ void SequenceWriter::cleanUp() noexcept {
   std::error_code ec;
   if (!staging_.empty()) fs::remove_all(staging_, ec);
   if (created_out_) {
-    fs::remove_all(out_, ec);
+    fs::remove_all(created_root_.empty() ? out_ : created_root_, ec);
     return;
   }
   for (const auto& dir : created_dirs_) fs::remove_all(dir, ec);
@@ -319,6 +330,10 @@ std::optional<std::string> SequenceWriter::convert(SourceFrame& frame, FrameReco
     return "no valid depth (" + std::to_string(stats.invalid) + " invalid, " +
            std::to_string(stats.out_of_range) + " out of range, " + std::to_string(stats.flying) +
            " flying pixels removed)";
+  if (camera_.width <= 0 || camera_.height <= 0) {  // the first frame written
+    camera_.width = camera.width;
+    camera_.height = camera.height;
+  }
   writeFrameFiles(frame, record);
   return std::nullopt;
 }
@@ -357,20 +372,23 @@ std::optional<std::string> SequenceWriter::convertDepth(SourceFrame& frame, Fram
   DepthImage& depth = frame.depth;
   if (depth.width <= 0 || depth.height <= 0 || depth.metres.empty())
     return std::string("empty depth image");
-  if (camera_.width <= 0 || camera_.height <= 0) {
-    camera_.width = depth.width;
-    camera_.height = depth.height;
+  // Intrinsics without an image size (a bare camera matrix) take the size of
+  // the first frame written (convert), not of a frame that is then skipped.
+  CameraIntrinsics reference = camera_;
+  if (reference.width <= 0 || reference.height <= 0) {
+    reference.width = depth.width;
+    reference.height = depth.height;
   }
-  camera = camera_;
+  camera = reference;
   camera.depth_scale = depth_scale_;
-  if (depth.width != camera_.width || depth.height != camera_.height) {
-    if (!sameAspect(depth.width, depth.height, camera_.width, camera_.height))
+  if (depth.width != reference.width || depth.height != reference.height) {
+    if (!sameAspect(depth.width, depth.height, reference.width, reference.height))
       return "the depth image is " + sizeText(depth.width, depth.height) + ", the camera " +
-             sizeText(camera_.width, camera_.height) + " (another aspect ratio)";
+             sizeText(reference.width, reference.height) + " (another aspect ratio)";
     camera = scaledCamera(camera, depth.width, depth.height);
     record.camera = camera;
     note("depth images of " + sizeText(depth.width, depth.height) + " instead of " +
-         sizeText(camera_.width, camera_.height) + ": intrinsics scaled for those frames");
+         sizeText(reference.width, reference.height) + ": intrinsics scaled for those frames");
   }
 
   stats = filterDepth(depth, options_.depth_filter);

@@ -86,6 +86,9 @@ LabelSet readLabelList(const std::filesystem::path& file) {
   size_t number = 0;
   while (std::getline(in, line)) {
     ++number;
+    // A byte-order mark some editors put at the start of a UTF-8 file is not
+    // part of the first line (which may be a comment).
+    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t'))
       line.pop_back();
     const auto first = line.find_first_not_of(" \t");

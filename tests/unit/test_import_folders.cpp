@@ -334,6 +334,83 @@ TEST(ImportFrames, DepthOfAnotherSizeGetsScaledIntrinsics) {
   EXPECT_FALSE(sequence.frames[0].camera.has_value());
 }
 
+TEST(ImportFrames, ASkippedFirstFrameDoesNotSetTheCameraSize) {
+  // The first frame in name order has depth of another size and no pose: it
+  // is skipped, and the intrinsics file applies to the frames written at
+  // their own size, unscaled.
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  DepthImage odd;
+  odd.width = kW / 2;
+  odd.height = kH / 2;
+  odd.metres.assign(static_cast<size_t>(odd.width * odd.height), 1.2f);
+  writeDepthPng(dir / "src" / "frame-000010.depth.png", odd, 0.001);
+  const ImportReport report = importSource(SourceKind::Frames, dir / "src", dir / "seq");
+  ASSERT_EQ(report.frames_written, 2u);
+  EXPECT_TRUE(anySkipped(report, "no pose file")) << report.text();
+  EXPECT_FALSE(anyNote(report, "intrinsics scaled")) << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_EQ(sequence.camera.width, kW);
+  EXPECT_EQ(sequence.camera.height, kH);
+  EXPECT_EQ(sequence.camera.fx, 30.0);
+  for (const auto& frame : sequence.frames) EXPECT_FALSE(frame.camera.has_value());
+}
+
+TEST(ImportFrames, AnUnreadableColourImageKeepsTheFrameWithoutColour) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  writeText(dir / "src" / "frame-000017.color.png", "");
+  const ImportReport report = importSource(SourceKind::Frames, dir / "src", dir / "seq");
+  EXPECT_EQ(report.frames_written, 2u) << report.text();
+  EXPECT_TRUE(anyNote(report, "frame-000017.color.png")) << report.text();
+  EXPECT_TRUE(anyNote(report, "imported without colour")) << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_TRUE(loadFrame(sequence, 0).color.has_value());
+  EXPECT_FALSE(loadFrame(sequence, 1).color.has_value());
+}
+
+TEST(ImportFrames, ASourceInsideTheFoldersTheImportReplacesIsRefused) {
+  // --overwrite replaces OUT/depth, color, proba, label and sequence.json: a
+  // recording kept there would be deleted with them.
+  test::TempDir dir;
+  writeFramesFolder(dir / "project" / "color");
+  ImportOptions options;
+  options.overwrite = true;
+  const std::string error = errorOf([&] {
+    importSource(SourceKind::Frames, dir / "project" / "color", dir / "project", options);
+  });
+  EXPECT_TRUE(contains(error, "source: expected a recording outside the files the import writes"))
+      << error;
+  EXPECT_TRUE(fs::exists(dir / "project" / "color" / "frame-000015.depth.png"));
+  EXPECT_TRUE(fs::exists(dir / "project" / "color" / "camera-intrinsics.txt"));
+  EXPECT_FALSE(fs::exists(dir / "project" / "sequence.json"));
+}
+
+TEST(ImportFrames, AFailedImportLeavesAnExistingFolderAsItWasAndNoNewParents) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  // Empty frame folders made beforehand stay empty when the import is cancelled.
+  fs::create_directories(dir / "out" / "depth");
+  fs::create_directories(dir / "out" / "color");
+  const auto cancel_after_one = [](const ImportProgress& p) { return p.done < 1; };
+  const ImportReport cancelled =
+      importSource(SourceKind::Frames, dir / "src", dir / "out", {}, cancel_after_one);
+  ASSERT_TRUE(cancelled.cancelled);
+  std::vector<fs::path> left;
+  for (const auto& entry : fs::recursive_directory_iterator(dir / "out"))
+    left.push_back(entry.path());
+  EXPECT_EQ(left.size(), 2u) << "only the two empty folders, no frame files, no staging folder";
+  EXPECT_TRUE(fs::is_empty(dir / "out" / "depth"));
+  // Completed, the same folder gets the frames.
+  EXPECT_EQ(importSource(SourceKind::Frames, dir / "src", dir / "out").frames_written, 2u);
+  EXPECT_TRUE(validateSequence(loadSequence(dir / "out")).empty());
+  // A new nested output leaves none of the folders it created.
+  const ImportReport nested = importSource(SourceKind::Frames, dir / "src",
+                                           dir / "new" / "deeper" / "seq", {}, cancel_after_one);
+  ASSERT_TRUE(nested.cancelled);
+  EXPECT_FALSE(fs::exists(dir / "new"));
+}
+
 TEST(ImportOpen, ConvertsIntoACacheAndReusesIt) {
   test::TempDir dir;
   writeFramesFolder(dir / "src");
@@ -462,6 +539,44 @@ TEST(ImportTum, RoundTripWithAssociationAndInterpolation) {
                        "no groundtruth pose"));
 }
 
+TEST(ImportTum, ClocksThatDoNotOverlapAreMeasured) {
+  test::TempDir dir;
+  TumFixture tum(dir / "tum");
+  std::ifstream in(tum.dir / "groundtruth.txt");
+  std::ostringstream shifted;
+  shifted << std::setprecision(17);
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream numbers(line);
+    double t = 0.0;
+    numbers >> t;
+    std::string rest;
+    std::getline(numbers, rest);
+    shifted << t + 3600.0 << rest << "\n";
+  }
+  in.close();
+  writeText(tum.dir / "groundtruth.txt", shifted.str());
+  const std::string error = errorOf([&] { importSource(SourceKind::Tum, tum.dir, dir / "seq"); });
+  EXPECT_TRUE(contains(error, "do not overlap: the clocks differ by about 36")) << error;
+  EXPECT_TRUE(contains(error, "time offset")) << error;
+  ImportOptions options;
+  options.time_offset = 3600.0;
+  EXPECT_EQ(importSource(SourceKind::Tum, tum.dir, dir / "seq", options).frames_written, 3u);
+}
+
+TEST(ImportTum, NonFiniteTimeStampsAreRefusedWhereTheyAre) {
+  test::TempDir dir;
+  TumFixture tum(dir / "tum");
+  writeText(tum.dir / "groundtruth.txt", "100.0 1 2 3 0 0 0 1\nnan 1 2 3 0 0 0 1\n");
+  const std::string gt = errorOf([&] { importSource(SourceKind::Tum, tum.dir, dir / "seq"); });
+  EXPECT_TRUE(contains(gt, "groundtruth.txt: line 2: expected a finite time stamp")) << gt;
+  TumFixture lists(dir / "tum2");
+  writeText(lists.dir / "depth.txt", "100.0 depth/a.png\ninf depth/b.png\n");
+  const std::string list = errorOf([&] { importSource(SourceKind::Tum, lists.dir, dir / "seq"); });
+  EXPECT_TRUE(contains(list, "depth.txt: line 2: expected 'timestamp filename'")) << list;
+  EXPECT_FALSE(fs::exists(dir / "seq"));
+}
+
 TEST(ImportTum, MalformedInputs) {
   test::TempDir dir;
   TumFixture tum(dir / "tum");
@@ -581,6 +696,15 @@ TEST(ImportQuaternion, WholeNumbersTooLargeForFrameNumbersAreTimeStamps) {
 
 TEST(ImportQuaternion, MalformedInputs) {
   test::TempDir dir;
+  writeQuaternionFolder(dir / "room");
+  // A leading stamp that is not a number is named where it is, not in the output.
+  const std::string nan_stamp = errorOf([&] {
+    importQuaternionPoses(dir.path(), "1 0 0 0 0 0 0 1\nnan 0.1 0 0 0 0 0 1\n3 0 0 0 0 0 0 1\n",
+                          "nan");
+  });
+  EXPECT_TRUE(contains(nan_stamp, "pose.txt: line 2: expected a finite frame number or time stamp"))
+      << nan_stamp;
+  EXPECT_FALSE(fs::exists(dir / "nan"));
   writeQuaternionFolder(dir / "room");
   const std::string none = errorOf([&] { importSource(SourceKind::Quaternion, dir / "room", dir / "seq"); });
   EXPECT_TRUE(contains(none, "--intrinsics fx,fy,cx,cy")) << none;

@@ -12,6 +12,7 @@
 #include "lom/evaluation.hpp"
 #include "lom/labels.hpp"
 #include "lom/npy.hpp"
+#include "lom/sequence.hpp"
 #include "test_input_helpers.hpp"
 
 namespace {
@@ -113,6 +114,36 @@ TEST(ListFileTest, LabelListNamesTheLineOfABadName) {
   problem = errorOf([&] { (void)lom::readLabelList(dir / "labels.txt"); });
   EXPECT_EQ(problem.field, "line 257");
   EXPECT_EQ(problem.found, "more than 256 names");
+}
+
+TEST(ListFileTest, AByteOrderMarkIsNotPartOfTheFirstLine) {
+  lom::test::TempDir dir;
+  writeText(dir / "labels.txt", "\xEF\xBB\xBF# my labels\r\n__background__\r\nbox\r\nbook\r\n");
+  lom::LabelSet labels = lom::readLabelList(dir / "labels.txt");
+  ASSERT_EQ(labels.size(), 3) << "the comment stays a comment";
+  EXPECT_EQ(labels.at(0).name, "__background__");
+  EXPECT_EQ(labels.at(2).name, "book");
+  writeText(dir / "labels.txt", "\xEF\xBB\xBF__background__\nbox\n");
+  labels = lom::readLabelList(dir / "labels.txt");
+  EXPECT_EQ(labels.at(0).name, "__background__");
+}
+
+TEST(ImageFileTest, EmptyFilesAndMisnamedDataSayWhatTheyHold) {
+  lom::test::TempDir dir;
+  writeText(dir / "empty.png", "");
+  lom::Problem problem = errorOf([&] { (void)lom::readDepthImage(dir / "empty.png", 0.001); });
+  EXPECT_EQ(problem.file, (dir / "empty.png").string());
+  EXPECT_EQ(problem.found, "an empty file (0 bytes)");
+  writeText(dir / "text.png", "hello, not a picture");
+  problem = errorOf([&] { (void)lom::readColorImage(dir / "text.png"); });
+  EXPECT_EQ(problem.expected, "PNG data (as its name says)");
+  EXPECT_EQ(problem.found,
+            "a file of other data (it starts with the bytes 68 65 6c 6c 6f 2c 20 6e)");
+  // Data of a format OpenCV knows, under another name, is still read.
+  cv::Mat grey(4, 5, CV_8UC1, cv::Scalar(7));
+  ASSERT_TRUE(cv::imwrite((dir / "grey.pgm").string(), grey));
+  std::filesystem::rename(dir / "grey.pgm", dir / "grey.png");
+  EXPECT_EQ(lom::readLabelImage(dir / "grey.png").width, 5);
 }
 
 // A PNG whose header declares width x height; only the signature and IHDR
