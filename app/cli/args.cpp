@@ -1,5 +1,6 @@
 #include "args.hpp"
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -15,6 +16,12 @@ Args::Args(std::vector<std::string> words, std::set<std::string> flags)
       std::string name = word.substr(2);
       const auto eq = name.find('=');
       if (eq != std::string::npos) {
+        // A switch is on by being given: --native=1 would otherwise be a
+        // value nobody reads, and the switch silently off.
+        if (flag_names_.count(name.substr(0, eq)))
+          throw UsageError("option --" + name.substr(0, eq) +
+                           " is a switch and takes no value (give --" + name.substr(0, eq) +
+                           " alone), got '" + word + "'");
         options_.emplace_back(name.substr(0, eq), name.substr(eq + 1));
       } else if (flag_names_.count(name)) {
         flags_set_.insert(name);
@@ -101,11 +108,16 @@ std::vector<int> parseLabelList(const std::string& text, const std::string& opti
   std::vector<int> values;
   std::stringstream stream(text);
   std::string item;
+  // Digits only between the commas (no blanks, signs or an empty last item).
+  const bool trailing_comma = !text.empty() && text.back() == ',';
   while (std::getline(stream, item, ',')) {
     char* end = nullptr;
     errno = 0;
     const long v = std::strtol(item.c_str(), &end, 10);
-    if (item.empty() || *end != '\0')
+    const size_t first_digit =
+        !item.empty() && item[0] == '-' ? 1 : 0;  // "-1": out of range, below
+    if (item.size() <= first_digit || *end != '\0' || trailing_comma ||
+        !std::isdigit(static_cast<unsigned char>(item[first_digit])))
       throw UsageError("option --" + option + " expects a comma-separated list of integers, got '" +
                        text + "'");
     if (errno == ERANGE || v < 0 || v > kMaxLabelId)

@@ -1,4 +1,6 @@
 // labeloctomap render: a picture of a map, rendered offscreen to a PNG.
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -47,18 +49,22 @@ struct RenderRequest {
   IouMode iou_mode = IouMode::Exact;        // --iou
 };
 
-// "1280x960" -> (1280, 960).
+// "1280x960" -> (1280, 960): digits only, each side 1 to 16384, at most
+// 2^27 pixels in all.
 std::pair<int, int> parseSize(const std::string& text) {
   const auto x = text.find('x');
-  char* end = nullptr;
-  if (x != std::string::npos) {
-    // strtol's end pointer points into the string parsed: keep each part alive.
-    const std::string width = text.substr(0, x), height = text.substr(x + 1);
-    const long w = std::strtol(width.c_str(), &end, 10);
-    if (*end == '\0' && x > 0) {
-      const long h = std::strtol(height.c_str(), &end, 10);
-      if (*end == '\0' && x + 1 < text.size() && w > 0 && h > 0 && w <= 16384 && h <= 16384)
-        return {static_cast<int>(w), static_cast<int>(h)};
+  const auto digits = [](const std::string& part) {
+    return !part.empty() && part.size() <= 5 &&
+           std::all_of(part.begin(), part.end(), [](unsigned char c) { return std::isdigit(c); });
+  };
+  if (x != std::string::npos && digits(text.substr(0, x)) && digits(text.substr(x + 1))) {
+    const long w = std::strtol(text.substr(0, x).c_str(), nullptr, 10);
+    const long h = std::strtol(text.substr(x + 1).c_str(), nullptr, 10);
+    if (w > 0 && h > 0 && w <= render::kMaxRenderSide && h <= render::kMaxRenderSide) {
+      if (static_cast<long long>(w) * h > render::kMaxRenderPixels)
+        throw UsageError("option --size expects at most 134217728 pixels (16384x8192), got '" +
+                         text + "' (" + std::to_string(static_cast<long long>(w) * h) + ")");
+      return {static_cast<int>(w), static_cast<int>(h)};
     }
   }
   throw UsageError(

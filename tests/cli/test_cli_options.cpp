@@ -135,6 +135,33 @@ TEST_F(CliOptionTest, OptionsGivenTwiceAndUnknownLastOptionsAreNamed) {
   EXPECT_TRUE(fs::is_empty(out.path()));
 }
 
+// A switch given a value (--native=1) used to be a value nobody read: the
+// switch stayed off and the command succeeded.
+TEST_F(CliOptionTest, SwitchesGivenAValueAreRefused) {
+  TempDir out;
+  expectUsage(runCli("export " + q(map()) + " --format ot --native=1 --out " + q(out / "a.ot")),
+              "--native", "is a switch and takes no value");
+  expectUsage(runCli("fuse " + q(scene()) + " --out " + q(out / "a.ot") + " --quiet=yes"),
+              "--quiet", "is a switch and takes no value");
+  EXPECT_TRUE(fs::is_empty(out.path()));
+}
+
+// Label lists and sizes take digits only: a trailing comma, blanks or a sign
+// are mistakes, as in the other comma-separated options.
+TEST_F(CliOptionTest, LabelListsAndSizesAreDigitsOnly) {
+  TempDir out;
+  const std::string e = "export " + q(map()) + " --format pcd --out " + q(out / "a.pcd");
+  for (const std::string labels : {"4,", " 4", "+4", "4,,6", ","})
+    expectUsage(runCli(e + " --labels '" + labels + "'"), "--labels", "comma-separated list");
+  expectUsage(runCli(e + " --labels -3"), "--labels", "label ids from 0");
+  EXPECT_TRUE(fs::is_empty(out.path()));
+  const std::string r = "render " + q(map()) + " --out " + q(out / "a.png");
+  for (const std::string size : {" 400x300", "+400x300", "400x300 ", "400x-3", "0x10"})
+    expectUsage(runCli(r + " --size '" + size + "'"), "--size", "WIDTHxHEIGHT");
+  expectUsage(runCli(r + " --size 16384x8193"), "--size", "at most 134217728 pixels");
+  EXPECT_TRUE(fs::is_empty(out.path()));
+}
+
 TEST_F(CliOptionTest, EmptyValuesAreRefusedBeforeAnyWork) {
   TempDir out;
   const auto r = runCli("fuse " + q(scene()) + " --out= --quiet");

@@ -224,8 +224,11 @@ VoxelColouring colouringFor(const LabelMap& map, const RenderOptions& options) {
 }
 
 ColorImage renderMap(const LabelMap& map, const RenderOptions& options) {
-  if (options.width <= 0 || options.height <= 0 || options.width > 16384 || options.height > 16384)
-    throw Error("", "size", "a picture size from 1x1 to 16384x16384",
+  if (options.width <= 0 || options.height <= 0 || options.width > kMaxRenderSide ||
+      options.height > kMaxRenderSide ||
+      static_cast<long long>(options.width) * options.height > kMaxRenderPixels)
+    throw Error("", "size",
+                "a picture size from 1x1 to 16384x16384 of at most 134217728 pixels (16384x8192)",
                 std::to_string(options.width) + "x" + std::to_string(options.height));
   if (const auto problem = displayProblem()) throw RenderUnavailable(*problem);
   const vtkSmartPointer<vtkPolyData> surfaces =
@@ -294,6 +297,21 @@ ColorImage renderMap(const LabelMap& map, const RenderOptions& options) {
   for (int y = 0; y < out.height; ++y)
     std::memcpy(out.rgb.data() + static_cast<size_t>(y) * row,
                 pixels + static_cast<size_t>(out.height - 1 - y) * row, row);
+  // A picture black all over, where neither the background nor any voxel can
+  // be black, was not drawn (a driver that cannot render this size reads back
+  // zeros).
+  bool black_possible = options.background == Rgb{0, 0, 0};
+  if (!options.shading && colouringFor(map, options) == VoxelColouring::Labels && !options.score)
+    for (int label = 0; label < map.numLabels(); ++label)
+      black_possible |= map.labels().at(label).color == Rgb{0, 0, 0};
+  if (!black_possible &&
+      std::all_of(out.rgb.begin(), out.rgb.end(), [](unsigned char c) { return c == 0; })) {
+    window->Finalize();
+    throw Error("", "size", "a picture the graphics driver can draw",
+                "an all-black " + std::to_string(out.width) + "x" + std::to_string(out.height) +
+                    " picture read back (nothing was drawn, not even the background); "
+                    "try a smaller size");
+  }
   // A recorded camera of another sequence, or one facing away, sees nothing:
   // a blank picture with a success would look like an empty map. Told by
   // the depth buffer (a voxel drawn in the background colour still counts).

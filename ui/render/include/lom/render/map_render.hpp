@@ -40,6 +40,11 @@ struct ScoreColours {
   IouMode mode = IouMode::Exact;
 };
 
+// The largest picture: each side at most 16384 pixels and 2^27 pixels in all
+// (16384 x 8192; Mesa's offscreen buffers under Xvfb read back black beyond).
+inline constexpr int kMaxRenderSide = 16384;
+inline constexpr long long kMaxRenderPixels = 1LL << 27;
+
 struct RenderOptions {
   int width = 1280;
   int height = 960;
