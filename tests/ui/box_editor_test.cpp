@@ -135,6 +135,23 @@ TEST_F(BoxEditorTest, ValueBeingTypedCountsBeforeAnotherSequenceOpens) {
   EXPECT_NEAR(boxes().box(0).box.center.x(), 0.555, 1e-12);
 }
 
+// A box beyond a field's usual range is shown as it is (the range widens):
+// clamped, the field showed another box, and its first step moved the box
+// hundreds of metres.
+TEST_F(BoxEditorTest, ValuesBeyondAFieldsRangeAreShownAsTheyAre) {
+  GroundTruthBox box = boxes().box(0);
+  box.box.center.x() = 1500.25;
+  box.box.center.y() = -2000.5;
+  box.box.size.x() = 150.0;
+  boxes().setBox(0, box, "far away");
+  QDoubleSpinBox& x = window_.boxEditor().field(0);
+  EXPECT_DOUBLE_EQ(x.value(), 1500.25);
+  EXPECT_DOUBLE_EQ(window_.boxEditor().field(1).value(), -2000.5);
+  EXPECT_DOUBLE_EQ(window_.boxEditor().field(3).value(), 150.0);
+  x.stepDown();
+  EXPECT_NEAR(boxes().box(0).box.center.x(), 1500.245, 1e-9) << "one step, not a jump";
+}
+
 TEST_F(BoxEditorTest, EditingOneAngleKeepsTheOthersAtFullPrecision) {
   GroundTruthBox box = boxes().box(0);
   const double roll = 0.01234;   // 0.707°: the field shows 0.7

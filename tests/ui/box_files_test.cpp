@@ -13,6 +13,7 @@
 #include <QImage>
 #include <QStandardPaths>
 #include <QTest>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -594,5 +595,161 @@ TEST_F(BoxFilesTest, SavingKeepsThePermissionsOfTheFileItReplaces) {
             fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
 }
 
+// Boxes read from a file (imported, restored) and then replaced by another
+// file's boxes are clean: Qt's clear() of an empty undo stack kept the
+// "never clean" state, so the new boxes showed as unsaved.
+TEST_F(BoxFilesTest, BoxesReplacedAfterAnImportAreClean) {
+  ASSERT_TRUE(open(tiny_.folder));
+  Annotations imported;
+  imported.boxes.push_back(boxOf(1, "square_box"));
+  boxes().reset(imported, QString());
+  boxes().undoStack().resetClean();  // as Import YAML Boxes… and a restore leave them
+  ASSERT_TRUE(boxes().isDirty());
+  Annotations other;
+  other.boxes.push_back(boxOf(2, "blue_cup"));
+  boxes().reset(other, qPath(temp_ / "other.json"));
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_FALSE(window_.isWindowModified());
+  // An edit and its undo are clean again.
+  GroundTruthBox moved = boxes().box(0);
+  moved.box.center.x() += 0.01;
+  boxes().setBox(0, moved, "Edit box");
+  EXPECT_TRUE(boxes().isDirty());
+  boxes().undoStack().undo();
+  EXPECT_FALSE(boxes().isDirty());
+}
+
+// An edit that changes nothing is no step: the boxes stay saved.
+TEST_F(BoxFilesTest, EditsThatChangeNothingLeaveTheBoxesSaved) {
+  Annotations own;
+  GroundTruthBox tiny_box = boxOf(1, "square_box");
+  tiny_box.box.size.z() = 0.001;  // under the smallest size a shrink leaves
+  own.boxes.push_back(tiny_box);
+  saveAnnotations(own, tiny_.folder / "annotations.json");
+  ASSERT_TRUE(open(tiny_.folder));
+  ASSERT_FALSE(boxes().isDirty());
+  boxes().select(0);
+  boxes().setBox(0, boxes().box(0), "Change box label");
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_EQ(boxes().undoStack().count(), 0);
+  window_.findAction("Shrink Box Height (z)")->trigger();
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_DOUBLE_EQ(boxes().box(0).box.size.z(), 0.001) << "a shrink never grows a box";
+  window_.findAction("Grow Box Height (z)")->trigger();
+  EXPECT_TRUE(boxes().isDirty());
+  EXPECT_GT(boxes().box(0).box.size.z(), 0.001);
+}
+
+// A declined recovery copy is not offered again, and not deleted either.
+TEST_F(BoxFilesTest, ADeclinedRecoveryCopyIsKept) {
+  ASSERT_TRUE(open(tiny_.folder));
+  boxes().addBox(boxOf(1, "square_box"));
+  window_.autosave().writeNow();
+  const QString recovery = window_.autosave().currentRecoveryPath();
+  ASSERT_TRUE(QFileInfo::exists(recovery));
+  const std::string copy = slurp(recovery.toStdString());
+  MainWindow next;
+  next.setErrorReporter([](const QString&, const QString&) {});
+  int offers = 0;
+  next.setRecoveryOffer([&](const QString&) {
+    ++offers;
+    return false;
+  });
+  next.session().setAutoFuse(false);
+  ASSERT_TRUE(next.controller().openSequence(qPath(tiny_.folder)));
+  EXPECT_EQ(offers, 1);
+  EXPECT_FALSE(QFileInfo::exists(recovery));
+  const QString declined = BoxesAutosave::declinedPath(recovery);
+  ASSERT_TRUE(QFileInfo::exists(declined));
+  EXPECT_EQ(slurp(declined.toStdString()), copy);
+  ASSERT_TRUE(next.controller().openSequence(qPath(tiny_.folder)));
+  EXPECT_EQ(offers, 1) << "not offered again";
+}
+
+// Restored boxes older than their file on disk: Save would replace newer
+// boxes, so the restore says so.
+TEST_F(BoxFilesTest, RestoringBoxesOlderThanTheirFileWarns) {
+  Annotations own;
+  own.boxes.push_back(boxOf(2, "blue_cup"));
+  saveAnnotations(own, tiny_.folder / "annotations.json");
+  ASSERT_TRUE(open(tiny_.folder));
+  boxes().addBox(boxOf(1, "square_box"));
+  window_.autosave().writeNow();
+  const QString recovery = window_.autosave().currentRecoveryPath();
+  ASSERT_TRUE(QFileInfo::exists(recovery));
+  // Someone else writes the file after the copy was made.
+  QTest::qWait(20);
+  own.boxes.push_back(boxOf(1, "square_box"));
+  saveAnnotations(own, tiny_.folder / "annotations.json");
+  fs::last_write_time(tiny_.folder / "annotations.json",
+                      fs::last_write_time(recovery.toStdString()) + std::chrono::seconds(5));
+  MainWindow next;
+  next.setErrorReporter([](const QString&, const QString&) {});
+  QStringList warnings;
+  next.setWarningReporter(
+      [&](const QString& title, const QString& message) { warnings << title + ": " + message; });
+  next.setRecoveryOffer([](const QString&) { return true; });
+  next.session().setAutoFuse(false);
+  ASSERT_TRUE(next.controller().openSequence(qPath(tiny_.folder)));
+  EXPECT_EQ(next.session().annotations().boxCount(), 2);  // the restored boxes
+  ASSERT_EQ(warnings.size(), 1) << warnings.join("\n").toStdString();
+  EXPECT_TRUE(warnings.front().contains("older than their file")) << warnings.front().toStdString();
+  EXPECT_TRUE(warnings.front().contains("Save Boxes As")) << warnings.front().toStdString();
+  next.session().annotations().undoStack().setClean();
+}
+
+// While another sequence opens, a warning about its boxes runs an event loop:
+// a box fitted to the previous sequence's map must not land in the new one.
+TEST_F(BoxFilesTest, ABoxFittedToThePreviousMapStaysOutOfTheNextSequence) {
+  const auto other = lom::test::writeTinySequence(temp_ / "other_shelf");
+  Annotations warned;
+  warned.frame_id = "base";  // not the sequence's frame: a warning when it loads
+  saveAnnotations(warned, other.folder / "annotations.json");
+  window_.session().setAutoFuse(true);
+  ASSERT_TRUE(open(tiny_.folder));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !window_.session().worker().isFusing(); }, 60000));
+  QTest::qWait(100);
+  window_.session().setAutoFuse(false);
+  window_.session().setSelectedLabel(lom::test::kSquareLabel);
+  int warned_count = 0;
+  window_.setWarningReporter([&](const QString&, const QString&) {
+    ++warned_count;
+    QTest::qWait(800);  // the user reads the warning: its event loop runs
+  });
+  window_.findAction("Add Box from Label Voxels")->trigger();  // fitted in the background
+  ASSERT_TRUE(open(other.folder));
+  QTest::qWait(300);
+  EXPECT_GE(warned_count, 1);
+  EXPECT_EQ(boxes().boxCount(), 0) << "a box fitted to the first sequence's map was added";
+  EXPECT_FALSE(boxes().isDirty());
+}
+
+// ... nor may the autosave write the boxes shown then (the new sequence's) to
+// the previous sequence's recovery file, to be offered back with it.
+TEST_F(BoxFilesTest, TheAutosaveNeverWritesBoxesToAnotherSequencesRecoveryFile) {
+  const auto other = lom::test::writeTinySequence(temp_ / "other_shelf");
+  Annotations warned;
+  warned.frame_id = "base";
+  saveAnnotations(warned, other.folder / "annotations.json");
+  ASSERT_TRUE(open(tiny_.folder));
+  boxes().addBox(boxOf(2, "blue_cup"));  // unsaved boxes of the first sequence
+  window_.autosave().writeNow();
+  const QString first_recovery = window_.autosave().currentRecoveryPath();
+  ASSERT_TRUE(QFileInfo::exists(first_recovery));
+  int warned_count = 0;
+  window_.setWarningReporter([&](const QString&, const QString&) {
+    ++warned_count;
+    // The autosave's minute ends while the warning is up, with unsaved boxes shown.
+    boxes().addBox(boxOf(1, "square_box"));
+    window_.autosave().writeNow();
+  });
+  {
+    test::DialogAnswerer answer("Discard");
+    ASSERT_TRUE(open(other.folder));
+  }
+  EXPECT_GE(warned_count, 1);
+  EXPECT_FALSE(QFileInfo::exists(first_recovery))
+      << "the first sequence's copy holds the other's boxes";
+}
 }  // namespace
 }  // namespace lom::ui

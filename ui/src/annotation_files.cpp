@@ -1,6 +1,7 @@
 #include "lom/ui/annotation_files.hpp"
 
 #include <QCryptographicHash>
+#include <QDateTime>
 #include <QDir>
 #include <QFileInfo>
 #include <QJsonDocument>
@@ -322,8 +323,18 @@ QString BoxesAutosave::recoveryPath(const QString& sequence_path) {
   return perSourceFile("recovery", sequence_path);
 }
 
+QString BoxesAutosave::declinedPath(const QString& recovery_path) {
+  return recovery_path + QStringLiteral(".declined");
+}
+
 void BoxesAutosave::writeNow() {
   if (recovery_path_.isEmpty() || !session_.annotations().isDirty()) return;
+  // While another sequence opens (a warning about its boxes may be up), the
+  // boxes shown may already be the new sequence's: never written to the
+  // previous sequence's recovery file.
+  if (!session_.controller().hasSequence() ||
+      recoveryPath(session_.controller().sequencePath()) != recovery_path_)
+    return;
   QDir().mkpath(QFileInfo(recovery_path_).path());
   try {
     writeRecoveryFile(boxesToSave(session_), session_.annotations().path(), recovery_path_);
@@ -346,9 +357,14 @@ void BoxesAutosave::onSequenceChanged() {
   const QString path = recovery_path_;
   if (path.isEmpty() || !QFileInfo::exists(path)) return;
   if (!offer_ || !offer_(path)) {
-    QFile::remove(path);
+    // Declined: not offered again, but not lost either (the question says
+    // where the copy stays).
+    const QString kept = declinedPath(path);
+    QFile::remove(kept);
+    if (!QFile::rename(path, kept)) QFile::remove(path);
     return;
   }
+  const QDateTime copied = QFileInfo(path).lastModified();
   AnnotationsModel& model = session_.annotations();
   const QString saved_path = model.path();
   const QString unreadable_path = model.unreadablePath();
@@ -370,6 +386,15 @@ void BoxesAutosave::onSequenceChanged() {
       model.reset(restored, target);
     model.undoStack().resetClean();
     reportUnknownLabels(session_, restored, path);
+    // A save target written after the copy was made holds newer boxes than
+    // the ones restored: Save would replace them.
+    if (!target.isEmpty() && QFileInfo::exists(target) && QFileInfo(target).lastModified() > copied)
+      emit session_.controller().warningOccurred(
+          QObject::tr("Restored boxes are older than their file"),
+          QObject::tr("%1 was changed after these unsaved boxes were copied (%2). Save Boxes "
+                      "would replace it with them: use Save Boxes As… to keep both, or Open "
+                      "Boxes… to go back to the file.")
+              .arg(QDir::toNativeSeparators(target), copied.toString(Qt::ISODate)));
   } catch (const std::exception& error) {
     // Unreadable: nothing restored. The copy is kept (renamed, so that it is
     // not offered again) for the user to look into, and the message says where.

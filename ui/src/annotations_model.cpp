@@ -91,6 +91,10 @@ AnnotationsModel::~AnnotationsModel() {
 void AnnotationsModel::reset(const Annotations& annotations, const QString& path) {
   const bool was_dirty = isDirty();
   undo_stack_.clear();
+  // Qt's clear() returns at once on an empty stack, keeping a clean state of
+  // "never" (resetClean, restored or imported boxes): the boxes read now are
+  // the clean state.
+  undo_stack_.setClean();
   annotations_ = annotations;
   path_ = path;
   unreadable_path_.clear();
@@ -151,6 +155,13 @@ void AnnotationsModel::removeBox(int index) {
 void AnnotationsModel::setBox(int index, const GroundTruthBox& box, const QString& text,
                               int merge_id) {
   if (index < 0 || index >= boxCount()) return;
+  // An edit that changes nothing (the label chosen again, a shrink at the
+  // smallest size) is no step to undo and leaves saved boxes saved.
+  const GroundTruthBox& current = annotations_.boxes[static_cast<size_t>(index)];
+  if (current.label == box.label && current.name == box.name &&
+      current.box.center == box.box.center && current.box.size == box.box.size &&
+      current.box.rotation.coeffs() == box.box.rotation.coeffs())
+    return;
   undo_stack_.push(new SetBoxCommand(*this, index, box, text, merge_id));
 }
 

@@ -235,10 +235,18 @@ void BoxEditorPanel::showSelected() {
   if (has) {
     const GroundTruthBox& box = model.box(index);
     const Eigen::Vector3d angles = rollPitchYaw(box.box.rotation) * kDegrees;
+    // A centre or size beyond a field's range widens the range: clamped, the
+    // field would show another box, and its first step would move the box
+    // there (a size keeps its smallest value above zero).
+    const auto show = [](QDoubleSpinBox* field, double value, bool may_lower) {
+      if (value > field->maximum()) field->setMaximum(value);
+      if (may_lower && value < field->minimum()) field->setMinimum(value);
+      field->setValue(value);
+    };
     for (int i = 0; i < 3; ++i) {
-      fields_[static_cast<size_t>(i)]->setValue(box.box.center[i]);
-      fields_[static_cast<size_t>(i + 3)]->setValue(box.box.size[i]);
-      fields_[static_cast<size_t>(i + 6)]->setValue(angles[i]);
+      show(fields_[static_cast<size_t>(i)], box.box.center[i], true);
+      show(fields_[static_cast<size_t>(i + 3)], box.box.size[i], false);
+      show(fields_[static_cast<size_t>(i + 6)], angles[i], false);
     }
     box_label_->setCurrentIndex(box_label_->findData(box.label));
   }

@@ -35,7 +35,11 @@ OrientedBox turnedAboutZ(const OrientedBox& box, double radians) {
 
 OrientedBox resized(const OrientedBox& box, int axis, double step, double minimum) {
   OrientedBox result = box;
-  result.size[axis] = std::max(minimum, box.size[axis] + step);
+  // Never the other way than the step (a shrink of a box already under the
+  // minimum leaves it as it is).
+  const double wanted = std::max(minimum, box.size[axis] + step);
+  result.size[axis] =
+      step < 0 ? std::min(box.size[axis], wanted) : std::max(box.size[axis], wanted);
   return result;
 }
 

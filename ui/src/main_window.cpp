@@ -213,8 +213,9 @@ MainWindow::MainWindow(QWidget* parent)
     return QMessageBox::question(
                this, tr("Recover unsaved boxes?"),
                tr("Boxes of this sequence were not saved when the studio last closed.\n"
-                  "Restore them from %1?")
-                   .arg(file)) == QMessageBox::Yes;
+                  "Restore them from %1?\n\n"
+                  "No keeps the copy as %2 (not offered again).")
+                   .arg(file, BoxesAutosave::declinedPath(file))) == QMessageBox::Yes;
   });
 }
 

@@ -64,16 +64,25 @@ void StudioSession::onSequenceChanged() {
   emit hiddenLabelsChanged();
   emit pickedPointChanged();
 
-  // The boxes of the sequence, when there are any, are the ones to edit.
-  loadSequenceBoxes(*this);
-  const Annotations& boxes = annotations_->annotations();
-  // New boxes get the first boxed label (else the first object label) until
-  // another is chosen.
-  setSelectedLabel(!boxes.boxes.empty() ? boxes.boxes.front().label
-                                        : (sequence_->labels.size() > 1 ? 1 : -1));
+  // The previous sequence's map goes first: loading the boxes may show a
+  // warning, whose event loop must not deliver a box fitted to that map (or
+  // its snapshots) into this sequence.
   ++map_generation_;
   map_reader_->forget();  // a map asked for with the previous sequence
   worker_->reset();
+
+  // The boxes of the sequence, when there are any, are the ones to edit.
+  loadSequenceBoxes(*this);
+  const Annotations& boxes = annotations_->annotations();
+  // New boxes get the first boxed label the sequence knows (else the first
+  // object label) until another is chosen.
+  int first_label = sequence_->labels.size() > 1 ? 1 : -1;
+  for (const GroundTruthBox& box : boxes.boxes)
+    if (box.label > 0 && sequence_->labels.contains(box.label)) {
+      first_label = box.label;
+      break;
+    }
+  setSelectedLabel(first_label);
   if (auto_fuse_) fuse();
 }
 

@@ -64,7 +64,9 @@ void loadSequenceBoxes(StudioSession& session);
 // `interval_ms`, and removes it as soon as the boxes in memory are clean
 // again (saved, undone back to the saved state, replaced by other boxes, or
 // discarded with the sequence once another one opened). Opening a sequence
-// with a recovery file asks `offer` whether to restore it.
+// with a recovery file asks `offer` whether to restore it; a declined copy is
+// kept as declinedPath (not offered again, not lost), and a restore warns when
+// the boxes' file was written after the copy.
 class BoxesAutosave : public QObject {
   Q_OBJECT
 
@@ -74,6 +76,8 @@ class BoxesAutosave : public QObject {
                 int interval_ms = 60'000);
   // perSourceFile("recovery", sequence_path)
   [[nodiscard]] static QString recoveryPath(const QString& sequence_path);
+  // Where a recovery file goes when its offer is declined.
+  [[nodiscard]] static QString declinedPath(const QString& recovery_path);
   [[nodiscard]] QString currentRecoveryPath() const { return recovery_path_; }
   void setOffer(std::function<bool(const QString&)> offer) { offer_ = std::move(offer); }
   // From now on no recovery file is offered, written or removed: for a run
