@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <climits>
@@ -50,6 +51,10 @@ void parseFrameRange(const std::string& text, FusionOptions& options) {
                      text + "'");
   auto parse = [&](const std::string& part, size_t fallback) -> size_t {
     if (part.empty()) return fallback;
+    // Digits only (strtol would take blanks and a sign first).
+    if (!std::all_of(part.begin(), part.end(), [](unsigned char c) { return std::isdigit(c); }))
+      throw UsageError("option --frames expects non-negative frame indices A:B, got '" + text +
+                       "'");
     char* end = nullptr;
     errno = 0;
     const long value = std::strtol(part.c_str(), &end, 10);
@@ -199,6 +204,37 @@ void checkOccupancyThreshold(double threshold, const MapParameters& map,
                      number(threshold));
 }
 
+namespace {
+
+// The map fusion continues from carries its own settings: they must be ones
+// fuse itself takes (a map written by another program, or edited, may hold
+// any), or every frame fused into it would be wrong without a word.
+void checkStartMapParameters(const MapParameters& map, const std::string& map_file) {
+  const auto refuse = [&](const std::string& field, const std::string& expected, double found) {
+    throw Error(map_file, field,
+                expected + " (the limits of fuse's options; docs/fusion.md, \"Limits\")",
+                number(found));
+  };
+  if (map.resolution < kMinFusionResolution || map.resolution > kMaxFusionResolution)
+    refuse("resolution",
+           "a voxel size from " + number(kMinFusionResolution) + " to " +
+               number(kMaxFusionResolution) + " m",
+           map.resolution);
+  if (const auto rays = checkRayLength(map.max_range, map.resolution))
+    refuse("max_range",
+           "a max range of at most " + number(rays->limit) + " voxels of " +
+               number(map.resolution) + " m",
+           map.max_range);
+  if (!(map.p_miss < 0.5)) refuse("p_miss", "a probability below 0.5", map.p_miss);
+  if (map.occupancy_threshold > map.clamp_max || map.occupancy_threshold <= map.clamp_min)
+    refuse("occupancy_threshold",
+           "a threshold above the lower clamping bound " + number(map.clamp_min) +
+               " and at most the upper " + number(map.clamp_max),
+           map.occupancy_threshold);
+}
+
+}  // namespace
+
 void checkFusionOptionsForSequence(const FusionOptions& options, const Sequence& sequence) {
   const std::string file = (sequence.root / "sequence.json").string();
   if (const auto unknown = checkCandidates(options.candidates, sequence.labels))
@@ -258,6 +294,7 @@ int runFuse(const Words& words) {
       checkOccupancyThreshold(options.map.occupancy_threshold, earlier->parameters(), *start_from);
       earlier->setOccupancyThreshold(options.map.occupancy_threshold);
     }
+    checkStartMapParameters(earlier->parameters(), *start_from);
     options.map = earlier->parameters();  // what the checks and messages below speak of
   }
   // Before the jumps: a camera outside the map is the wrong pose, not its neighbours.
@@ -303,7 +340,8 @@ int runFuse(const Words& words) {
   // most of the depths, a note when it took a fifth or more.
   const size_t beyond = std::min(totals.beyond_range_pixels, totals.valid_pixels);
   const bool most_beyond = mostDepthsBeyondMaxRange(totals, options.map.max_range);
-  if (most_beyond || (options.map.max_range > 0.0 && 5 * beyond >= totals.valid_pixels)) {
+  if (most_beyond ||
+      (!args.flag("quiet") && options.map.max_range > 0.0 && 5 * beyond >= totals.valid_pixels)) {
     const double reach = std::ceil(totals.farthest_range * 10.0) / 10.0;
     std::string how;
     // Only settings fuse takes: a finite range, rays of at most 1000 voxels of at most 1 m.

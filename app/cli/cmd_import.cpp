@@ -178,6 +178,7 @@ int runImport(const Words& words) {
   if (std::error_code ec; std::filesystem::is_directory(source, ec))
     inputs.addFolder(source, "the import source folder");
   checkOutputFolder(out, "out", "the sequence", inputs);
+  checkHoldsNoFramesOfSequencesAbove(out, "out", "the import");
 
   std::optional<SourceKind> kind;
   if (kind_name != "auto") {

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -94,7 +95,17 @@ void printTimeSpan(const Sequence& sequence, std::ostream& out) {
     out << "none (the frames have no time stamps)\n";
     return;
   }
-  out << *first << " .. " << *last << " (" << *last - *first << " s";
+  // Stamps of real recordings are seconds since 1970: every digit of the
+  // start and the end is shown (to the microsecond), the span as before.
+  const auto stamp = [](double t) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.6f", t);
+    std::string shown = text;
+    while (shown.back() == '0') shown.pop_back();
+    if (shown.back() == '.') shown.pop_back();
+    return shown;
+  };
+  out << stamp(*first) << " .. " << stamp(*last) << " (" << *last - *first << " s";
   if (stamped < sequence.frames.size())
     out << "; " << stamped << " of " << sequence.frames.size() << " frames have a time stamp";
   out << ")\n";
@@ -110,10 +121,19 @@ void printCameraPath(const Sequence& sequence, std::ostream& out) {
     high = high.cwiseMax(p);
     if (i) length += (p - sequence.frames[i - 1].T_world_camera.translation()).norm();
   }
+  // To the millimetre, however far from the origin (site coordinates).
+  const auto metres = [](double v) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.3f", v);
+    std::string shown = text;
+    while (shown.back() == '0') shown.pop_back();
+    if (shown.back() == '.') shown.pop_back();
+    return shown == "-0" ? std::string("0") : shown;
+  };
   out << "camera path:      ";
   const char* axes = "xyz";
   for (int k = 0; k < 3; ++k)
-    out << (k ? "  " : "") << axes[k] << " " << low[k] << " .. " << high[k];
+    out << (k ? "  " : "") << axes[k] << " " << metres(low[k]) << " .. " << metres(high[k]);
   out << " m (" << sequence.frame_id << "), length " << length << " m\n";
 }
 

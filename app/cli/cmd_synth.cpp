@@ -1,4 +1,6 @@
 // labeloctomap synth: writes a synthetic shelf-bin sequence with annotations.
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cstdlib>
@@ -29,7 +31,10 @@ std::uint64_t parseSeed(const Args& args) {
   char* end = nullptr;
   errno = 0;
   const unsigned long long value = std::strtoull(text->c_str(), &end, 10);
-  if (text->empty() || (*text)[0] == '-' || *end != '\0' || errno == ERANGE)
+  const bool digits =
+      !text->empty() &&
+      std::all_of(text->begin(), text->end(), [](unsigned char c) { return std::isdigit(c); });
+  if (!digits || *end != '\0' || errno == ERANGE)
     throw UsageError("option --seed expects a non-negative integer below 2^64, got '" + *text +
                      "'");
   return value;
@@ -48,6 +53,7 @@ int runSynth(const Words& words) {
                   0);
   const std::string out = args.required("out");
   checkOutputFolder(out, "out", "the scene", {});
+  checkHoldsNoFramesOfSequencesAbove(out, "out", "synth");
   SynthOptions options;
   options.seed = parseSeed(args);
   options.objects = boundedInteger(args, "objects", options.objects, 1, kSynthMaxObjects,

@@ -114,6 +114,28 @@ void checkNotASequenceFile(const fs::path& out, const std::string& option) {
   }
 }
 
+void checkHoldsNoFramesOfSequencesAbove(const fs::path& out, const std::string& option,
+                                        const std::string& what) {
+  const fs::path target = resolved(out);
+  std::error_code ec;
+  for (fs::path folder = target.parent_path(); !folder.empty(); folder = folder.parent_path()) {
+    if (fs::is_regular_file(folder / "sequence.json", ec)) {
+      std::vector<fs::path> frames;
+      try {
+        frames = frameFilesOf(loadSequence(folder));
+      } catch (const std::exception&) {
+        // An unreadable sequence names no frame files.
+      }
+      for (const fs::path& file : frames)
+        if (isInside(file, target))
+          throw UsageError("--" + option + " " + out.string() + " holds frame files of the " +
+                           "sequence in " + folder.string() + " (" + file.string() + "), which " +
+                           what + " would overwrite; choose another folder");
+    }
+    if (!folder.has_parent_path() || folder.parent_path() == folder) break;
+  }
+}
+
 void CommandInputs::addSequenceFiles(const Sequence& sequence) {
   addFile(sequence.root / "sequence.json", "the sequence file");
   for (const auto& file : frameFilesOf(sequence)) addFile(file, "the frame file");

@@ -56,6 +56,10 @@ void requireExtension(const std::filesystem::path& out, const std::string& optio
 // `out` or in any folder above it. Nothing a user made is written over by an
 // output path mistyped into a sequence folder.
 void checkNotASequenceFile(const std::filesystem::path& out, const std::string& option);
+// The folder `out` (whose files a command replaces) holds no frame file of a
+// sequence in a folder above it; throws UsageError naming the sequence.
+void checkHoldsNoFramesOfSequencesAbove(const std::filesystem::path& out, const std::string& option,
+                                        const std::string& what);
 
 // The existing file (not a folder) that stands where `folder` or one of the
 // folders above it should be; none when the path can be a folder.

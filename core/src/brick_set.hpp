@@ -61,6 +61,21 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
       marked += static_cast<size_t>(__builtin_popcountll(word));
     return marked;
   }
+  // The voxels marked here and in none of the sets `others[0..count)`:
+  // summed over the threads' sets, each voxel once.
+  [[nodiscard]] size_t markedCountNotIn(const BrickSet* others, size_t count) const {
+    size_t marked = 0;
+    for (size_t i = 0; i < keys_.size(); ++i) {
+      std::uint64_t words[kWords];
+      std::copy(bits(i), bits(i) + kWords, words);
+      for (size_t o = 0; o < count; ++o)
+        if (const std::uint32_t* theirs = others[o].index_.find(keys_[i]))
+          for (int w = 0; w < kWords; ++w) words[w] &= ~others[o].bits(*theirs)[w];
+      for (const std::uint64_t word : words)
+        marked += static_cast<size_t>(__builtin_popcountll(word));
+    }
+    return marked;
+  }
   void clear(const grid::Key& key) {
     const std::uint32_t* index = index_.find(packBrick(key[0], key[1], key[2]));
     if (!index) return;

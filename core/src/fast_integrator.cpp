@@ -564,8 +564,10 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   size_t bricks = 0;
   for (const BrickSet& mark : marks) bricks += mark.brickCount();
   if (frameMemoryNeedsCheck(bricks * BrickSet::kWords * 64, frame_memory_limit_bytes)) {
-    size_t crossed = 0;  // a voxel both threads marked counts twice: an upper bound
-    for (const BrickSet& mark : marks) crossed += mark.markedCount();
+    // Each voxel once, however many threads marked it (a sum of the threads'
+    // counts depended on how the rays were shared out).
+    size_t crossed = 0;
+    for (size_t t = 0; t < marks.size(); ++t) crossed += marks[t].markedCountNotIn(marks.data(), t);
     checkFrameMemory(crossed, frame_memory_limit_bytes, map.parameters().resolution);
   }
 

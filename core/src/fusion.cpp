@@ -317,7 +317,7 @@ void checkUnlimitedRays(const MapParameters& parameters, const CameraIntrinsics&
   if (parameters.max_range > 0.0 || !(max_voxels_per_ray > 0.0)) return;
   const double farthest = countDepthRanges(camera, depth, 0.0).farthest;
   const double voxels = farthest / parameters.resolution;
-  if (!(voxels > max_voxels_per_ray)) return;
+  if (!(voxels > max_voxels_per_ray + 1e-9)) return;
   char found[96];
   std::snprintf(found, sizeof found, "a depth %.2f m from the camera (%.0f voxels)", farthest,
                 voxels);
@@ -461,8 +461,9 @@ bool mostDepthsBeyondMaxRange(const FrameStats& totals, double max_range) {
 }
 
 std::optional<RayLengthProblem> checkRayLength(double max_range, double resolution) {
+  // With a rounding tolerance: 9 m of 9 mm voxels is 1000.0000000000001.
   const double voxels = max_range / resolution;
-  if (!(max_range > 0.0 && voxels > kMaxFusionVoxelsPerRay)) return std::nullopt;
+  if (!(max_range > 0.0 && voxels > kMaxFusionVoxelsPerRay + 1e-9)) return std::nullopt;
   RayLengthProblem problem;
   problem.voxels = std::ceil(voxels - 1e-9);
   return problem;

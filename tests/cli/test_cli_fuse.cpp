@@ -100,6 +100,48 @@ TEST_F(CliFuseTest, FramesFusedIntoAnEarlierMapGiveTheMapOfAllTheFrames) {
   EXPECT_EQ(lom::test::slurp(out / "first.ot"), first);
 }
 
+// A map to start from holds its own settings; fuse takes only those its
+// options could give (a map written elsewhere or edited may hold any).
+TEST_F(CliFuseTest, StartingFromAMapWithSettingsFuseWouldRefuseIsRefused) {
+  TempDir out;
+  const lom::LabelSet labels = lom::loadSequence(scene_->path() / "scene").labels;
+  const auto refused = [&](const std::string& name, const lom::MapParameters& parameters,
+                           const std::string& field) {
+    lom::LabelMap map(labels, parameters);
+    map.save(out / name);
+    const auto r = runCli("fuse " + scene() + " --start-from '" + (out / name).string() +
+                          "' --out '" + (out / "x.ot").string() + "'");
+    EXPECT_EQ(r.exit_code, 1) << name << "\n" << r.err;
+    EXPECT_NE(r.err.find(name + ": " + field + ": expected"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out / "x.ot"));
+  };
+  lom::MapParameters p_miss;
+  p_miss.p_miss = 0.7;
+  refused("p_miss.ot", p_miss, "p_miss");
+  lom::MapParameters coarse;
+  coarse.resolution = 5.0;
+  coarse.max_range = 10.0;
+  refused("coarse.ot", coarse, "resolution");
+  lom::MapParameters threshold;
+  threshold.occupancy_threshold = 0.99;
+  refused("threshold.ot", threshold, "occupancy_threshold");
+}
+
+// 9 m of 9 mm voxels is 1000 voxels, within the limit, however the division rounds.
+TEST_F(CliFuseTest, RaysOfExactlyTheLimitAreTaken) {
+  TempDir out;
+  for (const char* pair :
+       {"--resolution 0.009 --max-range 9", "--resolution 0.7 --max-range 700"}) {
+    const auto r = runCli("fuse " + scene() + " --frames 0:1 --quiet " + pair + " --out '" +
+                          (out / "x.ot").string() + "'");
+    EXPECT_EQ(r.exit_code, 0) << pair << "\n" << r.err;
+  }
+  const auto r =
+      runCli("fuse " + scene() + " --frames 0:1 --resolution 0.009 --max-range 9.01 --out '" +
+             (out / "y.ot").string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+}
+
 TEST_F(CliFuseTest, StartingFromAnUnusableMapIsRefusedBeforeAnyWork) {
   TempDir out;
   ASSERT_EQ(runCli("fuse " + scene() + " --frames 0:1 --resolution 0.02 --out '" +
@@ -318,9 +360,8 @@ TEST_F(CliFuseTest, DepthsBeyondMaxRangeAreNotedFromAFifthAndWarnedFromAHalf) {
       beyond += ranges.beyond;
     }
     const double share = static_cast<double>(beyond) / static_cast<double>(valid);
-    const auto r =
-        runCli("fuse '" + (scene_->path() / "scene").string() + "' --max-range " +
-               std::to_string(range) + " --quiet --out '" + (out / "m.ot").string() + "'");
+    const auto r = runCli("fuse '" + (scene_->path() / "scene").string() + "' --max-range " +
+                          std::to_string(range) + " --out '" + (out / "m.ot").string() + "'");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     const bool warned = r.err.find("warning: ") != std::string::npos &&
                         r.err.find("were beyond the max range") != std::string::npos;
@@ -330,6 +371,12 @@ TEST_F(CliFuseTest, DepthsBeyondMaxRangeAreNotedFromAFifthAndWarnedFromAHalf) {
     EXPECT_EQ(warned, share > 0.5) << r.err;
     EXPECT_EQ(noted, share >= 0.2 && share <= 0.5) << r.err;
     notes += noted;
+    if (noted) {  // --quiet leaves out every note; a warning stays
+      const auto quiet =
+          runCli("fuse '" + (scene_->path() / "scene").string() + "' --max-range " +
+                 std::to_string(range) + " --quiet --out '" + (out / "m.ot").string() + "'");
+      EXPECT_EQ(quiet.err.find("note: "), std::string::npos) << quiet.err;
+    }
   }
   EXPECT_GT(notes, 0) << "no max range of the scene gave a note";
 }

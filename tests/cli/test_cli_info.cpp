@@ -87,6 +87,23 @@ TEST_F(CliInfoTest, InfoSaysWhenTheFramesHaveNoTimeStamps) {
       << some.out;
 }
 
+// Stamps of real recordings (seconds since 1970) and site coordinates keep
+// their digits: "1.7e+09 .. 1.7e+09" told nothing.
+TEST_F(CliInfoTest, InfoShowsEpochStampsAndFarCoordinatesInFull) {
+  lom::Sequence sequence = lom::loadSequence(seq());
+  for (size_t i = 0; i < sequence.frames.size(); ++i) {
+    sequence.frames[i].stamp = 1700000000.125 + 0.25 * static_cast<double>(i);
+    sequence.frames[i].T_world_camera.translation().x() += 654321.0;
+  }
+  lom::saveSequence(sequence, seq());
+  const auto result = lom::test::runCli("info " + quoted(seq()));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("time span:        1700000000.125 .. 1700000000.625 (0.5 s)"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find("x 654321 .. 654321.5"), std::string::npos) << result.out;
+}
+
 // sequence.json may name files that are gone: info counts the files that are there.
 TEST_F(CliInfoTest, InfoCountsOnlyFrameFilesThatExist) {
   fs::remove(seq() / "frames" / "0.depth.png");

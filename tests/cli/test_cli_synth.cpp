@@ -58,6 +58,8 @@ TEST(CliSynthTest, BadOptionValuesExitWithUsageErrorNamingTheOption) {
       {"--width 8", "--width"},
       {"--height 2049", "--height"},
       {"--seed -1", "--seed"},
+      {"--seed ' -1'", "--seed"},
+      {"--seed +5", "--seed"},
       {"--seed abc", "--seed"},
       {"--objects two", "--objects"},
       {"--colour red", "--colour"},
@@ -84,6 +86,27 @@ TEST(CliSynthTest, RefusesAForeignNonEmptyFolder) {
   EXPECT_NE(result.err.find(dir.path().string()), std::string::npos) << result.err;
   EXPECT_NE(result.err.find("synth.json"), std::string::npos) << result.err;
   EXPECT_FALSE(fs::exists(dir / "sequence.json"));
+}
+
+// A sequence above the output folder whose frame files lie in it: synth would
+// replace them (its own earlier output or not), so the folder is refused.
+TEST(CliSynthTest, RefusesAFolderHoldingFramesOfASequenceAboveIt) {
+  lom::test::TempDir dir;
+  ASSERT_EQ(lom::test::runCli("synth --out " + quoted(dir / "P" / "s") + kSmall).exit_code, 0);
+  lom::Sequence outer = lom::loadSequence(dir / "P" / "s");
+  for (auto& frame : outer.frames)
+    for (std::string* file : {&frame.depth, &frame.color, &frame.label, &frame.proba})
+      if (!file->empty()) *file = "s/" + *file;
+  lom::saveSequence(outer, dir / "P");
+  ASSERT_NO_THROW((void)lom::loadFrame(lom::loadSequence(dir / "P"), 0));
+  const std::string before = lom::test::slurp(dir / "P" / "s" / "depth" / "000000.png");
+  const auto result = lom::test::runCli("synth --out " + quoted(dir / "P" / "s") +
+                                        " --frames 3 --width 32 --height 24");
+  EXPECT_EQ(result.exit_code, 2) << result.err;
+  EXPECT_NE(result.err.find("holds frame files of the sequence in " + (dir / "P").string()),
+            std::string::npos)
+      << result.err;
+  EXPECT_EQ(lom::test::slurp(dir / "P" / "s" / "depth" / "000000.png"), before);
 }
 
 // A scene written again into its folder replaces the boxes it wrote, not the

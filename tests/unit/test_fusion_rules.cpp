@@ -279,6 +279,30 @@ TEST(FrameMemoryLimit, RefusesAFrameWhoseRaysCrossMoreVoxelsThanTheLimitTakes) {
   lom::integrateFrame(map, pencilCamera(width), poseAtVoxelCentre(), depth, evidence, options);
 }
 
+// Rays of two threads crossing the same voxels count them once: the check
+// is the same for every thread count and every way the rows are shared out
+// (a sum over the threads refused frames at random near the limit).
+TEST(FrameMemoryLimit, VoxelsMarkedByBothThreadsCountOnce) {
+  CameraIntrinsics camera = pencilCamera(1);
+  camera.height = 4;
+  camera.cy = 1.5;  // four rows, every ray along the same column of voxels
+  DepthImage depth{1, 4, {0.5f, 0.5f, 0.5f, 0.5f}};
+  ProbabilityImage proba{1, 4, 3, {0, 1, 2}, std::vector<float>(12, 0.1f), {}};
+  for (size_t i = 1; i < 12; i += 3) proba.values[i] = 0.8f;
+  FrameEvidence evidence(3, &proba, nullptr, std::nullopt, 0.9);
+  for (int threads : {1, 2, 4}) {
+    SCOPED_TRACE(threads);
+    LabelMap map(threeLabels());
+    lom::IntegrationOptions options;
+    options.path = lom::IntegrationPath::Fast;
+    options.threads = threads;
+    options.frame_memory_limit_bytes = 60 * lom::kFusionBytesPerCrossedVoxel;  // 50 crossed
+    EXPECT_NO_THROW(
+        lom::integrateFrame(map, camera, poseAtVoxelCentre(), depth, evidence, options));
+    EXPECT_EQ(map.voxelAt(at(0.505)).label, 1);
+  }
+}
+
 // In a child process: limits the address space to 64 MiB more than it uses,
 // and exits with 0 when availableMemoryBytes keeps within what that leaves.
 [[noreturn]] void exitWithAvailableMemoryUnderALimit() {
