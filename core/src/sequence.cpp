@@ -353,6 +353,13 @@ fs::path sequenceJsonPath(const fs::path& folder_or_json) {
     const std::string hint = importHint(folder_or_json);
     if (!hint.empty()) throw Error(path.string(), "", expected, hint);
   }
+  // A sequence is its folder's sequence.json: every message, the studio and
+  // every file written back (segment, import) name that file, so another
+  // name would be read here and reported or replaced there.
+  if (!folder && path.filename() != "sequence.json")
+    throw Error(path.string(), "", expected,
+                "a file named " + path.filename().string() +
+                    " (a sequence's file is named sequence.json: rename it, or give its folder)");
   return path;
 }
 

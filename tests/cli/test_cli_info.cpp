@@ -87,6 +87,20 @@ TEST_F(CliInfoTest, InfoSaysWhenTheFramesHaveNoTimeStamps) {
       << some.out;
 }
 
+// A sequence is its folder's sequence.json: a copy under another name was
+// read, but every message (and every file written back) named sequence.json.
+TEST_F(CliInfoTest, ASequenceFileOfAnotherNameIsRefusedNamingIt) {
+  fs::copy_file(seq() / "sequence.json", seq() / "other.json");
+  const auto result = lom::test::runCli("info " + quoted(seq() / "other.json"));
+  EXPECT_EQ(result.exit_code, 1) << result.out;
+  EXPECT_NE(result.err.find((seq() / "other.json").string() + ": expected a sequence folder"),
+            std::string::npos)
+      << result.err;
+  EXPECT_NE(result.err.find("a sequence's file is named sequence.json"), std::string::npos)
+      << result.err;
+  EXPECT_EQ(lom::test::runCli("info " + quoted(seq() / "sequence.json")).exit_code, 0);
+}
+
 // Stamps of real recordings (seconds since 1970) and site coordinates keep
 // their digits: "1.7e+09 .. 1.7e+09" told nothing.
 TEST_F(CliInfoTest, InfoShowsEpochStampsAndFarCoordinatesInFull) {
