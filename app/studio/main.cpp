@@ -284,6 +284,24 @@ int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments
               << ": expected a file name ending in an image format such as .png or .jpg\n";
     return 2;
   }
+  // ... and where it goes: a missing folder found only after the fusion
+  // would waste it.
+  {
+    const QFileInfo target(arguments.screenshot);
+    const QFileInfo folder(target.absolutePath());
+    if (target.isDir() || !folder.isDir() || !folder.isWritable()) {
+      std::cerr << "labeloctomap-studio: --screenshot " << arguments.screenshot.toStdString()
+                << ": expected a file in an existing, writable folder; "
+                << (target.isDir() ? "it is a folder"
+                    : !folder.exists()
+                        ? "its folder " + folder.filePath().toStdString() + " does not exist"
+                    : !folder.isDir()
+                        ? folder.filePath().toStdString() + " is not a folder"
+                        : "its folder " + folder.filePath().toStdString() + " is not writable")
+                << "\n";
+      return 2;
+    }
+  }
   window.session().setAutoFuse(arguments.fuse);
   if (!controller.openSequence(arguments.sequence)) return 1;
   if (arguments.frame >= controller.frameCount()) {
@@ -398,7 +416,15 @@ int main(int argc, char** argv) {
   window.rememberLayout();
   window.show();
   window.session().setAutoFuse(arguments.map.isEmpty());
+  if (arguments.fuse)
+    std::cerr << "labeloctomap-studio: note: --fuse applies to --screenshot runs; the studio "
+                 "fuses a sequence it opens anyway\n";
   if (!arguments.sequence.isEmpty() && window.controller().openSequence(arguments.sequence)) {
+    if (arguments.frame >= window.controller().frameCount())
+      std::cerr << "labeloctomap-studio: warning: --frame " << arguments.frame
+                << ": the sequence has " << window.controller().frameCount()
+                << " frames (indices 0.." << window.controller().frameCount() - 1
+                << "); showing the last\n";
     window.controller().setCurrentFrame(arguments.frame);
     if (!arguments.map.isEmpty()) window.session().openMap(arguments.map);
   }

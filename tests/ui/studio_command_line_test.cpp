@@ -223,6 +223,22 @@ TEST(StudioCommandLine, FusionStoppedExits1WithoutAPicture) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+// A screenshot that could not be written is found before the sequence is
+// opened and fused, not after.
+TEST(StudioCommandLine, AScreenshotInAMissingFolderIsAUsageError) {
+  lom::test::TempDir temp;
+  const auto tiny = lom::test::writeTinySequence(temp / "seq");
+  const StudioRun run = runStudio(
+      {"--screenshot", qPath(temp / "nowhere" / "shot.png"), "--fuse", qPath(tiny.folder)});
+  EXPECT_EQ(run.exit_code, 2) << run.err.toStdString();
+  EXPECT_TRUE(run.err.contains("expected a file in an existing, writable folder"))
+      << run.err.toStdString();
+  EXPECT_TRUE(run.err.contains("nowhere does not exist")) << run.err.toStdString();
+  EXPECT_FALSE(run.err.contains("fused")) << run.err.toStdString();
+  const StudioRun folder = runStudio({"--screenshot", qPath(temp.path()), qPath(tiny.folder)});
+  EXPECT_EQ(folder.exit_code, 2) << folder.err.toStdString();
+}
+
 TEST(StudioCommandLine, FailedScreenshotLeavesTheExistingFileAlone) {
   lom::test::TempDir temp;
   const auto tiny = lom::test::writeTinySequence(temp / "seq");

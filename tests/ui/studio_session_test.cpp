@@ -224,7 +224,7 @@ TEST_F(StudioSessionTest, MostDepthsBeyondMaxRangeOfferARefuseThatReachesThem) {
   room.beyond_range_pixels = 999;
   room.farthest_range = 9.93;
   panel.showDepthRanges(room, 1.0);
-  EXPECT_TRUE(panel.noteText().contains("99% of the depths lay beyond the max range of 1.00 m"))
+  EXPECT_TRUE(panel.noteText().contains("99.9% of the depths lay beyond the max range of 1.00 m"))
       << panel.noteText().toStdString();
   EXPECT_EQ(panel.extendRangeButton().text(), "Re-fuse up to 10.0 m, 4.0 cm voxels");
   room.beyond_range_pixels = 400;  // most depths mapped: nothing to offer
@@ -463,6 +463,7 @@ TEST_F(StudioSessionTest, HeatMapHoverPickingAndProjectionVoxels) {
   ASSERT_NE(voxel, snapshot->voxels.end());
   auto* picked = window_.findChild<PickedVoxelView*>("pickedVoxel");
   ASSERT_NE(picked, nullptr);
+  window_.session().setPickedPoint(voxel->center);
   window_.session().worker().pick(voxel->center);
   const QString name = QString::fromStdString(window_.session().sequence()->labels.at(label).name);
   ASSERT_TRUE(QTest::qWaitFor([&] { return picked->text().contains("Occupied"); }, 10'000));
@@ -516,6 +517,30 @@ TEST_F(StudioSessionTest, PickedVoxelFollowsTheMap) {
   waitForFusion();
   QTest::qWait(100);
   EXPECT_TRUE(picked->text().startsWith("Click a voxel")) << picked->text().toStdString();
+
+  // An answer for a point no longer picked (asked before another sequence
+  // opened, or before another click) describes another map: not shown.
+  emit window_.session().worker().voxelPicked(point, VoxelState{});
+  EXPECT_TRUE(picked->text().startsWith("Click a voxel")) << picked->text().toStdString();
+  window_.session().setPickedPoint(point + Eigen::Vector3d(0.05, 0, 0));
+  const QString shown = picked->text();
+  emit window_.session().worker().voxelPicked(point, VoxelState{});
+  EXPECT_EQ(picked->text(), shown);
+}
+
+// Class candidates name one scene's objects: another sequence is fused with
+// all its labels, and the Fusion panel shows it.
+TEST_F(StudioSessionTest, CandidatesDoNotCarryOverToAnotherSequence) {
+  openAndFuse();
+  QLineEdit* candidates = &window_.fusionPanel().candidatesEdit();
+  candidates->setText(QString("0 %1").arg(*visibleObjectLabels().begin()));
+  window_.fusionPanel().refuseButton().click();
+  waitForFusion();
+  ASSERT_TRUE(window_.session().fusionOptions().candidates.has_value());
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  EXPECT_FALSE(window_.session().fusionOptions().candidates.has_value());
+  EXPECT_TRUE(candidates->text().isEmpty()) << candidates->text().toStdString();
+  waitForFusion();
 }
 
 // Pause usually lands while a frame is being fused: that frame's progress,

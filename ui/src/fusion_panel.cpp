@@ -134,8 +134,10 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   loadFromSession();
   // Nothing to fuse until a sequence is open.
   setEnabled(session_.sequence() != nullptr);
-  connect(&session_.controller(), &SequenceController::sequenceChanged, this,
-          [this] { setEnabled(session_.sequence() != nullptr); });
+  connect(&session_.controller(), &SequenceController::sequenceChanged, this, [this] {
+    setEnabled(session_.sequence() != nullptr);
+    loadFromSession();  // the candidates of the previous sequence are gone
+  });
   // A map read from a file brings its own parameters (edits not yet applied
   // are of the map it replaced).
   connect(&session_, &StudioSession::mapOpened, this, &FusionPanel::loadFromSession);
@@ -265,11 +267,13 @@ void FusionPanel::showDepthRanges(const FrameStats& totals, double max_range) {
     suggested_range_ =
         std::min(max_range_->maximum(), std::ceil(totals.farthest_range * 10.0) / 10.0);
     suggested_resolution_ = suggestedResolutionForRange(suggested_range_, resolution_->value());
-    const int percent = static_cast<int>(
-        100 * std::min(totals.beyond_range_pixels, totals.valid_pixels) / totals.valid_pixels);
+    // One decimal, as `labeloctomap fuse` prints it (99.8 %, not 99 %).
+    const double percent =
+        100.0 * static_cast<double>(std::min(totals.beyond_range_pixels, totals.valid_pixels)) /
+        static_cast<double>(totals.valid_pixels);
     range_note_ = tr("%1% of the depths lay beyond the max range of %2 m and mapped nothing "
                      "(the farthest lies %3 m from the camera).")
-                      .arg(percent)
+                      .arg(percent, 0, 'f', 1)
                       .arg(max_range, 0, 'f', 2)
                       .arg(totals.farthest_range, 0, 'f', 1);
     if (suggested_range_ > max_range) {

@@ -31,6 +31,10 @@ PickedVoxelView::PickedVoxelView(StudioSession& session, QWidget* parent)
   });
   connect(&session_.worker(), &MapWorker::voxelPicked, this,
           [this](const Eigen::Vector3d& point, const VoxelState& voxel) {
+            // Only the answer for the point picked now: one asked before
+            // another sequence (or pick) replaced it describes another map.
+            const auto& picked = session_.pickedPoint();
+            if (!picked || *picked != point) return;
             const auto sequence = session_.sequence();
             const LabelSet labels = sequence ? sequence->labels : LabelSet{};
             setText(describe(point, voxel, labels));

@@ -33,22 +33,25 @@ std::optional<VoxelHit> SceneView::voxelAt(int x, int y) const {
 
 void SceneView::pickAt(int x, int y) {
   vtkRenderer* renderer = scene_->renderer;
-  std::optional<Eigen::Vector3d> point;
   if (const auto hit = voxelAt(x, y)) {
-    point = hit->point;
-  } else {
-    // No voxel there: whatever else the depth buffer holds (the frame's points).
-    if (renderer->GetZ(x, y) >= 1.0) return;  // background, or an unreadable buffer
-    vtkNew<vtkWorldPointPicker> picker;
-    picker->Pick(x, y, 0.0, renderer);
-    point.emplace();
-    picker->GetPickPosition(point->data());
+    // The voxel under the cursor is the one picked: its centre (a point
+    // nudged from the face along the view ray could fall in a neighbour
+    // near edges and at grazing angles).
+    emit surfacePicked(hit->point);
+    emit pointPicked(scene_->snapshot.voxels[hit->voxel].center);
+    return;
   }
-  emit surfacePicked(*point);
+  // No voxel there: whatever else the depth buffer holds (the frame's points).
+  if (renderer->GetZ(x, y) >= 1.0) return;  // background, or an unreadable buffer
+  vtkNew<vtkWorldPointPicker> picker;
+  picker->Pick(x, y, 0.0, renderer);
+  Eigen::Vector3d point;
+  picker->GetPickPosition(point.data());
+  emit surfacePicked(point);
   Eigen::Vector3d eye;
   renderer->GetActiveCamera()->GetPosition(eye.data());
   const double step = scene_->snapshot.resolution > 0 ? 0.3 * scene_->snapshot.resolution : 0.003;
-  Eigen::Vector3d inside = *point;
+  Eigen::Vector3d inside = point;
   if ((inside - eye).norm() > 0) inside += (inside - eye).normalized() * step;
   emit pointPicked(inside);
 }

@@ -70,6 +70,12 @@ void StudioSession::onSequenceChanged() {
   ++map_generation_;
   map_reader_->forget();  // a map asked for with the previous sequence
   worker_->reset();
+  // Class candidates name the objects of one scene: the next sequence is
+  // fused with all its labels until candidates are given for it.
+  if (options_.candidates) {
+    options_.candidates.reset();
+    emit fusionOptionsChanged();
+  }
 
   // The boxes of the sequence, when there are any, are the ones to edit.
   loadSequenceBoxes(*this);
