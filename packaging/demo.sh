@@ -21,7 +21,8 @@ for arg in "$@"; do
 done
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build_dir="${LOM_BUILD_DIR:-$root/build}"
+# A relative LOM_BUILD_DIR is relative to where the command was started.
+build_dir="$(realpath -m -- "${LOM_BUILD_DIR:-$root/build}")"
 jobs="${LOM_JOBS:-2}"
 cd "$root"
 
@@ -30,7 +31,7 @@ step() { echo; echo "==> $*"; }
 step "checking Debian packages"
 packaging/install-deps.sh
 
-step "configuring (Release) and building in build/ with -j$jobs"
+step "configuring (Release) and building in $build_dir with -j$jobs"
 cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release
 cmake --build "$build_dir" -j "$jobs" --target labeloctomap labeloctomap-studio
 
@@ -42,7 +43,18 @@ report="$build_dir/demo/report"
 
 step "writing a synthetic scene"
 mkdir -p "$build_dir/demo"
-"$cli" synth --out "$scene" --seed 1 --objects 6
+# Boxes edited and saved in the studio since the last demo are the user's:
+# synth keeps them (it refuses the folder), and so does the demo.
+synth_errors="$build_dir/demo/synth-errors.txt"
+if "$cli" synth --out "$scene" --seed 1 --objects 6 2>"$synth_errors"; then
+  cat "$synth_errors" >&2
+elif [[ -f "$scene/sequence.json" ]] && grep -q "edited since" "$synth_errors"; then
+  echo "(the scene's boxes were edited since the last demo: keeping the scene and its boxes;"
+  echo " remove $scene for a fresh one)"
+else
+  cat "$synth_errors" >&2
+  exit 1
+fi
 
 step "fusing it into a LabelOctoMap"
 "$cli" fuse "$scene" --out "$map"
@@ -55,12 +67,21 @@ echo "Outputs:"
 echo "  sequence:      $scene/sequence.json (frames and ground-truth annotations.json beside it)"
 echo "  label map:     $map"
 echo "  scores:        $report/report.md (also .json, .csv and a chart, report.svg)"
-echo "  look at them:  $cli info $scene"
-echo "                 $studio --map $map $scene   (the map above; without --map it fuses again)"
+printf '  look at them:  %q info %q\n' "$cli" "$scene"
+printf '                 %q --map %q %q   (the map above; without --map it fuses again)\n' \
+  "$studio" "$map" "$scene"
 
 if $open_gui && [[ -n "${DISPLAY:-}" ]]; then
   step "opening the studio on the map (close its window to finish)"
-  "$studio" --map "$map" "$scene"
+  status=0
+  "$studio" --map "$map" "$scene" || status=$?
+  if ((status == 3)); then
+    # The studio's exit code when the display cannot be opened: the demo's
+    # work is done, only the window is missing.
+    echo "(DISPLAY=$DISPLAY cannot be opened: not opening the studio)"
+  elif ((status != 0)); then
+    exit "$status"
+  fi
 elif $open_gui; then
   echo
   echo "(no DISPLAY: not opening the studio)"

@@ -28,11 +28,30 @@ if ! command -v dpkg-query >/dev/null || ! command -v apt-get >/dev/null; then
   exit 1
 fi
 
-mapfile -t wanted < <(sed -e 's/#.*//' -e 's/[[:space:]]//g' "$list" | grep -v '^$')
+if [[ ! -r "$list" ]]; then
+  echo "install-deps: cannot read the package list $list" >&2
+  exit 1
+fi
+wanted=()
+while IFS= read -r line || [[ -n "$line" ]]; do
+  line="${line%%#*}"
+  line="${line//[[:space:]]/}"
+  [[ -n "$line" ]] && wanted+=("$line")
+done <"$list"
+if ((${#wanted[@]} == 0)); then
+  echo "install-deps: the package list $list names no package" >&2
+  exit 1
+fi
 
+# Installed for this machine's architecture (or for all): a package installed
+# only for another architecture (multiarch) does not count, and one installed
+# for several is installed once here.
+native="$(dpkg --print-architecture)"
 missing=()
 for package in "${wanted[@]}"; do
-  status="$(dpkg-query -W -f='${db:Status-Status}' "$package" 2>/dev/null || true)"
+  status="$(dpkg-query -W -f='${Architecture} ${db:Status-Status}\n' "$package" 2>/dev/null |
+    awk -v arch="$native" '($1 == arch || $1 == "all") && $2 == "installed" { print "installed"; exit }' ||
+    true)"
   [[ "$status" == "installed" ]] || missing+=("$package")
 done
 
@@ -57,10 +76,18 @@ else
   exit 1
 fi
 
+manual() {
+  echo "install-deps: $1. As root, run:" >&2
+  echo "  apt-get update && apt-get install -y --no-install-recommends ${missing[*]}" >&2
+  echo "then run ${BASH_SOURCE[0]} (or the command that called it) again." >&2
+  exit 1
+}
+
 export DEBIAN_FRONTEND=noninteractive
 say "running apt-get update"
-"${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q
+"${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q ||
+  manual "apt-get update failed (or sudo refused)"
 say "installing: ${missing[*]}"
 "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends \
-  "${missing[@]}" </dev/null
+  "${missing[@]}" </dev/null || manual "apt-get install failed (or sudo refused)"
 say "done"

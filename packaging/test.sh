@@ -6,7 +6,8 @@
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build_dir="${LOM_BUILD_DIR:-$root/build}"
+# A relative LOM_BUILD_DIR is relative to where the command was started.
+build_dir="$(realpath -m -- "${LOM_BUILD_DIR:-$root/build}")"
 jobs="${LOM_JOBS:-2}"
 cd "$root"
 
