@@ -136,12 +136,37 @@ OrientedBox fitOrientedBox(const std::vector<VoxelKey>& keys, double resolution)
   // box often fits voxel data (itself axis-aligned) better, so the smaller one wins.
   const Extent along_principal = enclose(centers, principal, resolution);
   const Extent along_world = enclose(centers, Eigen::Matrix3d::Identity(), resolution);
-  const Extent& best = along_principal.volume() < along_world.volume() ? along_principal : along_world;
+  // PCA must be smaller by more than rounding: for blocks aligned with the
+  // world the two volumes are equal, and rounding decided.
+  const Extent& best = along_principal.volume() < along_world.volume() * (1.0 - 1e-9)
+                           ? along_principal
+                           : along_world;
 
   OrientedBox box;
-  box.size = best.high - best.low;
   box.center = best.axes * (0.5 * (best.low + best.high));
-  box.rotation = Eigen::Quaterniond(best.axes).normalized();
+  // The same box in a predictable frame (PCA orders its axes by spread and
+  // picks their signs at random): z is the axis nearest the world's up,
+  // pointing up; x the one of the other two nearest the world's x, pointing
+  // +x (so yaw lies in (-90, 90] degrees); y = z x x. Box edits (move up,
+  // grow the height, yaw) then act as their names say.
+  const Eigen::Vector3d size = best.high - best.low;
+  int zi = 0;
+  for (int i = 1; i < 3; ++i)
+    if (std::abs(best.axes(2, i)) > std::abs(best.axes(2, zi))) zi = i;
+  const int a = (zi + 1) % 3, b = (zi + 2) % 3;
+  const bool a_is_x = std::abs(best.axes(0, a)) > std::abs(best.axes(0, b)) ||
+                      (std::abs(best.axes(0, a)) == std::abs(best.axes(0, b)) && a < b);
+  const int xi = a_is_x ? a : b, yi = a_is_x ? b : a;
+  Eigen::Vector3d z = best.axes.col(zi);
+  if (z.z() < 0.0) z = -z;
+  Eigen::Vector3d x = best.axes.col(xi);
+  if (x.x() < 0.0 || (x.x() == 0.0 && x.y() < 0.0)) x = -x;
+  Eigen::Matrix3d axes;
+  axes.col(0) = x;
+  axes.col(1) = z.cross(x);
+  axes.col(2) = z;
+  box.size = Eigen::Vector3d(size[xi], size[yi], size[zi]);
+  box.rotation = Eigen::Quaterniond(axes).normalized();
   return box;
 }
 
@@ -194,6 +219,10 @@ std::optional<OrientedBox> tightenBox(const OrientedBox& box,
     any = true;
   }
   if (!any) return std::nullopt;
+  // Never past the box drawn: whole cubes of a rotated box reach beyond it,
+  // and a box grown to hold them took in more voxels at the next press.
+  low = low.cwiseMax(-half);
+  high = high.cwiseMin(half);
   OrientedBox tight = box;
   tight.size = high - low;
   tight.center = box.center + R * (0.5 * (low + high));

@@ -152,6 +152,26 @@ TEST_F(BoxEditorTest, ValuesBeyondAFieldsRangeAreShownAsTheyAre) {
   EXPECT_NEAR(boxes().box(0).box.center.x(), 1500.245, 1e-9) << "one step, not a jump";
 }
 
+// At pitch +-90 degrees roll and yaw turn about the same axis: the angles
+// shown must still rebuild the box, and a one-degree edit turn it by one
+// degree (noise in the vanishing entries turned it by up to 150).
+TEST_F(BoxEditorTest, AnglesAtAPitchOfNinetyDegreesStillDescribeTheBox) {
+  for (const double pitch : {M_PI / 2, -M_PI / 2}) {
+    const Eigen::Quaterniond standing(Eigen::AngleAxisd(0.5236, Eigen::Vector3d::UnitZ()) *
+                                      Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                                      Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()));
+    const Eigen::Vector3d angles = rollPitchYaw(standing);
+    EXPECT_NEAR(std::abs(angles.y()), M_PI / 2, 1e-9);
+    EXPECT_LT(fromRollPitchYaw(angles).angularDistance(standing), 1e-6);
+    GroundTruthBox box = boxes().box(0);
+    box.box.rotation = standing;
+    boxes().setBox(0, box, "standing");
+    QDoubleSpinBox& yaw = window_.boxEditor().field(8);
+    yaw.setValue(yaw.value() + 1.0);
+    EXPECT_NEAR(boxes().box(0).box.rotation.angularDistance(standing) * 180.0 / M_PI, 1.0, 0.06);
+  }
+}
+
 TEST_F(BoxEditorTest, EditingOneAngleKeepsTheOthersAtFullPrecision) {
   GroundTruthBox box = boxes().box(0);
   const double roll = 0.01234;   // 0.707°: the field shows 0.7

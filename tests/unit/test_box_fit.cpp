@@ -187,6 +187,40 @@ TEST(BoxFit, RotatedObjectGetsARotatedBox) {
     }
 }
 
+// The fitted box's frame is canonical: z nearest the world's up (pointing
+// up), x nearest the world's x (pointing +x), so that box edits act as their
+// names say; a block aligned with the world gets the axis-aligned box.
+TEST(BoxFit, FittedBoxesHaveACanonicalFrame) {
+  // A flat plate (1 voxel thick) turned 30 degrees about z: PCA orders its
+  // axes thinnest first, which made box x the world's up.
+  lom::OrientedBox plate;
+  plate.center = {0.0, 0.0, 0.005};
+  plate.size = {0.30, 0.20, 0.01};
+  plate.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 6, Eigen::Vector3d::UnitZ()));
+  std::vector<lom::VoxelKey> keys;
+  for (int i = -30; i < 30; ++i)
+    for (int j = -30; j < 30; ++j)
+      if (plate.contains(lom::voxelCenter(key(i, j, 0), kEdge))) keys.push_back(key(i, j, 0));
+  const lom::OrientedBox fitted = lom::fitOrientedBox(keys, kEdge);
+  const Eigen::Matrix3d axes = fitted.rotation.toRotationMatrix();
+  EXPECT_GT(axes(2, 2), 0.999) << "box z is the world's up";
+  EXPECT_GT(axes(0, 0), 0.0) << "box x points +x";
+  EXPECT_NEAR(fitted.size.z(), 0.01, 1e-9);
+  EXPECT_GT(fitted.size.x(), fitted.size.y()) << "the long side along x, as the plate lies";
+  EXPECT_NEAR(std::atan2(axes(1, 0), axes(0, 0)), M_PI / 6, 3.0 * M_PI / 180.0);
+  // Blocks aligned with the world: the axis-aligned box, unrotated, every time.
+  for (int w = 1; w <= 6; ++w)
+    for (int h = 1; h <= 6; ++h) {
+      std::vector<lom::VoxelKey> block;
+      for (int i = 0; i < w; ++i)
+        for (int j = 0; j < h; ++j)
+          for (int k = 0; k < 2; ++k) block.push_back(key(1000 + i, 7 + j, k));
+      const lom::OrientedBox box = lom::fitOrientedBox(block, kEdge);
+      EXPECT_TRUE(box.rotation.isApprox(Eigen::Quaterniond::Identity(), 1e-9)) << w << "x" << h;
+      EXPECT_NEAR((box.size - Eigen::Vector3d(w, h, 2) * kEdge).norm(), 0.0, 1e-9) << w << "x" << h;
+    }
+}
+
 TEST(BoxFit, TightenedBoxEnclosesTheVoxelsInsideItAndNoMore) {
   constexpr double r = 0.01;
   // A 3x2x1 block of voxels from the origin, and one voxel far away.
@@ -202,7 +236,9 @@ TEST(BoxFit, TightenedBoxEnclosesTheVoxelsInsideItAndNoMore) {
   EXPECT_NEAR((tight->center - Eigen::Vector3d(0.015, 0.01, 0.005)).norm(), 0.0, 1e-12);
   EXPECT_NEAR((tight->size - Eigen::Vector3d(0.03, 0.02, 0.01)).norm(), 0.0, 1e-12);
   EXPECT_TRUE(tight->rotation.isApprox(rough.rotation));
-  // A voxel whose centre lies outside the box is left out, even if its cube reaches in.
+  // A voxel whose centre lies outside the box is left out, even if its cube
+  // reaches in; one whose centre is inside is held, but the box never grows
+  // past the sides drawn (which here cut the outer columns' cubes).
   lom::OrientedBox partial = rough;
   partial.size.x() =
       0.02 +
@@ -210,7 +246,8 @@ TEST(BoxFit, TightenedBoxEnclosesTheVoxelsInsideItAndNoMore) {
   partial.center.x() = 0.015;
   const auto cut = lom::tightenBox(partial, centres, r);
   ASSERT_TRUE(cut.has_value());
-  EXPECT_NEAR(cut->size.x(), 0.03, 1e-12) << "the columns at x = 0.005, 0.015 and 0.025";
+  EXPECT_NEAR(cut->size.x(), 0.0208, 1e-12) << "the three columns, within the sides drawn";
+  EXPECT_NEAR(cut->size.y(), 0.02, 1e-12) << "pulled in where the block ends inside";
   partial.size.x() = 0.019;  // x from 0.0055 to 0.0245: only the middle column's centres
   EXPECT_NEAR(lom::tightenBox(partial, centres, r)->size.x(), 0.01, 1e-12);
   // A rotated box keeps its rotation and encloses each cube along its own axes.
@@ -224,6 +261,22 @@ TEST(BoxFit, TightenedBoxEnclosesTheVoxelsInsideItAndNoMore) {
   EXPECT_NEAR(one->size.y(), r * std::sqrt(2.0), 1e-12);
   EXPECT_NEAR(one->size.z(), r, 1e-12);
   EXPECT_TRUE(one->rotation.isApprox(turned.rotation));
+  // A rotated box over a slab larger than it: tightening again changes
+  // nothing (holding whole cubes used to grow the box at every press).
+  std::vector<Eigen::Vector3d> slab;
+  for (int i = -20; i < 20; ++i)
+    for (int j = -20; j < 20; ++j)
+      for (int k = 0; k < 3; ++k) slab.emplace_back((i + 0.5) * r, (j + 0.5) * r, (k + 0.5) * r);
+  lom::OrientedBox over = turned;
+  over.center = {0.0, 0.0, 0.015};
+  over.size = {0.1, 0.1, 0.1};
+  const auto first = lom::tightenBox(over, slab, r);
+  ASSERT_TRUE(first.has_value());
+  const auto second = lom::tightenBox(*first, slab, r);
+  ASSERT_TRUE(second.has_value());
+  EXPECT_NEAR((second->size - first->size).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((second->center - first->center).norm(), 0.0, 1e-12);
+  EXPECT_LE(first->size.x(), 0.1 + 1e-12);
   // Nothing inside: no box.
   rough.center = {1.0, 1.0, 1.0};
   EXPECT_FALSE(lom::tightenBox(rough, centres, r).has_value());

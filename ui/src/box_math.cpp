@@ -7,6 +7,11 @@ namespace lom::ui {
 
 Eigen::Vector3d rollPitchYaw(const Eigen::Quaterniond& rotation) {
   const Eigen::Matrix3d r = rotation.normalized().toRotationMatrix();
+  // Pitch of +-90 degrees (gimbal lock): roll and yaw turn about the same
+  // axis and atan2 of the vanishing entries was noise; the turn is given to
+  // yaw, roll 0.
+  if (std::hypot(r(2, 1), r(2, 2)) < 1e-9)
+    return {0.0, std::copysign(M_PI / 2, -r(2, 0)), std::atan2(-r(0, 1), r(1, 1))};
   const double pitch = std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
   const double roll = std::atan2(r(2, 1), r(2, 2));
   const double yaw = std::atan2(r(1, 0), r(0, 0));

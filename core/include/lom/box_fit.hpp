@@ -29,8 +29,11 @@ inline constexpr double kMaxClusterTolerance = 20.0;
                                                                double tolerance_voxels);
 
 // A box enclosing every voxel cube: the smaller of the box along the principal
-// axes of the voxel centres and the axis-aligned box. Keys are OctoMap keys of
-// voxels of edge `resolution`. Throws std::invalid_argument for no keys.
+// axes of the voxel centres and the axis-aligned box (which wins ties). Its
+// frame is canonical: box z is the axis nearest the world's up, pointing up,
+// and box x the other axis nearest the world's x, pointing +x (yaw in
+// (-90, 90] degrees). Keys are OctoMap keys of voxels of edge `resolution`.
+// Throws std::invalid_argument for no keys.
 [[nodiscard]] OrientedBox fitOrientedBox(const std::vector<VoxelKey>& keys, double resolution);
 
 // Centre of the voxel with OctoMap key `key` (same as LabelMap::centerOf).
@@ -46,9 +49,9 @@ inline constexpr double kMaxClusterTolerance = 20.0;
 
 // The box with `box`'s rotation that tightly encloses the cubes (edge
 // `resolution`) of the voxels whose centres lie inside `box`: a box drawn
-// roughly around an object, pulled onto the voxels it holds. A side can move
-// out by up to a cube's reach along a tilted axis (at most 0.87 of a voxel)
-// to hold the cubes whole. None when no centre lies inside.
+// roughly around an object, pulled onto the voxels it holds, so that it holds
+// their cubes whole, but never past the box given (so a second call changes
+// nothing). None when no centre lies inside.
 [[nodiscard]] std::optional<OrientedBox> tightenBox(
     const OrientedBox& box, const std::vector<Eigen::Vector3d>& voxel_centres, double resolution);
 
