@@ -347,16 +347,39 @@ boost::shared_ptr<T> load(const rosbag::MessageInstance& m) {
   return message;
 }
 
+// The images are taken as rectified (the import does not undistort): their
+// camera is the projection P (what ROS's image_geometry uses for rectified
+// images), and K only where a driver left P empty. The two differ when the
+// raw images had distortion.
+bool hasProjection(const sensor_msgs::CameraInfo& info) {
+  return info.P[0] > 0.0 && info.P[5] > 0.0 && std::isfinite(info.P[2]) && std::isfinite(info.P[6]);
+}
+
 std::optional<CameraIntrinsics> intrinsicsOf(const sensor_msgs::CameraInfo& info) {
-  if (!(info.K[0] > 0.0) || !(info.K[4] > 0.0)) return std::nullopt;
   CameraIntrinsics camera;
   camera.width = static_cast<int>(info.width);
   camera.height = static_cast<int>(info.height);
+  if (hasProjection(info)) {
+    camera.fx = info.P[0];
+    camera.fy = info.P[5];
+    camera.cx = info.P[2];
+    camera.cy = info.P[6];
+    return camera;
+  }
+  if (!(info.K[0] > 0.0) || !(info.K[4] > 0.0)) return std::nullopt;
   camera.fx = info.K[0];
   camera.fy = info.K[4];
   camera.cx = info.K[2];
   camera.cy = info.K[5];
   return camera;
+}
+
+bool sameIntrinsics(const CameraIntrinsics& a, const CameraIntrinsics& b) {
+  const auto close = [](double x, double y) {
+    return std::abs(x - y) <= 1e-6 * std::max(1.0, std::abs(x));
+  };
+  return a.width == b.width && a.height == b.height && close(a.fx, b.fx) && close(a.fy, b.fy) &&
+         close(a.cx, b.cx) && close(a.cy, b.cy);
 }
 
 using CameraInfoList = std::vector<std::pair<double, sensor_msgs::CameraInfo>>;
@@ -369,6 +392,7 @@ struct BagContents {
   std::map<std::string, CameraInfoList> infos;
   std::vector<geometry_msgs::TransformStamped> dynamic_tf, static_tf;
   size_t bad_transforms = 0;
+  size_t zero_tf_stamps = 0;  // dynamic transforms stamped 0, given their record time
   double begin = 0.0, end = 0.0;
 
   void read(const rosbag::MessageInstance& m) {
@@ -423,6 +447,11 @@ struct BagContents {
     const bool is_static = topic == "/tf_static" || topic == "tf_static";
     if (!is_static && topic != "/tf" && topic != "tf") return;
     for (auto t : tf->transforms) {
+      // As for images: a header stamp of 0 is replaced by the record time.
+      if (!is_static && t.header.stamp.isZero()) {
+        t.header.stamp = m.getTime();
+        ++zero_tf_stamps;
+      }
       t.header.frame_id = stripSlash(t.header.frame_id);
       t.child_frame_id = stripSlash(t.child_frame_id);
       const auto& q = t.transform.rotation;
@@ -513,13 +542,50 @@ BagCameras chooseCameras(const BagContents& contents, const ChosenTopics& chosen
   std::optional<CameraIntrinsics> info_camera;
   std::string info_description = "no camera info";
   if (!info_topic.empty() && contents.infos.count(info_topic)) {
-    const auto& info = contents.infos.at(info_topic).front().second;
+    // The first calibrated message (a driver may publish zeros until it is).
+    const CameraInfoList& list = contents.infos.at(info_topic);
+    const sensor_msgs::CameraInfo* chosen_info = &list.front().second;
+    for (const auto& [stamp, candidate] : list)
+      if (intrinsicsOf(candidate)) {
+        chosen_info = &candidate;
+        break;
+      }
+    const auto& info = *chosen_info;
     info_camera = intrinsicsOf(info);
     info_description = info_topic;
     if (!info_camera && !options.intrinsics)
       throw Error(file, "camera info", "a calibrated camera (K with fx, fy > 0) on " + info_topic,
                   "K = [" + formatNumber(info.K[0]) + " ... " + formatNumber(info.K[4]) + " ...]");
-    if (!options.intrinsics) writer.note("camera info topic: " + info_topic);
+    if (!options.intrinsics) {
+      writer.note("camera info topic: " + info_topic);
+      if (info_camera) {
+        if (hasProjection(info) &&
+            (std::abs(info.P[0] - info.K[0]) > 1e-9 || std::abs(info.P[5] - info.K[4]) > 1e-9 ||
+             std::abs(info.P[2] - info.K[2]) > 1e-9 || std::abs(info.P[6] - info.K[5]) > 1e-9))
+          writer.note(
+              "intrinsics from the camera info's projection P (that of rectified "
+              "images), which differs from its K (that of the raw images)");
+        size_t differing = 0;
+        for (const auto& [stamp, other] : list)
+          if (const auto camera = intrinsicsOf(other);
+              camera && !sameIntrinsics(*camera, *info_camera))
+            ++differing;
+        if (differing)
+          writer.note(std::to_string(differing) + " of the " + std::to_string(list.size()) +
+                      " messages on " + info_topic +
+                      " give other intrinsics than the first calibrated one, which is used for "
+                      "every frame (give the intrinsics option if another is right)");
+      }
+      // Another camera's info (the colour camera's) is the wrong one for depth.
+      const std::string info_frame = stripSlash(info.header.frame_id);
+      const std::string depth_frame = depth_topic.images.front().frame_id;
+      if (options.rosbag.camera_info_topic.empty() && !info_frame.empty() && !depth_frame.empty() &&
+          info_frame != depth_frame)
+        writer.note("warning: the camera info " + info_topic + " is of frame '" + info_frame +
+                    "', the depth images of frame '" + depth_frame +
+                    "': its intrinsics may be another camera's (give the camera info topic or "
+                    "the intrinsics option)");
+    }
     bool distorted = false;
     for (double d : info.D) distorted |= std::abs(d) > 1e-9;
     if (distorted)
@@ -535,11 +601,8 @@ BagCameras chooseCameras(const BagContents& contents, const ChosenTopics& chosen
       chooseCamera(info_camera, info_description, options, writer, source,
                    "a sensor_msgs/CameraInfo topic for the depth images or the intrinsics option "
                    "(--intrinsics fx,fy,cx,cy)");
-  if (options.intrinsics && (cameras.depth.width <= 0 || cameras.depth.height <= 0) &&
-      info_camera) {
-    cameras.depth.width = info_camera->width;
-    cameras.depth.height = info_camera->height;
-  }
+  // Intrinsics given without a size are for the frames written (the first
+  // one's size), not for the size the bag's camera info names.
   if (chosen.color) {
     const std::string color_info = infoTopicFor(contents, *chosen.color, info_topic);
     if (!color_info.empty() && bag::commonPrefix(color_info, chosen.color->name) >
@@ -551,10 +614,23 @@ BagCameras chooseCameras(const BagContents& contents, const ChosenTopics& chosen
 
 // Camera poses from tf: the camera frame in the fixed frame at an image's stamp.
 class PoseLookup {
+  // tf2 drops transforms older than its cache by their header stamps, which
+  // may span far more than the bag's record times (a bag written without
+  // record times, or replayed faster): the cache holds them all.
+  static double cacheSeconds(const BagContents& contents) {
+    double low = INFINITY, high = -INFINITY;
+    for (const auto& t : contents.dynamic_tf) {
+      low = std::min(low, t.header.stamp.toSec());
+      high = std::max(high, t.header.stamp.toSec());
+    }
+    const double stamps = high > low ? high - low : 0.0;
+    return std::max({10.0, contents.end - contents.begin + 10.0, stamps + 10.0});
+  }
+
  public:
   PoseLookup(const BagContents& contents, const Topic& depth_topic, const ImportOptions& options,
              const std::string& file, SequenceWriter& writer)
-      : buffer_(ros::Duration(std::max(10.0, contents.end - contents.begin + 10.0))),
+      : buffer_(ros::Duration(cacheSeconds(contents))),
         tolerance_(options.time_tolerance),
         has_dynamic_(!contents.dynamic_tf.empty()) {
     const RosbagOptions& given = options.rosbag;
@@ -572,6 +648,9 @@ class PoseLookup {
     if (contents.bad_transforms)
       writer.note(std::to_string(contents.bad_transforms) +
                   " tf transforms were invalid (NaN, zero quaternion, empty frame) and ignored");
+    if (contents.zero_tf_stamps)
+      writer.note(std::to_string(contents.zero_tf_stamps) +
+                  " tf transforms have a zero header stamp: the bag's record time is used");
     std::map<std::string, std::string> parent_of;
     std::set<std::string> frames;
     for (const auto* list : {&contents.static_tf, &contents.dynamic_tf})
@@ -842,7 +921,15 @@ void importRosbag(const fs::path& source, const ImportOptions& options, Sequence
   try {
     opened.open(file, rosbag::bagmode::Read);
   } catch (const std::exception& e) {
-    throw Error(file, "bag", "a readable ROS 1 bag (format 2.0)", e.what());
+    // A recording cut short (disk full, killed) has no index at its end.
+    const std::string what = e.what();
+    const bool cut_short = what.find("unindexed") != std::string::npos ||
+                           what.find("wanted") != std::string::npos ||
+                           what.find("Error reading") != std::string::npos;
+    throw Error(file, "bag", "a readable ROS 1 bag (format 2.0)",
+                what + (cut_short ? " (the bag looks truncated or was not closed when recorded: "
+                                    "`rosbag reindex` on a copy may recover it)"
+                                  : ""));
   }
   BagContents contents;
   readBag(opened, file, writer, contents);

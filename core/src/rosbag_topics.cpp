@@ -185,6 +185,10 @@ class TopicChooser {
     std::vector<const Topic*> candidates;
     for (const Topic* t : image_topics_) {
       if (t == depth || t == color || t->images.front().compressed) continue;
+      // A colour image (8UC3, rgb8...) is never taken for probabilities
+      // unless its name says so (with the no-colour option it is not chosen
+      // as colour, and used to end up here).
+      if (isColorEncoding(t->images.front()) && !probaName(t->name)) continue;
       int bytes = 0;
       const int channels = multiChannels(t->firstEncoding(), bytes);
       if ((channels >= 2 && !labelName(t->name)) ||

@@ -109,6 +109,13 @@ struct BagSpec {
   int cut_color_png_frame = -1;      // this frame's colour PNG ends inside IDAT
   bool jpeg_color = false;           // compressed colour as JPEG instead of PNG
   int cut_color_jpeg_frame = -1;     // this frame's colour JPEG ends halfway
+  bool info_projection = false;      // P differs from K (distorted raw images, rectified here)
+  int info_size_factor = 1;          // the camera info names a size this many times the images'
+  std::string info_frame;            // the camera info's frame_id (default: the depth frame)
+  bool first_info_uncalibrated = false;  // the first camera info has K = 0
+  bool tf_zero_stamps = false;           // dynamic tf stamped 0 (its record time is the stamp)
+  double stamp_scale = 1.0;              // header stamps of tf and depth: 10 + scale (t - 10)
+  bool color_8uc3 = false;               // colour as 8UC3 instead of bgr8
 };
 
 // The offset and length of the first IDAT chunk's data in PNG bytes.
@@ -126,10 +133,14 @@ std::pair<size_t, size_t> firstImageData(const std::vector<std::uint8_t>& png) {
 void writeBag(const fs::path& path, const BagSpec& spec) {
   rosbag::Bag bag(path.string(), rosbag::bagmode::Write);
   // tf at 20 Hz from 9.95 to 10.30; the frame at 10.4 has no pose.
+  // Header stamps may run on another scale than the record times (a bag
+  // replayed faster, or written without record times).
+  const auto header = [&](double t) { return 10.0 + spec.stamp_scale * (t - 10.0); };
   for (int k = -1; k <= 6; ++k) {
     const double t = 10.0 + 0.05 * k;
     tf2_msgs::TFMessage tf;
-    tf.transforms.push_back(transformMsg(worldBase(t), "world", "base_link", t));
+    tf.transforms.push_back(transformMsg(worldBase(header(t)), "world", "base_link", header(t)));
+    if (spec.tf_zero_stamps) tf.transforms.back().header.stamp = ros::Time();
     bag.write("/tf", ros::Time(t), tf);
   }
   tf2_msgs::TFMessage static_tf;
@@ -140,7 +151,7 @@ void writeBag(const fs::path& path, const BagSpec& spec) {
     const double t = 10.0 + 0.1 * f + spec.image_clock_offset;
     const ros::Time stamp(t);
     sensor_msgs::Image depth;
-    depth.header.stamp = stamp;
+    depth.header.stamp = ros::Time(header(t));
     depth.header.frame_id = kOptical;
     depth.width = kW;
     depth.height = kH;
@@ -182,9 +193,15 @@ void writeBag(const fs::path& path, const BagSpec& spec) {
     if (spec.camera_info) {
       sensor_msgs::CameraInfo info;
       info.header = depth.header;
-      info.width = kW;
-      info.height = kH;
+      if (!spec.info_frame.empty()) info.header.frame_id = spec.info_frame;
+      info.width = kW * spec.info_size_factor;
+      info.height = kH * spec.info_size_factor;
       info.K = {30, 0, 15.5, 0, 31, 11.5, 0, 0, 1};
+      if (spec.info_projection) {
+        info.D = {0.1, -0.05, 0, 0, 0};
+        info.P = {26, 0, 16.2, 0, 0, 26, 12.1, 0, 0, 0, 1, 0};
+      }
+      if (spec.first_info_uncalibrated && f == 0) info.K = {};
       bag.write("/camera/depth/camera_info", stamp, info);
     }
     if (spec.color) {
@@ -210,7 +227,7 @@ void writeBag(const fs::path& path, const BagSpec& spec) {
         image.header.frame_id = "camera_color_optical_frame";
         image.width = kW;
         image.height = kH;
-        image.encoding = "bgr8";
+        image.encoding = spec.color_8uc3 ? "8UC3" : "bgr8";
         image.step = kW * 3 + 4;  // padded rows
         image.data.assign(image.step * kH, 0);
         for (int v = 0; v < kH; ++v)
@@ -322,6 +339,107 @@ TEST(ImportRosbag, RoundTripWithTfProbabilitiesAndColour) {
     EXPECT_NEAR(frame.proba->pixel(kW - 3, 3)[2], 0.8f, 1e-3);
     EXPECT_NEAR(frame.proba->pixel(kW - 3, 3)[0], 0.1f, 1e-3);
   }
+}
+
+// Rectified images (the import does not undistort) have the camera info's
+// projection P, not the raw images' K.
+TEST(ImportRosbag, RectifiedImagesTakeTheProjection) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.info_projection = true;
+  writeBag(dir / "rec.bag", spec);
+  const ImportReport report = importSource(std::nullopt, dir / "rec.bag", dir / "seq");
+  EXPECT_TRUE(anyNote(report, "projection P")) << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_DOUBLE_EQ(sequence.camera.fx, 26.0);
+  EXPECT_DOUBLE_EQ(sequence.camera.fy, 26.0);
+  EXPECT_DOUBLE_EQ(sequence.camera.cx, 16.2);
+  EXPECT_DOUBLE_EQ(sequence.camera.cy, 12.1);
+}
+
+// A driver publishing zeros until it is calibrated: the first calibrated
+// message is used, not a refusal of the whole bag.
+TEST(ImportRosbag, TheFirstCalibratedCameraInfoIsUsed) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.first_info_uncalibrated = true;
+  writeBag(dir / "rec.bag", spec);
+  const ImportReport report = importSource(std::nullopt, dir / "rec.bag", dir / "seq");
+  EXPECT_EQ(report.frames_written, 4u) << report.text();
+  EXPECT_DOUBLE_EQ(loadSequence(dir / "seq").camera.fx, 30.0);
+}
+
+// Intrinsics given as an option are for the frames written, whatever size
+// the bag's (wrong) camera info names: they used to be halved here.
+TEST(ImportRosbag, GivenIntrinsicsAreForTheFramesWritten) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.info_size_factor = 2;
+  writeBag(dir / "rec.bag", spec);
+  ImportOptions options;
+  options.intrinsics = parseIntrinsics("30,31,15.5,11.5");
+  const ImportReport report = importSource(std::nullopt, dir / "rec.bag", dir / "seq", options);
+  EXPECT_FALSE(anyNote(report, "intrinsics scaled")) << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  EXPECT_EQ(sequence.camera.width, kW);
+  EXPECT_DOUBLE_EQ(sequence.camera.fx, 30.0);
+  for (const auto& frame : sequence.frames) EXPECT_FALSE(frame.camera.has_value());
+}
+
+// The only camera info found is another camera's (its frame is not the depth
+// images'): used, but said.
+TEST(ImportRosbag, ACameraInfoOfAnotherFrameIsAWarning) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.info_frame = "camera_color_optical_frame";
+  writeBag(dir / "rec.bag", spec);
+  const ImportReport report = importSource(std::nullopt, dir / "rec.bag", dir / "seq");
+  EXPECT_TRUE(anyNote(report,
+                      "warning: the camera info /camera/depth/camera_info is of frame "
+                      "'camera_color_optical_frame'"))
+      << report.text();
+}
+
+// tf stamped 0 takes its record time, as images do.
+TEST(ImportRosbag, TfStampsOfZeroTakeTheRecordTime) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.tf_zero_stamps = true;
+  writeBag(dir / "rec.bag", spec);
+  const ImportReport report = importSource(std::nullopt, dir / "rec.bag", dir / "seq");
+  EXPECT_EQ(report.frames_written, 4u) << report.text();
+  EXPECT_TRUE(anyNote(report, "tf transforms have a zero header stamp")) << report.text();
+}
+
+// Header stamps spanning far more than the record times (a bag replayed 100
+// times faster): tf keeps every transform, and every frame with a pose is
+// imported (the cache, sized by the record times, dropped most of them).
+TEST(ImportRosbag, TfIsKeptForHeaderStampsBeyondTheRecordTimes) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.stamp_scale = 100.0;
+  spec.color = false;
+  spec.proba_channels = 0;
+  writeBag(dir / "rec.bag", spec);
+  ImportOptions options;
+  options.time_tolerance = 0.02;
+  const ImportReport report = importSource(std::nullopt, dir / "rec.bag", dir / "seq", options);
+  EXPECT_EQ(report.frames_written, 4u) << report.text();
+}
+
+// An 8UC3 colour topic is colour, never probabilities, even when colour is
+// not imported.
+TEST(ImportRosbag, AColourTopicIsNeverTakenForProbabilities) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.color_8uc3 = true;
+  spec.proba_channels = 0;
+  writeBag(dir / "rec.bag", spec);
+  ImportOptions options;
+  options.rosbag.no_color = true;
+  const ImportReport report = importSource(std::nullopt, dir / "rec.bag", dir / "seq", options);
+  EXPECT_FALSE(anyNote(report, "probability topic")) << report.text();
+  EXPECT_EQ(loadSequence(dir / "seq").labels.size(), 1);
 }
 
 TEST(ImportRosbag, FloatDepthCompressedColourAndLabelImages) {
