@@ -61,5 +61,41 @@ TEST_F(StandardViewsTest, EachLooksAlongItsAxisAndFramesTheMap) {
   EXPECT_EQ(window_.findAction("Look from Above")->shortcut(), QKeySequence(Qt::CTRL + Qt::Key_1));
 }
 
+// Look from Current Camera shows the whole picture the camera took: in the
+// default layout the 3D view is narrower than the image, and fitting the
+// image's height cut off a third of each side.
+TEST_F(StandardViewsTest, TheCurrentCameraViewHoldsTheWholePicture) {
+  openAndFuse();
+  SceneView& scene = window_.sceneView();
+  const Sequence& sequence = *window_.session().sequence();
+  const QSize view = scene.viewPixels();
+  ASSERT_GT(view.width(), 0);
+  for (const size_t index : {size_t{0}, sequence.frames.size() - 1}) {
+    SCOPED_TRACE(index);
+    scene.lookFromFrame(sequence, index);
+    const CameraIntrinsics& camera = sequence.cameraOf(index);
+    const Eigen::Isometry3d& pose = sequence.frames[index].T_world_camera;
+    double left = 1e9, right = -1e9, bottom = 1e9, top = -1e9;
+    for (const double u : {0.0, static_cast<double>(camera.width)})
+      for (const double v : {0.0, static_cast<double>(camera.height)}) {
+        const Eigen::Vector3d ray((u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy, 1.0);
+        const Eigen::Vector2d at = scene.displayPointOf(pose * (0.8 * ray));
+        left = std::min(left, at.x());
+        right = std::max(right, at.x());
+        bottom = std::min(bottom, at.y());
+        top = std::max(top, at.y());
+      }
+    const double slack = 0.03 * std::max(view.width(), view.height());
+    EXPECT_GE(left, -slack);
+    EXPECT_LE(right, view.width() + slack);
+    EXPECT_GE(bottom, -slack);
+    EXPECT_LE(top, view.height() + slack);
+    // ... and fills the view along one side.
+    EXPECT_TRUE(right - left > 0.9 * view.width() || top - bottom > 0.9 * view.height())
+        << left << ".." << right << " x " << bottom << ".." << top << " in " << view.width() << "x"
+        << view.height();
+  }
+}
+
 }  // namespace
 }  // namespace lom::ui

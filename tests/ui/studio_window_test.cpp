@@ -3,9 +3,11 @@
 
 #include <QAction>
 #include <QApplication>
+#include <QDockWidget>
 #include <QDragEnterEvent>
 #include <QDropEvent>
 #include <QFileInfo>
+#include <QLabel>
 #include <QMimeData>
 #include <QPushButton>
 #include <QSlider>
@@ -219,6 +221,48 @@ TEST_F(StudioWindowTest, StepsThroughFramesWithActionsAndSlider) {
   ASSERT_TRUE(window_.timeline().isPlaying());
   ASSERT_TRUE(openTiny());
   EXPECT_FALSE(window_.timeline().isPlaying());
+}
+
+// Space plays the frames, but a focused list row, button or field keeps its
+// own use of the key (ticking a Map Labels row is the keyboard's way to hide
+// a label).
+TEST_F(StudioWindowTest, SpaceGoesToAFocusedControlAndPlaysElsewhere) {
+  ASSERT_TRUE(openTiny());
+  window_.activateWindow();
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&window_));
+  auto* button = new QPushButton("probe", window_.findChild<QDockWidget*>("boxesDock"));
+  button->show();
+  int clicks = 0;
+  QObject::connect(button, &QPushButton::clicked, [&] { ++clicks; });
+  button->setFocus();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return button->hasFocus(); }, 5000));
+  QTest::keyClick(button, Qt::Key_Space);
+  QTest::qWait(400);  // a shortcut clicks the play button after its 100 ms animation
+  EXPECT_EQ(clicks, 1) << "the focused button is pressed";
+  EXPECT_FALSE(window_.timeline().isPlaying());
+  delete button;
+  window_.sceneView().setFocus();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return window_.sceneView().hasFocus(); }, 5000));
+  QTest::keyClick(&window_.sceneView(), Qt::Key_Space);
+  EXPECT_TRUE(QTest::qWaitFor([&] { return window_.timeline().isPlaying(); }, 2000))
+      << "elsewhere (the 3D view) Space plays";
+  window_.timeline().setPlaying(false);
+}
+
+// The pixel readout under the frame images keeps its height: a readout that
+// grew and shrank moved the pictures under the cursor.
+TEST_F(StudioWindowTest, ThePixelReadoutKeepsItsHeight) {
+  ASSERT_TRUE(openTiny());
+  auto* readout = window_.findChild<QLabel*>("pixelReadout");
+  ASSERT_NE(readout, nullptr);
+  QApplication::processEvents();
+  const QRect pane = window_.frameImages().depthPane().geometry();
+  const int height = readout->height();
+  window_.frameImages().hoverPixel(QPoint(80, 60));
+  ASSERT_FALSE(window_.frameImages().readoutText().isEmpty());
+  QApplication::processEvents();
+  EXPECT_EQ(readout->height(), height);
+  EXPECT_EQ(window_.frameImages().depthPane().geometry(), pane);
 }
 
 TEST_F(StudioWindowTest, ShortcutListHasTheMenusKeysAndThePlayButtons) {

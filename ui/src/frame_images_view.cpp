@@ -31,6 +31,10 @@ FrameImagesView::FrameImagesView(QWidget* parent)
   heat_pane_->setObjectName("heatPane");
   readout_->setObjectName("pixelReadout");
   readout_->setWordWrap(true);
+  // A fixed height: a readout of one line, two or none resized the panes
+  // above it, which moved the picture under a cursor that had not moved.
+  readout_->setFixedHeight(2 * readout_->fontMetrics().lineSpacing() + 4);
+  readout_->setAlignment(Qt::AlignLeft | Qt::AlignTop);
   color_pane_->setObjectName("colorPane");
   depth_pane_->setObjectName("depthPane");
   label_pane_->setObjectName("labelPane");
@@ -94,6 +98,7 @@ void FrameImagesView::hoverPixel(const QPoint& pixel) {
     return;
   }
   readout_->setText(describePixel(*sequence_, *frame_, *labels_, pixel.x(), pixel.y(), heat_label_));
+  readout_->setToolTip(readout_->text());  // whole, when two lines cannot hold it
 }
 
 void FrameImagesView::clear() {

@@ -1,10 +1,17 @@
 #include "lom/ui/main_window.hpp"
 
+#include <QAbstractButton>
+#include <QAbstractItemView>
+#include <QAbstractSpinBox>
 #include <QAction>
+#include <QApplication>
 #include <QCloseEvent>
+#include <QComboBox>
 #include <QDockWidget>
 #include <QIcon>
+#include <QKeyEvent>
 #include <QLabel>
+#include <QLineEdit>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QPushButton>
@@ -133,6 +140,35 @@ QSize initialWindowSize(const QSize& available) {
   return kPreferredWindowSize.boundedTo(available - kWindowFrameAllowance);
 }
 
+namespace {
+
+// Space plays the frames, except where a focused control has a use for it:
+// a Map Labels row's check box, a button, a field. Qt gives a window-wide
+// shortcut the key before the widget; accepting the override gives it back.
+class SpaceForFocusedControls : public QObject {
+ public:
+  explicit SpaceForFocusedControls(QWidget* window) : QObject(window), window_(window) {}
+
+ protected:
+  bool eventFilter(QObject* watched, QEvent* event) override {
+    if (event->type() != QEvent::ShortcutOverride) return false;
+    const auto* key = static_cast<QKeyEvent*>(event);
+    if (key->key() != Qt::Key_Space || key->modifiers() != Qt::NoModifier) return false;
+    auto* widget = qobject_cast<QWidget*>(watched);
+    if (!widget || widget->window() != window_) return false;
+    if (qobject_cast<QAbstractItemView*>(widget) || qobject_cast<QAbstractButton*>(widget) ||
+        qobject_cast<QAbstractSpinBox*>(widget) || qobject_cast<QComboBox*>(widget) ||
+        qobject_cast<QLineEdit*>(widget))
+      event->accept();
+    return false;
+  }
+
+ private:
+  QWidget* window_;
+};
+
+}  // namespace
+
 MainWindow::MainWindow(QWidget* parent)
     : QMainWindow(parent),
       report_error_(messageBoxErrorReporter(this)),
@@ -143,6 +179,7 @@ MainWindow::MainWindow(QWidget* parent)
       scene_view_(new SceneView),
       status_label_(new QLabel) {
   registerStudioResources();
+  qApp->installEventFilter(new SpaceForFocusedControls(this));
   steps_ = BoxSteps::load();
   setWindowTitle(tr("LabelOctoMap Studio"));
   setWindowIcon(QIcon(":/icons/labeloctomap-studio.svg"));

@@ -251,6 +251,7 @@ void SceneView::clear() {
 }
 
 void SceneView::resetCamera() {
+  restoreViewAngle();
   vtkCamera* camera = scene_->renderer->GetActiveCamera();
   if (scene_->home_viewpoint) {
     // Start from the first camera's own view, then turn a little so the
@@ -316,6 +317,7 @@ bool SceneView::currentCameraInView() const {
 }
 
 void SceneView::lookFrom(StandardView view) {
+  restoreViewAngle();
   Eigen::Vector3d up = scene_->snapshot.up.value_or(
       scene_->home_viewpoint ? scene_->home_viewpoint->up : Eigen::Vector3d::UnitZ());
   up.normalize();
@@ -366,6 +368,19 @@ Eigen::Vector3d SceneView::cameraViewUp() const {
 
 size_t SceneView::framePointCount() const { return scene_->point_count; }
 
+Eigen::Vector2d SceneView::displayPointOf(const Eigen::Vector3d& world) const {
+  vtkRenderer* renderer = scene_->renderer;
+  renderer->SetWorldPoint(world.x(), world.y(), world.z(), 1.0);
+  renderer->WorldToDisplay();
+  const double* display = renderer->GetDisplayPoint();
+  return {display[0], display[1]};
+}
+
+QSize SceneView::viewPixels() const {
+  const int* size = scene_->renderer->GetSize();
+  return {size[0], size[1]};
+}
+
 void SceneView::lookFromFrame(const Sequence& sequence, size_t index) {
   if (index >= sequence.frames.size()) return;
   const scene::Viewpoint view = scene::viewpointOf(sequence, index);
@@ -374,9 +389,26 @@ void SceneView::lookFromFrame(const Sequence& sequence, size_t index) {
   camera->SetPosition(view.position.data());
   camera->SetFocalPoint(focal.data());
   camera->SetViewUp(view.up.data());
+  // The whole picture the camera took fits the view: along the image's
+  // height, or along its width when the view is narrower than the image (the
+  // default layout's 3D view is: the sides were cut off).
   const CameraIntrinsics& intrinsics = sequence.cameraOf(index);
-  camera->SetViewAngle(2.0 * std::atan(0.5 * intrinsics.height / intrinsics.fy) * 180.0 / M_PI);
+  const double half_width = 0.5 * intrinsics.width / intrinsics.fx;  // tan of half the angle
+  const double half_height = 0.5 * intrinsics.height / intrinsics.fy;
+  const int* size = scene_->renderer->GetSize();
+  const double view_aspect = size[0] > 0 && size[1] > 0 ? static_cast<double>(size[0]) / size[1]
+                                                        : half_width / half_height;
+  const bool fit_width = view_aspect < half_width / half_height;
+  camera->SetUseHorizontalViewAngle(fit_width ? 1 : 0);
+  camera->SetViewAngle(2.0 * std::atan(fit_width ? half_width : half_height) * 180.0 / M_PI);
   render();
+}
+
+void SceneView::restoreViewAngle() {
+  // A camera's view angle (lookFromFrame) is not the overview's.
+  vtkCamera* camera = scene_->renderer->GetActiveCamera();
+  camera->SetUseHorizontalViewAngle(0);
+  camera->SetViewAngle(30.0);
 }
 
 void SceneView::showVoxels(const MapSnapshot& snapshot, const LabelSet& labels,

@@ -6,6 +6,7 @@
 #include <QImage>
 #include <QPoint>
 #include <QRect>
+#include <QSize>
 #include <QString>
 #include <QWidget>
 #include <cstddef>
@@ -65,6 +66,10 @@ class SceneView : public QWidget {
   // The 3D camera's viewing direction and view up (unit vectors).
   [[nodiscard]] Eigen::Vector3d cameraDirection() const;
   [[nodiscard]] Eigen::Vector3d cameraViewUp() const;
+  // Where a world point is drawn in the view, in its pixels (x right, y up,
+  // as VTK's display coordinates), and the view's size in pixels.
+  [[nodiscard]] Eigen::Vector2d displayPointOf(const Eigen::Vector3d& world) const;
+  [[nodiscard]] QSize viewPixels() const;
 
   void showVoxels(const MapSnapshot& snapshot, const LabelSet& labels, const std::set<int>& hidden);
   void setOpacityByProbability(bool on);
@@ -137,6 +142,7 @@ class SceneView : public QWidget {
   void resizeEvent(QResizeEvent* event) override;
 
  private:
+  void restoreViewAngle();  // the overview's 30 degrees, vertical
   void render();
   void placeAxesMarker();
   [[nodiscard]] std::optional<VoxelHit> voxelAt(int x, int y) const;  // VTK display pixels
