@@ -81,6 +81,17 @@ void printProbaLabels(const Sequence& sequence, std::ostream& out) {
         << "\n";
 }
 
+// `value` with at most `decimals` decimals, every digit before the point
+// (epoch stamps, site coordinates), trailing zeros dropped ("-0" is "0").
+std::string fixedDigits(double value, int decimals) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", decimals, value);
+  std::string shown = text;
+  while (shown.back() == '0') shown.pop_back();
+  if (shown.back() == '.') shown.pop_back();
+  return shown == "-0" ? std::string("0") : shown;
+}
+
 void printTimeSpan(const Sequence& sequence, std::ostream& out) {
   std::optional<double> first, last;
   size_t stamped = 0;
@@ -97,15 +108,8 @@ void printTimeSpan(const Sequence& sequence, std::ostream& out) {
   }
   // Stamps of real recordings are seconds since 1970: every digit of the
   // start and the end is shown (to the microsecond), the span as before.
-  const auto stamp = [](double t) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.6f", t);
-    std::string shown = text;
-    while (shown.back() == '0') shown.pop_back();
-    if (shown.back() == '.') shown.pop_back();
-    return shown;
-  };
-  out << stamp(*first) << " .. " << stamp(*last) << " (" << *last - *first << " s";
+  out << fixedDigits(*first, 6) << " .. " << fixedDigits(*last, 6) << " (" << *last - *first
+      << " s";
   if (stamped < sequence.frames.size())
     out << "; " << stamped << " of " << sequence.frames.size() << " frames have a time stamp";
   out << ")\n";
@@ -122,14 +126,7 @@ void printCameraPath(const Sequence& sequence, std::ostream& out) {
     if (i) length += (p - sequence.frames[i - 1].T_world_camera.translation()).norm();
   }
   // To the millimetre, however far from the origin (site coordinates).
-  const auto metres = [](double v) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.3f", v);
-    std::string shown = text;
-    while (shown.back() == '0') shown.pop_back();
-    if (shown.back() == '.') shown.pop_back();
-    return shown == "-0" ? std::string("0") : shown;
-  };
+  const auto metres = [](double v) { return fixedDigits(v, 3); };
   out << "camera path:      ";
   const char* axes = "xyz";
   for (int k = 0; k < 3; ++k)

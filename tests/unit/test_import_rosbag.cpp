@@ -341,14 +341,20 @@ TEST(ImportRosbag, RoundTripWithTfProbabilitiesAndColour) {
   }
 }
 
+// Writes the bag `spec` describes to dir/rec.bag and imports it into dir/seq.
+ImportReport importBag(const test::TempDir& dir, const BagSpec& spec,
+                       const ImportOptions& options = {}) {
+  writeBag(dir / "rec.bag", spec);
+  return importSource(std::nullopt, dir / "rec.bag", dir / "seq", options);
+}
+
 // Rectified images (the import does not undistort) have the camera info's
 // projection P, not the raw images' K.
 TEST(ImportRosbag, RectifiedImagesTakeTheProjection) {
   test::TempDir dir;
   BagSpec spec;
   spec.info_projection = true;
-  writeBag(dir / "rec.bag", spec);
-  const ImportReport report = importSource(std::nullopt, dir / "rec.bag", dir / "seq");
+  const ImportReport report = importBag(dir, spec);
   EXPECT_TRUE(anyNote(report, "projection P")) << report.text();
   const Sequence sequence = loadSequence(dir / "seq");
   EXPECT_DOUBLE_EQ(sequence.camera.fx, 26.0);
@@ -363,8 +369,7 @@ TEST(ImportRosbag, TheFirstCalibratedCameraInfoIsUsed) {
   test::TempDir dir;
   BagSpec spec;
   spec.first_info_uncalibrated = true;
-  writeBag(dir / "rec.bag", spec);
-  const ImportReport report = importSource(std::nullopt, dir / "rec.bag", dir / "seq");
+  const ImportReport report = importBag(dir, spec);
   EXPECT_EQ(report.frames_written, 4u) << report.text();
   EXPECT_DOUBLE_EQ(loadSequence(dir / "seq").camera.fx, 30.0);
 }
@@ -375,10 +380,9 @@ TEST(ImportRosbag, GivenIntrinsicsAreForTheFramesWritten) {
   test::TempDir dir;
   BagSpec spec;
   spec.info_size_factor = 2;
-  writeBag(dir / "rec.bag", spec);
   ImportOptions options;
   options.intrinsics = parseIntrinsics("30,31,15.5,11.5");
-  const ImportReport report = importSource(std::nullopt, dir / "rec.bag", dir / "seq", options);
+  const ImportReport report = importBag(dir, spec, options);
   EXPECT_FALSE(anyNote(report, "intrinsics scaled")) << report.text();
   const Sequence sequence = loadSequence(dir / "seq");
   EXPECT_EQ(sequence.camera.width, kW);
@@ -392,8 +396,7 @@ TEST(ImportRosbag, ACameraInfoOfAnotherFrameIsAWarning) {
   test::TempDir dir;
   BagSpec spec;
   spec.info_frame = "camera_color_optical_frame";
-  writeBag(dir / "rec.bag", spec);
-  const ImportReport report = importSource(std::nullopt, dir / "rec.bag", dir / "seq");
+  const ImportReport report = importBag(dir, spec);
   EXPECT_TRUE(anyNote(report,
                       "warning: the camera info /camera/depth/camera_info is of frame "
                       "'camera_color_optical_frame'"))
@@ -405,8 +408,7 @@ TEST(ImportRosbag, TfStampsOfZeroTakeTheRecordTime) {
   test::TempDir dir;
   BagSpec spec;
   spec.tf_zero_stamps = true;
-  writeBag(dir / "rec.bag", spec);
-  const ImportReport report = importSource(std::nullopt, dir / "rec.bag", dir / "seq");
+  const ImportReport report = importBag(dir, spec);
   EXPECT_EQ(report.frames_written, 4u) << report.text();
   EXPECT_TRUE(anyNote(report, "tf transforms have a zero header stamp")) << report.text();
 }
@@ -420,10 +422,9 @@ TEST(ImportRosbag, TfIsKeptForHeaderStampsBeyondTheRecordTimes) {
   spec.stamp_scale = 100.0;
   spec.color = false;
   spec.proba_channels = 0;
-  writeBag(dir / "rec.bag", spec);
   ImportOptions options;
   options.time_tolerance = 0.02;
-  const ImportReport report = importSource(std::nullopt, dir / "rec.bag", dir / "seq", options);
+  const ImportReport report = importBag(dir, spec, options);
   EXPECT_EQ(report.frames_written, 4u) << report.text();
 }
 
@@ -434,10 +435,9 @@ TEST(ImportRosbag, AColourTopicIsNeverTakenForProbabilities) {
   BagSpec spec;
   spec.color_8uc3 = true;
   spec.proba_channels = 0;
-  writeBag(dir / "rec.bag", spec);
   ImportOptions options;
   options.rosbag.no_color = true;
-  const ImportReport report = importSource(std::nullopt, dir / "rec.bag", dir / "seq", options);
+  const ImportReport report = importBag(dir, spec, options);
   EXPECT_FALSE(anyNote(report, "probability topic")) << report.text();
   EXPECT_EQ(loadSequence(dir / "seq").labels.size(), 1);
 }
