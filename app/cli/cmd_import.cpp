@@ -179,6 +179,14 @@ int runImport(const Words& words) {
     inputs.addFolder(source, "the import source folder");
   checkOutputFolder(out, "out", "the sequence", inputs);
   checkHoldsNoFramesOfSequencesAbove(out, "out", "the import");
+  // The import replaces OUT's sequence.json and frame folders: a source among
+  // them would be deleted with them (a mistake in the call, as --out inside
+  // the source is).
+  for (const char* part : {"sequence.json", "depth", "color", "proba", "label"})
+    if (isSameOrInside(source, std::filesystem::path(out) / part))
+      throw UsageError(
+          "SRC " + source + " lies in " + (std::filesystem::path(out) / part).string() +
+          ", which the import into --out " + out + " replaces; move the recording out of it first");
 
   std::optional<SourceKind> kind;
   if (kind_name != "auto") {

@@ -114,6 +114,8 @@ void checkNotASequenceFile(const fs::path& out, const std::string& option) {
   }
 }
 
+bool isSameOrInside(const fs::path& path, const fs::path& folder) { return isInside(path, folder); }
+
 void checkHoldsNoFramesOfSequencesAbove(const fs::path& out, const std::string& option,
                                         const std::string& what) {
   const fs::path target = resolved(out);

@@ -56,6 +56,9 @@ void requireExtension(const std::filesystem::path& out, const std::string& optio
 // `out` or in any folder above it. Nothing a user made is written over by an
 // output path mistyped into a sequence folder.
 void checkNotASequenceFile(const std::filesystem::path& out, const std::string& option);
+// Whether `path` is `folder` or lies inside it (symbolic links resolved).
+[[nodiscard]] bool isSameOrInside(const std::filesystem::path& path,
+                                  const std::filesystem::path& folder);
 // The folder `out` (whose files a command replaces) holds no frame file of a
 // sequence in a folder above it; throws UsageError naming the sequence.
 void checkHoldsNoFramesOfSequencesAbove(const std::filesystem::path& out, const std::string& option,

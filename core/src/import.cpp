@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "import_internal.hpp"
+#include "lom/atomic_file.hpp"
 
 namespace lom {
 
@@ -362,6 +363,31 @@ fs::path defaultImportCacheRoot() {
 namespace {
 
 constexpr const char* kSkippedFramesFile = "skipped-frames.txt";
+constexpr const char* kColourLeftOutFile = "colour-left-out.txt";
+constexpr const char* kUnreadableColourNote = "a colour image that cannot be read was left out";
+
+// The conversion's notes on colour images left out (frames kept without
+// colour), one per line; empty when there are none.
+std::string colourLeftOutText(const ImportReport& report) {
+  std::string text;
+  for (const std::string& note : report.notes)
+    if (note.rfind(kUnreadableColourNote, 0) == 0) text += note + "\n";
+  return text;
+}
+
+// A cached conversion that can still be opened: its sequence reads and every
+// frame file it names is there (an entry damaged by hand or by a full disk is
+// converted again instead of failing on every open).
+bool usableCacheEntry(const fs::path& folder) {
+  try {
+    const Sequence sequence = loadSequence(folder);
+    for (const fs::path& file : frameFilesOf(sequence))
+      if (!isFile(file)) return false;
+    return true;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
 
 std::string skippedFramesText(const ImportReport& report, const fs::path& source) {
   std::ostringstream text;
@@ -397,11 +423,20 @@ OpenedSource openSource(const fs::path& path, const ImportOptions& options,
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
   opened.folder = root / (stem + "-" + key.str());
   std::error_code ec;
+  if (fs::exists(opened.folder, ec) && !usableCacheEntry(opened.folder)) {
+    // Moved aside first (an open elsewhere may be reading it), then removed.
+    const fs::path stale = root / (".stale-" + key.str() + "-" + std::to_string(::getpid()));
+    fs::remove_all(stale, ec);
+    fs::rename(opened.folder, stale, ec);
+    fs::remove_all(stale, ec);
+  }
   if (isFile(opened.folder / "sequence.json")) {
     opened.sequence = loadSequence(opened.folder);
     opened.reused_cache = true;
     if (std::ifstream in(opened.folder / kSkippedFramesFile); in)
       opened.skipped_frames.assign(std::istreambuf_iterator<char>(in), {});
+    if (std::ifstream in(opened.folder / kColourLeftOutFile); in)
+      opened.colour_left_out.assign(std::istreambuf_iterator<char>(in), {});
     return opened;
   }
   fs::create_directories(root, ec);
@@ -411,8 +446,33 @@ OpenedSource openSource(const fs::path& path, const ImportOptions& options,
               std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
   ImportOptions cache_options = options;
   cache_options.overwrite = false;
+  // A problem writing into the cache is the cache's, named as such: the
+  // hidden folder it names is gone by the time it is read.
+  const auto cacheProblem = [&](const Error& e) {
+    const std::string written = e.problem().file;
+    const bool inside = written.rfind(partial.string(), 0) == 0;
+    return inside ? Error(root.string(), "cache",
+                          "a writable import cache with room for the converted recording "
+                          "(XDG_CACHE_HOME sets where it is)",
+                          e.problem().found + " (writing " +
+                              fs::path(written).lexically_relative(partial).string() + ")")
+                  : e;
+  };
   try {
     opened.report = importSource(opened.kind, path, partial, cache_options, progress);
+    if (!opened.report.cancelled) {
+      // Inside the folder before it is renamed into place: complete or absent.
+      if (!opened.report.skipped.empty()) {
+        opened.skipped_frames = skippedFramesText(opened.report, path);
+        writeTextFileAtomically(partial / kSkippedFramesFile, opened.skipped_frames);
+      }
+      opened.colour_left_out = colourLeftOutText(opened.report);
+      if (!opened.colour_left_out.empty())
+        writeTextFileAtomically(partial / kColourLeftOutFile, opened.colour_left_out);
+    }
+  } catch (const Error& e) {
+    fs::remove_all(partial, ec);
+    throw cacheProblem(e);
   } catch (...) {
     fs::remove_all(partial, ec);
     throw;
@@ -420,11 +480,6 @@ OpenedSource openSource(const fs::path& path, const ImportOptions& options,
   if (opened.report.cancelled) {
     fs::remove_all(partial, ec);
     return opened;
-  }
-  if (!opened.report.skipped.empty()) {
-    opened.skipped_frames = skippedFramesText(opened.report, path);
-    // Inside the folder before it is renamed into place: complete or absent.
-    std::ofstream(partial / kSkippedFramesFile) << opened.skipped_frames;
   }
   fs::rename(partial, opened.folder, ec);
   if (ec) {  // another process finished the same conversion first

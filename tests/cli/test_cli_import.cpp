@@ -76,6 +76,21 @@ TEST(CliImport, FramesFolderToAValidSequence) {
   EXPECT_EQ(loadSequence(dir / "seq").frames.size(), 1u);
 }
 
+// A recording kept in OUT/color (or depth, proba, label) would be deleted by
+// the import that replaces those folders: a mistake in the call, refused.
+TEST(CliImport, ASourceAmongTheFoldersTheImportReplacesIsAUsageError) {
+  test::TempDir dir;
+  writeFrames(dir / "proj" / "color");
+  for (const char* overwrite : {"", " --overwrite"}) {
+    const auto result = test::runCli("import frames " + quoted(dir / "proj" / "color") + " --out " +
+                                     quoted(dir / "proj") + overwrite);
+    EXPECT_EQ(result.exit_code, 2) << result.err;
+    EXPECT_NE(result.err.find("which the import into --out"), std::string::npos) << result.err;
+  }
+  EXPECT_TRUE(fs::exists(dir / "proj" / "color" / "frame-000000.depth.png"));
+  EXPECT_FALSE(fs::exists(dir / "proj" / "sequence.json"));
+}
+
 TEST(CliImport, QuaternionLayoutNeedsIntrinsics) {
   test::TempDir dir;
   writeQuaternion(dir / "room");

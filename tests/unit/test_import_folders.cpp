@@ -411,6 +411,33 @@ TEST(ImportFrames, AFailedImportLeavesAnExistingFolderAsItWasAndNoNewParents) {
   EXPECT_FALSE(fs::exists(dir / "new"));
 }
 
+// A damaged cache entry (a frame file gone, a truncated sequence.json) is
+// converted again instead of failing on every open; colour images left out
+// are said on every open, fresh or reused.
+TEST(ImportOpen, ADamagedCacheEntryIsConvertedAgainAndColourLeftOutIsKept) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  writeText(dir / "src" / "frame-000017.color.png", "");
+  const OpenedSource first = openSource(dir / "src", {}, dir / "cache");
+  EXPECT_TRUE(contains(first.colour_left_out, "frame-000017.color.png")) << first.colour_left_out;
+  fs::remove(first.folder / "depth" / "000001.png");
+  const OpenedSource second = openSource(dir / "src", {}, dir / "cache");
+  EXPECT_FALSE(second.reused_cache) << "a frame file was missing: converted again";
+  EXPECT_EQ(second.folder, first.folder);
+  EXPECT_TRUE(fs::exists(second.folder / "depth" / "000001.png"));
+  EXPECT_TRUE(contains(second.colour_left_out, "frame-000017.color.png"));
+  writeText(second.folder / "sequence.json", "{");
+  const OpenedSource third = openSource(dir / "src", {}, dir / "cache");
+  EXPECT_FALSE(third.reused_cache);
+  EXPECT_EQ(third.sequence.frames.size(), 2u);
+  const OpenedSource reused = openSource(dir / "src", {}, dir / "cache");
+  EXPECT_TRUE(reused.reused_cache);
+  EXPECT_TRUE(contains(reused.colour_left_out, "frame-000017.color.png")) << reused.colour_left_out;
+  for (const auto& entry : fs::directory_iterator(dir / "cache"))
+    EXPECT_EQ(entry.path().filename().string().rfind(".stale-", 0), std::string::npos)
+        << entry.path();
+}
+
 TEST(ImportOpen, ConvertsIntoACacheAndReusesIt) {
   test::TempDir dir;
   writeFramesFolder(dir / "src");

@@ -129,6 +129,12 @@ bool SequenceController::openSequence(const QString& folder_or_json) {
                                                "from where they were measured: check the camera "
                                                "in sequence.json."));
   }
+  if (!opened.colour_left_out.empty())
+    emit warningOccurred(tr("Colour images left out"),
+                         QString::fromStdString(opened.colour_left_out) +
+                             tr("These frames are open without colour (colour is shown, never "
+                                "fused). Repair or replace the files and open the recording "
+                                "again to see it."));
   if (!opened.skipped_frames.empty())
     emit warningOccurred(tr("Frames left out"),
                          QString::fromStdString(opened.skipped_frames) +

@@ -168,6 +168,9 @@ struct OpenedSource {
   // many and why, kept beside the cached sequence so that a reused
   // conversion says it too. Empty otherwise.
   std::string skipped_frames;
+  // Likewise, frames kept without their colour image (which could not be
+  // read): the files and why. Empty otherwise.
+  std::string colour_left_out;
 };
 [[nodiscard]] OpenedSource openSource(const std::filesystem::path& path,
                                       const ImportOptions& options = {},
