@@ -158,6 +158,34 @@ TEST_F(StudioWindowTest, OpensADatasetFolderByConvertingIt) {
   EXPECT_EQ(window_.sceneView().voxelColouring(), VoxelColouring::Labels);
 }
 
+// A colour image that cannot be read leaves its frame without colour; the
+// warning names it on every open, fresh or from the import cache.
+TEST_F(StudioWindowTest, ARecordingsUnreadableColourImageIsNamedOnEveryOpen) {
+  const auto folder = temp_ / "frames_layout";
+  test::writeFramesLayout(tiny_, folder);
+  std::string broken;
+  for (const auto& entry : std::filesystem::directory_iterator(folder))
+    if (entry.path().filename().string().find(".color.png") != std::string::npos) {
+      broken = entry.path().filename().string();
+      std::ofstream(entry.path(), std::ios::trunc) << "";
+      break;
+    }
+  ASSERT_FALSE(broken.empty());
+  QStringList warnings;
+  window_.setWarningReporter(
+      [&](const QString& title, const QString& message) { warnings << title + ": " + message; });
+  for (int open = 0; open < 2; ++open) {
+    warnings.clear();
+    window_.controller().setDiscardGuard([] { return true; });
+    ASSERT_TRUE(window_.controller().openSequence(qPath(folder)));
+    EXPECT_EQ(window_.controller().frameCount(), test::kTinyFrames) << "no frame left out";
+    ASSERT_EQ(warnings.filter("Colour images left out").size(), 1)
+        << warnings.join('\n').toStdString();
+    EXPECT_TRUE(
+        warnings.filter("Colour images left out").front().contains(QString::fromStdString(broken)));
+  }
+}
+
 // A recorded room without label images, opened with the shelf-bin defaults
 // (1 cm voxels, 1 m max range): the Fusion panel offers to reach the room's
 // depths with coarser voxels, and the voxels are coloured by height.
