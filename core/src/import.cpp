@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -128,8 +129,25 @@ std::uint64_t fnv1a(const std::string& text, std::uint64_t hash = 14695981039346
 // probabilities without proba_from_label) is converted again instead of reused.
 constexpr int kConversionRevision = 2;
 
+// Files no importer reads, which the studio and the command line write
+// beside a recording (boxes, exports, reports): saving one there must not
+// throw its conversion away.
+bool neverImported(const fs::path& path) {
+  const std::string name = path.filename().string();
+  if (!name.empty() && name[0] == '.') return true;  // hidden: editors' and tools' own files
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const char* output : {".json", ".yaml", ".yml", ".ply", ".obj", ".mtl", ".stl", ".pcd",
+                             ".ot", ".bt", ".csv", ".md", ".svg"})
+    if (ext == output) return true;
+  return false;
+}
+
 // What identifies a conversion: the source (names, sizes and modification times
-// of its files, two levels deep), every option and the conversion revision.
+// of the files an import may read, two levels deep; a folder by its entries,
+// not its own time, which any new file changes), every option and the
+// conversion revision.
 std::string conversionFingerprint(const fs::path& source, SourceKind kind,
                                   const ImportOptions& o) {
   std::ostringstream text;
@@ -138,7 +156,8 @@ std::string conversionFingerprint(const fs::path& source, SourceKind kind,
   text << sourceKindName(kind) << '\n' << fs::weakly_canonical(fs::absolute(source), ec).string() << '\n';
   auto stamp = [&](const fs::path& p) {
     std::error_code e;
-    const auto time = fs::last_write_time(p, e).time_since_epoch().count();
+    const bool folder = fs::is_directory(p, e);
+    const auto time = folder ? 0 : fs::last_write_time(p, e).time_since_epoch().count();
     const auto size = fs::is_regular_file(p, e) ? fs::file_size(p, e) : 0;
     text << p.lexically_relative(source).string() << ' ' << size << ' ' << time << '\n';
   };
@@ -148,6 +167,10 @@ std::string conversionFingerprint(const fs::path& source, SourceKind kind,
     for (auto it = fs::recursive_directory_iterator(source, ec);
          !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
       if (it.depth() >= 1) it.disable_recursion_pending();
+      if (neverImported(it->path())) {
+        if (it->is_directory(ec)) it.disable_recursion_pending();
+        continue;
+      }
       files.push_back(it->path());
     }
     std::sort(files.begin(), files.end());

@@ -459,6 +459,14 @@ TEST(ImportOpen, ConvertsIntoACacheAndReusesIt) {
   EXPECT_FALSE(third.reused_cache);
   EXPECT_NE(third.folder, first.folder);
   EXPECT_EQ(third.sequence.frames.size(), 1u);
+  // Files no import reads (boxes saved beside the recording, an export, a
+  // hidden file) leave the conversion as it is.
+  writeText(dir / "src" / "boxes.json", "{}");
+  writeText(dir / "src" / "map.ply", "ply");
+  writeText(dir / "src" / ".notes", "x");
+  const OpenedSource with_outputs = openSource(dir / "src", {}, dir / "cache");
+  EXPECT_TRUE(with_outputs.reused_cache);
+  EXPECT_EQ(with_outputs.folder, first.folder);
   // A changed source: converted again.
   writeText(dir / "src" / "frame-000020.pose.txt", matrixText(scenePose(2)));
   const OpenedSource fourth = openSource(dir / "src", {}, dir / "cache");
