@@ -387,7 +387,6 @@ namespace {
 
 constexpr const char* kSkippedFramesFile = "skipped-frames.txt";
 constexpr const char* kColourLeftOutFile = "colour-left-out.txt";
-constexpr const char* kUnreadableColourNote = "a colour image that cannot be read was left out";
 
 // The conversion's notes on colour images left out (frames kept without
 // colour), one per line; empty when there are none.
@@ -400,15 +399,15 @@ std::string colourLeftOutText(const ImportReport& report) {
 
 // A cached conversion that can still be opened: its sequence reads and every
 // frame file it names is there (an entry damaged by hand or by a full disk is
-// converted again instead of failing on every open).
-bool usableCacheEntry(const fs::path& folder) {
+// converted again instead of failing on every open). Nothing otherwise.
+std::optional<Sequence> readableCacheEntry(const fs::path& folder) {
   try {
-    const Sequence sequence = loadSequence(folder);
+    Sequence sequence = loadSequence(folder);
     for (const fs::path& file : frameFilesOf(sequence))
-      if (!isFile(file)) return false;
-    return true;
+      if (!isFile(file)) return std::nullopt;
+    return sequence;
   } catch (const std::exception&) {
-    return false;
+    return std::nullopt;
   }
 }
 
@@ -446,21 +445,21 @@ OpenedSource openSource(const fs::path& path, const ImportOptions& options,
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
   opened.folder = root / (stem + "-" + key.str());
   std::error_code ec;
-  if (fs::exists(opened.folder, ec) && !usableCacheEntry(opened.folder)) {
+  if (fs::exists(opened.folder, ec)) {
+    if (std::optional<Sequence> cached = readableCacheEntry(opened.folder)) {
+      opened.sequence = std::move(*cached);
+      opened.reused_cache = true;
+      if (std::ifstream in(opened.folder / kSkippedFramesFile); in)
+        opened.skipped_frames.assign(std::istreambuf_iterator<char>(in), {});
+      if (std::ifstream in(opened.folder / kColourLeftOutFile); in)
+        opened.colour_left_out.assign(std::istreambuf_iterator<char>(in), {});
+      return opened;
+    }
     // Moved aside first (an open elsewhere may be reading it), then removed.
     const fs::path stale = root / (".stale-" + key.str() + "-" + std::to_string(::getpid()));
     fs::remove_all(stale, ec);
     fs::rename(opened.folder, stale, ec);
     fs::remove_all(stale, ec);
-  }
-  if (isFile(opened.folder / "sequence.json")) {
-    opened.sequence = loadSequence(opened.folder);
-    opened.reused_cache = true;
-    if (std::ifstream in(opened.folder / kSkippedFramesFile); in)
-      opened.skipped_frames.assign(std::istreambuf_iterator<char>(in), {});
-    if (std::ifstream in(opened.folder / kColourLeftOutFile); in)
-      opened.colour_left_out.assign(std::istreambuf_iterator<char>(in), {});
-    return opened;
   }
   fs::create_directories(root, ec);
   if (ec) throw Error(root.string(), "cache", "a folder that can be created", ec.message());

@@ -153,9 +153,8 @@ std::optional<ColorImage> readColorOrLeaveOut(const fs::path& path, SequenceWrit
   try {
     return readColorImage(path);
   } catch (const Error& e) {
-    writer.note(std::string("a colour image that cannot be read was left out (its frame was "
-                            "imported without colour): ") +
-                e.what());
+    writer.note(std::string(kUnreadableColourNote) +
+                " (its frame was imported without colour): " + e.what());
     return std::nullopt;
   }
 }

@@ -108,7 +108,6 @@ class SequenceWriter {
   bool prepared_ = false;
   bool created_out_ = false;
   fs::path created_root_;  // the first folder of out_'s path this import created
-  std::vector<fs::path> created_dirs_;
   // With the overwrite option over an existing sequence: the folder inside the
   // output where the new frames are written until finish() swaps them in, so
   // that a failure or a cancel leaves the old sequence as it was.
@@ -174,6 +173,9 @@ LabelImage remapLabels(const LabelImage& raw, const std::map<int, int>& map,
 [[nodiscard]] LabelSet backgroundOnlyLabels();
 
 // Importers; each fills the writer (or throws lom::Error for the source as a whole).
+// How the note on a colour image left out begins (openSource lists those notes).
+inline constexpr const char* kUnreadableColourNote =
+    "a colour image that cannot be read was left out";
 // A frame's colour image, or nothing (and a note naming it) when it cannot be
 // read: colour is shown, never fused, so the frame's depth is kept.
 std::optional<ColorImage> readColorOrLeaveOut(const fs::path& path, SequenceWriter& writer);

@@ -275,7 +275,6 @@ fs::path SequenceWriter::fileIn(const char* sub, const std::string& name) {
   if (!fs::is_directory(dir, ec)) {
     fs::create_directories(dir, ec);
     if (ec) throw Error(dir.string(), "output", "a writable folder", ec.message());
-    created_dirs_.push_back(dir);
   }
   return dir / name;
 }
@@ -283,11 +282,9 @@ fs::path SequenceWriter::fileIn(const char* sub, const std::string& name) {
 void SequenceWriter::cleanUp() noexcept {
   std::error_code ec;
   if (!staging_.empty()) fs::remove_all(staging_, ec);
-  if (created_out_) {
-    fs::remove_all(created_root_.empty() ? out_ : created_root_, ec);
-    return;
-  }
-  for (const auto& dir : created_dirs_) fs::remove_all(dir, ec);
+  // A new output goes whole; an existing one was written only through the
+  // staging folder, removed above.
+  if (created_out_) fs::remove_all(created_root_.empty() ? out_ : created_root_, ec);
 }
 
 void SequenceWriter::note(const std::string& text) {
