@@ -97,5 +97,49 @@ TEST_F(StandardViewsTest, TheCurrentCameraViewHoldsTheWholePicture) {
   }
 }
 
+// The picture is centred in the view although the camera's principal point
+// is off the image centre (real cameras' are): the optical axis is not the
+// picture's middle, and centring the axis cut off one side.
+TEST_F(StandardViewsTest, TheCurrentCameraViewIsCentredOnThePicture) {
+  openAndFuse();
+  SceneView& scene = window_.sceneView();
+  const QSize view = scene.viewPixels();
+  ASSERT_GT(view.width(), 0);
+  for (const Eigen::Vector2d& shift : {Eigen::Vector2d(-0.2, 0.15), Eigen::Vector2d(0.25, -0.2)}) {
+    Sequence sequence = *window_.session().sequence();
+    CameraIntrinsics camera = sequence.cameraOf(0);
+    camera.cx += shift.x() * camera.width;
+    camera.cy += shift.y() * camera.height;
+    sequence.camera = camera;
+    for (auto& frame : sequence.frames) frame.camera.reset();
+    ASSERT_DOUBLE_EQ(sequence.cameraOf(0).cx, camera.cx);
+    SCOPED_TRACE(shift.transpose());
+    scene.lookFromFrame(sequence, 0);
+    const Eigen::Isometry3d& pose = sequence.frames[0].T_world_camera;
+    double left = 1e9, right = -1e9, bottom = 1e9, top = -1e9;
+    for (const double u : {-0.5, camera.width - 0.5})
+      for (const double v : {-0.5, camera.height - 0.5}) {
+        const Eigen::Vector3d ray((u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy, 1.0);
+        const Eigen::Vector2d at = scene.displayPointOf(pose * (0.8 * ray));
+        left = std::min(left, at.x());
+        right = std::max(right, at.x());
+        bottom = std::min(bottom, at.y());
+        top = std::max(top, at.y());
+      }
+    const double slack = 0.02 * std::max(view.width(), view.height());
+    EXPECT_NEAR(0.5 * (left + right), 0.5 * view.width(), slack);
+    EXPECT_NEAR(0.5 * (bottom + top), 0.5 * view.height(), slack);
+    EXPECT_GE(left, -slack);
+    EXPECT_LE(right, view.width() + slack);
+    EXPECT_GE(bottom, -slack);
+    EXPECT_LE(top, view.height() + slack);
+  }
+  // The overview views are centred again.
+  window_.findAction("Look from Above")->trigger();
+  const QImage picture = scene.renderToImage();
+  const QPoint middle(picture.width() / 2, picture.height() / 2);
+  EXPECT_NE(picture.pixel(middle), picture.pixel(0, middle.y()));
+}
+
 }  // namespace
 }  // namespace lom::ui

@@ -282,8 +282,9 @@ void SceneView::zoomToMap(bool with_current_camera) {
       bounds[2 * axis + 1] = std::max(bounds[2 * axis + 1], camera[2 * axis + 1]);
     }
   }
-  scene_->renderer->ResetCamera(bounds);
   vtkCamera* camera = scene_->renderer->GetActiveCamera();
+  camera->SetWindowCenter(0.0, 0.0);  // the map in the middle (Look from Current Camera shifts it)
+  scene_->renderer->ResetCamera(bounds);
   if (!with_current_camera) {
     // Closer: ResetCamera leaves room for the bounds' sphere, wider than the map's box.
     camera->Dolly(1.25);
@@ -389,18 +390,29 @@ void SceneView::lookFromFrame(const Sequence& sequence, size_t index) {
   camera->SetPosition(view.position.data());
   camera->SetFocalPoint(focal.data());
   camera->SetViewUp(view.up.data());
-  // The whole picture the camera took fits the view: along the image's
-  // height, or along its width when the view is narrower than the image (the
-  // default layout's 3D view is: the sides were cut off).
+  // The whole picture the camera took fits the view, centred: along the
+  // image's height, or along its width when the view is narrower than the
+  // image (the default layout's 3D view is: the sides were cut off). The
+  // picture's middle is off the optical axis by the principal point's offset
+  // from the image centre; the window centre shifts the view by as much.
   const CameraIntrinsics& intrinsics = sequence.cameraOf(index);
   const double half_width = 0.5 * intrinsics.width / intrinsics.fx;  // tan of half the angle
   const double half_height = 0.5 * intrinsics.height / intrinsics.fy;
+  // The picture's middle, as tangents right of and below the optical axis
+  // (pixel centres at integer coordinates: the image spans [-0.5, size - 0.5]).
+  const double middle_right = (0.5 * intrinsics.width - (intrinsics.cx + 0.5)) / intrinsics.fx;
+  const double middle_down = (0.5 * intrinsics.height - (intrinsics.cy + 0.5)) / intrinsics.fy;
   const int* size = scene_->renderer->GetSize();
   const double view_aspect = size[0] > 0 && size[1] > 0 ? static_cast<double>(size[0]) / size[1]
                                                         : half_width / half_height;
   const bool fit_width = view_aspect < half_width / half_height;
+  // The view's half extents, as tangents.
+  const double view_half_width = fit_width ? half_width : half_height * view_aspect;
+  const double view_half_height = fit_width ? half_width / view_aspect : half_height;
   camera->SetUseHorizontalViewAngle(fit_width ? 1 : 0);
   camera->SetViewAngle(2.0 * std::atan(fit_width ? half_width : half_height) * 180.0 / M_PI);
+  // The optical axis lands at normalised view coordinates -WindowCenter.
+  camera->SetWindowCenter(middle_right / view_half_width, -middle_down / view_half_height);
   render();
 }
 
@@ -409,6 +421,7 @@ void SceneView::restoreViewAngle() {
   vtkCamera* camera = scene_->renderer->GetActiveCamera();
   camera->SetUseHorizontalViewAngle(0);
   camera->SetViewAngle(30.0);
+  camera->SetWindowCenter(0.0, 0.0);
 }
 
 void SceneView::showVoxels(const MapSnapshot& snapshot, const LabelSet& labels,
