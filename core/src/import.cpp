@@ -411,6 +411,62 @@ std::optional<Sequence> readableCacheEntry(const fs::path& folder) {
   }
 }
 
+// Import cache entries not opened for this long are removed when another
+// recording is converted (the cache would otherwise only grow: every changed
+// recording or option set is a new entry). Leftovers of conversions that
+// were interrupted (a crash, a kill) go after a day.
+constexpr auto kUnusedEntryAge = std::chrono::hours(24 * 30);
+constexpr auto kLeftoverAge = std::chrono::hours(24);
+
+// What a conversion writes into its entry. An entry holding anything else
+// (boxes that earlier versions saved there, a user's own files) is never
+// removed by the pruning.
+bool onlyConversionFiles(const fs::path& entry) {
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(entry, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name != "sequence.json" && name != "depth" && name != "color" && name != "proba" &&
+        name != "label" && name != kSkippedFramesFile && name != kColourLeftOutFile)
+      return false;
+  }
+  return !ec;
+}
+
+// Removes the cache's entries unused for kUnusedEntryAge (an entry's folder
+// time is its last open: openSource sets it) and interrupted conversions'
+// leftovers, except `keep`. Best effort: what cannot be removed stays.
+void pruneImportCache(const fs::path& root, const fs::path& keep) {
+  const auto now = fs::file_time_type::clock::now();
+  std::error_code ec;
+  std::vector<fs::path> old;
+  for (auto it = fs::directory_iterator(root, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec)) {
+    std::error_code e;
+    if (!it->is_directory(e) || it->is_symlink(e) || it->path() == keep) continue;
+    const std::string name = it->path().filename().string();
+    const auto time = fs::last_write_time(it->path(), e);
+    if (e) continue;
+    const bool leftover = name.rfind(".partial-", 0) == 0 || name.rfind(".stale-", 0) == 0;
+    if (leftover
+            ? now - time > kLeftoverAge
+            : name[0] != '.' && now - time > kUnusedEntryAge && onlyConversionFiles(it->path()))
+      old.push_back(it->path());
+  }
+  for (const fs::path& entry : old) {
+    std::error_code e;
+    const std::string name = entry.filename().string();
+    if (name[0] == '.') {
+      fs::remove_all(entry, e);
+      continue;
+    }
+    // Moved aside first: an open elsewhere finds the entry whole or not at all.
+    const fs::path stale = root / (".stale-pruned-" + name + "-" + std::to_string(::getpid()));
+    fs::rename(entry, stale, e);
+    if (!e) fs::remove_all(stale, e);
+  }
+}
+
 std::string skippedFramesText(const ImportReport& report, const fs::path& source) {
   std::ostringstream text;
   text << report.skipped.size() << " of " << report.frames_found << " frames of " << source.string()
@@ -439,8 +495,13 @@ OpenedSource openSource(const fs::path& path, const ImportOptions& options,
   std::ostringstream key;
   key << std::hex << std::setw(16) << std::setfill('0')
       << fnv1a(conversionFingerprint(path, opened.kind, options));
-  std::string stem = fs::absolute(path).lexically_normal().filename().string();
-  if (stem.empty()) stem = fs::absolute(path).lexically_normal().parent_path().filename().string();
+  // Named after the recording itself: opened through a symbolic link, it is
+  // the same entry.
+  std::error_code canonical_error;
+  fs::path named = fs::weakly_canonical(fs::absolute(path), canonical_error);
+  if (canonical_error) named = fs::absolute(path).lexically_normal();
+  std::string stem = named.filename().string();
+  if (stem.empty()) stem = named.parent_path().filename().string();
   for (char& c : stem)
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
   opened.folder = root / (stem + "-" + key.str());
@@ -449,6 +510,8 @@ OpenedSource openSource(const fs::path& path, const ImportOptions& options,
     if (std::optional<Sequence> cached = readableCacheEntry(opened.folder)) {
       opened.sequence = std::move(*cached);
       opened.reused_cache = true;
+      // The folder's time is the entry's last open (pruneImportCache).
+      fs::last_write_time(opened.folder, fs::file_time_type::clock::now(), ec);
       if (std::ifstream in(opened.folder / kSkippedFramesFile); in)
         opened.skipped_frames.assign(std::istreambuf_iterator<char>(in), {});
       if (std::ifstream in(opened.folder / kColourLeftOutFile); in)
@@ -511,6 +574,7 @@ OpenedSource openSource(const fs::path& path, const ImportOptions& options,
   }
   opened.report.output = opened.folder;
   opened.sequence = loadSequence(opened.folder);
+  pruneImportCache(root, opened.folder);
   return opened;
 }
 

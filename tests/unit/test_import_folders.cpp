@@ -2,6 +2,7 @@
 // ScanNet), imported, read back and compared; malformed inputs of each kind.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -436,6 +437,58 @@ TEST(ImportOpen, ADamagedCacheEntryIsConvertedAgainAndColourLeftOutIsKept) {
   for (const auto& entry : fs::directory_iterator(dir / "cache"))
     EXPECT_EQ(entry.path().filename().string().rfind(".stale-", 0), std::string::npos)
         << entry.path();
+}
+
+// A recording opened through a symbolic link is the same cache entry.
+TEST(ImportOpen, ALinkToARecordingReusesItsEntry) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  fs::create_directory_symlink(dir / "src", dir / "link");
+  const OpenedSource first = openSource(dir / "src", {}, dir / "cache");
+  const OpenedSource linked = openSource(dir / "link", {}, dir / "cache");
+  EXPECT_TRUE(linked.reused_cache);
+  EXPECT_EQ(linked.folder, first.folder);
+}
+
+// The cache does not only grow: entries not opened for 30 days go when
+// another recording is converted, unless they hold files the conversion did
+// not write (boxes earlier versions saved there); interrupted conversions'
+// leftovers go after a day. Opening an entry counts as a use.
+TEST(ImportOpen, UnusedCacheEntriesArePruned) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "a");
+  writeFramesFolder(dir / "b");
+  writeFramesFolder(dir / "c");
+  writeFramesFolder(dir / "d");
+  const fs::path cache = dir / "cache";
+  const OpenedSource a = openSource(dir / "a", {}, cache);
+  const OpenedSource b = openSource(dir / "b", {}, cache);
+  const OpenedSource c = openSource(dir / "c", {}, cache);
+  writeText(c.folder / "annotations.json", "{}");
+  const auto now = fs::file_time_type::clock::now();
+  const auto days = [&](int n) { return now - std::chrono::hours(24 * n); };
+  for (const fs::path& entry : {a.folder, b.folder, c.folder}) fs::last_write_time(entry, days(40));
+  fs::create_directories(cache / ".partial-0000000000000000-1-1");
+  fs::last_write_time(cache / ".partial-0000000000000000-1-1", days(2));
+  fs::create_directories(cache / ".partial-0000000000000000-2-2");  // maybe still converting
+  // b opened again: used now.
+  EXPECT_TRUE(openSource(dir / "b", {}, cache).reused_cache);
+  EXPECT_TRUE(fs::exists(a.folder)) << "reusing an entry removes nothing";
+  const OpenedSource d = openSource(dir / "d", {}, cache);
+  EXPECT_FALSE(d.reused_cache);
+  EXPECT_FALSE(fs::exists(a.folder)) << "unused for 40 days";
+  EXPECT_TRUE(fs::exists(b.folder)) << "opened just now";
+  EXPECT_TRUE(fs::exists(c.folder / "annotations.json")) << "holds boxes: kept";
+  EXPECT_TRUE(fs::exists(d.folder));
+  EXPECT_FALSE(fs::exists(cache / ".partial-0000000000000000-1-1"));
+  EXPECT_TRUE(fs::exists(cache / ".partial-0000000000000000-2-2"));
+  for (const auto& entry : fs::directory_iterator(cache))
+    EXPECT_EQ(entry.path().filename().string().rfind(".stale-", 0), std::string::npos)
+        << entry.path();
+  // A pruned recording opens again (converted afresh).
+  const OpenedSource again = openSource(dir / "a", {}, cache);
+  EXPECT_FALSE(again.reused_cache);
+  EXPECT_EQ(again.sequence.frames.size(), 2u);
 }
 
 TEST(ImportOpen, ConvertsIntoACacheAndReusesIt) {
