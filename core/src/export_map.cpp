@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <stdexcept>
 
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
@@ -302,9 +303,20 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
   summary.item_name = "triangles";
   std::vector<SurfaceMesh> meshes;
   for (const auto& [label, keys] : voxels) {
-    SurfaceMesh mesh = options.smooth ? smoothSurface(keys, map.parameters().resolution)
-                                      : voxelSurface(keys, map.parameters().resolution,
-                                                     VoxelSurfaceOptions{options.merge_coplanar});
+    SurfaceMesh mesh;
+    if (options.smooth) {
+      try {
+        mesh = smoothSurface(keys, map.parameters().resolution);
+      } catch (const std::length_error& e) {
+        throw Error(out.string(), "--smooth",
+                    "objects small enough to smooth on a voxel grid (at most 512 Mi voxels each)",
+                    "label " + std::to_string(label) + ": " + e.what() +
+                        " (export it without --smooth, or leave the label out with --labels)");
+      }
+    } else {
+      mesh = voxelSurface(keys, map.parameters().resolution,
+                          VoxelSurfaceOptions{options.merge_coplanar});
+    }
     mesh.label = label;
     summary.items += mesh.triangles.size();
     if (options.per_label) {

@@ -15,6 +15,9 @@
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <vector>
 
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
@@ -60,10 +63,62 @@ double signedVolume(const SurfaceMesh& mesh) {
 
 }  // namespace
 
-SurfaceMesh smoothSurface(const std::vector<VoxelKey>& keys, double resolution,
-                          const SmoothSurfaceOptions& options) {
-  if (!(resolution > 0.0)) throw std::invalid_argument("smoothSurface: resolution must be > 0");
-  if (keys.empty()) return {};
+namespace {
+
+// A smoothed part that keeps less than this share of its voxels' volume has
+// collapsed (windowed sinc pulls a lone voxel's surface into its centre, a
+// 2x2x2 block's to a seventh of its volume): its voxel surface is used.
+constexpr double kCollapsedShare = 0.5;
+// A part's grid holds one byte per voxel of its extent (plus padding), and
+// marching cubes' work arrays a few more: parts spanning more are refused.
+constexpr double kMaxSmoothGridCells = 512.0 * 1024 * 1024;
+
+// The 26-connected parts of a voxel set (voxels touching at a face, an edge
+// or a corner are one part), each sorted.
+std::vector<std::vector<VoxelKey>> connectedParts(const std::vector<VoxelKey>& keys) {
+  auto pack = [](int x, int y, int z) {
+    return (static_cast<std::uint64_t>(x) << 32) | (static_cast<std::uint64_t>(y) << 16) |
+           static_cast<std::uint64_t>(z);
+  };
+  std::unordered_map<std::uint64_t, bool> seen;  // key -> already in a part
+  seen.reserve(keys.size() * 2);
+  for (const VoxelKey& k : keys) seen.emplace(pack(k.x, k.y, k.z), false);
+  std::vector<std::vector<VoxelKey>> parts;
+  std::vector<VoxelKey> stack;
+  for (const VoxelKey& first : keys) {
+    bool& taken = seen[pack(first.x, first.y, first.z)];
+    if (taken) continue;
+    taken = true;
+    std::vector<VoxelKey> part;
+    stack.push_back(first);
+    while (!stack.empty()) {
+      const VoxelKey k = stack.back();
+      stack.pop_back();
+      part.push_back(k);
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz) {
+            const int x = k.x + dx, y = k.y + dy, z = k.z + dz;
+            if ((dx | dy | dz) == 0 || x < 0 || y < 0 || z < 0 || x > 65535 || y > 65535 ||
+                z > 65535)
+              continue;
+            const auto it = seen.find(pack(x, y, z));
+            if (it == seen.end() || it->second) continue;
+            it->second = true;
+            stack.push_back({static_cast<std::uint16_t>(x), static_cast<std::uint16_t>(y),
+                             static_cast<std::uint16_t>(z)});
+          }
+    }
+    std::sort(part.begin(), part.end());
+    parts.push_back(std::move(part));
+  }
+  return parts;
+}
+
+// Discrete marching cubes over one part's occupancy, padded by one free
+// voxel, then windowed sinc smoothing; outward normals.
+SurfaceMesh smoothPart(const std::vector<VoxelKey>& keys, double resolution,
+                       const SmoothSurfaceOptions& options) {
   int lo[3] = {std::numeric_limits<int>::max(), std::numeric_limits<int>::max(),
                std::numeric_limits<int>::max()};
   int hi[3] = {std::numeric_limits<int>::min(), std::numeric_limits<int>::min(),
@@ -75,6 +130,12 @@ SurfaceMesh smoothSurface(const std::vector<VoxelKey>& keys, double resolution,
       hi[a] = std::max(hi[a], c[a]);
     }
   }
+  const long nx = hi[0] - lo[0] + 3, ny = hi[1] - lo[1] + 3, nz = hi[2] - lo[2] + 3;
+  if (static_cast<double>(nx) * static_cast<double>(ny) * static_cast<double>(nz) >
+      kMaxSmoothGridCells)
+    throw std::length_error(std::to_string(keys.size()) + " connected voxels spanning " +
+                            std::to_string(nx - 2) + " x " + std::to_string(ny - 2) + " x " +
+                            std::to_string(nz - 2) + " voxels");
   // One empty voxel of padding on every side closes the surface.
   vtkNew<vtkImageData> image;
   image->SetExtent(lo[0] - 1, hi[0] + 1, lo[1] - 1, hi[1] + 1, lo[2] - 1, hi[2] + 1);
@@ -83,7 +144,6 @@ SurfaceMesh smoothSurface(const std::vector<VoxelKey>& keys, double resolution,
                    0.5 * resolution);  // sample i at voxel centre i
   image->AllocateScalars(VTK_UNSIGNED_CHAR, 1);
   auto* values = static_cast<unsigned char*>(image->GetScalarPointer());
-  const long nx = hi[0] - lo[0] + 3, ny = hi[1] - lo[1] + 3, nz = hi[2] - lo[2] + 3;
   std::fill(values, values + nx * ny * nz, 0);
   for (const VoxelKey& k : keys) {
     const long x = k.x - kKeyOffset - lo[0] + 1, y = k.y - kKeyOffset - lo[1] + 1,
@@ -118,6 +178,33 @@ SurfaceMesh smoothSurface(const std::vector<VoxelKey>& keys, double resolution,
   // Outward normals, whichever way the contour filter winds its triangles.
   if (signedVolume(mesh) < 0.0)
     for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+  return mesh;
+}
+
+void append(SurfaceMesh& into, const SurfaceMesh& part) {
+  const auto offset = static_cast<std::uint32_t>(into.vertices.size());
+  into.vertices.insert(into.vertices.end(), part.vertices.begin(), part.vertices.end());
+  for (const auto& t : part.triangles)
+    into.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+}
+
+}  // namespace
+
+SurfaceMesh smoothSurface(const std::vector<VoxelKey>& keys, double resolution,
+                          const SmoothSurfaceOptions& options) {
+  if (!(resolution > 0.0)) throw std::invalid_argument("smoothSurface: resolution must be > 0");
+  SurfaceMesh mesh;
+  // Part by part: each on a grid of its own extent (one grid over the whole
+  // label spanned the space between far-apart parts), and a part that
+  // smoothing collapses keeps its voxel surface.
+  const double voxel_volume = resolution * resolution * resolution;
+  for (const std::vector<VoxelKey>& part : connectedParts(keys)) {
+    SurfaceMesh smooth = smoothPart(part, resolution, options);
+    if (options.smoothing_iterations > 0 &&
+        signedVolume(smooth) < kCollapsedShare * static_cast<double>(part.size()) * voxel_volume)
+      smooth = voxelSurface(part, resolution);
+    append(mesh, smooth);
+  }
   return mesh;
 }
 

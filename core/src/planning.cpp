@@ -315,7 +315,10 @@ PickPlan planPick(const LabelMap& map, int target_label, const PlanOptions& opti
   PlanOptions effective = options;
   if (effective.objects.labels) {
     auto& labels = *effective.objects.labels;
-    if (std::find(labels.begin(), labels.end(), target_label) == labels.end()) labels.push_back(target_label);
+    if (std::find(labels.begin(), labels.end(), target_label) == labels.end()) {
+      labels.push_back(target_label);
+      std::sort(labels.begin(), labels.end());  // the plan lists them in ascending order
+    }
   }
   const std::vector<ObjectInstance> objects = extractObjects(map, effective.objects);
   Eigen::Vector3d approach;

@@ -142,7 +142,8 @@ std::string planTable(const PickPlan& plan) {
   out << "target    " << objectName(target) << " (" << target.voxelCount() << " voxels, centroid "
       << triple(target.centroid) << " m)\n";
   out << "approach  " << triple(plan.approach) << " (" << approachExplanation(plan.approach_source) << ")\n";
-  out << "objects   " << plan.objects.size() << ", " << plan.occluders.size() << " in front of the target";
+  out << "objects   " << plan.objects.size() << ", " << plan.occluders.size()
+      << " in the way (in front of the target and overlapping it across the approach)";
   if (plan.empty_bin)
     out << "; empty bin at " << triple(plan.empty_bin->center) << ", size " << triple(plan.empty_bin->size) << "\n";
   else

@@ -167,8 +167,9 @@ TEST_F(CliPlanTest, EmptyBinCandidatesAndAllClusters) {
   const Json plan = Json::parse(slurp(out / "plan.json"));
   EXPECT_EQ(plan["objects"].size(), 3u);  // 8, 19 (the target is always kept), 30; not 13
   EXPECT_EQ(plan["options"]["all_clusters"], true);
-  // Each candidate once (30 was given by id and by name), then the target.
-  EXPECT_EQ(plan["options"]["candidates"], Json::array({8, 30, 19}));
+  // Each candidate once (30 was given by id and by name), the target among
+  // them, in ascending order.
+  EXPECT_EQ(plan["options"]["candidates"], Json::array({8, 19, 30}));
   for (int k = 0; k < 2; ++k) {
     const auto& placement = plan["steps"][k]["placement"];
     ASSERT_EQ(placement["where"], "bin") << k;

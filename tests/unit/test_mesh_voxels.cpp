@@ -302,6 +302,68 @@ TEST(SmoothSurface, SphereIsClosedAndKeepsItsVolume) {
   for (const auto& v : mesh.vertices) EXPECT_NEAR(v.norm() / kRes, r, 1.0);
 }
 
+// Smoothing pulls small parts into their centres (a lone voxel to a point,
+// a 2x2x2 block to a seventh of its volume): those keep their voxel surface,
+// while a large part in the same set is still smoothed.
+TEST(SmoothSurface, SmallPartsKeepTheirVolume) {
+  const double voxel = kRes * kRes * kRes;
+  for (const auto& keys : {std::vector<VoxelKey>{gridKey(0, 0, 0)}, blockKeys(0, 2, 0, 2, 0, 2),
+                           std::vector<VoxelKey>{gridKey(0, 0, 0), gridKey(1, 1, 0)}}) {
+    SCOPED_TRACE(keys.size());
+    const SurfaceMesh mesh = lom::smoothSurface(keys, kRes);
+    const auto triangles = lom::test::trianglesOf(mesh);
+    const auto edges = lom::test::edgeReport(triangles);
+    EXPECT_EQ(edges.edges_not_shared_by_two, 0u);
+    EXPECT_EQ(edges.directed_edges_repeated, 0u);
+    const double volume = lom::test::enclosedVolume(mesh.vertices, triangles);
+    EXPECT_GT(volume, 0.5 * keys.size() * voxel);
+    EXPECT_LT(volume, 1.05 * keys.size() * voxel);
+  }
+  std::vector<VoxelKey> keys;
+  const double r = 6.0;
+  for (int i = -7; i <= 7; ++i)
+    for (int j = -7; j <= 7; ++j)
+      for (int k = -7; k <= 7; ++k)
+        if (i * i + j * j + k * k <= r * r) keys.push_back(gridKey(i, j, k));
+  const size_t sphere = keys.size();
+  keys.push_back(gridKey(20, 0, 0));
+  const SurfaceMesh mesh = lom::smoothSurface(keys, kRes);
+  const auto triangles = lom::test::trianglesOf(mesh);
+  EXPECT_EQ(lom::test::edgeReport(triangles).edges_not_shared_by_two, 0u);
+  const double volume = lom::test::enclosedVolume(mesh.vertices, triangles);
+  EXPECT_GT(volume, 0.75 * sphere * voxel + 0.99 * voxel);
+  EXPECT_LT(volume, 1.05 * sphere * voxel + 1.01 * voxel);
+  size_t smooth = 0;  // vertices of the sphere off the voxel lattice
+  for (const auto& v : mesh.vertices)
+    if (v.norm() < 10 * kRes && std::abs(v.x() / kRes * 2 - std::round(v.x() / kRes * 2)) > 0.01)
+      ++smooth;
+  EXPECT_GT(smooth, 100u) << "the sphere is smoothed";
+}
+
+// Far-apart parts of one label are meshed on grids of their own extent: one
+// grid across the whole key range needed terabytes.
+TEST(SmoothSurface, FarApartPartsNeedNoGridBetweenThem) {
+  const std::vector<VoxelKey> keys = {VoxelKey{1, 1, 1}, VoxelKey{65534, 65534, 65534}};
+  const SurfaceMesh mesh = lom::smoothSurface(keys, kRes);
+  const auto triangles = lom::test::trianglesOf(mesh);
+  EXPECT_EQ(lom::test::edgeReport(triangles).edges_not_shared_by_two, 0u);
+  EXPECT_EQ(triangles.size(), 24u) << "two voxels' boxes";
+  // One part too large for a grid is refused, saying its size.
+  std::vector<VoxelKey> line;
+  for (int i = 0; i < 1200; ++i)
+    line.push_back(VoxelKey{static_cast<std::uint16_t>(1000 + i),
+                            static_cast<std::uint16_t>(1000 + i),
+                            static_cast<std::uint16_t>(1000 + i)});
+  try {
+    (void)lom::smoothSurface(line, kRes);
+    ADD_FAILURE() << "a diagonal of 1200 voxels spans 1.7 billion grid cells";
+  } catch (const std::length_error& e) {
+    EXPECT_NE(std::string(e.what()).find("1200 connected voxels spanning 1200 x 1200 x 1200"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(SmoothSurface, WithoutSmoothingVerticesLieBetweenVoxelCentres) {
   const auto keys = blockKeys(0, 3, 0, 3, 0, 3);
   const SurfaceMesh mesh = lom::smoothSurface(keys, kRes, {0, 0.1});
