@@ -101,7 +101,7 @@ std::optional<std::vector<std::uint8_t>> pngOrJpegFileBytes(const fs::path& path
   return bytes;
 }
 
-cv::Mat readImage(const fs::path& path) {
+cv::Mat readImage(const fs::path& path, PngSamples samples = PngSamples::AsOpenCv) {
   const std::string file = path.string();
   if (const std::string why = notARegularFile(path); !why.empty())
     throw Error(file, "", "an existing image file", why);
@@ -127,7 +127,7 @@ cv::Mat readImage(const fs::path& path) {
   if (const auto bytes = pngOrJpegFileBytes(path))
     return hasJpegSignature(bytes->data(), bytes->size())
                ? decodeJpeg(bytes->data(), bytes->size(), file)
-               : decodePng(bytes->data(), bytes->size(), file);
+               : decodePng(bytes->data(), bytes->size(), file, samples);
   // Say what is wrong with an empty file or a .png / .jpg that holds other
   // data, rather than that no decoder took it.
   std::error_code ec;
@@ -386,7 +386,9 @@ ColorImage readColorImage(const fs::path& path) {
 }
 
 LabelImage readLabelImage(const fs::path& path) {
-  const cv::Mat mat = readImage(path);
+  // Palette PNGs (PASCAL VOC's label format) give their indices, low-bit
+  // greys their stored values: the label ids.
+  const cv::Mat mat = readImage(path, PngSamples::Indices);
   if (mat.channels() != 1)
     throw Error(path.string(), "channels", "a single-channel 8- or 16-bit image of label ids",
                 describeMat(mat) + " (a colour image?)");

@@ -27,6 +27,7 @@ struct Decoding {
   char reason[256] = {};
   cv::Mat image;
   std::vector<png_bytep> rows;
+  PngSamples samples = PngSamples::AsOpenCv;
 };
 
 void readBytes(png_structp png, png_bytep out, png_size_t count) {
@@ -58,6 +59,22 @@ void readImage(png_structp png, png_infop info, Decoding& decoding) {
   // PNG data from a bag has had no header check: a few bytes can declare billions of pixels.
   if (std::uint64_t{width} * height > kMaxImagePixels)
     png_error(png, "the image declares more than 134217728 (2^27) pixels");
+  if (decoding.samples == PngSamples::Indices &&
+      (color_type == PNG_COLOR_TYPE_PALETTE ||
+       (color_type == PNG_COLOR_TYPE_GRAY && bit_depth < 8))) {
+    // The stored numbers, one byte each: palette indices, or low-bit greys unscaled.
+    png_set_packing(png);
+    png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    if (png_get_rowbytes(png, info) != width) png_error(png, "an unexpected sample layout");
+    decoding.image.create(static_cast<int>(height), static_cast<int>(width), CV_8UC1);
+    decoding.rows.resize(height);
+    for (png_uint_32 v = 0; v < height; ++v)
+      decoding.rows[v] = decoding.image.ptr(static_cast<int>(v));
+    png_read_image(png, decoding.rows.data());
+    png_read_end(png, nullptr);
+    return;
+  }
   const bool transparency = png_get_valid(png, info, PNG_INFO_tRNS) != 0;
   int channels = 1;
   if (color_type == PNG_COLOR_TYPE_RGB || color_type == PNG_COLOR_TYPE_PALETTE)
@@ -100,8 +117,11 @@ bool readGuarded(png_structp png, png_infop info, Decoding& decoding) {
 
 }  // namespace
 
-cv::Mat decodePng(const std::uint8_t* data, std::size_t size, const std::string& file) {
+cv::Mat decodePng(const std::uint8_t* data, std::size_t size, const std::string& file,
+                  PngSamples samples) {
   checkPngChunks(data, size, file);
+  // (The direct decoder takes only 8- and 16-bit images without a palette,
+  // which both ways read alike.)
   if (std::optional<cv::Mat> direct = decodePngDirectly(data, size)) return std::move(*direct);
   // On the heap, and never reassigned: the jump back from an error must find
   // it as libpng left it.
@@ -109,6 +129,7 @@ cv::Mat decodePng(const std::uint8_t* data, std::size_t size, const std::string&
   Decoding& decoding = *owned;
   decoding.data = data;
   decoding.size = size;
+  decoding.samples = samples;
   png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &decoding, onError, onWarning);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   if (!info) {

@@ -19,7 +19,12 @@ namespace lom {
 // transparency chunk), 8 or 16 bits per sample; palette and 1-, 2- and 4-bit greys are expanded to
 // 8 bits. Throws lom::Error(file, "PNG data", "a PNG whose image data can be decoded", libpng's
 // reason) for data libpng rejects.
-[[nodiscard]] cv::Mat decodePng(const std::uint8_t* data, std::size_t size,
-                                const std::string& file);
+// With PngSamples::Indices, palette images and 1-, 2- and 4-bit greys are
+// read as the numbers they store instead (one 8-bit channel: the palette
+// index, the grey unscaled), as label images need: a 4-bit grey 3 is label 3,
+// not 51.
+enum class PngSamples { AsOpenCv, Indices };
+[[nodiscard]] cv::Mat decodePng(const std::uint8_t* data, std::size_t size, const std::string& file,
+                                PngSamples samples = PngSamples::AsOpenCv);
 
 }  // namespace lom

@@ -128,6 +128,57 @@ TEST(PngDecodeTest, GivesOpenCvsPixelsForEveryKindOfPng) {
   }
 }
 
+// The numbers a palette or low-bit grey PNG stores, as writePng wrote them.
+int storedSample(const PngSpec& spec, int u, int v) {
+  const size_t bit = static_cast<size_t>(u) * static_cast<size_t>(spec.bit_depth);
+  const size_t i = bit / 8;
+  const auto byte = static_cast<png_byte>((static_cast<size_t>(v) * 31 + i * 7) ^ (i >> 3));
+  const int shift = 8 - spec.bit_depth - static_cast<int>(bit % 8);
+  return (byte >> shift) & ((1 << spec.bit_depth) - 1);
+}
+
+// Label images need the stored numbers: a palette PNG's indices (PASCAL VOC's
+// label format) and a 4-bit grey's values unscaled (OpenCV makes 3 into 51).
+TEST(PngDecodeTest, IndicesAreTheStoredNumbersOfPaletteAndLowBitGreys) {
+  const PngSpec specs[] = {
+      {"palette 8-bit", 13, 7, 8, PNG_COLOR_TYPE_PALETTE},
+      {"palette 2-bit", 13, 7, 2, PNG_COLOR_TYPE_PALETTE},
+      {"palette with transparency", 13, 7, 4, PNG_COLOR_TYPE_PALETTE, false, true},
+      {"interlaced palette", 13, 7, 4, PNG_COLOR_TYPE_PALETTE, true},
+      {"grey 1-bit", 13, 7, 1, PNG_COLOR_TYPE_GRAY},
+      {"grey 2-bit", 13, 7, 2, PNG_COLOR_TYPE_GRAY},
+      {"grey 4-bit", 13, 7, 4, PNG_COLOR_TYPE_GRAY},
+  };
+  for (const PngSpec& spec : specs) {
+    SCOPED_TRACE(spec.name);
+    const std::string png = writePng(spec);
+    const cv::Mat decoded = lom::decodePng(reinterpret_cast<const std::uint8_t*>(png.data()),
+                                           png.size(), "x.png", lom::PngSamples::Indices);
+    ASSERT_EQ(decoded.type(), CV_8UC1);
+    ASSERT_EQ(decoded.size(), cv::Size(spec.width, spec.height));
+    int differing = 0;
+    for (int v = 0; v < spec.height; ++v)
+      for (int u = 0; u < spec.width; ++u)
+        differing += decoded.at<std::uint8_t>(v, u) != storedSample(spec, u, v);
+    EXPECT_EQ(differing, 0);
+  }
+  // Other kinds read as OpenCV reads them.
+  const PngSpec grey{"grey 16-bit", 13, 7, 16, PNG_COLOR_TYPE_GRAY};
+  const std::string png = writePng(grey);
+  const cv::Mat indices = lom::decodePng(reinterpret_cast<const std::uint8_t*>(png.data()),
+                                         png.size(), "x.png", lom::PngSamples::Indices);
+  EXPECT_EQ(cv::norm(indices, decodedByOpenCv(png), cv::NORM_INF), 0.0);
+  // A label image file of 4-bit greys holds the ids themselves.
+  lom::test::TempDir dir;
+  const PngSpec four{"labels", 13, 7, 4, PNG_COLOR_TYPE_GRAY};
+  writeText(dir / "label.png", writePng(four));
+  const lom::LabelImage label = lom::readLabelImage(dir / "label.png");
+  ASSERT_EQ(label.width, 13);
+  for (int v = 0; v < 7; ++v)
+    for (int u = 0; u < 13; ++u)
+      ASSERT_EQ(label.at(u, v), storedSample(four, u, v)) << u << "," << v;
+}
+
 // The programs write PNGs with libpng (OpenCV's encoder is in imgcodecs, which
 // they no longer link): OpenCV reads every kind they write back to the same
 // samples, channel order included, and so does the decoder here.
