@@ -130,6 +130,53 @@ std::string outsideMapWarning(const std::string& sequence_file, const FrameStats
          outsideMapAdvice(sequence_file, totals, resolution);
 }
 
+RangeMessage maxRangeMessage(const FrameStats& totals, double max_range, double resolution,
+                             const std::string& sequence_file) {
+  // Max range drops farther surfaces without a trace: a warning when it took
+  // most of the depths, a note when it took a fifth or more.
+  RangeMessage message;
+  if (totals.valid_pixels == 0) return message;
+  const size_t beyond = std::min(totals.beyond_range_pixels, totals.valid_pixels);
+  message.warning = mostDepthsBeyondMaxRange(totals, max_range);
+  if (!message.warning && !(max_range > 0.0 && 5 * beyond >= totals.valid_pixels)) return message;
+  const double reach = std::ceil(totals.farthest_range * 10.0) / 10.0;
+  std::string how;
+  // Only settings fuse takes: a finite range, rays of at most 1000 voxels of at most 1 m.
+  if (std::isfinite(reach) && reach <= kMaxFusionVoxelsPerRay * kMaxFusionResolution) {
+    const double suggested = suggestedResolutionForRange(reach, resolution);
+    const bool coarser = suggested > resolution + 1e-9;
+    char farthest[32];
+    std::snprintf(farthest, sizeof farthest, "%.1f", totals.farthest_range);
+    // Past 250 m even 1 m voxels make rays longer than 250 voxels: such
+    // depths suggest wrong intrinsics or depth scale more than a far wall.
+    const double voxels = std::ceil(reach / suggested - 1e-9);
+    const std::string why =
+        voxels > 250.0
+            ? " (1 m voxels, the coarsest fusion takes, and rays of " + formatNumber(voxels) +
+                  " voxels; depths this far suggest wrong camera intrinsics or "
+                  "depth scale in sequence.json)"
+        : coarser ? " (rays of at most 250 voxels: finer voxels over that range take far more "
+                    "memory)"
+                  : "";
+    how = std::string("The depths reach ") + farthest + " m; fuse with --max-range " +
+          formatNumber(reach) +
+          (coarser ? " --resolution " + formatNumber(suggested) : std::string()) + " to map them" +
+          why;
+  } else {
+    how = "The depths reach farther than " +
+          formatNumber(kMaxFusionVoxelsPerRay * kMaxFusionResolution) +
+          " m, beyond any max range fusion takes and any depth camera measures: check "
+          "camera.fx, camera.fy, camera.cx, camera.cy and camera.depth_scale in " +
+          sequence_file;
+  }
+  char counts[160];
+  std::snprintf(counts, sizeof counts,
+                "%zu of %zu valid depth pixels (%.1f%%) were beyond the max range of %g m: ",
+                beyond, totals.valid_pixels, 100.0 * beyond / totals.valid_pixels, max_range);
+  message.text = counts + std::string("they only cleared free space and mapped nothing. ") + how;
+  return message;
+}
+
 FusionOptions fusionOptionsFromArgs(const Args& args) {
   FusionOptions options;
   options.map.resolution = args.number("resolution", options.map.resolution);
@@ -336,48 +383,11 @@ int runFuse(const Words& words) {
                 "frames with valid depths (finite, > 0) to map",
                 "none in the " + std::to_string(frame_seconds.size()) +
                     " frames fused: every depth pixel is 0 (no measurement) or invalid");
-  // Max range drops farther surfaces without a trace: a warning when it took
-  // most of the depths, a note when it took a fifth or more.
-  const size_t beyond = std::min(totals.beyond_range_pixels, totals.valid_pixels);
-  const bool most_beyond = mostDepthsBeyondMaxRange(totals, options.map.max_range);
-  if (most_beyond ||
-      (!args.flag("quiet") && options.map.max_range > 0.0 && 5 * beyond >= totals.valid_pixels)) {
-    const double reach = std::ceil(totals.farthest_range * 10.0) / 10.0;
-    std::string how;
-    // Only settings fuse takes: a finite range, rays of at most 1000 voxels of at most 1 m.
-    if (std::isfinite(reach) && reach <= kMaxFusionVoxelsPerRay * kMaxFusionResolution) {
-      const double resolution = suggestedResolutionForRange(reach, options.map.resolution);
-      const bool coarser = resolution > options.map.resolution + 1e-9;
-      char farthest[32];
-      std::snprintf(farthest, sizeof farthest, "%.1f", totals.farthest_range);
-      // Past 250 m even 1 m voxels make rays longer than 250 voxels: such
-      // depths suggest wrong intrinsics or depth scale more than a far wall.
-      const double voxels = std::ceil(reach / resolution - 1e-9);
-      const std::string why =
-          voxels > 250.0
-              ? " (1 m voxels, the coarsest fusion takes, and rays of " + formatNumber(voxels) +
-                    " voxels; depths this far suggest wrong camera intrinsics or "
-                    "depth scale in sequence.json)"
-          : coarser ? " (rays of at most 250 voxels: finer voxels over that range take far more "
-                      "memory)"
-                    : "";
-      how = std::string("The depths reach ") + farthest + " m; fuse with --max-range " +
-            formatNumber(reach) +
-            (coarser ? " --resolution " + formatNumber(resolution) : std::string()) +
-            " to map them" + why;
-    } else {
-      how = "The depths reach farther than " +
-            formatNumber(kMaxFusionVoxelsPerRay * kMaxFusionResolution) +
-            " m, beyond any max range fusion takes and any depth camera measures: check "
-            "camera.fx, camera.fy, camera.cx, camera.cy and camera.depth_scale in " +
-            (sequence.root / "sequence.json").string();
-    }
-    std::fprintf(stderr,
-                 "%s: %zu of %zu valid depth pixels (%.1f%%) were beyond the max range of "
-                 "%g m: they only cleared free space and mapped nothing. %s\n",
-                 most_beyond ? "warning" : "note", beyond, totals.valid_pixels,
-                 100.0 * beyond / totals.valid_pixels, options.map.max_range, how.c_str());
-  }
+  if (const RangeMessage range =
+          maxRangeMessage(totals, options.map.max_range, options.map.resolution,
+                          (sequence.root / "sequence.json").string());
+      range.warning || (!args.flag("quiet") && !range.text.empty()))
+    std::fprintf(stderr, "%s: %s\n", range.warning ? "warning" : "note", range.text.c_str());
   if (const std::string warning =
           outsideMapWarning((sequence.root / "sequence.json").string(), totals, frames_outside_map,
                             options.map.resolution);

@@ -43,35 +43,33 @@ void checkOptionsForSequence(const fs::path& sequence_path, const EvaluationOpti
   inputs.addSequence(sequence);
 }
 
-// Fusion left out depth points outside the map's extent: the scores are of
-// what the map holds, so say so.
-// A map given with --map whose voxels are not where the sequence's depths are.
-void warnPoorMapFit(const ScoreInputs& inputs, const EvaluationReport& report) {
-  if (!inputs.map || !report.map_fit) return;
-  if (const std::string warning = poorMapFitWarning(*report.map_fit, inputs.map->string());
-      !warning.empty())
-    std::cerr << "warning: " << warning << " Its scores would mean little.\n";
-}
-
-// What the report found worth saying: boxes named for other labels than
-// theirs, a map given with --map fused with other candidates than the
-// baselines use, or whose candidates the baselines took.
-void sayReportWarnings(const EvaluationReport& report, const Args& args) {
-  for (const std::string& warning : report.box_name_warnings)
-    std::cerr << "warning: " << warning << "\n";
-  if (!report.map_candidates_warning.empty())
-    std::cerr << "warning: " << report.map_candidates_warning << "\n";
-  if (!report.map_candidates_note.empty() && !args.flag("quiet"))
-    std::cerr << "note: " << report.map_candidates_note << "\n";
-}
-
-void warnOutsideMap(const ScoreInputs& inputs, const EvaluationReport& report) {
-  if (inputs.map || report.frames_outside_map.empty()) return;
+// What the command line adds to a report's warnings: when scoreSequence fused
+// the map, the depth points it left out (outside the map's extent, or most
+// beyond max range). A note for a fifth or more beyond max range.
+void addFusionWarnings(const ScoreInputs& inputs, EvaluationReport& report, const Args& args) {
+  if (inputs.map) return;
   const fs::path file =
       inputs.sequence.extension() == ".json" ? inputs.sequence : inputs.sequence / "sequence.json";
-  std::cerr << outsideMapWarning(file.string(), report.fusion_totals, report.frames_outside_map,
-                                 report.resolution)
-            << "\n";
+  if (!report.frames_outside_map.empty()) {
+    std::string warning = outsideMapWarning(file.string(), report.fusion_totals,
+                                            report.frames_outside_map, report.resolution);
+    if (warning.rfind("warning: ", 0) == 0) warning.erase(0, 9);
+    if (!warning.empty()) report.warnings.push_back(warning);
+  }
+  const RangeMessage range =
+      maxRangeMessage(report.fusion_totals, report.max_range, report.resolution, file.string());
+  if (range.warning)
+    report.warnings.push_back(range.text);
+  else if (!range.text.empty() && !args.flag("quiet"))
+    std::cerr << "note: " << range.text << "\n";
+}
+
+// What the report found worth saying (it is in the report files too), and a
+// note when the baselines took the map's candidates.
+void sayReportWarnings(const EvaluationReport& report, const Args& args) {
+  for (const std::string& warning : report.warnings) std::cerr << "warning: " << warning << "\n";
+  if (!report.map_candidates_note.empty() && !args.flag("quiet"))
+    std::cerr << "note: " << report.map_candidates_note << "\n";
 }
 
 // --threshold against the clamping of the map it applies to: the given map, or the
@@ -167,6 +165,14 @@ int runScore(const Words& words) {
     }
     checkOutputFolder(out, "out", what, read);
     for (const auto& entry : entries) {
+      // A sequence named like a summary file would have its report folder
+      // where the summary goes, found only after everything else is written.
+      for (const char* name : {"aggregate.json", "aggregate.md", "aggregate.svg"})
+        if (entry.name == name)
+          throw Error(*batch, "line " + std::to_string(entry.line),
+                      "a sequence folder not named aggregate.json, aggregate.md or aggregate.svg "
+                      "(its report folder would take the place of the batch's summary file)",
+                      entry.name);
       checkOutputSubfolder(out / entry.name, "out",
                            "the report of " + entry.name + " (" + *batch + " line " +
                                std::to_string(entry.line) + ")",
@@ -192,9 +198,8 @@ int runScore(const Words& words) {
         throw;
       }
       if (show_progress) std::fprintf(stderr, "\n");
-      warnPoorMapFit(inputs, reports.back());
+      addFusionWarnings(inputs, reports.back(), args);
       sayReportWarnings(reports.back(), args);
-      warnOutsideMap(inputs, reports.back());
       if (inputs.map) noteResolution(args, reports.back(), *inputs.map);
       std::cout << reportTable(reports.back()) << "\n";
     }
@@ -231,9 +236,8 @@ int runScore(const Words& words) {
     throw;
   }
   if (show_progress) std::fprintf(stderr, "\n");
-  warnPoorMapFit(inputs, report);
+  addFusionWarnings(inputs, report, args);
   sayReportWarnings(report, args);
-  warnOutsideMap(inputs, report);
   if (inputs.map) noteResolution(args, report, *inputs.map);
   writeReport(report, out);
   std::cout << reportTable(report) << "wrote " << (out / "report.{json,csv,md,svg}").string() << "\n";

@@ -50,4 +50,14 @@ void checkFusionOptionsForSequence(const FusionOptions& options, const Sequence&
 std::string outsideMapWarning(const std::string& sequence_file, const FrameStats& totals,
                               const std::vector<size_t>& frames, double resolution);
 
+// What max range took of a fusion's valid depths: a warning when most, a note
+// when a fifth or more (with how to map them), without the "warning: " or
+// "note: " prefix; empty text when less.
+struct RangeMessage {
+  std::string text;
+  bool warning = false;
+};
+RangeMessage maxRangeMessage(const FrameStats& totals, double max_range, double resolution,
+                             const std::string& sequence_file);
+
 }  // namespace lom::cli

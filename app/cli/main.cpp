@@ -101,7 +101,18 @@ int main(int argc, char** argv) {
       return 0;
     }
     try {
-      return c.run(words);
+      const int status = c.run(words);
+      // What the command printed (tables, "wrote ..." lines) must have
+      // reached standard output: `score ... > table.txt` on a full disk is a
+      // failure, not an empty file and success.
+      std::cout.flush();
+      if (!std::cout) {
+        std::cerr << "labeloctomap " << name
+                  << ": error: could not write to standard output (a full disk?); files the "
+                     "command wrote are kept\n";
+        return status == 0 ? 1 : status;
+      }
+      return status;
     } catch (const std::bad_alloc&) {
       std::cerr << "labeloctomap " << name << ": out of memory while running '"
                 << commandLine(argc, argv)

@@ -215,7 +215,14 @@ YAML::Node loadYamlFile(const fs::path& path) {
   if (const std::string why = notARegularFile(path); !why.empty())
     throw Error(path.string(), "", "an existing YAML box file", why);
   try {
-    return YAML::LoadFile(path.string());
+    // Every document, to refuse a file of several: the boxes of the second
+    // and later ones would be left out without a word.
+    const std::vector<YAML::Node> documents = YAML::LoadAllFromFile(path.string());
+    if (documents.size() > 1)
+      throw Error(path.string(), "", "one YAML document of boxes",
+                  std::to_string(documents.size()) +
+                      " documents (separated by ---): merge their boxes into one list");
+    return documents.empty() ? YAML::Node() : documents.front();
   } catch (const YAML::ParserException& e) {
     throw Error(path.string(), "", "valid YAML",
                 e.msg + " at line " + std::to_string(e.mark.line + 1) + ", column " +

@@ -71,7 +71,9 @@ void checkBoxLabels(const Annotations& annotations, int label_count,
   const std::vector<UnscorableBox> unscorable = unscorableBoxes(annotations, n);
   if (unscorable.empty()) return;
   const UnscorableBox& box = unscorable.front();
-  const std::string field = "boxes[" + std::to_string(box.index) + "].label";
+  // A YAML box file names its boxes' labels in `name` (object_12): it has no `label`.
+  const std::string field =
+      "boxes[" + std::to_string(box.index) + "]." + (isYamlBoxesPath(file) ? "name" : "label");
   if (!box.boxed_before)
     throw Error(
         file, field,
@@ -258,6 +260,11 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
   report.occupancy_threshold = map.parameters().occupancy_threshold;
   report.iou_mode = options.iou_mode;
   report.candidates = options.fusion.candidates;
+  if (report.candidates) {  // as a set: ascending, once each
+    std::sort(report.candidates->begin(), report.candidates->end());
+    report.candidates->erase(std::unique(report.candidates->begin(), report.candidates->end()),
+                             report.candidates->end());
+  }
   for (size_t i = 0; i < annotations.boxes.size(); ++i) {
     const GroundTruthBox& box = annotations.boxes[i];
     const std::string& name = sequence.labels.at(box.label).name;
@@ -268,7 +275,21 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
         (sequence.root / "sequence.json").string() + " is '" + name +
         "': the box is scored, and named, as label " + std::to_string(box.label) +
         " (were the boxes drawn for another label numbering?)");
+    report.warnings.push_back(report.box_name_warnings.back());
   }
+  if (report.candidates)
+    for (size_t i = 0; i < annotations.boxes.size(); ++i) {
+      const int label = annotations.boxes[i].label;
+      if (std::binary_search(report.candidates->begin(), report.candidates->end(), label)) continue;
+      std::string list;
+      for (const int c : *report.candidates) list += (list.empty() ? "" : ",") + std::to_string(c);
+      report.warnings.push_back(
+          orDefault(options.annotations_file, "(annotations)") + ": boxes[" + std::to_string(i) +
+          "] is of label " + std::to_string(label) + " (" + sequence.labels.at(label).name +
+          "), which is not among the candidates " + list +
+          ": no voxel or pixel can take that label, so it scores 0 in every column and pulls the "
+          "means down");
+    }
 
   detail::FrameScan scan = detail::scanFrames(sequence, map, labels, options, progress);
   if (scan.views.empty())

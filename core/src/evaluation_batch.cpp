@@ -109,9 +109,14 @@ EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOption
     const FusedCandidates& fused = map.fusedCandidates();
     if (options.candidates_from_map && fused.recorded) named.fusion.candidates = fused.labels;
     EvaluationReport report = evaluate(sequence, annotations, map, named, progress);
+    report.map_file = named.map_file;
     report.map_fit = mapFitOf(map, sequence);
     describeMapCandidates(report, fused, sequence.labels.size(), named.map_file,
                           options.candidates_from_map);
+    if (!report.map_candidates_warning.empty())
+      report.warnings.push_back(report.map_candidates_warning);
+    if (const std::string fit = poorMapFitWarning(*report.map_fit, named.map_file); !fit.empty())
+      report.warnings.push_back(fit + " Its scores would mean little.");
     return report;
   }
   named.map_file = (sequence.root / "sequence.json").string() + " (fused)";

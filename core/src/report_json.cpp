@@ -111,6 +111,8 @@ std::string reportJson(const EvaluationReport& report) {
             {"occupancy_threshold", report.occupancy_threshold},
             {"iou_mode", iouModeName(report.iou_mode)},
             {"candidates", report.candidates ? Json(*report.candidates) : Json(nullptr)},
+            {"map", report.map_file.empty() ? Json(nullptr) : Json(report.map_file)},
+            {"warnings", report.warnings},
             {"views", report.views},
             {"objects", std::move(objects)},
             {"summary", summaryJson(report.summary)}};

@@ -171,7 +171,15 @@ std::string reportMarkdown(const EvaluationReport& report) {
   std::ostringstream out;
   out << "# Segmentation results: " << markdownText(report.sequence) << "\n\n"
       << markdownText(describeSettings(report)) << ".\n"
-      << "Values are x100; the best of each row is bold (none when all are below 1).\n\n"
+      << "Map: "
+      << (report.map_file.empty() ? std::string("fused from the sequence with these settings")
+                                  : markdownText(report.map_file))
+      << ".\n";
+  if (!report.warnings.empty()) {
+    out << "\n**Warnings**\n\n";
+    for (const std::string& warning : report.warnings) out << "- " << markdownText(warning) << "\n";
+  }
+  out << "\nValues are x100; the best of each row is bold (none when all are below 1).\n\n"
       << "## IU_3d per object\n\n"
       << "| label | name | voxels | Projection (Mean) | Projection (Max) | LabelOctoMap |\n"
       << "|---:|---|---:|---:|---:|---:|\n";

@@ -204,6 +204,23 @@ TEST_F(CliScoreTest, YamlBoxesOfTheOriginalExperimentsScoreLikeTheirJson) {
   EXPECT_NE(bad.err.find("bad.yaml"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("boxes[0].dimensions"), std::string::npos) << bad.err;
   EXPECT_FALSE(std::filesystem::exists(out / "bad"));
+  // A label the sequence does not have is named by the YAML field that holds
+  // it (YAML boxes have no `label`).
+  std::ofstream(out / "unknown.yaml") << "boxes:\n  - dimensions: [0.1, 0.1, 0.1]\n"
+                                         "    position: [0, 0, 0]\n    orientation: [0, 0, 0, 1]\n"
+                                         "    name: object_45\n";
+  const auto unknown = runCli(scoreArgs(out / "unknown", (out / "unknown.yaml").string()));
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_NE(unknown.err.find("boxes[0].name"), std::string::npos) << unknown.err;
+  EXPECT_EQ(unknown.err.find("boxes[0].label"), std::string::npos) << unknown.err;
+  // Several YAML documents: refused, not scored from the first alone.
+  std::ofstream(out / "two.yaml") << yaml.str() << "---\n" << yaml.str();
+  const auto two = runCli(scoreArgs(out / "two", (out / "two.yaml").string()));
+  EXPECT_EQ(two.exit_code, 1);
+  EXPECT_NE(two.err.find("expected one YAML document of boxes, found 2 documents"),
+            std::string::npos)
+      << two.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "two"));
 }
 
 TEST_F(CliScoreTest, CentreModeAndCandidatesAreReported) {
@@ -248,9 +265,25 @@ TEST_F(CliScoreTest, AMapsCandidatesAreTheBaselinesCandidates) {
                        candidates + "; the projection baselines and the 2D metrics use them too"),
             std::string::npos)
       << r.err;
-  EXPECT_EQ(r.err.find("warning:"), std::string::npos) << r.err;
+  // The one warning: the box left out of the candidates can only score 0.
+  const std::string box_warning = "boxes[" + std::to_string(annotations["boxes"].size() - 1) +
+                                  "] is of label " + std::to_string(left_out) + " (";
+  const size_t first_warning = r.err.find("warning:");
+  EXPECT_NE(r.err.find(box_warning), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("which is not among the candidates " + candidates +
+                       ": no voxel or pixel can take that label, so it scores 0"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("warning:", first_warning + 1), std::string::npos) << r.err;
   const Json together = Json::parse(slurp(out / "together" / "report.json"));
   const Json loaded = Json::parse(slurp(out / "loaded" / "report.json"));
+  // The reports say it too, and which map they scored.
+  ASSERT_EQ(loaded["warnings"].size(), 1u) << loaded["warnings"];
+  EXPECT_NE(loaded["warnings"][0].get<std::string>().find(box_warning), std::string::npos);
+  EXPECT_EQ(loaded["warnings"], together["warnings"]);
+  EXPECT_EQ(loaded["map"], (out / "map.ot").string());
+  EXPECT_TRUE(together["map"].is_null()) << "fused from the sequence";
+  EXPECT_NE(slurp(out / "loaded" / "report.md").find(box_warning), std::string::npos);
   EXPECT_EQ(loaded["candidates"], together["candidates"]);
   EXPECT_EQ(loaded["objects"], together["objects"]);
   for (const Json& object : loaded["objects"])
@@ -274,7 +307,7 @@ TEST_F(CliScoreTest, AMapsCandidatesAreTheBaselinesCandidates) {
   const auto same = runCli(scoreArgs(out / "same") + " --map " + quoted(out / "map.ot") +
                            " --candidates " + candidates);
   ASSERT_EQ(same.exit_code, 0) << same.err;
-  EXPECT_EQ(same.err.find("candidates"), std::string::npos) << same.err;
+  EXPECT_EQ(same.err.find("was fused with"), std::string::npos) << same.err;
   // A map fused with every label, scored with candidates: a warning too.
   ASSERT_EQ(
       runCli("fuse " + quoted(scene()) + " --out " + quoted(out / "all.ot") + " --quiet").exit_code,
@@ -475,6 +508,46 @@ TEST_F(CliScoreTest, DepthsOutsideTheMapAreAWarning) {
   EXPECT_NE(r.err.find("lie outside the map's extent, 327.68 m either side"), std::string::npos)
       << r.err;
   EXPECT_TRUE(std::filesystem::exists(out / "report" / "report.json"));
+  const Json report = Json::parse(slurp(out / "report" / "report.json"));
+  ASSERT_FALSE(report["warnings"].empty());
+  EXPECT_NE(report["warnings"][0].get<std::string>().find("lie outside the map's extent"),
+            std::string::npos);
+}
+
+// Scoring fuses the sequence as fuse does, and says as fuse does when max
+// range threw most of the depths away (every object then scores 0).
+TEST_F(CliScoreTest, DepthsBeyondMaxRangeAreAWarning) {
+  TempDir out;
+  const auto r = runCli(scoreArgs(out / "near") + " --max-range 0.3");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("were beyond the max range of 0.3 m: they only cleared free space and "
+                       "mapped nothing. The depths reach"),
+            std::string::npos)
+      << r.err;
+  const Json report = Json::parse(slurp(out / "near" / "report.json"));
+  ASSERT_EQ(report["warnings"].size(), 1u) << report["warnings"];
+  EXPECT_NE(report["warnings"][0].get<std::string>().find("beyond the max range of 0.3 m"),
+            std::string::npos);
+  // The default range takes the scene: nothing to say.
+  const auto fine = runCli(scoreArgs(out / "fine"));
+  ASSERT_EQ(fine.exit_code, 0) << fine.err;
+  EXPECT_EQ(fine.err.find("max range"), std::string::npos) << fine.err;
+  EXPECT_TRUE(Json::parse(slurp(out / "fine" / "report.json"))["warnings"].empty());
+}
+
+// What the command prints must reach standard output: a full disk there is a failure.
+TEST_F(CliScoreTest, AnUnwritableStandardOutputIsAFailure) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full here";
+  TempDir out;
+  const std::string command = std::string("'") + LOM_CLI_PATH + "' " + scoreArgs(out / "r") +
+                              " --quiet >/dev/full 2>" + quoted(out / "err.txt") + " </dev/null";
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  const std::string err = slurp(out / "err.txt");
+  EXPECT_NE(err.find("could not write to standard output"), std::string::npos) << err;
+  EXPECT_TRUE(std::filesystem::exists(out / "r" / "report.json")) << "the files are kept";
 }
 
 TEST_F(CliScoreTest, CameraOutsideTheMapFailsBeforeWritingAnything) {
@@ -566,6 +639,25 @@ TEST_F(CliScoreTest, BatchRefusesReportFoldersInsideAScoredSequence) {
   for (const char* file : {"report.json", "report.csv", "report.md", "report.svg"})
     EXPECT_FALSE(std::filesystem::exists(dir / "x" / file)) << file;
   EXPECT_FALSE(std::filesystem::exists(dir / "aggregate.json"));
+}
+
+// A sequence folder named like a summary file is refused before anything is
+// written (its report folder would take the summary's place, found only after
+// the reports were written).
+TEST_F(CliScoreTest, BatchRefusesASequenceNamedLikeTheSummary) {
+  TempDir dir;
+  auto r =
+      runCli("synth --out " + quoted(dir / "aggregate.md") + " --frames 4 --width 80 --height 60");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ofstream(dir / "list.txt") << "aggregate.md aggregate.md/annotations.json\n";
+  r = runCli("score --batch " + quoted(dir / "list.txt") + " --out " + quoted(dir / "reports") +
+             " --quiet");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find((dir / "list.txt").string() + ": line 1: expected a sequence folder not "
+                                                     "named aggregate.json"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "reports"));
 }
 
 TEST_F(CliScoreTest, BatchWithABadLineFailsAndWritesNothing) {

@@ -133,6 +133,16 @@ struct EvaluationReport {
   // in the sequence (boxes drawn for another label numbering?), one sentence
   // each. Objects are scored, and named in the report, by the sequence's label.
   std::vector<std::string> box_name_warnings;
+  // The map file scored (score --map); empty when the map was fused from the
+  // sequence with the report's settings.
+  std::string map_file;
+  // Everything that bears on reading the scores, one sentence each, written
+  // into the reports (report.json "warnings", report.md) and said by `score`:
+  // the box name warnings, a map fused with other candidates than the
+  // baselines use, boxes whose label is not among the candidates (they can
+  // only score 0), a map that does not fit the sequence's depths, and what
+  // the caller adds (score: depths outside the map or beyond max range).
+  std::vector<std::string> warnings;
 };
 
 // The summary over all objects of several reports (a batch).
