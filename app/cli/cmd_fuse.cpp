@@ -71,10 +71,14 @@ void parseFrameRange(const std::string& text, FusionOptions& options) {
     throw UsageError("option --frames: the end frame must come after the first, got '" + text + "'");
 }
 
+// The shortest text that reads back as `value`: a refused 0.9700001 is not
+// echoed as the limit 0.97 it exceeds.
 std::string number(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
+  for (int digits = 6;; ++digits) {
+    std::ostringstream text;
+    text << std::setprecision(digits) << value;
+    if (digits >= 17 || std::strtod(text.str().c_str(), nullptr) == value) return text.str();
+  }
 }
 
 void drawProgress(const FusionProgress& progress, double seconds_per_frame) {

@@ -42,6 +42,8 @@ constexpr double kLastRowTolerance = 1e-6;
 // loaded sequence reproduces its poses exactly.
 constexpr double kAlreadyOrthonormal = 1e-12;
 constexpr size_t kLineWidth = 100;
+constexpr double kMinDepthScale = 1e-12;  // metres per depth unit
+constexpr double kMaxDepthScale = 1e6;
 
 std::string join(const std::string& prefix, const std::string& key) {
   return prefix.empty() ? key : prefix + "." + key;
@@ -201,8 +203,15 @@ CameraIntrinsics parseCamera(const Reader& in, const Json& value, const std::str
   if (const Json* v = get("fy")) camera.fy = in.positive(*v, join(field, "fy"));
   if (const Json* v = get("cx")) camera.cx = in.number(*v, join(field, "cx"));
   if (const Json* v = get("cy")) camera.cy = in.number(*v, join(field, "cy"));
-  if (const Json* v = get("depth_scale"))
+  if (const Json* v = get("depth_scale")) {
+    // Depths are single-precision metres: past these bounds a 16-bit depth
+    // times the scale overflows to infinity or vanishes to zero (fusion then
+    // found "no valid depths" without naming the scale).
     camera.depth_scale = in.positive(*v, join(field, "depth_scale"));
+    if (camera.depth_scale < kMinDepthScale || camera.depth_scale > kMaxDepthScale)
+      in.fail(join(field, "depth_scale"),
+              "metres per depth unit from 1e-12 to 1e6 (0.001 for millimetres)", describe(*v));
+  }
   return camera;
 }
 
@@ -575,8 +584,13 @@ Sequence loadSequence(const fs::path& folder_or_json) {
 
   Sequence sequence;
   sequence.root = json_path.parent_path();
-  if (const Json* v = Reader::optional(root, "frame_id"))
+  if (const Json* v = Reader::optional(root, "frame_id")) {
     sequence.frame_id = in.text(*v, "frame_id", "a non-empty string");
+    // One line: it is printed by info and in box files' frame messages.
+    if (const std::string problem = labelNameProblem(sequence.frame_id);
+        !problem.empty() && problem.rfind("a name of", 0) != 0)
+      in.fail("frame_id", "a frame name without control characters", problem);
+  }
   const Json* labels = Reader::optional(root, "labels");
   sequence.labels = labels ? parseLabels(in, *labels) : apc2016Labels();
   sequence.camera = parseCamera(in, in.required(root, "", "camera"), "camera", nullptr);

@@ -240,6 +240,9 @@ TEST_F(CliOptionTest, ThresholdsAndMissProbabilitiesThatCannotWork) {
   const std::string fuse = "fuse " + q(scene()) + " --out " + q(out / "m.ot") + " --quiet ";
   expectUsage(runCli(fuse + "--threshold 0.98"), "--threshold", "0.97");
   expectUsage(runCli(fuse + "--threshold 0.1"), "--threshold", "0.12");
+  // A value just past a limit is echoed as given, not rounded onto the limit.
+  expectUsage(runCli(fuse + "--threshold 0.9700001"), "--threshold", "got 0.9700001");
+  expectUsage(runCli(fuse + "--resolution 1.0000001"), "--resolution", "got 1.0000001");
   expectUsage(runCli(fuse + "--p-miss 0.7"), "--p-miss", "below 0.5");
   expectUsage(runCli(fuse + "--p-miss 0.5"), "--p-miss", "below 0.5");
   EXPECT_EQ(runCli(fuse + "--threshold 0.97 --p-miss 0.45").exit_code, 0);

@@ -8,6 +8,7 @@
 #include "lom/fusion.hpp"
 #include "lom/npy.hpp"
 #include "lom/sequence.hpp"
+#include "test_input_helpers.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -287,6 +288,35 @@ TEST_F(SequenceTest, AcceptsTheJsonPathAndAppliesDefaults) {
   EXPECT_EQ(loaded.frames[1].camera->fx, 500.0);
   EXPECT_EQ(loaded.frames[1].camera->width, kWidth);
   EXPECT_EQ(loaded.frames[1].camera->cy, smallCamera().cy);
+}
+
+// A depth scale whose depths single-precision metres cannot hold (a 16-bit
+// depth times 1e300 is infinite, times 1e-320 zero) is refused naming the
+// field; a frame name with a line break in it too (info prints it on one line).
+TEST_F(SequenceTest, RefusesDepthScalesAndFrameNamesItCannotUse) {
+  writeSmallSequence(dir.path());
+  const Json original = readJson(json());
+  for (const double scale : {1e300, 1e-320, 1e7, 1e-13}) {
+    SCOPED_TRACE(scale);
+    Json j = original;
+    j["camera"]["depth_scale"] = scale;
+    writeJson(json(), j);
+    const lom::Problem problem = lom::test::errorOf([&] { (void)lom::loadSequence(json()); });
+    EXPECT_EQ(problem.field, "camera.depth_scale");
+    EXPECT_NE(problem.expected.find("from 1e-12 to 1e6"), std::string::npos) << problem.expected;
+  }
+  for (const double scale : {1e-12, 0.0002, 1e6}) {
+    Json j = original;
+    j["camera"]["depth_scale"] = scale;
+    writeJson(json(), j);
+    EXPECT_EQ(lom::loadSequence(json()).camera.depth_scale, scale);
+  }
+  Json j = original;
+  j["frame_id"] = "base\nlink";
+  writeJson(json(), j);
+  const lom::Problem problem = lom::test::errorOf([&] { (void)lom::loadSequence(json()); });
+  EXPECT_EQ(problem.field, "frame_id");
+  EXPECT_NE(problem.found.find("a line feed"), std::string::npos) << problem.found;
 }
 
 TEST_F(SequenceTest, AFrameWithoutAStampHasNoneAndIsSavedWithout) {
