@@ -685,6 +685,26 @@ class PoseLookup {
       throw Error(file, "fixed frame", "a frame of /tf or /tf_static",
                   "'" + fixed_frame_ + "' is not one");
     }
+    // A camera whose every link up to the fixed frame is static stands still
+    // in it: while /tf moves other frames, a link between them is likely
+    // missing from the bag (every frame would be fused at one pose).
+    if (!contents.dynamic_tf.empty()) {
+      std::set<std::string> moving;  // frames /tf moves against their parent
+      for (const auto& t : contents.dynamic_tf) moving.insert(t.child_frame_id);
+      bool moves = false;
+      std::set<std::string> seen;
+      for (std::string f = camera_frame_;
+           f != fixed_frame_ && parent_of.count(f) && seen.insert(f).second; f = parent_of[f])
+        moves = moves || moving.count(f) > 0;
+      if (!moves) {
+        std::string names;
+        for (const auto& f : moving) names += (names.empty() ? "'" : "', '") + f;
+        writer.note("warning: every transform from '" + fixed_frame_ + "' to '" + camera_frame_ +
+                    "' is static, so every frame gets the same pose, while /tf moves " + names +
+                    "': is a tf link between them missing from the bag? (a camera that truly "
+                    "stands still can ignore this)");
+      }
+    }
     if (lower(camera_frame_).find("optical") == std::string::npos)
       writer.note("camera frame '" + camera_frame_ +
                   "' is not named *optical*: it must have z forward, x right, y down");

@@ -114,6 +114,7 @@ struct BagSpec {
   std::string info_frame;            // the camera info's frame_id (default: the depth frame)
   bool first_info_uncalibrated = false;  // the first camera info has K = 0
   bool tf_zero_stamps = false;           // dynamic tf stamped 0 (its record time is the stamp)
+  bool tf_link_missing = false;          // /tf moves base_footprint, not the camera's base_link
   double stamp_scale = 1.0;              // header stamps of tf and depth: 10 + scale (t - 10)
   bool color_8uc3 = false;               // colour as 8UC3 instead of bgr8
 };
@@ -139,7 +140,9 @@ void writeBag(const fs::path& path, const BagSpec& spec) {
   for (int k = -1; k <= 6; ++k) {
     const double t = 10.0 + 0.05 * k;
     tf2_msgs::TFMessage tf;
-    tf.transforms.push_back(transformMsg(worldBase(header(t)), "world", "base_link", header(t)));
+    tf.transforms.push_back(transformMsg(worldBase(header(t)), "world",
+                                         spec.tf_link_missing ? "base_footprint" : "base_link",
+                                         header(t)));
     if (spec.tf_zero_stamps) tf.transforms.back().header.stamp = ros::Time();
     bag.write("/tf", ros::Time(t), tf);
   }
@@ -411,6 +414,24 @@ TEST(ImportRosbag, TfStampsOfZeroTakeTheRecordTime) {
   const ImportReport report = importBag(dir, spec);
   EXPECT_EQ(report.frames_written, 4u) << report.text();
   EXPECT_TRUE(anyNote(report, "tf transforms have a zero header stamp")) << report.text();
+}
+
+// /tf moves a frame the camera's chain does not reach: the camera's poses are
+// all static, one pose for every frame; said, not taken silently.
+TEST(ImportRosbag, ACameraChainOfStaticTransformsOnlyIsAWarning) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.tf_link_missing = true;
+  const ImportReport report = importBag(dir, spec);
+  EXPECT_TRUE(anyNote(report, "warning: every transform from 'base_link' to '" +
+                                  std::string(kOptical) +
+                                  "' is static, so every frame gets the same pose, while /tf "
+                                  "moves 'base_footprint'"))
+      << report.text();
+  // A chain /tf moves: nothing to say.
+  test::TempDir other;
+  const ImportReport moving = importBag(other, BagSpec{});
+  EXPECT_FALSE(anyNote(moving, "is static")) << moving.text();
 }
 
 // Header stamps spanning far more than the record times (a bag replayed 100
