@@ -7,6 +7,7 @@
 #include <QTest>
 #include <atomic>
 #include <memory>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -60,6 +61,30 @@ TEST(MapWorkerTest, FusesOffTheGuiThreadAndReportsThroughItsEventLoop) {
   QTest::qWait(50);                          // the last snapshot arrives through the event loop
   EXPECT_EQ(worker.snapshot()->frames_fused, frames);
   EXPECT_FALSE(worker.isFusing());
+}
+
+// Work that fails on the worker's thread is reported, not the end of the
+// program (an exception leaving a std::thread terminates it, losing unsaved
+// boxes and maps), and is no longer listed as pending; later work still runs.
+TEST(MapWorkerTest, WorkThatThrowsIsReportedAndTheWorkerGoesOn) {
+  MapWorker worker;
+  QString title, message;
+  QObject::connect(&worker, &MapWorker::workFailed, [&](const QString& t, const QString& m) {
+    title = t;
+    message = m;
+  });
+  worker.withMap([](const LabelMap*) { throw std::runtime_error("too many voxels to expand"); },
+                 "failing work");
+  worker.withCurrentMap(
+      [](const LabelMap*, bool) -> bool { throw std::runtime_error("a fit that fails"); },
+      "failing fit");
+  std::atomic<bool> later{false};
+  worker.withMap([&](const LabelMap*) { later = true; });
+  ASSERT_TRUE(QTest::qWaitFor([&] { return later.load(); }, fixture::kTimeoutMs));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !message.isEmpty(); }, fixture::kTimeoutMs));
+  EXPECT_EQ(title, "Map work failed");
+  ASSERT_TRUE(QTest::qWaitFor([&] { return worker.pendingWork().isEmpty(); }, fixture::kTimeoutMs))
+      << worker.pendingWork().join(", ").toStdString();
 }
 
 TEST(MapWorkerTest, TheFusedMapIsTheCommandLinesMapForTheSameFrames) {

@@ -7,11 +7,15 @@
 #include <QColor>
 #include <QDockWidget>
 #include <QFontMetrics>
+#include <QMenu>
+#include <QMenuBar>
 #include <QPushButton>
 #include <QStatusBar>
 #include <QTableWidget>
 #include <QTest>
 #include <filesystem>
+#include <functional>
+#include <map>
 
 #include "demo_window_fixture.hpp"
 #include "lom/fusion.hpp"
@@ -273,6 +277,36 @@ TEST(ColourBarTest, TextsThatWouldOverlapAreLeftOut) {
   probability.setRange(std::make_pair(0.0, 1.0));
   probability.resize(400, 34);
   EXPECT_EQ(probability.shownTexts(), QStringList({"0.00", "probability", "1.00"}));
+}
+
+// Within each menu an access key (the underlined letter) opens one item:
+// two items with the same letter make the key cycle between them instead.
+// Save Boxes As… has its shortcut on every desktop (Qt's SaveAs key is unset
+// on some).
+TEST_F(WindowLayoutTest, MenuAccessKeysAreUniqueAndSaveAsHasItsShortcut) {
+  std::function<void(QMenu*)> check = [&](QMenu* menu) {
+    std::map<QChar, QString> seen;
+    for (QAction* action : menu->actions()) {
+      const QString text = action->text();
+      const int amp = text.indexOf('&');
+      if (amp >= 0 && amp + 1 < text.size() && text[amp + 1] != '&') {
+        const QChar key = text[amp + 1].toLower();
+        EXPECT_EQ(seen.count(key), 0u)
+            << menu->title().toStdString() << ": '" << text.toStdString() << "' and '"
+            << seen[key].toStdString() << "' share the access key " << QString(key).toStdString();
+        seen[key] = text;
+      }
+      if (action->menu()) check(action->menu());
+    }
+  };
+  size_t menus = 0;
+  for (QAction* action : window_.menuBar()->actions())
+    if (action->menu()) {
+      check(action->menu());
+      ++menus;
+    }
+  EXPECT_GE(menus, 5u);
+  EXPECT_EQ(window_.findAction("Save Boxes As…")->shortcut(), QKeySequence("Ctrl+Shift+S"));
 }
 
 }  // namespace

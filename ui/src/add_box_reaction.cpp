@@ -89,9 +89,20 @@ void AddBoxReaction::onTriggered() {
                     .arg(name));
   worker->withCurrentMap(
       [self, worker, box, generation, asked_with](const LabelMap* map, bool final) mutable {
-        const std::optional<OrientedBox> fitted_box =
-            map ? fittedBox(map->voxelsOfLabel(box.label), map->parameters().resolution)
-                : std::nullopt;
+        std::optional<OrientedBox> fitted_box;
+        try {
+          if (map)
+            fitted_box = fittedBox(map->voxelsOfLabel(box.label), map->parameters().resolution);
+        } catch (const std::exception& error) {  // leaves standing for too many voxels
+          const QString message = QString::fromStdString(error.what());
+          QMetaObject::invokeMethod(
+              worker,
+              [self, message] {
+                if (self) self->fitFailed(message);
+              },
+              Qt::QueuedConnection);
+          return true;
+        }
         if (!fitted_box && !final) return false;  // fusion may still bring some
         if (fitted_box) box.box = *fitted_box;
         const bool fitted = fitted_box.has_value();
@@ -153,6 +164,11 @@ void AddBoxReaction::addFitted(const GroundTruthBox& box, bool fitted, unsigned 
   addArrived({box}, asked_with, false);
 }
 
+void AddBoxReaction::fitFailed(const QString& message) {
+  emit status(QString());
+  emit failed(tr("Cannot fit a box"), message);
+}
+
 void AddBoxReaction::fitAllLabels() {
   if (!session_.sequence()) return;
   QPointer<AddBoxReaction> self(this);
@@ -166,15 +182,29 @@ void AddBoxReaction::fitAllLabels() {
         // Labels keep appearing while frames are fused: fit once all are in.
         if (!final) return false;
         std::vector<GroundTruthBox> boxes;
-        if (map)
-          for (const auto& [label, keys] : map->voxelsByLabel()) {
-            if (label <= 0 || !labels.contains(label)) continue;
-            GroundTruthBox box;
-            box.label = label;
-            box.name = labels.at(label).name;
-            box.box = *fittedBox(keys, map->parameters().resolution);  // keys: never empty here
-            boxes.push_back(std::move(box));
+        try {
+          if (map) {
+            std::set<int> objects;  // the background's voxels are never boxed: not expanded
+            for (int label = 1; label < map->numLabels(); ++label)
+              if (labels.contains(label)) objects.insert(label);
+            for (const auto& [label, keys] : map->voxelsByLabel(objects)) {
+              GroundTruthBox box;
+              box.label = label;
+              box.name = labels.at(label).name;
+              box.box = *fittedBox(keys, map->parameters().resolution);  // keys: never empty here
+              boxes.push_back(std::move(box));
+            }
           }
+        } catch (const std::exception& error) {  // leaves standing for too many voxels
+          const QString message = QString::fromStdString(error.what());
+          QMetaObject::invokeMethod(
+              worker,
+              [self, message] {
+                if (self) self->fitFailed(message);
+              },
+              Qt::QueuedConnection);
+          return true;
+        }
         QMetaObject::invokeMethod(
             worker,
             [self, boxes, generation, asked_with] {

@@ -324,7 +324,9 @@ QString BoxesAutosave::recoveryPath(const QString& sequence_path) {
 }
 
 QString BoxesAutosave::declinedPath(const QString& recovery_path) {
-  return recovery_path + QStringLiteral(".declined");
+  QString base = recovery_path;
+  if (base.endsWith(QStringLiteral(".json"))) base.chop(5);
+  return base + QStringLiteral(".declined.json");
 }
 
 void BoxesAutosave::writeNow() {
@@ -358,10 +360,23 @@ void BoxesAutosave::onSequenceChanged() {
   if (path.isEmpty() || !QFileInfo::exists(path)) return;
   if (!offer_ || !offer_(path)) {
     // Declined: not offered again, but not lost either (the question says
-    // where the copy stays).
+    // where the copy stays): a plain boxes file that Open Boxes… and
+    // `labeloctomap score` read. A copy that cannot be read is kept as it is.
     const QString kept = declinedPath(path);
     QFile::remove(kept);
-    if (!QFile::rename(path, kept)) QFile::remove(path);
+    bool written = false;
+    try {
+      saveAnnotations(readRecoveryFile(path).boxes, toPath(kept));
+      written = true;
+    } catch (const std::exception&) {
+    }
+    if (written) {
+      QFile::remove(path);
+    } else {
+      const QString raw = path + QStringLiteral(".declined");
+      QFile::remove(raw);
+      if (!QFile::rename(path, raw)) QFile::remove(path);
+    }
     return;
   }
   const QDateTime copied = QFileInfo(path).lastModified();

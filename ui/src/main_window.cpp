@@ -251,7 +251,8 @@ MainWindow::MainWindow(QWidget* parent)
                this, tr("Recover unsaved boxes?"),
                tr("Boxes of this sequence were not saved when the studio last closed.\n"
                   "Restore them from %1?\n\n"
-                  "No keeps the copy as %2 (not offered again).")
+                  "No keeps them as a boxes file, %2, that File ▸ Open Boxes… opens (they are "
+                  "not offered again).")
                    .arg(file, BoxesAutosave::declinedPath(file))) == QMessageBox::Yes;
   });
 }
@@ -465,6 +466,8 @@ void MainWindow::connectScene() {
   connect(session_, &StudioSession::hiddenLabelsChanged, this, show_voxels);
   connect(&session_->worker(), &MapWorker::errorOccurred, this,
           [this](const QString& title, const QString& message) { report_error_(title, message); });
+  connect(&session_->worker(), &MapWorker::workFailed, this,
+          [this](const QString& title, const QString& message) { report_error_(title, message); });
   connect(session_, &StudioSession::mapOpenFailed, this,
           [this](const QString& title, const QString& message) { report_error_(title, message); });
   connect(session_, &StudioSession::mapOpened, this, [this](const QString& path) {
@@ -532,7 +535,7 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
     ExportOptions options;
     options.format = ExportFormat::Ot;
     options.native = true;
-    QAction* save_map = file->addAction(tr("Save M&ap…"));
+    QAction* save_map = file->addAction(tr("Save Ma&p…"));
     save_map->setShortcut(tr("Ctrl+Alt+S"));
     map_saver_ = new ExportMapReaction(save_map, options, *session_, this, report_error_);
     showProgressOf(map_saver_);
@@ -545,7 +548,8 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
     new BoxFileReaction(action, kind, *session_, this, report_error_);
   };
   box_file(tr("&Save Boxes"), BoxFileReaction::Kind::Save, QKeySequence::Save);
-  box_file(tr("Save Boxes &As…"), BoxFileReaction::Kind::SaveAs, QKeySequence::SaveAs);
+  // Not QKeySequence::SaveAs: Qt binds it only on some desktops (GNOME, KDE).
+  box_file(tr("Save Boxes &As…"), BoxFileReaction::Kind::SaveAs, QKeySequence(tr("Ctrl+Shift+S")));
   box_file(tr("Open &Boxes…"), BoxFileReaction::Kind::Open, QKeySequence(tr("Ctrl+Alt+B")));
   box_file(tr("&Import YAML Boxes…"), BoxFileReaction::Kind::ImportYaml, QKeySequence());
   file->addSeparator();
@@ -610,12 +614,12 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   scene_action(tr("&Zoom to Map"), SceneViewReaction::Kind::ZoomToMap, Qt::CTRL + Qt::Key_M);
   scene_action(tr("Look from &Above"), SceneViewReaction::Kind::LookFromAbove,
                Qt::CTRL + Qt::Key_1);
-  scene_action(tr("Look from the Fro&nt"), SceneViewReaction::Kind::LookFromFront,
+  scene_action(tr("Look from the Fron&t"), SceneViewReaction::Kind::LookFromFront,
                Qt::CTRL + Qt::Key_2);
   scene_action(tr("Look from the &Side"), SceneViewReaction::Kind::LookFromSide,
                Qt::CTRL + Qt::Key_3);
-  scene_action(tr("Show &Frame Points"), SceneViewReaction::Kind::FramePoints, QKeySequence());
-  scene_action(tr("Show &Projection Voxels of This View"),
+  scene_action(tr("Sho&w Frame Points"), SceneViewReaction::Kind::FramePoints, QKeySequence());
+  scene_action(tr("Show Pro&jection Voxels of This View"),
                SceneViewReaction::Kind::ProjectionVoxels, QKeySequence());
   auto toggle = [&](const QString& text, const QKeySequence& key, auto make) {
     QAction* action = view->addAction(text);

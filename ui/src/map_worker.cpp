@@ -56,7 +56,20 @@ void MapWorker::loop() {
       job = std::move(jobs_.front());
       jobs_.pop_front();
     }
+    runGuarded(job);
+  }
+}
+
+void MapWorker::runGuarded(Job& job) {
+  // An exception leaving a job would end the whole program (it runs on a
+  // std::thread), losing unsaved boxes and maps: it is reported instead.
+  try {
     job.run();
+  } catch (const std::exception& error) {
+    const QString message = QString::fromStdString(error.what());
+    inGui([this, message] { emit workFailed(tr("Map work failed"), message); });
+  } catch (...) {
+    inGui([this] { emit workFailed(tr("Map work failed"), tr("an unknown error")); });
   }
 }
 
@@ -73,7 +86,7 @@ void MapWorker::runQuickJobs() {
       }
     }
   }
-  for (Job& job : quick) job.run();
+  for (Job& job : quick) runGuarded(job);
 }
 
 void MapWorker::setState(State state) {
@@ -353,7 +366,18 @@ void MapWorker::withMap(std::function<void(const LabelMap*)> job, const QString&
 void MapWorker::withMapThen(std::function<std::function<void()>(const LabelMap*)> job,
                             const QString& description) {
   const unsigned id = listWork(description);
-  post([this, id, job = std::move(job)] { forgetWork(id, job(map_.get())); }, false);
+  post(
+      [this, id, job = std::move(job)] {
+        std::function<void()> then;
+        try {
+          then = job(map_.get());
+        } catch (...) {  // reported by runGuarded; no longer pending either way
+          forgetWork(id);
+          throw;
+        }
+        forgetWork(id, std::move(then));
+      },
+      false);
 }
 
 void MapWorker::withCurrentMap(std::function<bool(const LabelMap*, bool)> job,
@@ -361,15 +385,25 @@ void MapWorker::withCurrentMap(std::function<bool(const LabelMap*, bool)> job,
   const unsigned id = listWork(description);
   post(
       [this, id, job = std::move(job)] {
+        // The work is forgotten (no longer listed as pending) however it ends.
+        struct Forget {
+          MapWorker* worker;
+          unsigned id;
+          bool armed = true;
+          ~Forget() {
+            if (armed) worker->forgetWork(id);
+          }
+        } forget{this, id};
         if (!fusing_now_) {
           job(map_.get(), true);
-          return forgetWork(id);
+          return;
         }
-        if (job(map_.get(), false)) return forgetWork(id);
+        if (job(map_.get(), false)) return;
+        forget.armed = false;
         post(  // nothing to work on yet: again once the fusion has ended
             [this, id, job] {
+              Forget again{this, id};
               job(map_.get(), true);
-              forgetWork(id);
             },
             false);
       },

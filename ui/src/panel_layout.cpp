@@ -57,10 +57,10 @@ int PanelLayout::defaultPanelsWidth() const {
 }
 
 void PanelLayout::addActionsTo(QMenu& menu) {
-  QMenu* panels = menu.addMenu(tr("&Panels"));
+  QMenu* panels = menu.addMenu(tr("Pan&els"));
   for (const Group& group : groups_)
     for (QDockWidget* dock : group.tabs) panels->addAction(dock->toggleViewAction());
-  QAction* reset = menu.addAction(tr("Reset &Layout"));
+  QAction* reset = menu.addAction(tr("Reset La&yout"));
   reset->setToolTip(tr("Show every panel again where the window starts with it"));
   connect(reset, &QAction::triggered, this, &PanelLayout::arrangeDefault);
 }

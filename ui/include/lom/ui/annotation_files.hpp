@@ -76,7 +76,8 @@ class BoxesAutosave : public QObject {
                 int interval_ms = 60'000);
   // perSourceFile("recovery", sequence_path)
   [[nodiscard]] static QString recoveryPath(const QString& sequence_path);
-  // Where a recovery file goes when its offer is declined.
+  // Where the boxes of a recovery file go when its offer is declined: a plain
+  // boxes file (name.declined.json) beside it.
   [[nodiscard]] static QString declinedPath(const QString& recovery_path);
   [[nodiscard]] QString currentRecoveryPath() const { return recovery_path_; }
   void setOffer(std::function<bool(const QString&)> offer) { offer_ = std::move(offer); }

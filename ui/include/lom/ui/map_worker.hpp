@@ -108,6 +108,9 @@ class MapWorker : public QObject {
   void evaluationFinished(const lom::EvaluationReport& report);
   void evaluationFailed(const QString& message);
   void errorOccurred(const QString& title, const QString& message);
+  // Other work on the map (a box fit, an export) failed with an unexpected
+  // error; the worker goes on.
+  void workFailed(const QString& title, const QString& message);
 
  private:
   struct Job {
@@ -117,6 +120,7 @@ class MapWorker : public QObject {
   void post(std::function<void()> run, bool quick);
   void loop();
   void runQuickJobs();
+  void runGuarded(Job& job);
   void fuse(const std::shared_ptr<const Sequence>& sequence, const FusionOptions& options,
             unsigned id, const std::shared_ptr<std::atomic<bool>>& cancelled);
   void publish(MapSnapshotPtr snapshot);
