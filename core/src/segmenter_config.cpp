@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -39,10 +40,19 @@ class Reader {
 
   int integer(const Json& value, const std::string& field, int min, int max) const {
     const std::string range = "an integer from " + std::to_string(min) + " to " + std::to_string(max);
-    if (!value.is_number_integer()) fail(field, range, describe(value));
-    const auto x = value.get<long long>();
-    if (x < min || x > max) fail(field, range, describe(value));
-    return static_cast<int>(x);
+    const std::optional<long long> x = integral(value);
+    if (!x || *x < min || *x > max) fail(field, range, describe(value));
+    return static_cast<int>(*x);
+  }
+
+  // A whole number, written as 6 or as 6.0 (sequence.json reads both alike).
+  static std::optional<long long> integral(const Json& value) {
+    if (value.is_number_integer()) return value.get<long long>();
+    if (!value.is_number_float()) return std::nullopt;
+    const double x = value.get<double>();
+    if (!std::isfinite(x) || std::floor(x) != x || std::abs(x) > 9007199254740992.0)
+      return std::nullopt;
+    return static_cast<long long>(x);
   }
 
   std::string choice(const Json& value, const std::string& field,
@@ -138,9 +148,8 @@ SegmenterConfig parseSegmenterConfig(const std::string& json_text, const std::st
       } else if (item.is_string()) {
         label.name = item.get<std::string>();
         if (label.name.empty()) in.fail(field, "a label name, a label id or null", "an empty string");
-      } else if (item.is_number_integer() && item.get<long long>() >= 0 &&
-                 item.get<long long>() < 65536) {
-        label.id = static_cast<int>(item.get<long long>());
+      } else if (const auto id = Reader::integral(item); id && *id >= 0 && *id < 65536) {
+        label.id = static_cast<int>(*id);
       } else {
         in.fail(field, "a label id (integer >= 0), a label name or null (channel not used)",
                 describe(item));

@@ -114,6 +114,17 @@ TEST(SegmenterConfig, DefaultsAndEveryKey) {
   EXPECT_EQ((*c.labels)[1].name, "cup");
   EXPECT_TRUE((*c.labels)[2].dropped());
   EXPECT_EQ((*c.labels)[3].id, 7);
+  // Whole numbers written with a fraction part read as integers, as in
+  // sequence.json; other fractions are refused.
+  const SegmenterConfig floats = lom::parseSegmenterConfig(
+      R"({"input_width": 320.0, "input_height": 2.4e2, "labels": [0, 6.0]})", "m.json");
+  EXPECT_EQ(*floats.input_width, 320);
+  EXPECT_EQ(*floats.input_height, 240);
+  EXPECT_EQ((*floats.labels)[1].id, 6);
+  EXPECT_THROW((void)lom::parseSegmenterConfig(R"({"labels": [0, 6.5]})", "m.json"), lom::Error);
+  EXPECT_THROW(
+      (void)lom::parseSegmenterConfig(R"({"input_width": 320.5, "input_height": 240})", "m.json"),
+      lom::Error);
 }
 
 TEST(SegmenterConfig, ErrorsNameTheFileAndKey) {
