@@ -7,6 +7,7 @@
 #include <QAction>
 #include <QImage>
 #include <QTest>
+#include <array>
 
 #include "demo_window_fixture.hpp"
 #include "lom/ui/scene_view.hpp"
@@ -61,6 +62,25 @@ TEST_F(StandardViewsTest, EachLooksAlongItsAxisAndFramesTheMap) {
   EXPECT_EQ(window_.findAction("Look from Above")->shortcut(), QKeySequence(Qt::CTRL + Qt::Key_1));
 }
 
+// Where the corners of the picture a camera took land in the view, 0.8 m
+// ahead of it: the least and greatest x (left, right) and y (bottom, top), in
+// display pixels. The image spans [-0.5, size - 0.5] (pixel centres at
+// integer coordinates).
+std::array<double, 4> pictureInView(const SceneView& scene, const CameraIntrinsics& camera,
+                                    const Eigen::Isometry3d& pose) {
+  double left = 1e9, right = -1e9, bottom = 1e9, top = -1e9;
+  for (const double u : {-0.5, camera.width - 0.5})
+    for (const double v : {-0.5, camera.height - 0.5}) {
+      const Eigen::Vector3d ray((u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy, 1.0);
+      const Eigen::Vector2d at = scene.displayPointOf(pose * (0.8 * ray));
+      left = std::min(left, at.x());
+      right = std::max(right, at.x());
+      bottom = std::min(bottom, at.y());
+      top = std::max(top, at.y());
+    }
+  return {left, right, bottom, top};
+}
+
 // Look from Current Camera shows the whole picture the camera took: in the
 // default layout the 3D view is narrower than the image, and fitting the
 // image's height cut off a third of each side.
@@ -74,17 +94,8 @@ TEST_F(StandardViewsTest, TheCurrentCameraViewHoldsTheWholePicture) {
     SCOPED_TRACE(index);
     scene.lookFromFrame(sequence, index);
     const CameraIntrinsics& camera = sequence.cameraOf(index);
-    const Eigen::Isometry3d& pose = sequence.frames[index].T_world_camera;
-    double left = 1e9, right = -1e9, bottom = 1e9, top = -1e9;
-    for (const double u : {0.0, static_cast<double>(camera.width)})
-      for (const double v : {0.0, static_cast<double>(camera.height)}) {
-        const Eigen::Vector3d ray((u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy, 1.0);
-        const Eigen::Vector2d at = scene.displayPointOf(pose * (0.8 * ray));
-        left = std::min(left, at.x());
-        right = std::max(right, at.x());
-        bottom = std::min(bottom, at.y());
-        top = std::max(top, at.y());
-      }
+    const auto [left, right, bottom, top] =
+        pictureInView(scene, camera, sequence.frames[index].T_world_camera);
     const double slack = 0.03 * std::max(view.width(), view.height());
     EXPECT_GE(left, -slack);
     EXPECT_LE(right, view.width() + slack);
@@ -115,17 +126,8 @@ TEST_F(StandardViewsTest, TheCurrentCameraViewIsCentredOnThePicture) {
     ASSERT_DOUBLE_EQ(sequence.cameraOf(0).cx, camera.cx);
     SCOPED_TRACE(shift.transpose());
     scene.lookFromFrame(sequence, 0);
-    const Eigen::Isometry3d& pose = sequence.frames[0].T_world_camera;
-    double left = 1e9, right = -1e9, bottom = 1e9, top = -1e9;
-    for (const double u : {-0.5, camera.width - 0.5})
-      for (const double v : {-0.5, camera.height - 0.5}) {
-        const Eigen::Vector3d ray((u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy, 1.0);
-        const Eigen::Vector2d at = scene.displayPointOf(pose * (0.8 * ray));
-        left = std::min(left, at.x());
-        right = std::max(right, at.x());
-        bottom = std::min(bottom, at.y());
-        top = std::max(top, at.y());
-      }
+    const auto [left, right, bottom, top] =
+        pictureInView(scene, camera, sequence.frames[0].T_world_camera);
     const double slack = 0.02 * std::max(view.width(), view.height());
     EXPECT_NEAR(0.5 * (left + right), 0.5 * view.width(), slack);
     EXPECT_NEAR(0.5 * (bottom + top), 0.5 * view.height(), slack);

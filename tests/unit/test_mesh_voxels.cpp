@@ -279,13 +279,20 @@ TEST(VoxelSurface, EmptySetGivesAnEmptyMesh) {
   EXPECT_TRUE(mesh.triangles.empty());
 }
 
-TEST(SmoothSurface, SphereIsClosedAndKeepsItsVolume) {
+// The voxels whose centres are within r voxel edges of the origin.
+std::vector<VoxelKey> ballKeys(double r) {
   std::vector<VoxelKey> keys;
-  const double r = 6.0;
-  for (int i = -7; i <= 7; ++i)
-    for (int j = -7; j <= 7; ++j)
-      for (int k = -7; k <= 7; ++k)
+  const int n = static_cast<int>(r) + 1;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int k = -n; k <= n; ++k)
         if (i * i + j * j + k * k <= r * r) keys.push_back(gridKey(i, j, k));
+  return keys;
+}
+
+TEST(SmoothSurface, SphereIsClosedAndKeepsItsVolume) {
+  const double r = 6.0;
+  std::vector<VoxelKey> keys = ballKeys(r);
   const SurfaceMesh mesh = lom::smoothSurface(keys, kRes);
   ASSERT_FALSE(mesh.triangles.empty());
   const auto triangles = lom::test::trianglesOf(mesh);
@@ -319,12 +326,8 @@ TEST(SmoothSurface, SmallPartsKeepTheirVolume) {
     EXPECT_GT(volume, 0.5 * keys.size() * voxel);
     EXPECT_LT(volume, 1.05 * keys.size() * voxel);
   }
-  std::vector<VoxelKey> keys;
   const double r = 6.0;
-  for (int i = -7; i <= 7; ++i)
-    for (int j = -7; j <= 7; ++j)
-      for (int k = -7; k <= 7; ++k)
-        if (i * i + j * j + k * k <= r * r) keys.push_back(gridKey(i, j, k));
+  std::vector<VoxelKey> keys = ballKeys(r);
   const size_t sphere = keys.size();
   keys.push_back(gridKey(20, 0, 0));
   const SurfaceMesh mesh = lom::smoothSurface(keys, kRes);

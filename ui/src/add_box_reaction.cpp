@@ -17,6 +17,18 @@ namespace lom::ui {
 
 namespace {
 
+// From the worker's thread: the fit failed; said in the GUI thread.
+void sayFitFailed(const QPointer<AddBoxReaction>& self, MapWorker* worker,
+                  const std::exception& error) {
+  const QString message = QString::fromStdString(error.what());
+  QMetaObject::invokeMethod(
+      worker,
+      [self, message] {
+        if (self) self->fitFailed(message);
+      },
+      Qt::QueuedConnection);
+}
+
 // "1 box", "3 boxes".
 QString count(size_t n, const QString& one, const QString& many) {
   return QString::number(n) + " " + (n == 1 ? one : many);
@@ -94,13 +106,7 @@ void AddBoxReaction::onTriggered() {
           if (map)
             fitted_box = fittedBox(map->voxelsOfLabel(box.label), map->parameters().resolution);
         } catch (const std::exception& error) {  // leaves standing for too many voxels
-          const QString message = QString::fromStdString(error.what());
-          QMetaObject::invokeMethod(
-              worker,
-              [self, message] {
-                if (self) self->fitFailed(message);
-              },
-              Qt::QueuedConnection);
+          sayFitFailed(self, worker, error);
           return true;
         }
         if (!fitted_box && !final) return false;  // fusion may still bring some
@@ -196,13 +202,7 @@ void AddBoxReaction::fitAllLabels() {
             }
           }
         } catch (const std::exception& error) {  // leaves standing for too many voxels
-          const QString message = QString::fromStdString(error.what());
-          QMetaObject::invokeMethod(
-              worker,
-              [self, message] {
-                if (self) self->fitFailed(message);
-              },
-              Qt::QueuedConnection);
+          sayFitFailed(self, worker, error);
           return true;
         }
         QMetaObject::invokeMethod(

@@ -24,6 +24,9 @@ class AddBoxReaction : public Reaction {
   static constexpr double kDefaultSize = 0.1;  // metres
 
   AddBoxReaction(QAction* action, Mode mode, StudioSession& session);
+  // The map could not give a label's voxels (leaves standing for more voxels
+  // than a fit may expand): said, nothing added.
+  void fitFailed(const QString& message);
 
  signals:
   void failed(const QString& title, const QString& message);
@@ -48,9 +51,6 @@ class AddBoxReaction : public Reaction {
   void addFitted(const GroundTruthBox& box, bool fitted, unsigned generation, int asked_with);
   void fitAllLabels();
   void addAllFitted(const std::vector<GroundTruthBox>& boxes, unsigned generation, int asked_with);
-  // The map could not give a label's voxels (leaves standing for more voxels
-  // than a fit may expand): said, nothing added.
-  void fitFailed(const QString& message);
 
   Mode mode_;
   StudioSession& session_;
