@@ -11,6 +11,7 @@
 #include <QFileInfo>
 #include <QImage>
 #include <QThread>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <iostream>
@@ -18,12 +19,15 @@
 #include <string>
 #include <vector>
 
+#include "lom/fusion.hpp"
 #include "lom/import.hpp"
+#include "lom/labels.hpp"
 #include "lom/render/map_render.hpp"
 #include "lom/ui/about_reaction.hpp"
 #include "lom/ui/annotation_files.hpp"
 #include "lom/ui/demo_scene.hpp"
 #include "lom/ui/evaluation_panel.hpp"
+#include "lom/ui/fusion_panel.hpp"
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/scene_view.hpp"
@@ -34,9 +38,11 @@
 namespace {
 
 constexpr const char* kUsage =
-    "usage: labeloctomap-studio [--intrinsics K] [--map MAP.ot] [SEQ | --demo]\n"
+    "usage: labeloctomap-studio [--intrinsics K] [--labels FILE] [--resolution R] [--max-range M]\n"
+    "                           [--map MAP.ot] [SEQ | --demo]\n"
     "       labeloctomap-studio --screenshot OUT.png [--frame N] [--fuse | --map MAP.ot] "
-    "[--intrinsics K] (SEQ | --demo)\n";
+    "[--intrinsics K]\n"
+    "                           [--labels FILE] [--resolution R] [--max-range M] (SEQ | --demo)\n";
 
 constexpr const char* kHelp =
     "LabelOctoMap Studio: view recorded RGB-D label sequences, fuse them into a labelled map,\n"
@@ -51,6 +57,12 @@ constexpr const char* kHelp =
     "                       scene.\n"
     "  --intrinsics K       Camera of a dataset folder or bag that does not store it: fx,fy,cx,cy\n"
     "                       or a file with the 3x3 camera matrix (as `labeloctomap import`).\n"
+    "  --labels FILE        Names of the label ids of a dataset folder or bag being converted,\n"
+    "                       one per line from id 0 (as `labeloctomap import --labels`).\n"
+    "  --resolution R       Voxel size to fuse with, in metres (0.002 to 1; default 0.01), as\n"
+    "                       the Fusion panel's Resolution.\n"
+    "  --max-range M        Max range to fuse with, in metres (0 = unlimited; default 1), as\n"
+    "                       the Fusion panel's Max range (rays of at most 1000 voxels).\n"
     "  --screenshot OUT.png Open SEQ, save a picture of the window to OUT.png and exit.\n"
     "  --frame N            Frame to show, as the index N of frames[N] in sequence.json\n"
     "                       (default 0).\n"
@@ -71,6 +83,8 @@ struct StudioArguments {
   bool fuse = false;
   QString map;  // --map
   std::optional<lom::CameraIntrinsics> intrinsics;
+  std::optional<lom::LabelSet> labels;  // --labels
+  std::optional<double> resolution, max_range;
   QString platform;  // -platform, when given
   QString display;   // -display, when given
 };
@@ -102,10 +116,14 @@ Parsed parseArguments(const QStringList& words, StudioArguments& arguments) {
   const QCommandLineOption fuse_option("fuse");
   const QCommandLineOption intrinsics_option("intrinsics", "", "K");
   const QCommandLineOption map_option("map", "", "MAP.ot");
+  const QCommandLineOption labels_option("labels", "", "FILE");
+  const QCommandLineOption resolution_option("resolution", "", "R");
+  const QCommandLineOption max_range_option("max-range", "", "M");
   const QCommandLineOption platform_option("platform", "", "NAME");
   const QCommandLineOption display_option("display", "", "NAME");
   parser.addOptions({help_option, version_option, screenshot_option, frame_option, demo_option,
-                     fuse_option, intrinsics_option, map_option, platform_option, display_option});
+                     fuse_option, intrinsics_option, map_option, labels_option, resolution_option,
+                     max_range_option, platform_option, display_option});
   // The rest of QGuiApplication's and QApplication's options: QApplication
   // takes them, here they only must not count as mistakes.
   for (const char* name : {"platformpluginpath", "platformtheme", "plugin", "qwindowgeometry",
@@ -154,6 +172,49 @@ Parsed parseArguments(const QStringList& words, StudioArguments& arguments) {
       return {usageError(
                   "give either --fuse (fuse the sequence) or --map (show a fused map), not both"),
               Request::Run};
+  }
+  // Fusion settings, checked as `labeloctomap fuse` checks them.
+  auto number = [&](const QCommandLineOption& option, const char* name,
+                    std::optional<double>& into) -> std::optional<int> {
+    if (!parser.isSet(option)) return std::nullopt;
+    bool ok = false;
+    const double value = parser.value(option).toDouble(&ok);
+    if (!ok || !std::isfinite(value))
+      return usageError(std::string("--") + name + ": expected a number in metres, found '" +
+                        parser.value(option).toStdString() + "'");
+    into = value;
+    return std::nullopt;
+  };
+  if (const auto code = number(resolution_option, "resolution", arguments.resolution))
+    return {code, Request::Run};
+  if (const auto code = number(max_range_option, "max-range", arguments.max_range))
+    return {code, Request::Run};
+  if (arguments.resolution && !(*arguments.resolution >= lom::kMinFusionResolution &&
+                                *arguments.resolution <= lom::kMaxFusionResolution))
+    return {usageError("--resolution: expected a voxel size from 0.002 to 1 m, found " +
+                       parser.value(resolution_option).toStdString()),
+            Request::Run};
+  if (arguments.max_range && *arguments.max_range < 0.0)
+    return {usageError("--max-range: expected a range in metres, 0 for unlimited, found " +
+                       parser.value(max_range_option).toStdString()),
+            Request::Run};
+  if (const auto ray =
+          lom::checkRayLength(arguments.max_range.value_or(lom::MapParameters{}.max_range),
+                              arguments.resolution.value_or(lom::MapParameters{}.resolution)))
+    return {
+        usageError("--max-range and --resolution make rays " +
+                   std::to_string(static_cast<long long>(ray->voxels)) + " voxels long; at most " +
+                   std::to_string(static_cast<long long>(ray->limit)) +
+                   " are allowed (a coarser --resolution or a shorter --max-range)"),
+        Request::Run};
+  if (parser.isSet(labels_option)) {
+    const QString value = parser.value(labels_option);
+    try {
+      arguments.labels = lom::readLabelList(value.toStdString());
+    } catch (const std::exception& error) {
+      std::cerr << "labeloctomap-studio: --labels: " << error.what() << "\n";
+      return {1, Request::Run};
+    }
   }
   if (parser.isSet(intrinsics_option)) {
     const QString value = parser.value(intrinsics_option);
@@ -320,6 +381,10 @@ int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments
     std::cerr << "labeloctomap-studio: note: --intrinsics is not used: "
               << controller.sequencePath().toStdString()
               << " is a sequence with its own camera (it applies to recordings being converted)\n";
+  if (arguments.labels && !controller.isConverted())
+    std::cerr << "labeloctomap-studio: note: --labels is not used: "
+              << controller.sequencePath().toStdString()
+              << " is a sequence with its own labels (it applies to recordings being converted)\n";
   controller.setCurrentFrame(arguments.frame);
   if (!arguments.map.isEmpty()) {
     if (QAction* points = window.findAction("Show Frame Points"); points && points->isChecked())
@@ -339,6 +404,11 @@ int saveScreenshot(lom::ui::MainWindow& window, const StudioArguments& arguments
                    "written\n";
       return 1;
     }
+    // What the Fusion panel says about the depths max range left out (its
+    // button to re-fuse cannot be pressed in a picture run).
+    if (const QString note = window.fusionPanel().rangeNote(); !note.isEmpty())
+      std::cerr << "labeloctomap-studio: warning: " << note.toStdString()
+                << " Give --max-range (and --resolution) to fuse farther.\n";
   }
   if (!lom::ui::waitUntilExposed(window))
     std::cerr << "labeloctomap-studio: warning: the window was not shown on screen in time\n";
@@ -389,10 +459,17 @@ int main(int argc, char** argv) {
   if (!resolveDemo(arguments)) return 1;
 
   lom::ui::MainWindow window;
-  if (arguments.intrinsics) {
+  if (arguments.intrinsics || arguments.labels) {
     lom::ImportOptions import = window.controller().importOptions();
-    import.intrinsics = arguments.intrinsics;
+    if (arguments.intrinsics) import.intrinsics = arguments.intrinsics;
+    if (arguments.labels) import.labels = arguments.labels;
     window.controller().setImportOptions(import);
+  }
+  if (arguments.resolution || arguments.max_range) {
+    lom::FusionOptions fusion = window.session().fusionOptions();
+    if (arguments.resolution) fusion.map.resolution = *arguments.resolution;
+    if (arguments.max_range) fusion.map.max_range = *arguments.max_range;
+    window.session().setFusionOptions(fusion);
   }
   if (!arguments.screenshot.isEmpty()) {
     // No one is there to close a dialog: errors go to stderr and the exit code.

@@ -192,7 +192,9 @@ TEST(StudioCommandLine, WithoutADisplayItSaysHowToGetOneAndExits3) {
 TEST(StudioCommandLine, MistakesInTheCallExit2EvenWithoutADisplay) {
   for (const QStringList& arguments :
        {QStringList{"--no-such-option"}, QStringList{"--frame", "-1", "seq"},
-        QStringList{"--intrinsics", "1,2,3", "seq"}, QStringList{"a", "b"}}) {
+        QStringList{"--intrinsics", "1,2,3", "seq"}, QStringList{"a", "b"},
+        QStringList{"--resolution", "abc", "seq"}, QStringList{"--resolution", "5", "seq"},
+        QStringList{"--max-range", "-1", "seq"}, QStringList{"--max-range", "30", "seq"}}) {
     const StudioRun run = runStudio(arguments, withoutDisplay());
     EXPECT_EQ(run.exit_code, 2) << arguments.join(' ').toStdString() << ": "
                                 << run.err.toStdString();
@@ -281,6 +283,41 @@ TEST(StudioCommandLine, DatasetFolderNeedingIntrinsicsOpensWithTheOption) {
       runStudio({"--screenshot", qPath(out), "--intrinsics", "518,519,325.5,253.5", room});
   EXPECT_EQ(with.exit_code, 0) << with.err.toStdString();
   EXPECT_FALSE(QImage(qPath(out)).isNull());
+}
+
+// The fusion settings come from the command line too: a room fused at the
+// default 1 m range maps almost nothing, which a picture run says on stderr
+// (the Fusion panel's Re-fuse button cannot be pressed there); with the
+// room's range and a coarser voxel it maps the room. A sequence's own labels
+// are not renamed by --labels (it names a converted recording's ids).
+TEST(StudioCommandLine, FusionSettingsAndTheirWarningsOnTheCommandLine) {
+  LOM_REQUIRE_SHARED_DATA("kinect-room-5");
+  const QString room = qPath(lom::test::sharedDataDir() / "kinect-room-5");
+  lom::test::TempDir temp;
+  const auto out = temp / "room.png";
+  const StudioRun near = runStudio(
+      {"--screenshot", qPath(out), "--fuse", "--intrinsics", "518,519,325.5,253.5", room});
+  ASSERT_EQ(near.exit_code, 0) << near.err.toStdString();
+  EXPECT_TRUE(near.err.contains("warning: ")) << near.err.toStdString();
+  EXPECT_TRUE(near.err.contains("of the depths lay beyond the max range of 1.00 m"))
+      << near.err.toStdString();
+  EXPECT_TRUE(near.err.contains("Give --max-range")) << near.err.toStdString();
+  const StudioRun far =
+      runStudio({"--screenshot", qPath(out), "--fuse", "--intrinsics", "518,519,325.5,253.5",
+                 "--max-range", "4", "--resolution", "0.02", room});
+  ASSERT_EQ(far.exit_code, 0) << far.err.toStdString();
+  EXPECT_FALSE(far.err.contains("beyond the max range")) << far.err.toStdString();
+
+  const auto tiny = lom::test::writeTinySequence(temp / "seq");
+  std::ofstream(temp / "labels.txt") << "__background__\nmug\n";
+  const StudioRun labelled = runStudio({"--screenshot", qPath(temp / "tiny.png"), "--labels",
+                                        qPath(temp / "labels.txt"), qPath(tiny.folder)});
+  ASSERT_EQ(labelled.exit_code, 0) << labelled.err.toStdString();
+  EXPECT_TRUE(labelled.err.contains("note: --labels is not used")) << labelled.err.toStdString();
+  const StudioRun missing = runStudio({"--screenshot", qPath(temp / "tiny.png"), "--labels",
+                                       qPath(temp / "none.txt"), qPath(tiny.folder)});
+  EXPECT_EQ(missing.exit_code, 1) << missing.err.toStdString();
+  EXPECT_TRUE(missing.err.contains("none.txt")) << missing.err.toStdString();
 }
 
 }  // namespace

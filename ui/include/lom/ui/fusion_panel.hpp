@@ -46,6 +46,10 @@ class FusionPanel : public QWidget {
   // extend-range button when most depths lay beyond its max range.
   void showDepthRanges(const FrameStats& totals, double max_range);
 
+  // After a fusion whose max range took most of the depths: what the panel
+  // says about it; empty otherwise.
+  [[nodiscard]] QString rangeNote() const { return range_note_; }
+
  private:
   void loadFromSession();
   // The session's options with the fields' edits: a box the user left as
