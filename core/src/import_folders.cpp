@@ -658,3 +658,15 @@ void importScanNet(const fs::path& source, const ImportOptions& options, Sequenc
 }
 
 }  // namespace lom::import_detail
+
+namespace lom {
+
+bool sourceStoresCamera(const std::filesystem::path& path, SourceKind kind) {
+  if (kind == SourceKind::Frames)
+    return import_detail::findIntrinsicsFile(path, "frame-").has_value();
+  if (kind == SourceKind::Quaternion)
+    return import_detail::findIntrinsicsFile(path, "pose").has_value();
+  return true;
+}
+
+}  // namespace lom

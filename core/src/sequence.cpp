@@ -334,9 +334,14 @@ std::string shellWord(const std::string& path) {
 std::string importHint(const fs::path& path) {
   const SourceDetection detection = detectSource(path);
   if (!detection.kind || *detection.kind == SourceKind::Sequence) return "";
+  // A layout that stores no camera needs its intrinsics, in both ways of
+  // opening it: the hint gives the option rather than a command that fails.
+  const bool camera = sourceStoresCamera(path, *detection.kind);
+  const std::string intrinsics = camera ? "" : " --intrinsics fx,fy,cx,cy";
   return detection.explanation + ": convert it with `labeloctomap import " +
-         sourceKindName(*detection.kind) + " " + shellWord(path.string()) +
-         " --out SEQ` (labeloctomap-studio opens it as it is)";
+         sourceKindName(*detection.kind) + " " + shellWord(path.string()) + intrinsics +
+         " --out SEQ` (`labeloctomap-studio" + intrinsics + " " + shellWord(path.string()) +
+         "` opens it as it is" + (camera ? "" : "; the folder stores no camera intrinsics") + ")";
 }
 
 }  // namespace

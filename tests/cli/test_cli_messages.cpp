@@ -230,11 +230,24 @@ TEST(CliRecordingTest, RecordingsGivenAsSequencesNameTheImportThatConvertsThem) 
   std::ofstream(dataset / "pose.txt") << "0 0 0 0 0 0 1\n";
   const auto folder = runCli("info " + q(dataset));
   EXPECT_EQ(folder.exit_code, 1) << folder.err;
+  // It stores no camera: the commands given name the intrinsics they need.
   EXPECT_NE(folder.err.find("found no such file; the folder is a quaternion-pose folder (depth/, "
                             "pose.txt): convert it with `labeloctomap import quaternion '" +
-                            dataset.string() + "' --out SEQ`"),
+                            dataset.string() +
+                            "' --intrinsics fx,fy,cx,cy --out SEQ` "
+                            "(`labeloctomap-studio --intrinsics fx,fy,cx,cy '" +
+                            dataset.string() +
+                            "'` opens it as it is; the folder stores no camera intrinsics)"),
             std::string::npos)
       << folder.err;
+  // With an intrinsics file, no option.
+  std::ofstream(dataset / "intrinsics.txt") << "500 0 320\n0 500 240\n0 0 1\n";
+  const auto with_camera = runCli("info " + q(dataset));
+  EXPECT_NE(with_camera.err.find("`labeloctomap import quaternion '" + dataset.string() +
+                                 "' --out SEQ` (`labeloctomap-studio '" + dataset.string() +
+                                 "'` opens it as it is)"),
+            std::string::npos)
+      << with_camera.err;
 
   const fs::path bag = dir / "rec.bag";
   std::ofstream(bag) << "#ROSBAG V2.0\n";

@@ -40,6 +40,10 @@ struct SourceDetection {
 // Looks at a file or folder (without reading images) and says which kind it is.
 // Used by the studio's File > Open and by `labeloctomap import auto`.
 [[nodiscard]] SourceDetection detectSource(const std::filesystem::path& path);
+// False for a dataset folder of `kind` that holds no camera intrinsics (a
+// frames or pose.txt folder without an intrinsics file): importing or opening
+// it needs the intrinsics option. True otherwise.
+[[nodiscard]] bool sourceStoresCamera(const std::filesystem::path& path, SourceKind kind);
 
 // Depth clean-up applied to every imported frame, in this order: invalid values
 // (NaN, infinite, <= 0) dropped, range limits, flying pixels, bilateral smoothing.
