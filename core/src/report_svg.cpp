@@ -70,7 +70,18 @@ std::string barChartSvg(const BarChart& chart) {
   for (const auto& g : chart.groups) longest_sublabel = std::max(longest_sublabel, g.sublabel.size());
   // Sub-labels are slanted by 40 degrees; their vertical reach is length * sin(40).
   const double bottom = 30.0 + std::min(220.0, kSmallCharWidth * static_cast<double>(longest_sublabel) * 0.643) + 8.0;
-  const double width = kLeft + plot_width + kRight;
+  // A slanted sub-label reaches left of its group by length * cos(40): the
+  // plot moves right far enough that the first groups' long names stay in
+  // the picture.
+  double left = kLeft;
+  for (size_t g = 0; g < chart.groups.size(); ++g) {
+    const double center = group_width * static_cast<double>(g) + kGroupGap / 2 +
+                          kBarWidth * static_cast<double>(series) / 2 + 4;
+    const double reach =
+        kSmallCharWidth * static_cast<double>(chart.groups[g].sublabel.size()) * 0.766;
+    left = std::max(left, reach - center + 6);
+  }
+  const double width = left + plot_width + kRight;
   const double height = kTop + kPlotHeight + bottom;
 
   double top_value = 0.0;
@@ -95,7 +106,7 @@ std::string barChartSvg(const BarChart& chart) {
   // Legend, one swatch per series, centred under the title.
   double legend_width = 0.0;
   for (const auto& name : chart.series) legend_width += 22.0 + kCharWidth * static_cast<double>(name.size()) + 18.0;
-  double x = std::max(kLeft, width / 2 - legend_width / 2);
+  double x = std::max(left, width / 2 - legend_width / 2);
   for (size_t s = 0; s < chart.series.size(); ++s) {
     svg << "<rect x=\"" << number(x, 1) << "\" y=\"36\" width=\"14\" height=\"14\" fill=\""
         << kPalette[s % std::size(kPalette)] << "\"/>\n"
@@ -106,12 +117,13 @@ std::string barChartSvg(const BarChart& chart) {
   // Grid and y axis.
   for (double v = 0.0; v <= axis_top + step * 1e-6; v += step) {
     const double y = y_of(v);
-    svg << "<line x1=\"" << kLeft << "\" y1=\"" << number(y, 1) << "\" x2=\"" << number(kLeft + plot_width, 1)
-        << "\" y2=\"" << number(y, 1) << "\" stroke=\"" << (v == 0.0 ? "#000" : "#ddd") << "\"/>\n"
-        << "<text x=\"" << kLeft - 6 << "\" y=\"" << number(y + 4, 1) << "\" text-anchor=\"end\">"
+    svg << "<line x1=\"" << left << "\" y1=\"" << number(y, 1) << "\" x2=\""
+        << number(left + plot_width, 1) << "\" y2=\"" << number(y, 1) << "\" stroke=\""
+        << (v == 0.0 ? "#000" : "#ddd") << "\"/>\n"
+        << "<text x=\"" << left - 6 << "\" y=\"" << number(y + 4, 1) << "\" text-anchor=\"end\">"
         << number(v, decimals) << "</text>\n";
   }
-  svg << "<line x1=\"" << kLeft << "\" y1=\"" << kTop << "\" x2=\"" << kLeft << "\" y2=\""
+  svg << "<line x1=\"" << left << "\" y1=\"" << kTop << "\" x2=\"" << left << "\" y2=\""
       << kTop + kPlotHeight << "\" stroke=\"#000\"/>\n"
       << "<text transform=\"translate(18," << number(kTop + kPlotHeight / 2, 1)
       << ") rotate(-90)\" text-anchor=\"middle\">" << xml(chart.y_label) << "</text>\n";
@@ -119,7 +131,7 @@ std::string barChartSvg(const BarChart& chart) {
   // Bars, with the exact value as a tooltip.
   for (size_t g = 0; g < chart.groups.size(); ++g) {
     const auto& group = chart.groups[g];
-    const double group_x = kLeft + group_width * static_cast<double>(g) + kGroupGap / 2;
+    const double group_x = left + group_width * static_cast<double>(g) + kGroupGap / 2;
     for (size_t s = 0; s < group.values.size() && s < series; ++s) {
       const double value = std::isfinite(group.values[s]) ? group.values[s] * chart.y_unit : 0.0;
       const double y = y_of(value);

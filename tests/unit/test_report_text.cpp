@@ -32,3 +32,30 @@ TEST(ReportText, TheSettingsCountOneViewInTheSingular) {
 }
 
 }  // namespace
+
+namespace {
+
+// A slanted object name reaches left of its group: a long first name stays
+// inside the picture (it was cut off at the left edge), and short names
+// leave the layout as it was.
+TEST(BarChartSvg, LongFirstNamesStayInsideThePicture) {
+  lom::BarChart chart;
+  chart.series = {"a", "b", "c"};
+  const std::string longest = "elmers_washable_no_run_school_glue";
+  chart.groups = {{"13", longest, {0.2, 0.3, 0.4}}, {"4", "cup", {0.1, 0.1, 0.1}}};
+  const std::string svg = lom::barChartSvg(chart);
+  const std::string marker = "translate(";
+  const size_t slanted = svg.find("rotate(-40)");  // the first object name
+  ASSERT_NE(slanted, std::string::npos) << svg;
+  const size_t at = svg.rfind(marker, slanted);
+  const double anchor_x = std::stod(svg.substr(at + marker.size()));
+  // At the chart's own 5.6 px per character, slanted by 40 degrees.
+  EXPECT_GE(anchor_x - 5.6 * static_cast<double>(longest.size()) * std::cos(40.0 * M_PI / 180.0),
+            0.0)
+      << svg.substr(at, 120);
+  chart.groups[0].sublabel = "cup";
+  const std::string short_names = lom::barChartSvg(chart);
+  EXPECT_NE(short_names.find("<line x1=\"64\""), std::string::npos) << "the usual left margin";
+}
+
+}  // namespace
