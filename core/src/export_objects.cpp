@@ -32,6 +32,7 @@ void writeObjectsJson(const std::vector<ObjectInstance>& objects, const LabelMap
                     {"name", o.name},
                     {"color", {color[0], color[1], color[2]}},
                     {"voxels", o.label_voxels},
+                    {"label_voxels", o.label_voxels},  // as plan.json names them
                     {"cluster_voxels", o.voxelCount()},
                     {"centroid", {o.centroid.x(), o.centroid.y(), o.centroid.z()}},
                     {"mean_probability", o.mean_probability},

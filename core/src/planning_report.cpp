@@ -91,6 +91,7 @@ std::string planJson(const PickPlan& plan, const std::string& map_file) {
                            {"instance", o.instance},
                            {"role", objectRoleName(plan.roles[i])},
                            {"voxels", o.voxelCount()},
+                           {"cluster_voxels", o.voxelCount()},  // as objects.json names them
                            {"label_voxels", o.label_voxels},
                            {"label_clusters", o.label_clusters},
                            {"mean_probability", o.mean_probability},

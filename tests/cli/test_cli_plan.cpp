@@ -166,6 +166,8 @@ TEST_F(CliPlanTest, EmptyBinCandidatesAndAllClusters) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const Json plan = Json::parse(slurp(out / "plan.json"));
   EXPECT_EQ(plan["objects"].size(), 3u);  // 8, 19 (the target is always kept), 30; not 13
+  for (const Json& object : plan["objects"])  // named as objects.json names them too
+    EXPECT_EQ(object["cluster_voxels"], object["voxels"]);
   EXPECT_EQ(plan["options"]["all_clusters"], true);
   // Each candidate once (30 was given by id and by name), the target among
   // them, in ascending order.

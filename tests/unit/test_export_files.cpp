@@ -433,6 +433,7 @@ TEST(ExportFiles, ObjectsDropOutlierVoxelsFromTheBox) {
   ASSERT_EQ(json.at("objects").size(), 1u);
   const auto& object = json.at("objects")[0];
   EXPECT_EQ(object.at("voxels"), 65);
+  EXPECT_EQ(object.at("label_voxels"), 65) << "as plan.json names them";
   EXPECT_EQ(object.at("cluster_voxels"), 64);
   const auto size = object.at("size").get<std::vector<double>>();
   EXPECT_NEAR(size[0] * size[1] * size[2], 64 * kCell, 1e-9);

@@ -62,6 +62,10 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
   refresh_->setObjectName("refreshObjectsButton");
   status_->setObjectName("objectsStatus");
   table_->setHorizontalHeaderLabels({tr("Label"), tr("Object"), tr("Voxels"), tr("Mean p")});
+  // Not the Map Labels count: stray voxels of the label are not the object.
+  table_->horizontalHeaderItem(Voxels)->setToolTip(
+      tr("Voxels of the object's cluster; the label's stray voxels elsewhere are not counted "
+         "(Map Labels counts them all)"));
   setupTable(table_);
   table_->horizontalHeader()->setSectionResizeMode(Name, QHeaderView::Stretch);
   table_->setSortingEnabled(true);
