@@ -29,6 +29,7 @@
 #include "other_images.hpp"
 #include "png_check.hpp"
 #include "png_decode.hpp"
+#include "rosbag_check.hpp"
 #include "rosbag_topics.hpp"
 
 // Header-only views of image messages: the first pass reads stamps and
@@ -938,6 +939,7 @@ void importRosbag(const fs::path& source, const ImportOptions& options, Sequence
   QuietConsole quiet;
   const std::string file = source.string();
   rosbag::Bag opened;
+  checkBagStructure(file);  // the bag library trusts every length and offset
   try {
     opened.open(file, rosbag::bagmode::Read);
   } catch (const std::exception& e) {

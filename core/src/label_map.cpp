@@ -315,6 +315,7 @@ LabelMap LabelMap::load(const std::filesystem::path& path) {
                 line.empty() ? "an empty first line" : "'" + line.substr(0, 40) + "'");
   std::string id;
   std::string res;
+  std::string size_text;
   bool has_size = false;
   bool has_data = false;
   while (std::getline(in, line)) {
@@ -328,6 +329,7 @@ LabelMap LabelMap::load(const std::filesystem::path& path) {
       words >> res;
     } else if (token == "size") {
       has_size = true;
+      words >> size_text;
     } else if (token == "data") {
       has_data = true;
       break;
@@ -361,6 +363,25 @@ LabelMap LabelMap::load(const std::filesystem::path& path) {
     Problem problem = e.problem();
     problem.file = file;
     throw Error(problem);
+  }
+  // The node stream ends the file: a damaged kind byte (an inner node read as
+  // a leaf) ended the stream early and the rest of the map was dropped
+  // without a word. The size line is a number.
+  if (in.peek() != std::char_traits<char>::eof())
+    throw Error(file, "data", "the map's nodes up to the end of the file",
+                "bytes after the node stream ended at byte " +
+                    std::to_string(static_cast<long long>(in.tellg())) +
+                    " (a damaged node, or another file appended)");
+  {
+    std::istringstream number(size_text);
+    unsigned long long declared = 0;
+    number >> declared;
+    if (!number || !number.eof())
+      throw Error(file, "size", "the number of nodes of the map",
+                  "'" + size_text.substr(0, 40) + "'");
+    // (Not compared with the nodes read: files edited by other tools keep a
+    // stale count, and OctoMap does not rely on it either.)
+    (void)declared;
   }
   LabelSet labels = tree->labels();
   MapParameters parameters = tree->parameters();

@@ -324,6 +324,9 @@ TEST(FrameMemoryLimit, AvailableMemoryKeepsWithinTheAddressSpaceLimit) {
   const std::optional<double> unlimited = lom::availableMemoryBytes();
   ASSERT_TRUE(unlimited) << "/proc/meminfo gave no MemAvailable";
   EXPECT_GT(*unlimited, 64.0 * 1024 * 1024);
+  // Re-executed rather than forked: earlier tests in the same run leave the
+  // fusion's worker threads, and a fork of a threaded process may crash.
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
   EXPECT_EXIT(exitWithAvailableMemoryUnderALimit(), ::testing::ExitedWithCode(0), "");
 }
 

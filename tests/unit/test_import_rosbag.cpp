@@ -613,6 +613,69 @@ TEST(ImportRosbag, StampsOutsideRosTimeHaveNoTransform) {
       << report.skipped[0].reason;
 }
 
+// The first top-level record of `op` in bag bytes: its offset, header length
+// and data offset (a test's own walk of format 2.0 records).
+struct BagRecord {
+  size_t at = 0, header_bytes = 0, data_at = 0;
+};
+std::uint32_t u32At(const std::string& bytes, size_t at) {
+  std::uint32_t value = 0;
+  std::memcpy(&value, bytes.data() + at, 4);  // little-endian, as the bag and this machine
+  return value;
+}
+std::optional<BagRecord> firstRecord(const std::string& bytes, std::uint8_t op) {
+  for (size_t at = 13; at + 8 <= bytes.size();) {
+    const size_t header_bytes = u32At(bytes, at);
+    const std::string header = bytes.substr(at + 4, header_bytes);
+    const size_t data_at = at + 8 + header_bytes;
+    const size_t found = header.find(std::string("op=") + static_cast<char>(op));
+    if (found != std::string::npos && found >= 4 && u32At(header, found - 4) == 4)
+      return BagRecord{at, header_bytes, data_at};
+    at = data_at + u32At(bytes, at + 4 + header_bytes);
+  }
+  return std::nullopt;
+}
+
+// Damaged lengths and offsets in a bag's records are an error naming the
+// file and the byte, not a crash of the bag library (which trusts them: it
+// read past its buffers or asked for gigabytes and aborted).
+TEST(ImportRosbag, DamagedRecordStructureIsAnErrorNotACrash) {
+  test::TempDir dir;
+  writeBag(dir / "good.bag", BagSpec{});
+  const std::string good = test::slurp(dir / "good.bag");
+  const auto index = firstRecord(good, 0x04);
+  ASSERT_TRUE(index) << "an index record";
+  auto damaged = [&](const std::string& name, const std::string& bytes) {
+    std::ofstream(dir / name, std::ios::binary) << bytes;
+    return errorOf([&] { importSource(SourceKind::RosBag, dir / name, dir / ("out-" + name)); });
+  };
+  // A header length of 4 GiB right after the magic.
+  std::string tiny = "#ROSBAG V2.0\n";
+  tiny += std::string(4, '\xff');
+  std::string error = damaged("tiny.bag", tiny);
+  EXPECT_NE(
+      error.find("tiny.bag: bag: expected a readable ROS 1 bag (format 2.0), found a record "
+                 "header of 4294967295 bytes that does not fit in what follows it at byte 13"),
+      std::string::npos)
+      << error;
+  // An index record's header one byte longer than its fields.
+  std::string longer = good;
+  const std::uint32_t header_bytes = static_cast<std::uint32_t>(index->header_bytes + 1);
+  std::memcpy(longer.data() + index->at, &header_bytes, 4);
+  error = damaged("header.bag", longer);
+  EXPECT_NE(error.find("at byte " + std::to_string(index->at)), std::string::npos) << error;
+  // An index entry pointing far outside its chunk.
+  std::string outside = good;
+  const std::uint32_t offset = 0x7fffffff;
+  std::memcpy(outside.data() + index->data_at + 8, &offset, 4);  // entry 0: time, then offset
+  error = damaged("offset.bag", outside);
+  EXPECT_NE(error.find("an index entry pointing outside the records of its chunk"),
+            std::string::npos)
+      << error;
+  // The intact bag imports.
+  EXPECT_EQ(importSource(SourceKind::RosBag, dir / "good.bag", dir / "good").frames_written, 4u);
+}
+
 TEST(ImportRosbag, MalformedBags) {
   test::TempDir dir;
   // Two depth topics: ambiguous unless one is chosen.

@@ -362,6 +362,33 @@ TEST_F(MapFileTest, TruncatedNodesSayWhereTheFileEnds) {
   EXPECT_EQ(loadError(deep).found, "children below the finest depth");
 }
 
+// Bytes after the node stream: a damaged node that ended the stream early
+// (the rest of the map was dropped without a word) or another file appended.
+TEST_F(MapFileTest, BytesAfterTheNodesAreRefused) {
+  const fs::path appended = changed([](MapFile& f) { f.nodes += "X"; });
+  const lom::Problem problem = loadError(appended);
+  EXPECT_EQ(problem.file, appended.string());
+  EXPECT_EQ(problem.field, "data");
+  EXPECT_NE(problem.found.find("bytes after the node stream ended at byte"), std::string::npos)
+      << problem.message();
+  // The root's kind byte turned from an inner node into a leaf: one leaf
+  // read, the rest left over.
+  const fs::path root_leaf = changed([](MapFile& f) {
+    ASSERT_GT(f.nodes.size(), 6u);
+    ASSERT_EQ(f.nodes[5], '\2') << "the root is an inner node";
+    f.nodes[5] = '\0';
+  });
+  const std::string field = loadError(root_leaf).field;  // what is left over, or what it reads as
+  EXPECT_TRUE(field == "data" || field == "nodes") << field;
+  // A size line that is no number.
+  const fs::path size = changed([](MapFile& f) {
+    const size_t at = f.text.find("\nsize ");
+    ASSERT_NE(at, std::string::npos);
+    f.text.replace(at, f.text.find('\n', at + 1) - at, "\nsize x");
+  });
+  EXPECT_EQ(loadError(size).field, "size");
+}
+
 // A map whose only node is an occupied leaf at `depth` (0 = the root), of label 1.
 fs::path mapWithOneLeaf(const fs::path& folder, unsigned depth, int leaf_label = 1) {
   lom::MapParameters parameters;
