@@ -2,11 +2,27 @@
 
 namespace lom {
 
+namespace {
+
+// Text taken from an input (a line of a list, a key of a file) can be any
+// length: a message shows its start and says how long it is, instead of
+// repeating a megabyte of it. Cut at a UTF-8 character boundary.
+constexpr size_t kMaxQuotedBytes = 4000;
+
+std::string shortened(const std::string& text) {
+  if (text.size() <= kMaxQuotedBytes) return text;
+  size_t cut = kMaxQuotedBytes - 1000;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
+  return text.substr(0, cut) + "... (" + std::to_string(text.size()) + " bytes in all)";
+}
+
+}  // namespace
+
 std::string Problem::message() const {
-  std::string text = file.empty() ? std::string() : file + ": ";
-  if (!field.empty()) text += field + ": ";
-  text += "expected " + expected;
-  if (!found.empty()) text += ", found " + found;
+  std::string text = file.empty() ? std::string() : shortened(file) + ": ";
+  if (!field.empty()) text += shortened(field) + ": ";
+  text += "expected " + expected;  // the program's own words
+  if (!found.empty()) text += ", found " + shortened(found);
   return text;
 }
 

@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "lom/annotations.hpp"
+#include "lom/error.hpp"
 #include "lom/evaluation.hpp"
 #include "lom/labels.hpp"
 #include "lom/npy.hpp"
@@ -272,6 +273,32 @@ TEST(ImageHeaderTest, RealJpegTiffAndBmpFilesStillRead) {
     EXPECT_EQ(image.width, 5) << name;
     EXPECT_EQ(image.height, 3) << name;
   }
+}
+
+}  // namespace
+
+namespace {
+
+// A message quotes at most a few kilobytes of what it found (a megabyte-long
+// line of a list was repeated whole), and says how long it was.
+TEST(ErrorMessages, LongQuotedInputIsShortened) {
+  const std::string line(1 << 20, 'A');
+  const lom::Error error("list.txt", "line 1", "SEQ_PATH ANNOTATIONS_PATH [MAP.ot]", line);
+  const std::string message = error.what();
+  EXPECT_LT(message.size(), 4000u);
+  EXPECT_NE(
+      message.find("list.txt: line 1: expected SEQ_PATH ANNOTATIONS_PATH [MAP.ot], found AAA"),
+      std::string::npos);
+  EXPECT_NE(message.find("... (1048576 bytes in all)"), std::string::npos);
+  // Not cut inside a character.
+  const std::string accents(3000, 'a');
+  const lom::Error cut("f", "", "x", accents + std::string(1000, '\xc3') + "\xa9" + accents);
+  const std::string shown = cut.what();
+  const size_t dots = shown.find("... (");
+  ASSERT_NE(dots, std::string::npos);
+  EXPECT_NE(static_cast<unsigned char>(shown[dots - 1]) & 0xC0, 0x80);
+  // Short text as it is.
+  EXPECT_STREQ(lom::Error("f", "g", "h", "i").what(), "f: g: expected h, found i");
 }
 
 }  // namespace
