@@ -646,6 +646,7 @@ void saveSequence(const Sequence& sequence, const fs::path& folder) {
 
 std::vector<Problem> validateSequence(const Sequence& sequence) {
   std::vector<Problem> problems;
+  bool any_depth = false;
   const fs::path json_path = sequence.root / "sequence.json";
   for (size_t i = 0; i < sequence.frames.size(); ++i) {
     const FrameRecord& record = sequence.frames[i];
@@ -653,8 +654,22 @@ std::vector<Problem> validateSequence(const Sequence& sequence) {
       problems.push_back({json_path.string(), indexed("frames", i),
                           "a \"proba\" or a \"label\" file (fusion needs per-pixel labels)",
                           "neither"});
-    (void)readFrame(sequence, i, FrameParts{}, problems);
+    const size_t before = problems.size();
+    const FrameData frame = readFrame(sequence, i, FrameParts{}, problems);
+    if (problems.size() == before && !any_depth)
+      for (const float z : frame.depth.metres)
+        if (std::isfinite(z) && z > 0.f) {
+          any_depth = true;
+          break;
+        }
   }
+  // Frames without a measurement are left out of fusion one by one; with
+  // none at all there is nothing to fuse, which fuse refuses.
+  if (problems.empty() && !sequence.frames.empty() && !any_depth)
+    problems.push_back({json_path.string(), "frames[].depth",
+                        "depth images with valid measurements (finite, > 0) in at least one frame",
+                        "none in the " + std::to_string(sequence.frames.size()) +
+                            " frames: every depth pixel is 0 (no measurement) or invalid"});
   return problems;
 }
 
