@@ -192,7 +192,10 @@ NewFolders::NewFolders(const fs::path& folder) {
   std::error_code ec;
   for (fs::path p = fs::absolute(folder, ec).lexically_normal(); !p.empty(); p = p.parent_path()) {
     if (p.filename().empty() && p.has_parent_path() && p != p.parent_path()) continue;  // "a/b/"
-    if (fs::exists(p, ec) || ec) break;
+    // A symbolic link is there even when it leads nowhere (a drive not
+    // mounted): it is not made here, so it is never removed here either.
+    const fs::file_status status = fs::symlink_status(p, ec);
+    if (fs::exists(status) || (ec && status.type() != fs::file_type::not_found)) break;
     missing_.push_back(p);
     if (p == p.parent_path()) break;
   }

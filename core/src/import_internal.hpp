@@ -77,8 +77,10 @@ class SequenceWriter {
   // that nothing goes into (proba/ of a geometry-only import) is not made.
   fs::path fileIn(const char* sub, const std::string& name);
   void cleanUp() noexcept;
-  // Replaces the old sequence's frame folders with the staged ones.
-  void swapInStagedFrames();
+  // Writes sequence.json and, for an existing folder, replaces the old
+  // sequence (its sequence.json and frame folders) with the staged one, all
+  // or nothing: a failure leaves the old sequence as it was.
+  void commitSequence(const std::string& json);
   // The steps of convert(): each returns why the frame cannot be used, if it cannot.
   [[nodiscard]] std::optional<std::string> convert(SourceFrame& frame, FrameRecord& record);
   [[nodiscard]] std::optional<std::string> convertPose(const SourceFrame& frame,

@@ -252,19 +252,54 @@ void SequenceWriter::prepareFolder() {
   prepared_ = true;
 }
 
-void SequenceWriter::swapInStagedFrames() {
-  if (staging_.empty()) return;
-  std::error_code ec;
-  fs::remove(out_ / "sequence.json", ec);  // first: a half-replaced folder is never a sequence
-  for (const char* sub : {"depth", "color", "proba", "label"}) {
-    fs::remove_all(out_ / sub, ec);
-    if (!fs::is_directory(staging_ / sub, ec)) continue;
-    fs::rename(staging_ / sub, out_ / sub, ec);
-    if (ec)
-      throw Error((out_ / sub).string(), "output", "a folder the new frames can be moved to",
-                  "rename failed: " + ec.message());
+void SequenceWriter::commitSequence(const std::string& json) {
+  if (staging_.empty()) {  // a new folder: removed whole if this fails
+    writeTextFileAtomically(out_ / "sequence.json", json);
+    return;
   }
-  fs::remove_all(staging_, ec);
+  // The new sequence file first, complete, beside the new frames: a write
+  // that fails (a full disk) leaves the old sequence untouched.
+  try {
+    writeTextFileAtomically(staging_ / "sequence.json", json);
+  } catch (const Error& e) {  // named where it goes, not by the hidden staging folder
+    throw Error((out_ / "sequence.json").string(), e.problem().field, e.problem().expected,
+                e.problem().found + " (the sequence there is left as it was)");
+  }
+  // Then the old files aside and the new ones in, by renames within the
+  // folder; any rename that fails puts everything back.
+  const fs::path old = staging_ / ".replaced";
+  std::error_code ec;
+  fs::create_directories(old, ec);
+  if (ec) throw Error(old.string(), "output", "a folder for the replaced files", ec.message());
+  const char* const kParts[] = {"sequence.json", "depth", "color", "proba", "label"};
+  std::vector<std::string> set_aside, moved_in;
+  auto rollBack = [&] {
+    std::error_code ignored;
+    for (auto it = moved_in.rbegin(); it != moved_in.rend(); ++it)
+      fs::rename(out_ / *it, staging_ / *it, ignored);
+    for (auto it = set_aside.rbegin(); it != set_aside.rend(); ++it)
+      fs::rename(old / *it, out_ / *it, ignored);
+  };
+  auto move = [&](const fs::path& from, const fs::path& to, std::vector<std::string>& done,
+                  const char* name) {
+    fs::rename(from, to, ec);
+    if (ec) {
+      const std::string why = ec.message();
+      rollBack();
+      throw Error((out_ / name).string(), "output", "a file or folder the import can replace",
+                  "rename failed: " + why + " (the sequence there is left as it was)");
+    }
+    done.emplace_back(name);
+  };
+  // The old sequence file goes first: a half-replaced folder is never a sequence.
+  for (const char* part : kParts)
+    if (fs::symlink_status(out_ / part, ec).type() != fs::file_type::not_found)
+      move(out_ / part, old / part, set_aside, part);
+  // The new one comes last, for the same reason.
+  for (const char* part : {"depth", "color", "proba", "label", "sequence.json"})
+    if (fs::symlink_status(staging_ / part, ec).type() != fs::file_type::not_found)
+      move(staging_ / part, out_ / part, moved_in, part);
+  fs::remove_all(staging_, ec);  // the replaced files with it
   staging_.clear();
 }
 
@@ -566,8 +601,7 @@ void SequenceWriter::finish(const std::string& source_description) {
   sequence.camera.depth_scale = depth_scale_;
   sequence.frames = std::move(records_);
   const std::string json = sequenceJsonText(sequence, out_);  // checked before anything moves
-  swapInStagedFrames();
-  writeTextFileAtomically(out_ / "sequence.json", json);
+  commitSequence(json);
   finished_ = true;
 }
 

@@ -181,7 +181,8 @@ SynthScene writeScene(const SynthLayout& layout, const SynthOptions& options,
 SynthScene writeSyntheticScene(const SynthOptions& options, const fs::path& out) {
   const SynthLayout layout = makeSynthLayout(options);
   std::error_code ec;
-  const bool existed = fs::exists(out, ec);
+  // (A symbolic link leading nowhere is there: never removed below.)
+  const bool existed = fs::symlink_status(out, ec).type() != fs::file_type::not_found;
   const bool fresh = !existed || (fs::is_directory(out, ec) && fs::is_empty(out, ec));
   try {
     return writeScene(layout, options, out);

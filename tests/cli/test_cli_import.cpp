@@ -76,6 +76,44 @@ TEST(CliImport, FramesFolderToAValidSequence) {
   EXPECT_EQ(loadSequence(dir / "seq").frames.size(), 1u);
 }
 
+// --overwrite that fails at its very end (the new sequence.json does not
+// fit: a full disk) leaves the old sequence whole: its file and its frames
+// (the old frames were deleted before the new file was written).
+TEST(CliImport, AnOverwriteThatFailsAtTheEndKeepsTheOldSequence) {
+  test::TempDir dir;
+  writeText(dir / "frames" / "camera-intrinsics.txt", "20 0 7.5\n0 20 5.5\n0 0 1\n");
+  for (int n = 0; n < 60; ++n) {  // many frames: a sequence.json of well over 4 KiB
+    char base[32];
+    std::snprintf(base, sizeof base, "frame-%06d", n);
+    writeDepthPng(dir / "frames" / (std::string(base) + ".depth.png"), plane(4, 3, 1.0f), 0.001);
+    writeText(dir / "frames" / (std::string(base) + ".pose.txt"),
+              "1 0 0 " + std::to_string(0.01 * n) + "\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
+  }
+  const std::string import =
+      "import frames " + quoted(dir / "frames") + " --out " + quoted(dir / "seq");
+  ASSERT_EQ(test::runCli(import + " --every 30 --quiet").exit_code, 0);
+  const std::string before = test::slurp(dir / "seq" / "sequence.json");
+  ASSERT_EQ(loadSequence(dir / "seq").frames.size(), 2u);
+  test::CliLimits limits;
+  limits.file_kib = 4;
+  const auto failed = test::runCli(import + " --overwrite --quiet", limits);
+  EXPECT_EQ(failed.exit_code, 1) << failed.err;
+  EXPECT_NE(failed.err.find((dir / "seq" / "sequence.json").string() + ": output"),
+            std::string::npos)
+      << failed.err;
+  EXPECT_NE(failed.err.find("the sequence there is left as it was"), std::string::npos)
+      << failed.err;
+  EXPECT_EQ(test::slurp(dir / "seq" / "sequence.json"), before);
+  const Sequence kept = loadSequence(dir / "seq");
+  EXPECT_EQ(kept.frames.size(), 2u);
+  EXPECT_TRUE(validateSequence(kept).empty());
+  for (const auto& entry : fs::directory_iterator(dir / "seq"))
+    EXPECT_NE(entry.path().filename().string()[0], '.') << "no staging left: " << entry.path();
+  // Without the limit it goes through.
+  ASSERT_EQ(test::runCli(import + " --overwrite --quiet").exit_code, 0);
+  EXPECT_EQ(loadSequence(dir / "seq").frames.size(), 60u);
+}
+
 // A recording kept in OUT/color (or depth, proba, label) would be deleted by
 // the import that replaces those folders: a mistake in the call, refused.
 TEST(CliImport, ASourceAmongTheFoldersTheImportReplacesIsAUsageError) {

@@ -668,6 +668,16 @@ TEST_F(BoxFilesTest, ADeclinedRecoveryCopyIsKept) {
   EXPECT_NE(copy.find("square_box"), std::string::npos);
   ASSERT_TRUE(next.controller().openSequence(qPath(tiny_.folder)));
   EXPECT_EQ(offers, 1) << "not offered again";
+  // Declined again after another session: the earlier copy stays beside the new one.
+  const std::string first_kept = slurp(declined.toStdString());
+  std::ofstream(recovery.toStdString()) << copy;  // another session left unsaved boxes
+  ASSERT_TRUE(next.controller().openSequence(qPath(tiny_.folder)));
+  EXPECT_EQ(offers, 2);
+  EXPECT_EQ(slurp(declined.toStdString()), first_kept);
+  QString second = declined;
+  second.chop(5);
+  second += "-2.json";
+  EXPECT_TRUE(QFileInfo::exists(second)) << second.toStdString();
 }
 
 // Restored boxes older than their file on disk: Save would replace newer

@@ -135,6 +135,20 @@ TEST(StagedOutputs, StagedFilesNotCommittedAreRemoved) {
   EXPECT_EQ(readText(dir / "b.txt"), "b");
 }
 
+// Output folders a failed command created go again, but a symbolic link
+// that led nowhere (a drive not mounted) was not created by it and stays.
+TEST(StagedOutputs, ANewFolderIsRemovedButADanglingLinkStays) {
+  lom::test::TempDir dir;
+  {
+    lom::NewFolders folders(dir / "new" / "deeper");
+    fs::create_directories(dir / "new" / "deeper");
+  }
+  EXPECT_FALSE(fs::exists(dir / "new")) << "made, unused, removed";
+  fs::create_directory_symlink(dir / "nowhere", dir / "link");
+  { lom::NewFolders folders(dir / "link"); }
+  EXPECT_TRUE(fs::is_symlink(dir / "link"));
+}
+
 TEST(LibraryWrites, AFailureOnANearlyFullDiskSaysSo) {
   EXPECT_EQ(lom::libraryWriteFailure(std::uint64_t{0}, "VTK"), "write failed (disk full?)");
   EXPECT_EQ(lom::libraryWriteFailure(std::uint64_t{64} << 10, "OpenCV"),

@@ -362,8 +362,13 @@ void BoxesAutosave::onSequenceChanged() {
     // Declined: not offered again, but not lost either (the question says
     // where the copy stays): a plain boxes file that Open Boxes… and
     // `labeloctomap score` read. A copy that cannot be read is kept as it is.
-    const QString kept = declinedPath(path);
-    QFile::remove(kept);
+    // An earlier declined copy stays too: the next free name.
+    QString kept = declinedPath(path);
+    for (int n = 2; QFileInfo::exists(kept); ++n) {
+      kept = declinedPath(path);
+      kept.chop(5);  // ".json"
+      kept += QStringLiteral("-%1.json").arg(n);
+    }
     bool written = false;
     try {
       saveAnnotations(readRecoveryFile(path).boxes, toPath(kept));
@@ -372,10 +377,11 @@ void BoxesAutosave::onSequenceChanged() {
     }
     if (written) {
       QFile::remove(path);
-    } else {
-      const QString raw = path + QStringLiteral(".declined");
-      QFile::remove(raw);
-      if (!QFile::rename(path, raw)) QFile::remove(path);
+    } else {  // kept as it is, under a free name; never deleted
+      QString raw = path + QStringLiteral(".declined");
+      for (int n = 2; QFileInfo::exists(raw); ++n)
+        raw = path + QStringLiteral(".declined-%1").arg(n);
+      QFile::rename(path, raw);
     }
     return;
   }
@@ -413,8 +419,9 @@ void BoxesAutosave::onSequenceChanged() {
   } catch (const std::exception& error) {
     // Unreadable: nothing restored. The copy is kept (renamed, so that it is
     // not offered again) for the user to look into, and the message says where.
-    const QString kept = path + QStringLiteral(".unreadable");
-    QFile::remove(kept);
+    QString kept = path + QStringLiteral(".unreadable");  // an earlier one stays too
+    for (int n = 2; QFileInfo::exists(kept); ++n)
+      kept = path + QStringLiteral(".unreadable-%1").arg(n);
     const bool moved = QFile::rename(path, kept);
     emit session_.controller().warningOccurred(
         QObject::tr("Boxes not restored"),

@@ -251,8 +251,8 @@ MainWindow::MainWindow(QWidget* parent)
                this, tr("Recover unsaved boxes?"),
                tr("Boxes of this sequence were not saved when the studio last closed.\n"
                   "Restore them from %1?\n\n"
-                  "No keeps them as a boxes file, %2, that File ▸ Open Boxes… opens (they are "
-                  "not offered again).")
+                  "No keeps them as a boxes file, %2 (numbered when an earlier one is there), "
+                  "that File ▸ Open Boxes… opens (they are not offered again).")
                    .arg(file, BoxesAutosave::declinedPath(file))) == QMessageBox::Yes;
   });
 }
