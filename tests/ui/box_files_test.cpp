@@ -640,6 +640,30 @@ TEST_F(BoxFilesTest, EditsThatChangeNothingLeaveTheBoxesSaved) {
   EXPECT_GT(boxes().box(0).box.size.z(), 0.001);
 }
 
+// Tab and Shift+Tab in the 3D view step through the boxes. Shift+Tab comes
+// as Backtab with Shift: a Shift+Backtab shortcut never fired.
+TEST_F(BoxFilesTest, TabAndShiftTabInTheSceneStepThroughTheBoxes) {
+  ASSERT_TRUE(open(tiny_.folder));
+  boxes().addBox(boxOf(1, "square_box"));
+  boxes().addBox(boxOf(2, "blue_cup"));
+  boxes().select(0);
+  QWidget* scene = &window_.sceneView();
+  QWidget* view = scene;
+  for (QWidget* child : scene->findChildren<QWidget*>())
+    if (child->focusPolicy() != Qt::NoFocus) view = child;
+  window_.activateWindow();
+  QApplication::setActiveWindow(&window_);
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&window_));
+  view->setFocus();
+  QApplication::processEvents();
+  ASSERT_TRUE(QApplication::focusWidget() == scene ||
+              scene->isAncestorOf(QApplication::focusWidget()));
+  QTest::keyClick(QApplication::focusWidget(), Qt::Key_Tab);
+  EXPECT_EQ(boxes().selected(), 1);
+  QTest::keyClick(QApplication::focusWidget(), Qt::Key_Backtab, Qt::ShiftModifier);
+  EXPECT_EQ(boxes().selected(), 0);
+}
+
 // A declined recovery copy is not offered again, and not deleted either.
 TEST_F(BoxFilesTest, ADeclinedRecoveryCopyIsKept) {
   ASSERT_TRUE(open(tiny_.folder));

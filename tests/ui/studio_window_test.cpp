@@ -297,7 +297,8 @@ TEST_F(StudioWindowTest, ShortcutListHasTheMenusKeysAndThePlayButtons) {
   const auto* help = window_.findChild<ShortcutsHelpReaction*>();
   ASSERT_NE(help, nullptr);
   const QStringList rows = help->rows();
-  for (const char* row : {"F1\tKeyboard Shortcuts", "PgDown\tNext Frame", "Space\tPlay / pause"})
+  for (const char* row : {"F1\tKeyboard Shortcuts", "PgDown\tNext Frame", "Space\tPlay / pause",
+                          "Tab\tNext Box", "Shift+Tab\tPrevious Box"})
     EXPECT_TRUE(rows.contains(row)) << row << "\n" << rows.join('\n').toStdString();
 }
 

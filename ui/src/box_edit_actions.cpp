@@ -1,6 +1,8 @@
 #include "lom/ui/box_edit_actions.hpp"
 
 #include <QAction>
+#include <QApplication>
+#include <QKeyEvent>
 #include <QSettings>
 #include <QWidget>
 #include <cmath>
@@ -113,6 +115,41 @@ std::optional<OrientedBox> BoxEditReaction::tightened(const OrientedBox& box) co
   return tightenBox(box, finestVoxelCentres(near, snapshot->resolution), snapshot->resolution);
 }
 
+namespace {
+
+// Shift+Tab in the 3D view selects the previous box. Qt delivers it as
+// Backtab, with or without Shift, and which shortcut that matches depends on
+// the keyboard's native data (none matched on X11, or two at once): the key
+// is caught before shortcuts and focus navigation see it.
+class PreviousBoxKey : public QObject {
+ public:
+  PreviousBoxKey(QAction* action, QWidget& scene)
+      : QObject(action), action_(action), scene_(scene) {
+    qApp->installEventFilter(this);
+  }
+
+ protected:
+  bool eventFilter(QObject*, QEvent* event) override {
+    if (event->type() != QEvent::ShortcutOverride && event->type() != QEvent::KeyPress)
+      return false;
+    auto* key = static_cast<QKeyEvent*>(event);
+    if (key->key() != Qt::Key_Backtab) return false;
+    QWidget* focus = QApplication::focusWidget();
+    if (!focus || !(focus == &scene_ || scene_.isAncestorOf(focus))) return false;
+    if (event->type() == QEvent::ShortcutOverride) {
+      if (action_->isEnabled()) action_->trigger();
+      event->accept();  // no shortcut for it; the key press that follows is dropped below
+    }
+    return true;
+  }
+
+ private:
+  QAction* action_;
+  QWidget& scene_;
+};
+
+}  // namespace
+
 std::vector<QAction*> createBoxEditActions(QWidget& window, QWidget& scene, StudioSession& session,
                                            const BoxSteps& steps,
                                            const std::function<void(const QString&)>& report) {
@@ -138,7 +175,8 @@ std::vector<QAction*> createBoxEditActions(QWidget& window, QWidget& scene, Stud
       {QObject::tr("Grow Box Height (z)"), Qt::SHIFT + Qt::Key_I, Edit::GrowZ},
       {QObject::tr("Shrink Box Height (z)"), Qt::SHIFT + Qt::Key_K, Edit::ShrinkZ},
       {QObject::tr("Next Box"), Qt::Key_Tab, Edit::Next},
-      {QObject::tr("Previous Box"), Qt::SHIFT + Qt::Key_Backtab, Edit::Previous},
+      // Shift+Tab: shown so, and caught as the key it arrives as (PreviousBoxKey).
+      {QObject::tr("Previous Box"), Qt::SHIFT + Qt::Key_Tab, Edit::Previous},
       {QObject::tr("Delete Box"), QKeySequence::Delete, Edit::Delete},
       {QObject::tr("Tighten Box to the Voxels Inside"), Qt::Key_T, Edit::Tighten},
   };
@@ -150,6 +188,7 @@ std::vector<QAction*> createBoxEditActions(QWidget& window, QWidget& scene, Stud
     action->setShortcutContext(tab ? Qt::WidgetWithChildrenShortcut : Qt::WindowShortcut);
     (tab ? scene : window).addAction(action);
     new BoxEditReaction(action, spec.edit, session, steps, report);
+    if (spec.edit == Edit::Previous) new PreviousBoxKey(action, scene);
     actions.push_back(action);
   }
   return actions;
