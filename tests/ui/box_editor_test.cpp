@@ -244,6 +244,30 @@ TEST_F(BoxEditorTest, CtrlZInAFieldUndoesTheBoxEdit) {
   EXPECT_EQ(boxes().box(0).box.center.x(), before);
   QTest::keyClick(&field, Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
   EXPECT_NEAR(boxes().box(0).box.center.x(), 0.4, 1e-12);
+  // A value still being typed: Ctrl+Z takes back that value only (it took
+  // back the 0.4 as well and dropped the typing).
+  field.selectAll();
+  QTest::keyClicks(&field, "0.45");
+  ASSERT_NEAR(boxes().box(0).box.center.x(), 0.4, 1e-12) << "typed, not entered";
+  QTest::keyClick(QApplication::focusWidget(), Qt::Key_Z, Qt::ControlModifier);
+  EXPECT_NEAR(boxes().box(0).box.center.x(), 0.4, 1e-12);
+  EXPECT_NEAR(window_.boxEditor().field(0).value(), 0.4, 1e-9);
+}
+
+// Ctrl+Z in a key-step field undoes box edits too, as in every field.
+TEST_F(BoxEditorTest, CtrlZInAKeyStepFieldUndoesTheBoxEdit) {
+  const double before = boxes().box(0).box.center.x();
+  typeIntoCentreX("0.4");
+  QTest::keyClick(QApplication::focusWidget(), Qt::Key_Return);
+  ASSERT_NEAR(boxes().box(0).box.center.x(), 0.4, 1e-12);
+  QDoubleSpinBox* step = nullptr;
+  for (QDoubleSpinBox* box : window_.boxEditor().findChildren<QDoubleSpinBox*>())
+    if (box->suffix() == " m" && box->maximum() == 1.0) step = box;  // Move or Resize
+  ASSERT_NE(step, nullptr);
+  step->setFocus();
+  QApplication::processEvents();
+  QTest::keyClick(step, Qt::Key_Z, Qt::ControlModifier);
+  EXPECT_EQ(boxes().box(0).box.center.x(), before);
 }
 
 // A box fit arrives after it was asked for (it runs on the map's thread): the

@@ -21,6 +21,7 @@
 #include "lom/ui/box_math.hpp"
 #include "lom/ui/elision.hpp"
 #include "lom/ui/frame_labels.hpp"
+#include "lom/ui/pending_edits.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
 #include "lom/ui/wheel_guard.hpp"
@@ -54,8 +55,15 @@ class ShortcutKeys : public QObject {
 // Ctrl+Z / Ctrl+Shift+Z in a field undo and redo box edits, as everywhere in
 // the window: the field's own text undo would otherwise take the keys, and a
 // value entered with Enter could not be undone until the focus left it.
+// A value still being typed is entered first, so that Undo takes back that
+// value (it took back the edit before it and dropped the typing); Redo leaves
+// it (entering it would end the redo history).
 std::optional<bool> leaveUndoToTheWindow(const QKeyEvent& key) {
-  if (key.matches(QKeySequence::Undo) || key.matches(QKeySequence::Redo)) return false;
+  if (key.matches(QKeySequence::Undo)) {
+    commitPendingEdits();
+    return false;
+  }
+  if (key.matches(QKeySequence::Redo)) return false;
   return std::nullopt;
 }
 
@@ -184,6 +192,9 @@ BoxEditorPanel::BoxEditorPanel(StudioSession& session, BoxSteps& steps, QWidget*
   guardWheel(*this);
   auto* undo_keys = new ShortcutKeys(this, leaveUndoToTheWindow);
   for (QDoubleSpinBox* field : fields_) field->installEventFilter(undo_keys);
+  // The key steps too: Undo there undoes box edits, as in every field.
+  for (QDoubleSpinBox* step : steps_box->findChildren<QDoubleSpinBox*>())
+    step->installEventFilter(undo_keys);
   auto* search_keys = new ShortcutKeys(this, takeTypedLetters);
   box_label_->installEventFilter(search_keys);
   new_label_->installEventFilter(search_keys);
