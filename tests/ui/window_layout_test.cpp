@@ -307,6 +307,12 @@ TEST_F(WindowLayoutTest, MenuAccessKeysAreUniqueAndSaveAsHasItsShortcut) {
     }
   EXPECT_GE(menus, 5u);
   EXPECT_EQ(window_.findAction("Save Boxes As…")->shortcut(), QKeySequence("Ctrl+Shift+S"));
+  // Redo answers Ctrl+Y as well as the platform's key.
+  bool redo_with_ctrl_y = false;
+  for (QAction* action : window_.findChildren<QAction*>())
+    if (action->shortcuts().contains(QKeySequence::keyBindings(QKeySequence::Redo).value(0)))
+      redo_with_ctrl_y = action->shortcuts().contains(QKeySequence("Ctrl+Y"));
+  EXPECT_TRUE(redo_with_ctrl_y);
 }
 
 }  // namespace

@@ -337,7 +337,11 @@ void MainWindow::createAnnotateMenu() {
   QAction* undo = undo_stack.createUndoAction(this, tr("&Undo"));
   undo->setShortcut(QKeySequence::Undo);
   QAction* redo = undo_stack.createRedoAction(this, tr("&Redo"));
-  redo->setShortcut(QKeySequence::Redo);
+  // The platform's Redo keys (Ctrl+Shift+Z here) and Ctrl+Y, which many
+  // annotation tools use.
+  QList<QKeySequence> redo_keys = QKeySequence::keyBindings(QKeySequence::Redo);
+  if (!redo_keys.contains(QKeySequence(tr("Ctrl+Y")))) redo_keys << QKeySequence(tr("Ctrl+Y"));
+  redo->setShortcuts(redo_keys);
   menu->addActions({undo, redo});
   menu->addSeparator();
   auto add_box = [&](const QString& text, AddBoxReaction::Mode mode, const QKeySequence& key) {
