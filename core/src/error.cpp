@@ -9,7 +9,34 @@ namespace {
 // repeating a megabyte of it. Cut at a UTF-8 character boundary.
 constexpr size_t kMaxQuotedBytes = 4000;
 
-std::string shortened(const std::string& text) {
+// Bytes that are not UTF-8 (a damaged file's names, a topic read from a
+// broken bag) become '?': a terminal or log shows the message, not mojibake.
+std::string validUtf8(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    size_t length = c < 0x80           ? 1
+                    : (c >> 5) == 0x6  ? 2
+                    : (c >> 4) == 0xE  ? 3
+                    : (c >> 3) == 0x1E ? 4
+                                       : 0;
+    bool valid = length > 0 && i + length <= text.size() && !(length == 2 && c < 0xC2);
+    for (size_t k = 1; valid && k < length; ++k)
+      valid = (static_cast<unsigned char>(text[i + k]) & 0xC0) == 0x80;
+    if (valid) {
+      out.append(text, i, length);
+      i += length;
+    } else {
+      out += '?';
+      ++i;
+    }
+  }
+  return out;
+}
+
+std::string shortened(const std::string& raw) {
+  const std::string text = validUtf8(raw);
   if (text.size() <= kMaxQuotedBytes) return text;
   size_t cut = kMaxQuotedBytes - 1000;
   while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;

@@ -297,8 +297,11 @@ TEST(ErrorMessages, LongQuotedInputIsShortened) {
   const size_t dots = shown.find("... (");
   ASSERT_NE(dots, std::string::npos);
   EXPECT_NE(static_cast<unsigned char>(shown[dots - 1]) & 0xC0, 0x80);
-  // Short text as it is.
+  // Short text as it is, UTF-8 included; bytes that are not UTF-8 become '?'.
   EXPECT_STREQ(lom::Error("f", "g", "h", "i").what(), "f: g: expected h, found i");
+  EXPECT_STREQ(lom::Error("caf\xc3\xa9.bag", "topic", "h", "/cam\xff\xfe/depth").what(),
+               "caf\xc3\xa9.bag: topic: expected h, found /cam?"
+               "?/depth");
 }
 
 }  // namespace
