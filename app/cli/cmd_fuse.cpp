@@ -127,7 +127,7 @@ std::string outsideMapWarning(const std::string& sequence_file, const FrameStats
   const size_t measured = totals.valid_pixels + totals.outside_map_pixels;
   char share[32];
   std::snprintf(share, sizeof(share), "%.1f%%", 100.0 * totals.outside_map_pixels / measured);
-  return "warning: " + sequence_file + ": " + std::to_string(totals.outside_map_pixels) + " of " +
+  return sequence_file + ": " + std::to_string(totals.outside_map_pixels) + " of " +
          std::to_string(measured) + " measured depth pixels (" + share + "), in " +
          listFrames(frames) + ", lie outside the map's extent, " + describeMapExtent(resolution) +
          ": the map leaves them out, free space and all; " +
@@ -396,7 +396,7 @@ int runFuse(const Words& words) {
           outsideMapWarning((sequence.root / "sequence.json").string(), totals, frames_outside_map,
                             options.map.resolution);
       !warning.empty())
-    std::cerr << warning << "\n";
+    std::cerr << "warning: " << warning << "\n";
   // fuseSequenceInto has pruned the map; writing a large one takes a while
   // of its own, reported beside the fusion's time.
   const auto save_start = std::chrono::steady_clock::now();

@@ -51,9 +51,8 @@ void addFusionWarnings(const ScoreInputs& inputs, EvaluationReport& report, cons
   const fs::path file =
       inputs.sequence.extension() == ".json" ? inputs.sequence : inputs.sequence / "sequence.json";
   if (!report.frames_outside_map.empty()) {
-    std::string warning = outsideMapWarning(file.string(), report.fusion_totals,
-                                            report.frames_outside_map, report.resolution);
-    if (warning.rfind("warning: ", 0) == 0) warning.erase(0, 9);
+    const std::string warning = outsideMapWarning(file.string(), report.fusion_totals,
+                                                  report.frames_outside_map, report.resolution);
     if (!warning.empty()) report.warnings.push_back(warning);
   }
   const RangeMessage range =

@@ -45,7 +45,7 @@ void checkFusionOptionsForSequence(const FusionOptions& options, const Sequence&
 
 // What fuse and score say when fused frames had depth points outside the map's
 // extent (FrameStats::outside_map_pixels; `frames` lists those frames):
-// "warning: ..." for standard error, or empty when there were none.
+// the warning, without its "warning: " prefix, or empty when there were none.
 // `sequence_file` is the sequence's sequence.json.
 std::string outsideMapWarning(const std::string& sequence_file, const FrameStats& totals,
                               const std::vector<size_t>& frames, double resolution);

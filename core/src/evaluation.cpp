@@ -277,12 +277,12 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
         " (were the boxes drawn for another label numbering?)");
     report.warnings.push_back(report.box_name_warnings.back());
   }
-  if (report.candidates)
+  if (report.candidates) {
+    std::string list;
+    for (const int c : *report.candidates) list += (list.empty() ? "" : ",") + std::to_string(c);
     for (size_t i = 0; i < annotations.boxes.size(); ++i) {
       const int label = annotations.boxes[i].label;
       if (std::binary_search(report.candidates->begin(), report.candidates->end(), label)) continue;
-      std::string list;
-      for (const int c : *report.candidates) list += (list.empty() ? "" : ",") + std::to_string(c);
       report.warnings.push_back(
           orDefault(options.annotations_file, "(annotations)") + ": boxes[" + std::to_string(i) +
           "] is of label " + std::to_string(label) + " (" + sequence.labels.at(label).name +
@@ -290,6 +290,7 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
           ": no voxel or pixel can take that label, so it scores 0 in every column and pulls the "
           "means down");
     }
+  }
 
   detail::FrameScan scan = detail::scanFrames(sequence, map, labels, options, progress);
   if (scan.views.empty())

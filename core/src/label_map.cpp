@@ -381,7 +381,6 @@ LabelMap LabelMap::load(const std::filesystem::path& path) {
                   "'" + size_text.substr(0, 40) + "'");
     // (Not compared with the nodes read: files edited by other tools keep a
     // stale count, and OctoMap does not rely on it either.)
-    (void)declared;
   }
   LabelSet labels = tree->labels();
   MapParameters parameters = tree->parameters();

@@ -125,13 +125,13 @@ class Walker {
     std::map<std::uint64_t, Chunk> chunks;  // by file offset
     std::optional<std::uint64_t> last_chunk;
     std::vector<std::pair<std::uint64_t, std::uint64_t>> chunk_infos;  // record offset, chunk_pos
-    std::optional<std::uint64_t> index_pos;
     for (std::uint64_t at = kMagicBytes; at < size_;) {
       const std::uint64_t next = record(at, size_, fields, data_at, data_bytes);
       const std::uint8_t operation = op(fields, at);
       if (operation == kBagHeader) {
-        index_pos = fields.number("index_pos", 8);
-        if (!index_pos) fail(at, "a bag header without its index position");
+        // (An index position past the end is a bag not closed when recorded:
+        // the bag library says so, unindexed, in its own words.)
+        if (!fields.number("index_pos", 8)) fail(at, "a bag header without its index position");
       } else if (operation == kChunk) {
         Chunk chunk;
         const auto compression = fields.values.find("compression");
@@ -193,9 +193,6 @@ class Walker {
     }
     for (const auto& [at, chunk_pos] : chunk_infos)
       if (chunks.count(chunk_pos) == 0) fail(at, "a chunk info record pointing at no chunk");
-    // An index position past the end is a bag not closed when recorded: the
-    // bag library says so (unindexed), with its own words.
-    (void)index_pos;
   }
 
  private:
