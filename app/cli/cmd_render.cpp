@@ -47,6 +47,7 @@ struct RenderRequest {
   bool score = false;                       // --colour score
   std::optional<fs::path> annotations;      // --annotations (with --colour score)
   IouMode iou_mode = IouMode::Exact;        // --iou
+  bool frame_all = false;                   // --frame all
 };
 
 // "1280x960" -> (1280, 960): digits only, each side 1 to 16384, at most
@@ -91,7 +92,7 @@ std::pair<fs::path, size_t> parseCamera(const std::string& text) {
 RenderRequest parseRequest(const Words& words) {
   const Args args(words, {"flat"});
   args.expectOnly({"out", "camera", "azimuth", "elevation", "up", "size", "labels", "flat",
-                   "colour", "annotations", "iou"},
+                   "colour", "annotations", "iou", "frame"},
                   1);
   RenderRequest request;
   request.map = args.positional(0, "MAP.ot");
@@ -106,6 +107,15 @@ RenderRequest parseRequest(const Words& words) {
     throw UsageError("option --elevation expects degrees from -90 to 90, got '" +
                      *args.option("elevation") + "'");
   request.shading = !args.flag("flat");
+  if (const auto frame = args.option("frame")) {
+    if (args.option("camera"))
+      throw UsageError(
+          "--frame is for the orbit view; --camera SEQ:INDEX shows what that "
+          "camera saw");
+    if (*frame != "bulk" && *frame != "all")
+      throw UsageError("option --frame expects bulk or all, got '" + *frame + "'");
+    request.frame_all = *frame == "all";
+  }
   if (const auto colour = args.option("colour")) {
     if (*colour == "labels")
       request.colouring = VoxelColouring::Labels;
@@ -238,6 +248,7 @@ int runRender(const Words& words) {
   options.shading = request.shading;
   options.labels = request.labels;
   options.up = request.up;
+  options.frame_all = request.frame_all;
   options.colouring = request.colouring;
   if (request.camera_sequence) {
     const Sequence& sequence = *request.camera_sequence;
@@ -261,8 +272,9 @@ int runRender(const Words& words) {
     checkBoxLabels(annotations, map.numLabels(), request.annotations->string(), "the map");
     options.score = render::ScoreColours{annotations.boxes, request.iou_mode};
   }
+  render::OrbitFraming framing;
   try {
-    render::renderMapToPng(map, options, request.out);
+    render::renderMapToPng(map, options, request.out, &framing);
   } catch (const Error& e) {
     if (!e.problem().file.empty()) throw;
     Problem problem = e.problem();
@@ -295,6 +307,11 @@ int runRender(const Words& words) {
                       : std::string("world +z (the map records no camera views that agree "
                                     "on up; --up x,y,z sets it)"))
               << "\n";
+    if (framing.leftOut() > 0)
+      std::cout << "framed: " << framing.framed.size() << " of " << framing.selected_voxels
+                << " voxels; " << framing.leftOut() << " in specks of fewer than "
+                << render::kFramedPartVoxels
+                << " voxels may lie outside the picture (--frame all fits every voxel)\n";
   }
   return 0;
 }

@@ -46,8 +46,9 @@ const Command kCommands[] = {
      "                                write meshes, point clouds, octrees or object boxes"},
     {"render", lom::cli::runRender,
      "render MAP.ot --out view.png [--camera SEQ:INDEX | --azimuth A --elevation E --up X,Y,Z]\n"
-     "       [--size 1280x960] [--labels 8,19] [--flat] [--colour labels|height]\n"
-     "       [--colour score --annotations BOXES.json [--iou exact|center]]\n"
+     "       [--frame bulk|all] [--size 1280x960] [--labels 8,19] [--flat]\n"
+     "       [--colour labels|height] [--colour score --annotations BOXES.json [--iou "
+     "exact|center]]\n"
      "                                render the map offscreen to a PNG (needs X or Xvfb)"},
     {"import", lom::cli::runImport,
      "import KIND SRC --out SEQ [--intrinsics fx,fy,cx,cy|FILE] [--every N] [--overwrite] ...\n"

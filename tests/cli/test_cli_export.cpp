@@ -321,6 +321,11 @@ TEST_F(CliExportTest, RenderWritesAPictureOfTheMap) {
           "the normal of the map's largest level plane, near the mean up of its 4 camera views"),
       std::string::npos)
       << r.out;
+  // Every voxel framed: nothing is left out, so nothing is said about it.
+  r = runCli("render " + q(map()) + " --out " + q(out / "all.png") + " --size 320x240 --frame all");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.find("framed:"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(out / "all.png"));
   r = runCli("render " + q(map()) + " --out " + q(out / "up.png") + " --size 320x240 --up 0,-2,0");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("up in the picture: (0, -1, 0), given with --up"), std::string::npos)
@@ -450,6 +455,14 @@ TEST_F(CliExportTest, RenderUsageMistakes) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("--up"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out / "v.png"));
+  r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --frame most");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("option --frame expects bulk or all, got 'most'"), std::string::npos)
+      << r.err;
+  r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --camera " +
+             q(scene().string() + ":0") + " --frame all");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("--frame is for the orbit view"), std::string::npos) << r.err;
   r = runCli("render " + q(map()) + " --out " + q(out / "v.png") + " --colour purple");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("option --colour expects labels, height or score, got 'purple'"),

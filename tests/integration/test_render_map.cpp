@@ -156,6 +156,51 @@ TEST(RenderMap, LabelSelectionHidesTheOtherLabels) {
   EXPECT_EQ(countColour(image, rgb(map.labels().at(3).color)), 0u);
 }
 
+// Label 1: a 6x6x6 block; label 2: one voxel 1.2 m away, like a flying pixel.
+lom::LabelMap blockAndSpeck() {
+  return lom::test::MapBuilder(3, kRes)
+      .occupy(blockKeys(0, 6, 0, 6, 0, 6), 1)
+      .occupy(blockKeys(60, 61, 0, 1, 0, 1), 2)
+      .build();
+}
+
+TEST(RenderMap, OrbitFramesTheBulkOfTheMapNotItsSpecks) {
+  LOM_REQUIRE_DISPLAY();
+  const lom::LabelMap map = blockAndSpeck();
+  lom::render::RenderOptions options = flatPicture(320, 240);
+  lom::render::OrbitFraming framing;
+  const lom::ColorImage bulk = lom::render::renderMap(map, options, &framing);
+  EXPECT_EQ(framing.framed.size(), 216u);
+  EXPECT_EQ(framing.selected_voxels, 217u);
+  EXPECT_EQ(framing.leftOut(), 1u);
+  const auto block = rgb(map.labels().at(1).color), speck = rgb(map.labels().at(2).color);
+  const size_t block_filling = countColour(bulk, block);
+  EXPECT_GT(block_filling, 320u * 240 / 5) << "the block fills the picture";
+  EXPECT_EQ(countColour(bulk, speck), 0u) << "the speck is outside it";
+
+  options.frame_all = true;
+  const lom::ColorImage all = lom::render::renderMap(map, options, &framing);
+  EXPECT_EQ(framing.framed.size(), 217u);
+  EXPECT_EQ(framing.leftOut(), 0u);
+  EXPECT_GT(countColour(all, speck), 0u) << "every voxel is in the picture";
+  EXPECT_LT(countColour(all, block) * 4, block_filling) << "so the block is small";
+}
+
+TEST(RenderMap, FramingJoinsLabelsAndKeepsEverythingWhenAllAreSpecks) {
+  // Two 2x2x1 halves of different labels touch: one part of 8 voxels.
+  const lom::LabelMap halves = lom::test::MapBuilder(3, kRes)
+                                   .occupy(blockKeys(0, 2, 0, 2, 0, 1), 1)
+                                   .occupy(blockKeys(0, 2, 0, 2, 1, 2), 2)
+                                   .occupy(blockKeys(40, 41, 0, 1, 0, 1), 2)
+                                   .build();
+  lom::render::RenderOptions options;
+  EXPECT_EQ(lom::render::orbitFraming(halves, options).framed.size(), 8u);
+  // Label 1 alone is a speck of 4 voxels: with nothing larger, it is all framed.
+  options.labels = std::set<int>{1};
+  EXPECT_EQ(lom::render::orbitFraming(halves, options).framed.size(), 4u);
+  EXPECT_EQ(lom::render::orbitFraming(halves, options).leftOut(), 0u);
+}
+
 // A 200x150 camera 0.5 m in front of the blocks (-x), looking along +x, image
 // x = world -y, with its principal point at (cx, cy).
 lom::render::PinholeView cameraBeforeTheBlocks(double cx, double cy) {

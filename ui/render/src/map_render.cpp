@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "lom/box_fit.hpp"
 #include "lom/error.hpp"
 #include "lom/export.hpp"
 #include "lom/score_breakdown.hpp"
@@ -142,14 +143,29 @@ void placePinhole(vtkCamera* camera, const PinholeView& view, int width, int hei
   camera->SetWindowCenter(1.0 - 2.0 * cx / width, 2.0 * cy / height - 1.0);
 }
 
+// The corners of the framed voxels' cubes.
+std::vector<Eigen::Vector3d> framedCorners(const std::vector<VoxelKey>& keys, double resolution) {
+  std::vector<Eigen::Vector3d> corners;
+  corners.reserve(8 * keys.size());
+  for (const VoxelKey& key : keys) {
+    const Eigen::Vector3d centre = voxelCenter(key, resolution);
+    for (int corner = 0; corner < 8; ++corner)
+      corners.push_back(centre + 0.5 * resolution *
+                                     Eigen::Vector3d(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1,
+                                                     corner & 4 ? 1 : -1));
+  }
+  return corners;
+}
+
 // The orbit camera: looking along azimuth and elevation at the centre of the
-// voxels' bounds, from far enough that every vertex is in front of it and in
+// points' bounds, from far enough that every point is in front of it and in
 // view; then the picture is narrowed and shifted (view angle and window
-// centre, as a pinhole camera's principal point) onto what the vertices
+// centre, as a pinhole camera's principal point) onto what the points
 // cover, with a 5 % margin, so that the map fills it whatever its shape.
-void placeOrbit(vtkCamera* camera, vtkPoints* points, const double bounds[6], double azimuth_deg,
+void placeOrbit(vtkCamera* camera, const std::vector<Eigen::Vector3d>& points, double azimuth_deg,
                 double elevation_deg, const Eigen::Vector3d& up, double aspect) {
-  const Eigen::Vector3d lo(bounds[0], bounds[2], bounds[4]), hi(bounds[1], bounds[3], bounds[5]);
+  Eigen::Vector3d lo = points.front(), hi = points.front();
+  for (const Eigen::Vector3d& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   const Eigen::Vector3d centre = 0.5 * (lo + hi);
   const double view_angle = 30.0;
   const double az = azimuth_deg * kPi / 180.0, el = elevation_deg * kPi / 180.0;
@@ -169,16 +185,11 @@ void placeOrbit(vtkCamera* camera, vtkPoints* points, const double bounds[6], do
   const Eigen::Vector3d picture_right = picture_up.cross(direction);
   const double tan_vertical = std::tan(0.5 * view_angle * kPi / 180.0);
   const double tan_horizontal = tan_vertical * aspect;
-  auto offset = [points, &centre](vtkIdType i) -> Eigen::Vector3d {  // not an Eigen expression
-    double xyz[3] = {0.0, 0.0, 0.0};
-    points->GetPoint(i, xyz);
-    return Eigen::Vector3d(xyz[0], xyz[1], xyz[2]) - centre;
-  };
-  const vtkIdType count = points->GetNumberOfPoints();
-  // Far enough for every vertex to be within the 30 degree view.
+  const size_t count = points.size();
+  // Far enough for every point to be within the 30 degree view.
   double distance = 1e-3;
-  for (vtkIdType i = 0; i < count; ++i) {
-    const Eigen::Vector3d p = offset(i);
+  for (size_t i = 0; i < count; ++i) {
+    const Eigen::Vector3d p = points[i] - centre;
     const double towards_eye = p.dot(direction);
     distance = std::max({distance, towards_eye + std::abs(p.dot(picture_up)) / tan_vertical,
                          towards_eye + std::abs(p.dot(picture_right)) / tan_horizontal});
@@ -187,8 +198,8 @@ void placeOrbit(vtkCamera* camera, vtkPoints* points, const double bounds[6], do
   // Where the vertices land from there, in normalised picture coordinates
   // (-1 to 1 across the view): the picture is fitted to that.
   double x_lo = 0, x_hi = 0, y_lo = 0, y_hi = 0;
-  for (vtkIdType i = 0; i < count; ++i) {
-    const Eigen::Vector3d p = offset(i);
+  for (size_t i = 0; i < count; ++i) {
+    const Eigen::Vector3d p = points[i] - centre;
     const double depth = distance - p.dot(direction);
     const double x = p.dot(picture_right) / (depth * tan_horizontal);
     const double y = p.dot(picture_up) / (depth * tan_vertical);
@@ -205,6 +216,23 @@ void placeOrbit(vtkCamera* camera, vtkPoints* points, const double bounds[6], do
 }
 
 }  // namespace
+
+OrbitFraming orbitFraming(const LabelMap& map, const RenderOptions& options) {
+  OrbitFraming framing;
+  for (auto& [label, keys] : occupiedVoxelsByLabel(map, options.labels))
+    framing.framed.insert(framing.framed.end(), keys.begin(), keys.end());
+  std::sort(framing.framed.begin(), framing.framed.end());
+  framing.selected_voxels = framing.framed.size();
+  if (options.frame_all) return framing;
+  std::vector<VoxelKey> bulk;
+  for (const auto& part : voxelClusters(framing.framed, 1.0))
+    if (part.size() >= kFramedPartVoxels) bulk.insert(bulk.end(), part.begin(), part.end());
+  if (!bulk.empty()) {
+    std::sort(bulk.begin(), bulk.end());
+    framing.framed = std::move(bulk);
+  }
+  return framing;
+}
 
 Eigen::Vector3d orbitUp(const LabelMap& map, const RenderOptions& options) {
   if (options.up) {
@@ -223,7 +251,7 @@ VoxelColouring colouringFor(const LabelMap& map, const RenderOptions& options) {
   return map.numLabels() == 1 ? VoxelColouring::Height : VoxelColouring::Labels;
 }
 
-ColorImage renderMap(const LabelMap& map, const RenderOptions& options) {
+ColorImage renderMap(const LabelMap& map, const RenderOptions& options, OrbitFraming* framing) {
   if (options.width <= 0 || options.height <= 0 || options.width > kMaxRenderSide ||
       options.height > kMaxRenderSide ||
       static_cast<long long>(options.width) * options.height > kMaxRenderPixels)
@@ -261,9 +289,11 @@ ColorImage renderMap(const LabelMap& map, const RenderOptions& options) {
   if (options.camera) {
     placePinhole(camera, *options.camera, options.width, options.height);
   } else {
-    placeOrbit(camera, surfaces->GetPoints(), surfaces->GetBounds(), options.azimuth_deg,
-               options.elevation_deg, orbitUp(map, options),
+    OrbitFraming framed = orbitFraming(map, options);
+    placeOrbit(camera, framedCorners(framed.framed, map.parameters().resolution),
+               options.azimuth_deg, options.elevation_deg, orbitUp(map, options),
                static_cast<double>(options.width) / options.height);
+    if (framing) *framing = std::move(framed);
   }
   renderer->ResetCameraClippingRange();
 
@@ -333,8 +363,8 @@ ColorImage renderMap(const LabelMap& map, const RenderOptions& options) {
 }
 
 void renderMapToPng(const LabelMap& map, const RenderOptions& options,
-                    const std::filesystem::path& png) {
-  const ColorImage image = renderMap(map, options);
+                    const std::filesystem::path& png, OrbitFraming* framing) {
+  const ColorImage image = renderMap(map, options, framing);
   writeColorPng(png, image);
 }
 

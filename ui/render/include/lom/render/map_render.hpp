@@ -59,6 +59,11 @@ struct RenderOptions {
   // Up in the orbit view; when absent, the map's own (LabelMap::upDirection:
   // the cameras it was fused from, levelled by its largest level plane), else +z.
   std::optional<Eigen::Vector3d> up;
+  // What the orbit view fits in the picture: false, the bulk of the map (the
+  // voxels in connected parts of at least kFramedPartVoxels voxels; specks
+  // such as flying pixels far from the scene may then fall outside); true,
+  // every voxel. See orbitFraming.
+  bool frame_all = false;
   // Replaces the orbit view. Its intrinsics are scaled to width x height.
   std::optional<PinholeView> camera;
   std::optional<std::set<int>> labels;  // default: every label
@@ -77,6 +82,20 @@ struct RenderOptions {
 // non-finite options.up.
 [[nodiscard]] Eigen::Vector3d orbitUp(const LabelMap& map, const RenderOptions& options);
 
+// The orbit view frames connected parts (26-neighbours, over the selected
+// labels together) of at least this many voxels, unless frame_all is set or
+// no part is that large.
+inline constexpr size_t kFramedPartVoxels = 8;
+
+// Which of the selected labels' occupied voxels the orbit view fits in the
+// picture (VoxelKeys, sorted) and how many voxels the selection holds.
+struct OrbitFraming {
+  std::vector<VoxelKey> framed;
+  size_t selected_voxels = 0;
+  [[nodiscard]] size_t leftOut() const { return selected_voxels - framed.size(); }
+};
+[[nodiscard]] OrbitFraming orbitFraming(const LabelMap& map, const RenderOptions& options);
+
 // options.colouring, else height for a map with a single label (geometry
 // without labels: one colour would hide its shape), else label colours.
 [[nodiscard]] VoxelColouring colouringFor(const LabelMap& map, const RenderOptions& options);
@@ -91,10 +110,12 @@ struct RenderOptions {
 
 // Throws RenderUnavailable without a display, lom::Error when the selection
 // has no occupied voxel or the size is not positive.
-[[nodiscard]] ColorImage renderMap(const LabelMap& map, const RenderOptions& options);
+// `framing`, when given, receives the orbit view's framing (untouched with a camera).
+[[nodiscard]] ColorImage renderMap(const LabelMap& map, const RenderOptions& options,
+                                   OrbitFraming* framing = nullptr);
 
 // renderMap, then a PNG written atomically.
 void renderMapToPng(const LabelMap& map, const RenderOptions& options,
-                    const std::filesystem::path& png);
+                    const std::filesystem::path& png, OrbitFraming* framing = nullptr);
 
 }  // namespace lom::render
