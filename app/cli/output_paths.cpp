@@ -105,10 +105,15 @@ void checkNotASequenceFile(const fs::path& out, const std::string& option) {
         // An unreadable sequence names no frame files; its own files stay protected.
       }
       for (const auto& [file, what] : owned)
-        if (samePath(out, file))
-          throw UsageError("--" + option + " " + out.string() + " would overwrite " + what + " " +
-                           file.string() + " of the sequence in " + folder.string() +
+        if (samePath(out, file)) {
+          // A sequence's own names are reserved even while the file is absent
+          // (its boxes are made later, in the studio).
+          const bool there = fs::exists(fs::symlink_status(file, ec));
+          throw UsageError("--" + option + " " + out.string() +
+                           (there ? " would overwrite " : " is the name reserved for ") + what +
+                           " " + file.string() + " of the sequence in " + folder.string() +
                            "; choose another path");
+        }
     }
     if (!folder.has_parent_path() || folder.parent_path() == folder) break;
   }

@@ -155,6 +155,11 @@ TEST_F(CliOutputTest, NoCommandWritesOverTheFilesOfASequence) {
   expectUsage(runCli(plan + q(copy / "annotations.json")),
               "would overwrite the ground-truth boxes");
   for (const auto& [file, text] : before) EXPECT_EQ(slurp(file), text) << file;
+  // The boxes' name is reserved while there are no boxes yet; the message says so.
+  fs::remove(copy / "annotations.json");
+  expectUsage(runCli(plan + q(copy / "annotations.json")),
+              "is the name reserved for the ground-truth boxes");
+  EXPECT_FALSE(fs::exists(copy / "annotations.json"));
   // Other files in a sequence folder are outputs like any other.
   const auto written = runCli(plan + q(copy / "plan.json"));
   EXPECT_EQ(written.exit_code, 0) << written.err;
