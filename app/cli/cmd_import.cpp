@@ -11,6 +11,7 @@
 
 #include "args.hpp"
 #include "commands.hpp"
+#include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 #include "lom/import.hpp"
 #include "lom/sequence.hpp"
@@ -119,7 +120,12 @@ void refuseRosbagOptionsFor(const Args& args, const std::optional<SourceKind>& k
 // what it wrote: a process killed halfway would leave a half-written folder.
 volatile std::sig_atomic_t g_stop_signal = 0;
 
-extern "C" void onStopSignal(int signal) { g_stop_signal = signal; }
+// A second signal stops the process at once (an import stuck before its next
+// frame), removing what it had written so far.
+extern "C" void onStopSignal(int signal) {
+  if (g_stop_signal) removePendingOutputsAndDie(signal);
+  g_stop_signal = signal;
+}
 
 // SIGINT and SIGTERM stop the import for as long as it runs; the earlier
 // handlers come back afterwards. A signal the process was started to ignore
@@ -131,9 +137,7 @@ class StopSignals {
     struct sigaction action {};
     action.sa_handler = onStopSignal;
     sigemptyset(&action.sa_mask);
-    // A second signal takes the default action: an import stuck before its
-    // next frame can still be stopped at once.
-    action.sa_flags = SA_RESTART | SA_RESETHAND;
+    action.sa_flags = SA_RESTART;
     for (size_t i = 0; i < 2; ++i) {
       installed_[i] = sigaction(kSignals[i], nullptr, &previous_[i]) == 0 &&
                       previous_[i].sa_handler != SIG_IGN &&

@@ -8,6 +8,7 @@
 
 #include "args.hpp"
 #include "commands.hpp"
+#include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 
 namespace {
@@ -85,6 +86,8 @@ int main(int argc, char** argv) {
   // kills a writer with SIGXFSZ, leaving its temporary files behind; ignored,
   // the write fails with EFBIG and the command reports it and cleans up.
   std::signal(SIGXFSZ, SIG_IGN);
+  // Ctrl-C or a kill in the middle of a write removes the temporary files.
+  lom::removePendingOutputsOnSignals();
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") ||
       !std::strcmp(argv[1], "help")) {
     printUsage(argc < 2 ? std::cerr : std::cout);

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "lom/atomic_file.hpp"
 #include "lom/fusion.hpp"
 #include "lom/import.hpp"
 #include "lom/labels.hpp"
@@ -433,6 +434,9 @@ int main(int argc, char** argv) {
   // A file-size limit (ulimit -f) makes writes fail with EFBIG, reported like
   // a full disk, instead of killing the studio with unsaved work (SIGXFSZ).
   std::signal(SIGXFSZ, SIG_IGN);
+  // A kill in the middle of a save removes the temporary file (the saved file
+  // is intact: it is replaced only by a complete one).
+  lom::removePendingOutputsOnSignals();
   QStringList words;
   for (int i = 0; i < argc; ++i) words << QString::fromLocal8Bit(argv[i]);
   StudioArguments arguments;

@@ -1,13 +1,18 @@
 #include "lom/atomic_file.hpp"
 
+#include <dirent.h>
 #include <fcntl.h>
+#include <sched.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/statvfs.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
+#include <climits>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -19,6 +24,141 @@
 namespace lom {
 
 namespace fs = std::filesystem;
+
+// ---- The record of pending outputs ----
+
+namespace {
+
+// A slot's state: free, being filled by PendingOutput, recorded, or taken by
+// a signal handler that is removing it (the process is about to end).
+enum SlotState : int { kFree = 0, kFilling = 1, kRecorded = 2, kRemoving = 3 };
+
+struct PendingSlot {
+  std::atomic<int> state{kFree};
+  PendingOutput::Kind kind = PendingOutput::Kind::File;
+  char path[PATH_MAX] = {};
+};
+
+PendingSlot g_pending[PendingOutput::kMaxPendingOutputs];
+
+// Removes `name` in `parent` with everything in it, by system calls only
+// (async-signal-safe): no allocation, a fixed buffer per level.
+void removeTreeAt(int parent, const char* name, int depth) noexcept {
+  if (::unlinkat(parent, name, 0) == 0 || errno == ENOENT) return;  // not a folder
+  const int fd = ::openat(parent, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) return;
+  alignas(8) char buffer[2048];
+  // Entries removed while the folder is read may hide others: read it again
+  // until a pass finds nothing left to remove.
+  for (int pass = 0; pass < 8; ++pass) {
+    if (::lseek(fd, 0, SEEK_SET) != 0) break;
+    bool found = false;
+    for (;;) {
+      const ssize_t n = ::getdents64(fd, buffer, sizeof buffer);
+      if (n <= 0) break;
+      for (ssize_t offset = 0; offset < n;) {
+        const auto* entry = reinterpret_cast<const struct dirent64*>(buffer + offset);
+        offset += entry->d_reclen;
+        const char* child = entry->d_name;
+        if (child[0] == '.' && (child[1] == '\0' || (child[1] == '.' && child[2] == '\0')))
+          continue;
+        found = true;
+        if (::unlinkat(fd, child, 0) != 0 && depth < 32) removeTreeAt(fd, child, depth + 1);
+      }
+    }
+    if (!found) break;
+  }
+  ::close(fd);
+  ::unlinkat(parent, name, AT_REMOVEDIR);
+}
+
+extern "C" void onPendingOutputSignal(int signal) { removePendingOutputsAndDie(signal); }
+
+}  // namespace
+
+PendingOutput::PendingOutput(const fs::path& path, Kind kind) {
+  std::error_code ec;
+  const std::string text = fs::absolute(path, ec).lexically_normal().string();
+  if (ec || text.size() >= PATH_MAX) return;
+  for (int i = 0; i < kMaxPendingOutputs; ++i) {
+    int expected = kFree;
+    if (!g_pending[i].state.compare_exchange_strong(expected, kFilling)) continue;
+    g_pending[i].kind = kind;
+    std::memcpy(g_pending[i].path, text.c_str(), text.size() + 1);
+    g_pending[i].state.store(kRecorded, std::memory_order_release);
+    slot_ = i;
+    return;
+  }
+}
+
+PendingOutput& PendingOutput::operator=(PendingOutput&& other) noexcept {
+  if (this != &other) {
+    release();
+    slot_ = other.slot_;
+    other.slot_ = -1;
+  }
+  return *this;
+}
+
+void PendingOutput::release() noexcept {
+  if (slot_ < 0) return;
+  int expected = kRecorded;
+  if (!g_pending[slot_].state.compare_exchange_strong(expected, kFree)) {
+    // A signal handler on another thread is removing it and ends the process.
+    for (;;) ::sched_yield();
+  }
+  slot_ = -1;
+}
+
+void removePendingOutputs() noexcept {
+  using Kind = PendingOutput::Kind;
+  // Files first, then whole folders, then empty folders; those last in
+  // several passes, so that a folder goes once the folders inside it are gone.
+  for (const Kind kind : {Kind::File, Kind::Tree, Kind::EmptyFolder}) {
+    for (int pass = 0; pass < (kind == Kind::EmptyFolder ? 8 : 1); ++pass)
+      for (PendingSlot& slot : g_pending) {
+        if (slot.state.load(std::memory_order_acquire) != kRecorded || slot.kind != kind) continue;
+        if (kind == Kind::EmptyFolder) {
+          ::rmdir(slot.path);  // fails, as wanted, unless empty
+          continue;
+        }
+        int expected = kRecorded;
+        if (!slot.state.compare_exchange_strong(expected, kRemoving)) continue;
+        if (kind == Kind::File)
+          ::unlink(slot.path);
+        else
+          removeTreeAt(AT_FDCWD, slot.path, 0);
+      }
+  }
+}
+
+void removePendingOutputsAndDie(int signal) noexcept {
+  removePendingOutputs();
+  std::signal(signal, SIG_DFL);
+  // Inside its handler the signal is blocked: unblocked, the raise below
+  // takes the default action at once.
+  sigset_t only;
+  sigemptyset(&only);
+  sigaddset(&only, signal);
+  sigprocmask(SIG_UNBLOCK, &only, nullptr);
+  std::raise(signal);
+  ::_exit(128 + signal);  // not reached
+}
+
+void removePendingOutputsOnSignals() {
+  const int signals[] = {SIGINT, SIGTERM, SIGHUP};
+  struct sigaction action {};
+  action.sa_handler = onPendingOutputSignal;
+  sigemptyset(&action.sa_mask);
+  // One handler at a time: the others wait until the process ends.
+  for (const int signal : signals) sigaddset(&action.sa_mask, signal);
+  for (const int signal : signals) {
+    struct sigaction previous {};
+    // A signal the process was started to ignore (nohup, a background job) stays ignored.
+    if (sigaction(signal, nullptr, &previous) == 0 && previous.sa_handler != SIG_IGN)
+      sigaction(signal, &action, nullptr);
+  }
+}
 
 namespace {
 
@@ -118,9 +258,9 @@ fs::path createStagingFolder(const fs::path& parent, const std::string& what) {
 }
 
 StagedFiles::~StagedFiles() {
-  for (const auto& [target, temporary] : staged_) {
+  for (const Staged& staged : staged_) {
     std::error_code ignored;
-    fs::remove(temporary, ignored);
+    fs::remove(staged.temporary, ignored);
   }
 }
 
@@ -138,6 +278,7 @@ void StagedFiles::addPath(const fs::path& target,
     throw Error(target.string(), "output path", "a folder where files can be created",
                 "cannot create a file in " + folderOf(file).string() + ": " + std::strerror(errno));
   ::close(fd);
+  PendingOutput pending(temporary, PendingOutput::Kind::File);
   try {
     write(temporary);
     // Created empty above: a writer that failed without saying so leaves it
@@ -152,7 +293,7 @@ void StagedFiles::addPath(const fs::path& target,
     fs::remove(temporary, ignored);
     throw;
   }
-  staged_.emplace_back(file, temporary);
+  staged_.push_back({file, temporary, std::move(pending)});
 }
 
 void StagedFiles::add(const fs::path& target, const std::function<void(std::ostream&)>& write,
@@ -163,9 +304,9 @@ void StagedFiles::add(const fs::path& target, const std::function<void(std::ostr
 
 void StagedFiles::commit() {
   while (!staged_.empty()) {
-    const auto [target, temporary] = staged_.front();
+    const fs::path target = staged_.front().target;
     std::error_code ec;
-    fs::rename(temporary, target, ec);
+    fs::rename(staged_.front().temporary, target, ec);
     if (ec)
       throw Error(target.string(), "output", "a writable location",
                   "rename failed: " + ec.message());
@@ -197,6 +338,7 @@ NewFolders::NewFolders(const fs::path& folder) {
     const fs::file_status status = fs::symlink_status(p, ec);
     if (fs::exists(status) || (ec && status.type() != fs::file_type::not_found)) break;
     missing_.push_back(p);
+    pending_.emplace_back(p, PendingOutput::Kind::EmptyFolder);
     if (p == p.parent_path()) break;
   }
 }

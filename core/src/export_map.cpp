@@ -133,6 +133,7 @@ class StagingFolder {
       throw Error(out.string(), "output path", "a folder for the per-label files",
                   "a folder that cannot be created: " + ec.message());
     path_ = createStagingFolder(out, "export");
+    pending_ = PendingOutput(path_, PendingOutput::Kind::Tree);
   }
   StagingFolder(const StagingFolder&) = delete;
   StagingFolder& operator=(const StagingFolder&) = delete;
@@ -178,6 +179,7 @@ class StagingFolder {
   fs::path out_;
   NewFolders created_;  // taken away again unless the files are published
   fs::path path_;
+  PendingOutput pending_;  // path_, for a signal to remove
 };
 
 }  // namespace

@@ -1,6 +1,7 @@
 #pragma once
 // Pieces shared by the importers (import*.cpp): the sequence writer that every
 // source feeds, text and matrix parsing, frame selection. Not a public API.
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -9,8 +10,7 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
-
+#include "lom/atomic_file.hpp"
 #include "lom/import.hpp"
 
 namespace lom::import_detail {
@@ -108,6 +108,8 @@ class SequenceWriter {
   size_t done_ = 0;
   bool finished_ = false;
   bool prepared_ = false;
+  // The staging folder, or a new output folder, for a signal to remove.
+  PendingOutput pending_;
   bool created_out_ = false;
   fs::path created_root_;  // the first folder of out_'s path this import created
   // With the overwrite option over an existing sequence: the folder inside the

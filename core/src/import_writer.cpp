@@ -243,11 +243,13 @@ void SequenceWriter::prepareFolder() {
       throw Error(out_.string(), "output", "a folder that can be created", ec.message());
     created_out_ = true;
     created_root_ = missing;
+    pending_ = PendingOutput(missing, PendingOutput::Kind::Tree);
   } else {
     // An existing folder (empty frame folders, or --overwrite) gets the
     // frames only once they are all written: a failed or cancelled import
     // leaves it as it was.
     staging_ = createStagingFolder(out_, "import");
+    pending_ = PendingOutput(staging_, PendingOutput::Kind::Tree);
   }
   prepared_ = true;
 }
@@ -255,6 +257,7 @@ void SequenceWriter::prepareFolder() {
 void SequenceWriter::commitSequence(const std::string& json) {
   if (staging_.empty()) {  // a new folder: removed whole if this fails
     writeTextFileAtomically(out_ / "sequence.json", json);
+    pending_.release();
     return;
   }
   // The new sequence file first, complete, beside the new frames: a write
@@ -266,7 +269,9 @@ void SequenceWriter::commitSequence(const std::string& json) {
                 e.problem().found + " (the sequence there is left as it was)");
   }
   // Then the old files aside and the new ones in, by renames within the
-  // folder; any rename that fails puts everything back.
+  // folder; any rename that fails puts everything back. The staging folder
+  // then holds the old sequence: a signal no longer removes it.
+  pending_.release();
   const fs::path old = staging_ / ".replaced";
   std::error_code ec;
   fs::create_directories(old, ec);

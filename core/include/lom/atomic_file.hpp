@@ -13,6 +13,53 @@
 
 namespace lom {
 
+// ---- Outputs being written, removed when a signal stops the process ----
+// Temporary files, staging folders and folders made for outputs are recorded
+// process-wide while they are incomplete (StagedFiles, NewFolders and the
+// writers that stage whole folders record theirs), so that a process stopped
+// by SIGINT, SIGTERM or SIGHUP removes them instead of leaving hidden files
+// behind. This record is the one piece of process-wide state of lom_core: a
+// signal handler can reach nothing else.
+class PendingOutput {
+ public:
+  enum class Kind {
+    File,         // a temporary file
+    Tree,         // a folder and everything in it (made by this process)
+    EmptyFolder,  // a folder made for outputs: removed only while empty
+  };
+  PendingOutput() = default;
+  // Records `path` (made absolute). At most kMaxPendingOutputs are recorded at
+  // once; beyond that, or for a path longer than 4095 bytes, nothing is.
+  PendingOutput(const std::filesystem::path& path, Kind kind);
+  ~PendingOutput() { release(); }
+  PendingOutput(PendingOutput&& other) noexcept : slot_(other.slot_) { other.slot_ = -1; }
+  PendingOutput& operator=(PendingOutput&& other) noexcept;
+  PendingOutput(const PendingOutput&) = delete;
+  PendingOutput& operator=(const PendingOutput&) = delete;
+  // No longer removed by a signal: renamed into place, or holding what a
+  // signal must not remove (the files an import is replacing).
+  void release() noexcept;
+  [[nodiscard]] bool recorded() const { return slot_ >= 0; }
+
+  static constexpr int kMaxPendingOutputs = 256;
+
+ private:
+  int slot_ = -1;
+};
+
+// Removes every recorded output: files, then folders with their contents,
+// then empty folders (innermost first). Async-signal-safe: system calls only.
+void removePendingOutputs() noexcept;
+
+// The signal handler of removePendingOutputsOnSignals, for handlers of one's
+// own that stop the process: removes the recorded outputs, then ends the
+// process by `signal`'s default action (its exit status names the signal).
+[[noreturn]] void removePendingOutputsAndDie(int signal) noexcept;
+
+// Handles SIGINT, SIGTERM and SIGHUP (those not ignored when called) with
+// removePendingOutputsAndDie. Call once, early in main.
+void removePendingOutputsOnSignals();
+
 // Calls write(stream) on a temporary file next to `target`, then renames it over
 // `target`. Throws lom::Error naming `target` if the folder is not writable or
 // the stream fails; the temporary file is removed on any failure.
@@ -55,15 +102,21 @@ class NewFolders {
   NewFolders(const NewFolders&) = delete;
   NewFolders& operator=(const NewFolders&) = delete;
   ~NewFolders();
-  void keep() { missing_.clear(); }
+  void keep() {
+    missing_.clear();
+    pending_.clear();
+  }
 
  private:
   std::vector<std::filesystem::path> missing_;  // innermost first
+  std::vector<PendingOutput> pending_;          // the same, for a signal
 };
 
 // Creates a new hidden folder `.labeloctomap-<what>-<pid>-<random>` inside
 // `parent` (which must exist), where outputs are staged before they are
 // moved into place; throws lom::Error naming `parent` when it cannot be made.
+// The caller records it (PendingOutput::Kind::Tree) for as long as a signal
+// may remove it.
 std::filesystem::path createStagingFolder(const std::filesystem::path& parent,
                                           const std::string& what);
 
@@ -87,8 +140,13 @@ class StagedFiles {
   void commit();
 
  private:
-  // Target and temporary file of each output, in the order added.
-  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged_;
+  struct Staged {
+    std::filesystem::path target;
+    std::filesystem::path temporary;
+    PendingOutput pending;
+  };
+  // Each output, in the order added.
+  std::vector<Staged> staged_;
 };
 
 }  // namespace lom
