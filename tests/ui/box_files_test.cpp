@@ -11,7 +11,9 @@
 #include <QFile>
 #include <QFileInfo>
 #include <QImage>
+#include <QProcess>
 #include <QStandardPaths>
+#include <QSysInfo>
 #include <QTest>
 #include <chrono>
 #include <filesystem>
@@ -789,5 +791,129 @@ TEST_F(BoxFilesTest, TheAutosaveNeverWritesBoxesToAnotherSequencesRecoveryFile) 
   EXPECT_FALSE(QFileInfo::exists(first_recovery))
       << "the first sequence's copy holds the other's boxes";
 }
+// Another program (or another studio) that wrote the boxes file since the
+// studio read or saved it: Save Boxes asks before replacing that.
+TEST_F(BoxFilesTest, BoxesChangedOnDiskAreNotReplacedUnasked) {
+  const fs::path file = tiny_.folder / "annotations.json";
+  Annotations first;
+  first.boxes.push_back(boxOf(1, "square_box"));
+  saveAnnotations(first, file);
+  ASSERT_TRUE(open(tiny_.folder));
+  ASSERT_EQ(boxes().boxCount(), 1);
+  boxes().addBox(boxOf(2, "blue_cup"));
+  Annotations theirs;
+  theirs.boxes.push_back(boxOf(3, "red_mug"));
+  saveAnnotations(theirs, file);
+  const std::string their_bytes = slurp(file);
+  {
+    test::DialogAnswerer answer("Cancel");
+    window_.findAction("Save Boxes")->trigger();
+    ASSERT_EQ(answer.questions.size(), 1);
+    EXPECT_TRUE(answer.questions[0].contains("was changed on disk"))
+        << answer.questions[0].toStdString();
+  }
+  EXPECT_EQ(slurp(file), their_bytes);
+  EXPECT_TRUE(boxes().isDirty());
+  {
+    test::DialogAnswerer answer("Replace");
+    window_.findAction("Save Boxes")->trigger();
+    EXPECT_EQ(answer.questions.size(), 1);
+  }
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_EQ(loadAnnotations(file).boxes.size(), 2u);
+  // Saved here since: the next save asks nothing.
+  boxes().addBox(boxOf(3, "red_mug"));
+  {
+    test::DialogAnswerer answer("Cancel");
+    window_.findAction("Save Boxes")->trigger();
+    EXPECT_TRUE(answer.questions.isEmpty());
+  }
+  EXPECT_EQ(loadAnnotations(file).boxes.size(), 3u);
+  EXPECT_TRUE(errors_.isEmpty()) << errors_.join('\n').toStdString();
+}
+
+TEST_F(BoxFilesTest, ABoxesFileMadeElsewhereSinceTheSequenceOpenedIsNotReplacedUnasked) {
+  const fs::path file = tiny_.folder / "annotations.json";
+  ASSERT_TRUE(open(tiny_.folder));
+  boxes().addBox(boxOf(2, "blue_cup"));
+  Annotations theirs;
+  theirs.boxes.push_back(boxOf(3, "red_mug"));
+  saveAnnotations(theirs, file);
+  const std::string their_bytes = slurp(file);
+  {
+    // Save As… proposes a free name beside it; cancelling the file dialog saves nothing.
+    test::DialogAnswerer answer("Save As");
+    window_.findAction("Save Boxes")->trigger();
+    ASSERT_EQ(answer.questions.size(), 1);
+    EXPECT_TRUE(answer.questions[0].contains("was made by another program"))
+        << answer.questions[0].toStdString();
+    ASSERT_EQ(answer.proposed_files.size(), 1);
+    EXPECT_TRUE(answer.proposed_files[0].endsWith("annotations-2.json"))
+        << answer.proposed_files[0].toStdString();
+  }
+  EXPECT_EQ(slurp(file), their_bytes);
+  EXPECT_TRUE(boxes().isDirty());
+}
+
+// A sequence folder moved or deleted while open is not made again by Save
+// Boxes: the boxes stay unsaved, and the error says where they were to go.
+TEST_F(BoxFilesTest, SavingIntoAVanishedSequenceFolderFailsAndKeepsTheBoxes) {
+  ASSERT_TRUE(open(tiny_.folder));
+  boxes().addBox(boxOf(2, "blue_cup"));
+  fs::rename(tiny_.folder, temp_ / "moved_shelf");
+  window_.findAction("Save Boxes")->trigger();
+  EXPECT_FALSE(fs::exists(tiny_.folder)) << "the vanished folder was made again";
+  EXPECT_FALSE(fs::exists(temp_ / "moved_shelf" / "annotations.json"));
+  ASSERT_EQ(errors_.size(), 1);
+  EXPECT_TRUE(errors_[0].contains("annotations.json")) << errors_[0].toStdString();
+  EXPECT_TRUE(boxes().isDirty());
+}
+
+// A studio in another process has the sequence open: this one neither
+// offers, writes nor removes that studio's recovery copy, and says why.
+TEST_F(BoxFilesTest, ASecondStudioOnTheSequenceLeavesTheFirstsRecoveryCopyAlone) {
+  const QString recovery = BoxesAutosave::recoveryPath(qPath(tiny_.folder));
+  QDir().mkpath(QFileInfo(recovery).path());
+  // The other studio: a live process that holds the lock (as QLockFile
+  // writes it: pid, program, host) and whose unsaved boxes are copied.
+  QProcess other;
+  other.start("sleep", {"60"});
+  ASSERT_TRUE(other.waitForStarted());
+  {
+    QFile lock(recovery + ".lock");
+    ASSERT_TRUE(lock.open(QIODevice::WriteOnly));
+    lock.write(QByteArray::number(other.processId()) + "\n/usr/bin/sleep\n" +
+               QSysInfo::machineHostName().toUtf8() + "\n");
+  }
+  Annotations theirs;
+  theirs.boxes.push_back(boxOf(3, "red_mug"));
+  saveAnnotations(theirs, fs::path(recovery.toStdString()));
+  const std::string their_copy = slurp(fs::path(recovery.toStdString()));
+  accept_offer_ = true;
+
+  ASSERT_TRUE(open(tiny_.folder));
+  EXPECT_TRUE(offered_.isEmpty()) << "the other studio's copy was offered";
+  ASSERT_EQ(warnings_.size(), 1) << warnings_.join('\n').toStdString();
+  EXPECT_TRUE(warnings_[0].contains(QString("process %1").arg(other.processId())))
+      << warnings_[0].toStdString();
+  EXPECT_TRUE(window_.autosave().currentRecoveryPath().isEmpty());
+  boxes().addBox(boxOf(2, "blue_cup"));
+  window_.autosave().writeNow();
+  window_.findAction("Save Boxes")->trigger();
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_EQ(slurp(fs::path(recovery.toStdString())), their_copy);
+  other.kill();
+  other.waitForFinished();
+
+  // The other studio gone (killed: its lock stays behind), the copy is offered.
+  window_.setRecoveryOffer([this](const QString& file) {
+    offered_ << file;
+    return false;
+  });
+  ASSERT_TRUE(open(tiny_.folder));
+  EXPECT_EQ(offered_, QStringList{recovery});
+  QFile::remove(BoxesAutosave::declinedPath(recovery));
+}
+
 }  // namespace
 }  // namespace lom::ui

@@ -6,6 +6,7 @@
 
 #include <QTest>
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <stdexcept>
 #include <thread>
@@ -66,6 +67,44 @@ TEST(MapWorkerTest, FusesOffTheGuiThreadAndReportsThroughItsEventLoop) {
 // Work that fails on the worker's thread is reported, not the end of the
 // program (an exception leaving a std::thread terminates it, losing unsaved
 // boxes and maps), and is no longer listed as pending; later work still runs.
+// A GUI that takes longer to show a snapshot (a large map drawn) than the
+// worker takes to fuse a frame never falls behind: snapshots it has not
+// taken yet are merged into the newest, which it then shows.
+TEST(MapWorkerTest, AGuiSlowerThanFusionSeesOnlyTheNewestSnapshot) {
+  test::TempDir temp;
+  const auto folder = temp.path() / "scene";
+  SynthOptions options = fixture::smallDemo();
+  options.frames = 8;
+  (void)writeSyntheticScene(options, folder);
+  const auto sequence = std::make_shared<const Sequence>(loadSequence(folder));
+  const size_t frames = sequence->frames.size();
+
+  MapWorker worker;
+  worker.setSnapshotInterval(0);  // a snapshot after every frame
+  std::atomic<size_t> fused{0};
+  worker.setFrameFusedHook([&](size_t count) {
+    fused = count;
+    // Frames fused while the GUI draws the first snapshot each publish one.
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  });
+  std::vector<size_t> shown;
+  bool finished = false;
+  QObject::connect(&worker, &MapWorker::snapshotChanged, [&] {
+    shown.push_back(worker.snapshot()->frames_fused);
+    if (shown.size() == 1) std::this_thread::sleep_for(std::chrono::milliseconds(600));
+  });
+  QObject::connect(&worker, &MapWorker::fusionFinished, [&](bool) { finished = true; });
+  worker.startFusion(sequence, FusionOptions{});
+  ASSERT_TRUE(QTest::qWaitFor([&] { return finished; }, fixture::kTimeoutMs));
+  ASSERT_FALSE(shown.empty());
+  EXPECT_EQ(shown.back(), frames) << "the last snapshot shown is the whole map";
+  EXPECT_EQ(worker.snapshot()->frames_fused, frames);
+  // While the GUI drew the first snapshot, the worker fused the other frames:
+  // their snapshots were merged, not queued one by one.
+  EXPECT_LE(shown.size(), 3u);
+  for (size_t i = 1; i < shown.size(); ++i) EXPECT_GT(shown[i], shown[i - 1]);
+}
+
 TEST(MapWorkerTest, WorkThatThrowsIsReportedAndTheWorkerGoesOn) {
   MapWorker worker;
   QString title, message;

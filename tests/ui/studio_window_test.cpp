@@ -11,6 +11,7 @@
 #include <QMimeData>
 #include <QPushButton>
 #include <QSlider>
+#include <QStatusBar>
 #include <QTest>
 #include <QUrl>
 #include <algorithm>
@@ -96,6 +97,58 @@ TEST_F(StudioWindowTest, StartsEmptyWithNavigationDisabled) {
   ASSERT_TRUE(QTest::qWaitFor([&] { return !window_.session().worker().isFusing(); }, 60'000));
   ASSERT_TRUE(
       QTest::qWaitFor([&] { return show_only->isEnabled(); }, 5'000));  // the map lists labels
+}
+
+// Actions with nothing to act on are disabled until there is something:
+// views of the scene until a sequence (or a map) is open, Refresh of the
+// objects until the map has voxels, Clear of the segmenter until one is set.
+TEST_F(StudioWindowTest, ActionsWithNothingToActOnAreDisabled) {
+  for (const char* text :
+       {"Reset Camera", "Look from Current Camera", "Zoom to Map", "Look from Above",
+        "Look from the Front", "Look from the Side", "Show Frame Points",
+        "Show Projection Voxels of This View", "Show Score Breakdown", "Measure Distance"}) {
+    ASSERT_NE(menuAction(text), nullptr) << text;
+    EXPECT_FALSE(menuAction(text)->isEnabled()) << text;
+  }
+  // Display settings stay available, for whatever is opened next.
+  EXPECT_TRUE(menuAction("Opacity by Probability")->isEnabled());
+  EXPECT_TRUE(menuAction("Colour by Height")->isEnabled());
+  auto* refresh = window_.findChild<QPushButton*>("refreshObjectsButton");
+  auto* clear = window_.findChild<QPushButton*>("clearSegmenterButton");
+  ASSERT_NE(refresh, nullptr);
+  ASSERT_NE(clear, nullptr);
+  EXPECT_FALSE(refresh->isEnabled());
+  EXPECT_FALSE(clear->isEnabled());
+
+  ASSERT_TRUE(openTiny());
+  for (const char* text : {"Reset Camera", "Look from Current Camera", "Zoom to Map",
+                           "Measure Distance", "Show Projection Voxels of This View"})
+    EXPECT_TRUE(menuAction(text)->isEnabled()) << text;
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !window_.session().worker().isFusing(); }, 60'000));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return refresh->isEnabled(); }, 5'000));
+  EXPECT_FALSE(clear->isEnabled());
+}
+
+// A message in the status bar takes the frame text's place; the fusion
+// indicator stays at the right edge.
+TEST_F(StudioWindowTest, TheFusionIndicatorStaysAtTheRightOfTheStatusBar) {
+  ASSERT_TRUE(openTiny());
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !window_.session().worker().isFusing(); }, 60'000));
+  auto* indicator = window_.findChild<QWidget*>("fusionStatus");
+  ASSERT_NE(indicator, nullptr);
+  QApplication::processEvents();
+  const auto right_edge = [&] {
+    return indicator->mapTo(&window_, QPoint(indicator->width(), 0)).x();
+  };
+  const int before = right_edge();
+  const int left_before = indicator->mapTo(&window_, QPoint(0, 0)).x();
+  window_.statusBar()->showMessage("Measure: click the first point on the map.");
+  QApplication::processEvents();
+  QTest::qWait(50);
+  EXPECT_NEAR(right_edge(), before, 2);
+  EXPECT_NEAR(indicator->mapTo(&window_, QPoint(0, 0)).x(), left_before, 2)
+      << "the indicator grew into the message's space";
+  EXPECT_GT(before, window_.width() - 40);
 }
 
 TEST_F(StudioWindowTest, OpeningSetsTheTimelineAndStatus) {

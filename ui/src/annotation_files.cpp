@@ -1,5 +1,6 @@
 #include "lom/ui/annotation_files.hpp"
 
+#include <QCoreApplication>
 #include <QCryptographicHash>
 #include <QDateTime>
 #include <QDir>
@@ -107,8 +108,11 @@ bool isSequenceJson(const QFileInfo& info) {
 
 QString saveBoxes(StudioSession& session, const QString& path) {
   const QString absolute = QFileInfo(path).absoluteFilePath();
-  // The studio's own boxes folder is created on first use.
-  if (absolute == boxesFileOf(session.controller())) QDir().mkpath(QFileInfo(absolute).path());
+  // The studio's own boxes folder (of a converted recording) is created on
+  // first use; a sequence's folder that was moved or deleted is not made
+  // again: the boxes stay unsaved and the error says where they were to go.
+  if (session.controller().isConverted() && absolute == boxesFileOf(session.controller()))
+    QDir().mkpath(QFileInfo(absolute).path());
   try {
     saveAnnotations(boxesToSave(session), toPath(path));
   } catch (const std::exception& error) {
@@ -353,11 +357,37 @@ void BoxesAutosave::onSequenceChanged() {
   // The previous sequence's boxes were discarded (or clean) when the new one
   // replaced them, which removed its recovery file; from now on the file is
   // the new sequence's.
+  lock_.reset();
   recovery_path_ = session_.controller().hasSequence() && !leave_files_alone_
                        ? recoveryPath(session_.controller().sequencePath())
                        : QString();
   const QString path = recovery_path_;
-  if (path.isEmpty() || !QFileInfo::exists(path)) return;
+  if (path.isEmpty()) return;
+  QDir().mkpath(QFileInfo(path).path());
+  auto lock = std::make_unique<QLockFile>(path + QStringLiteral(".lock"));
+  lock->setStaleLockTime(0);  // a studio that ended without unlocking is detected by its pid
+  if (!lock->tryLock(0)) {
+    qint64 pid = 0;
+    QString host, application;
+    // A studio is one window per process: a lock of this process is an
+    // earlier window's that has not closed yet (a restart, as tests play it).
+    if (lock->error() == QLockFile::LockFailedError &&
+        !(lock->getLockInfo(&pid, &host, &application) &&
+          pid == QCoreApplication::applicationPid())) {
+      recovery_path_.clear();  // the other studio's: never offered, written or removed here
+      emit session_.controller().warningOccurred(
+          QObject::tr("Sequence open in another studio"),
+          QObject::tr("This sequence is also open in another LabelOctoMap Studio (process %1). "
+                      "Boxes saved in one window replace those saved in the other (Save Boxes "
+                      "asks first when the file changed on disk), and this window keeps no "
+                      "recovery copy of its unsaved boxes: the other one does.")
+              .arg(pid));
+      return;
+    }
+  } else {
+    lock_ = std::move(lock);
+  }
+  if (!QFileInfo::exists(path)) return;
   if (!offer_ || !offer_(path)) {
     // Declined: not offered again, but not lost either (the question says
     // where the copy stays): a plain boxes file that Open Boxes… and

@@ -1,5 +1,7 @@
 #include "lom/ui/annotations_model.hpp"
 
+#include <QCryptographicHash>
+#include <QFile>
 #include <QFileInfo>
 #include <QUndoCommand>
 #include <algorithm>
@@ -88,6 +90,26 @@ AnnotationsModel::~AnnotationsModel() {
   undo_stack_.blockSignals(true);
 }
 
+namespace {
+
+// The digest of a file's bytes; empty when it cannot be read (or is absent).
+QByteArray fileDigest(const QString& path) {
+  if (path.isEmpty()) return {};
+  QFile file(path);
+  if (!file.open(QIODevice::ReadOnly)) return {};
+  QCryptographicHash hash(QCryptographicHash::Sha256);
+  if (!hash.addData(&file)) return {};
+  return hash.result();
+}
+
+}  // namespace
+
+bool AnnotationsModel::fileChangedOnDisk() const {
+  if (path_.isEmpty()) return false;
+  const QByteArray now = fileDigest(path_);
+  return !now.isEmpty() && now != file_digest_;
+}
+
 void AnnotationsModel::reset(const Annotations& annotations, const QString& path) {
   const bool was_dirty = isDirty();
   undo_stack_.clear();
@@ -97,6 +119,7 @@ void AnnotationsModel::reset(const Annotations& annotations, const QString& path
   undo_stack_.setClean();
   annotations_ = annotations;
   path_ = path;
+  file_digest_ = fileDigest(path);
   unreadable_path_.clear();
   unreadable_error_.clear();
   selected_ = annotations_.boxes.empty() ? -1 : 0;
@@ -114,6 +137,7 @@ void AnnotationsModel::resetUnreadable(const Annotations& annotations,
 
 void AnnotationsModel::markSaved(const QString& path) {
   path_ = path;
+  file_digest_ = fileDigest(path);
   // Replaced after the user's confirmation: it is a readable boxes file now.
   // (Saved elsewhere, it still holds the boxes that could not be read.)
   if (QFileInfo(path) == QFileInfo(unreadable_path_)) {

@@ -66,7 +66,33 @@ bool BoxFileReaction::confirmTarget(QString& path) {
         QFileDialog::getSaveFileName(parent_, tr("Save Boxes"), freeNameBeside(path), json_filter);
     if (path.isEmpty()) return false;
   }
-  return true;
+  // Another program or another studio wrote the file since the boxes were
+  // read from it or saved to it (or made the sequence's boxes file since the
+  // sequence was opened without one): saving would replace that unseen.
+  const bool changed = sameFile(path, model.path()) && model.fileChangedOnDisk();
+  const bool made = model.path().isEmpty() && model.unreadablePath().isEmpty() &&
+                    sameFile(path, boxesFileOf(session_.controller())) && QFileInfo::exists(path);
+  if (!changed && !made) return true;
+  QMessageBox question(
+      QMessageBox::Warning, tr("Replace boxes changed on disk?"),
+      (changed ? tr("%1 was changed on disk after the studio read or saved it, by another "
+                    "program or another LabelOctoMap Studio.")
+               : tr("%1 was made by another program or another LabelOctoMap Studio after this "
+                    "sequence was opened."))
+              .arg(QDir::toNativeSeparators(path)) +
+          tr("\n\nSaving there replaces those boxes with the ones shown here. Save these boxes "
+             "under another name instead (Open Boxes… then shows the file's)?"),
+      QMessageBox::Cancel, parent_);
+  QPushButton* save_as = question.addButton(tr("Save As…"), QMessageBox::AcceptRole);
+  QPushButton* replace = question.addButton(tr("Replace %1").arg(QFileInfo(path).fileName()),
+                                            QMessageBox::DestructiveRole);
+  question.setDefaultButton(save_as);
+  question.setEscapeButton(QMessageBox::Cancel);
+  question.exec();
+  if (question.clickedButton() == replace) return true;
+  if (question.clickedButton() != save_as) return false;
+  path = QFileDialog::getSaveFileName(parent_, tr("Save Boxes"), freeNameBeside(path), json_filter);
+  return !path.isEmpty();
 }
 
 void BoxFileReaction::onTriggered() {

@@ -115,6 +115,11 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   form->addRow(tr("Segmenter"), segmenter_row);
   connect(choose, &QPushButton::clicked, this, &FusionPanel::chooseSegmenter);
   connect(clear, &QPushButton::clicked, this, [this] { setSegmenterModel({}); });
+  clear->setObjectName("clearSegmenterButton");
+  // Nothing to clear without a model.
+  connect(segmenter_path_, &QLineEdit::textChanged, clear,
+          [clear](const QString& text) { clear->setEnabled(!text.isEmpty()); });
+  clear->setEnabled(!segmenter_path_->text().isEmpty());
   column->addWidget(refuse_);
   extend_range_->setObjectName("extendRangeButton");
   extend_range_->hide();

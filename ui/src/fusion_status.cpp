@@ -12,6 +12,10 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
     : QWidget(parent), progress_(new QProgressBar), rate_(new QLabel) {
   setObjectName("fusionStatus");
   progress_->setMaximumWidth(160);
+  // Its own width, never more: while a message hides the frame text, the
+  // status bar's free space goes to the message, not here (which would
+  // move the indicator from the right edge to the middle).
+  setSizePolicy(QSizePolicy::Maximum, QSizePolicy::Preferred);
   // Until a fusion reports its first frame the frame count is unknown: say
   // "not fused" rather than a made-up "0/1".
   progress_->setFormat(tr("not fused"));

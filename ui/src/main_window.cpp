@@ -606,12 +606,19 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   view->addActions(
       {step_actions.first, step_actions.previous, step_actions.next, step_actions.last});
   view->addSeparator();
-  new ResetCameraReaction(view->addAction(tr("&Reset Camera")), *scene_view_);
+  QAction* reset_camera = view->addAction(tr("&Reset Camera"));
+  new ResetCameraReaction(reset_camera, *scene_view_);
+  scene_view_actions_.push_back(reset_camera);
   auto scene_action = [&](const QString& text, SceneViewReaction::Kind kind,
                           const QKeySequence& key) {
     QAction* action = view->addAction(text);
     action->setShortcut(key);
     new SceneViewReaction(action, kind, *session_, *scene_view_);
+    using Kind = SceneViewReaction::Kind;
+    if (kind == Kind::LookFromFrame || kind == Kind::FramePoints || kind == Kind::ProjectionVoxels)
+      sequence_view_actions_.push_back(action);
+    else if (kind != Kind::OpacityByProbability && kind != Kind::ColourByHeight)
+      scene_view_actions_.push_back(action);  // display settings stay available
   };
   scene_action(tr("Look from &Current Camera"), SceneViewReaction::Kind::LookFromFrame,
                Qt::CTRL + Qt::Key_L);
@@ -630,6 +637,7 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
     action->setShortcut(key);
     SceneToggleReaction* reaction = make(action);
     connect(reaction, &SceneToggleReaction::status, this, &MainWindow::showStatusMessage);
+    scene_view_actions_.push_back(action);
   };
   toggle(tr("Show Score &Breakdown"), Qt::CTRL + Qt::Key_E, [this](QAction* action) {
     return new ScoreBreakdownReaction(action, *session_, *scene_view_);
@@ -641,6 +649,10 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   scene_action(tr("Colour by &Height"), SceneViewReaction::Kind::ColourByHeight, QKeySequence());
   view->addSeparator();
   panel_layout_->addActionsTo(*view);
+  connect(controller_, &SequenceController::sequenceChanged, this, &MainWindow::updateViewActions);
+  connect(&session_->worker(), &MapWorker::snapshotChanged, this, &MainWindow::updateViewActions);
+  connect(&session_->worker(), &MapWorker::mapAdopted, this, &MainWindow::updateViewActions);
+  updateViewActions();
 
   createAnnotateMenu();
   QMenu* help = menuBar()->addMenu(tr("&Help"));
@@ -657,6 +669,19 @@ void MainWindow::showStatusMessage(const QString& message) {
     statusBar()->clearMessage();
   else
     statusBar()->showMessage(message);
+}
+
+void MainWindow::updateViewActions() {
+  const bool sequence = controller_->hasSequence();
+  const MapSnapshotPtr map = session_->worker().snapshot();
+  const bool scene = sequence || (map && !map->empty());
+  for (QAction* action : sequence_view_actions_) action->setEnabled(sequence);
+  for (QAction* action : scene_view_actions_) {
+    // A measurement or breakdown left on by an earlier sequence is turned off
+    // with the scene it belonged to.
+    if (!scene && action->isCheckable() && action->isChecked()) action->trigger();
+    action->setEnabled(scene);
+  }
 }
 
 void MainWindow::onSequenceChanged() {

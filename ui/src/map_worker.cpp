@@ -96,9 +96,23 @@ void MapWorker::setState(State state) {
 }
 
 void MapWorker::publish(MapSnapshotPtr snapshot) {
-  inGui([this, snapshot = std::move(snapshot)] {
-    snapshot_ = snapshot;
+  {
+    std::lock_guard lock(snapshot_mutex_);
+    next_snapshot_ = std::move(snapshot);
+    if (snapshot_posted_) return;  // the call already on its way takes this one
+    snapshot_posted_ = true;
+  }
+  // Queued behind the GUI calls posted before it, ahead of those posted
+  // after: whatever the worker reports next finds this snapshot or a newer one.
+  inGui([this] {
+    {
+      std::lock_guard lock(snapshot_mutex_);
+      snapshot_ = std::move(next_snapshot_);
+      snapshot_posted_ = false;
+    }
+    const auto start = Clock::now();
     emit snapshotChanged();
+    gui_snapshot_ms_ = static_cast<int>(secondsSince(start) * 1000.0);
   });
 }
 
@@ -226,7 +240,8 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
     const double busy = std::max(1e-6, secondsSince(start) - paused_seconds);
     const double rate = done / busy;
     const bool last_frame = i + 1 == last;
-    if (!last_frame && secondsSince(last_snapshot) * 1000.0 >= snapshot_interval_ms_) {
+    const int interval = std::max(snapshot_interval_ms_.load(), 2 * gui_snapshot_ms_.load());
+    if (!last_frame && secondsSince(last_snapshot) * 1000.0 >= interval) {
       publish(takeSnapshot(*map_, frames_fused_));
       last_snapshot = Clock::now();
     }

@@ -86,6 +86,9 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
   top->addStretch(1);
   top->addWidget(refresh_);
   layout->addLayout(top);
+  // Right under Refresh: what it is doing, and what the table shows, stay in
+  // sight however tall the table and the steps are.
+  layout->addWidget(status_);
   layout->addWidget(table_, 2);
   auto* plan_row = new QHBoxLayout;
   plan_row->addWidget(new QLabel(tr("Target:")));
@@ -93,7 +96,6 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
   plan_row->addWidget(plan_button_);
   layout->addLayout(plan_row);
   layout->addWidget(steps_, 1);
-  layout->addWidget(status_);
 
   MapWorker& worker = session_.worker();
   connect(&worker, &MapWorker::fusionFinished, this, [this](bool) { refresh(); });
@@ -113,6 +115,16 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
     else
       refresh();
   });
+  // Refresh extracts the objects of a map that has voxels, once fusion is done.
+  auto update_refresh = [this] {
+    const auto snapshot = session_.worker().snapshot();
+    refresh_->setEnabled(session_.sequence() && !session_.worker().isFusing() && snapshot &&
+                         !snapshot->empty());
+  };
+  connect(&worker, &MapWorker::snapshotChanged, this, update_refresh);
+  connect(&worker, &MapWorker::stateChanged, this, update_refresh);
+  connect(&session_.controller(), &SequenceController::sequenceChanged, this, update_refresh);
+  update_refresh();
   connect(refresh_, &QPushButton::clicked, this, &ObjectsPanel::refresh);
   connect(plan_button_, &QPushButton::clicked, this, &ObjectsPanel::planPick);
   connect(show_boxes_, &QCheckBox::toggled, this, [this] { emitBoxes(); });

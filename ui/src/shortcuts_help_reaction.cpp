@@ -5,6 +5,7 @@
 #include <QDialog>
 #include <QDialogButtonBox>
 #include <QHeaderView>
+#include <QScreen>
 #include <QTableWidget>
 #include <QVBoxLayout>
 #include <QWidget>
@@ -55,7 +56,12 @@ void ShortcutsHelpReaction::onTriggered() {
   auto* layout = new QVBoxLayout(&dialog);
   layout->addWidget(table);
   layout->addWidget(buttons);
-  dialog.resize(460, 560);
+  // At most the screen's free area (large scale factors, small screens):
+  // the Close button must stay on screen.
+  QSize size(460, 560);
+  if (const QScreen* screen = window_->screen())
+    size = size.boundedTo(screen->availableGeometry().size() * 0.9);
+  dialog.resize(size);
   dialog.exec();
 }
 

@@ -2,9 +2,11 @@
 // Saving and loading the session's ground-truth boxes (annotations v1 JSON,
 // written atomically), importing the original experiments' YAML boxes, where
 // a sequence's boxes live, and the crash-recovery copy written by the autosave.
+#include <QLockFile>
 #include <QObject>
 #include <QString>
 #include <functional>
+#include <memory>
 
 #include "lom/annotations.hpp"
 #include "lom/labels.hpp"
@@ -94,7 +96,10 @@ class BoxesAutosave : public QObject {
   StudioSession& session_;
   std::function<bool(const QString&)> offer_;
   QTimer* timer_;
-  QString recovery_path_;  // of the open sequence
+  QString recovery_path_;  // of the open sequence; empty while another studio has it
+  // Held while this studio keeps the open sequence's recovery file: a second
+  // studio on the same sequence neither offers, writes nor removes it.
+  std::unique_ptr<QLockFile> lock_;
   bool restoring_ = false;
   bool leave_files_alone_ = false;
 };

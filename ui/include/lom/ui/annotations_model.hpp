@@ -1,6 +1,7 @@
 #pragma once
 // The ground-truth boxes being edited, the selected box and the undo stack
 // that records every change (add, delete, move, label change).
+#include <QByteArray>
 #include <QObject>
 #include <QString>
 #include <QUndoStack>
@@ -32,6 +33,10 @@ class AnnotationsModel : public QObject {
   // loaded, or saving over it, ends this.
   [[nodiscard]] QString unreadablePath() const { return unreadable_path_; }
   [[nodiscard]] QString unreadableError() const { return unreadable_error_; }
+  // Whether path() now holds other bytes than when the boxes were read from
+  // it or saved to it (another program, or another studio, wrote it since):
+  // saving over it would lose that. False for no file, or one since deleted.
+  [[nodiscard]] bool fileChangedOnDisk() const;
 
   // Replaces everything, clears the undo history and marks the state clean.
   void reset(const Annotations& annotations, const QString& path);
@@ -66,6 +71,7 @@ class AnnotationsModel : public QObject {
   QString path_;
   QString unreadable_path_;
   QString unreadable_error_;
+  QByteArray file_digest_;  // of path() when read or saved (empty: no file then)
   QUndoStack undo_stack_;
 };
 

@@ -2,6 +2,8 @@
 // The studio window: creates the controller, views, menus and reactions and
 // wires them together. Behaviour lives in those classes, not here.
 #include <QMainWindow>
+#include <functional>
+#include <vector>
 
 #include "lom/ui/box_edit_actions.hpp"
 #include "lom/ui/error_reporter.hpp"
@@ -104,6 +106,9 @@ class MainWindow : public QMainWindow {
   void showStatusMessage(const QString& message);
   void onSequenceChanged();
   void onCurrentFrameChanged();
+  // View actions that need a sequence, or anything in the scene (a sequence
+  // or a map), are enabled only while there is one.
+  void updateViewActions();
 
   RecentSequences recent_;
   ErrorReporter report_error_;
@@ -127,6 +132,8 @@ class MainWindow : public QMainWindow {
   QLabel* status_label_;
   std::function<bool(const QString&)> map_discard_question_;
   ExportMapReaction* map_saver_ = nullptr;  // File ▸ Save Map…
+  std::vector<QAction*> sequence_view_actions_;  // see updateViewActions
+  std::vector<QAction*> scene_view_actions_;
 };
 
 }  // namespace lom::ui

@@ -151,6 +151,14 @@ class MapWorker : public QObject {
   bool unsaved_map_ = false;  // GUI thread
   std::atomic<unsigned> evaluation_generation_{0};
   std::atomic<int> snapshot_interval_ms_{200};
+  // Snapshots the GUI has not taken yet are merged: only the newest is
+  // shown, so a GUI slower than the worker never falls behind (publish).
+  std::mutex snapshot_mutex_;
+  MapSnapshotPtr next_snapshot_;  // guarded by snapshot_mutex_
+  bool snapshot_posted_ = false;  // guarded by snapshot_mutex_
+  // How long the GUI took to show the last snapshot: fusion publishes no
+  // faster than every two of these, so the GUI stays free half the time.
+  std::atomic<int> gui_snapshot_ms_{0};
   std::function<void(size_t)> frame_fused_hook_;  // guarded by mutex_
 
   // GUI thread only.
