@@ -9,10 +9,16 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "lom/error.hpp"
+
+#ifdef LOM_WITH_ROSBAG
+#include <bzlib.h>
+#include <roslz4/lz4s.h>
+#endif
 
 namespace lom::import_detail {
 
@@ -41,14 +47,50 @@ struct Fields {
   }
 };
 
+// Where a walker reads: the file, or a chunk decompressed in memory.
+struct Source {
+  std::ifstream* file = nullptr;
+  const std::vector<char>* memory = nullptr;
+  std::uint64_t size = 0;
+  std::string where;  // follows the byte offsets of messages
+};
+
+// The data of a compressed chunk, decompressed as the bag library does it;
+// empty when the compression is one it does not know (it says so itself).
+// Throws std::runtime_error when the data does not decompress to `size` bytes.
+std::optional<std::vector<char>> decompressChunk(const std::string& compression,
+                                                 std::vector<char>& packed, std::uint64_t size) {
+#ifdef LOM_WITH_ROSBAG
+  if (compression != "bz2" && compression != "lz4") return std::nullopt;
+  if (size > 0xffffffffu || packed.size() > 0xffffffffu)
+    throw std::runtime_error("a chunk over 4 GiB");
+  std::vector<char> unpacked(size + 1);  // one more: data beyond `size` shows
+  auto out = static_cast<unsigned int>(unpacked.size());
+  const auto in = static_cast<unsigned int>(packed.size());
+  const bool ok =
+      compression == "bz2"
+          ? BZ2_bzBuffToBuffDecompress(unpacked.data(), &out, packed.data(), in, 0, 0) == BZ_OK
+          : roslz4_buffToBuffDecompress(packed.data(), in, unpacked.data(), &out) == ROSLZ4_OK;
+  if (!ok) throw std::runtime_error("data that does not decompress as " + compression);
+  if (out != size)
+    throw std::runtime_error("data that decompresses to " + std::to_string(out) +
+                             (out > size ? " or more" : "") + " bytes, not the " +
+                             std::to_string(size) + " its header states");
+  unpacked.resize(size);
+  return unpacked;
+#else
+  (void)compression, (void)packed, (void)size;
+  return std::nullopt;
+#endif
+}
+
 class Walker {
  public:
-  Walker(const std::string& file, std::ifstream& in, std::uint64_t size)
-      : file_(file), in_(in), size_(size) {}
+  Walker(const std::string& file, Source source) : file_(file), source_(std::move(source)) {}
 
   [[noreturn]] void fail(std::uint64_t at, const std::string& what) const {
     throw Error(file_, "bag", "a readable ROS 1 bag (format 2.0)",
-                what + " at byte " + std::to_string(at) +
+                what + " at byte " + std::to_string(at) + source_.where +
                     " (the file is damaged or cut short; `rosbag reindex` or `rosbag check` on a "
                     "copy may tell more)");
   }
@@ -62,10 +104,30 @@ class Walker {
   }
 
   void read(std::uint64_t at, void* into, std::uint64_t count) {
-    if (at + count > size_) fail(at, "a record that runs past the end of the file");
-    in_.seekg(static_cast<std::streamoff>(at));
-    in_.read(static_cast<char*>(into), static_cast<std::streamsize>(count));
-    if (!in_) fail(at, "bytes that cannot be read");
+    if (at + count > source_.size) fail(at, "a record that runs past the end of the file");
+    if (source_.memory) {
+      if (count > 0) std::memcpy(into, source_.memory->data() + at, count);
+      return;
+    }
+    source_.file->seekg(static_cast<std::streamoff>(at));
+    source_.file->read(static_cast<char*>(into), static_cast<std::streamsize>(count));
+    if (!*source_.file) fail(at, "bytes that cannot be read");
+  }
+
+  // The records of a chunk's data, [from, from + bytes): connections and
+  // messages only; adds each record's offset from `from` to `starts`.
+  void chunkRecords(std::uint64_t from, std::uint64_t bytes, std::set<std::uint32_t>& starts) {
+    Fields inner;
+    std::uint64_t inner_data = 0;
+    std::uint32_t inner_bytes = 0;
+    for (std::uint64_t in = from; in < from + bytes;) {
+      starts.insert(static_cast<std::uint32_t>(in - from));
+      const std::uint64_t after = record(in, from + bytes, inner, inner_data, inner_bytes);
+      const std::uint8_t inner_op = op(inner, in);
+      if (inner_op != kMessageData && inner_op != kConnection)
+        fail(in, "a record that does not belong in a chunk");
+      in = after;
+    }
   }
 
   // One record from `at` (within [at, end)): its header fields and where its
@@ -110,7 +172,7 @@ class Walker {
 
   void walk() {
     char magic[kMagicBytes];
-    if (size_ < kMagicBytes) return;  // the bag library says what it is not
+    if (source_.size < kMagicBytes) return;  // the bag library says what it is not
     read(0, magic, kMagicBytes);
     if (std::memcmp(magic, kMagic, kMagicBytes) != 0)
       return;  // another version: the library's to judge
@@ -119,14 +181,14 @@ class Walker {
     std::uint32_t data_bytes = 0;
     struct Chunk {
       std::uint64_t size = 0;                 // uncompressed
-      std::set<std::uint32_t> record_starts;  // within it, when not compressed
-      bool compressed = false;
+      std::set<std::uint32_t> record_starts;  // within its data, once walked
+      bool walked = false;                    // false: a compression the library judges
     };
     std::map<std::uint64_t, Chunk> chunks;  // by file offset
     std::optional<std::uint64_t> last_chunk;
     std::vector<std::pair<std::uint64_t, std::uint64_t>> chunk_infos;  // record offset, chunk_pos
-    for (std::uint64_t at = kMagicBytes; at < size_;) {
-      const std::uint64_t next = record(at, size_, fields, data_at, data_bytes);
+    for (std::uint64_t at = kMagicBytes; at < source_.size;) {
+      const std::uint64_t next = record(at, source_.size, fields, data_at, data_bytes);
       const std::uint8_t operation = op(fields, at);
       if (operation == kBagHeader) {
         // (An index position past the end is a bag not closed when recorded:
@@ -139,24 +201,32 @@ class Walker {
         if (compression == fields.values.end() || !stated)
           fail(at, "a chunk without its compression or size");
         chunk.size = *stated;
-        chunk.compressed = compression->second != "none";
-        if (chunk.compressed && chunk.size > kMaxCompression * data_bytes + (1u << 20))
+        const bool compressed = compression->second != "none";
+        if (compressed && chunk.size > kMaxCompression * data_bytes + (1u << 20))
           fail(at, "a compressed chunk of " + std::to_string(data_bytes) + " bytes said to hold " +
                        std::to_string(chunk.size));
-        if (!chunk.compressed) {
+        if (!compressed) {
           if (chunk.size != data_bytes)
             fail(at, "an uncompressed chunk whose size differs from its data");
-          Fields inner;
-          std::uint64_t inner_data = 0;
-          std::uint32_t inner_bytes = 0;
-          for (std::uint64_t in = data_at; in < data_at + data_bytes;) {
-            chunk.record_starts.insert(static_cast<std::uint32_t>(in - data_at));
-            const std::uint64_t after =
-                record(in, data_at + data_bytes, inner, inner_data, inner_bytes);
-            const std::uint8_t inner_op = op(inner, in);
-            if (inner_op != kMessageData && inner_op != kConnection)
-              fail(in, "a record that does not belong in a chunk");
-            in = after;
+          chunkRecords(data_at, data_bytes, chunk.record_starts);
+          chunk.walked = true;
+        } else {
+          // Decompressed here too (a second time, as the library reads it):
+          // the records inside are as trusted by the library as those outside.
+          std::vector<char> packed(data_bytes);
+          read(data_at, packed.data(), data_bytes);
+          std::optional<std::vector<char>> unpacked;
+          try {
+            unpacked = decompressChunk(compression->second, packed, chunk.size);
+          } catch (const std::runtime_error& e) {
+            fail(at, "a " + compression->second + " chunk with " + e.what());
+          }
+          if (unpacked) {
+            Walker inner(file_, Source{nullptr, &*unpacked, unpacked->size(),
+                                       " of the chunk decompressed from the record at byte " +
+                                           std::to_string(at)});
+            inner.chunkRecords(0, unpacked->size(), chunk.record_starts);
+            chunk.walked = true;
           }
         }
         chunks[at] = std::move(chunk);
@@ -172,7 +242,7 @@ class Walker {
         for (std::uint64_t i = 0; i < *count; ++i) {
           const std::uint32_t offset = u32(data_at + i * 12 + 8);
           const bool inside =
-              chunk.compressed ? offset < chunk.size : chunk.record_starts.count(offset) > 0;
+              chunk.walked ? chunk.record_starts.count(offset) > 0 : offset < chunk.size;
           if (!inside) fail(at, "an index entry pointing outside the records of its chunk");
         }
       } else if (operation == kChunkInfo) {
@@ -197,8 +267,7 @@ class Walker {
 
  private:
   const std::string& file_;
-  std::ifstream& in_;
-  std::uint64_t size_;
+  Source source_;
 };
 
 }  // namespace
@@ -209,7 +278,7 @@ void checkBagStructure(const std::string& file) {
   in.seekg(0, std::ios::end);
   const auto end = in.tellg();
   if (end <= 0) return;
-  Walker walker(file, in, static_cast<std::uint64_t>(end));
+  Walker walker(file, Source{&in, nullptr, static_cast<std::uint64_t>(end), ""});
   walker.walk();
 }
 

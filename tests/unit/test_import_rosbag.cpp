@@ -11,6 +11,7 @@
 #include "test_support.hpp"
 
 #ifdef LOM_WITH_ROSBAG
+#include <bzlib.h>
 #include <rosbag/bag.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/CompressedImage.h>
@@ -102,6 +103,7 @@ struct BagSpec {
   bool second_depth_topic = false;
   bool bad_step_in_frame_2 = false;
   int frames = 5;
+  rosbag::compression::CompressionType compression = rosbag::compression::Uncompressed;
   int proba_width = kW;  // probabilities of another resolution than depth
   int proba_height = kH;
   bool compressed_depth = false;     // compressedDepth: a 12-byte header, then a 16-bit PNG
@@ -133,6 +135,7 @@ std::pair<size_t, size_t> firstImageData(const std::vector<std::uint8_t>& png) {
 
 void writeBag(const fs::path& path, const BagSpec& spec) {
   rosbag::Bag bag(path.string(), rosbag::bagmode::Write);
+  bag.setCompression(spec.compression);
   // tf at 20 Hz from 9.95 to 10.30; the frame at 10.4 has no pose.
   // Header stamps may run on another scale than the record times (a bag
   // replayed faster, or written without record times).
@@ -674,6 +677,116 @@ TEST(ImportRosbag, DamagedRecordStructureIsAnErrorNotACrash) {
       << error;
   // The intact bag imports.
   EXPECT_EQ(importSource(SourceKind::RosBag, dir / "good.bag", dir / "good").frames_written, 4u);
+}
+
+// Every top-level record of `op` in bag bytes.
+std::vector<BagRecord> recordsOf(const std::string& bytes, std::uint8_t op) {
+  std::vector<BagRecord> found;
+  for (size_t at = 13; at + 8 <= bytes.size();) {
+    const size_t header_bytes = u32At(bytes, at);
+    const std::string header = bytes.substr(at + 4, header_bytes);
+    const size_t data_at = at + 8 + header_bytes;
+    const size_t op_at = header.find(std::string("op=") + static_cast<char>(op));
+    if (op_at != std::string::npos && op_at >= 4 && u32At(header, op_at - 4) == 4)
+      found.push_back(BagRecord{at, header_bytes, data_at});
+    at = data_at + u32At(bytes, at + 4 + header_bytes);
+  }
+  return found;
+}
+
+// Adds `delta` to the 8-byte field `name` (e.g. "index_pos=") in the header of `record`.
+void shiftField(std::string& bytes, const BagRecord& record, const std::string& name,
+                std::int64_t delta, size_t only_beyond = 0) {
+  const size_t at = bytes.find(name, record.at + 4);
+  ASSERT_LT(at, record.data_at) << name;
+  std::uint64_t value = 0;
+  std::memcpy(&value, bytes.data() + at + name.size(), 8);
+  if (value <= only_beyond) return;
+  value += delta;
+  std::memcpy(bytes.data() + at + name.size(), &value, 8);
+}
+
+// The bag with the data of its chunk record `chunk` replaced by `data`; what
+// follows moves, and the positions that point past it (the bag header's
+// index position, later chunks' positions) move with it.
+std::string withChunkData(const std::string& bag, const BagRecord& chunk, const std::string& data) {
+  const std::uint32_t old_bytes = u32At(bag, chunk.data_at - 4);
+  const auto new_bytes = static_cast<std::uint32_t>(data.size());
+  std::string out = bag.substr(0, chunk.data_at - 4);
+  out.append(reinterpret_cast<const char*>(&new_bytes), 4);
+  out += data;
+  out += bag.substr(chunk.data_at + old_bytes);
+  const std::int64_t delta = static_cast<std::int64_t>(new_bytes) - old_bytes;
+  shiftField(out, recordsOf(out, 0x03).at(0), "index_pos=", delta);
+  for (const BagRecord& info : recordsOf(out, 0x06))
+    shiftField(out, info, "chunk_pos=", delta, chunk.at);
+  return out;
+}
+
+// The records inside a compressed chunk are checked as those outside: the
+// chunk is decompressed first (bz2 and lz4, as the bag library reads them).
+TEST(ImportRosbag, DamagedRecordsInsideACompressedChunkAreAnErrorNotACrash) {
+  test::TempDir dir;
+  for (const auto compression : {rosbag::compression::BZ2, rosbag::compression::LZ4}) {
+    BagSpec spec;
+    spec.compression = compression;
+    writeBag(dir / "packed.bag", spec);
+    EXPECT_EQ(importSource(SourceKind::RosBag, dir / "packed.bag", dir / "packed").frames_written,
+              4u)
+        << "an intact compressed bag imports";
+    fs::remove_all(dir / "packed");
+  }
+  BagSpec spec;
+  spec.compression = rosbag::compression::BZ2;
+  writeBag(dir / "good.bag", spec);
+  const std::string good = test::slurp(dir / "good.bag");
+  const auto chunk = firstRecord(good, 0x05);
+  ASSERT_TRUE(chunk) << "a chunk record";
+  const std::uint32_t packed_bytes = u32At(good, chunk->data_at - 4);
+  std::string packed = good.substr(chunk->data_at, packed_bytes);
+  // Its first record's header length made 4 GiB, packed again.
+  std::vector<char> data(16u << 20);
+  unsigned int data_bytes = static_cast<unsigned int>(data.size());
+  ASSERT_EQ(BZ2_bzBuffToBuffDecompress(data.data(), &data_bytes, packed.data(), packed_bytes, 0, 0),
+            BZ_OK);
+  std::memset(data.data(), 0xff, 4);
+  std::vector<char> repacked(packed_bytes + 1024);
+  unsigned int repacked_bytes = static_cast<unsigned int>(repacked.size());
+  ASSERT_EQ(
+      BZ2_bzBuffToBuffCompress(repacked.data(), &repacked_bytes, data.data(), data_bytes, 9, 0, 0),
+      BZ_OK);
+  std::ofstream(dir / "inner.bag", std::ios::binary)
+      << withChunkData(good, *chunk, std::string(repacked.data(), repacked_bytes));
+  // The same chunk packed again without damage: the rebuilt bag imports.
+  data_bytes = static_cast<unsigned int>(data.size());
+  ASSERT_EQ(BZ2_bzBuffToBuffDecompress(data.data(), &data_bytes, packed.data(), packed_bytes, 0, 0),
+            BZ_OK);
+  repacked_bytes = static_cast<unsigned int>(repacked.size());
+  ASSERT_EQ(
+      BZ2_bzBuffToBuffCompress(repacked.data(), &repacked_bytes, data.data(), data_bytes, 9, 0, 0),
+      BZ_OK);
+  std::ofstream(dir / "repacked.bag", std::ios::binary)
+      << withChunkData(good, *chunk, std::string(repacked.data(), repacked_bytes));
+  EXPECT_EQ(importSource(SourceKind::RosBag, dir / "repacked.bag", dir / "repacked").frames_written,
+            4u);
+  std::string error =
+      errorOf([&] { importSource(SourceKind::RosBag, dir / "inner.bag", dir / "inner"); });
+  EXPECT_NE(error.find("inner.bag: bag: expected a readable ROS 1 bag (format 2.0), found a "
+                       "record header of 4294967295 bytes that does not fit in what follows it "
+                       "at byte 0 of the chunk decompressed from the record at byte " +
+                       std::to_string(chunk->at)),
+            std::string::npos)
+      << error;
+  EXPECT_FALSE(fs::exists(dir / "inner"));
+  // Compressed bytes that are not bz2 at all.
+  std::string garbled = good;
+  std::memset(garbled.data() + chunk->data_at, 'x', 16);
+  std::ofstream(dir / "garbled.bag", std::ios::binary) << garbled;
+  error = errorOf([&] { importSource(SourceKind::RosBag, dir / "garbled.bag", dir / "g"); });
+  EXPECT_NE(error.find("a bz2 chunk with data that does not decompress as bz2 at byte " +
+                       std::to_string(chunk->at)),
+            std::string::npos)
+      << error;
 }
 
 TEST(ImportRosbag, MalformedBags) {
