@@ -117,22 +117,31 @@ void removePendingOutputs() noexcept {
   for (const Kind kind : {Kind::File, Kind::Tree, Kind::EmptyFolder}) {
     for (int pass = 0; pass < (kind == Kind::EmptyFolder ? 8 : 1); ++pass)
       for (PendingSlot& slot : g_pending) {
-        if (slot.state.load(std::memory_order_acquire) != kRecorded || slot.kind != kind) continue;
-        if (kind == Kind::EmptyFolder) {
-          ::rmdir(slot.path);  // fails, as wanted, unless empty
-          continue;
-        }
+        // Claimed before its kind and path are read: no other thread refills it meanwhile.
         int expected = kRecorded;
         if (!slot.state.compare_exchange_strong(expected, kRemoving)) continue;
-        if (kind == Kind::File)
+        if (slot.kind != kind) {
+          slot.state.store(kRecorded);
+          continue;
+        }
+        if (kind == Kind::File) {
           ::unlink(slot.path);
-        else
+        } else if (kind == Kind::Tree) {
           removeTreeAt(AT_FDCWD, slot.path, 0);
+        } else if (::rmdir(slot.path) != 0 && errno == ENOTEMPTY) {
+          slot.state.store(kRecorded);  // another pass, once the folders inside are gone
+        }
       }
   }
 }
 
 void removePendingOutputsAndDie(int signal) noexcept {
+  // A second signal handled on another thread (each thread blocks only the
+  // signals of its own handler) waits for the first to finish and end the
+  // process, instead of ending it halfway through the removal.
+  static std::atomic<bool> handling{false};
+  if (handling.exchange(true))
+    for (;;) ::pause();
   removePendingOutputs();
   std::signal(signal, SIG_DFL);
   // Inside its handler the signal is blocked: unblocked, the raise below
@@ -150,7 +159,7 @@ void removePendingOutputsOnSignals() {
   struct sigaction action {};
   action.sa_handler = onPendingOutputSignal;
   sigemptyset(&action.sa_mask);
-  // One handler at a time: the others wait until the process ends.
+  // On one thread, one handler at a time; across threads, see removePendingOutputsAndDie.
   for (const int signal : signals) sigaddset(&action.sa_mask, signal);
   for (const int signal : signals) {
     struct sigaction previous {};
@@ -245,10 +254,13 @@ void writeStream(const fs::path& target, const fs::path& temporary,
 
 }  // namespace
 
-fs::path createStagingFolder(const fs::path& parent, const std::string& what) {
+fs::path createStagingFolder(const fs::path& parent, const std::string& what,
+                             PendingOutput& record) {
   static thread_local std::mt19937_64 rng{std::random_device{}()};
   const fs::path folder = parent / (".labeloctomap-" + what + "-" + std::to_string(::getpid()) +
                                     "-" + std::to_string(rng() % 1000000));
+  // Recorded before it exists: a signal in between finds nothing to remove.
+  record = PendingOutput(folder, PendingOutput::Kind::Tree);
   std::error_code ec;
   if (!fs::create_directory(folder, ec) || ec)
     throw Error(
@@ -273,12 +285,13 @@ void StagedFiles::addPath(const fs::path& target,
   // file is reported in the program's words, naming the output, before a
   // library writer (VTK, PCL, OpenCV) prints its own complaint with the
   // temporary name.
+  // Recorded before it exists: a signal in between finds nothing to remove.
+  PendingOutput pending(temporary, PendingOutput::Kind::File);
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0)
     throw Error(target.string(), "output path", "a folder where files can be created",
                 "cannot create a file in " + folderOf(file).string() + ": " + std::strerror(errno));
   ::close(fd);
-  PendingOutput pending(temporary, PendingOutput::Kind::File);
   try {
     write(temporary);
     // Created empty above: a writer that failed without saying so leaves it

@@ -132,8 +132,7 @@ class StagingFolder {
     if (ec)
       throw Error(out.string(), "output path", "a folder for the per-label files",
                   "a folder that cannot be created: " + ec.message());
-    path_ = createStagingFolder(out, "export");
-    pending_ = PendingOutput(path_, PendingOutput::Kind::Tree);
+    path_ = createStagingFolder(out, "export", pending_);
   }
   StagingFolder(const StagingFolder&) = delete;
   StagingFolder& operator=(const StagingFolder&) = delete;

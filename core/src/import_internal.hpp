@@ -111,7 +111,13 @@ class SequenceWriter {
   // The staging folder, or a new output folder, for a signal to remove.
   PendingOutput pending_;
   bool created_out_ = false;
-  fs::path created_root_;  // the first folder of out_'s path this import created
+  // The output folder this import made (as the kernel resolved it), and the
+  // folders above it it made too (innermost first): the output goes whole
+  // on failure, the folders above only while empty (another import may have
+  // put its output beside this one meanwhile).
+  fs::path created_folder_;
+  std::vector<fs::path> created_parents_;
+  std::vector<PendingOutput> pending_parents_;
   // With the overwrite option over an existing sequence: the folder inside the
   // output where the new frames are written until finish() swaps them in, so
   // that a failure or a cancel leaves the old sequence as it was.

@@ -231,25 +231,36 @@ void SequenceWriter::prepareFolder() {
   if (prepared_) return;
   std::error_code ec;
   if (!fs::exists(out_, ec)) {
-    // The first folder of the path that is missing goes too when the import
-    // fails or is cancelled (out/new/seq leaves no empty out/new behind).
-    fs::path missing = fs::absolute(out_, ec).lexically_normal();
-    if (!missing.has_filename()) missing = missing.parent_path();
-    while (missing.has_parent_path() && missing.parent_path() != missing &&
-           !fs::exists(missing.parent_path(), ec))
-      missing = missing.parent_path();
+    // The folders of the path that are missing, found along the path as
+    // given (not with ".." folded away, which a symbolic link makes wrong):
+    // they go again when the import fails or is cancelled (out/new/seq
+    // leaves no empty out/new behind).
+    std::vector<fs::path> missing;
+    fs::path p = out_.has_filename() ? out_ : out_.parent_path();
+    while (!p.empty() && !fs::exists(fs::symlink_status(p, ec))) {
+      missing.push_back(p);
+      if (!p.has_parent_path() || p.parent_path() == p) break;
+      p = p.parent_path();
+    }
     fs::create_directories(out_, ec);
     if (ec)
       throw Error(out_.string(), "output", "a folder that can be created", ec.message());
     created_out_ = true;
-    created_root_ = missing;
-    pending_ = PendingOutput(missing, PendingOutput::Kind::Tree);
+    // Recorded as the kernel resolved them, now that they exist.
+    created_folder_ = fs::canonical(out_, ec);
+    if (ec) created_folder_ = fs::absolute(out_);
+    pending_ = PendingOutput(created_folder_, PendingOutput::Kind::Tree);
+    for (size_t i = 1; i < missing.size(); ++i) {
+      fs::path parent = fs::canonical(missing[i], ec);
+      if (ec) continue;
+      created_parents_.push_back(parent);
+      pending_parents_.emplace_back(parent, PendingOutput::Kind::EmptyFolder);
+    }
   } else {
     // An existing folder (empty frame folders, or --overwrite) gets the
     // frames only once they are all written: a failed or cancelled import
     // leaves it as it was.
-    staging_ = createStagingFolder(out_, "import");
-    pending_ = PendingOutput(staging_, PendingOutput::Kind::Tree);
+    staging_ = createStagingFolder(out_, "import", pending_);
   }
   prepared_ = true;
 }
@@ -258,6 +269,7 @@ void SequenceWriter::commitSequence(const std::string& json) {
   if (staging_.empty()) {  // a new folder: removed whole if this fails
     writeTextFileAtomically(out_ / "sequence.json", json);
     pending_.release();
+    pending_parents_.clear();
     return;
   }
   // The new sequence file first, complete, beside the new frames: a write
@@ -324,7 +336,10 @@ void SequenceWriter::cleanUp() noexcept {
   if (!staging_.empty()) fs::remove_all(staging_, ec);
   // A new output goes whole; an existing one was written only through the
   // staging folder, removed above.
-  if (created_out_) fs::remove_all(created_root_.empty() ? out_ : created_root_, ec);
+  if (created_out_) {
+    fs::remove_all(created_folder_, ec);
+    for (const fs::path& parent : created_parents_) fs::remove(parent, ec);  // only while empty
+  }
 }
 
 void SequenceWriter::note(const std::string& text) {

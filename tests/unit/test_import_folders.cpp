@@ -412,6 +412,40 @@ TEST(ImportFrames, AFailedImportLeavesAnExistingFolderAsItWasAndNoNewParents) {
   EXPECT_FALSE(fs::exists(dir / "new"));
 }
 
+// A cancelled import removes only what it made: its output folder as the
+// kernel resolved it (not the path with ".." folded away across a symbolic
+// link) and the folders above it while they are empty (another import may
+// have put its output beside it).
+TEST(ImportFrames, ACancelledImportRemovesOnlyTheFoldersItMade) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  const auto cancel_after_one = [](const ImportProgress& p) { return p.done < 1; };
+  // work/link -> a/b; work/link/../seq is a/seq, not work/seq (the user's).
+  fs::create_directories(dir / "a" / "b");
+  fs::create_directories(dir / "work" / "seq");
+  writeText(dir / "work" / "seq" / "mywork.txt", "mine");
+  fs::create_directory_symlink(dir / "a" / "b", dir / "work" / "link");
+  const ImportReport through_link = importSource(
+      SourceKind::Frames, dir / "src", dir / "work" / "link" / ".." / "seq", {}, cancel_after_one);
+  ASSERT_TRUE(through_link.cancelled);
+  EXPECT_TRUE(fs::exists(dir / "work" / "seq" / "mywork.txt"));
+  EXPECT_FALSE(fs::exists(dir / "a" / "seq"));
+  // A parent made by this import, which another output has joined since.
+  const fs::path other = dir / "new" / "other";
+  const auto joined_then_cancelled = [&](const ImportProgress& p) {
+    if (p.done == 1) {
+      fs::create_directories(other);
+      writeText(other / "sequence.json", "{}");
+    }
+    return p.done < 1;
+  };
+  const ImportReport beside =
+      importSource(SourceKind::Frames, dir / "src", dir / "new" / "seq", {}, joined_then_cancelled);
+  ASSERT_TRUE(beside.cancelled);
+  EXPECT_FALSE(fs::exists(dir / "new" / "seq"));
+  EXPECT_TRUE(fs::exists(other / "sequence.json")) << "the other output stays";
+}
+
 // A damaged cache entry (a frame file gone, a truncated sequence.json) is
 // converted again instead of failing on every open; colour images left out
 // are said on every open, fresh or reused.

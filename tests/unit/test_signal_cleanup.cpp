@@ -82,8 +82,8 @@ TEST_F(SignalCleanup, AStagingFolderGoesWithEverythingInIt) {
   EXPECT_EXIT(
       {
         lom::removePendingOutputsOnSignals();
-        const fs::path staging = lom::createStagingFolder(dir_ / "out", "export");
-        const lom::PendingOutput pending(staging, lom::PendingOutput::Kind::Tree);
+        lom::PendingOutput pending;
+        const fs::path staging = lom::createStagingFolder(dir_ / "out", "export", pending);
         // Deep enough, and with enough names, to need several reads of a folder.
         fs::path deep = staging;
         for (int level = 0; level < 6; ++level) {

@@ -115,10 +115,11 @@ class NewFolders {
 // Creates a new hidden folder `.labeloctomap-<what>-<pid>-<random>` inside
 // `parent` (which must exist), where outputs are staged before they are
 // moved into place; throws lom::Error naming `parent` when it cannot be made.
-// The caller records it (PendingOutput::Kind::Tree) for as long as a signal
-// may remove it.
+// `record` holds it (PendingOutput::Kind::Tree, recorded before the folder
+// is made) for as long as a signal may remove it: release it, or let it go,
+// once the folder holds what a signal must not remove or is gone.
 std::filesystem::path createStagingFolder(const std::filesystem::path& parent,
-                                          const std::string& what);
+                                          const std::string& what, PendingOutput& record);
 
 // Files that belong together (an OBJ and its MTL): each is written to a
 // temporary file beside its target, and commit() renames them into place, in
