@@ -905,14 +905,79 @@ TEST_F(BoxFilesTest, ASecondStudioOnTheSequenceLeavesTheFirstsRecoveryCopyAlone)
   other.kill();
   other.waitForFinished();
 
-  // The other studio gone (killed: its lock stays behind), the copy is offered.
-  window_.setRecoveryOffer([this](const QString& file) {
-    offered_ << file;
-    return false;
-  });
+  // The other studio gone (killed: its lock stays behind), the next autosave
+  // takes the copies over, keeping the one it left as a plain boxes file.
+  warnings_.clear();
+  boxes().addBox(boxOf(1, "square_box"));
+  window_.autosave().writeNow();
+  EXPECT_EQ(window_.autosave().currentRecoveryPath(), recovery);
+  ASSERT_EQ(warnings_.size(), 1) << warnings_.join('\n').toStdString();
+  EXPECT_TRUE(warnings_[0].startsWith("Unsaved boxes of another studio"))
+      << warnings_[0].toStdString();
+  const fs::path declined(BoxesAutosave::declinedPath(recovery).toStdString());
+  ASSERT_TRUE(fs::exists(declined));
+  ASSERT_EQ(loadAnnotations(declined).boxes.size(), 1u);
+  EXPECT_EQ(loadAnnotations(declined).boxes[0].label, 3);
+  EXPECT_TRUE(QFileInfo::exists(recovery)) << "this window's own copy";
+  fs::remove(declined);
+}
+
+// Boxes taken from elsewhere (another sequence's file, a YAML import) are
+// saved to the sequence's file without a question while it is as it was.
+TEST_F(BoxFilesTest, ImportedBoxesReplaceAnUnchangedFileWithoutAQuestion) {
+  const auto other = lom::test::writeTinySequence(temp_ / "other_shelf");
+  Annotations theirs;
+  theirs.boxes.push_back(boxOf(3, "red_mug"));
+  saveAnnotations(theirs, other.folder / "annotations.json");
+  Annotations own;
+  own.boxes.push_back(boxOf(1, "square_box"));
+  saveAnnotations(own, tiny_.folder / "annotations.json");
   ASSERT_TRUE(open(tiny_.folder));
-  EXPECT_EQ(offered_, QStringList{recovery});
-  QFile::remove(BoxesAutosave::declinedPath(recovery));
+  {
+    test::DialogAnswerer answer("Discard", qPath(other.folder / "annotations.json"));
+    window_.findAction("Open Boxes…")->trigger();
+  }
+  ASSERT_TRUE(boxes().isDirty());
+  {
+    test::DialogAnswerer answer("Cancel");
+    window_.findAction("Save Boxes")->trigger();
+    EXPECT_TRUE(answer.questions.isEmpty()) << answer.questions.join('\n').toStdString();
+  }
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_EQ(loadAnnotations(tiny_.folder / "annotations.json").boxes.at(0).label, 3);
+}
+
+// A studio ended with unsaved boxes after another program changed their
+// file: restored, the boxes still do not replace that change unasked.
+TEST_F(BoxFilesTest, RestoredBoxesStillAskBeforeReplacingAFileChangedBeforeTheCrash) {
+  const fs::path file = tiny_.folder / "annotations.json";
+  Annotations own;
+  own.boxes.push_back(boxOf(1, "square_box"));
+  saveAnnotations(own, file);
+  ASSERT_TRUE(open(tiny_.folder));
+  boxes().addBox(boxOf(2, "blue_cup"));
+  Annotations theirs;
+  theirs.boxes = {boxOf(3, "red_mug"), boxOf(2, "blue_cup"), boxOf(1, "square_box")};
+  saveAnnotations(theirs, file);
+  window_.autosave().writeNow();  // then the studio is killed
+
+  MainWindow next;
+  next.setErrorReporter([](const QString&, const QString&) {});
+  next.setWarningReporter([](const QString&, const QString&) {});
+  next.setRecoveryOffer([](const QString&) { return true; });
+  next.setMapDiscardQuestion([](const QString&) { return true; });
+  next.session().setAutoFuse(false);
+  ASSERT_TRUE(next.controller().openSequence(qPath(tiny_.folder)));
+  ASSERT_EQ(next.session().annotations().boxCount(), 2) << "the restored boxes";
+  {
+    test::DialogAnswerer answer("Cancel");
+    next.findAction("Save Boxes")->trigger();
+    ASSERT_EQ(answer.questions.size(), 1);
+    EXPECT_TRUE(answer.questions[0].contains("was changed on disk"))
+        << answer.questions[0].toStdString();
+  }
+  EXPECT_EQ(loadAnnotations(file).boxes.size(), 3u);
+  next.session().annotations().undoStack().setClean();
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <QStandardPaths>
 #include <QTimer>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <stdexcept>
 
@@ -62,9 +63,11 @@ constexpr const char* kRecoveryFormat = "labeloctomap-studio-recovery";
 struct RecoveredBoxes {
   Annotations boxes;
   std::optional<QString> save_to;  // none in an older recovery file
+  std::map<QString, QByteArray> known_files;
 };
 
-void writeRecoveryFile(const Annotations& boxes, const QString& save_to, const QString& path) {
+void writeRecoveryFile(const Annotations& boxes, const QString& save_to,
+                       const std::map<QString, QByteArray>& known_files, const QString& path) {
   // The boxes are written by the core, as Save Boxes writes them, then wrapped.
   const QString boxes_file = path + ".boxes";
   saveAnnotations(boxes, toPath(boxes_file));
@@ -74,8 +77,15 @@ void writeRecoveryFile(const Annotations& boxes, const QString& save_to, const Q
   written.close();
   written.remove();
   if (!read || !annotations.isObject()) throw std::runtime_error("recovery copy not written");
-  const QJsonObject recovery{
-      {"format", kRecoveryFormat}, {"save_to", save_to}, {"boxes", annotations.object()}};
+  // The boxes files as this studio saw them: restored, Save Boxes still asks
+  // before replacing what another program wrote there before the copy.
+  QJsonObject known;
+  for (const auto& [file, digest] : known_files)
+    known.insert(file, QString::fromLatin1(digest.toHex()));
+  const QJsonObject recovery{{"format", kRecoveryFormat},
+                             {"save_to", save_to},
+                             {"known_files", known},
+                             {"boxes", annotations.object()}};
   writeTextFileAtomically(toPath(path), QJsonDocument(recovery).toJson().toStdString());
 }
 
@@ -98,6 +108,9 @@ RecoveredBoxes readRecoveryFile(const QString& path) {
   }
   QFile::remove(boxes_file);
   recovered.save_to = recovery.value("save_to").toString();
+  const QJsonObject known = recovery.value("known_files").toObject();
+  for (auto it = known.begin(); it != known.end(); ++it)
+    recovered.known_files[it.key()] = QByteArray::fromHex(it.value().toString().toLatin1());
   return recovered;
 }
 
@@ -269,6 +282,10 @@ void loadSequenceBoxes(StudioSession& session) {
       file = legacy;  // unreadable or not copied: it stays the file of these boxes
     }
   }
+  // What the sequence's boxes file holds now (or that there is none): Save
+  // Boxes asks before replacing what another program writes there meanwhile.
+  session.annotations().forgetKnownFiles();
+  session.annotations().noteFile(file);
   if (file.isEmpty() || !QFileInfo::exists(file)) {
     session.annotations().reset(empty, QString());
     return;
@@ -334,6 +351,22 @@ QString BoxesAutosave::declinedPath(const QString& recovery_path) {
 }
 
 void BoxesAutosave::writeNow() {
+  if (locked_out_ && session_.controller().hasSequence() && !leave_files_alone_) {
+    // The other studio on this sequence may have closed: the copies are ours now.
+    const QString path = recoveryPath(session_.controller().sequencePath());
+    if (takeLock(path, nullptr)) {
+      locked_out_ = false;
+      recovery_path_ = path;
+      if (QFileInfo::exists(path)) {  // its unsaved boxes, left by a crash: kept, never replaced
+        const QString kept = keepAsDeclined(path);
+        emit session_.controller().warningOccurred(
+            QObject::tr("Unsaved boxes of another studio"),
+            QObject::tr("The other LabelOctoMap Studio on this sequence ended with unsaved "
+                        "boxes. They are kept as %1 (File ▸ Open Boxes… opens them).")
+                .arg(QDir::toNativeSeparators(kept)));
+      }
+    }
+  }
   if (recovery_path_.isEmpty() || !session_.annotations().isDirty()) return;
   // While another sequence opens (a warning about its boxes may be up), the
   // boxes shown may already be the new sequence's: never written to the
@@ -343,10 +376,58 @@ void BoxesAutosave::writeNow() {
     return;
   QDir().mkpath(QFileInfo(recovery_path_).path());
   try {
-    writeRecoveryFile(boxesToSave(session_), session_.annotations().path(), recovery_path_);
+    writeRecoveryFile(boxesToSave(session_), session_.annotations().path(),
+                      session_.annotations().knownFiles(), recovery_path_);
   } catch (const std::exception&) {
     // A failed recovery copy must not interrupt the work; the next tick retries.
   }
+}
+
+QString BoxesAutosave::keepAsDeclined(const QString& path) {
+  // Not offered again, but not lost either (the question says where the
+  // copy stays): a plain boxes file that Open Boxes… and `labeloctomap
+  // score` read. A copy that cannot be read is kept as it is. An earlier
+  // declined copy stays too: the next free name.
+  QString kept = declinedPath(path);
+  for (int n = 2; QFileInfo::exists(kept); ++n) {
+    kept = declinedPath(path);
+    kept.chop(5);  // ".json"
+    kept += QStringLiteral("-%1.json").arg(n);
+  }
+  bool written = false;
+  try {
+    saveAnnotations(readRecoveryFile(path).boxes, toPath(kept));
+    written = true;
+  } catch (const std::exception&) {
+  }
+  if (written) {
+    QFile::remove(path);
+    return kept;
+  }
+  QString raw = path + QStringLiteral(".declined");  // kept as it is; never deleted
+  for (int n = 2; QFileInfo::exists(raw); ++n) raw = path + QStringLiteral(".declined-%1").arg(n);
+  QFile::rename(path, raw);
+  return raw;
+}
+
+bool BoxesAutosave::takeLock(const QString& path, qint64* holder) {
+  QDir().mkpath(QFileInfo(path).path());
+  auto lock = std::make_unique<QLockFile>(path + QStringLiteral(".lock"));
+  lock->setStaleLockTime(0);  // a studio that ended without unlocking is detected by its pid
+  if (lock->tryLock(0)) {
+    lock_ = std::move(lock);
+    return true;
+  }
+  qint64 pid = 0;
+  QString host, application;
+  // A studio is one window per process: a lock of this process is an
+  // earlier window's that has not closed yet (a restart, as tests play it).
+  // A lock that cannot be made at all (a read-only folder) locks nobody out.
+  if (lock->error() != QLockFile::LockFailedError ||
+      (lock->getLockInfo(&pid, &host, &application) && pid == QCoreApplication::applicationPid()))
+    return true;
+  if (holder) *holder = pid;
+  return false;
 }
 
 void BoxesAutosave::discard() {
@@ -358,61 +439,28 @@ void BoxesAutosave::onSequenceChanged() {
   // replaced them, which removed its recovery file; from now on the file is
   // the new sequence's.
   lock_.reset();
+  locked_out_ = false;
   recovery_path_ = session_.controller().hasSequence() && !leave_files_alone_
                        ? recoveryPath(session_.controller().sequencePath())
                        : QString();
   const QString path = recovery_path_;
   if (path.isEmpty()) return;
-  QDir().mkpath(QFileInfo(path).path());
-  auto lock = std::make_unique<QLockFile>(path + QStringLiteral(".lock"));
-  lock->setStaleLockTime(0);  // a studio that ended without unlocking is detected by its pid
-  if (!lock->tryLock(0)) {
-    qint64 pid = 0;
-    QString host, application;
-    // A studio is one window per process: a lock of this process is an
-    // earlier window's that has not closed yet (a restart, as tests play it).
-    if (lock->error() == QLockFile::LockFailedError &&
-        !(lock->getLockInfo(&pid, &host, &application) &&
-          pid == QCoreApplication::applicationPid())) {
-      recovery_path_.clear();  // the other studio's: never offered, written or removed here
-      emit session_.controller().warningOccurred(
-          QObject::tr("Sequence open in another studio"),
-          QObject::tr("This sequence is also open in another LabelOctoMap Studio (process %1). "
-                      "Boxes saved in one window replace those saved in the other (Save Boxes "
-                      "asks first when the file changed on disk), and this window keeps no "
-                      "recovery copy of its unsaved boxes: the other one does.")
-              .arg(pid));
-      return;
-    }
-  } else {
-    lock_ = std::move(lock);
+  qint64 holder = 0;
+  if (!takeLock(path, &holder)) {
+    recovery_path_.clear();  // the other studio's: never offered, written or removed here
+    locked_out_ = true;
+    emit session_.controller().warningOccurred(
+        QObject::tr("Sequence open in another studio"),
+        QObject::tr("This sequence is also open in another LabelOctoMap Studio (process %1). "
+                    "Boxes saved in one window replace those saved in the other (Save Boxes "
+                    "asks first when the file changed on disk). While the other one is open, "
+                    "this window keeps no recovery copy of its unsaved boxes.")
+            .arg(holder));
+    return;
   }
   if (!QFileInfo::exists(path)) return;
   if (!offer_ || !offer_(path)) {
-    // Declined: not offered again, but not lost either (the question says
-    // where the copy stays): a plain boxes file that Open Boxes… and
-    // `labeloctomap score` read. A copy that cannot be read is kept as it is.
-    // An earlier declined copy stays too: the next free name.
-    QString kept = declinedPath(path);
-    for (int n = 2; QFileInfo::exists(kept); ++n) {
-      kept = declinedPath(path);
-      kept.chop(5);  // ".json"
-      kept += QStringLiteral("-%1.json").arg(n);
-    }
-    bool written = false;
-    try {
-      saveAnnotations(readRecoveryFile(path).boxes, toPath(kept));
-      written = true;
-    } catch (const std::exception&) {
-    }
-    if (written) {
-      QFile::remove(path);
-    } else {  // kept as it is, under a free name; never deleted
-      QString raw = path + QStringLiteral(".declined");
-      for (int n = 2; QFileInfo::exists(raw); ++n)
-        raw = path + QStringLiteral(".declined-%1").arg(n);
-      QFile::rename(path, raw);
-    }
+    keepAsDeclined(path);
     return;
   }
   const QDateTime copied = QFileInfo(path).lastModified();
@@ -436,6 +484,7 @@ void BoxesAutosave::onSequenceChanged() {
     else
       model.reset(restored, target);
     model.undoStack().resetClean();
+    for (const auto& [file, digest] : recovered.known_files) model.setKnownFile(file, digest);
     reportUnknownLabels(session_, restored, path);
     // A save target written after the copy was made holds newer boxes than
     // the ones restored: Save would replace them.

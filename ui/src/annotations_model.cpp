@@ -102,12 +102,25 @@ QByteArray fileDigest(const QString& path) {
   return hash.result();
 }
 
+QString knownKey(const QString& path) { return QFileInfo(path).absoluteFilePath(); }
+
 }  // namespace
 
-bool AnnotationsModel::fileChangedOnDisk() const {
-  if (path_.isEmpty()) return false;
-  const QByteArray now = fileDigest(path_);
-  return !now.isEmpty() && now != file_digest_;
+AnnotationsModel::DiskChange AnnotationsModel::diskChange(const QString& path) const {
+  if (path.isEmpty()) return DiskChange::None;
+  const auto seen = known_files_.find(knownKey(path));
+  if (seen == known_files_.end()) return DiskChange::None;
+  const QByteArray now = fileDigest(path);
+  if (now.isEmpty() || now == seen->second) return DiskChange::None;
+  return seen->second.isEmpty() ? DiskChange::Made : DiskChange::Changed;
+}
+
+void AnnotationsModel::noteFile(const QString& path) {
+  if (!path.isEmpty()) known_files_[knownKey(path)] = fileDigest(path);
+}
+
+void AnnotationsModel::setKnownFile(const QString& path, const QByteArray& digest) {
+  if (!path.isEmpty()) known_files_[knownKey(path)] = digest;
 }
 
 void AnnotationsModel::reset(const Annotations& annotations, const QString& path) {
@@ -119,7 +132,7 @@ void AnnotationsModel::reset(const Annotations& annotations, const QString& path
   undo_stack_.setClean();
   annotations_ = annotations;
   path_ = path;
-  file_digest_ = fileDigest(path);
+  noteFile(path);
   unreadable_path_.clear();
   unreadable_error_.clear();
   selected_ = annotations_.boxes.empty() ? -1 : 0;
@@ -137,7 +150,7 @@ void AnnotationsModel::resetUnreadable(const Annotations& annotations,
 
 void AnnotationsModel::markSaved(const QString& path) {
   path_ = path;
-  file_digest_ = fileDigest(path);
+  noteFile(path);
   // Replaced after the user's confirmation: it is a readable boxes file now.
   // (Saved elsewhere, it still holds the boxes that could not be read.)
   if (QFileInfo(path) == QFileInfo(unreadable_path_)) {

@@ -66,13 +66,12 @@ bool BoxFileReaction::confirmTarget(QString& path) {
         QFileDialog::getSaveFileName(parent_, tr("Save Boxes"), freeNameBeside(path), json_filter);
     if (path.isEmpty()) return false;
   }
-  // Another program or another studio wrote the file since the boxes were
-  // read from it or saved to it (or made the sequence's boxes file since the
-  // sequence was opened without one): saving would replace that unseen.
-  const bool changed = sameFile(path, model.path()) && model.fileChangedOnDisk();
-  const bool made = model.path().isEmpty() && model.unreadablePath().isEmpty() &&
-                    sameFile(path, boxesFileOf(session_.controller())) && QFileInfo::exists(path);
-  if (!changed && !made) return true;
+  // Another program or another studio wrote the file since the studio read
+  // or saved it (or made it since the sequence opened without it): saving
+  // would replace that unseen.
+  const AnnotationsModel::DiskChange change = model.diskChange(path);
+  if (change == AnnotationsModel::DiskChange::None) return true;
+  const bool changed = change == AnnotationsModel::DiskChange::Changed;
   QMessageBox question(
       QMessageBox::Warning, tr("Replace boxes changed on disk?"),
       (changed ? tr("%1 was changed on disk after the studio read or saved it, by another "

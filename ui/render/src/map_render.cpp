@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "lom/box_fit.hpp"
 #include "lom/error.hpp"
@@ -143,30 +144,36 @@ void placePinhole(vtkCamera* camera, const PinholeView& view, int width, int hei
   camera->SetWindowCenter(1.0 - 2.0 * cx / width, 2.0 * cy / height - 1.0);
 }
 
-// The corners of the framed voxels' cubes.
-std::vector<Eigen::Vector3d> framedCorners(const std::vector<VoxelKey>& keys, double resolution) {
-  std::vector<Eigen::Vector3d> corners;
-  corners.reserve(8 * keys.size());
-  for (const VoxelKey& key : keys) {
-    const Eigen::Vector3d centre = voxelCenter(key, resolution);
-    for (int corner = 0; corner < 8; ++corner)
-      corners.push_back(centre + 0.5 * resolution *
-                                     Eigen::Vector3d(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1,
-                                                     corner & 4 ? 1 : -1));
-  }
-  return corners;
+// The centres of the framed voxels (their cubes reach half an edge further).
+std::vector<Eigen::Vector3d> framedCentres(const std::vector<VoxelKey>& keys, double resolution) {
+  std::vector<Eigen::Vector3d> centres;
+  centres.reserve(keys.size());
+  for (const VoxelKey& key : keys) centres.push_back(voxelCenter(key, resolution));
+  return centres;
 }
 
 // The orbit camera: looking along azimuth and elevation at the centre of the
-// points' bounds, from far enough that every point is in front of it and in
-// view; then the picture is narrowed and shifted (view angle and window
-// centre, as a pinhole camera's principal point) onto what the points
-// cover, with a 5 % margin, so that the map fills it whatever its shape.
-void placeOrbit(vtkCamera* camera, const std::vector<Eigen::Vector3d>& points, double azimuth_deg,
-                double elevation_deg, const Eigen::Vector3d& up, double aspect) {
-  Eigen::Vector3d lo = points.front(), hi = points.front();
-  for (const Eigen::Vector3d& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+// bounds of the cubes of edge `edge` about `centres`, from far enough that
+// every corner is in front of it and in view; then the picture is narrowed
+// and shifted (view angle and window centre, as a pinhole camera's principal
+// point) onto what the cubes cover, with a 5 % margin, so that the map fills
+// it whatever its shape.
+void placeOrbit(vtkCamera* camera, const std::vector<Eigen::Vector3d>& centres, double edge,
+                double azimuth_deg, double elevation_deg, const Eigen::Vector3d& up,
+                double aspect) {
+  Eigen::Vector3d lo = centres.front(), hi = centres.front();
+  for (const Eigen::Vector3d& c : centres) lo = lo.cwiseMin(c), hi = hi.cwiseMax(c);
   const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  // Every cube's corners, one at a time (a large map holds millions of cubes).
+  const double half = 0.5 * edge;
+  const auto forEachCorner = [&](const auto& visit) {
+    for (const Eigen::Vector3d& c : centres)
+      for (int corner = 0; corner < 8; ++corner)
+        visit(Eigen::Vector3d(c.x() + (corner & 1 ? half : -half),
+                              c.y() + (corner & 2 ? half : -half),
+                              c.z() + (corner & 4 ? half : -half)) -
+              centre);
+  };
   const double view_angle = 30.0;
   const double az = azimuth_deg * kPi / 180.0, el = elevation_deg * kPi / 180.0;
   // Azimuth 0 lies along world x laid flat across up (z when x is nearly up).
@@ -185,27 +192,25 @@ void placeOrbit(vtkCamera* camera, const std::vector<Eigen::Vector3d>& points, d
   const Eigen::Vector3d picture_right = picture_up.cross(direction);
   const double tan_vertical = std::tan(0.5 * view_angle * kPi / 180.0);
   const double tan_horizontal = tan_vertical * aspect;
-  const size_t count = points.size();
-  // Far enough for every point to be within the 30 degree view.
+  // Far enough for every corner to be within the 30 degree view.
   double distance = 1e-3;
-  for (size_t i = 0; i < count; ++i) {
-    const Eigen::Vector3d p = points[i] - centre;
+  forEachCorner([&](const Eigen::Vector3d& p) {
     const double towards_eye = p.dot(direction);
     distance = std::max({distance, towards_eye + std::abs(p.dot(picture_up)) / tan_vertical,
                          towards_eye + std::abs(p.dot(picture_right)) / tan_horizontal});
-  }
+  });
   distance *= 1.05;
-  // Where the vertices land from there, in normalised picture coordinates
+  // Where the corners land from there, in normalised picture coordinates
   // (-1 to 1 across the view): the picture is fitted to that.
-  double x_lo = 0, x_hi = 0, y_lo = 0, y_hi = 0;
-  for (size_t i = 0; i < count; ++i) {
-    const Eigen::Vector3d p = points[i] - centre;
+  const double inf = std::numeric_limits<double>::infinity();
+  double x_lo = inf, x_hi = -inf, y_lo = inf, y_hi = -inf;
+  forEachCorner([&](const Eigen::Vector3d& p) {
     const double depth = distance - p.dot(direction);
     const double x = p.dot(picture_right) / (depth * tan_horizontal);
     const double y = p.dot(picture_up) / (depth * tan_vertical);
-    x_lo = i ? std::min(x_lo, x) : x, x_hi = i ? std::max(x_hi, x) : x;
-    y_lo = i ? std::min(y_lo, y) : y, y_hi = i ? std::max(y_hi, y) : y;
-  }
+    x_lo = std::min(x_lo, x), x_hi = std::max(x_hi, x);
+    y_lo = std::min(y_lo, y), y_hi = std::max(y_hi, y);
+  });
   const double scale = std::max(1e-3, 1.05 * 0.5 * std::max(x_hi - x_lo, y_hi - y_lo));
   const Eigen::Vector3d eye = centre + distance * direction;
   camera->SetFocalPoint(centre.data());
@@ -290,9 +295,9 @@ ColorImage renderMap(const LabelMap& map, const RenderOptions& options, OrbitFra
     placePinhole(camera, *options.camera, options.width, options.height);
   } else {
     OrbitFraming framed = orbitFraming(map, options);
-    placeOrbit(camera, framedCorners(framed.framed, map.parameters().resolution),
-               options.azimuth_deg, options.elevation_deg, orbitUp(map, options),
-               static_cast<double>(options.width) / options.height);
+    placeOrbit(camera, framedCentres(framed.framed, map.parameters().resolution),
+               map.parameters().resolution, options.azimuth_deg, options.elevation_deg,
+               orbitUp(map, options), static_cast<double>(options.width) / options.height);
     if (framing) *framing = std::move(framed);
   }
   renderer->ResetCameraClippingRange();

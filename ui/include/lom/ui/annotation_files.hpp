@@ -92,6 +92,12 @@ class BoxesAutosave : public QObject {
 
  private:
   void onSequenceChanged();
+  // Keeps a recovery file that is not restored as a plain boxes file beside
+  // it (NAME.declined.json, or the next free name); returns where it went.
+  QString keepAsDeclined(const QString& path);
+  // Takes the lock of the recovery file `path` (true), or says which process
+  // holds it (false, `holder`).
+  bool takeLock(const QString& path, qint64* holder);
 
   StudioSession& session_;
   std::function<bool(const QString&)> offer_;
@@ -100,6 +106,7 @@ class BoxesAutosave : public QObject {
   // Held while this studio keeps the open sequence's recovery file: a second
   // studio on the same sequence neither offers, writes nor removes it.
   std::unique_ptr<QLockFile> lock_;
+  bool locked_out_ = false;  // another studio holds the open sequence's lock
   bool restoring_ = false;
   bool leave_files_alone_ = false;
 };

@@ -5,6 +5,7 @@
 #include <QObject>
 #include <QString>
 #include <QUndoStack>
+#include <map>
 
 #include "lom/annotations.hpp"
 
@@ -33,10 +34,22 @@ class AnnotationsModel : public QObject {
   // loaded, or saving over it, ends this.
   [[nodiscard]] QString unreadablePath() const { return unreadable_path_; }
   [[nodiscard]] QString unreadableError() const { return unreadable_error_; }
-  // Whether path() now holds other bytes than when the boxes were read from
-  // it or saved to it (another program, or another studio, wrote it since):
-  // saving over it would lose that. False for no file, or one since deleted.
-  [[nodiscard]] bool fileChangedOnDisk() const;
+  // Boxes files as the studio last saw them (read, saved, or found absent
+  // when the sequence opened), to tell whether another program or another
+  // studio wrote one since: saving over it would lose that.
+  enum class DiskChange {
+    None,     // as seen, deleted since, or never seen
+    Changed,  // other bytes than when read or saved
+    Made,     // absent when seen, there now
+  };
+  [[nodiscard]] DiskChange diskChange(const QString& path) const;
+  // Records what `path` holds now (or that it is absent).
+  void noteFile(const QString& path);
+  // Every file seen (absolute path -> SHA-256 of its bytes, empty: absent),
+  // and the way to restore them (recovery copies carry them).
+  [[nodiscard]] const std::map<QString, QByteArray>& knownFiles() const { return known_files_; }
+  void setKnownFile(const QString& path, const QByteArray& digest);
+  void forgetKnownFiles() { known_files_.clear(); }
 
   // Replaces everything, clears the undo history and marks the state clean.
   void reset(const Annotations& annotations, const QString& path);
@@ -71,7 +84,7 @@ class AnnotationsModel : public QObject {
   QString path_;
   QString unreadable_path_;
   QString unreadable_error_;
-  QByteArray file_digest_;  // of path() when read or saved (empty: no file then)
+  std::map<QString, QByteArray> known_files_;  // see knownFiles
   QUndoStack undo_stack_;
 };
 
