@@ -78,7 +78,9 @@ extern "C" void onPendingOutputSignal(int signal) { removePendingOutputsAndDie(s
 
 PendingOutput::PendingOutput(const fs::path& path, Kind kind) {
   std::error_code ec;
-  const std::string text = fs::absolute(path, ec).lexically_normal().string();
+  // As given (made absolute), not lexically normalised: the kernel resolves
+  // "link/.." through the link, as it did when the output was made.
+  const std::string text = fs::absolute(path, ec).string();
   if (ec || text.size() >= PATH_MAX) return;
   for (int i = 0; i < kMaxPendingOutputs; ++i) {
     int expected = kFree;
@@ -342,18 +344,27 @@ void writeFileAtomically(const fs::path& target, const std::function<void(std::o
   files.commit();
 }
 
-NewFolders::NewFolders(const fs::path& folder) {
+std::vector<fs::path> missingFolders(const fs::path& folder) {
+  std::vector<fs::path> missing;
   std::error_code ec;
-  for (fs::path p = fs::absolute(folder, ec).lexically_normal(); !p.empty(); p = p.parent_path()) {
+  // Not lexically normalised: "link/../x" is x beside the link's target, as
+  // the kernel resolves it, not beside the link.
+  for (fs::path p = fs::absolute(folder, ec); !p.empty(); p = p.parent_path()) {
     if (p.filename().empty() && p.has_parent_path() && p != p.parent_path()) continue;  // "a/b/"
+    if (p.filename() == ".") continue;  // the folder above it, next
+    if (p.filename() == "..") break;    // resolved through what exists (maybe a link)
     // A symbolic link is there even when it leads nowhere (a drive not
     // mounted): it is not made here, so it is never removed here either.
     const fs::file_status status = fs::symlink_status(p, ec);
     if (fs::exists(status) || (ec && status.type() != fs::file_type::not_found)) break;
-    missing_.push_back(p);
-    pending_.emplace_back(p, PendingOutput::Kind::EmptyFolder);
+    missing.push_back(p);
     if (p == p.parent_path()) break;
   }
+  return missing;
+}
+
+NewFolders::NewFolders(const fs::path& folder) : missing_(missingFolders(folder)) {
+  for (const fs::path& p : missing_) pending_.emplace_back(p, PendingOutput::Kind::EmptyFolder);
 }
 
 NewFolders::~NewFolders() {

@@ -231,17 +231,9 @@ void SequenceWriter::prepareFolder() {
   if (prepared_) return;
   std::error_code ec;
   if (!fs::exists(out_, ec)) {
-    // The folders of the path that are missing, found along the path as
-    // given (not with ".." folded away, which a symbolic link makes wrong):
-    // they go again when the import fails or is cancelled (out/new/seq
-    // leaves no empty out/new behind).
-    std::vector<fs::path> missing;
-    fs::path p = out_.has_filename() ? out_ : out_.parent_path();
-    while (!p.empty() && !fs::exists(fs::symlink_status(p, ec))) {
-      missing.push_back(p);
-      if (!p.has_parent_path() || p.parent_path() == p) break;
-      p = p.parent_path();
-    }
+    // The folders of the path that are missing go again when the import
+    // fails or is cancelled (out/new/seq leaves no empty out/new behind).
+    const std::vector<fs::path> missing = missingFolders(out_);
     fs::create_directories(out_, ec);
     if (ec)
       throw Error(out_.string(), "output", "a folder that can be created", ec.message());

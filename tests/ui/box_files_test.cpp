@@ -76,6 +76,13 @@ class BoxFilesTest : public ::testing::Test {
   void TearDown() override { boxes().undoStack().setClean(); }
 
   AnnotationsModel& boxes() { return window_.session().annotations(); }
+  // Another program writes one box (label 3) to `file`; returns its bytes.
+  static std::string writeTheirBoxes(const fs::path& file) {
+    Annotations theirs;
+    theirs.boxes.push_back(boxOf(3, "red_mug"));
+    saveAnnotations(theirs, file);
+    return slurp(file);
+  }
   bool open(const fs::path& path) { return window_.controller().openSequence(qPath(path)); }
 
   lom::test::TempDir temp_;
@@ -801,10 +808,7 @@ TEST_F(BoxFilesTest, BoxesChangedOnDiskAreNotReplacedUnasked) {
   ASSERT_TRUE(open(tiny_.folder));
   ASSERT_EQ(boxes().boxCount(), 1);
   boxes().addBox(boxOf(2, "blue_cup"));
-  Annotations theirs;
-  theirs.boxes.push_back(boxOf(3, "red_mug"));
-  saveAnnotations(theirs, file);
-  const std::string their_bytes = slurp(file);
+  const std::string their_bytes = writeTheirBoxes(file);
   {
     test::DialogAnswerer answer("Cancel");
     window_.findAction("Save Boxes")->trigger();
@@ -836,10 +840,7 @@ TEST_F(BoxFilesTest, ABoxesFileMadeElsewhereSinceTheSequenceOpenedIsNotReplacedU
   const fs::path file = tiny_.folder / "annotations.json";
   ASSERT_TRUE(open(tiny_.folder));
   boxes().addBox(boxOf(2, "blue_cup"));
-  Annotations theirs;
-  theirs.boxes.push_back(boxOf(3, "red_mug"));
-  saveAnnotations(theirs, file);
-  const std::string their_bytes = slurp(file);
+  const std::string their_bytes = writeTheirBoxes(file);
   {
     // Save As… proposes a free name beside it; cancelling the file dialog saves nothing.
     test::DialogAnswerer answer("Save As");

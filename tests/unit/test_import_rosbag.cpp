@@ -616,8 +616,8 @@ TEST(ImportRosbag, StampsOutsideRosTimeHaveNoTransform) {
       << report.skipped[0].reason;
 }
 
-// The first top-level record of `op` in bag bytes: its offset, header length
-// and data offset (a test's own walk of format 2.0 records).
+// A top-level record of a bag: its offset, header length and data offset
+// (a test's own walk of format 2.0 records).
 struct BagRecord {
   size_t at = 0, header_bytes = 0, data_at = 0;
 };
@@ -626,17 +626,26 @@ std::uint32_t u32At(const std::string& bytes, size_t at) {
   std::memcpy(&value, bytes.data() + at, 4);  // little-endian, as the bag and this machine
   return value;
 }
-std::optional<BagRecord> firstRecord(const std::string& bytes, std::uint8_t op) {
+// Every top-level record of `op` in bag bytes.
+std::vector<BagRecord> recordsOf(const std::string& bytes, std::uint8_t op) {
+  std::vector<BagRecord> found;
   for (size_t at = 13; at + 8 <= bytes.size();) {
     const size_t header_bytes = u32At(bytes, at);
     const std::string header = bytes.substr(at + 4, header_bytes);
     const size_t data_at = at + 8 + header_bytes;
-    const size_t found = header.find(std::string("op=") + static_cast<char>(op));
-    if (found != std::string::npos && found >= 4 && u32At(header, found - 4) == 4)
-      return BagRecord{at, header_bytes, data_at};
+    const size_t op_at = header.find(std::string("op=") + static_cast<char>(op));
+    if (op_at != std::string::npos && op_at >= 4 && u32At(header, op_at - 4) == 4)
+      found.push_back(BagRecord{at, header_bytes, data_at});
     at = data_at + u32At(bytes, at + 4 + header_bytes);
   }
-  return std::nullopt;
+  return found;
+}
+
+// The first of them.
+std::optional<BagRecord> firstRecord(const std::string& bytes, std::uint8_t op) {
+  const std::vector<BagRecord> found = recordsOf(bytes, op);
+  if (found.empty()) return std::nullopt;
+  return found.front();
 }
 
 // Damaged lengths and offsets in a bag's records are an error naming the
@@ -677,21 +686,6 @@ TEST(ImportRosbag, DamagedRecordStructureIsAnErrorNotACrash) {
       << error;
   // The intact bag imports.
   EXPECT_EQ(importSource(SourceKind::RosBag, dir / "good.bag", dir / "good").frames_written, 4u);
-}
-
-// Every top-level record of `op` in bag bytes.
-std::vector<BagRecord> recordsOf(const std::string& bytes, std::uint8_t op) {
-  std::vector<BagRecord> found;
-  for (size_t at = 13; at + 8 <= bytes.size();) {
-    const size_t header_bytes = u32At(bytes, at);
-    const std::string header = bytes.substr(at + 4, header_bytes);
-    const size_t data_at = at + 8 + header_bytes;
-    const size_t op_at = header.find(std::string("op=") + static_cast<char>(op));
-    if (op_at != std::string::npos && op_at >= 4 && u32At(header, op_at - 4) == 4)
-      found.push_back(BagRecord{at, header_bytes, data_at});
-    at = data_at + u32At(bytes, at + 4 + header_bytes);
-  }
-  return found;
 }
 
 // Adds `delta` to the 8-byte field `name` (e.g. "index_pos=") in the header of `record`.

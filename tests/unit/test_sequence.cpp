@@ -290,6 +290,18 @@ TEST_F(SequenceTest, AcceptsTheJsonPathAndAppliesDefaults) {
   EXPECT_EQ(loaded.frames[1].camera->cy, smallCamera().cy);
 }
 
+// "link/../seq" is the folder beside the link's target, as the kernel (and
+// the command that wrote it there) resolves it, not the one beside the link.
+TEST_F(SequenceTest, APathWithDotDotAfterALinkIsTheOneTheKernelResolves) {
+  fs::create_directories(dir.path() / "a" / "b");
+  fs::create_directories(dir.path() / "work" / "seq");  // another folder of the user's
+  fs::create_directory_symlink(dir.path() / "a" / "b", dir.path() / "work" / "link");
+  writeSmallSequence(dir.path() / "a" / "seq");
+  const lom::Sequence loaded = lom::loadSequence(dir.path() / "work" / "link" / ".." / "seq");
+  EXPECT_EQ(loaded.root, fs::canonical(dir.path() / "a" / "seq"));
+  EXPECT_EQ(loaded.frames.size(), lom::loadSequence(dir.path() / "a" / "seq").frames.size());
+}
+
 // A depth scale whose depths single-precision metres cannot hold (a 16-bit
 // depth times 1e300 is infinite, times 1e-320 zero) is refused naming the
 // field; a frame name with a line break in it too (info prints it on one line).

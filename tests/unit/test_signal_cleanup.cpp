@@ -17,11 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string readText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 // Every file and folder under `folder`, relative to it.
 std::set<std::string> everythingIn(const fs::path& folder) {
   std::set<std::string> names;
@@ -73,7 +68,7 @@ TEST_F(SignalCleanup, AWriteStoppedHalfwayLeavesOnlyTheOldFiles) {
       },
       ::testing::KilledBySignal(SIGTERM), "");
   EXPECT_EQ(everythingIn(dir_), (std::set<std::string>{"map.ot", "notes.txt"}));
-  EXPECT_EQ(readText(dir_ / "map.ot"), "the old map");
+  EXPECT_EQ(lom::test::slurp(dir_ / "map.ot"), "the old map");
 }
 
 TEST_F(SignalCleanup, AStagingFolderGoesWithEverythingInIt) {
@@ -97,7 +92,7 @@ TEST_F(SignalCleanup, AStagingFolderGoesWithEverythingInIt) {
       },
       ::testing::KilledBySignal(SIGINT), "");
   EXPECT_EQ(everythingIn(dir_), (std::set<std::string>{"out", "out/old.ply"}));
-  EXPECT_EQ(readText(dir_ / "out" / "old.ply"), "old") << "a link is removed, not followed";
+  EXPECT_EQ(lom::test::slurp(dir_ / "out" / "old.ply"), "old") << "a link is removed, not followed";
 }
 
 TEST_F(SignalCleanup, WhatWasReleasedOrPutInPlaceStays) {

@@ -149,6 +149,28 @@ TEST(StagedOutputs, ANewFolderIsRemovedButADanglingLinkStays) {
   EXPECT_TRUE(fs::is_symlink(dir / "link"));
 }
 
+// "link/.." is the folder above the link's target, as the kernel resolves
+// it: the folders made for an output are found, and removed, there.
+TEST(StagedOutputs, NewFoldersBehindALinkAndDotsAreTheOnesTheKernelMakes) {
+  lom::test::TempDir dir;
+  fs::create_directories(dir / "a" / "b");
+  fs::create_directories(dir / "work");
+  fs::create_directory_symlink(dir / "a" / "b", dir / "work" / "link");
+  const fs::path out = dir / "work" / "link" / ".." / "new" / "." / "x";
+  const std::vector<fs::path> missing = lom::missingFolders(out);
+  ASSERT_EQ(missing.size(), 2u);
+  EXPECT_EQ(missing[0].filename(), "x");
+  EXPECT_EQ(missing[1].filename(), "new");
+  {
+    const lom::NewFolders made(out);
+    fs::create_directories(out);
+    ASSERT_TRUE(fs::is_directory(dir / "a" / "new" / "x"));
+  }
+  EXPECT_FALSE(fs::exists(dir / "a" / "new")) << "the folders made behind the link are gone";
+  EXPECT_TRUE(fs::is_directory(dir / "a" / "b"));
+  EXPECT_TRUE(fs::is_symlink(dir / "work" / "link"));
+}
+
 TEST(LibraryWrites, AFailureOnANearlyFullDiskSaysSo) {
   EXPECT_EQ(lom::libraryWriteFailure(std::uint64_t{0}, "VTK"), "write failed (disk full?)");
   EXPECT_EQ(lom::libraryWriteFailure(std::uint64_t{64} << 10, "OpenCV"),

@@ -44,24 +44,39 @@ BoxFileReaction::BoxFileReaction(QAction* action, Kind kind, StudioSession& sess
   update();
 }
 
+namespace {
+
+enum class ReplaceAnswer { Replace, SaveAs, Cancel };
+
+// A warning before `path` is replaced: Save As… (the default), Replace or Cancel.
+ReplaceAnswer askBeforeReplacing(QWidget* parent, const QString& title, const QString& text,
+                                 const QString& replace, const QString& path) {
+  QMessageBox question(QMessageBox::Warning, title, text, QMessageBox::Cancel, parent);
+  QPushButton* save_as = question.addButton(QObject::tr("Save As…"), QMessageBox::AcceptRole);
+  QPushButton* replace_button =
+      question.addButton(replace.arg(QFileInfo(path).fileName()), QMessageBox::DestructiveRole);
+  question.setDefaultButton(save_as);
+  question.setEscapeButton(QMessageBox::Cancel);
+  question.exec();
+  if (question.clickedButton() == replace_button) return ReplaceAnswer::Replace;
+  return question.clickedButton() == save_as ? ReplaceAnswer::SaveAs : ReplaceAnswer::Cancel;
+}
+
+}  // namespace
+
 bool BoxFileReaction::confirmTarget(QString& path) {
   const AnnotationsModel& model = session_.annotations();
   const QString json_filter = tr("Annotations (*.json)");
   while (!model.unreadablePath().isEmpty() && sameFile(path, model.unreadablePath())) {
-    QMessageBox question(QMessageBox::Warning, tr("Overwrite an unreadable boxes file?"),
-                         tr("%1 could not be read when the sequence was opened:\n\n%2\n\n"
-                            "Saving there replaces it, and the boxes it holds are lost. Save the "
-                            "boxes under another name instead?")
-                             .arg(QDir::toNativeSeparators(path), model.unreadableError()),
-                         QMessageBox::Cancel, parent_);
-    QPushButton* save_as = question.addButton(tr("Save As…"), QMessageBox::AcceptRole);
-    QPushButton* overwrite = question.addButton(tr("Overwrite %1").arg(QFileInfo(path).fileName()),
-                                                QMessageBox::DestructiveRole);
-    question.setDefaultButton(save_as);
-    question.setEscapeButton(QMessageBox::Cancel);
-    question.exec();
-    if (question.clickedButton() == overwrite) return true;
-    if (question.clickedButton() != save_as) return false;
+    const ReplaceAnswer answer =
+        askBeforeReplacing(parent_, tr("Overwrite an unreadable boxes file?"),
+                           tr("%1 could not be read when the sequence was opened:\n\n%2\n\n"
+                              "Saving there replaces it, and the boxes it holds are lost. Save the "
+                              "boxes under another name instead?")
+                               .arg(QDir::toNativeSeparators(path), model.unreadableError()),
+                           tr("Overwrite %1"), path);
+    if (answer == ReplaceAnswer::Replace) return true;
+    if (answer == ReplaceAnswer::Cancel) return false;
     path =
         QFileDialog::getSaveFileName(parent_, tr("Save Boxes"), freeNameBeside(path), json_filter);
     if (path.isEmpty()) return false;
@@ -71,25 +86,19 @@ bool BoxFileReaction::confirmTarget(QString& path) {
   // would replace that unseen.
   const AnnotationsModel::DiskChange change = model.diskChange(path);
   if (change == AnnotationsModel::DiskChange::None) return true;
-  const bool changed = change == AnnotationsModel::DiskChange::Changed;
-  QMessageBox question(
-      QMessageBox::Warning, tr("Replace boxes changed on disk?"),
-      (changed ? tr("%1 was changed on disk after the studio read or saved it, by another "
-                    "program or another LabelOctoMap Studio.")
-               : tr("%1 was made by another program or another LabelOctoMap Studio after this "
-                    "sequence was opened."))
+  const ReplaceAnswer answer = askBeforeReplacing(
+      parent_, tr("Replace boxes changed on disk?"),
+      (change == AnnotationsModel::DiskChange::Changed
+           ? tr("%1 was changed on disk after the studio read or saved it, by another "
+                "program or another LabelOctoMap Studio.")
+           : tr("%1 was made by another program or another LabelOctoMap Studio after this "
+                "sequence was opened."))
               .arg(QDir::toNativeSeparators(path)) +
           tr("\n\nSaving there replaces those boxes with the ones shown here. Save these boxes "
              "under another name instead (Open Boxes… then shows the file's)?"),
-      QMessageBox::Cancel, parent_);
-  QPushButton* save_as = question.addButton(tr("Save As…"), QMessageBox::AcceptRole);
-  QPushButton* replace = question.addButton(tr("Replace %1").arg(QFileInfo(path).fileName()),
-                                            QMessageBox::DestructiveRole);
-  question.setDefaultButton(save_as);
-  question.setEscapeButton(QMessageBox::Cancel);
-  question.exec();
-  if (question.clickedButton() == replace) return true;
-  if (question.clickedButton() != save_as) return false;
+      tr("Replace %1"), path);
+  if (answer == ReplaceAnswer::Replace) return true;
+  if (answer == ReplaceAnswer::Cancel) return false;
   path = QFileDialog::getSaveFileName(parent_, tr("Save Boxes"), freeNameBeside(path), json_filter);
   return !path.isEmpty();
 }

@@ -91,6 +91,12 @@ void writeTextFileAtomically(const std::filesystem::path& target, const std::str
 [[nodiscard]] std::string streamWriteFailure(const std::filesystem::path& target,
                                              const std::string& verb);
 
+// The folders of `folder`'s path that do not exist, innermost first (made
+// absolute, walked along the path as given: ".." is left to the kernel,
+// which resolves it through symbolic links).
+[[nodiscard]] std::vector<std::filesystem::path> missingFolders(
+    const std::filesystem::path& folder);
+
 // The folders a command is about to create for its outputs: `folder` and those
 // of its parents that do not exist yet, recorded before they are created.
 // Unless keep() is called (once the outputs are in place), the destructor
