@@ -13,6 +13,7 @@
 #include <QImage>
 #include <QProcess>
 #include <QStandardPaths>
+#include <QStatusBar>
 #include <QSysInfo>
 #include <QTest>
 #include <chrono>
@@ -979,6 +980,20 @@ TEST_F(BoxFilesTest, RestoredBoxesStillAskBeforeReplacingAFileChangedBeforeTheCr
   }
   EXPECT_EQ(loadAnnotations(file).boxes.size(), 3u);
   next.session().annotations().undoStack().setClean();
+}
+
+// A screenshot written says where it went, as the exports do.
+TEST_F(BoxFilesTest, ASavedScreenshotIsNamedInTheStatusBar) {
+  ASSERT_TRUE(open(tiny_.folder));
+  const fs::path shot = temp_ / "shot.png";
+  {
+    test::DialogAnswerer answer("Cancel", qPath(shot));
+    window_.findAction("Save Screenshot…")->trigger();
+  }
+  ASSERT_TRUE(fs::exists(shot));
+  const QString message = window_.statusBar()->currentMessage();
+  EXPECT_TRUE(message.startsWith("Saved ") && message.contains("shot.png"))
+      << message.toStdString();
 }
 
 }  // namespace

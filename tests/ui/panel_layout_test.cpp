@@ -8,12 +8,17 @@
 
 #include <QAction>
 #include <QComboBox>
+#include <QDataStream>
 #include <QDockWidget>
+#include <QMenuBar>
+#include <QScreen>
 #include <QSettings>
 #include <QTest>
+#include <map>
 #include <memory>
 
 #include "lom/ui/main_window.hpp"
+#include "lom/ui/recent_sequences.hpp"
 #include "lom/ui/studio_session.hpp"
 
 namespace lom::ui {
@@ -155,6 +160,58 @@ TEST_F(PanelLayoutTest, ALayoutSavedWithOtherPanelsIsNotRestored) {
   }
   auto window = shownWindow(true);
   EXPECT_FALSE(panel(*window, "objectsDock")->isHidden());
+}
+
+// Settings edited by hand, damaged, or saved on a larger screen: the window
+// fits this screen and its panels keep the default layout.
+TEST_F(PanelLayoutTest, ASavedSizeLargerThanTheScreenIsCutToIt) {
+  {
+    auto window = shownWindow(false);
+    window->resize(5000, 4000);
+    window->move(-3000, -2000);
+    QSettings().setValue(PanelLayout::kGeometryKey, window->saveGeometry());
+  }
+  auto window = shownWindow(true);
+  const QRect free = window->screen()->availableGeometry();
+  EXPECT_LE(window->width(), free.width());
+  EXPECT_LE(window->height(), free.height());
+  EXPECT_TRUE(free.contains(window->pos())) << window->pos().x() << "," << window->pos().y();
+}
+
+TEST_F(PanelLayoutTest, ADamagedSavedLayoutLeavesTheDefaultOne) {
+  std::map<QString, std::pair<bool, Qt::DockWidgetArea>> defaults;
+  QByteArray damaged;
+  {
+    auto window = shownWindow(false);
+    for (QDockWidget* dock : window->findChildren<QDockWidget*>())
+      defaults[dock->objectName()] = {dock->isVisible(), window->dockWidgetArea(dock)};
+    // The header of a saved layout, then bytes that are not one.
+    QDataStream header(&damaged, QIODevice::WriteOnly);
+    header << qint32(0xff) << qint32(PanelLayout::kPanelsVersion);
+    damaged += QByteArray("hello-garbage-bytes");
+  }
+  QSettings().setValue(PanelLayout::kPanelsKey, damaged);
+  auto window = shownWindow(true);
+  for (QDockWidget* dock : window->findChildren<QDockWidget*>()) {
+    const auto& [visible, area] = defaults.at(dock->objectName());
+    EXPECT_EQ(dock->isVisible(), visible) << dock->objectName().toStdString();
+    EXPECT_EQ(window->dockWidgetArea(dock), area) << dock->objectName().toStdString();
+    EXPECT_FALSE(dock->isFloating()) << dock->objectName().toStdString();
+    // Title bars below the menus, none hidden under them (the panels behind
+    // another's tab are parked above the window, wholly out of sight).
+    if (dock->isVisible() && dock->geometry().bottom() > 0)
+      EXPECT_GE(dock->geometry().top(), window->menuBar()->geometry().bottom())
+          << dock->objectName().toStdString();
+  }
+}
+
+TEST_F(PanelLayoutTest, RecentSequencesListAtMostTheirLimit) {
+  QStringList many;
+  for (int i = 0; i < 500; ++i) many << QString("/nowhere/sequence-%1").arg(i);
+  QSettings().setValue("recentSequences", many);
+  EXPECT_EQ(RecentSequences().paths().size(), RecentSequences::kMaxEntries);
+  EXPECT_EQ(RecentSequences().paths().front(), many.front());
+  QSettings().remove("recentSequences");
 }
 
 TEST_F(PanelLayoutTest, TheIouModeChosenComesBackInTheNextSession) {

@@ -8,9 +8,11 @@
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QLabel>
+#include <QMainWindow>
 #include <QMessageBox>
 #include <QPushButton>
 #include <QScrollBar>
+#include <QStatusBar>
 #include <QStringList>
 #include <QStyleOptionHeader>
 #include <QTableWidget>
@@ -491,8 +493,16 @@ bool EvaluationPanel::exportReportTo(const QString& dir) {
     if (question.clickedButton() != replace) return false;
   }
   const QString error = exportReport(dir);
-  if (!error.isEmpty()) QMessageBox::warning(this, tr("Export report"), error);
-  return error.isEmpty();
+  if (!error.isEmpty()) {
+    QMessageBox::warning(this, tr("Export report"), error);
+    return false;
+  }
+  // Said where it went, as the map exports say what they wrote.
+  if (auto* main = qobject_cast<QMainWindow*>(window()))
+    main->statusBar()->showMessage(tr("Wrote the report (report.json, .csv, .md, .svg) to %1.")
+                                       .arg(QDir::toNativeSeparators(dir)),
+                                   8000);
+  return true;
 }
 
 QString EvaluationPanel::exportReport(const QString& dir) const {

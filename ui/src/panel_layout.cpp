@@ -4,6 +4,7 @@
 #include <QDockWidget>
 #include <QMainWindow>
 #include <QMenu>
+#include <QScreen>
 #include <QSettings>
 #include <algorithm>
 
@@ -65,13 +66,51 @@ void PanelLayout::addActionsTo(QMenu& menu) {
   connect(reset, &QAction::triggered, this, &PanelLayout::arrangeDefault);
 }
 
+namespace {
+
+// Whether `state` restores: tried on a stand-in window with panels of the
+// same names first, since a state that fails halfway leaves the real
+// window's panels broken (lost title bars) beyond what Reset Layout mends.
+bool panelsRestore(const QByteArray& state, const QMainWindow& window, int version) {
+  QMainWindow stand_in;
+  for (const QDockWidget* dock : window.findChildren<QDockWidget*>()) {
+    auto* copy = new QDockWidget(&stand_in);
+    copy->setObjectName(dock->objectName());
+    stand_in.addDockWidget(Qt::RightDockWidgetArea, copy);
+  }
+  return stand_in.restoreState(state, version);
+}
+
+}  // namespace
+
 bool PanelLayout::restoreSaved() {
   const QSettings settings;
   const QByteArray geometry = settings.value(kGeometryKey).toByteArray();
   const QByteArray panels = settings.value(kPanelsKey).toByteArray();
   const bool restored_geometry = !geometry.isEmpty() && window_.restoreGeometry(geometry);
-  const bool restored_panels = !panels.isEmpty() && window_.restoreState(panels, kPanelsVersion);
+  if (restored_geometry) fitOnScreen();
+  const bool restored_panels = !panels.isEmpty() &&
+                               panelsRestore(panels, window_, kPanelsVersion) &&
+                               window_.restoreState(panels, kPanelsVersion);
   return restored_geometry || restored_panels;
+}
+
+void PanelLayout::fitOnScreen() {
+  // A size saved on a larger screen (or edited by hand) is cut to this one's
+  // free area, and a window off it is brought back: the status bar and the
+  // panels stay in reach.
+  const QScreen* screen = window_.screen();
+  if (!screen) return;
+  const QRect free = screen->availableGeometry();
+  if (window_.isMaximized() || window_.isFullScreen()) return;
+  const QSize size = window_.size().boundedTo(free.size());
+  if (size != window_.size()) window_.resize(size);
+  QPoint corner = window_.pos();
+  corner.setX(
+      std::clamp(corner.x(), free.left(), std::max(free.left(), free.right() - size.width())));
+  corner.setY(
+      std::clamp(corner.y(), free.top(), std::max(free.top(), free.bottom() - size.height())));
+  if (corner != window_.pos()) window_.move(corner);
 }
 
 void PanelLayout::save() const {

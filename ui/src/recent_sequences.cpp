@@ -20,7 +20,8 @@ QString normalised(const QString& path) {
 }  // namespace
 
 QStringList RecentSequences::paths() const {
-  return QSettings().value(kSettingsKey).toStringList();
+  // At most kMaxEntries, however many the settings hold (edited by hand).
+  return QSettings().value(kSettingsKey).toStringList().mid(0, kMaxEntries);
 }
 
 void RecentSequences::add(const QString& path) {

@@ -1,7 +1,10 @@
 #include "lom/ui/save_screenshot_reaction.hpp"
 
+#include <QDir>
 #include <QFileDialog>
+#include <QMainWindow>
 #include <QMessageBox>
+#include <QStatusBar>
 #include <QWidget>
 
 #include "lom/ui/scene_view.hpp"
@@ -22,7 +25,13 @@ void SaveScreenshotReaction::onTriggered() {
       tr("Images (*.png *.jpg)"));
   if (path.isEmpty()) return;
   const QString error = saveTo(path);
-  if (!error.isEmpty()) QMessageBox::warning(&window_, title, error);
+  if (!error.isEmpty()) {
+    QMessageBox::warning(&window_, title, error);
+    return;
+  }
+  // Said where it went, as the exports say what they wrote.
+  if (auto* main = qobject_cast<QMainWindow*>(&window_))
+    main->statusBar()->showMessage(tr("Saved %1.").arg(QDir::toNativeSeparators(path)), 8000);
 }
 
 QString SaveScreenshotReaction::saveTo(const QString& path) {

@@ -53,6 +53,8 @@ class PanelLayout : public QObject {
   // Restores the size, position and panels saved by save(), if any; false
   // when there was nothing (usable) to restore.
   bool restoreSaved();
+  // Cuts the window to its screen's free area and brings it onto it.
+  void fitOnScreen();
   void save() const;
 
  signals:
