@@ -348,11 +348,12 @@ std::vector<fs::path> missingFolders(const fs::path& folder) {
   std::vector<fs::path> missing;
   std::error_code ec;
   // Not lexically normalised: "link/../x" is x beside the link's target, as
-  // the kernel resolves it, not beside the link.
+  // the kernel resolves it, not beside the link (which exists: the walk stops).
   for (fs::path p = fs::absolute(folder, ec); !p.empty(); p = p.parent_path()) {
     if (p.filename().empty() && p.has_parent_path() && p != p.parent_path()) continue;  // "a/b/"
-    if (p.filename() == ".") continue;  // the folder above it, next
-    if (p.filename() == "..") break;    // resolved through what exists (maybe a link)
+    // "x/." is x, and "x/.." needs x (which create_directories makes when
+    // it is missing): both go on with x.
+    if (p.filename() == "." || p.filename() == "..") continue;
     // A symbolic link is there even when it leads nowhere (a drive not
     // mounted): it is not made here, so it is never removed here either.
     const fs::file_status status = fs::symlink_status(p, ec);

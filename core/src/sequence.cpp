@@ -355,12 +355,15 @@ fs::path sequenceJsonPath(const fs::path& folder_or_json) {
   const bool folder = fs::is_directory(folder_or_json, ec);
   fs::path path = folder ? folder_or_json / "sequence.json" : folder_or_json;
   // ".." after a symbolic link is resolved as the kernel does, through the
-  // link; without one, the path is only tidied ("a/./b" is "a/b").
+  // link; without one, the path is only tidied ("a/./b" is "a/b"). Only the
+  // folders are resolved: a sequence.json that is itself a link keeps its
+  // folder (the frames are beside it).
   const fs::path absolute = fs::absolute(path, ec);
   const bool up = std::any_of(absolute.begin(), absolute.end(),
                               [](const fs::path& part) { return part == ".."; });
   std::error_code resolve_error;
-  path = up ? fs::weakly_canonical(absolute, resolve_error) : absolute.lexically_normal();
+  path = up ? fs::weakly_canonical(absolute.parent_path(), resolve_error) / absolute.filename()
+            : absolute.lexically_normal();
   if (resolve_error) path = absolute.lexically_normal();
   const char* expected =
       "a sequence folder holding sequence.json, or the path of a sequence.json file";

@@ -77,6 +77,18 @@ class BoxFilesTest : public ::testing::Test {
   void TearDown() override { boxes().undoStack().setClean(); }
 
   AnnotationsModel& boxes() { return window_.session().annotations(); }
+  // Another studio: a live process that holds the lock of `recovery` (as
+  // QLockFile writes it: pid, program, host).
+  static bool holdInAnotherProcess(const QString& recovery, QProcess& other) {
+    QDir().mkpath(QFileInfo(recovery).path());
+    other.start("sleep", {"60"});
+    if (!other.waitForStarted()) return false;
+    QFile lock(recovery + ".lock");
+    if (!lock.open(QIODevice::WriteOnly)) return false;
+    lock.write(QByteArray::number(other.processId()) + "\n/usr/bin/sleep\n" +
+               QSysInfo::machineHostName().toUtf8() + "\n");
+    return true;
+  }
   // Another program writes one box (label 3) to `file`; returns its bytes.
   static std::string writeTheirBoxes(const fs::path& file) {
     Annotations theirs;
@@ -876,17 +888,8 @@ TEST_F(BoxFilesTest, SavingIntoAVanishedSequenceFolderFailsAndKeepsTheBoxes) {
 TEST_F(BoxFilesTest, ASecondStudioOnTheSequenceLeavesTheFirstsRecoveryCopyAlone) {
   const QString recovery = BoxesAutosave::recoveryPath(qPath(tiny_.folder));
   QDir().mkpath(QFileInfo(recovery).path());
-  // The other studio: a live process that holds the lock (as QLockFile
-  // writes it: pid, program, host) and whose unsaved boxes are copied.
   QProcess other;
-  other.start("sleep", {"60"});
-  ASSERT_TRUE(other.waitForStarted());
-  {
-    QFile lock(recovery + ".lock");
-    ASSERT_TRUE(lock.open(QIODevice::WriteOnly));
-    lock.write(QByteArray::number(other.processId()) + "\n/usr/bin/sleep\n" +
-               QSysInfo::machineHostName().toUtf8() + "\n");
-  }
+  ASSERT_TRUE(holdInAnotherProcess(recovery, other));
   Annotations theirs;
   theirs.boxes.push_back(boxOf(3, "red_mug"));
   saveAnnotations(theirs, fs::path(recovery.toStdString()));
@@ -994,6 +997,35 @@ TEST_F(BoxFilesTest, ASavedScreenshotIsNamedInTheStatusBar) {
   const QString message = window_.statusBar()->currentMessage();
   EXPECT_TRUE(message.startsWith("Saved ") && message.contains("shot.png"))
       << message.toStdString();
+}
+
+// Locked out of one sequence, the studio opens another whose boxes file
+// cannot be read; the autosave's minute ends while that error is up. The
+// other sequence's recovery copy is still offered, not taken for the other
+// studio's leftover.
+TEST_F(BoxFilesTest, ALockedOutStudioOpeningAnotherSequenceOffersThatOnesCopy) {
+  QProcess other;
+  ASSERT_TRUE(holdInAnotherProcess(BoxesAutosave::recoveryPath(qPath(tiny_.folder)), other));
+  ASSERT_TRUE(open(tiny_.folder));
+  ASSERT_TRUE(window_.autosave().currentRecoveryPath().isEmpty()) << "locked out";
+  const auto next = lom::test::writeTinySequence(temp_ / "next_shelf");
+  std::ofstream(next.folder / "annotations.json") << "{ not json";
+  const QString next_recovery = BoxesAutosave::recoveryPath(qPath(next.folder));
+  Annotations left;
+  left.boxes.push_back(boxOf(2, "blue_cup"));
+  saveAnnotations(left, fs::path(next_recovery.toStdString()));  // a crash's copy
+  window_.setErrorReporter([this](const QString& title, const QString& message) {
+    errors_ << title + ": " + message;
+    window_.autosave().writeNow();
+  });
+  accept_offer_ = true;
+  ASSERT_TRUE(open(next.folder));
+  EXPECT_EQ(offered_, QStringList{next_recovery});
+  EXPECT_FALSE(QFileInfo::exists(BoxesAutosave::declinedPath(next_recovery)));
+  for (const QString& warning : warnings_)
+    EXPECT_FALSE(warning.startsWith("Unsaved boxes of another studio")) << warning.toStdString();
+  other.kill();
+  other.waitForFinished();
 }
 
 }  // namespace

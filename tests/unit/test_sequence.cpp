@@ -300,6 +300,14 @@ TEST_F(SequenceTest, APathWithDotDotAfterALinkIsTheOneTheKernelResolves) {
   const lom::Sequence loaded = lom::loadSequence(dir.path() / "work" / "link" / ".." / "seq");
   EXPECT_EQ(loaded.root, fs::canonical(dir.path() / "a" / "seq"));
   EXPECT_EQ(loaded.frames.size(), lom::loadSequence(dir.path() / "a" / "seq").frames.size());
+  // A sequence.json that is itself a link keeps its folder: the frames are there.
+  fs::create_directories(dir.path() / "shared");
+  fs::rename(dir.path() / "a" / "seq" / "sequence.json", dir.path() / "shared" / "sequence.json");
+  fs::create_symlink(dir.path() / "shared" / "sequence.json",
+                     dir.path() / "a" / "seq" / "sequence.json");
+  const lom::Sequence linked = lom::loadSequence(dir.path() / "work" / "link" / ".." / "seq");
+  EXPECT_EQ(linked.root, fs::canonical(dir.path() / "a" / "seq"));
+  EXPECT_TRUE(lom::validateSequence(linked).empty());
 }
 
 // A depth scale whose depths single-precision metres cannot hold (a 16-bit

@@ -169,6 +169,14 @@ TEST(StagedOutputs, NewFoldersBehindALinkAndDotsAreTheOnesTheKernelMakes) {
   EXPECT_FALSE(fs::exists(dir / "a" / "new")) << "the folders made behind the link are gone";
   EXPECT_TRUE(fs::is_directory(dir / "a" / "b"));
   EXPECT_TRUE(fs::is_symlink(dir / "work" / "link"));
+  // "new/.." needs new, made on the way: it goes again too.
+  const fs::path around = dir / "out" / "new" / ".." / "seq";
+  EXPECT_EQ(lom::missingFolders(around).size(), 3u);
+  {
+    const lom::NewFolders made(around);
+    fs::create_directories(around);
+  }
+  EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
 TEST(LibraryWrites, AFailureOnANearlyFullDiskSaysSo) {

@@ -351,11 +351,14 @@ QString BoxesAutosave::declinedPath(const QString& recovery_path) {
 }
 
 void BoxesAutosave::writeNow() {
-  if (locked_out_ && session_.controller().hasSequence() && !leave_files_alone_) {
-    // The other studio on this sequence may have closed: the copies are ours now.
-    const QString path = recoveryPath(session_.controller().sequencePath());
+  // Only for the sequence this studio was locked out of (another may be
+  // opening meanwhile, a dialog up): the other studio may have closed, and
+  // the copies are then ours.
+  if (!locked_out_of_.isEmpty() && session_.controller().hasSequence() && !leave_files_alone_ &&
+      recoveryPath(session_.controller().sequencePath()) == locked_out_of_) {
+    const QString path = locked_out_of_;
     if (takeLock(path, nullptr)) {
-      locked_out_ = false;
+      locked_out_of_.clear();
       recovery_path_ = path;
       if (QFileInfo::exists(path)) {  // its unsaved boxes, left by a crash: kept, never replaced
         const QString kept = keepAsDeclined(path);
@@ -439,7 +442,7 @@ void BoxesAutosave::onSequenceChanged() {
   // replaced them, which removed its recovery file; from now on the file is
   // the new sequence's.
   lock_.reset();
-  locked_out_ = false;
+  locked_out_of_.clear();
   recovery_path_ = session_.controller().hasSequence() && !leave_files_alone_
                        ? recoveryPath(session_.controller().sequencePath())
                        : QString();
@@ -448,7 +451,7 @@ void BoxesAutosave::onSequenceChanged() {
   qint64 holder = 0;
   if (!takeLock(path, &holder)) {
     recovery_path_.clear();  // the other studio's: never offered, written or removed here
-    locked_out_ = true;
+    locked_out_of_ = path;
     emit session_.controller().warningOccurred(
         QObject::tr("Sequence open in another studio"),
         QObject::tr("This sequence is also open in another LabelOctoMap Studio (process %1). "

@@ -102,7 +102,15 @@ QByteArray fileDigest(const QString& path) {
   return hash.result();
 }
 
-QString knownKey(const QString& path) { return QFileInfo(path).absoluteFilePath(); }
+// One key per file however its path is spelt (a recovery copy made when the
+// sequence was opened through a link is restored when it is opened directly).
+QString knownKey(const QString& path) {
+  const QFileInfo info(path);
+  const QString file = info.canonicalFilePath();
+  if (!file.isEmpty()) return file;
+  const QString folder = QFileInfo(info.absolutePath()).canonicalFilePath();
+  return folder.isEmpty() ? info.absoluteFilePath() : folder + "/" + info.fileName();
+}
 
 }  // namespace
 

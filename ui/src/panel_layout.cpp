@@ -73,9 +73,11 @@ namespace {
 // window's panels broken (lost title bars) beyond what Reset Layout mends.
 bool panelsRestore(const QByteArray& state, const QMainWindow& window, int version) {
   QMainWindow stand_in;
+  stand_in.setAttribute(Qt::WA_DontShowOnScreen);
   for (const QDockWidget* dock : window.findChildren<QDockWidget*>()) {
     auto* copy = new QDockWidget(&stand_in);
     copy->setObjectName(dock->objectName());
+    copy->setAttribute(Qt::WA_DontShowOnScreen);  // a floating one is a window of its own
     stand_in.addDockWidget(Qt::RightDockWidgetArea, copy);
   }
   return stand_in.restoreState(state, version);
@@ -103,7 +105,9 @@ void PanelLayout::fitOnScreen() {
   if (!screen) return;
   const QRect free = screen->availableGeometry();
   if (window_.isMaximized() || window_.isFullScreen()) return;
-  const QSize size = window_.size().boundedTo(free.size());
+  // The frame a window manager adds (title bar, borders) counts too.
+  const QSize frame = window_.frameGeometry().size() - window_.size();
+  const QSize size = window_.size().boundedTo(free.size() - frame);
   if (size != window_.size()) window_.resize(size);
   QPoint corner = window_.pos();
   corner.setX(

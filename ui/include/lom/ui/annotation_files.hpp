@@ -106,7 +106,7 @@ class BoxesAutosave : public QObject {
   // Held while this studio keeps the open sequence's recovery file: a second
   // studio on the same sequence neither offers, writes nor removes it.
   std::unique_ptr<QLockFile> lock_;
-  bool locked_out_ = false;  // another studio holds the open sequence's lock
+  QString locked_out_of_;  // the recovery file whose lock another studio holds
   bool restoring_ = false;
   bool leave_files_alone_ = false;
 };
