@@ -110,14 +110,11 @@ class SequenceWriter {
   bool prepared_ = false;
   // The staging folder, or a new output folder, for a signal to remove.
   PendingOutput pending_;
-  bool created_out_ = false;
-  // The output folder this import made (as the kernel resolved it), and the
-  // folders above it it made too (innermost first): the output goes whole
-  // on failure, the folders above only while empty (another import may have
-  // put its output beside this one meanwhile).
+  // The output folder this import made (as the kernel resolved it), removed
+  // whole on failure, and the folders of its path that it made, removed
+  // while empty (another import may have put its output beside it).
   fs::path created_folder_;
-  std::vector<fs::path> created_parents_;
-  std::vector<PendingOutput> pending_parents_;
+  std::optional<NewFolders> new_folders_;
   // With the overwrite option over an existing sequence: the folder inside the
   // output where the new frames are written until finish() swaps them in, so
   // that a failure or a cancel leaves the old sequence as it was.

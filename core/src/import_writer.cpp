@@ -233,21 +233,14 @@ void SequenceWriter::prepareFolder() {
   if (!fs::exists(out_, ec)) {
     // The folders of the path that are missing go again when the import
     // fails or is cancelled (out/new/seq leaves no empty out/new behind).
-    const std::vector<fs::path> missing = missingFolders(out_);
+    new_folders_.emplace(out_);
     fs::create_directories(out_, ec);
     if (ec)
       throw Error(out_.string(), "output", "a folder that can be created", ec.message());
-    created_out_ = true;
-    // Recorded as the kernel resolved them, now that they exist.
+    // Removed whole on failure, as the kernel resolved it now that it exists.
     created_folder_ = fs::canonical(out_, ec);
     if (ec) created_folder_ = fs::absolute(out_);
     pending_ = PendingOutput(created_folder_, PendingOutput::Kind::Tree);
-    for (size_t i = 1; i < missing.size(); ++i) {
-      fs::path parent = fs::canonical(missing[i], ec);
-      if (ec) continue;
-      created_parents_.push_back(parent);
-      pending_parents_.emplace_back(parent, PendingOutput::Kind::EmptyFolder);
-    }
   } else {
     // An existing folder (empty frame folders, or --overwrite) gets the
     // frames only once they are all written: a failed or cancelled import
@@ -261,7 +254,7 @@ void SequenceWriter::commitSequence(const std::string& json) {
   if (staging_.empty()) {  // a new folder: removed whole if this fails
     writeTextFileAtomically(out_ / "sequence.json", json);
     pending_.release();
-    pending_parents_.clear();
+    new_folders_->keep();
     return;
   }
   // The new sequence file first, complete, beside the new frames: a write
@@ -328,10 +321,8 @@ void SequenceWriter::cleanUp() noexcept {
   if (!staging_.empty()) fs::remove_all(staging_, ec);
   // A new output goes whole; an existing one was written only through the
   // staging folder, removed above.
-  if (created_out_) {
-    fs::remove_all(created_folder_, ec);
-    for (const fs::path& parent : created_parents_) fs::remove(parent, ec);  // only while empty
-  }
+  if (!created_folder_.empty()) fs::remove_all(created_folder_, ec);
+  new_folders_.reset();  // the folders above it, while empty
 }
 
 void SequenceWriter::note(const std::string& text) {

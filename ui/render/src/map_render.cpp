@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
 
 #include "lom/box_fit.hpp"
 #include "lom/error.hpp"
@@ -76,8 +77,10 @@ std::vector<Rgb> scoreColours(const SurfaceMesh& mesh, double resolution,
 // The voxel surfaces of the selected labels, coloured per triangle: by label,
 // by the height of the triangle's centre or by its voxel's share inside its
 // label's box (unit faces, so that colours change from one voxel to the next).
-vtkSmartPointer<vtkPolyData> labelSurfaces(const LabelMap& map, const RenderOptions& options,
-                                           VoxelColouring colouring) {
+using KeysByLabel = std::map<int, std::vector<VoxelKey>>;
+
+vtkSmartPointer<vtkPolyData> labelSurfaces(const LabelMap& map, const KeysByLabel& selected,
+                                           const RenderOptions& options, VoxelColouring colouring) {
   auto points = vtkSmartPointer<vtkPoints>::New();
   auto triangles = vtkSmartPointer<vtkCellArray>::New();
   auto colors = vtkSmartPointer<vtkUnsignedCharArray>::New();
@@ -85,7 +88,7 @@ vtkSmartPointer<vtkPolyData> labelSurfaces(const LabelMap& map, const RenderOpti
   colors->SetName("voxel colour");
   const bool by_height = colouring == VoxelColouring::Height;
   std::vector<SurfaceMesh> meshes;
-  for (const auto& [label, keys] : occupiedVoxelsByLabel(map, options.labels)) {
+  for (const auto& [label, keys] : selected) {
     VoxelSurfaceOptions surface;
     surface.merge_coplanar = !by_height && !options.score;
     meshes.push_back(voxelSurface(keys, map.parameters().resolution, surface));
@@ -222,13 +225,15 @@ void placeOrbit(vtkCamera* camera, const std::vector<Eigen::Vector3d>& centres, 
 
 }  // namespace
 
-OrbitFraming orbitFraming(const LabelMap& map, const RenderOptions& options) {
+namespace {
+
+OrbitFraming framingOf(const KeysByLabel& selected, bool frame_all) {
   OrbitFraming framing;
-  for (auto& [label, keys] : occupiedVoxelsByLabel(map, options.labels))
+  for (const auto& [label, keys] : selected)
     framing.framed.insert(framing.framed.end(), keys.begin(), keys.end());
   std::sort(framing.framed.begin(), framing.framed.end());
   framing.selected_voxels = framing.framed.size();
-  if (options.frame_all) return framing;
+  if (frame_all) return framing;
   std::vector<VoxelKey> bulk;
   for (const auto& part : voxelClusters(framing.framed, 1.0))
     if (part.size() >= kFramedPartVoxels) bulk.insert(bulk.end(), part.begin(), part.end());
@@ -237,6 +242,12 @@ OrbitFraming orbitFraming(const LabelMap& map, const RenderOptions& options) {
     framing.framed = std::move(bulk);
   }
   return framing;
+}
+
+}  // namespace
+
+OrbitFraming orbitFraming(const LabelMap& map, const RenderOptions& options) {
+  return framingOf(occupiedVoxelsByLabel(map, options.labels), options.frame_all);
 }
 
 Eigen::Vector3d orbitUp(const LabelMap& map, const RenderOptions& options) {
@@ -264,8 +275,10 @@ ColorImage renderMap(const LabelMap& map, const RenderOptions& options, OrbitFra
                 "a picture size from 1x1 to 16384x16384 of at most 134217728 pixels (16384x8192)",
                 std::to_string(options.width) + "x" + std::to_string(options.height));
   if (const auto problem = displayProblem()) throw RenderUnavailable(*problem);
+  // One pass over the map for the surfaces and the framing.
+  const KeysByLabel selected = occupiedVoxelsByLabel(map, options.labels);
   const vtkSmartPointer<vtkPolyData> surfaces =
-      labelSurfaces(map, options, colouringFor(map, options));
+      labelSurfaces(map, selected, options, colouringFor(map, options));
   if (surfaces->GetNumberOfPolys() == 0)
     throw Error("", "map", "at least one occupied voxel to render",
                 options.labels ? "no occupied voxel of the selected labels" : "an empty map");
@@ -294,7 +307,7 @@ ColorImage renderMap(const LabelMap& map, const RenderOptions& options, OrbitFra
   if (options.camera) {
     placePinhole(camera, *options.camera, options.width, options.height);
   } else {
-    OrbitFraming framed = orbitFraming(map, options);
+    OrbitFraming framed = framingOf(selected, options.frame_all);
     placeOrbit(camera, framedCentres(framed.framed, map.parameters().resolution),
                map.parameters().resolution, options.azimuth_deg, options.elevation_deg,
                orbitUp(map, options), static_cast<double>(options.width) / options.height);
