@@ -109,6 +109,16 @@ std::vector<std::vector<VoxelKey>> voxelClusters(const std::vector<VoxelKey>& ke
   return clusters;
 }
 
+std::vector<VoxelKey> bulkVoxels(const std::vector<VoxelKey>& keys, size_t min_part_voxels) {
+  std::vector<VoxelKey> bulk;
+  for (const auto& part : voxelClusters(keys, 1.0))
+    if (part.size() >= min_part_voxels) bulk.insert(bulk.end(), part.begin(), part.end());
+  if (bulk.empty()) bulk = keys;
+  std::sort(bulk.begin(), bulk.end());
+  bulk.erase(std::unique(bulk.begin(), bulk.end()), bulk.end());
+  return bulk;
+}
+
 std::vector<VoxelKey> largestCluster(const std::vector<VoxelKey>& keys, double tolerance_voxels) {
   std::vector<std::vector<VoxelKey>> clusters = voxelClusters(keys, tolerance_voxels);
   return clusters.empty() ? std::vector<VoxelKey>{} : std::move(clusters.front());

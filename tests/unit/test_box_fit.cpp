@@ -125,6 +125,25 @@ TEST(BoxFit, ClustersMatchTheirDefinitionOnRandomSets) {
   }
 }
 
+TEST(BoxFit, BulkLeavesOutPartsSmallerThanItsLimit) {
+  std::vector<lom::VoxelKey> keys = block(0, 3, 0, 3, 0, 3);          // 27 voxels
+  const std::vector<lom::VoxelKey> wall = block(10, 11, 0, 8, 0, 1);  // 8 in a row: kept
+  keys.insert(keys.end(), wall.begin(), wall.end());
+  const std::vector<lom::VoxelKey> speck = {key(200, 0, 0), key(201, 1, 1)};  // corner to corner
+  keys.insert(keys.end(), speck.begin(), speck.end());
+  keys.push_back(key(-300, 5, 5));
+  std::vector<lom::VoxelKey> expected = block(0, 3, 0, 3, 0, 3);
+  expected.insert(expected.end(), wall.begin(), wall.end());
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(lom::bulkVoxels(keys), expected);
+  EXPECT_EQ(lom::bulkVoxels(keys, 27), block(0, 3, 0, 3, 0, 3));
+  // No part that large: every voxel is kept, sorted.
+  std::vector<lom::VoxelKey> all = keys;
+  std::sort(all.begin(), all.end());
+  EXPECT_EQ(lom::bulkVoxels(keys, 28), all);
+  EXPECT_TRUE(lom::bulkVoxels({}).empty());
+}
+
 TEST(BoxFit, ToleranceOutsideItsRangeIsRefused) {
   const std::vector<lom::VoxelKey> keys{key(0, 0, 0), key(3, 0, 0)};
   for (const double bad : {-1.0, 20.5, 1e30, std::numeric_limits<double>::quiet_NaN(),

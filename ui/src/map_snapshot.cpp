@@ -5,6 +5,7 @@
 #include <limits>
 #include <vector>
 
+#include "lom/box_fit.hpp"
 #include "lom/level_plane.hpp"
 
 namespace lom::ui {
@@ -24,6 +25,58 @@ MapSnapshotPtr takeSnapshot(const LabelMap& map, size_t frames_fused) {
     snapshot->up = levelledUp(centres, *cameras_up, snapshot->resolution);
   }
   return snapshot;
+}
+
+std::optional<Eigen::AlignedBox3d> bulkBounds(const MapSnapshot& snapshot,
+                                              const std::set<int>& hidden) {
+  constexpr long kKeyOrigin = 32768;
+  constexpr long kLargestExpanded = 16;  // leaves of up to 16^3 finest voxels are listed
+  const double resolution = snapshot.resolution;
+  Eigen::AlignedBox3d bounds;  // empty
+  if (!(resolution > 0.0)) return std::nullopt;
+  std::vector<VoxelKey> keys;
+  bool any = false;
+  for (const OccupiedVoxel& voxel : snapshot.voxels) {
+    if (hidden.count(voxel.label)) continue;
+    any = true;
+    const Eigen::Vector3d half = Eigen::Vector3d::Constant(0.5 * voxel.size);
+    const long edge = std::max(1L, std::lround(voxel.size / resolution));
+    if (edge > kLargestExpanded) {
+      bounds.extend(voxel.center - half);
+      bounds.extend(voxel.center + half);
+      continue;
+    }
+    long first[3];
+    for (int axis = 0; axis < 3; ++axis)
+      first[axis] = std::lround((voxel.center[axis] - 0.5 * voxel.size) / resolution) + kKeyOrigin;
+    for (long x = 0; x < edge; ++x)
+      for (long y = 0; y < edge; ++y)
+        for (long z = 0; z < edge; ++z) {
+          const long k[3] = {first[0] + x, first[1] + y, first[2] + z};
+          if (std::min({k[0], k[1], k[2]}) < 0 || std::max({k[0], k[1], k[2]}) > 65535) continue;
+          keys.push_back({static_cast<std::uint16_t>(k[0]), static_cast<std::uint16_t>(k[1]),
+                          static_cast<std::uint16_t>(k[2])});
+        }
+  }
+  if (!any) return std::nullopt;
+  // Big leaves are bulk by themselves; without any, and without any part of
+  // kBulkPartVoxels, every voxel is framed (as bulkVoxels does).
+  const bool big_leaves = !bounds.isEmpty();
+  const Eigen::Vector3d half = Eigen::Vector3d::Constant(0.5 * resolution);
+  const auto add = [&](const std::vector<VoxelKey>& part) {
+    for (const VoxelKey& key : part) {
+      const Eigen::Vector3d centre = voxelCenter(key, resolution);
+      bounds.extend(centre - half);
+      bounds.extend(centre + half);
+    }
+  };
+  if (big_leaves) {
+    for (const auto& part : voxelClusters(keys, 1.0))
+      if (part.size() >= kBulkPartVoxels) add(part);
+  } else {
+    add(bulkVoxels(keys));
+  }
+  return bounds;
 }
 
 std::optional<VoxelHit> firstVoxelHit(const MapSnapshot& snapshot, const std::set<int>& hidden,

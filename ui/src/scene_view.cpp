@@ -235,6 +235,7 @@ void SceneView::clear() {
        {&scene_->cloud, &scene_->other_frustums, &scene_->current_frustum, &scene_->boxes})
     part->show(nullptr);
   scene_->snapshot = MapSnapshot{};
+  scene_->bulk_bounds.reset();
   scene_->voxel_count = scene_->voxels.show(scene_->snapshot, scene_->labels, {}, false);
   scene_->handles->show(nullptr);
   scene_->object_boxes.show(nullptr);
@@ -265,15 +266,45 @@ void SceneView::resetCamera() {
     camera->Elevation(20);
     camera->OrthogonalizeViewUp();
   }
-  scene_->renderer->ResetCamera();
+  // Everything shown, the map's voxels by their bulk (specks far from the
+  // scene would leave it small in the view).
+  double bounds[6];
+  vtkActor* voxels = scene_->voxels.actor();
+  const bool voxels_visible = voxels->GetVisibility() != 0;
+  voxels->SetVisibility(false);
+  scene_->renderer->ComputeVisiblePropBounds(bounds);
+  voxels->SetVisibility(voxels_visible);
+  double map[6];
+  if (voxels_visible && mapBounds(map)) {
+    for (int axis = 0; axis < 3; ++axis) {
+      bounds[2 * axis] = std::min(bounds[2 * axis], map[2 * axis]);
+      bounds[2 * axis + 1] = std::max(bounds[2 * axis + 1], map[2 * axis + 1]);
+    }
+  }
+  if (bounds[0] <= bounds[1])
+    scene_->renderer->ResetCamera(bounds);
+  else
+    scene_->renderer->ResetCamera();
   scene_->renderer->ResetCameraClippingRange();
   render();
+}
+
+bool SceneView::mapBounds(double bounds[6]) const {
+  if (scene_->voxel_count == 0) return false;
+  if (!scene_->bulk_bounds) scene_->bulk_bounds = bulkBounds(scene_->snapshot, scene_->hidden);
+  const auto& box = *scene_->bulk_bounds;
+  if (!box || box->isEmpty()) return false;
+  for (int axis = 0; axis < 3; ++axis) {
+    bounds[2 * axis] = box->min()[axis];
+    bounds[2 * axis + 1] = box->max()[axis];
+  }
+  return true;
 }
 
 void SceneView::zoomToMap(bool with_current_camera) {
   if (scene_->voxel_count == 0) return;
   double bounds[6];
-  scene_->voxels.actor()->GetBounds(bounds);
+  if (!mapBounds(bounds)) return;
   if (with_current_camera && scene_->current_frustum.actor->GetVisibility()) {
     double camera[6];
     scene_->current_frustum.actor->GetBounds(camera);
@@ -338,10 +369,7 @@ void SceneView::lookFrom(StandardView view) {
     direction = -right;  // standing on the right, looking left
   }
   double bounds[6];
-  if (scene_->voxel_count > 0)
-    scene_->voxels.actor()->GetBounds(bounds);
-  else
-    scene_->renderer->ComputeVisiblePropBounds(bounds);
+  if (!mapBounds(bounds)) scene_->renderer->ComputeVisiblePropBounds(bounds);
   if (!(bounds[0] <= bounds[1])) return;  // nothing to look at
   const Eigen::Vector3d centre(0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
                                0.5 * (bounds[4] + bounds[5]));
@@ -430,6 +458,7 @@ void SceneView::showVoxels(const MapSnapshot& snapshot, const LabelSet& labels,
   scene_->snapshot = snapshot;
   scene_->labels = labels;
   scene_->hidden = hidden;
+  scene_->bulk_bounds.reset();
   scene_->voxel_count = scene_->voxels.show(snapshot, labels, hidden,
                                             scene_->opacity_by_probability, scene_->colouring);
   emit heightColoursShown(scene_->voxels.heightRange());

@@ -28,6 +28,14 @@ inline constexpr double kMaxClusterTolerance = 20.0;
 [[nodiscard]] std::vector<std::vector<VoxelKey>> voxelClusters(const std::vector<VoxelKey>& keys,
                                                                double tolerance_voxels);
 
+// The bulk of a map's voxels: those in connected parts (26-neighbours) of at
+// least `min_part_voxels` voxels, sorted. Specks such as flying pixels far
+// from the scene are left out; every voxel is kept when no part is that large.
+// What views frame (`render`, the studio's Zoom to Map).
+inline constexpr size_t kBulkPartVoxels = 8;
+[[nodiscard]] std::vector<VoxelKey> bulkVoxels(const std::vector<VoxelKey>& keys,
+                                               size_t min_part_voxels = kBulkPartVoxels);
+
 // A box enclosing every voxel cube: the smaller of the box along the principal
 // axes of the voxel centres and the axis-aligned box (which wins ties). Its
 // frame is canonical: box z is the axis nearest the world's up, pointing up,

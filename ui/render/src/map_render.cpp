@@ -234,13 +234,7 @@ OrbitFraming framingOf(const KeysByLabel& selected, bool frame_all) {
   std::sort(framing.framed.begin(), framing.framed.end());
   framing.selected_voxels = framing.framed.size();
   if (frame_all) return framing;
-  std::vector<VoxelKey> bulk;
-  for (const auto& part : voxelClusters(framing.framed, 1.0))
-    if (part.size() >= kFramedPartVoxels) bulk.insert(bulk.end(), part.begin(), part.end());
-  if (!bulk.empty()) {
-    std::sort(bulk.begin(), bulk.end());
-    framing.framed = std::move(bulk);
-  }
+  framing.framed = bulkVoxels(framing.framed, kFramedPartVoxels);
   return framing;
 }
 

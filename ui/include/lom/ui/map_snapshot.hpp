@@ -2,6 +2,7 @@
 // What the GUI thread sees of the map: a copy of its occupied voxels and
 // per-label counts, made by the map worker (the only thread touching the map).
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstddef>
 #include <map>
 #include <memory>
@@ -29,6 +30,15 @@ struct MapSnapshot {
 using MapSnapshotPtr = std::shared_ptr<const MapSnapshot>;
 
 [[nodiscard]] MapSnapshotPtr takeSnapshot(const LabelMap& map, size_t frames_fused);
+
+// The box holding the cubes of the snapshot's bulk: the voxels shown (labels
+// in `hidden` left out) in connected parts of at least kBulkPartVoxels
+// finest voxels (bulkVoxels), as `render` frames a map. Leaves larger than
+// the resolution count as their finest voxels; those of more than 16^3 are
+// bulk by themselves. None when no voxel is shown. What the 3D view frames
+// (Zoom to Map, the standard views, Reset Camera).
+[[nodiscard]] std::optional<Eigen::AlignedBox3d> bulkBounds(const MapSnapshot& snapshot,
+                                                            const std::set<int>& hidden);
 
 // Where the ray from `origin` along `direction` first enters a voxel of the
 // snapshot (a cube of the voxel's size; voxels of `hidden` labels left out):

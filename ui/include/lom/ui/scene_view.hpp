@@ -48,8 +48,15 @@ class SceneView : public QWidget {
   void clear();
   // Whether the view says how to open a sequence (until one is shown).
   [[nodiscard]] bool emptyHintShown() const;
+  // Frames everything shown: the frame's points, the cameras, the boxes and
+  // the bulk of the map (mapBounds).
   void resetCamera();
-  // Keeps the view direction and frames the map's voxels, and with
+  // What the view frames of the map, as VTK bounds (xmin, xmax, ymin, ...):
+  // the box of the shown voxels' bulk (bulkBounds: specks of fewer than
+  // kBulkPartVoxels connected voxels, such as flying pixels, left out).
+  // False when no voxel is shown.
+  bool mapBounds(double bounds[6]) const;
+  // Keeps the view direction and frames the map's voxels (mapBounds), and with
   // `with_current_camera` the current frame's camera too (screenshots).
   void zoomToMap(bool with_current_camera = false);
   // Whether the current frame's camera (its frustum) is wholly in the picture.

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "lom/annotations.hpp"
+#include "lom/box_fit.hpp"
 #include "lom/camera.hpp"
 #include "lom/evaluation.hpp"
 #include "lom/height_colours.hpp"
@@ -85,7 +86,7 @@ struct RenderOptions {
 // The orbit view frames connected parts (26-neighbours, over the selected
 // labels together) of at least this many voxels, unless frame_all is set or
 // no part is that large.
-inline constexpr size_t kFramedPartVoxels = 8;
+inline constexpr size_t kFramedPartVoxels = kBulkPartVoxels;
 
 // Which of the selected labels' occupied voxels the orbit view fits in the
 // picture (VoxelKeys, sorted) and how many voxels the selection holds.

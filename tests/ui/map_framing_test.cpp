@@ -1,0 +1,120 @@
+// What the 3D view frames of a map: the bulk of the voxels shown, as `render`
+// frames it. A speck of flying pixels far from the scene no longer leaves the
+// map small after Zoom to Map, a standard view or Reset Camera.
+#include <gtest/gtest.h>
+
+#include <QAction>
+#include <QImage>
+
+#include "demo_window_fixture.hpp"
+#include "lom/box_fit.hpp"
+#include "lom/ui/map_snapshot.hpp"
+#include "lom/ui/scene_view.hpp"
+
+namespace lom::ui {
+namespace {
+
+constexpr double kEdge = 0.01;
+
+// A finest voxel at integer voxel coordinates (i, j, k).
+OccupiedVoxel voxelAt(int i, int j, int k, int label) {
+  return {Eigen::Vector3d((i + 0.5) * kEdge, (j + 0.5) * kEdge, (k + 0.5) * kEdge), kEdge, label,
+          0.9f};
+}
+
+MapSnapshot blockAndSpeck() {
+  MapSnapshot snapshot;
+  snapshot.resolution = kEdge;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) snapshot.voxels.push_back(voxelAt(i, j, k, 1));
+  snapshot.voxels.push_back(voxelAt(300, 0, 0, 2));  // 3 m away
+  snapshot.voxels.push_back(voxelAt(301, 1, 0, 2));
+  return snapshot;
+}
+
+void expectBox(const std::optional<Eigen::AlignedBox3d>& box, const Eigen::Vector3d& min,
+               const Eigen::Vector3d& max) {
+  ASSERT_TRUE(box.has_value());
+  EXPECT_LT((box->min() - min).norm(), 1e-9) << box->min().transpose();
+  EXPECT_LT((box->max() - max).norm(), 1e-9) << box->max().transpose();
+}
+
+TEST(BulkBounds, LeaveOutSpecksAndHiddenLabels) {
+  MapSnapshot snapshot = blockAndSpeck();
+  expectBox(bulkBounds(snapshot, {}), Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.03));
+  // The speck alone (the block hidden) is framed: no part is large enough.
+  expectBox(bulkBounds(snapshot, {1}), Eigen::Vector3d(3.0, 0.0, 0.0),
+            Eigen::Vector3d(3.02, 0.02, 0.01));
+  EXPECT_FALSE(bulkBounds(snapshot, {1, 2}).has_value()) << "nothing shown";
+  EXPECT_FALSE(bulkBounds(MapSnapshot{}, {}).has_value());
+
+  // A pruned leaf of 2^3 voxels is a part of 8 by itself, and joins the
+  // voxels it touches.
+  MapSnapshot leaf;
+  leaf.resolution = kEdge;
+  leaf.voxels.push_back({Eigen::Vector3d(0.51, 0.01, 0.01), 2 * kEdge, 3, 0.9f});  // 0.50-0.52
+  leaf.voxels.push_back(voxelAt(52, 0, 0, 1));                                     // touches it
+  leaf.voxels.push_back(voxelAt(-200, 0, 0, 1));
+  expectBox(bulkBounds(leaf, {}), Eigen::Vector3d(0.5, 0.0, 0.0),
+            Eigen::Vector3d(0.53, 0.02, 0.02));
+  // A leaf of 32^3 voxels counts as bulk without being listed voxel by voxel.
+  MapSnapshot big;
+  big.resolution = kEdge;
+  big.voxels.push_back({Eigen::Vector3d(0.16, 0.16, 0.16), 32 * kEdge, 3, 0.9f});
+  big.voxels.push_back(voxelAt(-200, 0, 0, 1));
+  expectBox(bulkBounds(big, {}), Eigen::Vector3d::Zero(), Eigen::Vector3d::Constant(0.32));
+}
+
+class MapFramingTest : public fixture::DemoWindowTest {
+ protected:
+  // Pixels of the picture that are not the view's background (its gradient
+  // changes only from top to bottom; the left end of a row is background
+  // when the map is framed with a margin).
+  static size_t drawnPixels(const QImage& picture) {
+    size_t drawn = 0;
+    for (int y = 0; y < picture.height(); ++y)
+      for (int x = 0; x < picture.width(); ++x) drawn += picture.pixel(x, y) != picture.pixel(0, y);
+    return drawn;
+  }
+  size_t drawnAfter(const char* action) {
+    QAction* found = window_.findAction(action);
+    EXPECT_NE(found, nullptr) << action;
+    if (found == nullptr) return 0;
+    found->trigger();
+    return drawnPixels(window_.sceneView().renderToImage());
+  }
+};
+
+TEST_F(MapFramingTest, ASpeckFarFromTheMapDoesNotShrinkIt) {
+  openAndFuse();
+  SceneView& scene = window_.sceneView();
+  scene.setFrameCloudVisible(false);
+  const auto fused = window_.session().worker().snapshot();
+  ASSERT_TRUE(fused && !fused->empty());
+  const char* actions[] = {"Zoom to Map", "Look from Above", "Reset Camera"};
+  size_t before[3];
+  for (int i = 0; i < 3; ++i) before[i] = drawnAfter(actions[i]);
+  double map[6];
+  ASSERT_TRUE(scene.mapBounds(map));
+
+  // Two stray voxels 5 m above the bin, as flying pixels leave them.
+  MapSnapshot with_speck = *fused;
+  const double r = with_speck.resolution;
+  const Eigen::Vector3d far(0.5 * (map[0] + map[1]), 0.5 * (map[2] + map[3]), map[5] + 5.0);
+  with_speck.voxels.push_back({far, r, 1, 0.9f});
+  with_speck.voxels.push_back({far + Eigen::Vector3d(r, 0, 0), r, 1, 0.9f});
+  scene.showVoxels(with_speck, window_.session().sequence()->labels, {});
+  double framed[6];
+  ASSERT_TRUE(scene.mapBounds(framed));
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(framed[i], map[i], 1e-9) << "the speck is not framed";
+  for (int i = 0; i < 3; ++i) {
+    SCOPED_TRACE(actions[i]);
+    const size_t after = drawnAfter(actions[i]);
+    EXPECT_GT(after, before[i] * 8 / 10) << "the map stays as large in the view";
+    EXPECT_LT(after, before[i] * 12 / 10 + 100);
+  }
+}
+
+}  // namespace
+}  // namespace lom::ui
