@@ -35,14 +35,29 @@ OrientedBox parseBin(const std::string& text) {
   return bin;
 }
 
+// The items of "8,19,bunny_book"; an empty item (",8", "8,,19", "8,") is a
+// malformed command line, refused before any file is read.
+std::vector<std::string> candidateItems(const std::string& text) {
+  std::vector<std::string> items;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = text.find(',', start);
+    items.push_back(
+        text.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+    if (items.back().empty())
+      throw UsageError(
+          "option --candidates expects a comma-separated list of labels (ids or names), got '" +
+          text + "' (an empty item)");
+    if (comma == std::string::npos) return items;
+    start = comma + 1;
+  }
+}
+
 // "8,19,bunny_book" -> label ids (ids or names of the map's labels).
 std::vector<int> parseCandidates(const std::string& text, const LabelSet& labels, const std::string& map_file) {
   std::vector<int> ids;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ','))
+  for (const std::string& item : candidateItems(text))
     ids.push_back(resolveObjectLabel(labels, item, map_file, "--candidates"));
-  if (ids.empty()) throw UsageError("option --candidates expects a comma-separated list of labels (ids or names)");
   // Each label once, in ascending order (plan.json lists them so).
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
@@ -58,6 +73,7 @@ int runPlan(const Words& words) {
                   1);
   const fs::path map_path = args.positional(0, "MAP.ot (a fused map)");
   const std::string target_text = args.required("target");
+  if (const auto candidates = args.option("candidates")) (void)candidateItems(*candidates);
 
   PlanOptions options;
   options.objects.map_file = map_path.string();
@@ -69,7 +85,8 @@ int runPlan(const Words& words) {
     throw UsageError("option --cluster-tolerance expects a number of voxel edges above 0 and " +
                      ("at most " + std::to_string(static_cast<int>(kMaxClusterTolerance))) +
                      ", got '" + *args.option("cluster-tolerance") + "' (docs/planning.md)");
-  const long min_voxels = args.integer("min-cluster-voxels", 1, 1, INT_MAX);
+  const long min_voxels =
+      args.integer("min-cluster-voxels", static_cast<long>(kDefaultMinObjectVoxels), 1, INT_MAX);
   options.objects.min_cluster_voxels = static_cast<size_t>(min_voxels);
   options.overlap_margin_voxels = args.number("overlap-margin", options.overlap_margin_voxels);
   if (!(options.overlap_margin_voxels >= 0.0))

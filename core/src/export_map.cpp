@@ -269,6 +269,7 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
     ObjectOptions object_options;
     object_options.labels = std::vector<int>(selected.begin(), selected.end());
     object_options.map_file = file;
+    object_options.min_cluster_voxels = 1;  // every label with occupied voxels has an entry
     const auto objects = extractObjects(map, object_options);
     writeObjectsJson(objects, map, out);
     summary.files.push_back(out);

@@ -170,15 +170,55 @@ bool boxesOverlapAcross(const OrientedBox& a, const OrientedBox& b, const Eigen:
   return true;
 }
 
+bool boxInPathOf(const OrientedBox& object, const OrientedBox& target,
+                 const Eigen::Vector3d& direction, double margin) {
+  const Eigen::Vector3d d = direction.normalized();
+  const Eigen::Matrix3d axes_o = axesOf(object);
+  const Eigen::Matrix3d axes_t = axesOf(target);
+  auto interval = [](const OrientedBox& box, const Eigen::Matrix3d& axes,
+                     const Eigen::Vector3d& n) {
+    const double centre = box.center.dot(n);
+    double reach = 0.0;
+    for (int k = 0; k < 3; ++k) reach += 0.5 * box.size[k] * std::abs(axes.col(k).dot(n));
+    return std::make_pair(centre - reach, centre + reach);
+  };
+  // In front: the object reaches nearer the camera than the target does.
+  if (!(interval(object, axes_o, d).first < interval(target, axes_t, d).first)) return false;
+  // The path: the target's box moved back along d towards the camera, far
+  // beyond any map. It and the object's box are convex; they meet unless one
+  // of the separating axes of a box and a box swept along d parts them: the
+  // faces' normals (the object's axes, the target's axes, d x the target's
+  // axes) and the edges' cross products (the object's axes x the target's
+  // axes and x d).
+  constexpr double kPathLength = 1e3;
+  std::vector<Eigen::Vector3d> normals;
+  for (int k = 0; k < 3; ++k) {
+    normals.push_back(axes_o.col(k));
+    normals.push_back(axes_t.col(k));
+    normals.push_back(d.cross(axes_t.col(k)));
+    normals.push_back(d.cross(axes_o.col(k)));
+    for (int j = 0; j < 3; ++j) normals.push_back(axes_o.col(k).cross(axes_t.col(j)));
+  }
+  for (Eigen::Vector3d n : normals) {
+    if (n.norm() < 1e-9) continue;  // parallel edges: another axis covers it
+    n.normalize();
+    const auto [low_o, high_o] = interval(object, axes_o, n);
+    auto [low_t, high_t] = interval(target, axes_t, n);
+    const double swept = -kPathLength * d.dot(n);
+    low_t += std::min(0.0, swept);
+    high_t += std::max(0.0, swept);
+    if (std::min(high_o, high_t) - std::max(low_o, low_t) <= margin) return false;
+  }
+  return true;
+}
+
 std::vector<size_t> findOccluders(const std::vector<ObjectInstance>& objects, size_t target,
                                   const Eigen::Vector3d& approach, double margin) {
   const Eigen::Vector3d d = approach.normalized();
-  const double target_depth = objects.at(target).centroid.dot(d);
   std::vector<size_t> occluders;
   for (size_t i = 0; i < objects.size(); ++i) {
     if (i == target) continue;
-    if (!(objects[i].centroid.dot(d) < target_depth)) continue;
-    if (boxesOverlapAcross(objects[i].box, objects[target].box, d, margin)) occluders.push_back(i);
+    if (boxInPathOf(objects[i].box, objects[target].box, d, margin)) occluders.push_back(i);
   }
   sortFrontToBack(occluders, objects, d);
   return occluders;

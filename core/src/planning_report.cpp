@@ -144,7 +144,7 @@ std::string planTable(const PickPlan& plan) {
       << triple(target.centroid) << " m)\n";
   out << "approach  " << triple(plan.approach) << " (" << approachExplanation(plan.approach_source) << ")\n";
   out << "objects   " << plan.objects.size() << ", " << plan.occluders.size()
-      << " in the way (in front of the target and overlapping it across the approach)";
+      << " in the way (in the target's path along the approach)";
   if (plan.empty_bin)
     out << "; empty bin at " << triple(plan.empty_bin->center) << ", size " << triple(plan.empty_bin->size) << "\n";
   else

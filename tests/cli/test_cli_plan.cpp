@@ -221,9 +221,11 @@ TEST_F(CliPlanTest, WithoutFreeSpaceAnApproachIsNeeded) {
 }
 
 TEST_F(CliPlanTest, BadOptionsAreUsageErrors) {
-  for (const std::string bad : {"--approach 1,2", "--approach 0,0,0", "--approach a,b,c", "--approach 1,0,0,",
-                                "--empty-bin 0,0,0,1,1", "--empty-bin 0,0,0,1,-1,1", "--min-cluster-voxels 0",
-                                "--cluster-tolerance 0", "--approach 1,0,0 --sequence x", "--frobnicate 3"}) {
+  for (const std::string bad :
+       {"--approach 1,2", "--approach 0,0,0", "--approach a,b,c", "--approach 1,0,0,",
+        "--empty-bin 0,0,0,1,1", "--empty-bin 0,0,0,1,-1,1", "--min-cluster-voxels 0",
+        "--cluster-tolerance 0", "--approach 1,0,0 --sequence x", "--frobnicate 3",
+        "--candidates 8,", "--candidates ,8", "--candidates 8,,19", "--candidates ''"}) {
     const auto r = runCli("plan " + map() + " --target 19 " + bad);
     EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.err;
     EXPECT_NE(r.err.find("usage: labeloctomap plan"), std::string::npos) << r.err;

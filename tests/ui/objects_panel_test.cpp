@@ -1,25 +1,27 @@
 // The Objects dock on the synthetic demo scene: the objects extracted after
 // fusion, their boxes in 3D, and a pick plan with its steps and 3D layer.
+#include "lom/ui/objects_panel.hpp"
+
 #include <gtest/gtest.h>
 
 #include <QCheckBox>
 #include <QComboBox>
 #include <QPushButton>
+#include <QRegion>
 #include <QTableWidget>
 #include <QTest>
 #include <algorithm>
 #include <filesystem>
 #include <set>
 
+#include "demo_window_fixture.hpp"
 #include "lom/annotations.hpp"
 #include "lom/ui/demo_scene.hpp"
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/map_worker.hpp"
-#include "lom/ui/objects_panel.hpp"
 #include "lom/ui/scene_view.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
-#include "demo_window_fixture.hpp"
 #include "test_support.hpp"
 
 namespace lom::ui {
@@ -67,6 +69,36 @@ TEST_F(ObjectsPanelTest, ListsTheFusedObjectsAndDrawsTheirBoxes) {
   EXPECT_EQ(scene.objectBoxCount(), 0u);
   panel.showBoxesCheck().setChecked(true);
   EXPECT_EQ(scene.objectBoxCount(), panel.objects().size());
+}
+
+TEST_F(ObjectsPanelTest, ThePlansFirstStepsAreInSightInAShortDock) {
+  // A 1280x1024 screen: the Objects dock shares the right side with three
+  // others, and its table of objects is long.
+  window_.resize(1280, 1000);
+  settle();
+  openFuseAndExtract();
+  dock("objectsDock").raise();
+  settle();
+  ObjectsPanel& panel = window_.objectsPanel();
+  const int index = panel.targetCombo().findData(*visibleObjectLabels().begin());
+  ASSERT_GE(index, 0);
+  panel.targetCombo().setCurrentIndex(index);
+  QTest::mouseClick(&panel.planButton(), Qt::LeftButton);
+  ASSERT_TRUE(panel.plan().has_value()) << panel.statusText().toStdString();
+  settle();
+  QTableWidget& steps = panel.stepsTable();
+  ASSERT_GE(steps.rowCount(), 1);
+  for (int row = 0; row < std::min(steps.rowCount(), 2); ++row) {
+    const QRect cell = steps.visualRect(steps.model()->index(row, ObjectsPanel::Action));
+    // Wholly in sight (QRegion::contains only asks for an overlap).
+    EXPECT_TRUE(QRegion(cell).subtracted(steps.viewport()->visibleRegion()).isEmpty())
+        << "step " << row + 1 << " is hidden: the visible part of the steps is "
+        << steps.viewport()->visibleRegion().boundingRect().height() << " px high";
+  }
+  // So are the first objects.
+  QTableWidget& objects = panel.table();
+  const QRect first = objects.visualRect(objects.model()->index(0, 0));
+  EXPECT_TRUE(QRegion(first).subtracted(objects.viewport()->visibleRegion()).isEmpty());
 }
 
 TEST_F(ObjectsPanelTest, PlanPickEndsWithPickingTheTargetAndDrawsThePlan) {

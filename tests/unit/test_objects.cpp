@@ -68,7 +68,10 @@ TEST(Objects, StraySpeckOfTheLabelDoesNotMoveTheBox) {
   const ObjectInstance& o = objects[0];
   EXPECT_EQ(o.voxelCount(), 300u);
   EXPECT_EQ(o.label_voxels, 302u);
-  EXPECT_EQ(o.label_clusters, 2u);
+  EXPECT_EQ(o.label_clusters, 1u) << "the speck is smaller than the default minimum of 8";
+  lom::ObjectOptions every_cluster;
+  every_cluster.min_cluster_voxels = 1;
+  EXPECT_EQ(lom::extractObjects(map, every_cluster).at(0).label_clusters, 2u);
   EXPECT_TRUE(o.box.center.isApprox(clean.box.center, 1e-12));
   EXPECT_TRUE(o.box.size.isApprox(clean.box.size, 1e-12));
   EXPECT_TRUE(o.centroid.isApprox(book.center, 1e-9));
@@ -82,7 +85,14 @@ TEST(Objects, AllClustersReportsEveryClusterAsAnInstance) {
 
   lom::ObjectOptions options;
   options.all_clusters = true;
+  // By default a cluster of fewer than 8 voxels is no object.
+  EXPECT_EQ(options.min_cluster_voxels, lom::kDefaultMinObjectVoxels);
   auto objects = lom::extractObjects(map, options);
+  ASSERT_EQ(objects.size(), 2u);
+  EXPECT_EQ(objects[1].voxelCount(), 8u);
+
+  options.min_cluster_voxels = 1;
+  objects = lom::extractObjects(map, options);
   ASSERT_EQ(objects.size(), 3u);
   EXPECT_EQ(objects[0].instance, 0);
   EXPECT_EQ(objects[0].voxelCount(), 27u);

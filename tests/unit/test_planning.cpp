@@ -173,6 +173,50 @@ TEST(Planning, BoxesOverlapAcrossTheApproach) {
   EXPECT_FALSE(lom::boxesOverlapAcross(a, aabb({0.5, 0.1, 0.0}, {0.6, 0.2, 0.1}), Eigen::Vector3d::UnitX()));
 }
 
+TEST(Planning, AnObjectBehindTheTargetIsNotInItsPathHoweverTall) {
+  // Seen from above at 46 degrees: a flat book (the target), a cup in front
+  // of it and a tall, thin DVD standing 1 cm behind it. The DVD's centroid is
+  // nearer the camera than the book's, and their outlines overlap across the
+  // approach, yet the gripper's path down to the book never meets the DVD.
+  const Eigen::Vector3d down(0.693, 0.0, -0.721);
+  const LabelMap map = scene({{12, {0.00, 0.00, 0.00}, {0.06, 0.10, 0.10}},
+                              {kTarget, {0.10, 0.00, 0.00}, {0.25, 0.10, 0.03}},
+                              {20, {0.26, 0.00, 0.00}, {0.28, 0.10, 0.22}}},
+                             /*with_target=*/false);
+  const PickPlan plan = lom::planPick(map, kTarget, along(down));
+  EXPECT_EQ(removedLabels(plan), std::vector<int>{12});
+  const OrientedBox book = aabb({0.10, 0.00, 0.00}, {0.25, 0.10, 0.03});
+  const OrientedBox dvd = aabb({0.26, 0.00, 0.00}, {0.28, 0.10, 0.22});
+  EXPECT_TRUE(lom::boxesOverlapAcross(dvd, book, down, 0.01))
+      << "the old test said it hides the book";
+  EXPECT_FALSE(lom::boxInPathOf(dvd, book, down, 0.01));
+  // Seen from the other side, the DVD stands in front of the book.
+  const Eigen::Vector3d from_behind(-0.693, 0.0, -0.721);
+  EXPECT_TRUE(lom::boxInPathOf(dvd, book, from_behind, 0.01));
+  EXPECT_EQ(removedLabels(lom::planPick(map, kTarget, along(from_behind))), std::vector<int>{20});
+}
+
+TEST(Planning, PathOfTheTargetAlongTheApproach) {
+  const OrientedBox target = aabb({0.30, -0.05, 0.0}, {0.40, 0.05, 0.10});
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX();
+  // Straight in front, far in front, and in front but 2 cm to the side.
+  EXPECT_TRUE(lom::boxInPathOf(aabb({0.1, -0.02, 0.0}, {0.2, 0.02, 0.05}), target, x));
+  EXPECT_TRUE(lom::boxInPathOf(aabb({-3.0, -0.02, 0.0}, {-2.9, 0.02, 0.05}), target, x));
+  EXPECT_FALSE(lom::boxInPathOf(aabb({0.1, 0.07, 0.0}, {0.2, 0.1, 0.05}), target, x));
+  // Grazing the path by half a centimetre: in it without a margin, not with 1 cm.
+  const OrientedBox grazing = aabb({0.1, 0.045, 0.0}, {0.2, 0.1, 0.05});
+  EXPECT_TRUE(lom::boxInPathOf(grazing, target, x));
+  EXPECT_FALSE(lom::boxInPathOf(grazing, target, x, 0.01));
+  // Behind the target, even when its box overlaps the target's by a little.
+  EXPECT_FALSE(lom::boxInPathOf(aabb({0.39, -0.05, 0.0}, {0.5, 0.05, 0.1}), target, x));
+  EXPECT_FALSE(lom::boxInPathOf(aabb({0.5, -0.05, 0.0}, {0.6, 0.05, 0.1}), target, x));
+  // A box turned 45 degrees about z, in front: its corner is in the path.
+  OrientedBox turned = aabb({0.1, 0.06, 0.0}, {0.2, 0.16, 0.05});
+  turned.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ()));
+  EXPECT_TRUE(lom::boxInPathOf(turned, target, x));  // reaches y = 0.11 - 0.0707 = 0.039
+  EXPECT_FALSE(lom::boxInPathOf(turned, target, x, 0.02));
+}
+
 TEST(Planning, GraspIsOnTheFrontFaceNearTheCentroid) {
   const OrientedBox box = aabb({0.30, -0.05, 0.0}, {0.40, 0.05, 0.10});
   const lom::ObjectInstance object = objectWithBox(box, {0.33, 0.02, 0.04});

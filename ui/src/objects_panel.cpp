@@ -7,6 +7,8 @@
 #include <QLabel>
 #include <QPointer>
 #include <QPushButton>
+#include <QScrollArea>
+#include <QSplitter>
 #include <QTableWidget>
 #include <QVBoxLayout>
 #include <cmath>
@@ -32,6 +34,12 @@ QTableWidgetItem* textItem(const QString& text) {
 QString objectTitle(const ObjectInstance& object) {
   return QStringLiteral("%1 %2").arg(QString::fromStdString(object.id()),
                                      QString::fromStdString(object.name));
+}
+
+// The height of a table's header and `rows` rows.
+int rowsHeight(const QTableWidget& table, int rows) {
+  return table.horizontalHeader()->sizeHint().height() +
+         rows * table.verticalHeader()->defaultSectionSize() + 2 * table.frameWidth();
 }
 
 void setupTable(QTableWidget* table) {
@@ -89,13 +97,26 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
   // Right under Refresh: what it is doing, and what the table shows, stay in
   // sight however tall the table and the steps are.
   layout->addWidget(status_);
-  layout->addWidget(table_, 2);
+  // The objects above, the plan below, in a splitter: each keeps a few rows in
+  // sight however short the panel (the steps table shrank to its header).
+  auto* plan_part = new QWidget;
+  auto* plan_layout = new QVBoxLayout(plan_part);
+  plan_layout->setContentsMargins(0, 0, 0, 0);
   auto* plan_row = new QHBoxLayout;
   plan_row->addWidget(new QLabel(tr("Target:")));
   plan_row->addWidget(target_, 1);
   plan_row->addWidget(plan_button_);
-  layout->addLayout(plan_row);
-  layout->addWidget(steps_, 1);
+  plan_layout->addLayout(plan_row);
+  plan_layout->addWidget(steps_, 1);
+  for (QTableWidget* table : {table_, steps_}) table->setMinimumHeight(rowsHeight(*table, 3));
+  auto* splitter = new QSplitter(Qt::Vertical);
+  splitter->setObjectName("objectsSplitter");
+  splitter->setChildrenCollapsible(false);
+  splitter->addWidget(table_);
+  splitter->addWidget(plan_part);
+  splitter->setStretchFactor(0, 2);
+  splitter->setStretchFactor(1, 1);
+  layout->addWidget(splitter, 1);
 
   MapWorker& worker = session_.worker();
   connect(&worker, &MapWorker::fusionFinished, this, [this](bool) { refresh(); });
@@ -246,6 +267,12 @@ void ObjectsPanel::showPlan(PickPlan plan) {
               : occluders == 1
                   ? tr("Pick %1: 1 occluder to remove first.").arg(target)
                   : tr("Pick %1: %2 occluders to remove first.").arg(target).arg(occluders));
+  // The steps in sight: the panel scrolls inside its dock when the dock is short.
+  for (QWidget* up = parentWidget(); up != nullptr; up = up->parentWidget())
+    if (auto* area = qobject_cast<QScrollArea*>(up)) {
+      area->ensureWidgetVisible(steps_, 0, 0);
+      break;
+    }
   emit pickPlanChanged(&*plan_);
   emit planShown();
 }

@@ -16,6 +16,10 @@
 
 namespace lom {
 
+// The smallest cluster that is an object by default: 8 voxels (2x2x2; 8 cm^3
+// at 1 cm), as the bulk of a map in views (kBulkPartVoxels).
+inline constexpr size_t kDefaultMinObjectVoxels = 8;
+
 struct ObjectOptions {
   // Labels to extract (the bin's candidate objects); every label but the
   // background (0) when absent. Unknown ids are an error.
@@ -26,8 +30,11 @@ struct ObjectOptions {
   // false: only the largest cluster of each label is the object (the others are
   // outliers). true: every cluster is reported as a separate instance.
   bool all_clusters = false;
-  // Clusters with fewer voxels are never objects. Must be >= 1.
-  size_t min_cluster_voxels = 1;
+  // Clusters with fewer voxels are never objects. Must be >= 1. The default
+  // leaves out specks of a misread label (a few voxels where a segmenter
+  // called a pixel or two of another object that label), which a pick plan
+  // would otherwise ask the robot to remove.
+  size_t min_cluster_voxels = kDefaultMinObjectVoxels;
   // Only for error messages.
   std::string map_file;
 };

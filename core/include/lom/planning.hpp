@@ -112,9 +112,18 @@ struct PickPlan {
 [[nodiscard]] bool boxesOverlapAcross(const OrientedBox& a, const OrientedBox& b,
                                       const Eigen::Vector3d& direction, double margin = 0.0);
 
-// Indices of the objects (other than `target`) whose centroid lies in front of
-// the target's along `approach` and whose box overlaps the target's across it,
-// front-most first (ties: by label, then instance).
+// Whether `object`'s box is in the way of a gripper moving along `direction`
+// to `target`: it reaches nearer the camera along `direction` than the
+// target's box does, and it meets the target's box moved back along
+// -direction (its path), overlapping it by more than `margin` metres on every
+// separating axis. An object behind the target whose top rises above the
+// line of sight is not in the way, however high its centroid.
+[[nodiscard]] bool boxInPathOf(const OrientedBox& object, const OrientedBox& target,
+                               const Eigen::Vector3d& direction, double margin = 0.0);
+
+// Indices of the objects (other than `target`) in the target's path
+// (boxInPathOf), front-most first by centroid along `approach` (ties: by
+// label, then instance).
 [[nodiscard]] std::vector<size_t> findOccluders(const std::vector<ObjectInstance>& objects, size_t target,
                                                 const Eigen::Vector3d& approach, double margin = 0.0);
 

@@ -30,6 +30,11 @@ class ObjectsPanel : public QWidget {
   enum StepColumn { Step, Action, Object, StepColumns };
 
   explicit ObjectsPanel(StudioSession& session, QWidget* parent = nullptr);
+  // The panel takes the height of its dock (its two tables share it, each
+  // keeping a few rows), not the height its wrapped status line and full
+  // tables would like: a dock that scrolled to that height hid the plan.
+  [[nodiscard]] bool hasHeightForWidth() const override { return false; }
+  [[nodiscard]] int heightForWidth(int /*width*/) const override { return -1; }
 
   [[nodiscard]] QTableWidget& table() { return *table_; }
   [[nodiscard]] QTableWidget& stepsTable() { return *steps_; }
