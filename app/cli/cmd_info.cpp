@@ -161,7 +161,12 @@ void printInfo(const Sequence& sequence, std::ostream& out) {
   out << "proba:            " << availability(sequence, &FrameRecord::proba);
   if (from_label) out << ", " << from_label << " made from the label images";
   out << "\n";
-  out << "label:            " << availability(sequence, &FrameRecord::label) << "\n";
+  const size_t placeholders = static_cast<size_t>(std::count_if(
+      frames.begin(), frames.end(), [](const FrameRecord& f) { return f.label_placeholder; }));
+  out << "label:            " << availability(sequence, &FrameRecord::label);
+  if (placeholders)
+    out << ", " << placeholders << " placeholders (all background, no ground truth)";
+  out << "\n";
   out << "color:            " << availability(sequence, &FrameRecord::color) << "\n";
   printCameraPath(sequence, out);
 }

@@ -126,7 +126,8 @@ FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
   for (size_t i = first; i < last; ++i) {
     const FrameRecord& record = sequence.frames[i];
     const bool has_proba = !record.proba.empty() || options.fusion.segmenter;
-    const bool scored_2d = !record.label.empty() && has_proba;
+    // A placeholder label image (an import without labels) is no ground truth.
+    const bool scored_2d = !record.label.empty() && !record.label_placeholder && has_proba;
     if (scored_2d && ownLabelsProba(record)) {
       scan.excluded_2d.push_back(i);
       if (record.view) to_load.push_back(i);
@@ -143,7 +144,7 @@ FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
       scan.view_voxels.push_back(
           projectView(sequence, i, frame, map, slot_of_label, scored_labels, options));
     }
-    if (frame.label && frame.proba && !ownLabelsProba(record)) {
+    if (frame.label && frame.proba && !ownLabelsProba(record) && !record.label_placeholder) {
       if (!scan.confusion) scan.confusion.emplace(sequence.labels.size());
       addToConfusion(sequence, i, frame, without_candidates, *scan.confusion);
       if (options.fusion.candidates) {

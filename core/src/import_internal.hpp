@@ -52,7 +52,13 @@ class SequenceWriter {
   void setDepthScale(double scale) { depth_scale_ = scale; }
   void setLabels(LabelSet labels) { labels_ = std::move(labels); }
   // Frames without evidence get an all-background label image (single-label sequences).
-  void setLabelless(bool labelless) { labelless_ = labelless; }
+  // A source without label or probability images: each frame gets an
+  // all-background placeholder label image, and the sequence the labels given
+  // with --labels (for a segmenter), else the background alone.
+  void setLabelless(bool labelless) {
+    labelless_ = labelless;
+    if (labelless && options_.labels) labels_ = *options_.labels;
+  }
   void setFrameId(std::string frame_id) { frame_id_ = std::move(frame_id); }
   void setTotal(size_t total) { total_ = total; }
   // Number of frames the source holds (before the frame subset).

@@ -556,6 +556,7 @@ void SequenceWriter::writeFrameFiles(const SourceFrame& frame, FrameRecord& reco
     background.height = depth.height;
     background.ids.assign(depth.metres.size(), 0);
     record.label = "label/" + name + ".png";
+    record.label_placeholder = true;  // all background, for want of labels: no ground truth
     writeLabelPng(fileIn("label", name + ".png"), background);
   }
 }
@@ -574,10 +575,13 @@ void SequenceWriter::finish(const std::string& source_description) {
          (t.invalid ? ", " + std::to_string(t.invalid) + " NaN/negative" : std::string()));
   }
   // A label list that names nothing of this source would otherwise vanish without a word.
-  if (options_.labels && !(labels_ == *options_.labels))
-    note(labelless_ ? "the given label list was not used: the source has no label or "
-                      "probability images (the sequence has the single label __background__)"
-                    : "the given label list was not used: this source names its own labels");
+  if (options_.labels && labelless_)
+    note(
+        "the source has no label or probability images: the given labels are the sequence's, "
+        "for a segmenter's probabilities (labeloctomap segment); each frame's label image is "
+        "a placeholder, all background, which scoring does not use as ground truth");
+  else if (options_.labels && !(labels_ == *options_.labels))
+    note("the given label list was not used: this source names its own labels");
   for (const auto& text : note_order_) {
     const size_t count = note_counts_[text];
     report_.notes.push_back(count > 1 ? text + " (" + std::to_string(count) + " times)" : text);

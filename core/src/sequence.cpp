@@ -281,7 +281,7 @@ FrameRecord parseFrame(const Reader& in, const Json& value, size_t index,
   in.expectObject(value, field);
   in.allowOnly(value, field,
                {"stamp", "pose", "depth", "color", "proba", "proba_labels", "proba_from_label",
-                "label", "view", "camera"});
+                "label", "label_placeholder", "view", "camera"});
   const std::string path_what = "a non-empty file path relative to the sequence folder";
   FrameRecord frame;
   if (const Json* v = Reader::optional(value, "stamp"))
@@ -307,6 +307,13 @@ FrameRecord parseFrame(const Reader& in, const Json& value, size_t index,
       in.fail(join(field, "proba_from_label"),
               "proba_from_label only together with " + join(field, "proba"),
               "proba_from_label without a proba file");
+  }
+  if (const Json* v = Reader::optional(value, "label_placeholder")) {
+    frame.label_placeholder = in.boolean(*v, join(field, "label_placeholder"));
+    if (frame.label.empty())
+      in.fail(join(field, "label_placeholder"),
+              "label_placeholder only together with " + join(field, "label"),
+              "label_placeholder without a label file");
   }
   if (const Json* v = Reader::optional(value, "view"))
     frame.view = in.boolean(*v, join(field, "view"));
@@ -466,6 +473,13 @@ OrderedJson frameJson(const FrameRecord& frame, size_t index, const fs::path& fi
     json["proba_from_label"] = true;
   }
   if (!frame.label.empty()) json["label"] = frame.label;
+  if (frame.label_placeholder) {
+    if (frame.label.empty())
+      throw Error(file.string(), join(field, "label_placeholder"),
+                  "label_placeholder only together with " + join(field, "label"),
+                  "label_placeholder without a label file");
+    json["label_placeholder"] = true;
+  }
   json["view"] = frame.view;
   if (frame.camera) json["camera"] = cameraJson(*frame.camera);
   return json;

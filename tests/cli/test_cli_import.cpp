@@ -247,15 +247,25 @@ TEST(CliImport, LabelListIsCheckedEvenForASourceWithoutLabels) {
       << r.err;
   EXPECT_FALSE(fs::exists(dir / "seq"));
 
-  // A valid list the source has no use for: imported, with a note saying so.
+  // A source without labels keeps the list for a segmenter's channels; its
+  // frames' label images are placeholders, which scoring does not use.
   writeText(dir / "good.txt", "__background__\nfoo\n");
   r = test::runCli(call + quoted(dir / "good.txt"));
   EXPECT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("the given label list was not used: the source has no label or "
-                       "probability images"),
+  EXPECT_NE(r.out.find("the source has no label or probability images: the given labels are "
+                       "the sequence's, for a segmenter's probabilities"),
             std::string::npos)
       << r.out;
-  EXPECT_EQ(loadSequence(dir / "seq").labels.size(), 1);
+  const Sequence sequence = loadSequence(dir / "seq");
+  ASSERT_EQ(sequence.labels.size(), 2);
+  EXPECT_EQ(sequence.labels.at(1).name, "foo");
+  for (const FrameRecord& frame : sequence.frames) {
+    EXPECT_FALSE(frame.label.empty());
+    EXPECT_TRUE(frame.label_placeholder);
+  }
+  r = test::runCli("info " + quoted(dir / "seq"));
+  EXPECT_NE(r.out.find("placeholders (all background, no ground truth)"), std::string::npos)
+      << r.out;
 }
 
 #ifdef LOM_WITH_ROSBAG

@@ -430,6 +430,28 @@ TEST_F(CliScoreTest, FramesImportedFromLabelImagesAreNotScoredIn2d) {
       Json::parse(slurp(out / "original" / "report.json")).contains("metrics_2d_excluded_frames"));
 }
 
+TEST_F(CliScoreTest, PlaceholderLabelImagesAreNoGroundTruth) {
+  // An import of colour and depth alone writes all-background label images
+  // marked label_placeholder: a network's probabilities are not scored
+  // against them (they would be "58 % accurate" against nothing).
+  TempDir out;
+  std::filesystem::copy(scene(), out / "seq", std::filesystem::copy_options::recursive);
+  Json sequence = Json::parse(slurp(out / "seq" / "sequence.json"));
+  for (Json& frame : sequence["frames"]) frame["label_placeholder"] = true;
+  std::ofstream(out / "seq" / "sequence.json") << sequence.dump();
+  const auto r = runCli("score " + quoted(out / "seq") + " --annotations " +
+                        quoted(scene() / "annotations.json") + " --out " + quoted(out / "report"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.find("pixel acc."), std::string::npos) << r.out;
+  const Json report = Json::parse(slurp(out / "report" / "report.json"));
+  EXPECT_FALSE(report.contains("metrics_2d"));
+  EXPECT_EQ(report["objects"].size(), 4u) << "the 3D scores are unaffected";
+  // The same frames without the mark are scored.
+  const auto original = runCli(scoreArgs(out / "original"));
+  ASSERT_EQ(original.exit_code, 0) << original.err;
+  EXPECT_NE(original.out.find("pixel acc."), std::string::npos) << original.out;
+}
+
 TEST_F(CliScoreTest, BoxOfAnUnknownLabelFailsAndWritesNothing) {
   TempDir out;
   Json annotations = Json::parse(slurp(scene() / "annotations.json"));

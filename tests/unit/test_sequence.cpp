@@ -407,6 +407,32 @@ TEST_F(SequenceTest, ProbaFromLabelRoundTripsAndNeedsAProba) {
   }
 }
 
+TEST_F(SequenceTest, LabelPlaceholderRoundTripsAndNeedsALabel) {
+  lom::Sequence sequence = writeSmallSequence(dir.path(), 2);
+  sequence.frames[1].label_placeholder = true;
+  lom::saveSequence(sequence, dir.path());
+  const Json j = readJson(json());
+  EXPECT_FALSE(j["frames"][0].contains("label_placeholder")) << "written only when true";
+  EXPECT_EQ(j["frames"][1]["label_placeholder"], true);
+  const lom::Sequence loaded = lom::loadSequence(dir.path());
+  EXPECT_FALSE(loaded.frames[0].label_placeholder);
+  EXPECT_TRUE(loaded.frames[1].label_placeholder);
+
+  auto type = errorAfterEdit([](Json& j) { j["frames"][1]["label_placeholder"] = 1; });
+  EXPECT_EQ(type.field, "frames[1].label_placeholder");
+  EXPECT_EQ(type.expected, "true or false");
+  auto alone = errorAfterEdit([](Json& j) {
+    j["frames"][0].erase("label");
+    j["frames"][0]["label_placeholder"] = true;
+  });
+  EXPECT_EQ(alone.field, "frames[0].label_placeholder");
+  EXPECT_NE(alone.expected.find("frames[0].label"), std::string::npos) << alone.message();
+
+  sequence.frames[0].label.clear();
+  sequence.frames[0].label_placeholder = true;
+  EXPECT_THROW(lom::saveSequence(sequence, dir.path()), lom::Error);
+}
+
 TEST_F(SequenceTest, SortsLabelsListedOutOfOrder) {
   writeSmallSequence(dir.path());
   Json j = readJson(json());

@@ -27,6 +27,10 @@ struct FrameRecord {
   // the two says nothing, so the 2D metrics leave the frame out.
   bool proba_from_label = false;
   std::string label;                // optional 8/16-bit PNG of label ids
+  // The label image stands in for labels the source did not have (an import of
+  // colour and depth only writes one all background): no ground truth, so the
+  // 2D metrics leave the frame out. Only together with `label`.
+  bool label_placeholder = false;
   bool view = true;                 // counts as a separate viewpoint for the projection baseline
   std::optional<CameraIntrinsics> camera;  // overrides the sequence camera
 };
