@@ -152,6 +152,9 @@ int runSegment(const Words& words) {
 
   const fs::path folder = out_dir.is_absolute() ? out_dir : sequence.root / out_dir;
   checkOutputs(sequence, frames, folder);
+  // Before the network runs on every frame: both places must take files.
+  checkFolderWritable(folder, folder, "--out-dir");
+  checkFolderWritable(sequence.root, sequence.root / "sequence.json", "output");
   auto makeFolder = [&] {
     std::error_code ec;
     fs::create_directories(folder, ec);
@@ -172,15 +175,12 @@ int runSegment(const Words& words) {
   for (size_t n = 0; n < frames.size(); ++n) {
     const size_t i = frames[n];
     FrameRecord& record = sequence.frames[i];
-    ColorImage color;
-    try {
-      color = readColorImage(sequence.pathOf(record.color));
-    } catch (const Error& e) {
-      Problem p = e.problem();
-      p.field = "frames[" + std::to_string(i) + "].color";
-      throw Error(p);
-    }
-    const ProbabilityImage proba = segmentFrame(sequence, i, color, *segmenter);
+    // Read as fusion reads it: a colour image of another size than the frame's
+    // camera is refused, as fuse --segmenter and validate refuse it.
+    FrameParts parts;
+    parts.proba = parts.label = false;
+    const FrameData frame = loadFrame(sequence, i, parts);
+    const ProbabilityImage proba = segmentFrame(sequence, i, *frame.color, *segmenter);
     if (n == 0) makeFolder();  // only once the network has produced something
     const std::string name = probaFileName(i);
     staged.addPath(folder / name,

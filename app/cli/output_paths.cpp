@@ -1,7 +1,11 @@
 #include "output_paths.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <system_error>
 
 #include "args.hpp"
@@ -200,6 +204,17 @@ std::string missingFolderProblem(const fs::path& folder) {
 
 }  // namespace
 
+void checkFolderWritable(const fs::path& folder, const fs::path& target, const std::string& field) {
+  fs::path existing = folder.empty() ? fs::path(".") : folder;
+  std::error_code ec;
+  while (!fs::exists(existing, ec) && existing.has_parent_path() &&
+         existing.parent_path() != existing)
+    existing = existing.parent_path();
+  if (::access(existing.c_str(), W_OK | X_OK) != 0)
+    throw Error(target.string(), field, "a folder where files can be written",
+                "folder " + existing.string() + ": " + std::strerror(errno));
+}
+
 void checkOutputFile(const fs::path& out, const std::string& option, const std::string& extension,
                      const std::string& what, const CommandInputs& inputs) {
   if (out.empty()) throw UsageError("option --" + option + " expects a file name, got none");
@@ -214,6 +229,7 @@ void checkOutputFile(const fs::path& out, const std::string& option, const std::
   if (!fs::is_directory(folder, ec))
     throw Error(out.string(), "--" + option, "a path in an existing folder",
                 missingFolderProblem(folder));
+  checkFolderWritable(folder, out, "--" + option);
 }
 
 void checkOutputFolder(const fs::path& out, const std::string& option, const std::string& what,

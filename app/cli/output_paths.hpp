@@ -71,10 +71,18 @@ std::optional<std::filesystem::path> fileInPlaceOfFolder(const std::filesystem::
 // Checks an output file given with --`option`: not empty, `extension` when not
 // empty (see requireExtension), not an existing folder, device or FIFO, not one of
 // the inputs or inside an input folder, not a sequence's file
-// (checkNotASequenceFile), and its folder exists (lom::Error otherwise).
+// (checkNotASequenceFile), and its folder exists and is writable (lom::Error
+// otherwise).
 void checkOutputFile(const std::filesystem::path& out, const std::string& option,
                      const std::string& extension, const std::string& what,
                      const CommandInputs& inputs);
+
+// Throws lom::Error (file `target`, field `field`) when no file can be created
+// in `folder` (read-only file system, no permission): checked before a long
+// run, so that it does not end in a write error. For a folder yet to be made,
+// its nearest existing ancestor is checked.
+void checkFolderWritable(const std::filesystem::path& folder, const std::filesystem::path& target,
+                         const std::string& field);
 
 // Checks an output folder given with --`option`: not empty, not an existing file,
 // not one of the inputs, not an input folder nor inside one.

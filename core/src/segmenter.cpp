@@ -11,10 +11,12 @@
 #include <list>
 #include <mutex>
 #include <opencv2/core.hpp>
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <string_view>
 #include <unordered_map>
 
@@ -501,7 +503,17 @@ std::shared_ptr<Segmenter> Segmenter::load(const fs::path& model, const Segmente
                 std::to_string(*config.input_width) + " x " + std::to_string(*config.input_height));
 
   try {
-    impl->net = cv::dnn::readNetFromONNX(bytes.data(), bytes.size());
+    // OpenCV logs its own "[ERROR:0@...] onnx_importer.cpp ..." line before it
+    // throws: the error below says it, naming the model file.
+    const cv::utils::logging::LogLevel level = cv::utils::logging::getLogLevel();
+    cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
+    try {
+      impl->net = cv::dnn::readNetFromONNX(bytes.data(), bytes.size());
+    } catch (...) {
+      cv::utils::logging::setLogLevel(level);
+      throw;
+    }
+    cv::utils::logging::setLogLevel(level);
   } catch (const cv::Exception& e) {
     throw Error(file, "model", "an ONNX model that OpenCV's DNN module can load",
                 std::string("OpenCV: ") + e.what());
@@ -628,6 +640,10 @@ ProbabilityImage Segmenter::segment(const ColorImage& color, int width, int heig
         try {
           std::error_code ec;
           fs::create_directories(folder, ec);
+          // The reason itself (a read-only file system, a file in its place),
+          // not the writer's later "folder does not exist".
+          if (ec || !fs::is_directory(folder))
+            throw std::runtime_error(ec ? ec.message() : "a file stands in its place");
           writeCachedOutput(folder / (key + ".npy"), *output);
         } catch (const std::exception& e) {
           impl.disk_write_failed = true;

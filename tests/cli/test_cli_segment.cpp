@@ -1,5 +1,6 @@
 // labeloctomap segment (and --segmenter on fuse) end to end with a tiny ONNX model.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <sstream>
@@ -180,6 +181,39 @@ TEST_F(CliSegmentTest, ErrorsAreClearAndLeaveTheSequenceAlone) {
             std::string::npos)
       << r.err;
   EXPECT_NE(r.err.find("a sequence without colour images"), std::string::npos) << r.err;
+}
+
+TEST_F(CliSegmentTest, AColourImageOfAnotherSizeOrAnUnwritableFolderIsRefusedFirst) {
+  const std::string before = slurp(dir_ / "seq" / "sequence.json");
+  // A colour image wider than the camera: refused as fuse --segmenter refuses it.
+  const std::filesystem::path color = dir_ / "seq" / sequence_.frames[1].color;
+  lom::ColorImage wide;
+  wide.width = 2 * sequence_.camera.width;
+  wide.height = sequence_.camera.height;
+  wide.rgb.assign(static_cast<size_t>(wide.width * wide.height) * 3, 128);
+  const std::string original_color = slurp(color);
+  lom::writeColorPng(color, wide);
+  auto r = runCli("segment " + quoted(dir_ / "seq") + " --segmenter " + quoted(model_));
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.err.find("frames[1].color (image size): expected " +
+                       std::to_string(sequence_.camera.width) + " x " +
+                       std::to_string(sequence_.camera.height)),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(slurp(dir_ / "seq" / "sequence.json"), before);
+  std::ofstream(color, std::ios::binary) << original_color;
+
+  // An --out-dir where nothing can be written is refused before any frame is
+  // segmented (a real network takes hours). /proc/sys takes no new file.
+  if (::access("/proc/sys", W_OK) == 0) GTEST_SKIP() << "/proc/sys is writable here";
+  r = runCli("segment " + quoted(dir_ / "seq") + " --segmenter " + quoted(model_) +
+             " --out-dir /proc/sys/proba");
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.err.find("--out-dir: expected a folder where files can be written"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("segmented"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(dir_ / "seq" / "sequence.json"), before);
 }
 
 TEST_F(CliSegmentTest, NeverWritesOverAnotherFileOfTheSequence) {

@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <thread>
 
@@ -254,6 +255,14 @@ TEST_F(StudioSessionTest, SegmenterChosenInTheFusionPanelFusesFramesWithoutProba
   FusionPanel& panel = window_.fusionPanel();
   EXPECT_FALSE(panel.setSegmenterModel(qPath(temp_ / "missing.onnx")));
   EXPECT_TRUE(panel.noteText().contains("missing.onnx")) << panel.noteText().toStdString();
+  // A model whose channels name a label the sequence does not have is
+  // refused when chosen, not when Re-fuse has dropped the map.
+  const auto misfit = temp_ / "misfit.onnx";
+  test::writeModel(misfit, test::buildConvModel(test::colourChannelModel()));
+  std::ofstream(temp_ / "misfit.json") << R"({"labels": [0, 1, 41]})";
+  EXPECT_FALSE(panel.setSegmenterModel(qPath(misfit)));
+  EXPECT_TRUE(panel.noteText().contains("labels[2]")) << panel.noteText().toStdString();
+  EXPECT_TRUE(session.fusionOptions().segmenter == nullptr);
   panel.maxRangeBox().setValue(2.0);  // the wall is 1 m away, its corners farther
   ASSERT_TRUE(panel.setSegmenterModel(qPath(model)));
   ASSERT_TRUE(panel.refuseButton().isEnabled());

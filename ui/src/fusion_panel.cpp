@@ -175,7 +175,11 @@ bool FusionPanel::setSegmenterModel(const QString& model_path) {
     segmenter_.reset();
   } else {
     try {
-      segmenter_ = Segmenter::load(model_path.toStdString());
+      auto loaded = Segmenter::load(model_path.toStdString());
+      // Its channels must name labels of the open sequence, as the command
+      // line checks before any work: else Re-fuse would drop the map and fail.
+      if (const auto sequence = session_.sequence()) loaded->checkLabels(sequence->labels);
+      segmenter_ = std::move(loaded);
     } catch (const std::exception& error) {
       setNote(tr("Segmenter: %1").arg(QString::fromStdString(error.what())));
       return false;
