@@ -124,8 +124,45 @@ std::vector<VoxelKey> largestCluster(const std::vector<VoxelKey>& keys, double t
   return clusters.empty() ? std::vector<VoxelKey>{} : std::move(clusters.front());
 }
 
-OrientedBox fitOrientedBox(const std::vector<VoxelKey>& keys, double resolution) {
+namespace {
+
+// The unit up and the level references of the canonical frame: x (the
+// world's x made perpendicular to up, or its y when up is along x) and y (up x
+// that x), which breaks ties of the x sign.
+struct LevelFrame {
+  Eigen::Vector3d up, x, y;
+};
+
+LevelFrame levelFrame(const Eigen::Vector3d& up) {
+  const double length = up.norm();
+  if (!up.allFinite() || !(length > 1e-12))
+    throw std::invalid_argument("box frame: up must be a finite, non-zero direction");
+  LevelFrame frame;
+  frame.up = up / length;
+  for (const Eigen::Vector3d& world : {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()}) {
+    frame.x = world - world.dot(frame.up) * frame.up;
+    if (frame.x.norm() > 1e-6) break;
+  }
+  frame.x.normalize();
+  frame.y = frame.up.cross(frame.x);
+  return frame;
+}
+
+}  // namespace
+
+Eigen::Quaterniond levelRotation(const Eigen::Vector3d& up) {
+  const LevelFrame frame = levelFrame(up);
+  Eigen::Matrix3d axes;
+  axes.col(0) = frame.x;
+  axes.col(1) = frame.y;
+  axes.col(2) = frame.up;
+  return Eigen::Quaterniond(axes).normalized();
+}
+
+OrientedBox fitOrientedBox(const std::vector<VoxelKey>& keys, double resolution,
+                           const Eigen::Vector3d& up_direction) {
   if (keys.empty()) throw std::invalid_argument("fitOrientedBox: no voxels");
+  const LevelFrame level = levelFrame(up_direction);
   std::vector<Eigen::Vector3d> centers;
   centers.reserve(keys.size());
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -155,22 +192,25 @@ OrientedBox fitOrientedBox(const std::vector<VoxelKey>& keys, double resolution)
   OrientedBox box;
   box.center = best.axes * (0.5 * (best.low + best.high));
   // The same box in a predictable frame (PCA orders its axes by spread and
-  // picks their signs at random): z is the axis nearest the world's up,
-  // pointing up; x the one of the other two nearest the world's x, pointing
-  // +x (so yaw lies in (-90, 90] degrees); y = z x x. Box edits (move up,
-  // grow the height, yaw) then act as their names say.
+  // picks their signs at random): z is the axis nearest up, pointing up; x
+  // the one of the other two nearest the level x, pointing along it (so yaw
+  // lies in (-90, 90] degrees); y = z x x. Box edits (move up, grow the
+  // height, yaw) then act as their names say.
   const Eigen::Vector3d size = best.high - best.low;
+  const Eigen::Vector3d along_up = best.axes.transpose() * level.up;
+  const Eigen::Vector3d along_x = best.axes.transpose() * level.x;
   int zi = 0;
   for (int i = 1; i < 3; ++i)
-    if (std::abs(best.axes(2, i)) > std::abs(best.axes(2, zi))) zi = i;
+    if (std::abs(along_up[i]) > std::abs(along_up[zi])) zi = i;
   const int a = (zi + 1) % 3, b = (zi + 2) % 3;
-  const bool a_is_x = std::abs(best.axes(0, a)) > std::abs(best.axes(0, b)) ||
-                      (std::abs(best.axes(0, a)) == std::abs(best.axes(0, b)) && a < b);
+  const bool a_is_x = std::abs(along_x[a]) > std::abs(along_x[b]) ||
+                      (std::abs(along_x[a]) == std::abs(along_x[b]) && a < b);
   const int xi = a_is_x ? a : b, yi = a_is_x ? b : a;
   Eigen::Vector3d z = best.axes.col(zi);
-  if (z.z() < 0.0) z = -z;
+  if (z.dot(level.up) < 0.0) z = -z;
   Eigen::Vector3d x = best.axes.col(xi);
-  if (x.x() < 0.0 || (x.x() == 0.0 && x.y() < 0.0)) x = -x;
+  const double x_along = x.dot(level.x);
+  if (x_along < 0.0 || (x_along == 0.0 && x.dot(level.y) < 0.0)) x = -x;
   Eigen::Matrix3d axes;
   axes.col(0) = x;
   axes.col(1) = z.cross(x);

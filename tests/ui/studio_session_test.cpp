@@ -280,6 +280,45 @@ TEST_F(StudioSessionTest, SegmenterChosenInTheFusionPanelFusesFramesWithoutProba
   EXPECT_TRUE(session.fusionOptions().segmenter != nullptr);
 }
 
+// A recording whose world is not z-up (its first camera's, as frames and
+// 3DMatch imports give): boxes added stand along the map's up, so that E/Q
+// move them up and down and Shift+I grows their height.
+TEST_F(StudioSessionTest, AddedBoxesStandAlongTheMapsUp) {
+  Sequence sequence = loadSequence(folder_);
+  // The same scene in a world turned 90 degrees about x: its up is now -y.
+  const Eigen::Isometry3d turn(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()));
+  for (FrameRecord& frame : sequence.frames) frame.T_world_camera = turn * frame.T_world_camera;
+  saveSequence(sequence, folder_);
+  std::filesystem::remove(folder_ / "annotations.json");  // boxes of the old world
+  openAndFuse();
+  const auto snapshot = window_.session().worker().snapshot();
+  ASSERT_TRUE(snapshot->up.has_value());
+  const Eigen::Vector3d up = snapshot->up->normalized();
+  ASSERT_GT(up.dot(-Eigen::Vector3d::UnitY()), 0.95) << up.transpose();
+
+  AnnotationsModel& boxes = window_.session().annotations();
+  const int label = *visibleObjectLabels().begin();
+  window_.session().setSelectedLabel(label);
+  QAction* add = window_.findAction("Add Box from Label Voxels");
+  ASSERT_NE(add, nullptr);
+  add->trigger();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return boxes.boxCount() == 1; }, kTimeoutMs));
+  const OrientedBox added = boxes.box(0).box;
+  EXPECT_GT((added.rotation * Eigen::Vector3d::UnitZ()).dot(up), 0.95) << "box z is the map's up";
+  const GroundTruthBox* truth = truth_.find(label);
+  ASSERT_NE(truth, nullptr);
+  EXPECT_NEAR(added.size.z(), truth->box.size.z(), 0.03) << "its height is the object's";
+
+  // A box at a clicked point is level too.
+  window_.session().setPickedPoint(added.center + Eigen::Vector3d(0.3, 0.0, 0.0));
+  window_.session().setSelectedLabel(*std::next(visibleObjectLabels().begin()));
+  QAction* at_point = window_.findAction("Add Box at Clicked Point");
+  ASSERT_NE(at_point, nullptr);
+  at_point->trigger();
+  ASSERT_EQ(boxes.boxCount(), 2);
+  EXPECT_GT((boxes.box(1).box.rotation * Eigen::Vector3d::UnitZ()).dot(up), 0.999);
+}
+
 TEST_F(StudioSessionTest, BoxAddedMovedUndoneRedoneSavedAndReloaded) {
   openAndFuse();
   AnnotationsModel& boxes = window_.session().annotations();

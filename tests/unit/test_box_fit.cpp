@@ -209,6 +209,41 @@ TEST(BoxFit, RotatedObjectGetsARotatedBox) {
 // The fitted box's frame is canonical: z nearest the world's up (pointing
 // up), x nearest the world's x (pointing +x), so that box edits act as their
 // names say; a block aligned with the world gets the axis-aligned box.
+// In a recording whose world is its first camera, up is not +z: a box fitted
+// with the map's up stands along it, so that its height is the object's.
+TEST(BoxFit, TheCanonicalFrameFollowsTheUpItIsGiven) {
+  // A bottle 8 cm tall along -y (the camera's up), 3 cm across.
+  const std::vector<lom::VoxelKey> keys = block(0, 3, -8, 0, 0, 3);
+  const Eigen::Vector3d up(0.0, -1.0, 0.0);
+  const lom::OrientedBox standing = lom::fitOrientedBox(keys, kEdge, up);
+  const Eigen::Matrix3d axes = standing.rotation.toRotationMatrix();
+  EXPECT_GT(axes.col(2).dot(up), 0.999) << "box z is the map's up";
+  EXPECT_GT(axes.col(0).x(), 0.999) << "box x is the world's x, level";
+  EXPECT_NEAR(standing.size.z(), 0.08, 1e-9) << "its height is the bottle's";
+  EXPECT_TRUE(standing.center.isApprox(Eigen::Vector3d(0.015, -0.04, 0.015), 1e-9));
+  // The same box as with world +z, only its axes named otherwise.
+  const lom::OrientedBox world_z = lom::fitOrientedBox(keys, kEdge);
+  EXPECT_NEAR(world_z.size.z(), 0.03, 1e-9);
+  EXPECT_NEAR(world_z.volume(), standing.volume(), 1e-12);
+  EXPECT_TRUE(world_z.center.isApprox(standing.center, 1e-12));
+  // A tilted up picks the axis nearest it.
+  const Eigen::Vector3d tilted = Eigen::Vector3d(0.3, -1.0, 0.4).normalized();
+  EXPECT_NEAR(lom::fitOrientedBox(keys, kEdge, tilted).size.z(), 0.08, 1e-9);
+
+  const Eigen::Matrix3d level = lom::levelRotation(up).toRotationMatrix();
+  EXPECT_TRUE(level.col(2).isApprox(up, 1e-12));
+  EXPECT_TRUE(level.col(0).isApprox(Eigen::Vector3d::UnitX(), 1e-12));
+  EXPECT_NEAR(level.determinant(), 1.0, 1e-12);
+  // Up along x: the level x is the world's y.
+  EXPECT_TRUE(lom::levelRotation(Eigen::Vector3d::UnitX())
+                  .toRotationMatrix()
+                  .col(0)
+                  .isApprox(Eigen::Vector3d::UnitY(), 1e-12));
+  EXPECT_THROW((void)lom::levelRotation(Eigen::Vector3d::Zero()), std::invalid_argument);
+  EXPECT_THROW((void)lom::fitOrientedBox(keys, kEdge, Eigen::Vector3d(std::nan(""), 0, 1)),
+               std::invalid_argument);
+}
+
 TEST(BoxFit, FittedBoxesHaveACanonicalFrame) {
   // A flat plate (1 voxel thick) turned 30 degrees about z: PCA orders its
   // axes thinnest first, which made box x the world's up.

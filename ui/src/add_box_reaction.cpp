@@ -34,11 +34,13 @@ QString count(size_t n, const QString& one, const QString& many) {
   return QString::number(n) + " " + (n == 1 ? one : many);
 }
 
-// The box of a label's voxels: fitted to their largest cluster (none without voxels).
-std::optional<OrientedBox> fittedBox(const std::vector<VoxelKey>& voxels, double resolution) {
+// The box of a label's voxels: fitted to their largest cluster (none without
+// voxels), its z along the map's up.
+std::optional<OrientedBox> fittedBox(const std::vector<VoxelKey>& voxels, double resolution,
+                                     const Eigen::Vector3d& up) {
   const std::vector<VoxelKey> cluster = largestCluster(voxels, 2.0);
   if (cluster.empty()) return std::nullopt;
-  return fitOrientedBox(cluster, resolution);
+  return fitOrientedBox(cluster, resolution, up);
 }
 
 }  // namespace
@@ -87,6 +89,7 @@ void AddBoxReaction::onTriggered() {
     if (!session_.pickedPoint()) return;
     box.box.center = *session_.pickedPoint();
     box.box.size = Eigen::Vector3d::Constant(kDefaultSize);
+    box.box.rotation = levelRotation(mapUp());
     session_.annotations().addBox(box);
     return;
   }
@@ -100,11 +103,12 @@ void AddBoxReaction::onTriggered() {
                    "fusion finishes.")
                     .arg(name));
   worker->withCurrentMap(
-      [self, worker, box, generation, asked_with](const LabelMap* map, bool final) mutable {
+      [self, worker, box, generation, asked_with, up = mapUp()](const LabelMap* map,
+                                                                bool final) mutable {
         std::optional<OrientedBox> fitted_box;
         try {
           if (map)
-            fitted_box = fittedBox(map->voxelsOfLabel(box.label), map->parameters().resolution);
+            fitted_box = fittedBox(map->voxelsOfLabel(box.label), map->parameters().resolution, up);
         } catch (const std::exception& error) {  // leaves standing for too many voxels
           sayFitFailed(self, worker, error);
           return true;
@@ -121,6 +125,15 @@ void AddBoxReaction::onTriggered() {
         return true;
       },
       tr("box fit for %1").arg(name));
+}
+
+Eigen::Vector3d AddBoxReaction::mapUp() const {
+  // The map's up (its cameras' mean up, levelled by its largest plane), as
+  // Look from Above and Colour by Height use it; +z before there is one.
+  const auto snapshot = session_.worker().snapshot();
+  if (snapshot && snapshot->up && snapshot->up->allFinite() && snapshot->up->norm() > 1e-9)
+    return *snapshot->up;
+  return Eigen::Vector3d::UnitZ();
 }
 
 int AddBoxReaction::selectedBoxLabel() const {
@@ -184,7 +197,8 @@ void AddBoxReaction::fitAllLabels() {
   const int asked_with = selectedBoxLabel();
   if (worker->isFusing()) emit status(tr("Boxes for every label: when fusion finishes."));
   worker->withCurrentMap(
-      [self, worker, labels, generation, asked_with](const LabelMap* map, bool final) {
+      [self, worker, labels, generation, asked_with, up = mapUp()](const LabelMap* map,
+                                                                   bool final) {
         // Labels keep appearing while frames are fused: fit once all are in.
         if (!final) return false;
         std::vector<GroundTruthBox> boxes;
@@ -197,7 +211,8 @@ void AddBoxReaction::fitAllLabels() {
               GroundTruthBox box;
               box.label = label;
               box.name = labels.at(label).name;
-              box.box = *fittedBox(keys, map->parameters().resolution);  // keys: never empty here
+              // keys: never empty here
+              box.box = *fittedBox(keys, map->parameters().resolution, up);
               boxes.push_back(std::move(box));
             }
           }

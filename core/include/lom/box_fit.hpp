@@ -38,11 +38,21 @@ inline constexpr size_t kBulkPartVoxels = 8;
 
 // A box enclosing every voxel cube: the smaller of the box along the principal
 // axes of the voxel centres and the axis-aligned box (which wins ties). Its
-// frame is canonical: box z is the axis nearest the world's up, pointing up,
-// and box x the other axis nearest the world's x, pointing +x (yaw in
-// (-90, 90] degrees). Keys are OctoMap keys of voxels of edge `resolution`.
-// Throws std::invalid_argument for no keys.
-[[nodiscard]] OrientedBox fitOrientedBox(const std::vector<VoxelKey>& keys, double resolution);
+// frame is canonical: box z is the axis nearest `up` (world +z by default),
+// pointing up, and box x the other axis nearest the world's x made level
+// (perpendicular to `up`; the world's y when `up` is along x), pointing that
+// way (yaw in (-90, 90] degrees for up = +z). Box edits in the box's frame
+// (move up, grow the height, turn) then act as their names say. The box's
+// shape does not depend on `up`, only which of its axes is called which.
+// Keys are OctoMap keys of voxels of edge `resolution`. Throws
+// std::invalid_argument for no keys or an `up` that is zero or not finite.
+[[nodiscard]] OrientedBox fitOrientedBox(const std::vector<VoxelKey>& keys, double resolution,
+                                         const Eigen::Vector3d& up = Eigen::Vector3d::UnitZ());
+
+// The rotation of a box level with `up`: its z is `up` (normalised), its x the
+// world's x made perpendicular to `up` (the world's y when `up` is along x).
+// Throws std::invalid_argument for an `up` that is zero or not finite.
+[[nodiscard]] Eigen::Quaterniond levelRotation(const Eigen::Vector3d& up);
 
 // Centre of the voxel with OctoMap key `key` (same as LabelMap::centerOf).
 [[nodiscard]] Eigen::Vector3d voxelCenter(const VoxelKey& key, double resolution);

@@ -4,6 +4,8 @@
 // at the last clicked point. The fit runs on the map worker once fusion has
 // ended; the box is added only if its label still has no box and the map it
 // was fitted to is still the session's (not another sequence's or a reset one).
+#include <Eigen/Core>
+
 #include "lom/annotations.hpp"
 #include "lom/ui/reaction.hpp"
 
@@ -43,6 +45,8 @@ class AddBoxReaction : public Reaction {
   bool selectExistingBox(int label);
   // The label of the selected box (-1 for none).
   [[nodiscard]] int selectedBoxLabel() const;
+  // The up of the map shown (+z before there is one): new boxes stand along it.
+  [[nodiscard]] Eigen::Vector3d mapUp() const;
   // A fit arrives after it was asked for: the value being typed into a box
   // field is committed first, and a box the user has turned to since
   // (`asked_with` is selectedBoxLabel() when asked) or is editing stays selected.
