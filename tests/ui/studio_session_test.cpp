@@ -11,6 +11,7 @@
 #include <QFileInfo>
 #include <QLineEdit>
 #include <QPushButton>
+#include <QStatusBar>
 #include <QTableWidget>
 #include <QTest>
 #include <atomic>
@@ -150,6 +151,33 @@ TEST_F(StudioSessionTest, ThresholdReThresholdsAtOnceAndOtherParametersOfferReFu
   window_.fusionPanel().refuseButton().click();
   waitForFusion();
   EXPECT_DOUBLE_EQ(window_.session().worker().snapshot()->resolution, 0.02);
+}
+
+// F5 (Fusion > Fuse Sequence) fuses with the settings the panel shows, as
+// Re-fuse does; it fused with the old ones while the panel said "Changed".
+TEST_F(StudioSessionTest, FuseUsesTheSettingsTheFusionPanelShows) {
+  openAndFuse();
+  FusionPanel& panel = window_.fusionPanel();
+  panel.resolutionBox().setValue(0.02);
+  ASSERT_TRUE(panel.hasPendingChanges());
+  QAction* fuse = window_.findAction("Fuse Sequence");
+  ASSERT_NE(fuse, nullptr);
+  EXPECT_EQ(fuse->shortcut(), QKeySequence(Qt::Key_F5));
+  fuse->trigger();
+  waitForFusion();
+  EXPECT_DOUBLE_EQ(window_.session().worker().snapshot()->resolution, 0.02);
+  EXPECT_FALSE(panel.hasPendingChanges());
+  EXPECT_NE(panel.noteText(), "Changed: re-fuse to apply.");
+
+  // A changed field that is not valid: nothing fused, and the status says why.
+  panel.candidatesEdit().setText("0 99");
+  const size_t fused_before = window_.session().worker().snapshot()->frames_fused;
+  fuse->trigger();
+  QTest::qWait(50);
+  EXPECT_FALSE(window_.session().worker().isFusing());
+  EXPECT_EQ(window_.session().worker().snapshot()->frames_fused, fused_before);
+  EXPECT_TRUE(window_.statusBar()->currentMessage().startsWith("Not fused: Candidates: 99"))
+      << window_.statusBar()->currentMessage().toStdString();
 }
 
 TEST_F(StudioSessionTest, FusionFieldsKeepTheCommandLinesLimits) {

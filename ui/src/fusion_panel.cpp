@@ -316,6 +316,17 @@ void FusionPanel::showDepthRanges(const FrameStats& totals, double max_range) {
   onEdited();
 }
 
+bool FusionPanel::fuseWithShownSettings() {
+  onEdited();
+  if (!hasPendingChanges()) {
+    session_.fuse();
+    return true;
+  }
+  if (!refuse_->isEnabled()) return false;  // the note names the field
+  refuse();
+  return true;
+}
+
 void FusionPanel::refuse() {
   onEdited();
   if (!refuse_->isEnabled()) return;  // a field the note names is not valid

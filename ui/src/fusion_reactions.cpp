@@ -8,8 +8,9 @@
 
 namespace lom::ui {
 
-FusionReaction::FusionReaction(QAction* action, Kind kind, StudioSession& session)
-    : Reaction(action), kind_(kind), session_(session) {
+FusionReaction::FusionReaction(QAction* action, Kind kind, StudioSession& session,
+                               std::function<void()> fuse)
+    : Reaction(action), kind_(kind), session_(session), fuse_(std::move(fuse)) {
   if (kind_ == Kind::Pause) action->setCheckable(true);
   connect(&session_.worker(), &MapWorker::stateChanged, this, &FusionReaction::updateState);
   connect(&session_.controller(), &SequenceController::sequenceChanged, this,
@@ -21,7 +22,10 @@ void FusionReaction::onTriggered() {
   MapWorker& worker = session_.worker();
   switch (kind_) {
     case Kind::Fuse:
-      session_.fuse();
+      if (fuse_)
+        fuse_();
+      else
+        session_.fuse();
       break;
     case Kind::Pause:
       worker.setPaused(action()->isChecked());

@@ -595,7 +595,13 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
                            const QKeySequence& key) {
     QAction* action = fusion->addAction(text);
     action->setShortcut(key);
-    new FusionReaction(action, kind, *session_);
+    if (kind == FusionReaction::Kind::Fuse)  // with the settings the Fusion panel shows
+      new FusionReaction(action, kind, *session_, [this] {
+        if (!fusion_panel_->fuseWithShownSettings())
+          statusBar()->showMessage(tr("Not fused: %1").arg(fusion_panel_->noteText()), 8000);
+      });
+    else
+      new FusionReaction(action, kind, *session_);
   };
   fusion_action(tr("&Fuse Sequence"), FusionReaction::Kind::Fuse, Qt::Key_F5);
   fusion_action(tr("&Pause Fusion"), FusionReaction::Kind::Pause, Qt::Key_F6);

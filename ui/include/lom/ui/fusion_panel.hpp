@@ -38,6 +38,10 @@ class FusionPanel : public QWidget {
   [[nodiscard]] QPushButton& extendRangeButton() { return *extend_range_; }
   // Whether the fields differ from the parameters of the current map.
   [[nodiscard]] bool hasPendingChanges() const;
+  // Fusion > Fuse Sequence (F5): fuses with the settings the panel shows, its
+  // changes applied first as Re-fuse applies them. False, fusing nothing, when
+  // a changed field is not valid (the note says which).
+  bool fuseWithShownSettings();
   // Loads an ONNX model (and its .json beside it) for the next fusion; an
   // empty path means no network. False, with the reason shown, when it fails.
   bool setSegmenterModel(const QString& model_path);

@@ -1,5 +1,7 @@
 #pragma once
 // Fusion > Fuse / Pause / Cancel / Reset Map.
+#include <functional>
+
 #include "lom/ui/reaction.hpp"
 
 namespace lom::ui {
@@ -11,7 +13,10 @@ class FusionReaction : public Reaction {
 
  public:
   enum class Kind { Fuse, Pause, Cancel, Reset };
-  FusionReaction(QAction* action, Kind kind, StudioSession& session);
+  // `fuse`, when given, replaces session.fuse() for Kind::Fuse (the window
+  // fuses with the settings its Fusion panel shows).
+  FusionReaction(QAction* action, Kind kind, StudioSession& session,
+                 std::function<void()> fuse = {});
 
  protected:
   void onTriggered() override;
@@ -21,6 +26,7 @@ class FusionReaction : public Reaction {
 
   Kind kind_;
   StudioSession& session_;
+  std::function<void()> fuse_;
 };
 
 }  // namespace lom::ui
