@@ -9,6 +9,7 @@
 #include <QComboBox>
 #include <QFontMetrics>
 #include <QHeaderView>
+#include <QListWidget>
 #include <QScrollBar>
 #include <QStyle>
 #include <QTableWidget>
@@ -354,6 +355,39 @@ TEST_F(EvaluationPanelTest, SummarySaysOneObjectInTheSingular) {
   EXPECT_TRUE(summary.startsWith("Mean over 1 object — ")) << summary.toStdString();
   EXPECT_TRUE(summary.endsWith(" of 1.")) << summary.toStdString();
   EXPECT_FALSE(summary.contains("1 objects")) << summary.toStdString();
+}
+
+// What `labeloctomap score` warns about is said under the summary too: here a
+// box whose name in the boxes file is not its label's (drawn for another
+// label numbering?). The Boxes list names it by the label, as the scores do.
+TEST_F(EvaluationPanelTest, TheReportsWarningsAreShown) {
+  openAndFuse();
+  waitForScores();
+  EXPECT_TRUE(panel().warningsText().isEmpty()) << panel().warningsText().toStdString();
+  EXPECT_FALSE(window_.findChild<QWidget*>("evaluationWarnings")->isVisible());
+
+  AnnotationsModel& boxes = window_.session().annotations();
+  GroundTruthBox renamed = boxes.box(0);
+  const std::string label_name = renamed.name;
+  renamed.name = "book";
+  boxes.setBox(0, renamed, "Rename");
+  waitForScores();
+  const QString warnings = panel().warningsText();
+  EXPECT_TRUE(warnings.startsWith("Warning: ")) << warnings.toStdString();
+  EXPECT_TRUE(warnings.contains("boxes[0].name is 'book'")) << warnings.toStdString();
+  EXPECT_EQ(panel().report()->warnings.size(), static_cast<size_t>(warnings.count("Warning: ")));
+  EXPECT_TRUE(window_.findChild<QWidget*>("evaluationWarnings")->isVisible());
+  auto* list = window_.findChild<QListWidget*>("boxList");
+  ASSERT_NE(list, nullptr);
+  const QString row = list->item(0)->text();
+  EXPECT_TRUE(row.contains(QString::fromStdString(label_name) + " (file: book)"))
+      << row.toStdString();
+
+  // Named as its label again: no warning left.
+  renamed.name = label_name;
+  boxes.setBox(0, renamed, "Rename");
+  waitForScores();
+  EXPECT_TRUE(panel().warningsText().isEmpty()) << panel().warningsText().toStdString();
 }
 
 TEST_F(EvaluationPanelTest, BoxesThatCannotBeScoredAreLeftOutAndNamed) {

@@ -281,9 +281,20 @@ void BoxEditorPanel::rebuildList() {
   const auto sequence = session_.sequence();
   for (int i = 0; i < model.boxCount(); ++i) {
     const GroundTruthBox& box = model.box(i);
-    auto* item =
-        new QListWidgetItem(QString("%1  %2").arg(box.label).arg(QString::fromStdString(box.name)));
-    item->setToolTip(item->text());  // the list elides long names
+    // Named by the sequence's label, as the scores name it; a boxes file that
+    // calls it otherwise (drawn for another label numbering?) is said so.
+    QString name = QString::fromStdString(box.name);
+    QString tip;
+    if (sequence && sequence->labels.contains(box.label)) {
+      const QString label_name = QString::fromStdString(sequence->labels.at(box.label).name);
+      if (!box.name.empty() && name != label_name)
+        tip = tr("Label %1 is %2 in the sequence; the boxes file names this box %3.")
+                  .arg(box.label)
+                  .arg(label_name, name);
+      name = tip.isEmpty() ? label_name : label_name + " (" + tr("file: %1").arg(name) + ")";
+    }
+    auto* item = new QListWidgetItem(QString("%1  %2").arg(box.label).arg(name));
+    item->setToolTip(tip.isEmpty() ? item->text() : item->text() + "\n" + tip);  // elided names
     if (sequence) item->setIcon(swatch(labelColor(sequence->labels, box.label)));
     list_->addItem(item);
   }

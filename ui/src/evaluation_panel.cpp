@@ -164,6 +164,7 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
       session_(session),
       table_(new ScoreTable(0, Columns)),
       summary_(new QLabel),
+      warnings_(new QLabel),
       chart_(new ScoreChart),
       export_(new QPushButton(tr("Export report…"))),
       iou_mode_(new QComboBox),
@@ -171,6 +172,7 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   setObjectName("evaluationPanel");
   table_->setObjectName("evaluationTable");
   summary_->setObjectName("evaluationSummary");
+  warnings_->setObjectName("evaluationWarnings");
   table_->setHorizontalHeader(new CompactHeader(table_));
   // Short headers keep the scores in view in a narrow dock; the full wording
   // is in each header's tooltip.
@@ -212,6 +214,13 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
           &EvaluationPanel::selectRowOfBox);
   summary_->setWordWrap(true);
   summary_->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  // What `labeloctomap score` warns about, for these scores too (boxes named
+  // after another label, labels left out of the candidates, a map that does
+  // not fit the depths): in the report's own words, hidden when there is none.
+  warnings_->setWordWrap(true);
+  warnings_->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  warnings_->setStyleSheet("color: #b35900;");
+  warnings_->hide();
   export_->setEnabled(false);
   iou_mode_->setObjectName("evaluationIouMode");
   iou_mode_->addItem(tr("Exact volumes"), static_cast<int>(IouMode::Exact));
@@ -241,6 +250,7 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   buttons->addStretch(1);
   summary_row->addLayout(buttons);
   layout->addLayout(summary_row);
+  layout->addWidget(warnings_);
   layout->addWidget(chart_, 1);
 
   debounce_->setSingleShot(true);
@@ -405,6 +415,11 @@ void EvaluationPanel::show(const EvaluationReport& report) {
                         .arg(s.objects) +
                     (left_out_.isEmpty() ? QString() : " " + left_out_) +
                     (partial_.isEmpty() ? QString() : " " + partial_));
+  QStringList warnings;
+  for (const std::string& warning : report.warnings)
+    warnings << tr("Warning: %1").arg(QString::fromStdString(warning));
+  warnings_->setText(warnings.join("\n"));
+  warnings_->setVisible(!warnings.isEmpty());
   syncChart();
   selectRowOfBox();
   export_->setEnabled(!stale_);
@@ -464,7 +479,12 @@ void EvaluationPanel::selectRowOfBox() {
 
 void EvaluationPanel::showMessage(const QString& message) {
   summary_->setText(message);
+  // The warnings were about scores no longer shown.
+  warnings_->clear();
+  warnings_->hide();
 }
+
+QString EvaluationPanel::warningsText() const { return warnings_->text(); }
 
 QString EvaluationPanel::summaryText() const { return summary_->text(); }
 

@@ -39,6 +39,9 @@ class EvaluationPanel : public QWidget {
   [[nodiscard]] QComboBox& iouModeBox() { return *iou_mode_; }
   [[nodiscard]] const std::optional<EvaluationReport>& report() const { return report_; }
   [[nodiscard]] QString summaryText() const;
+  // The report's warnings (EvaluationReport::warnings), one "Warning: ..." line
+  // each, shown under the summary; empty when there is none.
+  [[nodiscard]] QString warningsText() const;
   [[nodiscard]] bool isBusy() const;
   // The least height the panel needs at `width`: a scroll area that holds it
   // takes this as the panel's height, so in a short dock the chart gives way
@@ -78,6 +81,7 @@ class EvaluationPanel : public QWidget {
   StudioSession& session_;
   QTableWidget* table_;
   QLabel* summary_;
+  QLabel* warnings_;
   ScoreChart* chart_;
   QPushButton* export_;
   QComboBox* iou_mode_;
