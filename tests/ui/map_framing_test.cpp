@@ -5,6 +5,7 @@
 
 #include <QAction>
 #include <QImage>
+#include <string>
 
 #include "demo_window_fixture.hpp"
 #include "lom/box_fit.hpp"
@@ -113,6 +114,29 @@ TEST_F(MapFramingTest, ASpeckFarFromTheMapDoesNotShrinkIt) {
     const size_t after = drawnAfter(actions[i]);
     EXPECT_GT(after, before[i] * 8 / 10) << "the map stays as large in the view";
     EXPECT_LT(after, before[i] * 12 / 10 + 100);
+  }
+}
+
+TEST_F(MapFramingTest, TheMapFillsTheViewWithoutLosingItsSidesWhateverItsShape) {
+  openAndFuse();
+  SceneView& scene = window_.sceneView();
+  scene.setFrameCloudVisible(false);
+  double map[6];
+  ASSERT_TRUE(scene.mapBounds(map));
+  // The default window, then one whose 3D view is narrower than high (the
+  // panels take the sides), then a wide one.
+  for (const QSize size : {QSize(1280, 860), QSize(900, 1000), QSize(1280, 600)}) {
+    window_.resize(size);
+    settle();
+    for (const char* action :
+         {"Zoom to Map", "Look from Above", "Look from the Front", "Look from the Side"}) {
+      SCOPED_TRACE(std::string(action) + " at " + std::to_string(size.width()) + "x" +
+                   std::to_string(size.height()));
+      window_.findAction(action)->trigger();
+      const double extent = scene.boxExtentInView(map);
+      EXPECT_LE(extent, 0.95) << "every corner of the map's box is in the picture";
+      EXPECT_GE(extent, 0.8) << "and the map fills it";
+    }
   }
 }
 

@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numeric>
 #include <string>
 
@@ -317,8 +318,18 @@ void SceneView::zoomToMap(bool with_current_camera) {
   camera->SetWindowCenter(0.0, 0.0);  // the map in the middle (Look from Current Camera shifts it)
   scene_->renderer->ResetCamera(bounds);
   if (!with_current_camera) {
-    // Closer: ResetCamera leaves room for the bounds' sphere, wider than the map's box.
-    camera->Dolly(1.25);
+    // Closer: ResetCamera leaves room for the bounds' sphere, wider than the
+    // map's box. As close as keeps every corner of the box within 90 % of the
+    // view across and up, whatever the view's shape (a view narrower than high
+    // cut the map's sides off when it was moved in by a fixed step).
+    for (int pass = 0; pass < 4; ++pass) {
+      const double extent = boxExtentInView(bounds);
+      if (!(extent > 1e-6) || !std::isfinite(extent)) break;
+      const double factor = std::clamp(0.9 / extent, 0.25, 4.0);
+      if (std::abs(factor - 1.0) < 0.01) break;
+      camera->Dolly(factor);
+    }
+    scene_->renderer->ResetCameraClippingRange();
   } else {
     // ResetCamera fits the bounds' sphere, but not always across a view
     // narrower than high (the docks take the sides): back off until the
@@ -327,6 +338,25 @@ void SceneView::zoomToMap(bool with_current_camera) {
     scene_->renderer->ResetCameraClippingRange();
   }
   render();
+}
+
+double SceneView::boxExtentInView(const double bounds[6]) const {
+  // The largest |x| or |y| of the box's corners in the view's normalised
+  // coordinates (-1 to 1 across the picture); infinity for a corner behind
+  // the camera.
+  double extent = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    double point[4] = {bounds[corner & 1], bounds[2 + ((corner >> 1) & 1)],
+                       bounds[4 + ((corner >> 2) & 1)], 1.0};
+    scene_->renderer->SetWorldPoint(point);
+    scene_->renderer->WorldToView();
+    double view[3];
+    scene_->renderer->GetViewPoint(view);
+    if (!std::isfinite(view[0]) || !std::isfinite(view[1]) || view[2] > 1.0)
+      return std::numeric_limits<double>::infinity();
+    extent = std::max({extent, std::abs(view[0]), std::abs(view[1])});
+  }
+  return extent;
 }
 
 bool SceneView::currentCameraInView() const {

@@ -61,6 +61,10 @@ class SceneView : public QWidget {
   void zoomToMap(bool with_current_camera = false);
   // Whether the current frame's camera (its frustum) is wholly in the picture.
   [[nodiscard]] bool currentCameraInView() const;
+  // How far the corners of `bounds` (VTK bounds) reach across the view: the
+  // largest |x| or |y| in normalised view coordinates, 1 at the picture's
+  // edge (infinity when a corner lies behind the camera).
+  [[nodiscard]] double boxExtentInView(const double bounds[6]) const;
   // Puts the 3D camera where frame `index`'s camera was.
   void lookFromFrame(const Sequence& sequence, size_t index);
   // Standard views of the map (of the whole scene before there is one),
