@@ -531,8 +531,14 @@ QString EvaluationPanel::exportReport(const QString& dir) const {
     return tr(
         "The scores shown are out of date (the boxes or the map changed): wait for the "
         "new scores, then export.");
+  // Named as the window names the sequence: a converted recording by its own
+  // name, not by its cache folder's (which carries a hash and is removed
+  // after 30 days).
+  EvaluationReport named = *report_;
+  const QString name = session_.controller().sequenceName();
+  if (!name.isEmpty()) named.sequence = name.toStdString();
   try {
-    writeReport(*report_, std::filesystem::path(dir.toStdString()));
+    writeReport(named, std::filesystem::path(dir.toStdString()));
   } catch (const std::exception& error) {
     return QString::fromStdString(error.what());
   }
