@@ -76,6 +76,27 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
     }
     return marked;
   }
+  // Calls `visit(key)` (an octomap::OcTreeKey) for each voxel marked here and
+  // in none of the sets `others[0..count)`.
+  template <class Visit>
+  void forEachMarkedNotIn(const BrickSet* others, size_t count, Visit visit) const {
+    const LocalTables& tables = tables_;
+    for (size_t i = 0; i < keys_.size(); ++i) {
+      std::uint64_t words[kWords];
+      std::copy(bits(i), bits(i) + kWords, words);
+      for (size_t o = 0; o < count; ++o)
+        if (const std::uint32_t* theirs = others[o].index_.find(keys_[i]))
+          for (int w = 0; w < kWords; ++w) words[w] &= ~others[o].bits(*theirs)[w];
+      const auto [bx, by, bz] = unpackBrick(keys_[i]);
+      for (int w = 0; w < kWords; ++w)
+        for (std::uint64_t word = words[w]; word; word &= word - 1) {
+          const auto& offset = tables.offset[static_cast<unsigned>(w * 64 + __builtin_ctzll(word))];
+          visit(octomap::OcTreeKey(static_cast<std::uint16_t>((bx << 4) | offset[0]),
+                                   static_cast<std::uint16_t>((by << 4) | offset[1]),
+                                   static_cast<std::uint16_t>((bz << 4) | offset[2])));
+        }
+    }
+  }
   void clear(const grid::Key& key) {
     const std::uint32_t* index = index_.find(packBrick(key[0], key[1], key[2]));
     if (!index) return;

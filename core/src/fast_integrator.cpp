@@ -568,7 +568,22 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     // counts depended on how the rays were shared out).
     size_t crossed = 0;
     for (size_t t = 0; t < marks.size(); ++t) crossed += marks[t].markedCountNotIn(marks.data(), t);
-    checkFrameMemory(crossed, frame_memory_limit_bytes, map.parameters().resolution);
+    // Only when that does not fit: the voxels not yet in the map, one tree
+    // look-up each (later frames of a scene cross mostly known voxels).
+    const auto count_new = [&] {
+      size_t fresh = 0;
+      for (size_t t = 0; t < marks.size(); ++t)
+        marks[t].forEachMarkedNotIn(marks.data(), t, [&](const octomap::OcTreeKey& key) {
+          if (tree.search(key) == nullptr) ++fresh;
+        });
+      return fresh;
+    };
+    // The streams' buffers of earlier frames are reused: only growth beyond them costs.
+    const double reusable =
+        static_cast<double>(scratch.misses.capacity() + scratch.spare.capacity()) *
+        static_cast<double>(sizeof(VoxelUpdate));
+    checkFrameMemory(crossed, frame_memory_limit_bytes, map.parameters().resolution, count_new,
+                     reusable);
   }
 
   // 3. Hits: full per-label log-odds; they are never also misses in this

@@ -390,8 +390,10 @@ bool frameMemoryNeedsCheck(size_t most_crossed, double limit_bytes) {
          static_cast<double>(most_crossed) * kFusionBytesPerCrossedVoxel > kCheckFrom;
 }
 
-void checkFrameMemory(size_t crossed, double limit_bytes, double resolution) {
-  const double needed = static_cast<double>(crossed) * kFusionBytesPerCrossedVoxel;
+void checkFrameMemory(size_t crossed, double limit_bytes, double resolution,
+                      const std::function<size_t()>& count_new_voxels,
+                      double reusable_stream_bytes) {
+  double needed = static_cast<double>(crossed) * kFusionBytesPerCrossedVoxel;
   const bool given = limit_bytes > 0.0;
   double room = limit_bytes;
   if (!given) {
@@ -400,15 +402,27 @@ void checkFrameMemory(size_t crossed, double limit_bytes, double resolution) {
     room = *available;
   }
   if (needed <= room) return;
+  // A voxel the map already holds takes only its place in the streams.
+  std::string new_voxels;
+  if (count_new_voxels) {
+    const size_t fresh = std::min(count_new_voxels(), crossed);
+    needed = std::max(0.0, static_cast<double>(crossed) * kFusionStreamBytesPerCrossedVoxel -
+                               reusable_stream_bytes) +
+             static_cast<double>(fresh) *
+                 (kFusionBytesPerCrossedVoxel - kFusionStreamBytesPerCrossedVoxel);
+    if (needed <= room) return;
+    new_voxels = ", " + countOf(static_cast<double>(fresh)) + " of them new to the map";
+  }
   throw Error("", "depth",
               "rays that cross few enough voxels to fuse in the " + formatBytes(room) +
                   " of memory " + (given ? "allowed per frame" : "available") + " (at most " +
-                  countOf(room / kFusionBytesPerCrossedVoxel) + " voxels of " +
+                  countOf(room / kFusionBytesPerCrossedVoxel) + " new voxels of " +
                   formatMetres(resolution) + " m, about " +
-                  formatMetres(kFusionBytesPerCrossedVoxel) +
-                  " bytes each); coarser voxels or a shorter max range cross fewer",
-              "rays crossing " + countOf(static_cast<double>(crossed)) + " voxels (about " +
-                  formatBytes(needed) + ")");
+                  formatMetres(kFusionBytesPerCrossedVoxel) + " bytes each, or " +
+                  countOf(room / kFusionStreamBytesPerCrossedVoxel) +
+                  " the map holds already); coarser voxels or a shorter max range cross fewer",
+              "rays crossing " + countOf(static_cast<double>(crossed)) + " voxels" + new_voxels +
+                  " (about " + formatBytes(needed) + ")");
 }
 
 FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,

@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 // Pieces shared by the reference and the fast integration paths.
 #include <cmath>
 #include <cstdint>
@@ -116,7 +117,16 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
 // lom::Error (field "depth") when `crossed` voxels would take more than the
 // limit (0: more than availableMemoryBytes).
 [[nodiscard]] bool frameMemoryNeedsCheck(size_t most_crossed, double limit_bytes);
-void checkFrameMemory(size_t crossed, double limit_bytes, double resolution);
+// Throws lom::Error (field "depth") when a frame whose rays cross `crossed`
+// voxels could take more memory than `limit_bytes` (0: what the system has
+// available). The first estimate charges every crossed voxel as new to the
+// map (kFusionBytesPerCrossedVoxel); when that does not fit and
+// `count_new_voxels` is given, only the voxels it counts as new are charged
+// their nodes, and the update streams only what they need beyond
+// `reusable_stream_bytes` (the buffers earlier frames left, kept for reuse).
+void checkFrameMemory(size_t crossed, double limit_bytes, double resolution,
+                      const std::function<size_t()>& count_new_voxels = {},
+                      double reusable_stream_bytes = 0.0);
 
 // logit of a probability clamped to [kProbabilityEpsilon, 1 - kProbabilityEpsilon].
 float clampedLogit(float p);

@@ -393,9 +393,9 @@ TEST_F(CliFuseTest, AFrameNeedingMoreThanTheFrameMemoryIsAnErrorAndWritesNothing
       runCli("fuse " + scene() + " --out '" + map_path.string() + "' --frame-memory 0.001");
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("sequence.json: frames[0].depth: expected rays that cross few enough voxels "
-                       "to fuse in the 1 MiB of memory allowed per frame (at most 8948 voxels of "
-                       "0.01 m, about 120 bytes each); coarser voxels or a shorter max range cross "
-                       "fewer, found rays crossing "),
+                       "to fuse in the 1 MiB of memory allowed per frame (at most 8948 new voxels "
+                       "of 0.01 m, about 120 bytes each, or 22370 the map holds already); coarser "
+                       "voxels or a shorter max range cross fewer, found rays crossing "),
             std::string::npos)
       << r.err;
   EXPECT_FALSE(std::filesystem::exists(map_path));

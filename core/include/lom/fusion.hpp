@@ -103,6 +103,9 @@ inline constexpr double kMaxFusionVoxelsPerRay = 1000.0;
 // voxel's place in the frame's update streams and, for a voxel new to the map,
 // its nodes (measured in docs/fusion.md, "Limits of the command line").
 inline constexpr double kFusionBytesPerCrossedVoxel = 120.0;
+// Of those, what a voxel the map already holds takes: its place in the miss
+// stream and in the sort's spare buffer (two 24-byte updates).
+inline constexpr double kFusionStreamBytesPerCrossedVoxel = 48.0;
 
 struct IntegrationOptions {
   IntegrationPath path = IntegrationPath::Fast;
