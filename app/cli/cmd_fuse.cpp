@@ -105,7 +105,7 @@ std::string listFrames(const std::vector<size_t>& frames) {
 
 // What would bring depth points outside the map's extent into it.
 std::string outsideMapAdvice(const std::string& sequence_file, const FrameStats& totals,
-                             double resolution) {
+                             double resolution, bool continued) {
   // No depth camera measures farther than the whole extent: the pixels'
   // points were put there by the intrinsics or the depth scale.
   if (totals.farthest_range > mapExtent(resolution))
@@ -115,14 +115,18 @@ std::string outsideMapAdvice(const std::string& sequence_file, const FrameStats&
            " from the camera, farther than the extent: check camera.fx, camera.fy, camera.cx, "
            "camera.cy and camera.depth_scale in " +
            sequence_file;
-  return "a coarser --resolution extends the map (" + formatNumber(2.0 * resolution) +
+  return std::string(continued ? "fused again without --start-from (whose map keeps its own "
+                                 "resolution), "
+                               : "") +
+         "a coarser --resolution extends the map (" + formatNumber(2.0 * resolution) +
          " m voxels reach " + formatNumber(mapExtent(2.0 * resolution)) + " m)";
 }
 
 }  // namespace
 
 std::string outsideMapWarning(const std::string& sequence_file, const FrameStats& totals,
-                              const std::vector<size_t>& frames, double resolution) {
+                              const std::vector<size_t>& frames, double resolution,
+                              bool continued) {
   if (totals.outside_map_pixels == 0) return {};
   const size_t measured = totals.valid_pixels + totals.outside_map_pixels;
   char share[32];
@@ -131,11 +135,11 @@ std::string outsideMapWarning(const std::string& sequence_file, const FrameStats
          std::to_string(measured) + " measured depth pixels (" + share + "), in " +
          listFrames(frames) + ", lie outside the map's extent, " + describeMapExtent(resolution) +
          ": the map leaves them out, free space and all; " +
-         outsideMapAdvice(sequence_file, totals, resolution);
+         outsideMapAdvice(sequence_file, totals, resolution, continued);
 }
 
 RangeMessage maxRangeMessage(const FrameStats& totals, double max_range, double resolution,
-                             const std::string& sequence_file) {
+                             const std::string& sequence_file, bool continued) {
   // Max range drops farther surfaces without a trace: a warning when it took
   // most of the depths, a note when it took a fifth or more.
   RangeMessage message;
@@ -162,8 +166,11 @@ RangeMessage maxRangeMessage(const FrameStats& totals, double max_range, double 
         : coarser ? " (rays of at most 250 voxels: finer voxels over that range take far more "
                     "memory)"
                   : "";
-    how = std::string("The depths reach ") + farthest + " m; fuse with --max-range " +
-          formatNumber(reach) +
+    how = std::string("The depths reach ") + farthest + " m; fuse " +
+          (continued ? "again without --start-from (whose map keeps its own max range and "
+                       "resolution), "
+                     : "") +
+          "with --max-range " + formatNumber(reach) +
           (coarser ? " --resolution " + formatNumber(suggested) : std::string()) + " to map them" +
           why;
   } else {
@@ -381,7 +388,7 @@ int runFuse(const Words& words) {
                     std::to_string(totals.outside_map_pixels) +
                     " measured depth pixels lie outside it; " +
                     outsideMapAdvice((sequence.root / "sequence.json").string(), totals,
-                                     options.map.resolution));
+                                     options.map.resolution, start_from.has_value()));
   if (totals.valid_pixels == 0)
     throw Error((sequence.root / "sequence.json").string(), "depth",
                 "frames with valid depths (finite, > 0) to map",
@@ -389,12 +396,12 @@ int runFuse(const Words& words) {
                     " frames fused: every depth pixel is 0 (no measurement) or invalid");
   if (const RangeMessage range =
           maxRangeMessage(totals, options.map.max_range, options.map.resolution,
-                          (sequence.root / "sequence.json").string());
+                          (sequence.root / "sequence.json").string(), start_from.has_value());
       range.warning || (!args.flag("quiet") && !range.text.empty()))
     std::fprintf(stderr, "%s: %s\n", range.warning ? "warning" : "note", range.text.c_str());
   if (const std::string warning =
           outsideMapWarning((sequence.root / "sequence.json").string(), totals, frames_outside_map,
-                            options.map.resolution);
+                            options.map.resolution, start_from.has_value());
       !warning.empty())
     std::cerr << "warning: " << warning << "\n";
   // fuseSequenceInto has pruned the map; writing a large one takes a while

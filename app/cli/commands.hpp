@@ -47,8 +47,11 @@ void checkFusionOptionsForSequence(const FusionOptions& options, const Sequence&
 // extent (FrameStats::outside_map_pixels; `frames` lists those frames):
 // the warning, without its "warning: " prefix, or empty when there were none.
 // `sequence_file` is the sequence's sequence.json.
+// With `continued` (fuse --start-from, whose map keeps its own resolution and
+// max range) the advice says to fuse again without it.
 std::string outsideMapWarning(const std::string& sequence_file, const FrameStats& totals,
-                              const std::vector<size_t>& frames, double resolution);
+                              const std::vector<size_t>& frames, double resolution,
+                              bool continued = false);
 
 // What max range took of a fusion's valid depths: a warning when most, a note
 // when a fifth or more (with how to map them), without the "warning: " or
@@ -58,6 +61,6 @@ struct RangeMessage {
   bool warning = false;
 };
 RangeMessage maxRangeMessage(const FrameStats& totals, double max_range, double resolution,
-                             const std::string& sequence_file);
+                             const std::string& sequence_file, bool continued = false);
 
 }  // namespace lom::cli

@@ -79,6 +79,21 @@ void printUsage(std::ostream& out) {
   for (const auto& c : kCommands) out << "  " << c.usage << "\n";
 }
 
+// What takes less memory, for the command that ran out: only the commands
+// that fuse have a --resolution to coarsen.
+std::string lessMemoryAdvice(const std::string& command) {
+  if (command == "fuse" || command == "score")
+    return "smaller option values, e.g. a coarser --resolution or a shorter --max-range, need "
+           "less memory";
+  if (command == "render")
+    return "a smaller --size needs less; so does a map of fewer nodes, fused with coarser voxels";
+  if (command == "info" || command == "export" || command == "plan")
+    return "the map needs more memory to read than the system allows (about 45 bytes per node, "
+           "labeloctomap info gives the count); free memory or raise ulimit -v, or fuse the "
+           "sequence with coarser voxels";
+  return "free memory or raise ulimit -v";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -119,8 +134,7 @@ int main(int argc, char** argv) {
       return status;
     } catch (const std::bad_alloc&) {
       std::cerr << "labeloctomap " << name << ": out of memory while running '"
-                << commandLine(argc, argv)
-                << "' (smaller option values, e.g. a coarser --resolution, need less memory)\n";
+                << commandLine(argc, argv) << "' (" << lessMemoryAdvice(name) << ")\n";
       return 1;
     } catch (const lom::cli::UsageError& e) {
       std::cerr << "labeloctomap " << name << ": " << e.what() << "\nusage: labeloctomap "

@@ -381,6 +381,30 @@ TEST_F(CliFuseTest, DepthsBeyondMaxRangeAreNotedFromAFifthAndWarnedFromAHalf) {
   EXPECT_GT(notes, 0) << "no max range of the scene gave a note";
 }
 
+// A map continued with --start-from keeps its own max range and resolution
+// (fuse refuses both options then): the advice says to fuse again without it.
+TEST_F(CliFuseTest, AdviceAfterStartFromSaysToFuseAgainWithoutIt) {
+  TempDir out;
+  const std::string scene_path = "'" + (scene_->path() / "scene").string() + "'";
+  ASSERT_EQ(runCli("fuse " + scene_path + " --max-range 0.5 --frames 0:1 --out '" +
+                   (out / "first.ot").string() + "'")
+                .exit_code,
+            0);
+  const auto r =
+      runCli("fuse " + scene_path + " --frames 1: --start-from '" + (out / "first.ot").string() +
+             "' --out '" + (out / "all.ot").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("were beyond the max range of 0.5 m"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("fuse again without --start-from (whose map keeps its own max range and "
+                       "resolution), with --max-range "),
+            std::string::npos)
+      << r.err;
+  // Without --start-from the advice is the plain one.
+  const auto plain =
+      runCli("fuse " + scene_path + " --max-range 0.5 --out '" + (out / "plain.ot").string() + "'");
+  EXPECT_NE(plain.err.find("; fuse with --max-range "), std::string::npos) << plain.err;
+}
+
 // 400 m out, the cameras lie outside the map: fuse fails at once, naming the
 // first such frame's pose and the extent, and writes nothing.
 // --frame-memory: a frame whose rays cross more voxels than the memory given

@@ -34,6 +34,8 @@ TEST_F(CliMessageTest, RunningOutOfMemoryIsReportedPlainly) {
   EXPECT_NE(r.err.find("labeloctomap fuse: out of memory while running"), std::string::npos)
       << r.err;
   EXPECT_NE(r.err.find(scene().string()), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("a coarser --resolution or a shorter --max-range"), std::string::npos)
+      << r.err;
   EXPECT_EQ(r.err.find("std::bad_alloc"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::is_empty(out.path()));
 
