@@ -154,7 +154,8 @@ int runSegment(const Words& words) {
   checkOutputs(sequence, frames, folder);
   // Before the network runs on every frame: both places must take files.
   checkFolderWritable(folder, folder, "--out-dir");
-  checkFolderWritable(sequence.root, sequence.root / "sequence.json", "output");
+  checkFolderWritable(folderWrittenFor(sequence.root / "sequence.json"),
+                      sequence.root / "sequence.json", "output");
   auto makeFolder = [&] {
     std::error_code ec;
     fs::create_directories(folder, ec);
@@ -175,12 +176,25 @@ int runSegment(const Words& words) {
   for (size_t n = 0; n < frames.size(); ++n) {
     const size_t i = frames[n];
     FrameRecord& record = sequence.frames[i];
-    // Read as fusion reads it: a colour image of another size than the frame's
+    // Only the colour image is read; one of another size than the frame's
     // camera is refused, as fuse --segmenter and validate refuse it.
-    FrameParts parts;
-    parts.proba = parts.label = false;
-    const FrameData frame = loadFrame(sequence, i, parts);
-    const ProbabilityImage proba = segmentFrame(sequence, i, *frame.color, *segmenter);
+    const std::string field = "frames[" + std::to_string(i) + "].color";
+    const fs::path color_file = sequence.pathOf(record.color);
+    ColorImage color;
+    try {
+      color = readColorImage(color_file);
+    } catch (const Error& e) {
+      Problem p = e.problem();
+      p.field = field;
+      throw Error(p);
+    }
+    const CameraIntrinsics& camera = sequence.cameraOf(i);
+    if (color.width != camera.width || color.height != camera.height)
+      throw Error(color_file.string(), field + " (image size)",
+                  std::to_string(camera.width) + " x " + std::to_string(camera.height) +
+                      " pixels (the frame's camera width x height)",
+                  std::to_string(color.width) + " x " + std::to_string(color.height));
+    const ProbabilityImage proba = segmentFrame(sequence, i, color, *segmenter);
     if (n == 0) makeFolder();  // only once the network has produced something
     const std::string name = probaFileName(i);
     staged.addPath(folder / name,

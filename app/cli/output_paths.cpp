@@ -210,9 +210,24 @@ void checkFolderWritable(const fs::path& folder, const fs::path& target, const s
   while (!fs::exists(existing, ec) && existing.has_parent_path() &&
          existing.parent_path() != existing)
     existing = existing.parent_path();
+  if (fs::exists(existing, ec) && !fs::is_directory(existing, ec))
+    throw Error(target.string(), field, "a folder where files can be written",
+                existing.string() + ", which is not a folder");
   if (::access(existing.c_str(), W_OK | X_OK) != 0)
     throw Error(target.string(), field, "a folder where files can be written",
                 "folder " + existing.string() + ": " + std::strerror(errno));
+}
+
+fs::path folderWrittenFor(const fs::path& file) {
+  // Writing through a symbolic link replaces the file it points to, beside it
+  // (lom::writeFileAtomically): that folder is the one that must take files.
+  std::error_code ec;
+  fs::path written = file;
+  if (fs::is_symlink(fs::symlink_status(file, ec))) {
+    const fs::path resolved = fs::canonical(file, ec);
+    if (!ec) written = resolved;
+  }
+  return written.has_parent_path() ? written.parent_path() : fs::path(".");
 }
 
 void checkOutputFile(const fs::path& out, const std::string& option, const std::string& extension,
@@ -229,7 +244,7 @@ void checkOutputFile(const fs::path& out, const std::string& option, const std::
   if (!fs::is_directory(folder, ec))
     throw Error(out.string(), "--" + option, "a path in an existing folder",
                 missingFolderProblem(folder));
-  checkFolderWritable(folder, out, "--" + option);
+  checkFolderWritable(folderWrittenFor(out), out, "--" + option);
 }
 
 void checkOutputFolder(const fs::path& out, const std::string& option, const std::string& what,

@@ -84,6 +84,10 @@ void checkOutputFile(const std::filesystem::path& out, const std::string& option
 void checkFolderWritable(const std::filesystem::path& folder, const std::filesystem::path& target,
                          const std::string& field);
 
+// The folder a file is written into: its own, or for a symbolic link that
+// resolves, the folder of the file it points to (written through the link).
+std::filesystem::path folderWrittenFor(const std::filesystem::path& file);
+
 // Checks an output folder given with --`option`: not empty, not an existing file,
 // not one of the inputs, not an input folder nor inside one.
 void checkOutputFolder(const std::filesystem::path& out, const std::string& option,

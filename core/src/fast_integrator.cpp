@@ -568,13 +568,14 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     // counts depended on how the rays were shared out).
     size_t crossed = 0;
     for (size_t t = 0; t < marks.size(); ++t) crossed += marks[t].markedCountNotIn(marks.data(), t);
-    // Only when that does not fit: the voxels not yet in the map, one tree
-    // look-up each (later frames of a scene cross mostly known voxels).
+    // Only when that does not fit: the voxels not yet in the map at the finest
+    // depth, one walk from the root each (later frames of a scene cross mostly
+    // known voxels; those inside merged leaves count as new, as they split).
     const auto count_new = [&] {
       size_t fresh = 0;
       for (size_t t = 0; t < marks.size(); ++t)
         marks[t].forEachMarkedNotIn(marks.data(), t, [&](const octomap::OcTreeKey& key) {
-          if (tree.search(key) == nullptr) ++fresh;
+          if (!tree.holdsFinestNode(key)) ++fresh;  // missing, or in a leaf to split
         });
       return fresh;
     };

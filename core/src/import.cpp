@@ -126,8 +126,9 @@ std::uint64_t fnv1a(const std::string& text, std::uint64_t hash = 14695981039346
 
 // Raised whenever the importers write a sequence differently for the same source, so
 // that a cache converted by an earlier version (stamps made from frame numbers, one-hot
-// probabilities without proba_from_label) is converted again instead of reused.
-constexpr int kConversionRevision = 2;
+// probabilities without proba_from_label, label images of colour-and-depth sources
+// without label_placeholder) is converted again instead of reused.
+constexpr int kConversionRevision = 3;
 
 // Files no importer reads, which the studio and the command line write
 // beside a recording (boxes, exports, reports): saving one there must not

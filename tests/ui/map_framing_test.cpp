@@ -140,5 +140,30 @@ TEST_F(MapFramingTest, TheMapFillsTheViewWithoutLosingItsSidesWhateverItsShape) 
   }
 }
 
+// A map deep along the view (a corridor seen end-on): the camera stays out of
+// it and every corner of it is in view.
+TEST_F(MapFramingTest, AMapDeepAlongTheViewIsFramedFromOutside) {
+  openAndFuse();
+  SceneView& scene = window_.sceneView();
+  scene.setFrameCloudVisible(false);
+  window_.findAction("Zoom to Map")->trigger();
+  const Eigen::Vector3d along = scene.cameraDirection();
+  MapSnapshot corridor;
+  corridor.resolution = 0.02;
+  for (int step = 0; step < 300; ++step)  // 6 m along the view, 2 cm thick
+    corridor.voxels.push_back(
+        {(0.02 * step) * along + Eigen::Vector3d(0.01, 0.01, 0.01), 0.02, 1, 0.9f});
+  scene.showVoxels(corridor, window_.session().sequence()->labels, {});
+  double map[6];
+  ASSERT_TRUE(scene.mapBounds(map));
+  for (const char* action : {"Zoom to Map", "Look from Above", "Look from the Side"}) {
+    SCOPED_TRACE(action);
+    window_.findAction(action)->trigger();
+    const double extent = scene.boxExtentInView(map);
+    EXPECT_LE(extent, 0.95) << "every corner in view, none behind the camera";
+    EXPECT_GE(extent, 0.8);
+  }
+}
+
 }  // namespace
 }  // namespace lom::ui

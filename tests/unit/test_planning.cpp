@@ -207,6 +207,12 @@ TEST(Planning, PathOfTheTargetAlongTheApproach) {
   const OrientedBox grazing = aabb({0.1, 0.045, 0.0}, {0.2, 0.1, 0.05});
   EXPECT_TRUE(lom::boxInPathOf(grazing, target, x));
   EXPECT_FALSE(lom::boxInPathOf(grazing, target, x, 0.01));
+  // A face one voxel deep straight in front is in the way, whatever the margin
+  // (the margin is for grazing across the approach, not for depth along it).
+  for (double front = 0.10; front < 0.29; front += 0.0037)
+    EXPECT_TRUE(
+        lom::boxInPathOf(aabb({front, -0.03, 0.01}, {front + 0.01, 0.03, 0.05}), target, x, 0.01))
+        << front;
   // Behind the target, even when its box overlaps the target's by a little.
   EXPECT_FALSE(lom::boxInPathOf(aabb({0.39, -0.05, 0.0}, {0.5, 0.05, 0.1}), target, x));
   EXPECT_FALSE(lom::boxInPathOf(aabb({0.5, -0.05, 0.0}, {0.6, 0.05, 0.1}), target, x));

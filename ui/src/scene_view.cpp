@@ -319,15 +319,41 @@ void SceneView::zoomToMap(bool with_current_camera) {
   scene_->renderer->ResetCamera(bounds);
   if (!with_current_camera) {
     // Closer: ResetCamera leaves room for the bounds' sphere, wider than the
-    // map's box. As close as keeps every corner of the box within 90 % of the
-    // view across and up, whatever the view's shape (a view narrower than high
-    // cut the map's sides off when it was moved in by a fixed step).
-    for (int pass = 0; pass < 4; ++pass) {
-      const double extent = boxExtentInView(bounds);
-      if (!(extent > 1e-6) || !std::isfinite(extent)) break;
-      const double factor = std::clamp(0.9 / extent, 0.25, 4.0);
-      if (std::abs(factor - 1.0) < 0.01) break;
-      camera->Dolly(factor);
+    // map's box. The camera keeps its direction and moves to the distance at
+    // which every corner of the box lies within 90 % of the view across and up,
+    // whatever the view's shape (a fixed step cut the sides off a view
+    // narrower than high). Worked out per corner, as `render` frames a map: a
+    // corner at p (from the box's centre) is in view from distance D when
+    // |p . up| <= (D - p . back) tan(half the vertical angle), and so across.
+    const Eigen::Vector3d centre(0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
+                                 0.5 * (bounds[4] + bounds[5]));
+    double position[3], focal[3], view_up[3];
+    camera->GetPosition(position);
+    camera->GetFocalPoint(focal);
+    camera->GetViewUp(view_up);
+    const Eigen::Vector3d back = (Eigen::Vector3d(position[0], position[1], position[2]) -
+                                  Eigen::Vector3d(focal[0], focal[1], focal[2]))
+                                     .normalized();
+    Eigen::Vector3d up = Eigen::Vector3d(view_up[0], view_up[1], view_up[2]);
+    up = (up - up.dot(back) * back).normalized();
+    const Eigen::Vector3d right = up.cross(back);
+    const int* size = scene_->renderer->GetSize();
+    const double aspect = size[1] > 0 ? static_cast<double>(size[0]) / size[1] : 1.0;
+    const double tan_up = 0.9 * std::tan(0.5 * camera->GetViewAngle() * M_PI / 180.0);
+    const double tan_across = tan_up * aspect;
+    double distance = 0.0;
+    if (back.allFinite() && up.allFinite() && tan_up > 0.0 && bounds[0] < bounds[1]) {
+      for (int corner = 0; corner < 8; ++corner) {
+        const Eigen::Vector3d p =
+            Eigen::Vector3d(bounds[corner & 1], bounds[2 + ((corner >> 1) & 1)],
+                            bounds[4 + ((corner >> 2) & 1)]) -
+            centre;
+        distance = std::max({distance, p.dot(back) + std::abs(p.dot(up)) / tan_up,
+                             p.dot(back) + std::abs(p.dot(right)) / tan_across});
+      }
+      const Eigen::Vector3d eye = centre + distance * back;
+      camera->SetFocalPoint(centre.data());
+      camera->SetPosition(eye.data());
     }
     scene_->renderer->ResetCameraClippingRange();
   } else {

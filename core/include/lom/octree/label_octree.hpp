@@ -140,6 +140,20 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   [[nodiscard]] const FusedCandidates& fusedCandidates() const { return fused_candidates_; }
   void setFusedCandidates(const FusedCandidates& record) { fused_candidates_ = record; }
 
+  // Whether the finest-depth node of `key` exists: every node on its path
+  // from the root does. A voxel inside a merged (pruned) leaf does not: an
+  // update splits that leaf into new nodes.
+  [[nodiscard]] bool holdsFinestNode(const octomap::OcTreeKey& key) const {
+    const LabelOcTreeNode* node = root;
+    if (node == nullptr) return false;
+    for (int depth = static_cast<int>(tree_depth) - 1; depth >= 0; --depth) {
+      const unsigned pos = octomap::computeChildIdx(key, depth);
+      if (!nodeChildExists(node, pos)) return false;
+      node = getNodeChild(node, pos);
+    }
+    return true;
+  }
+
   // Finest-depth leaf for `key`, created (and pruned ancestors expanded) when
   // needed. Inner nodes are not refreshed: call refreshAncestors afterwards.
   LabelOcTreeNode* touchLeaf(const octomap::OcTreeKey& key);
