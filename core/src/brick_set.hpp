@@ -67,10 +67,7 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
     size_t marked = 0;
     for (size_t i = 0; i < keys_.size(); ++i) {
       std::uint64_t words[kWords];
-      std::copy(bits(i), bits(i) + kWords, words);
-      for (size_t o = 0; o < count; ++o)
-        if (const std::uint32_t* theirs = others[o].index_.find(keys_[i]))
-          for (int w = 0; w < kWords; ++w) words[w] &= ~others[o].bits(*theirs)[w];
+      marksNotIn(i, others, count, words);
       for (const std::uint64_t word : words)
         marked += static_cast<size_t>(__builtin_popcountll(word));
     }
@@ -83,10 +80,7 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
     const LocalTables& tables = tables_;
     for (size_t i = 0; i < keys_.size(); ++i) {
       std::uint64_t words[kWords];
-      std::copy(bits(i), bits(i) + kWords, words);
-      for (size_t o = 0; o < count; ++o)
-        if (const std::uint32_t* theirs = others[o].index_.find(keys_[i]))
-          for (int w = 0; w < kWords; ++w) words[w] &= ~others[o].bits(*theirs)[w];
+      marksNotIn(i, others, count, words);
       const auto [bx, by, bz] = unpackBrick(keys_[i]);
       for (int w = 0; w < kWords; ++w)
         for (std::uint64_t word = words[w]; word; word &= word - 1) {
@@ -165,6 +159,14 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
   }
 
  private:
+  // Brick i's marks less those of the same brick in `others[0..count)`.
+  void marksNotIn(size_t i, const BrickSet* others, size_t count, std::uint64_t* words) const {
+    std::copy(bits(i), bits(i) + kWords, words);
+    for (size_t o = 0; o < count; ++o)
+      if (const std::uint32_t* theirs = others[o].index_.find(keys_[i]))
+        for (int w = 0; w < kWords; ++w) words[w] &= ~others[o].bits(*theirs)[w];
+  }
+
   // The walk in slices along axis D: one step on D and the steps on the other
   // two axes (A < B) before it. A step at a time, the walk's choice of axis
   // is a branch the processor cannot predict (in a frame of the benchmark
