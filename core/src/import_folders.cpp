@@ -181,7 +181,7 @@ void importFrames(const fs::path& source, const ImportOptions& options, Sequence
   } else {
     writer.setLabels(backgroundOnlyLabels());
     writer.setLabelless(true);
-    writer.note(
+    writer.noteOnlyBackground(
         "no label images: the sequence has the single label __background__ and every frame an "
         "all-background label image (geometry only)");
   }
@@ -301,7 +301,8 @@ void importTum(const fs::path& source, const ImportOptions& options, SequenceWri
   writer.setDepthScale(scale);
   writer.setLabels(backgroundOnlyLabels());
   writer.setLabelless(true);
-  writer.note("no label images: the sequence has the single label __background__ (geometry only)");
+  writer.noteOnlyBackground(
+      "no label images: the sequence has the single label __background__ (geometry only)");
 
   std::vector<double> rgb_stamps;
   for (const auto& e : rgb_list) rgb_stamps.push_back(e.stamp);
@@ -439,7 +440,8 @@ void importQuaternion(const fs::path& source, const ImportOptions& options,
   writer.setDepthScale(scale);
   writer.setLabels(backgroundOnlyLabels());
   writer.setLabelless(true);
-  writer.note("no label images: the sequence has the single label __background__ (geometry only)");
+  writer.noteOnlyBackground(
+      "no label images: the sequence has the single label __background__ (geometry only)");
 
   const auto color_files =
       numberedFiles(source / "color", "", std::vector<std::string>{".png", ".jpg", ".jpeg"});
@@ -598,7 +600,8 @@ void importScanNet(const fs::path& source, const ImportOptions& options, Sequenc
   } else {
     writer.setLabels(backgroundOnlyLabels());
     writer.setLabelless(true);
-    writer.note("no label-filt/ folder: the sequence has the single label __background__");
+    writer.noteOnlyBackground(
+        "no label-filt/ folder: the sequence has the single label __background__");
   }
 
   for (size_t index : selected) {

@@ -59,6 +59,11 @@ class SequenceWriter {
     labelless_ = labelless;
     if (labelless && options_.labels) labels_ = *options_.labels;
   }
+  // The note saying a labelless source's sequence has only the background;
+  // left out when --labels gave it labels (finish() notes those).
+  void noteOnlyBackground(const std::string& text) {
+    if (!options_.labels) note(text);
+  }
   void setFrameId(std::string frame_id) { frame_id_ = std::move(frame_id); }
   void setTotal(size_t total) { total_ = total; }
   // Number of frames the source holds (before the frame subset).

@@ -326,7 +326,8 @@ void chooseLabels(int proba_channels, bool label_topic, const ImportOptions& opt
   } else {
     writer.setLabels(backgroundOnlyLabels());
     writer.setLabelless(true);
-    writer.note("no probability or label topic: the sequence has the single label __background__");
+    writer.noteOnlyBackground(
+        "no probability or label topic: the sequence has the single label __background__");
   }
 }
 

@@ -256,6 +256,9 @@ TEST(CliImport, LabelListIsCheckedEvenForASourceWithoutLabels) {
                        "the sequence's, for a segmenter's probabilities"),
             std::string::npos)
       << r.out;
+  EXPECT_EQ(r.out.find("single label __background__"), std::string::npos)
+      << "no note contradicting it\n"
+      << r.out;
   const Sequence sequence = loadSequence(dir / "seq");
   ASSERT_EQ(sequence.labels.size(), 2);
   EXPECT_EQ(sequence.labels.at(1).name, "foo");

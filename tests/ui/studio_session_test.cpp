@@ -347,6 +347,28 @@ TEST_F(StudioSessionTest, AddedBoxesStandAlongTheMapsUp) {
   EXPECT_GT((boxes.box(1).box.rotation * Eigen::Vector3d::UnitZ()).dot(up), 0.999);
 }
 
+// A label the fused frames never gave evidence for has no voxels to fit:
+// the message says so, not "fuse the sequence first" (fusing again would
+// not help).
+TEST_F(StudioSessionTest, FittingALabelTheFusedMapLacksSaysWhy) {
+  openAndFuse();
+  const auto snapshot = window_.session().worker().snapshot();
+  int absent = -1;
+  for (int label = 1; label < window_.session().sequence()->labels.size(); ++label)
+    if (!snapshot->counts.count(label) && !truth_.find(label)) {
+      absent = label;
+      break;
+    }
+  ASSERT_GT(absent, 0);
+  window_.session().setSelectedLabel(absent);
+  errors_.clear();
+  window_.findAction("Add Box from Label Voxels")->trigger();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !errors_.empty(); }, kTimeoutMs));
+  EXPECT_TRUE(errors_.back().contains("its frames gave that label no evidence"))
+      << errors_.back().toStdString();
+  EXPECT_FALSE(errors_.back().contains("Fuse the sequence first")) << errors_.back().toStdString();
+}
+
 TEST_F(StudioSessionTest, BoxAddedMovedUndoneRedoneSavedAndReloaded) {
   openAndFuse();
   AnnotationsModel& boxes = window_.session().annotations();

@@ -171,10 +171,18 @@ void AddBoxReaction::addFitted(const GroundTruthBox& box, bool fitted, unsigned 
     return;
   }
   if (!fitted) {
+    // Fused already: fusing again would not help (the frames gave the label
+    // no evidence, e.g. a recording imported without label images).
+    const auto snapshot = session_.worker().snapshot();
+    const bool fused = snapshot && snapshot->frames_fused > 0 && !session_.worker().isFusing();
     emit failed(tr("No voxels to fit"),
-                tr("The map has no voxels of %1. Fuse the sequence first, or click a point in "
-                   "the 3D view and add a box there.")
-                    .arg(name));
+                fused ? tr("The fused map has no voxels of %1: its frames gave that label no "
+                           "evidence. Click a point in the 3D view and add a box there (Add Box "
+                           "at Clicked Point).")
+                            .arg(name)
+                      : tr("The map has no voxels of %1. Fuse the sequence first, or click a "
+                           "point in the 3D view and add a box there.")
+                            .arg(name));
     return;
   }
   // The label may have got a box while the fit waited (B pressed twice, or a

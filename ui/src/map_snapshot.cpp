@@ -27,23 +27,27 @@ MapSnapshotPtr takeSnapshot(const LabelMap& map, size_t frames_fused) {
   return snapshot;
 }
 
-std::optional<Eigen::AlignedBox3d> bulkBounds(const MapSnapshot& snapshot,
-                                              const std::set<int>& hidden) {
+std::optional<MapBulk> mapBulk(const MapSnapshot& snapshot, const std::set<int>& hidden) {
   constexpr long kKeyOrigin = 32768;
   constexpr long kLargestExpanded = 16;  // leaves of up to 16^3 finest voxels are listed
   const double resolution = snapshot.resolution;
-  Eigen::AlignedBox3d bounds;  // empty
   if (!(resolution > 0.0)) return std::nullopt;
+  MapBulk bulk;
+  bulk.edge = resolution;
   std::vector<VoxelKey> keys;
   bool any = false;
   for (const OccupiedVoxel& voxel : snapshot.voxels) {
     if (hidden.count(voxel.label)) continue;
     any = true;
-    const Eigen::Vector3d half = Eigen::Vector3d::Constant(0.5 * voxel.size);
     const long edge = std::max(1L, std::lround(voxel.size / resolution));
     if (edge > kLargestExpanded) {
-      bounds.extend(voxel.center - half);
-      bounds.extend(voxel.center + half);
+      // Bulk by itself: its corners (less half a voxel, so that the cubes
+      // around them end on the leaf's faces) stand for it.
+      const double reach = 0.5 * (voxel.size - resolution);
+      for (int corner = 0; corner < 8; ++corner)
+        bulk.centres.push_back(voxel.center + reach * Eigen::Vector3d(corner & 1 ? 1 : -1,
+                                                                      corner & 2 ? 1 : -1,
+                                                                      corner & 4 ? 1 : -1));
       continue;
     }
     long first[3];
@@ -61,14 +65,9 @@ std::optional<Eigen::AlignedBox3d> bulkBounds(const MapSnapshot& snapshot,
   if (!any) return std::nullopt;
   // Big leaves are bulk by themselves; without any, and without any part of
   // kBulkPartVoxels, every voxel is framed (as bulkVoxels does).
-  const bool big_leaves = !bounds.isEmpty();
-  const Eigen::Vector3d half = Eigen::Vector3d::Constant(0.5 * resolution);
+  const bool big_leaves = !bulk.centres.empty();
   const auto add = [&](const std::vector<VoxelKey>& part) {
-    for (const VoxelKey& key : part) {
-      const Eigen::Vector3d centre = voxelCenter(key, resolution);
-      bounds.extend(centre - half);
-      bounds.extend(centre + half);
-    }
+    for (const VoxelKey& key : part) bulk.centres.push_back(voxelCenter(key, resolution));
   };
   if (big_leaves) {
     for (const auto& part : voxelClusters(keys, 1.0))
@@ -76,7 +75,19 @@ std::optional<Eigen::AlignedBox3d> bulkBounds(const MapSnapshot& snapshot,
   } else {
     add(bulkVoxels(keys));
   }
-  return bounds;
+  const Eigen::Vector3d half = Eigen::Vector3d::Constant(0.5 * resolution);
+  for (const Eigen::Vector3d& centre : bulk.centres) {
+    bulk.box.extend(centre - half);
+    bulk.box.extend(centre + half);
+  }
+  return bulk;
+}
+
+std::optional<Eigen::AlignedBox3d> bulkBounds(const MapSnapshot& snapshot,
+                                              const std::set<int>& hidden) {
+  const std::optional<MapBulk> bulk = mapBulk(snapshot, hidden);
+  if (!bulk) return std::nullopt;
+  return bulk->box;
 }
 
 std::optional<VoxelHit> firstVoxelHit(const MapSnapshot& snapshot, const std::set<int>& hidden,

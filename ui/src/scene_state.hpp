@@ -75,8 +75,8 @@ struct SceneView::Scene {
   MapSnapshot snapshot;
   LabelSet labels;
   std::set<int> hidden;
-  // bulkBounds(snapshot, hidden), worked out when first needed after either changed.
-  std::optional<std::optional<Eigen::AlignedBox3d>> bulk_bounds;
+  // mapBulk(snapshot, hidden), worked out when first needed after either changed.
+  std::optional<std::optional<MapBulk>> bulk;
   bool opacity_by_probability = false;
   VoxelColouring colouring = VoxelColouring::Labels;
   bool cloud_visible = true;

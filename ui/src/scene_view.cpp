@@ -7,6 +7,7 @@
 #include <vtkCaptionActor2D.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkInteractorStyleTrackballCamera.h>
+#include <vtkMatrix4x4.h>
 #include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkOrientationMarkerWidget.h>
@@ -236,7 +237,7 @@ void SceneView::clear() {
        {&scene_->cloud, &scene_->other_frustums, &scene_->current_frustum, &scene_->boxes})
     part->show(nullptr);
   scene_->snapshot = MapSnapshot{};
-  scene_->bulk_bounds.reset();
+  scene_->bulk.reset();
   scene_->voxel_count = scene_->voxels.show(scene_->snapshot, scene_->labels, {}, false);
   scene_->handles->show(nullptr);
   scene_->object_boxes.show(nullptr);
@@ -292,14 +293,19 @@ void SceneView::resetCamera() {
 
 bool SceneView::mapBounds(double bounds[6]) const {
   if (scene_->voxel_count == 0) return false;
-  if (!scene_->bulk_bounds) scene_->bulk_bounds = bulkBounds(scene_->snapshot, scene_->hidden);
-  const auto& box = *scene_->bulk_bounds;
-  if (!box || box->isEmpty()) return false;
+  const MapBulk* bulk = shownBulk();
+  if (bulk == nullptr || bulk->box.isEmpty()) return false;
   for (int axis = 0; axis < 3; ++axis) {
-    bounds[2 * axis] = box->min()[axis];
-    bounds[2 * axis + 1] = box->max()[axis];
+    bounds[2 * axis] = bulk->box.min()[axis];
+    bounds[2 * axis + 1] = bulk->box.max()[axis];
   }
   return true;
+}
+
+const MapBulk* SceneView::shownBulk() const {
+  if (scene_->voxel_count == 0) return nullptr;
+  if (!scene_->bulk) scene_->bulk = mapBulk(scene_->snapshot, scene_->hidden);
+  return *scene_->bulk ? &**scene_->bulk : nullptr;
 }
 
 void SceneView::zoomToMap(bool with_current_camera) {
@@ -319,42 +325,11 @@ void SceneView::zoomToMap(bool with_current_camera) {
   scene_->renderer->ResetCamera(bounds);
   if (!with_current_camera) {
     // Closer: ResetCamera leaves room for the bounds' sphere, wider than the
-    // map's box. The camera keeps its direction and moves to the distance at
-    // which every corner of the box lies within 90 % of the view across and up,
-    // whatever the view's shape (a fixed step cut the sides off a view
-    // narrower than high). Worked out per corner, as `render` frames a map: a
-    // corner at p (from the box's centre) is in view from distance D when
-    // |p . up| <= (D - p . back) tan(half the vertical angle), and so across.
-    const Eigen::Vector3d centre(0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
-                                 0.5 * (bounds[4] + bounds[5]));
-    double position[3], focal[3], view_up[3];
-    camera->GetPosition(position);
-    camera->GetFocalPoint(focal);
-    camera->GetViewUp(view_up);
-    const Eigen::Vector3d back = (Eigen::Vector3d(position[0], position[1], position[2]) -
-                                  Eigen::Vector3d(focal[0], focal[1], focal[2]))
-                                     .normalized();
-    Eigen::Vector3d up = Eigen::Vector3d(view_up[0], view_up[1], view_up[2]);
-    up = (up - up.dot(back) * back).normalized();
-    const Eigen::Vector3d right = up.cross(back);
-    const int* size = scene_->renderer->GetSize();
-    const double aspect = size[1] > 0 ? static_cast<double>(size[0]) / size[1] : 1.0;
-    const double tan_up = 0.9 * std::tan(0.5 * camera->GetViewAngle() * M_PI / 180.0);
-    const double tan_across = tan_up * aspect;
-    double distance = 0.0;
-    if (back.allFinite() && up.allFinite() && tan_up > 0.0 && bounds[0] < bounds[1]) {
-      for (int corner = 0; corner < 8; ++corner) {
-        const Eigen::Vector3d p =
-            Eigen::Vector3d(bounds[corner & 1], bounds[2 + ((corner >> 1) & 1)],
-                            bounds[4 + ((corner >> 2) & 1)]) -
-            centre;
-        distance = std::max({distance, p.dot(back) + std::abs(p.dot(up)) / tan_up,
-                             p.dot(back) + std::abs(p.dot(right)) / tan_across});
-      }
-      const Eigen::Vector3d eye = centre + distance * back;
-      camera->SetFocalPoint(centre.data());
-      camera->SetPosition(eye.data());
-    }
+    // map. The camera keeps its direction and moves to where the bulk's
+    // voxels (not the corners of the box around them: a room turned against
+    // the world's axes is far smaller than its box) fill 90 % of the view
+    // across or up, whatever the view's shape, as `render` frames a map.
+    if (const MapBulk* bulk = shownBulk()) frameCubes(*bulk);
     scene_->renderer->ResetCameraClippingRange();
   } else {
     // ResetCamera fits the bounds' sphere, but not always across a view
@@ -364,6 +339,83 @@ void SceneView::zoomToMap(bool with_current_camera) {
     scene_->renderer->ResetCameraClippingRange();
   }
   render();
+}
+
+void SceneView::frameCubes(const MapBulk& bulk) {
+  vtkCamera* camera = scene_->renderer->GetActiveCamera();
+  double position[3], focal[3], view_up[3];
+  camera->GetPosition(position);
+  camera->GetFocalPoint(focal);
+  camera->GetViewUp(view_up);
+  const Eigen::Vector3d back = (Eigen::Vector3d(position[0], position[1], position[2]) -
+                                Eigen::Vector3d(focal[0], focal[1], focal[2]))
+                                   .normalized();
+  Eigen::Vector3d up(view_up[0], view_up[1], view_up[2]);
+  up = (up - up.dot(back) * back).normalized();
+  const Eigen::Vector3d right = up.cross(back);
+  const int* size = scene_->renderer->GetSize();
+  const double aspect = size[0] > 0 && size[1] > 0 ? static_cast<double>(size[0]) / size[1] : 1.0;
+  const double tan_up = 0.9 * std::tan(0.5 * camera->GetViewAngle() * M_PI / 180.0);
+  const double tan_across = tan_up * aspect;
+  if (!back.allFinite() || !up.allFinite() || !(tan_up > 0.0) || bulk.centres.empty()) return;
+  // A cube of half edge h reaches h (|u.x| + |u.y| + |u.z|) from its centre along u.
+  const double h = 0.5 * bulk.edge;
+  const auto reach = [h](const Eigen::Vector3d& u) { return h * u.cwiseAbs().sum(); };
+  const double reach_back = reach(back), reach_up = reach(up), reach_right = reach(right);
+  Eigen::Vector3d centre = bulk.box.center();
+  double distance = 0.0;
+  // From `centre`: the distance at which every cube is in view (a cube at p
+  // is when |p . up| + its reach <= (D - p . back - its reach) tan, and so
+  // across); then the picture's middle is moved onto the middle of what it
+  // shows, and the distance worked out again.
+  for (int pass = 0; pass < 3; ++pass) {
+    distance = 0.0;
+    for (const Eigen::Vector3d& point : bulk.centres) {
+      const Eigen::Vector3d p = point - centre;
+      const double towards_eye = p.dot(back) + reach_back;
+      distance = std::max({distance, towards_eye + (std::abs(p.dot(up)) + reach_up) / tan_up,
+                           towards_eye + (std::abs(p.dot(right)) + reach_right) / tan_across});
+    }
+    if (pass == 2) break;
+    double x_lo = std::numeric_limits<double>::infinity(), x_hi = -x_lo, y_lo = x_lo, y_hi = -x_lo;
+    for (const Eigen::Vector3d& point : bulk.centres) {
+      const Eigen::Vector3d p = point - centre;
+      const double depth = std::max(1e-9, distance - p.dot(back) - reach_back);
+      x_lo = std::min(x_lo, (p.dot(right) - reach_right) / depth);
+      x_hi = std::max(x_hi, (p.dot(right) + reach_right) / depth);
+      y_lo = std::min(y_lo, (p.dot(up) - reach_up) / depth);
+      y_hi = std::max(y_hi, (p.dot(up) + reach_up) / depth);
+    }
+    centre += distance * (0.5 * (x_lo + x_hi) * right + 0.5 * (y_lo + y_hi) * up);
+  }
+  if (!(distance > 0.0) || !std::isfinite(distance)) return;
+  const Eigen::Vector3d eye = centre + distance * back;
+  camera->SetFocalPoint(centre.data());
+  camera->SetPosition(eye.data());
+}
+
+double SceneView::mapExtentInView() const {
+  const MapBulk* bulk = shownBulk();
+  if (bulk == nullptr) return 0.0;
+  vtkCamera* camera = scene_->renderer->GetActiveCamera();
+  const int* size = scene_->renderer->GetSize();
+  const double aspect = size[0] > 0 && size[1] > 0 ? static_cast<double>(size[0]) / size[1] : 1.0;
+  vtkMatrix4x4* matrix = camera->GetCompositeProjectionTransformMatrix(aspect, -1.0, 1.0);
+  Eigen::Matrix4d m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m(r, c) = matrix->GetElement(r, c);
+  const double h = 0.5 * bulk->edge;
+  double extent = 0.0;
+  for (const Eigen::Vector3d& centre : bulk->centres)
+    for (int corner = 0; corner < 8; ++corner) {
+      const Eigen::Vector3d p =
+          centre +
+          h * Eigen::Vector3d(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1);
+      const Eigen::Vector4d v = m * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.0);
+      if (!(v.w() > 0.0)) return std::numeric_limits<double>::infinity();  // behind the camera
+      extent = std::max({extent, std::abs(v.x() / v.w()), std::abs(v.y() / v.w())});
+    }
+  return extent;
 }
 
 double SceneView::boxExtentInView(const double bounds[6]) const {
@@ -514,7 +566,7 @@ void SceneView::showVoxels(const MapSnapshot& snapshot, const LabelSet& labels,
   scene_->snapshot = snapshot;
   scene_->labels = labels;
   scene_->hidden = hidden;
-  scene_->bulk_bounds.reset();
+  scene_->bulk.reset();
   scene_->voxel_count = scene_->voxels.show(snapshot, labels, hidden,
                                             scene_->opacity_by_probability, scene_->colouring);
   emit heightColoursShown(scene_->voxels.heightRange());

@@ -40,6 +40,18 @@ using MapSnapshotPtr = std::shared_ptr<const MapSnapshot>;
 [[nodiscard]] std::optional<Eigen::AlignedBox3d> bulkBounds(const MapSnapshot& snapshot,
                                                             const std::set<int>& hidden);
 
+// The same bulk as cubes of edge `edge` (the resolution) centred on
+// `centres`: the finest voxels of the bulk, and for each leaf of more than
+// 16^3 voxels eight cubes in its corners. `box` is bulkBounds. The 3D view
+// frames these cubes, as `render` frames the voxels.
+struct MapBulk {
+  std::vector<Eigen::Vector3d> centres;
+  double edge = 0.0;
+  Eigen::AlignedBox3d box;
+};
+[[nodiscard]] std::optional<MapBulk> mapBulk(const MapSnapshot& snapshot,
+                                             const std::set<int>& hidden);
+
 // Where the ray from `origin` along `direction` first enters a voxel of the
 // snapshot (a cube of the voxel's size; voxels of `hidden` labels left out):
 // the point on that voxel's face and the voxel's index, or none when it meets

@@ -61,6 +61,10 @@ class SceneView : public QWidget {
   void zoomToMap(bool with_current_camera = false);
   // Whether the current frame's camera (its frustum) is wholly in the picture.
   [[nodiscard]] bool currentCameraInView() const;
+  // How far the cubes of the shown map's bulk reach across the view: the
+  // largest |x| or |y| of their corners in normalised view coordinates, 1 at
+  // the picture's edge (0 without a map).
+  [[nodiscard]] double mapExtentInView() const;
   // How far the corners of `bounds` (VTK bounds) reach across the view: the
   // largest |x| or |y| in normalised view coordinates, 1 at the picture's
   // edge (infinity when a corner lies behind the camera).
@@ -159,6 +163,12 @@ class SceneView : public QWidget {
   [[nodiscard]] std::optional<VoxelHit> voxelAt(int x, int y) const;  // VTK display pixels
   void pickAt(int x, int y);
   void hoverAt(int x, int y);
+  // The bulk of the voxels shown (mapBulk), worked out once per snapshot and
+  // hidden labels; null without one.
+  [[nodiscard]] const MapBulk* shownBulk() const;
+  // Keeps the camera's direction and view up, and moves it to where the
+  // bulk's cubes fill 90 % of the view across or up, centred.
+  void frameCubes(const MapBulk& bulk);
 
   struct Scene;
   std::unique_ptr<Scene> scene_;
