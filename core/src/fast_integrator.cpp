@@ -568,14 +568,14 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     // counts depended on how the rays were shared out).
     size_t crossed = 0;
     for (size_t t = 0; t < marks.size(); ++t) crossed += marks[t].markedCountNotIn(marks.data(), t);
-    // Only when that does not fit: the voxels not yet in the map at the finest
-    // depth, one walk from the root each (later frames of a scene cross mostly
-    // known voxels; those inside merged leaves count as new, as they split).
+    // Only when that does not fit: the voxels a miss adds nodes for, one walk
+    // from the root each (later frames of a scene cross mostly known voxels
+    // and saturated free space; a merged leaf that is not saturated splits).
     const auto count_new = [&] {
       size_t fresh = 0;
       for (size_t t = 0; t < marks.size(); ++t)
         marks[t].forEachMarkedNotIn(marks.data(), t, [&](const octomap::OcTreeKey& key) {
-          if (!tree.holdsFinestNode(key)) ++fresh;  // missing, or in a leaf to split
+          if (!tree.missAddsNoNode(key)) ++fresh;  // missing, or in a leaf to split
         });
       return fresh;
     };

@@ -207,11 +207,11 @@ bool boxInPathOf(const OrientedBox& object, const OrientedBox& target,
     const double swept = -kPathLength * d.dot(n);
     low_t += std::min(0.0, swept);
     high_t += std::max(0.0, swept);
-    // The margin is for neighbours that graze the path across d: along d an
-    // object in the path overlaps it by its own depth, however thin (a face
-    // one voxel deep is in the way all the same).
-    const double across = std::sqrt(std::max(0.0, 1.0 - d.dot(n) * d.dot(n)));
-    if (std::min(high_o, high_t) - std::max(low_o, low_t) <= margin * across) return false;
+    // The margin keeps neighbours that merely graze the path out; an object
+    // thinner than twice the margin along n (a face one voxel deep, whatever
+    // the approach) is in the way once more than half of it is in the path.
+    const double overlap = std::min(high_o, high_t) - std::max(low_o, low_t);
+    if (overlap <= std::min(margin, 0.5 * (high_o - low_o))) return false;
   }
   return true;
 }

@@ -3,7 +3,9 @@
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>
 
+#include <cstdio>
 #include <fstream>
+#include <regex>
 #include <string>
 
 #include "cli_scene_fixture.hpp"
@@ -403,6 +405,35 @@ TEST_F(CliFuseTest, AdviceAfterStartFromSaysToFuseAgainWithoutIt) {
   const auto plain =
       runCli("fuse " + scene_path + " --max-range 0.5 --out '" + (out / "plain.ot").string() + "'");
   EXPECT_NE(plain.err.find("; fuse with --max-range "), std::string::npos) << plain.err;
+}
+
+// The frame memory check charges nodes only for voxels a miss adds them
+// for: a frame fused again into the map that holds it crosses known voxels
+// and saturated free space (merged leaves a miss leaves as they are), and
+// takes only its streams.
+TEST_F(CliFuseTest, AFrameOverKnownSpaceIsChargedOnlyItsStreams) {
+  TempDir out;
+  const std::string first = "'" + (out / "all.ot").string() + "'";
+  ASSERT_EQ(runCli("fuse " + scene() + " --out " + first + " --quiet").exit_code, 0);
+  const auto probe = runCli("fuse " + scene() + " --frames 0:1 --start-from " + first +
+                            " --frame-memory 0.000001 --out '" + (out / "b.ot").string() + "'");
+  ASSERT_EQ(probe.exit_code, 1) << probe.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(
+      probe.err, m, std::regex("rays crossing ([0-9]+) voxels, ([0-9]+) of them new to the map")))
+      << probe.err;
+  const double crossed = std::stod(m[1].str()), fresh = std::stod(m[2].str());
+  EXPECT_LT(fresh * 10.0, crossed) << "most of what the frame crosses is in the map already";
+  // A limit between what its streams take and what it would take as new voxels.
+  const double bytes =
+      crossed * lom::kFusionStreamBytesPerCrossedVoxel +
+      fresh * (lom::kFusionBytesPerCrossedVoxel - lom::kFusionStreamBytesPerCrossedVoxel) + 4096.0;
+  ASSERT_LT(bytes, crossed * lom::kFusionBytesPerCrossedVoxel);
+  char gib[64];
+  std::snprintf(gib, sizeof gib, "%.12f", bytes / (1024.0 * 1024.0 * 1024.0));
+  const auto r = runCli("fuse " + scene() + " --frames 0:1 --start-from " + first +
+                        " --frame-memory " + gib + " --out '" + (out / "b.ot").string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
 // 400 m out, the cameras lie outside the map: fuse fails at once, naming the

@@ -141,6 +141,24 @@ TEST_F(MapFramingTest, TheMapFillsTheViewWithoutLosingItsSidesWhateverItsShape) 
   }
 }
 
+// Look from Current Camera takes the camera's own view angle (horizontal in a
+// view narrower than the picture); Zoom to Map after it frames the map as
+// ever.
+TEST_F(MapFramingTest, ZoomToMapAfterLookingFromTheCameraFillsTheView) {
+  openAndFuse();
+  SceneView& scene = window_.sceneView();
+  scene.setFrameCloudVisible(false);
+  for (const QSize size : {QSize(900, 1000), QSize(1280, 860)}) {
+    window_.resize(size);
+    settle();
+    window_.findAction("Look from Current Camera")->trigger();
+    window_.findAction("Zoom to Map")->trigger();
+    SCOPED_TRACE(std::to_string(size.width()));
+    EXPECT_LE(scene.mapExtentInView(), 0.95);
+    EXPECT_GE(scene.mapExtentInView(), 0.85);
+  }
+}
+
 // A map deep along the view (a corridor seen end-on): the camera stays out of
 // it and every corner of it is in view.
 TEST_F(MapFramingTest, AMapDeepAlongTheViewIsFramedFromOutside) {

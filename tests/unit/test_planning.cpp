@@ -207,12 +207,23 @@ TEST(Planning, PathOfTheTargetAlongTheApproach) {
   const OrientedBox grazing = aabb({0.1, 0.045, 0.0}, {0.2, 0.1, 0.05});
   EXPECT_TRUE(lom::boxInPathOf(grazing, target, x));
   EXPECT_FALSE(lom::boxInPathOf(grazing, target, x, 0.01));
-  // A face one voxel deep straight in front is in the way, whatever the margin
-  // (the margin is for grazing across the approach, not for depth along it).
-  for (double front = 0.10; front < 0.29; front += 0.0037)
-    EXPECT_TRUE(
-        lom::boxInPathOf(aabb({front, -0.03, 0.01}, {front + 0.01, 0.03, 0.05}), target, x, 0.01))
-        << front;
+  // A face one voxel deep in front is in the way, whatever the margin and the
+  // approach (the margin is for grazing the path, not for an object's depth).
+  for (const Eigen::Vector3d& approach : {x, Eigen::Vector3d(1.0, 0.0, -0.58).normalized(),
+                                          Eigen::Vector3d(1.0, 0.4, -1.0).normalized()})
+    for (const double margin : {0.01, 0.015, 0.02})
+      for (double back = 0.08; back < 0.3; back += 0.0037) {
+        // On the line from the target's centre back towards the camera.
+        const Eigen::Vector3d c = target.center - back * approach;
+        const Eigen::Vector3d half(0.005, 0.02, 0.02);
+        EXPECT_TRUE(lom::boxInPathOf(aabb(c - half, c + half), target, approach, margin))
+            << back << " " << margin << " " << approach.transpose();
+      }
+  // A slab under the target, overlapping its box by 5 mm (a fit a little too
+  // tall), seen from 20 degrees off the vertical: not in the way.
+  const OrientedBox slab = aabb({0.0, -0.1, -0.05}, {0.5, 0.1, 0.005});
+  const Eigen::Vector3d steep(std::sin(20.0 * M_PI / 180.0), 0.0, -std::cos(20.0 * M_PI / 180.0));
+  EXPECT_FALSE(lom::boxInPathOf(slab, target, steep, 0.01));
   // Behind the target, even when its box overlaps the target's by a little.
   EXPECT_FALSE(lom::boxInPathOf(aabb({0.39, -0.05, 0.0}, {0.5, 0.05, 0.1}), target, x));
   EXPECT_FALSE(lom::boxInPathOf(aabb({0.5, -0.05, 0.0}, {0.6, 0.05, 0.1}), target, x));

@@ -174,7 +174,9 @@ void AddBoxReaction::addFitted(const GroundTruthBox& box, bool fitted, unsigned 
     // Fused already: fusing again would not help (the frames gave the label
     // no evidence, e.g. a recording imported without label images).
     const auto snapshot = session_.worker().snapshot();
-    const bool fused = snapshot && snapshot->frames_fused > 0 && !session_.worker().isFusing();
+    const auto sequence = session_.sequence();
+    const bool fused = snapshot && sequence && !session_.worker().isFusing() &&
+                       snapshot->frames_fused >= sequence->frames.size();
     emit failed(tr("No voxels to fit"),
                 fused ? tr("The fused map has no voxels of %1: its frames gave that label no "
                            "evidence. Click a point in the 3D view and add a box there (Add Box "

@@ -321,6 +321,8 @@ void SceneView::zoomToMap(bool with_current_camera) {
     }
   }
   vtkCamera* camera = scene_->renderer->GetActiveCamera();
+  if (!with_current_camera)
+    restoreViewAngle();  // Look from Current Camera leaves a camera's angle, maybe horizontal
   camera->SetWindowCenter(0.0, 0.0);  // the map in the middle (Look from Current Camera shifts it)
   scene_->renderer->ResetCamera(bounds);
   if (!with_current_camera) {

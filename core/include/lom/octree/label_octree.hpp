@@ -140,13 +140,15 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   [[nodiscard]] const FusedCandidates& fusedCandidates() const { return fused_candidates_; }
   void setFusedCandidates(const FusedCandidates& record) { fused_candidates_ = record; }
 
-  // Whether the finest-depth node of `key` exists: every node on its path
-  // from the root does. A voxel inside a merged (pruned) leaf does not: an
-  // update splits that leaf into new nodes.
-  [[nodiscard]] bool holdsFinestNode(const octomap::OcTreeKey& key) const {
+  // Whether a miss of `key` (applyMiss) adds no node: the finest-depth node
+  // of `key` exists, or a node on its path is saturated free space, which a
+  // miss leaves as it is (often a merged leaf). A voxel inside a merged leaf
+  // that is not saturated free does not: the miss splits that leaf.
+  [[nodiscard]] bool missAddsNoNode(const octomap::OcTreeKey& key) const {
     const LabelOcTreeNode* node = root;
     if (node == nullptr) return false;
     for (int depth = static_cast<int>(tree_depth) - 1; depth >= 0; --depth) {
+      if (isSaturatedFree(node, false)) return true;
       const unsigned pos = octomap::computeChildIdx(key, depth);
       if (!nodeChildExists(node, pos)) return false;
       node = getNodeChild(node, pos);
