@@ -255,6 +255,7 @@ void checkOutputFolder(const fs::path& out, const std::string& option, const std
                      " is an existing file; expected a folder for " + what +
                      " (created when missing)");
   checkOutsideInputs(out, option, what, inputs);
+  checkFolderWritable(out, out, "--" + option);
 }
 
 void checkOutputSubfolder(const fs::path& folder, const std::string& option,

@@ -89,7 +89,8 @@ void checkFolderWritable(const std::filesystem::path& folder, const std::filesys
 std::filesystem::path folderWrittenFor(const std::filesystem::path& file);
 
 // Checks an output folder given with --`option`: not empty, not an existing file,
-// not one of the inputs, not an input folder nor inside one.
+// not one of the inputs, not an input folder nor inside one, and files can be
+// written in it (or in its nearest existing folder when it is yet to be made).
 void checkOutputFolder(const std::filesystem::path& out, const std::string& option,
                        const std::string& what, const CommandInputs& inputs);
 

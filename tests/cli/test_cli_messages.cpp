@@ -1,6 +1,7 @@
 // Messages of failures and notes: each names the file and the option at fault and says what
 // was expected, in the product's own terms (no raw library text, no internal field names).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <sstream>
@@ -67,6 +68,25 @@ TEST_F(CliMessageTest, WriteFailuresNameTheOutput) {
   EXPECT_NE(r.err.find("/proc/lom-test-meshes: output path: expected a folder"), std::string::npos)
       << r.err;
   EXPECT_EQ(r.err.find("filesystem error"), std::string::npos) << r.err;
+}
+
+// A folder where no file can be written is refused before any work, for a
+// file output and for a folder output alike (/proc/sys takes no new file,
+// not even from root).
+TEST_F(CliMessageTest, AnUnwritableOutputFolderIsRefusedBeforeAnyWork) {
+  if (::access("/proc/sys", W_OK) == 0) GTEST_SKIP() << "/proc/sys is writable here";
+  auto r = runCli("fuse " + q(scene()) + " --out /proc/sys/lom-test.ot");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("/proc/sys/lom-test.ot: --out: expected a folder where files can be "
+                       "written, found folder /proc/sys: "),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.out.find("fused"), std::string::npos) << r.out;
+  r = runCli("score " + q(scene()) + " --annotations " + q(scene() / "annotations.json") +
+             " --out /proc/sys/lom-test-report");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("--out: expected a folder where files can be written"), std::string::npos)
+      << r.err;
 }
 
 // An empty map exported as an octree, and a .ot file that is not a map, are
