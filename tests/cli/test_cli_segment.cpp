@@ -203,6 +203,17 @@ TEST_F(CliSegmentTest, AColourImageOfAnotherSizeOrAnUnwritableFolderIsRefusedFir
   EXPECT_EQ(slurp(dir_ / "seq" / "sequence.json"), before);
   std::ofstream(color, std::ios::binary) << original_color;
 
+  // The network needs only the colour images: a depth image it cannot read
+  // (fuse would name it) does not stop segmenting.
+  const std::filesystem::path depth = dir_ / "seq" / sequence_.frames[0].depth;
+  const std::string original_depth = slurp(depth);
+  std::ofstream(depth, std::ios::binary) << "not a PNG";
+  r = runCli("segment " + quoted(dir_ / "seq") + " --segmenter " + quoted(model_) +
+             " --out-dir colour-only");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::ofstream(depth, std::ios::binary) << original_depth;
+  std::ofstream(dir_ / "seq" / "sequence.json") << before;
+
   // An --out-dir where nothing can be written is refused before any frame is
   // segmented (a real network takes hours). /proc/sys takes no new file.
   if (::access("/proc/sys", W_OK) == 0) GTEST_SKIP() << "/proc/sys is writable here";
