@@ -9,6 +9,7 @@
 #include <system_error>
 
 #include "args.hpp"
+#include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 #include "lom/sequence.hpp"
 
@@ -219,14 +220,8 @@ void checkFolderWritable(const fs::path& folder, const fs::path& target, const s
 }
 
 fs::path folderWrittenFor(const fs::path& file) {
-  // Writing through a symbolic link replaces the file it points to, beside it
-  // (lom::writeFileAtomically): that folder is the one that must take files.
-  std::error_code ec;
-  fs::path written = file;
-  if (fs::is_symlink(fs::symlink_status(file, ec))) {
-    const fs::path resolved = fs::canonical(file, ec);
-    if (!ec) written = resolved;
-  }
+  // Writing through a symbolic link replaces the file it points to, beside it.
+  const fs::path written = writtenFileOf(file);
   return written.has_parent_path() ? written.parent_path() : fs::path(".");
 }
 

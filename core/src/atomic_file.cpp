@@ -181,16 +181,6 @@ fs::path temporaryPathFor(const fs::path& target) {
                    std::to_string(rng() % 1000000) + target.extension().string());
 }
 
-// Writing through a symbolic link replaces the file it points to, not the
-// link: a link into a shared folder of annotations keeps pointing at the
-// saved boxes. A link whose target cannot be resolved is replaced itself.
-fs::path linkTarget(const fs::path& target) {
-  std::error_code ec;
-  if (!fs::is_symlink(fs::symlink_status(target, ec))) return target;
-  const fs::path resolved = fs::canonical(target, ec);
-  return ec ? target : resolved;
-}
-
 fs::path folderOf(const fs::path& target) {
   return target.has_parent_path() ? target.parent_path() : fs::path(".");
 }
@@ -256,6 +246,13 @@ void writeStream(const fs::path& target, const fs::path& temporary,
 
 }  // namespace
 
+fs::path writtenFileOf(const fs::path& target) {
+  std::error_code ec;
+  if (!fs::is_symlink(fs::symlink_status(target, ec))) return target;
+  const fs::path resolved = fs::canonical(target, ec);
+  return ec ? target : resolved;
+}
+
 fs::path createStagingFolder(const fs::path& parent, const std::string& what,
                              PendingOutput& record) {
   static thread_local std::mt19937_64 rng{std::random_device{}()};
@@ -281,7 +278,7 @@ StagedFiles::~StagedFiles() {
 void StagedFiles::addPath(const fs::path& target,
                           const std::function<void(const fs::path&)>& write) {
   checkFolder(target);
-  const fs::path file = linkTarget(target);
+  const fs::path file = writtenFileOf(target);
   const fs::path temporary = temporaryPathFor(file);
   // Created here first (and only here: O_EXCL): a folder that takes no new
   // file is reported in the program's words, naming the output, before a

@@ -123,6 +123,7 @@ FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
   const auto ownLabelsProba = [&](const FrameRecord& record) {
     return record.proba_from_label && !record.proba.empty() && !options.fusion.segmenter;
   };
+  std::vector<char> scores_2d(last, 0);  // frames whose images the 2D metrics compare
   for (size_t i = first; i < last; ++i) {
     const FrameRecord& record = sequence.frames[i];
     const bool has_proba = !record.proba.empty() || options.fusion.segmenter;
@@ -133,6 +134,7 @@ FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
       if (record.view) to_load.push_back(i);
       continue;
     }
+    scores_2d[i] = scored_2d;
     if (record.view || scored_2d) to_load.push_back(i);
   }
   EvaluationProgress report{"projecting", 0, to_load.size()};
@@ -144,7 +146,7 @@ FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
       scan.view_voxels.push_back(
           projectView(sequence, i, frame, map, slot_of_label, scored_labels, options));
     }
-    if (frame.label && frame.proba && !ownLabelsProba(record) && !record.label_placeholder) {
+    if (scores_2d[i] && frame.label && frame.proba) {
       if (!scan.confusion) scan.confusion.emplace(sequence.labels.size());
       addToConfusion(sequence, i, frame, without_candidates, *scan.confusion);
       if (options.fusion.candidates) {

@@ -39,6 +39,15 @@ Eigen::Vector3d normalizedApproach(const Eigen::Vector3d& approach, const std::s
 
 Eigen::Matrix3d axesOf(const OrientedBox& box) { return box.rotation.normalized().toRotationMatrix(); }
 
+// The interval a box (with its `axes`) covers along the unit direction n.
+std::pair<double, double> interval(const OrientedBox& box, const Eigen::Matrix3d& axes,
+                                   const Eigen::Vector3d& n) {
+  const double centre = box.center.dot(n);
+  double reach = 0.0;
+  for (int k = 0; k < 3; ++k) reach += 0.5 * box.size[k] * std::abs(axes.col(k).dot(n));
+  return {centre - reach, centre + reach};
+}
+
 // Front-most first; ties by label, then instance.
 void sortFrontToBack(std::vector<size_t>& indices, const std::vector<ObjectInstance>& objects,
                      const Eigen::Vector3d& approach) {
@@ -151,12 +160,6 @@ bool boxesOverlapAcross(const OrientedBox& a, const OrientedBox& b, const Eigen:
   const Eigen::Matrix3d axes_b = axesOf(b);
   // The projections are zonogons whose edges are the projected box axes, so the
   // candidate separating lines in the plane are perpendicular to those: d x axis.
-  auto interval = [](const OrientedBox& box, const Eigen::Matrix3d& axes, const Eigen::Vector3d& n) {
-    const double centre = box.center.dot(n);
-    double reach = 0.0;
-    for (int k = 0; k < 3; ++k) reach += 0.5 * box.size[k] * std::abs(axes.col(k).dot(n));
-    return std::make_pair(centre - reach, centre + reach);
-  };
   for (const Eigen::Matrix3d* axes : {&axes_a, &axes_b}) {
     for (int k = 0; k < 3; ++k) {
       Eigen::Vector3d n = d.cross(axes->col(k));
@@ -175,13 +178,6 @@ bool boxInPathOf(const OrientedBox& object, const OrientedBox& target,
   const Eigen::Vector3d d = direction.normalized();
   const Eigen::Matrix3d axes_o = axesOf(object);
   const Eigen::Matrix3d axes_t = axesOf(target);
-  auto interval = [](const OrientedBox& box, const Eigen::Matrix3d& axes,
-                     const Eigen::Vector3d& n) {
-    const double centre = box.center.dot(n);
-    double reach = 0.0;
-    for (int k = 0; k < 3; ++k) reach += 0.5 * box.size[k] * std::abs(axes.col(k).dot(n));
-    return std::make_pair(centre - reach, centre + reach);
-  };
   // In front: the object reaches nearer the camera than the target does.
   if (!(interval(object, axes_o, d).first < interval(target, axes_t, d).first)) return false;
   // The path: the target's box moved back along d towards the camera, far

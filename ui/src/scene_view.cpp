@@ -292,7 +292,6 @@ void SceneView::resetCamera() {
 }
 
 bool SceneView::mapBounds(double bounds[6]) const {
-  if (scene_->voxel_count == 0) return false;
   const MapBulk* bulk = shownBulk();
   if (bulk == nullptr || bulk->box.isEmpty()) return false;
   for (int axis = 0; axis < 3; ++axis) {
@@ -396,9 +395,11 @@ void SceneView::frameCubes(const MapBulk& bulk) {
   camera->SetPosition(eye.data());
 }
 
-double SceneView::mapExtentInView() const {
-  const MapBulk* bulk = shownBulk();
-  if (bulk == nullptr) return 0.0;
+double SceneView::boxesExtentInView(const std::vector<Eigen::Vector3d>& centres,
+                                    const Eigen::Vector3d& half) const {
+  // The largest |x| or |y| of the boxes' corners in the view's normalised
+  // coordinates (-1 to 1 across the picture); infinity for a corner behind
+  // the camera.
   vtkCamera* camera = scene_->renderer->GetActiveCamera();
   const int* size = scene_->renderer->GetSize();
   const double aspect = size[0] > 0 && size[1] > 0 ? static_cast<double>(size[0]) / size[1] : 1.0;
@@ -406,13 +407,12 @@ double SceneView::mapExtentInView() const {
   Eigen::Matrix4d m;
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) m(r, c) = matrix->GetElement(r, c);
-  const double h = 0.5 * bulk->edge;
   double extent = 0.0;
-  for (const Eigen::Vector3d& centre : bulk->centres)
+  for (const Eigen::Vector3d& centre : centres)
     for (int corner = 0; corner < 8; ++corner) {
       const Eigen::Vector3d p =
-          centre +
-          h * Eigen::Vector3d(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1, corner & 4 ? 1 : -1);
+          centre + half.cwiseProduct(Eigen::Vector3d(corner & 1 ? 1 : -1, corner & 2 ? 1 : -1,
+                                                     corner & 4 ? 1 : -1));
       const Eigen::Vector4d v = m * Eigen::Vector4d(p.x(), p.y(), p.z(), 1.0);
       if (!(v.w() > 0.0)) return std::numeric_limits<double>::infinity();  // behind the camera
       extent = std::max({extent, std::abs(v.x() / v.w()), std::abs(v.y() / v.w())});
@@ -420,23 +420,15 @@ double SceneView::mapExtentInView() const {
   return extent;
 }
 
+double SceneView::mapExtentInView() const {
+  const MapBulk* bulk = shownBulk();
+  if (bulk == nullptr) return 0.0;
+  return boxesExtentInView(bulk->centres, Eigen::Vector3d::Constant(0.5 * bulk->edge));
+}
+
 double SceneView::boxExtentInView(const double bounds[6]) const {
-  // The largest |x| or |y| of the box's corners in the view's normalised
-  // coordinates (-1 to 1 across the picture); infinity for a corner behind
-  // the camera.
-  double extent = 0.0;
-  for (int corner = 0; corner < 8; ++corner) {
-    double point[4] = {bounds[corner & 1], bounds[2 + ((corner >> 1) & 1)],
-                       bounds[4 + ((corner >> 2) & 1)], 1.0};
-    scene_->renderer->SetWorldPoint(point);
-    scene_->renderer->WorldToView();
-    double view[3];
-    scene_->renderer->GetViewPoint(view);
-    if (!std::isfinite(view[0]) || !std::isfinite(view[1]) || view[2] > 1.0)
-      return std::numeric_limits<double>::infinity();
-    extent = std::max({extent, std::abs(view[0]), std::abs(view[1])});
-  }
-  return extent;
+  const Eigen::Vector3d low(bounds[0], bounds[2], bounds[4]), high(bounds[1], bounds[3], bounds[5]);
+  return boxesExtentInView({0.5 * (low + high)}, 0.5 * (high - low));
 }
 
 bool SceneView::currentCameraInView() const {

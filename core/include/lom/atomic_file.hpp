@@ -60,6 +60,11 @@ void removePendingOutputs() noexcept;
 // removePendingOutputsAndDie. Call once, early in main.
 void removePendingOutputsOnSignals();
 
+// The file a write of `target` replaces: for a symbolic link that resolves,
+// the file it points to (a link into a shared folder of annotations keeps
+// pointing at the saved boxes); else `target` itself, a dangling link included.
+[[nodiscard]] std::filesystem::path writtenFileOf(const std::filesystem::path& target);
+
 // Calls write(stream) on a temporary file next to `target`, then renames it over
 // `target`. Throws lom::Error naming `target` if the folder is not writable or
 // the stream fails; the temporary file is removed on any failure.

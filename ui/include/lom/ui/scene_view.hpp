@@ -169,6 +169,10 @@ class SceneView : public QWidget {
   // Keeps the camera's direction and view up, and moves it to where the
   // bulk's cubes fill 90 % of the view across or up, centred.
   void frameCubes(const MapBulk& bulk);
+  // How far the boxes of half edges `half` centred on `centres` (axis-aligned)
+  // reach across the view (see boxExtentInView).
+  [[nodiscard]] double boxesExtentInView(const std::vector<Eigen::Vector3d>& centres,
+                                         const Eigen::Vector3d& half) const;
 
   struct Scene;
   std::unique_ptr<Scene> scene_;
