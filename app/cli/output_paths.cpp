@@ -208,9 +208,16 @@ std::string missingFolderProblem(const fs::path& folder) {
 void checkFolderWritable(const fs::path& folder, const fs::path& target, const std::string& field) {
   fs::path existing = folder.empty() ? fs::path(".") : folder;
   std::error_code ec;
-  while (!fs::exists(existing, ec) && existing.has_parent_path() &&
-         existing.parent_path() != existing)
+  while (!fs::exists(existing, ec)) {
+    // A relative path's first missing folder is created in the working folder
+    // ("report" has no parent of its own).
+    if (!existing.has_parent_path()) {
+      if (existing.is_relative()) existing = ".";
+      break;
+    }
+    if (existing.parent_path() == existing) break;
     existing = existing.parent_path();
+  }
   if (fs::exists(existing, ec) && !fs::is_directory(existing, ec))
     throw Error(target.string(), field, "a folder where files can be written",
                 existing.string() + ", which is not a folder");

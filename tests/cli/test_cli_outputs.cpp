@@ -238,4 +238,28 @@ TEST_F(CliOutputTest, ExportIntoAFolderThatTakesNoFilesSaysSoInOneLine) {
   }
 }
 
+// Outputs named relative to the working folder: a folder output that does not
+// exist yet is created there (with its parents), as one given by an absolute
+// path is; a file output goes beside the working folder's other files.
+TEST_F(CliOutputTest, OutputsRelativeToTheWorkingFolderAreWritten) {
+  TempDir work;
+  const fs::path before = fs::current_path();
+  fs::current_path(work.path());
+  const std::string score = "score " + q(scene()) + " --annotations " +
+                            q(scene() / "annotations.json") + " --map " + q(map()) + " --quiet";
+  const auto in_report = runCli(score + " --out report");
+  const auto in_trailing = runCli(score + " --out nested/report/");
+  const auto fused = runCli("fuse " + q(scene()) + " --frames 0:1 --out map.ot --quiet");
+  const auto exported = runCli("export " + q(map()) + " --format ply --per-label --out meshes");
+  fs::current_path(before);
+  EXPECT_EQ(in_report.exit_code, 0) << in_report.err;
+  EXPECT_TRUE(fs::exists(work / "report" / "report.json"));
+  EXPECT_EQ(in_trailing.exit_code, 0) << in_trailing.err;
+  EXPECT_TRUE(fs::exists(work / "nested" / "report" / "report.json"));
+  EXPECT_EQ(fused.exit_code, 0) << fused.err;
+  EXPECT_TRUE(fs::exists(work / "map.ot"));
+  EXPECT_EQ(exported.exit_code, 0) << exported.err;
+  EXPECT_TRUE(fs::is_directory(work / "meshes"));
+}
+
 }  // namespace
