@@ -31,6 +31,7 @@
 #include "lom/ui/fusion_panel.hpp"
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/map_worker.hpp"
+#include "lom/ui/number_format.hpp"
 #include "lom/ui/scene_view.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
@@ -457,6 +458,7 @@ int main(int argc, char** argv) {
 
   lom::ui::setDefaultSurfaceFormat();
   QApplication app(argc, argv);
+  lom::ui::useCNumberFormatForFiles();
   QApplication::setOrganizationName("LabelOctoMap");
   QApplication::setApplicationName("LabelOctoMap Studio");
   QApplication::setApplicationVersion(lom::ui::studioVersion());

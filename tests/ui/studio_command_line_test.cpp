@@ -4,6 +4,7 @@
 #include <QFileInfo>
 #include <QImage>
 #include <QProcess>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -116,6 +117,32 @@ TEST(StudioCommandLine, ScreenshotLeavesTheBoxRecoveryFileForTheNextSession) {
   EXPECT_FALSE(QImage(qPath(out)).isNull());
   ASSERT_TRUE(std::filesystem::exists(recovery));
   EXPECT_EQ(slurp(recovery), before);
+}
+
+// Under a number format with decimal commas (German here) the studio still
+// reads a recording's "615.19" as the files mean it: Qt sets the C library's
+// locale from the environment, which the studio undoes for numbers. The
+// locale is built into the test's own folder (no system locale needed), and
+// the test is skipped where Debian's locale sources are missing.
+TEST(StudioCommandLine, AGermanNumberFormatStillReadsTheRecordingsDecimalPoints) {
+  lom::test::TempDir temp;
+  std::filesystem::create_directories(temp / "locales");
+  const std::string build = "localedef -i de_DE -f UTF-8 '" + (temp / "locales").string() +
+                            "/de_DE.UTF-8' >/dev/null 2>&1";
+  if (std::system(build.c_str()) != 0)
+    GTEST_SKIP() << "no de_DE locale could be built (Debian's locales package holds its source)";
+  const auto tiny = lom::test::writeTinySequence(temp / "seq");
+  lom::test::writeFramesLayout(tiny, temp / "recording");  // converted when opened
+  QProcessEnvironment environment = QProcessEnvironment::systemEnvironment();
+  environment.insert("LOCPATH", qPath(temp / "locales"));
+  environment.insert("LC_ALL", "de_DE.UTF-8");
+  const auto out = temp / "window.png";
+  const StudioRun run =
+      runStudio({"--screenshot", qPath(out), qPath(temp / "recording")}, environment);
+  EXPECT_EQ(run.exit_code, 0) << run.err.toStdString();
+  // Every frame converted: none left out for a pose it could not read.
+  EXPECT_FALSE(run.err.contains("could not be converted")) << run.err.toStdString();
+  EXPECT_FALSE(QImage(qPath(out)).isNull());
 }
 
 // The picture never replaces a file of the sequence it shows.

@@ -5,6 +5,7 @@
 #include <QApplication>
 #include <QTemporaryDir>
 
+#include "lom/ui/number_format.hpp"
 #include "lom/ui/scene_view.hpp"
 
 int main(int argc, char** argv) {
@@ -18,6 +19,7 @@ int main(int argc, char** argv) {
 
   lom::ui::setDefaultSurfaceFormat();
   QApplication app(argc, argv);
+  lom::ui::useCNumberFormatForFiles();
   QApplication::setOrganizationName("LabelOctoMapTests");
   QApplication::setApplicationName("lom_ui_tests");
   ::testing::InitGoogleTest(&argc, argv);
