@@ -143,10 +143,11 @@ RangeMessage maxRangeMessage(const FrameStats& totals, double max_range, double 
   // Max range drops farther surfaces without a trace: a warning when it took
   // most of the depths, a note when it took a fifth or more.
   RangeMessage message;
-  if (totals.valid_pixels == 0) return message;
-  const size_t beyond = std::min(totals.beyond_range_pixels, totals.valid_pixels);
+  const size_t measured = measuredPixels(totals);
+  if (totals.valid_pixels == 0 || measured == 0) return message;
+  const size_t beyond = totals.beyond_range_pixels;
   message.warning = mostDepthsBeyondMaxRange(totals, max_range);
-  if (!message.warning && !(max_range > 0.0 && 5 * beyond >= totals.valid_pixels)) return message;
+  if (!message.warning && !(max_range > 0.0 && 5 * beyond >= measured)) return message;
   const double reach = std::ceil(totals.farthest_range * 10.0) / 10.0;
   std::string how;
   // Only settings fuse takes: a finite range, rays of at most 1000 voxels of at most 1 m.
@@ -182,8 +183,8 @@ RangeMessage maxRangeMessage(const FrameStats& totals, double max_range, double 
   }
   char counts[160];
   std::snprintf(counts, sizeof counts,
-                "%zu of %zu valid depth pixels (%.1f%%) were beyond the max range of %g m: ",
-                beyond, totals.valid_pixels, 100.0 * beyond / totals.valid_pixels, max_range);
+                "%zu of %zu measured depth pixels (%.1f%%) were beyond the max range of %g m: ",
+                beyond, measured, 100.0 * beyond / measured, max_range);
   message.text = counts + std::string("they only cleared free space and mapped nothing. ") + how;
   return message;
 }

@@ -469,9 +469,12 @@ void addFrameStats(FrameStats& totals, const FrameStats& frame) {
   totals.seconds += frame.seconds;
 }
 
+size_t measuredPixels(const FrameStats& totals) {
+  return totals.valid_pixels + totals.outside_map_pixels;
+}
+
 bool mostDepthsBeyondMaxRange(const FrameStats& totals, double max_range) {
-  const size_t beyond = std::min(totals.beyond_range_pixels, totals.valid_pixels);
-  return max_range > 0.0 && 2 * beyond > totals.valid_pixels;
+  return max_range > 0.0 && 2 * totals.beyond_range_pixels > measuredPixels(totals);
 }
 
 std::optional<RayLengthProblem> checkRayLength(double max_range, double resolution) {

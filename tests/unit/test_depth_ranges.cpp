@@ -135,6 +135,21 @@ TEST(DepthRangesTest, FuseSequenceReportsPixelsBeyondMaxRange) {
   EXPECT_NEAR(reports[1].totals.farthest_range, expected.farthest, 1e-12);
 }
 
+// "Most depths beyond max range" counts against every measured depth: a depth
+// beyond max range may also lie outside the map's extent (not among the
+// valid pixels), and one far depth beside one mapped one is half, not all.
+TEST(DepthRangesTest, MostDepthsBeyondMaxRangeCountsDepthsOutsideTheMap) {
+  lom::FrameStats totals;
+  totals.valid_pixels = 1;
+  totals.outside_map_pixels = 1;
+  totals.beyond_range_pixels = 1;  // the one outside the map
+  EXPECT_EQ(lom::measuredPixels(totals), 2u);
+  EXPECT_FALSE(lom::mostDepthsBeyondMaxRange(totals, 1.0));
+  totals.beyond_range_pixels = 2;
+  EXPECT_TRUE(lom::mostDepthsBeyondMaxRange(totals, 1.0));
+  EXPECT_FALSE(lom::mostDepthsBeyondMaxRange(totals, 0.0));  // unlimited range
+}
+
 TEST(SuggestedResolution, RaysCrossAtMost250VoxelsInStepsOfFiveMillimetres) {
   EXPECT_DOUBLE_EQ(lom::suggestedResolutionForRange(10.0, 0.01), 0.04);
   EXPECT_DOUBLE_EQ(lom::suggestedResolutionForRange(10.0, 0.005), 0.04);

@@ -277,9 +277,8 @@ void FusionPanel::showDepthRanges(const FrameStats& totals, double max_range) {
         std::min(max_range_->maximum(), std::ceil(totals.farthest_range * 10.0) / 10.0);
     suggested_resolution_ = suggestedResolutionForRange(suggested_range_, resolution_->value());
     // One decimal, as `labeloctomap fuse` prints it (99.8 %, not 99 %).
-    const double percent =
-        100.0 * static_cast<double>(std::min(totals.beyond_range_pixels, totals.valid_pixels)) /
-        static_cast<double>(totals.valid_pixels);
+    const double percent = 100.0 * static_cast<double>(totals.beyond_range_pixels) /
+                           static_cast<double>(measuredPixels(totals));
     range_note_ = tr("%1% of the depths lay beyond the max range of %2 m and mapped nothing "
                      "(the farthest lies %3 m from the camera).")
                       .arg(percent, 0, 'f', 1)

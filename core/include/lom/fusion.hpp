@@ -158,9 +158,14 @@ void noteDepthRanges(FrameStats& stats, const CameraIntrinsics& camera, const De
 // Adds a frame's stats to the totals of a fusion: counts and seconds summed,
 // farthest_range the maximum.
 void addFrameStats(FrameStats& totals, const FrameStats& frame);
+// The fused frames' measured depths: those the map holds (valid_pixels) and
+// those outside its extent.
+[[nodiscard]] size_t measuredPixels(const FrameStats& totals);
+
 // Whether max range (when limited) took more than half of the fused frames'
-// valid depths: they only cleared free space and mapped nothing, which the
-// CLI and the studio say.
+// measured depths: they only cleared free space and mapped nothing, which the
+// CLI and the studio say. (Against measured, not valid, depths: a depth
+// beyond max range may also lie outside the map's extent.)
 [[nodiscard]] bool mostDepthsBeyondMaxRange(const FrameStats& totals, double max_range);
 
 // The map's extent: OctoMap's 16-level keys reach kMapExtentVoxels voxels on
