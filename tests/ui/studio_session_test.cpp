@@ -7,6 +7,7 @@
 
 #include <QAction>
 #include <QApplication>
+#include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFileInfo>
 #include <QLineEdit>
@@ -178,6 +179,28 @@ TEST_F(StudioSessionTest, FuseUsesTheSettingsTheFusionPanelShows) {
   EXPECT_EQ(window_.session().worker().snapshot()->frames_fused, fused_before);
   EXPECT_TRUE(window_.statusBar()->currentMessage().startsWith("Not fused: Candidates: 99"))
       << window_.statusBar()->currentMessage().toStdString();
+}
+
+// A value typed into a Fusion panel field but not entered yet (no Enter, the
+// field still focused) is the one F5 fuses with: the field shows it.
+TEST_F(StudioSessionTest, FuseTakesAValueStillBeingTypedInTheFusionPanel) {
+  openAndFuse();
+  QDockWidget& fusion = dock("fusionDock");
+  fusion.show();
+  fusion.raise();
+  window_.activateWindow();
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&window_));
+  QDoubleSpinBox& field = window_.fusionPanel().resolutionBox();
+  ASSERT_NE(field.value(), 0.02);
+  field.setFocus();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return field.hasFocus(); }, 5000));
+  field.selectAll();
+  QTest::keyClicks(&field, "0.02");
+  ASSERT_FALSE(window_.fusionPanel().hasPendingChanges()) << "typed, not entered";
+  window_.findAction("Fuse Sequence")->trigger();
+  waitForFusion();
+  EXPECT_DOUBLE_EQ(window_.session().worker().snapshot()->resolution, 0.02);
+  EXPECT_FALSE(window_.fusionPanel().hasPendingChanges());
 }
 
 TEST_F(StudioSessionTest, FusionFieldsKeepTheCommandLinesLimits) {

@@ -6,11 +6,18 @@
 // settings the Fusion panel shows).
 #include <gtest/gtest.h>
 
+#include <QAbstractButton>
 #include <QAction>
 #include <QApplication>
+#include <QMessageBox>
 #include <QTest>
+#include <QTimer>
+#include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <thread>
 
 #include "demo_window_fixture.hpp"
 #include "dialog_answerer.hpp"
@@ -48,6 +55,30 @@ class UnsavedMapTest : public fixture::DemoWindowTest {
     QTest::qWait(50);
   }
   [[nodiscard]] size_t framesShown() { return session().worker().snapshot()->frames_fused; }
+  // The next fusion holds after its second frame until `release` (or the
+  // end of the test).
+  struct Hold {
+    std::atomic<size_t> reached{0};
+    std::atomic<bool> release{false};
+  };
+  std::shared_ptr<Hold> heldAtSecondFrame() {
+    auto hold = std::make_shared<Hold>();
+    session().worker().setFrameFusedHook([hold](size_t frames) {
+      hold->reached = frames;
+      while (frames == 2 && !hold->release)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    });
+    hold_ = hold;
+    return hold;
+  }
+  void TearDown() override {
+    if (hold_) hold_->release = true;
+    session().worker().setFrameFusedHook({});
+    DemoWindowTest::TearDown();
+  }
+
+ private:
+  std::shared_ptr<Hold> hold_;
 };
 
 TEST_F(UnsavedMapTest, ClosingAfterAFusionAsksAndCancelKeepsTheWindow) {
@@ -178,6 +209,65 @@ TEST_F(UnsavedMapTest, AFusionThatFusedNothingIsNotAsked) {
   test::DialogAnswerer answer("Cancel");
   EXPECT_TRUE(window_.close());
   EXPECT_TRUE(answer.questions.isEmpty()) << answer.questions.join('\n').toStdString();
+}
+
+// A fusion that ends while the close question about it is open leaves a
+// whole map: it is asked about before the window closes (closing dropped it).
+TEST_F(UnsavedMapTest, AFusionThatEndsWhileClosingIsAskedIsAskedAboutItsMap) {
+  auto held = heldAtSecondFrame();
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return held->reached == 2; }, kTimeoutMs));
+  QStringList asked;
+  bool closing_answered = false;
+  QTimer answerer;
+  answerer.setInterval(20);
+  QObject::connect(&answerer, &QTimer::timeout, [&] {
+    for (QWidget* widget : QApplication::topLevelWidgets()) {
+      auto* box = qobject_cast<QMessageBox*>(widget);
+      if (!box || !box->isVisible()) continue;
+      if (!asked.contains(box->text())) {
+        asked << box->text();
+        if (!box->text().contains("Closing the studio now stops"))
+          QMetaObject::invokeMethod(box, "reject", Qt::QueuedConnection);  // Cancel
+        else
+          held->release = true;  // the fusion ends while the question is open
+      }
+      if (box->text().contains("Closing the studio now stops") && !closing_answered &&
+          !session().worker().isFusing())
+        for (QAbstractButton* button : box->buttons())
+          if (button->text().remove('&') == "Close Anyway") {
+            closing_answered = true;
+            QMetaObject::invokeMethod(button, "click", Qt::QueuedConnection);
+          }
+    }
+  });
+  answerer.start();
+  EXPECT_FALSE(window_.close());
+  ASSERT_EQ(asked.size(), 2) << asked.join("\n").toStdString();
+  EXPECT_TRUE(asked[1].contains("has not been saved. Closing the studio discards it"))
+      << asked[1].toStdString();
+  EXPECT_EQ(framesShown(), static_cast<size_t>(fixture::smallDemo().frames));
+  EXPECT_TRUE(session().worker().hasUnsavedMap());
+}
+
+// Reset Map while fusing: the status says "not fused", not where the fusion
+// it stopped had got to (the stopped fusion's end came after the reset).
+TEST_F(UnsavedMapTest, ResetMapWhileFusingLeavesTheStatusNotFused) {
+  auto held = heldAtSecondFrame();
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return held->reached == 2; }, kTimeoutMs));
+  {
+    test::DialogAnswerer answer("Discard Map");  // if asked
+    window_.findAction("Reset Map")->trigger();
+  }
+  held->release = true;
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !session().worker().isFusing() && framesShown() == 0; },
+                              kTimeoutMs));
+  QTest::qWait(200);
+  EXPECT_TRUE(window_.fusionStatusText().startsWith("not fused"))
+      << window_.fusionStatusText().toStdString();
+  EXPECT_FALSE(window_.fusionStatusText().contains("stopped"))
+      << window_.fusionStatusText().toStdString();
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "lom/fusion.hpp"
 #include "lom/segmenter.hpp"
 #include "lom/ui/map_worker.hpp"
+#include "lom/ui/pending_edits.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
 #include "lom/ui/wheel_guard.hpp"
@@ -316,6 +317,7 @@ void FusionPanel::showDepthRanges(const FrameStats& totals, double max_range) {
 }
 
 bool FusionPanel::fuseWithShownSettings() {
+  commitPendingEdits();  // a value still being typed is one the panel shows
   onEdited();
   if (!hasPendingChanges()) {
     session_.fuse();

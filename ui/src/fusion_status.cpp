@@ -55,6 +55,16 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
     progress_->setToolTip(source);
   });
   connect(&worker, &MapWorker::fusionStarted, this, [this] { progress_->setToolTip(QString()); });
+  // Reset Map: nothing fused, also when it stopped a fusion (whose end says
+  // where it stopped just before).
+  connect(&worker, &MapWorker::mapReset, this, [this] {
+    progressed_ = failed_ = false;
+    progress_->setFormat(tr("not fused"));
+    progress_->setRange(0, 1);
+    progress_->setValue(0);
+    progress_->setToolTip(QString());
+    rate_->clear();
+  });
   connect(&worker, &MapWorker::stateChanged, this, [this](MapWorker::State state) {
     if (state == MapWorker::State::Paused) rate_->setText(tr("paused"));
   });

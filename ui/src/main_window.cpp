@@ -714,10 +714,17 @@ void MainWindow::onCurrentFrameChanged() {
 
 void MainWindow::closeEvent(QCloseEvent* event) {
   const bool unsaved = controller_->hasUnsavedWork();  // commits a value being typed first
-  // A map still being fused is asked about with the rest of the work that
-  // closing stops.
-  const bool ask_map = !session_->worker().isFusing();
-  if ((unsaved && !confirmDiscard(tr("Closing the studio"), ask_map)) || !confirmStopWork()) {
+  // Each question is asked about what is true once the ones before it are
+  // answered: a fusion may end while one of them is open. A map still being
+  // fused is asked about with the rest of the work that closing stops; a map
+  // whose fusion has ended, after that.
+  const auto keepsMap = [this] {
+    const MapWorker& worker = session_->worker();
+    return !worker.isFusing() && worker.hasUnsavedMap() &&
+           !confirmDiscardMap(tr("Closing the studio"));
+  };
+  if ((unsaved && !confirmDiscard(tr("Closing the studio"), /*ask_map=*/false)) ||
+      !confirmStopWork() || keepsMap()) {
     event->ignore();
     return;
   }

@@ -278,11 +278,17 @@ void MapWorker::reset() {
   evaluation_generation_ += 1;
   ++map_generation_;  // before the cancel, as in startFusion
   cancel();
+  const unsigned id = fusion_id_;
   post(
-      [this] {
+      [this, id] {
         map_.reset();
         frames_fused_ = 0;
         publish(std::make_shared<MapSnapshot>());
+        // After the stopped fusion's end (queued before this): the status
+        // says "not fused", not where that fusion stopped.
+        inGui([this, id] {
+          if (id == fusion_id_ && !isFusing()) emit mapReset();
+        });
       },
       false);
 }

@@ -100,6 +100,9 @@ class MapWorker : public QObject {
   void fusionFinished(bool completed);
   // A map read from `source` replaced the fused one (adoptMap).
   void mapAdopted(const QString& source);
+  // reset() emptied the map (after the end of the fusion it stopped, unless
+  // another fusion started meanwhile).
+  void mapReset();
   // After a fusion (also a stopped one): the fused frames' totals, with their
   // depths beyond the map's max range (which map nothing) and the farthest.
   void depthRangesMeasured(const lom::FrameStats& totals, double max_range);
