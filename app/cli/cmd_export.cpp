@@ -2,6 +2,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <new>
@@ -248,6 +249,19 @@ int runExport(const Words& words) {
   for (const int label : summary.empty_labels)
     std::cerr << "note: label " << label << " (" << map.labels().at(label).name
               << ") has no occupied voxel; nothing written for it\n";
+  if (!summary.earlier_files.empty()) {
+    // Left alone (they may be the user's), but the folder is not one map's.
+    const size_t shown = std::min<size_t>(summary.earlier_files.size(), 5);
+    std::cerr << "note: " << summary.earlier_files.size() << " file"
+              << (summary.earlier_files.size() == 1 ? " in " : "s in ") << out_path
+              << " named like per-label files are not from this export (an earlier one's?), "
+                 "left as they were: ";
+    for (size_t i = 0; i < shown; ++i)
+      std::cerr << (i ? ", " : "") << summary.earlier_files[i].filename().string();
+    if (shown < summary.earlier_files.size())
+      std::cerr << " and " << summary.earlier_files.size() - shown << " more";
+    std::cerr << "; remove them, or export into an empty folder, to keep the folder one map's\n";
+  }
   std::cout << "wrote " << summary.items << " " << summary.item_name;
   if (options.format == ExportFormat::Pcd || options.points) std::cout << " (occupied voxels)";
   if (summary.files.size() == 1) {

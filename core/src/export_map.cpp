@@ -181,6 +181,39 @@ class StagingFolder {
   PendingOutput pending_;  // path_, for a signal to remove
 };
 
+// The files of `folder` named like per-label files with `extension` (or an
+// OBJ's .mtl) that are not among `written`, sorted.
+std::vector<fs::path> earlierPerLabelFiles(const fs::path& folder,
+                                           const std::vector<fs::path>& written,
+                                           const std::string& extension, bool with_mtl) {
+  const auto perLabelName = [&](const fs::path& file) {
+    const std::string ext = lower(file.extension().string());
+    if (ext != extension && !(with_mtl && ext == ".mtl")) return false;
+    const std::string stem = file.stem().string();
+    const size_t underscore = stem.find('_');
+    if (underscore == std::string::npos || underscore < 2 || underscore + 1 == stem.size())
+      return false;
+    for (size_t i = 0; i < stem.size(); ++i) {
+      const char c = stem[i];
+      const bool ok = i < underscore ? std::isdigit(static_cast<unsigned char>(c)) != 0
+                                     : (c >= 'a' && c <= 'z') ||
+                                           std::isdigit(static_cast<unsigned char>(c)) != 0 ||
+                                           c == '_' || c == '-';
+      if (!ok) return false;
+    }
+    return true;
+  };
+  std::vector<fs::path> earlier;
+  std::error_code ec;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const fs::path& file = it->path();
+    if (!it->is_regular_file(ec) || !perLabelName(file.filename())) continue;
+    if (std::find(written.begin(), written.end(), file) == written.end()) earlier.push_back(file);
+  }
+  std::sort(earlier.begin(), earlier.end());
+  return earlier;
+}
+
 }  // namespace
 
 std::optional<ExportFormat> parseExportFormat(const std::string& name) {
@@ -280,6 +313,11 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
 
   std::optional<StagingFolder> staging;
   if (options.per_label) staging.emplace(out);
+  const auto publish = [&] {
+    summary.files = staging->publish(summary.files);
+    summary.earlier_files = earlierPerLabelFiles(
+        out, summary.files, infoOf(options.format).extension, options.format == ExportFormat::Obj);
+  };
   const auto pathFor = [&](int label) {
     return staging->path() / (labelFileStem(map.labels().at(label), map.numLabels()) +
                               infoOf(options.format).extension);
@@ -297,7 +335,7 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
     } else {
       for (const auto& [label, keys] : voxels)
         staging->write([&, label = label] { write({label}, pathFor(label)); });
-      summary.files = staging->publish(summary.files);
+      publish();
     }
     return summary;
   }
@@ -329,7 +367,7 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
     }
   }
   if (!options.per_label) writeMeshes(meshes, map, options.format, out, summary.files);
-  if (options.per_label) summary.files = staging->publish(summary.files);
+  if (options.per_label) publish();
   return summary;
 }
 

@@ -126,6 +126,36 @@ TEST_F(CliExportTest, PerLabelFilesAreNamedByLabelIdAndName) {
   EXPECT_EQ(found, expected);
 }
 
+// A per-label export into a folder that holds an earlier one's files (of
+// labels this export leaves out) names them: they stay (they may be the
+// user's), but the folder no longer holds one map's objects. Files of other
+// formats and other names are not counted.
+TEST_F(CliExportTest, PerLabelExportNamesTheFilesOfAnEarlierExportLeftInItsFolder) {
+  TempDir out;
+  const lom::LabelMap m = lom::LabelMap::load(map());
+  std::vector<int> labels;
+  for (const auto& [label, count] : m.occupiedCountPerLabel()) labels.push_back(label);
+  ASSERT_GE(labels.size(), 3u);
+  const auto first =
+      runCli("export " + q(map()) + " --format obj --per-label --out " + q(out / "meshes"));
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  EXPECT_EQ(first.err.find("not from this export"), std::string::npos) << first.err;
+  std::ofstream(out / "meshes" / "notes.obj") << "# the user's\n";
+  std::ofstream(out / "meshes" / "01_mine.ply") << "ply\n";
+  const auto again = runCli("export " + q(map()) + " --format obj --per-label --labels " +
+                            std::to_string(labels[1]) + " --out " + q(out / "meshes"));
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  const size_t earlier = 2 * (labels.size() - 1);  // an OBJ and its MTL per label left out
+  EXPECT_NE(again.err.find("note: " + std::to_string(earlier) + " files in "), std::string::npos)
+      << again.err;
+  const std::string left = lom::labelFileStem(m.labels().at(labels[0]), m.numLabels());
+  EXPECT_NE(again.err.find(left + ".mtl, " + left + ".obj"), std::string::npos) << again.err;
+  EXPECT_EQ(again.err.find("notes.obj"), std::string::npos) << again.err;
+  EXPECT_EQ(again.err.find("01_mine.ply"), std::string::npos) << again.err;
+  EXPECT_TRUE(fs::exists(out / "meshes" / (left + ".obj")));
+  EXPECT_TRUE(fs::exists(out / "meshes" / "notes.obj"));
+}
+
 // OBJ cannot quote the material file's name: a space in it loses the colours
 // in OBJ readers, which the command says.
 TEST_F(CliExportTest, AnObjNamedWithASpaceGetsANote) {

@@ -136,6 +136,11 @@ struct ExportSummary {
   size_t items = 0;                          // triangles, points, leaves or objects
   std::string item_name;                     // "triangles", "points", "leaves", "objects"
   std::vector<int> empty_labels;             // requested labels without occupied voxels
+  // Per-label exports: files in the folder named as per-label files of the
+  // same format (<id>_<name>.<ext>, and .mtl beside OBJ) that this export did
+  // not write, from an earlier export of another map or other labels. They
+  // are left as they were (they may be the user's); callers say so.
+  std::vector<std::filesystem::path> earlier_files;
 };
 
 // File name stem of a label in a per-label folder: "08_creativity_chenille_stems"
