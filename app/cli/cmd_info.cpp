@@ -248,7 +248,14 @@ int runInfo(const Words& words) {
   const Args args(words, {});
   args.expectOnly({}, 1);
   const std::string path = args.positional(0, "SEQ (a sequence folder or sequence.json) or MAP.ot");
-  if (isMapFile(path)) {
+  // A missing MAP.ot (a mistyped name) gets the map reader's message, not
+  // the sequence reader's.
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  std::error_code ec;
+  const bool missing_map =
+      (extension == ".ot" || extension == ".bt") && !std::filesystem::exists(path, ec);
+  if (missing_map || isMapFile(path)) {
     printMapInfo(path, std::cout);
     return 0;
   }

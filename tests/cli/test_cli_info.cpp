@@ -149,6 +149,19 @@ TEST_F(CliInfoTest, InfoOnAMissingSequenceFailsNamingThePath) {
   EXPECT_NE(result.err.find("nowhere"), std::string::npos) << result.err;
 }
 
+// A mistyped map name is a missing map, as export, plan and render say, not
+// a missing sequence.
+TEST_F(CliInfoTest, InfoOnAMissingMapFileSaysAMapFileIsMissing) {
+  for (const char* name : {"missing.ot", "missing.BT"}) {
+    const auto result = lom::test::runCli("info " + quoted(dir / name));
+    EXPECT_EQ(result.exit_code, 1) << name;
+    EXPECT_NE(result.err.find(std::string(name) + ": map file: expected a readable"),
+              std::string::npos)
+        << result.err;
+    EXPECT_EQ(result.err.find("sequence"), std::string::npos) << result.err;
+  }
+}
+
 TEST_F(CliInfoTest, UnknownOptionOrMissingArgumentExitsTwo) {
   EXPECT_EQ(lom::test::runCli("info " + quoted(seq()) + " --bogus 1").exit_code, 2);
   EXPECT_EQ(lom::test::runCli("validate " + quoted(seq()) + " --strict=yes").exit_code, 2);
