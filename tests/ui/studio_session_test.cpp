@@ -24,6 +24,7 @@
 #include <thread>
 
 #include "demo_window_fixture.hpp"
+#include "dialog_answerer.hpp"
 #include "lom/annotations.hpp"
 #include "lom/evaluation.hpp"
 #include "lom/height_colours.hpp"
@@ -296,9 +297,9 @@ TEST_F(StudioSessionTest, MostDepthsBeyondMaxRangeOfferARefuseThatReachesThem) {
 
 TEST_F(StudioSessionTest, SegmenterChosenInTheFusionPanelFusesFramesWithoutProba) {
   const auto wall = temp_ / "wall";
-  (void)test::writeColourWallSequence(wall, 1);
+  (void)lom::test::writeColourWallSequence(wall, 1);
   const auto model = temp_ / "colours.onnx";
-  test::writeModel(model, test::buildConvModel(test::colourChannelModel()));
+  lom::test::writeModel(model, lom::test::buildConvModel(lom::test::colourChannelModel()));
   StudioSession& session = window_.session();
   ASSERT_TRUE(window_.controller().openSequence(qPath(wall)));
   ASSERT_TRUE(QTest::qWaitFor([&] { return !session.worker().isFusing(); }, kTimeoutMs));
@@ -309,7 +310,7 @@ TEST_F(StudioSessionTest, SegmenterChosenInTheFusionPanelFusesFramesWithoutProba
   // A model whose channels name a label the sequence does not have is
   // refused when chosen, not when Re-fuse has dropped the map.
   const auto misfit = temp_ / "misfit.onnx";
-  test::writeModel(misfit, test::buildConvModel(test::colourChannelModel()));
+  lom::test::writeModel(misfit, lom::test::buildConvModel(lom::test::colourChannelModel()));
   std::ofstream(temp_ / "misfit.json") << R"({"labels": [0, 1, 41]})";
   EXPECT_FALSE(panel.setSegmenterModel(qPath(misfit)));
   EXPECT_TRUE(panel.noteText().contains("labels[2]")) << panel.noteText().toStdString();
@@ -692,6 +693,33 @@ TEST_F(StudioSessionTest, PauseStaysShownWhenTheFrameInFlightReports) {
   waitForFusion();
   EXPECT_FALSE(window_.fusionStatusText().contains("paused"))
       << window_.fusionStatusText().toStdString();
+}
+
+// A name typed without an extension in a save dialog gets the format's, as
+// save dialogs do (the export refused it: "expected a file name ending in
+// .ply"); a name with one is kept.
+TEST_F(StudioSessionTest, SaveDialogsAddTheFormatsExtensionToANameWithout) {
+  openAndFuse();
+  const auto exported = temp_.path() / "my map";
+  {
+    ui::test::DialogAnswerer answer("Replace|Yes", qPath(exported));
+    window_.findAction("Voxel Mesh (PLY)…")->trigger();
+    ASSERT_TRUE(QTest::qWaitFor(
+        [&] { return std::filesystem::exists(temp_.path() / "my map.ply"); }, kTimeoutMs));
+  }
+  EXPECT_FALSE(std::filesystem::exists(exported));
+  window_.session().annotations().removeBox(0);  // something to save
+  {
+    ui::test::DialogAnswerer answer("Save|Replace|Yes", qPath(temp_.path() / "boxes"));
+    window_.findAction("Save Boxes As…")->trigger();
+  }
+  EXPECT_TRUE(std::filesystem::exists(temp_.path() / "boxes.json"));
+  EXPECT_FALSE(window_.session().annotations().isDirty());
+  {
+    ui::test::DialogAnswerer answer("Replace|Yes", qPath(temp_.path() / "view"));
+    window_.findAction("Save 3D View…")->trigger();
+  }
+  EXPECT_TRUE(std::filesystem::exists(temp_.path() / "view.png"));
 }
 
 TEST_F(StudioSessionTest, ExportsCanLeaveOutTheLabelsHiddenInThe3DView) {

@@ -10,6 +10,7 @@
 #include "lom/ui/annotation_files.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/pending_edits.hpp"
+#include "lom/ui/save_file_dialog.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
 
@@ -77,8 +78,7 @@ bool BoxFileReaction::confirmTarget(QString& path) {
                            tr("Overwrite %1"), path);
     if (answer == ReplaceAnswer::Replace) return true;
     if (answer == ReplaceAnswer::Cancel) return false;
-    path =
-        QFileDialog::getSaveFileName(parent_, tr("Save Boxes"), freeNameBeside(path), json_filter);
+    path = askSaveFileName(parent_, tr("Save Boxes"), freeNameBeside(path), json_filter, "json");
     if (path.isEmpty()) return false;
   }
   // Another program or another studio wrote the file since the studio read
@@ -99,7 +99,7 @@ bool BoxFileReaction::confirmTarget(QString& path) {
       tr("Replace %1"), path);
   if (answer == ReplaceAnswer::Replace) return true;
   if (answer == ReplaceAnswer::Cancel) return false;
-  path = QFileDialog::getSaveFileName(parent_, tr("Save Boxes"), freeNameBeside(path), json_filter);
+  path = askSaveFileName(parent_, tr("Save Boxes"), freeNameBeside(path), json_filter, "json");
   return !path.isEmpty();
 }
 
@@ -113,7 +113,7 @@ void BoxFileReaction::onTriggered() {
       path = start;
       break;
     case Kind::SaveAs:
-      path = QFileDialog::getSaveFileName(parent_, tr("Save Boxes"), start, json_filter);
+      path = askSaveFileName(parent_, tr("Save Boxes"), start, json_filter, "json");
       break;
     case Kind::Open:
     case Kind::ImportYaml:

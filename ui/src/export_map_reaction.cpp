@@ -2,12 +2,12 @@
 
 #include <QAction>
 #include <QEventLoop>
-#include <QFileDialog>
 #include <QFileInfo>
 #include <QPointer>
 #include <set>
 
 #include "lom/ui/map_worker.hpp"
+#include "lom/ui/save_file_dialog.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
 
@@ -31,9 +31,9 @@ ExportMapReaction::ExportMapReaction(QAction* action, ExportOptions options,
 
 QString ExportMapReaction::askPath() const {
   const QString extension = QString::fromLatin1(exportFormatName(options_.format));
-  return QFileDialog::getSaveFileName(parent_, options_.native ? tr("Save Map") : tr("Export Map"),
-                                      "map." + extension,
-                                      tr("%1 files (*.%2)").arg(extension.toUpper(), extension));
+  return askSaveFileName(parent_, options_.native ? tr("Save Map") : tr("Export Map"),
+                         "map." + extension,
+                         tr("%1 files (*.%2)").arg(extension.toUpper(), extension), extension);
 }
 
 void ExportMapReaction::onTriggered() {

@@ -1,12 +1,12 @@
 #include "lom/ui/save_screenshot_reaction.hpp"
 
 #include <QDir>
-#include <QFileDialog>
 #include <QMainWindow>
 #include <QMessageBox>
 #include <QStatusBar>
 #include <QWidget>
 
+#include "lom/ui/save_file_dialog.hpp"
 #include "lom/ui/scene_view.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/window_capture.hpp"
@@ -20,9 +20,9 @@ SaveScreenshotReaction::SaveScreenshotReaction(QAction* action, QWidget& window,
 void SaveScreenshotReaction::onTriggered() {
   const bool view = kind_ == Kind::SceneView;
   const QString title = view ? tr("Save 3D View") : tr("Save Screenshot");
-  const QString path = QFileDialog::getSaveFileName(
+  const QString path = askSaveFileName(
       &window_, title, view ? "labeloctomap-3d-view.png" : "labeloctomap-studio.png",
-      tr("Images (*.png *.jpg)"));
+      tr("Images (*.png *.jpg)"), "png");
   if (path.isEmpty()) return;
   const QString error = saveTo(path);
   if (!error.isEmpty()) {
