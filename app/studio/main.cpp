@@ -257,7 +257,11 @@ std::optional<std::string> displayProblem(const StudioArguments& arguments) {
         problem = "the studio needs a display and DISPLAY is not set";
         continue;
       }
-      if (lom::render::canOpenDisplay(display)) return std::nullopt;
+      if (lom::render::canOpenDisplay(display)) {
+        if (lom::render::displayHasGlx(display)) return std::nullopt;
+        problem = lom::render::missingGlxProblem("the studio's 3D view", display);
+        continue;
+      }
       problem = "the studio needs a display and cannot open display '" + display + "'";
     } else if (name.startsWith(QLatin1String("wayland"))) {
       if (!qEnvironmentVariable("WAYLAND_DISPLAY").isEmpty()) return std::nullopt;

@@ -1,6 +1,7 @@
 // labeloctomap export / render end to end on a fused synthetic sequence; the
 // meshes are opened with assimp (Debian package assimp-utils) as other tools would.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
@@ -328,6 +329,26 @@ TEST_F(CliExportTest, RenderWithoutDisplaySaysHowToRunIt) {
   EXPECT_NE(r.err.find("X server"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("xvfb-run"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out / "view.png"));
+}
+
+// An X server without GLX (ssh -X to a server with indirect GLX off): VTK
+// would abort the process; render says why and exits 3 like without a display.
+TEST_F(CliExportTest, RenderOnADisplayWithoutGlxSaysWhyAndExits3) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed (Debian's xvfb package)";
+  TempDir out;
+  std::ofstream(out / "view.png") << "an earlier picture";
+  const std::string command = "xvfb-run -a -s '-screen 0 320x240x24 -extension GLX' '" +
+                              std::string(LOM_CLI_PATH) + "' render " + q(map()) + " --out " +
+                              q(out / "view.png") + " 2>" + q(out / "err.txt");
+  const int status = std::system(command.c_str());
+  const std::string err = slurp(out / "err.txt");
+  if (err.find("built without the VTK rendering library") != std::string::npos)
+    GTEST_SKIP() << "this labeloctomap cannot render at all (configured with LOM_BUILD_UI=OFF)";
+  ASSERT_TRUE(WIFEXITED(status)) << err;
+  EXPECT_EQ(WEXITSTATUS(status), 3) << err;
+  EXPECT_NE(err.find("GLX extension, which display"), std::string::npos) << err;
+  EXPECT_EQ(slurp(out / "view.png"), "an earlier picture");
 }
 
 TEST_F(CliExportTest, RenderWritesAPictureOfTheMap) {

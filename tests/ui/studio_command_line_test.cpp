@@ -216,6 +216,25 @@ TEST(StudioCommandLine, WithoutADisplayItSaysHowToGetOneAndExits3) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+// A display without GLX (ssh -X to a server with indirect GLX off): the 3D
+// view would stay black under VTK's OpenGL errors; the studio says why and
+// exits 3 instead, as without a display.
+TEST(StudioCommandLine, ADisplayWithoutGlxIsRefusedWithTheReason) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run is not installed (Debian's xvfb package)";
+  lom::test::TempDir temp;
+  const auto tiny = lom::test::writeTinySequence(temp / "seq");
+  const auto out = temp / "window.png";
+  QProcess studio;
+  studio.start("xvfb-run", {"-a", "-s", "-screen 0 640x480x24 -extension GLX", LOM_STUDIO_PATH,
+                            "--screenshot", qPath(out), qPath(tiny.folder)});
+  ASSERT_TRUE(studio.waitForFinished(120000));
+  const QString err = QString::fromLocal8Bit(studio.readAllStandardError());
+  EXPECT_EQ(studio.exitCode(), 3) << err.toStdString();
+  EXPECT_TRUE(err.contains("GLX extension, which display")) << err.toStdString();
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 TEST(StudioCommandLine, MistakesInTheCallExit2EvenWithoutADisplay) {
   for (const QStringList& arguments :
        {QStringList{"--no-such-option"}, QStringList{"--frame", "-1", "seq"},

@@ -46,6 +46,18 @@ Display* openDisplayOnce(const std::string& name) {
 
 bool canOpenDisplay(const std::string& name) { return openDisplayOnce(name) != nullptr; }
 
+bool displayHasGlx(const std::string& name) {
+  Display* display = openDisplayOnce(name);
+  int opcode = 0, first_event = 0, first_error = 0;
+  return display && XQueryExtension(display, "GLX", &opcode, &first_event, &first_error);
+}
+
+std::string missingGlxProblem(const std::string& who, const std::string& name) {
+  return who + " needs OpenGL through the X server's GLX extension, which display '" + name +
+         "' does not offer (ssh -X to a server that turns indirect GLX off, or a VNC server "
+         "without it)";
+}
+
 std::optional<std::string> displayProblem() {
   const char* name = std::getenv("DISPLAY");
   if (!name || !*name)
@@ -53,6 +65,8 @@ std::optional<std::string> displayProblem() {
   if (!canOpenDisplay(name))
     return std::string("render needs an X server and cannot open display '") + name + "'; " +
            kXvfbHint;
+  // VTK aborts the process when it finds no OpenGL visual.
+  if (!displayHasGlx(name)) return missingGlxProblem("render", name) + "; " + kXvfbHint;
   return std::nullopt;
 }
 

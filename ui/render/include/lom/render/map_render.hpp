@@ -109,6 +109,13 @@ struct OrbitFraming {
 // the process, which also keeps a virtual X server from resetting).
 [[nodiscard]] bool canOpenDisplay(const std::string& name);
 
+// Whether the X display `name` opens and offers GLX, through which VTK draws
+// (without it VTK aborts the process, or draws nothing in the studio).
+[[nodiscard]] bool displayHasGlx(const std::string& name);
+// The sentence saying that `who` ("render", "the studio's 3D view") finds no
+// GLX on display `name`.
+[[nodiscard]] std::string missingGlxProblem(const std::string& who, const std::string& name);
+
 // Throws RenderUnavailable without a display, lom::Error when the selection
 // has no occupied voxel or the size is not positive.
 // `framing`, when given, receives the orbit view's framing (untouched with a camera).
