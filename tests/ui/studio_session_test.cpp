@@ -10,7 +10,9 @@
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFileInfo>
+#include <QFontMetrics>
 #include <QLineEdit>
+#include <QProgressBar>
 #include <QPushButton>
 #include <QStatusBar>
 #include <QTableWidget>
@@ -720,6 +722,29 @@ TEST_F(StudioSessionTest, SaveDialogsAddTheFormatsExtensionToANameWithout) {
     window_.findAction("Save 3D View…")->trigger();
   }
   EXPECT_TRUE(std::filesystem::exists(temp_.path() / "view.png"));
+}
+
+// The fusion count in the status bar fits on its bar, also for a long
+// recording and in a large font (it wrapped to two clipped lines).
+TEST_F(StudioSessionTest, TheFusionCountFitsItsBarInALargeFont) {
+  openAndFuse();
+  auto* status = window_.findChild<QWidget*>("fusionStatus");
+  ASSERT_NE(status, nullptr);
+  auto* bar = status->findChild<QProgressBar*>();
+  ASSERT_NE(bar, nullptr);
+  // As a long recording would count (a sequence of 12,000 frames).
+  bar->setRange(0, 12000);
+  bar->setValue(12000);
+  for (const double scale : {1.0, 1.6}) {
+    QFont font = window_.font();
+    font.setPointSizeF(font.pointSizeF() * scale);
+    bar->setFont(font);
+    settle();
+    const int needed = QFontMetrics(bar->font()).horizontalAdvance(bar->text());
+    EXPECT_TRUE(bar->text().startsWith("fused ")) << bar->text().toStdString();
+    EXPECT_GE(bar->width(), needed + QFontMetrics(bar->font()).averageCharWidth())
+        << "scale " << scale << ": " << bar->text().toStdString();
+  }
 }
 
 TEST_F(StudioSessionTest, ExportsCanLeaveOutTheLabelsHiddenInThe3DView) {

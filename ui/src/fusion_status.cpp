@@ -1,17 +1,44 @@
 #include "lom/ui/fusion_status.hpp"
 
+#include <QFontMetrics>
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QProgressBar>
+#include <algorithm>
 
 #include "lom/ui/map_worker.hpp"
 
 namespace lom::ui {
 
+namespace {
+
+// As wide as its longest text needs in its font ("fused 12000/12000"), no
+// wider: QProgressBar's own size fits about four digits, so a count of a
+// long sequence or a large desktop font wrapped and clipped the text.
+class CountBar : public QProgressBar {
+ public:
+  [[nodiscard]] QSize sizeHint() const override { return widened(QProgressBar::sizeHint()); }
+  [[nodiscard]] QSize minimumSizeHint() const override {
+    return widened(QProgressBar::minimumSizeHint());
+  }
+
+ private:
+  [[nodiscard]] QSize widened(QSize size) const {
+    const QFontMetrics metrics(font());
+    const int longest =
+        std::max(metrics.horizontalAdvance(FusionStatus::tr("fused %1/%1").arg(88888)),
+                 metrics.horizontalAdvance(text()));
+    size.setWidth(std::max(size.width(), longest + 4 * metrics.averageCharWidth()));
+    return size;
+  }
+};
+
+}  // namespace
+
 FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
-    : QWidget(parent), progress_(new QProgressBar), rate_(new QLabel) {
+    : QWidget(parent), progress_(new CountBar), rate_(new QLabel) {
   setObjectName("fusionStatus");
-  progress_->setMaximumWidth(160);
+  progress_->setSizePolicy(QSizePolicy::Fixed, QSizePolicy::Fixed);
   // Its own width, never more: while a message hides the frame text, the
   // status bar's free space goes to the message, not here (which would
   // move the indicator from the right edge to the middle).
