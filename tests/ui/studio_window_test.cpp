@@ -346,6 +346,34 @@ TEST_F(StudioWindowTest, ThePixelReadoutKeepsItsHeight) {
   EXPECT_EQ(window_.frameImages().depthPane().geometry(), pane);
 }
 
+// In a narrow panel or a large font the readout is as high as its wrapped
+// text: a fixed two lines cut off the third (the selected label's
+// probability).
+TEST_F(StudioWindowTest, ThePixelReadoutShowsEveryLineInANarrowPanel) {
+  ASSERT_TRUE(openTiny());
+  auto* readout = window_.findChild<QLabel*>("pixelReadout");
+  ASSERT_NE(readout, nullptr);
+  QFont large = readout->font();
+  large.setPointSizeF(large.pointSizeF() * 1.5);
+  readout->setFont(large);
+  window_.frameImages().setFixedWidth(220);
+  QApplication::processEvents();
+  QTest::qWait(100);
+  window_.frameImages().hoverPixel(QPoint(80, 60));
+  const QString text = window_.frameImages().readoutText();
+  ASSERT_FALSE(text.isEmpty());
+  QApplication::processEvents();
+  const QRect needed =
+      readout->fontMetrics().boundingRect(QRect(0, 0, readout->contentsRect().width(), 1 << 20),
+                                          Qt::TextWordWrap | Qt::AlignLeft, text);
+  const QFontMetrics metrics = readout->fontMetrics();
+  EXPECT_GT(needed.height(), metrics.lineSpacing()) << "wraps: " << text.toStdString();
+  EXPECT_GE(readout->contentsRect().height(), needed.height()) << text.toStdString();
+  window_.frameImages().setMinimumWidth(0);
+  window_.frameImages().setMaximumWidth(QWIDGETSIZE_MAX);
+  readout->setFont(QFont());
+}
+
 TEST_F(StudioWindowTest, ShortcutListHasTheMenusKeysAndThePlayButtons) {
   const auto* help = window_.findChild<ShortcutsHelpReaction*>();
   ASSERT_NE(help, nullptr);

@@ -1,11 +1,15 @@
 #include "lom/ui/frame_images_view.hpp"
 
+#include <QFontMetrics>
 #include <QGridLayout>
 #include <QLabel>
+#include <QResizeEvent>
 #include <QVBoxLayout>
+#include <algorithm>
 #include <map>
 
 #include "lom/ui/colour_bar.hpp"
+#include "lom/ui/elision.hpp"
 #include "lom/ui/frame_labels.hpp"
 #include "lom/ui/image_conversion.hpp"
 #include "lom/ui/image_pane.hpp"
@@ -18,6 +22,49 @@ namespace {
 constexpr size_t kMaxLegendEntries = 12;
 }
 
+namespace {
+
+// The pixel readout: word-wrapped, as high as the longest readout needs at
+// its width. Its height follows its width, never its text: a readout of one
+// line, two or none resized the panes above it, which moved the picture under
+// a cursor that had not moved; and a fixed two lines cut off the third a
+// narrow panel or a large font wraps the longest readouts into.
+class ReadoutLabel : public QLabel {
+ public:
+  ReadoutLabel() {
+    setWordWrap(true);
+    setFixedHeight(heightAt(400));
+  }
+
+ protected:
+  void resizeEvent(QResizeEvent* event) override {
+    QLabel::resizeEvent(event);
+    fitHeight();
+  }
+  void changeEvent(QEvent* event) override {
+    QLabel::changeEvent(event);
+    if (event->type() == QEvent::FontChange) fitHeight();
+  }
+
+ private:
+  void fitHeight() {
+    const int needed = heightAt(contentsRect().width());
+    if (needed != height()) setFixedHeight(needed);  // the same width comes back: no loop
+  }
+  [[nodiscard]] int heightAt(int width) const {
+    const QString name = shortName(QStringLiteral("kyjen_squeakin_eggs_plush_puppies"));
+    const QString longest = QStringLiteral(
+                                "(6399, 4799)  depth 10.000 m  label 39 %1 (p 1.00)  "
+                                "p(%1) 1.00")
+                                .arg(name);
+    const QRect text = fontMetrics().boundingRect(QRect(0, 0, std::max(width, 40), 1 << 20),
+                                                  Qt::TextWordWrap | Qt::AlignLeft, longest);
+    return std::max(2 * fontMetrics().lineSpacing(), text.height()) + 4;
+  }
+};
+
+}  // namespace
+
 FrameImagesView::FrameImagesView(QWidget* parent)
     : QWidget(parent),
       color_pane_(new ImagePane(tr("Colour"))),
@@ -27,13 +74,9 @@ FrameImagesView::FrameImagesView(QWidget* parent)
       label_legend_(new LabelLegend),
       heat_pane_(new ImagePane(tr("Probability"))),
       heat_legend_(new ColourBar(probabilityColor, tr("probability"), nullptr, QString())),
-      readout_(new QLabel) {
+      readout_(new ReadoutLabel) {
   heat_pane_->setObjectName("heatPane");
   readout_->setObjectName("pixelReadout");
-  readout_->setWordWrap(true);
-  // A fixed height: a readout of one line, two or none resized the panes
-  // above it, which moved the picture under a cursor that had not moved.
-  readout_->setFixedHeight(2 * readout_->fontMetrics().lineSpacing() + 4);
   readout_->setAlignment(Qt::AlignLeft | Qt::AlignTop);
   color_pane_->setObjectName("colorPane");
   depth_pane_->setObjectName("depthPane");
