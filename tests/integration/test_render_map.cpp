@@ -266,6 +266,17 @@ TEST(RenderMap, CameraThatSeesNoVoxelIsAnError) {
     EXPECT_EQ(e.problem().field, "--camera");
     EXPECT_NE(e.problem().found.find("no voxel of the map in its view"), std::string::npos);
   }
+  // With --labels only those are drawn: the message is about them, not the map.
+  options.labels = std::set<int>{1};
+  try {
+    (void)lom::render::renderMap(map, options);
+    ADD_FAILURE() << "rendered a picture without any voxel";
+  } catch (const lom::Error& e) {
+    EXPECT_NE(e.problem().found.find("no voxel of the selected labels in its view"),
+              std::string::npos)
+        << e.what();
+  }
+  options.labels.reset();
   // Turned back towards the blocks, it renders.
   view.T_world_camera.linear() = towards;
   options.camera = view;

@@ -365,9 +365,15 @@ ColorImage renderMap(const LabelMap& map, const RenderOptions& options, OrbitFra
       blank = depth->GetValue(i) >= 1.0f;
     if (blank) {
       window->Finalize();
-      throw Error("", "--camera", "a camera that sees part of the map",
-                  "no voxel of the map in its view (the camera looks away from the map, or the "
-                  "map lies behind it or out of its picture)");
+      // Only the selected labels are drawn: the map may be in view without them.
+      throw Error("", "--camera",
+                  options.labels ? "a camera that sees part of the selected labels (--labels)"
+                                 : "a camera that sees part of the map",
+                  options.labels
+                      ? "no voxel of the selected labels in its view (they lie out of its "
+                        "picture, behind it, or the camera looks away from them)"
+                      : "no voxel of the map in its view (the camera looks away from the map, or "
+                        "the map lies behind it or out of its picture)");
     }
   }
   window->Finalize();
