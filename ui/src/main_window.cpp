@@ -21,7 +21,6 @@
 #include <QSettings>
 #include <QSplitter>
 #include <QStatusBar>
-#include <QStyle>
 #include <QTimer>
 #include <QVBoxLayout>
 #include <algorithm>
@@ -45,6 +44,7 @@
 #include "lom/ui/map_legend_panel.hpp"
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/measure_reaction.hpp"
+#include "lom/ui/media_icons.hpp"
 #include "lom/ui/objects_panel.hpp"
 #include "lom/ui/open_map_reaction.hpp"
 #include "lom/ui/open_sequence_reaction.hpp"
@@ -260,18 +260,18 @@ MainWindow::MainWindow(QWidget* parent)
 MainWindow::~MainWindow() = default;
 
 TimelineWidget::StepActions MainWindow::createStepActions() {
-  auto make = [this](const QString& text, QStyle::StandardPixmap icon, const QKeySequence& key,
+  auto make = [this](const QString& text, MediaIcon icon, const QKeySequence& key,
                      FrameStepReaction::Step step) {
-    auto* action = new QAction(style()->standardIcon(icon), text, this);
+    auto* action = new QAction(mediaIcon(icon, palette()), text, this);
     action->setShortcut(key);
     new FrameStepReaction(action, step, *controller_);
     return action;
   };
   using Step = FrameStepReaction::Step;
-  return {make(tr("&First Frame"), QStyle::SP_MediaSkipBackward, Qt::Key_Home, Step::First),
-          make(tr("&Previous Frame"), QStyle::SP_MediaSeekBackward, Qt::Key_PageUp, Step::Previous),
-          make(tr("&Next Frame"), QStyle::SP_MediaSeekForward, Qt::Key_PageDown, Step::Next),
-          make(tr("&Last Frame"), QStyle::SP_MediaSkipForward, Qt::Key_End, Step::Last)};
+  return {make(tr("&First Frame"), MediaIcon::First, Qt::Key_Home, Step::First),
+          make(tr("&Previous Frame"), MediaIcon::Previous, Qt::Key_PageUp, Step::Previous),
+          make(tr("&Next Frame"), MediaIcon::Next, Qt::Key_PageDown, Step::Next),
+          make(tr("&Last Frame"), MediaIcon::Last, Qt::Key_End, Step::Last)};
 }
 
 void MainWindow::createDocks() {

@@ -2,14 +2,15 @@
 
 #include <QAction>
 #include <QComboBox>
-#include <QStyle>
-#include <QTimer>
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QSignalBlocker>
 #include <QSlider>
 #include <QSpinBox>
+#include <QTimer>
 #include <QToolButton>
+
+#include "lom/ui/media_icons.hpp"
 
 namespace lom::ui {
 
@@ -33,7 +34,7 @@ TimelineWidget::TimelineWidget(const StepActions& actions, QWidget* parent)
   play_->setObjectName("playButton");
   play_->setCheckable(true);
   play_->setAutoRaise(true);
-  play_->setIcon(style()->standardIcon(QStyle::SP_MediaPlay));
+  play_->setIcon(mediaIcon(MediaIcon::Play, palette()));
   play_->setToolTip(tr("Play / pause (Space)"));
   play_->setShortcut(Qt::Key_Space);
   speed_->setObjectName("playSpeed");
@@ -79,7 +80,7 @@ void TimelineWidget::setPlaying(bool playing) {
     const QSignalBlocker block(play_);
     play_->setChecked(playing);
   }
-  play_->setIcon(style()->standardIcon(playing ? QStyle::SP_MediaPause : QStyle::SP_MediaPlay));
+  play_->setIcon(mediaIcon(playing ? MediaIcon::Pause : MediaIcon::Play, palette()));
   if (playing) {
     if (current_ + 1 >= count_) emit frameRequested(0);  // from the start again
     play_timer_->start();
