@@ -46,6 +46,7 @@ class PanelLayoutTest : public ::testing::Test {
     QSettings settings;
     settings.remove(PanelLayout::kGeometryKey);
     settings.remove(PanelLayout::kPanelsKey);
+    settings.remove(PanelLayout::kPanelsHeightKey);
     settings.remove(MainWindow::kIouModeKey);
   }
 };
@@ -176,6 +177,32 @@ TEST_F(PanelLayoutTest, ASavedSizeLargerThanTheScreenIsCutToIt) {
   EXPECT_LE(window->width(), free.width());
   EXPECT_LE(window->height(), free.height());
   EXPECT_TRUE(free.contains(window->pos())) << window->pos().x() << "," << window->pos().y();
+}
+
+// Panels saved in a tall window (a large monitor) and a window cut shorter
+// than kShortWindowHeight (a laptop's screen; here its saved size stands for
+// it): the short arrangement, not three groups squeezed into the height.
+TEST_F(PanelLayoutTest, PanelsSavedInATallWindowAreArrangedAnewInAShortOne) {
+  {
+    auto window = shownWindow(true);
+    window->resize(1200, PanelLayout::kShortWindowHeight + 150);
+    QTest::qWait(50);
+    ASSERT_FALSE(window->tabifiedDockWidgets(panel(*window, "mapLegendDock"))
+                     .contains(panel(*window, "fusionDock")))
+        << "the tall arrangement";
+    ASSERT_TRUE(window->close());
+  }
+  {
+    auto window = shownWindow(false);
+    window->resize(1000, PanelLayout::kShortWindowHeight - 100);
+    QTest::qWait(50);
+    QSettings().setValue(PanelLayout::kGeometryKey, window->saveGeometry());
+  }
+  auto window = shownWindow(true);
+  ASSERT_LT(window->height(), PanelLayout::kShortWindowHeight);
+  EXPECT_TRUE(window->tabifiedDockWidgets(panel(*window, "mapLegendDock"))
+                  .contains(panel(*window, "fusionDock")));
+  EXPECT_FALSE(panel(*window, "objectsDock")->isHidden());
 }
 
 TEST_F(PanelLayoutTest, ADamagedSavedLayoutLeavesTheDefaultOne) {

@@ -91,6 +91,12 @@ bool PanelLayout::restoreSaved() {
   const QByteArray panels = settings.value(kPanelsKey).toByteArray();
   const bool restored_geometry = !geometry.isEmpty() && window_.restoreGeometry(geometry);
   if (restored_geometry) fitOnScreen();
+  const int saved_for = settings.value(kPanelsHeightKey, 0).toInt();
+  if (!panels.isEmpty() && !short_groups_.empty() && saved_for >= kShortWindowHeight &&
+      window_.height() < kShortWindowHeight) {
+    arrangeDefault();  // the short arrangement, for this height
+    return true;
+  }
   const bool restored_panels = !panels.isEmpty() &&
                                panelsRestore(panels, window_, kPanelsVersion) &&
                                window_.restoreState(panels, kPanelsVersion);
@@ -121,6 +127,7 @@ void PanelLayout::save() const {
   QSettings settings;
   settings.setValue(kGeometryKey, window_.saveGeometry());
   settings.setValue(kPanelsKey, window_.saveState(kPanelsVersion));
+  settings.setValue(kPanelsHeightKey, window_.height());
 }
 
 }  // namespace lom::ui

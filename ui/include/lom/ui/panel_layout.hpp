@@ -49,6 +49,11 @@ class PanelLayout : public QObject {
   // saved by a version with other panels is not restored (Qt refuses it).
   static constexpr const char* kGeometryKey = "window/geometry";
   static constexpr const char* kPanelsKey = "window/panels";
+  // The window's height when its panels were saved: panels arranged in a
+  // window of kShortWindowHeight or more are not restored into a shorter one
+  // (a layout saved on a large monitor, the window cut to a laptop's screen),
+  // which gets the short arrangement instead.
+  static constexpr const char* kPanelsHeightKey = "window/panelsHeight";
   static constexpr int kPanelsVersion = 1;
   // Restores the size, position and panels saved by save(), if any; false
   // when there was nothing (usable) to restore.
