@@ -270,6 +270,10 @@ int runRender(const Words& words) {
   if (request.annotations) {
     const Annotations annotations = loadAnnotationsFor(*request.annotations, map.labels(), "world");
     checkBoxLabels(annotations, map.numLabels(), request.annotations->string(), "the map");
+    // As score says: the colours are those of the box's label, whatever its name.
+    for (const std::string& warning : boxNameWarnings(
+             annotations, map.labels(), request.annotations->string(), request.map.string()))
+      std::cerr << "warning: " << warning << "\n";
     options.score = render::ScoreColours{annotations.boxes, request.iou_mode};
   }
   render::OrbitFraming framing;

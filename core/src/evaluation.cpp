@@ -63,6 +63,24 @@ void checkAnnotationsForSequence(const Sequence& sequence, const Annotations& an
   checkBoxLabels(annotations, sequence.labels.size(), file, "the sequence");
 }
 
+std::vector<std::string> boxNameWarnings(const Annotations& annotations, const LabelSet& labels,
+                                         const std::string& annotations_file,
+                                         const std::string& labels_file) {
+  std::vector<std::string> warnings;
+  for (size_t i = 0; i < annotations.boxes.size(); ++i) {
+    const GroundTruthBox& box = annotations.boxes[i];
+    if (!labels.contains(box.label)) continue;
+    const std::string& name = labels.at(box.label).name;
+    if (box.name.empty() || box.name == name) continue;
+    warnings.push_back(annotations_file + ": boxes[" + std::to_string(i) + "].name is '" +
+                       box.name + "', but label " + std::to_string(box.label) + " of " +
+                       labels_file + " is '" + name + "': the box is scored, and named, as label " +
+                       std::to_string(box.label) +
+                       " (were the boxes drawn for another label numbering?)");
+  }
+  return warnings;
+}
+
 void checkBoxLabels(const Annotations& annotations, int label_count,
                     const std::string& annotations_file, const std::string& labelled) {
   const std::string file = orDefault(annotations_file, "(annotations)");
@@ -265,18 +283,11 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
     report.candidates->erase(std::unique(report.candidates->begin(), report.candidates->end()),
                              report.candidates->end());
   }
-  for (size_t i = 0; i < annotations.boxes.size(); ++i) {
-    const GroundTruthBox& box = annotations.boxes[i];
-    const std::string& name = sequence.labels.at(box.label).name;
-    if (box.name.empty() || box.name == name) continue;
-    report.box_name_warnings.push_back(
-        orDefault(options.annotations_file, "(annotations)") + ": boxes[" + std::to_string(i) +
-        "].name is '" + box.name + "', but label " + std::to_string(box.label) + " of " +
-        (sequence.root / "sequence.json").string() + " is '" + name +
-        "': the box is scored, and named, as label " + std::to_string(box.label) +
-        " (were the boxes drawn for another label numbering?)");
-    report.warnings.push_back(report.box_name_warnings.back());
-  }
+  report.box_name_warnings = boxNameWarnings(annotations, sequence.labels,
+                                             orDefault(options.annotations_file, "(annotations)"),
+                                             (sequence.root / "sequence.json").string());
+  report.warnings.insert(report.warnings.end(), report.box_name_warnings.begin(),
+                         report.box_name_warnings.end());
   if (report.candidates) {
     std::string list;
     for (const int c : *report.candidates) list += (list.empty() ? "" : ",") + std::to_string(c);

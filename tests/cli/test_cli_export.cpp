@@ -490,6 +490,21 @@ TEST_F(CliExportTest, RenderScoreColoursCountWhatTheScoreCounts) {
   EXPECT_NE(r.err.find("boxes[0].label: expected an object label of the map"), std::string::npos)
       << r.err;
   EXPECT_FALSE(fs::exists(out / "bad.png"));
+
+  // A box named after another label than its own is painted as its label,
+  // with score's warning (boxes drawn for another label numbering?).
+  const lom::LabelMap labelled = lom::LabelMap::load(map());
+  std::ofstream(out / "misnamed.json") << R"({"format": "labeloctomap-annotations", "version": 1,
+    "frame_id": "world", "boxes": [{"label": 3, "name": "not_its_name", "center": [0, 0, 0],
+    "size": [0.1, 0.1, 0.1], "rotation": [0, 0, 0, 1]}]})";
+  r = runCli("render " + q(map()) + " --out " + q(out / "misnamed.png") +
+             " --size 64x48 --colour score --annotations " + q(out / "misnamed.json"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: " + (out / "misnamed.json").string() +
+                       ": boxes[0].name is 'not_its_name', but label 3 of " + map().string() +
+                       " is '" + labelled.labels().at(3).name + "'"),
+            std::string::npos)
+      << r.err;
 }
 
 TEST_F(CliExportTest, RenderUsageMistakes) {

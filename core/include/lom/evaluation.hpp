@@ -181,6 +181,14 @@ void checkAnnotationsForSequence(const Sequence& sequence, const Annotations& an
 // Throws lom::Error (naming the file and the field) when there is no box, a
 // box's label is not an object label (1..label_count-1) of `labelled` ("the
 // sequence", "the map") or a label has two boxes.
+// One sentence per box whose name in `annotations_file` is not the name of
+// its label in `labels` (read from `labels_file`): boxes drawn for another
+// label numbering? The box is scored, and named, as its label.
+[[nodiscard]] std::vector<std::string> boxNameWarnings(const Annotations& annotations,
+                                                       const LabelSet& labels,
+                                                       const std::string& annotations_file,
+                                                       const std::string& labels_file);
+
 void checkBoxLabels(const Annotations& annotations, int label_count,
                     const std::string& annotations_file, const std::string& labelled);
 // Throws lom::Error naming `map_file` and the field "labels" (or "labels[k]")
