@@ -10,6 +10,7 @@
 // clang-format off
 #include "lom/render/map_render.hpp"  // before Xlib: Eigen refuses Xlib's Success macro
 #include <X11/Xlib.h>
+#include <GL/glx.h>
 // clang-format on
 
 namespace lom::render {
@@ -46,16 +47,59 @@ Display* openDisplayOnce(const std::string& name) {
 
 bool canOpenDisplay(const std::string& name) { return openDisplayOnce(name) != nullptr; }
 
+namespace {
+
+// X errors while probing are answers, not reasons to exit (Xlib's default
+// handler ends the process).
+bool probe_failed = false;
+int noteProbeError(Display* /*display*/, XErrorEvent* /*error*/) {
+  probe_failed = true;
+  return 0;
+}
+
+}  // namespace
+
 bool displayHasGlx(const std::string& name) {
+  static std::mutex mutex;
+  std::lock_guard<std::mutex> lock(mutex);
   Display* display = openDisplayOnce(name);
-  int opcode = 0, first_event = 0, first_error = 0;
-  return display && XQueryExtension(display, "GLX", &opcode, &first_event, &first_error);
+  int error_base = 0, event_base = 0;
+  if (!display || !glXQueryExtension(display, &error_base, &event_base)) return false;
+  // The extension alone is not enough: a server that turns indirect GLX off
+  // (as Xorg does by default, reached over ssh -X) has it but gives no
+  // context. So a context is made, as VTK and Qt will make theirs.
+  int attributes[] = {GLX_RGBA,
+                      GLX_DOUBLEBUFFER,
+                      GLX_RED_SIZE,
+                      1,
+                      GLX_GREEN_SIZE,
+                      1,
+                      GLX_BLUE_SIZE,
+                      1,
+                      GLX_DEPTH_SIZE,
+                      1,
+                      None};
+  XVisualInfo* visual = glXChooseVisual(display, DefaultScreen(display), attributes);
+  if (!visual) return false;
+  XSync(display, False);
+  probe_failed = false;
+  const auto previous = XSetErrorHandler(noteProbeError);
+  const GLXContext context = glXCreateContext(display, visual, nullptr, True);
+  XSync(display, False);
+  // An indirect context (ssh -X, LIBGL_ALWAYS_INDIRECT on a server that
+  // allows it) stops at OpenGL 1.4: VTK needs 3.2 and fails on it.
+  const bool made = context && !probe_failed && glXIsDirect(display, context);
+  if (context) glXDestroyContext(display, context);
+  XSync(display, False);
+  XSetErrorHandler(previous);
+  XFree(visual);
+  return made;
 }
 
 std::string missingGlxProblem(const std::string& who, const std::string& name) {
-  return who + " needs OpenGL through the X server's GLX extension, which display '" + name +
-         "' does not offer (ssh -X to a server that turns indirect GLX off, or a VNC server "
-         "without it)";
+  return who + " needs OpenGL through the X server's GLX extension, and display '" + name +
+         "' gives no OpenGL context drawn on this machine (no GLX extension, as on some VNC "
+         "servers, or only indirect GLX, as over ssh -X, which stops at OpenGL 1.4)";
 }
 
 std::optional<std::string> displayProblem() {
