@@ -253,7 +253,7 @@ int runExport(const Words& words) {
     // Left alone (they may be the user's), but the folder is not one map's.
     const size_t shown = std::min<size_t>(summary.earlier_files.size(), 5);
     std::cerr << "note: " << summary.earlier_files.size() << " file"
-              << (summary.earlier_files.size() == 1 ? " in " : "s in ") << out_path
+              << (summary.earlier_files.size() == 1 ? " in " : "s in ") << out_path.string()
               << " named like per-label files are not from this export (an earlier one's?), "
                  "left as they were: ";
     for (size_t i = 0; i < shown; ++i)

@@ -185,7 +185,8 @@ RangeMessage maxRangeMessage(const FrameStats& totals, double max_range, double 
   std::snprintf(counts, sizeof counts,
                 "%zu of %zu measured depth pixels (%.1f%%) were beyond the max range of %g m: ",
                 beyond, measured, 100.0 * beyond / measured, max_range);
-  message.text = counts + std::string("they only cleared free space and mapped nothing. ") + how;
+  // (Those outside the map's extent did not even clear free space.)
+  message.text = counts + std::string("they mapped nothing, at most cleared free space. ") + how;
   return message;
 }
 

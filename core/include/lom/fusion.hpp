@@ -163,7 +163,7 @@ void addFrameStats(FrameStats& totals, const FrameStats& frame);
 [[nodiscard]] size_t measuredPixels(const FrameStats& totals);
 
 // Whether max range (when limited) took more than half of the fused frames'
-// measured depths: they only cleared free space and mapped nothing, which the
+// measured depths: they mapped nothing, at most cleared free space, which the
 // CLI and the studio say. (Against measured, not valid, depths: a depth
 // beyond max range may also lie outside the map's extent.)
 [[nodiscard]] bool mostDepthsBeyondMaxRange(const FrameStats& totals, double max_range);
