@@ -462,7 +462,7 @@ int main(int argc, char** argv) {
 
   lom::ui::setDefaultSurfaceFormat();
   QApplication app(argc, argv);
-  lom::ui::useCNumberFormatForFiles();
+  lom::ui::useCNumberFormat();
   QApplication::setOrganizationName("LabelOctoMap");
   QApplication::setApplicationName("LabelOctoMap Studio");
   QApplication::setApplicationVersion(lom::ui::studioVersion());

@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
 
   lom::ui::setDefaultSurfaceFormat();
   QApplication app(argc, argv);
-  lom::ui::useCNumberFormatForFiles();
+  lom::ui::useCNumberFormat();
   QApplication::setOrganizationName("LabelOctoMapTests");
   QApplication::setApplicationName("lom_ui_tests");
   ::testing::InitGoogleTest(&argc, argv);
