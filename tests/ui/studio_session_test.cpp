@@ -722,6 +722,31 @@ TEST_F(StudioSessionTest, SaveDialogsAddTheFormatsExtensionToANameWithout) {
     window_.findAction("Save 3D View…")->trigger();
   }
   EXPECT_TRUE(std::filesystem::exists(temp_.path() / "view.png"));
+  // A name with a dot of its own gets the extension too (the dialog leaves
+  // such names alone), and replacing an existing file of that name is asked.
+  const auto dotted = temp_.path() / "shelf_0.005m.ply";
+  std::ofstream(dotted) << "an earlier mesh";
+  {
+    ui::test::DialogAnswerer answer("No", qPath(temp_.path() / "shelf_0.005m"));
+    window_.findAction("Voxel Mesh (PLY)…")->trigger();
+    QTest::qWait(300);
+    ASSERT_EQ(answer.questions.size(), 1) << answer.questions.join("\n").toStdString();
+    EXPECT_TRUE(answer.questions.front().contains("shelf_0.005m.ply already exists"))
+        << answer.questions.front().toStdString();
+  }
+  EXPECT_EQ(lom::test::slurp(dotted), "an earlier mesh");
+  {
+    ui::test::DialogAnswerer answer("Yes", qPath(temp_.path() / "shelf_0.005m"));
+    window_.findAction("Voxel Mesh (PLY)…")->trigger();
+    ASSERT_TRUE(
+        QTest::qWaitFor([&] { return lom::test::slurp(dotted) != "an earlier mesh"; }, kTimeoutMs));
+  }
+  EXPECT_FALSE(std::filesystem::exists(temp_.path() / "shelf_0.005m"));
+  {
+    ui::test::DialogAnswerer answer("Replace|Yes", qPath(temp_.path() / "view_1.5x"));
+    window_.findAction("Save 3D View…")->trigger();
+  }
+  EXPECT_TRUE(std::filesystem::exists(temp_.path() / "view_1.5x.png"));
 }
 
 // The fusion count in the status bar fits on its bar, also for a long

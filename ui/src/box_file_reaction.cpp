@@ -78,7 +78,7 @@ bool BoxFileReaction::confirmTarget(QString& path) {
                            tr("Overwrite %1"), path);
     if (answer == ReplaceAnswer::Replace) return true;
     if (answer == ReplaceAnswer::Cancel) return false;
-    path = askSaveFileName(parent_, tr("Save Boxes"), freeNameBeside(path), json_filter, "json");
+    path = askSaveFileName(parent_, tr("Save Boxes"), freeNameBeside(path), json_filter, {"json"});
     if (path.isEmpty()) return false;
   }
   // Another program or another studio wrote the file since the studio read
@@ -99,7 +99,7 @@ bool BoxFileReaction::confirmTarget(QString& path) {
       tr("Replace %1"), path);
   if (answer == ReplaceAnswer::Replace) return true;
   if (answer == ReplaceAnswer::Cancel) return false;
-  path = askSaveFileName(parent_, tr("Save Boxes"), freeNameBeside(path), json_filter, "json");
+  path = askSaveFileName(parent_, tr("Save Boxes"), freeNameBeside(path), json_filter, {"json"});
   return !path.isEmpty();
 }
 
@@ -113,7 +113,7 @@ void BoxFileReaction::onTriggered() {
       path = start;
       break;
     case Kind::SaveAs:
-      path = askSaveFileName(parent_, tr("Save Boxes"), start, json_filter, "json");
+      path = askSaveFileName(parent_, tr("Save Boxes"), start, json_filter, {"json"});
       break;
     case Kind::Open:
     case Kind::ImportYaml:

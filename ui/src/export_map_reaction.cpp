@@ -33,7 +33,7 @@ QString ExportMapReaction::askPath() const {
   const QString extension = QString::fromLatin1(exportFormatName(options_.format));
   return askSaveFileName(parent_, options_.native ? tr("Save Map") : tr("Export Map"),
                          "map." + extension,
-                         tr("%1 files (*.%2)").arg(extension.toUpper(), extension), extension);
+                         tr("%1 files (*.%2)").arg(extension.toUpper(), extension), {extension});
 }
 
 void ExportMapReaction::onTriggered() {

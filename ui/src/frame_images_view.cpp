@@ -52,7 +52,8 @@ class ReadoutLabel : public QLabel {
     if (needed != height()) setFixedHeight(needed);  // the same width comes back: no loop
   }
   [[nodiscard]] int heightAt(int width) const {
-    const QString name = shortName(QStringLiteral("kyjen_squeakin_eggs_plush_puppies"));
+    // A long name in capitals, the widest a label name is shown (shortName).
+    const QString name = shortName(QStringLiteral("KYJEN_SQUEAKIN_EGGS_PLUSH_PUPPIES_XL"));
     const QString longest = QStringLiteral(
                                 "(6399, 4799)  depth 10.000 m  label 39 %1 (p 1.00)  "
                                 "p(%1) 1.00")

@@ -1,6 +1,7 @@
 #include "lom/ui/save_screenshot_reaction.hpp"
 
 #include <QDir>
+#include <QImageWriter>
 #include <QMainWindow>
 #include <QMessageBox>
 #include <QStatusBar>
@@ -20,9 +21,13 @@ SaveScreenshotReaction::SaveScreenshotReaction(QAction* action, QWidget& window,
 void SaveScreenshotReaction::onTriggered() {
   const bool view = kind_ == Kind::SceneView;
   const QString title = view ? tr("Save 3D View") : tr("Save Screenshot");
+  // A name without an image format gets .png; any format Qt writes is kept.
+  QStringList formats{QStringLiteral("png")};
+  for (const QByteArray& format : QImageWriter::supportedImageFormats())
+    formats << QString::fromLatin1(format);
   const QString path = askSaveFileName(
       &window_, title, view ? "labeloctomap-3d-view.png" : "labeloctomap-studio.png",
-      tr("Images (*.png *.jpg)"), "png");
+      tr("Images (*.png *.jpg)"), formats);
   if (path.isEmpty()) return;
   const QString error = saveTo(path);
   if (!error.isEmpty()) {
