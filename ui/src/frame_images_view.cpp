@@ -20,9 +20,6 @@ namespace lom::ui {
 
 namespace {
 constexpr size_t kMaxLegendEntries = 12;
-}
-
-namespace {
 
 // The pixel readout: word-wrapped, as high as the longest readout needs at
 // its width. Its height follows its width, never its text: a readout of one
