@@ -684,6 +684,24 @@ TEST_F(BoxFilesTest, TabAndShiftTabInTheSceneStepThroughTheBoxes) {
   EXPECT_EQ(boxes().selected(), 1);
   QTest::keyClick(QApplication::focusWidget(), Qt::Key_Backtab, Qt::ShiftModifier);
   EXPECT_EQ(boxes().selected(), 0);
+
+  // Ctrl+Tab and Ctrl+Shift+Tab take the focus out of the view (Tab alone
+  // never could, with boxes to step through), and select no other box.
+  const auto inScene = [&] {
+    QWidget* focus = QApplication::focusWidget();
+    return focus == scene || scene->isAncestorOf(focus);
+  };
+  QTest::keyClick(QApplication::focusWidget(), Qt::Key_Tab, Qt::ControlModifier);
+  EXPECT_FALSE(inScene());
+  EXPECT_NE(QApplication::focusWidget(), nullptr);
+  EXPECT_EQ(boxes().selected(), 0);
+  view->setFocus();
+  QApplication::processEvents();
+  ASSERT_TRUE(inScene());
+  QTest::keyClick(QApplication::focusWidget(), Qt::Key_Backtab,
+                  Qt::ControlModifier | Qt::ShiftModifier);
+  EXPECT_FALSE(inScene());
+  EXPECT_EQ(boxes().selected(), 0);
 }
 
 // A declined recovery copy is not offered again, and not deleted either.

@@ -13,10 +13,12 @@
 #include <QMenuBar>
 #include <QScreen>
 #include <QSettings>
+#include <QTableWidget>
 #include <QTest>
 #include <map>
 #include <memory>
 
+#include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/recent_sequences.hpp"
 #include "lom/ui/studio_session.hpp"
@@ -203,6 +205,35 @@ TEST_F(PanelLayoutTest, PanelsSavedInATallWindowAreArrangedAnewInAShortOne) {
   EXPECT_TRUE(window->tabifiedDockWidgets(panel(*window, "mapLegendDock"))
                   .contains(panel(*window, "fusionDock")));
   EXPECT_FALSE(panel(*window, "objectsDock")->isHidden());
+}
+
+// A panel shown again from View ▸ Panels comes to the front of its tab
+// group: Boxes came back behind Evaluation, out of reach of the keyboard.
+TEST_F(PanelLayoutTest, APanelShownAgainComesToTheFront) {
+  auto window = shownWindow(false);
+  QDockWidget* boxes = panel(*window, "boxesDock");
+  ASSERT_NE(boxes, nullptr);
+  QAction* toggle = boxes->toggleViewAction();
+  toggle->trigger();
+  QTest::qWait(50);
+  ASSERT_TRUE(boxes->isHidden());
+  toggle->trigger();
+  QTest::qWait(100);
+  EXPECT_FALSE(boxes->isHidden());
+  EXPECT_FALSE(boxes->visibleRegion().isEmpty()) << "in front of its tab group";
+}
+
+// Tab moves on from a table to the next field (arrow keys move between its
+// rows): it walked every cell of the Map Labels table.
+TEST_F(PanelLayoutTest, TablesLetTabMoveOn) {
+  auto window = shownWindow(false);
+  for (const char* name : {"mapLegendTable", "objectsTable", "pickStepsTable"}) {
+    auto* table = window->findChild<QTableWidget*>(name);
+    ASSERT_NE(table, nullptr) << name;
+    EXPECT_FALSE(table->tabKeyNavigation()) << name;
+  }
+  for (const QTableWidget* table : window->evaluationPanel().findChildren<QTableWidget*>())
+    EXPECT_FALSE(table->tabKeyNavigation());
 }
 
 TEST_F(PanelLayoutTest, ADamagedSavedLayoutLeavesTheDefaultOne) {

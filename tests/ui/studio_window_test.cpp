@@ -379,7 +379,8 @@ TEST_F(StudioWindowTest, ShortcutListHasTheMenusKeysAndThePlayButtons) {
   ASSERT_NE(help, nullptr);
   const QStringList rows = help->rows();
   for (const char* row : {"F1\tKeyboard Shortcuts", "PgDown\tNext Frame", "Space\tPlay / pause",
-                          "Tab\tNext Box", "Shift+Tab\tPrevious Box"})
+                          "Tab\tNext Box", "Shift+Tab\tPrevious Box", "Ctrl+Shift+Z, Ctrl+Y\tRedo",
+                          "Ctrl+Tab\tLeave 3D View (Next Field)"})
     EXPECT_TRUE(rows.contains(row)) << row << "\n" << rows.join('\n').toStdString();
 }
 

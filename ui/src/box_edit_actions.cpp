@@ -133,7 +133,8 @@ class PreviousBoxKey : public QObject {
     if (event->type() != QEvent::ShortcutOverride && event->type() != QEvent::KeyPress)
       return false;
     auto* key = static_cast<QKeyEvent*>(event);
-    if (key->key() != Qt::Key_Backtab) return false;
+    // Ctrl+Shift+Tab leaves the 3D view (createLeaveViewActions).
+    if (key->key() != Qt::Key_Backtab || (key->modifiers() & Qt::ControlModifier)) return false;
     QWidget* focus = QApplication::focusWidget();
     if (!focus || !(focus == &scene_ || scene_.isAncestorOf(focus))) return false;
     if (event->type() == QEvent::ShortcutOverride) {
@@ -189,6 +190,46 @@ std::vector<QAction*> createBoxEditActions(QWidget& window, QWidget& scene, Stud
     (tab ? scene : window).addAction(action);
     new BoxEditReaction(action, spec.edit, session, steps, report);
     if (spec.edit == Edit::Previous) new PreviousBoxKey(action, scene);
+    actions.push_back(action);
+  }
+  return actions;
+}
+
+namespace {
+
+// Gives the focus to the next (or previous) widget in the window's focus
+// chain that takes Tab focus, outside `scene`.
+void moveFocusOutOf(QWidget& scene, bool forward) {
+  QWidget* widget = &scene;
+  for (int step = 0; step < 10000; ++step) {
+    widget = forward ? widget->nextInFocusChain() : widget->previousInFocusChain();
+    if (!widget || widget == &scene) return;  // around the whole chain
+    if (scene.isAncestorOf(widget) || widget->window() != scene.window()) continue;
+    if ((widget->focusPolicy() & Qt::TabFocus) && widget->isVisible() && widget->isEnabled()) {
+      widget->setFocus(forward ? Qt::TabFocusReason : Qt::BacktabFocusReason);
+      return;
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<QAction*> createLeaveViewActions(QWidget& window, QWidget& scene) {
+  std::vector<QAction*> actions;
+  for (const bool forward : {true, false}) {
+    auto* action = new QAction(forward ? QObject::tr("Leave 3D View (Next Field)")
+                                       : QObject::tr("Leave 3D View (Previous Field)"),
+                               &window);
+    // Ctrl+Shift+Tab arrives as Ctrl+Backtab on X11.
+    action->setShortcuts(
+        forward ? QList<QKeySequence>{QKeySequence(Qt::CTRL + Qt::Key_Tab)}
+                : QList<QKeySequence>{QKeySequence(Qt::CTRL + Qt::SHIFT + Qt::Key_Tab),
+                                      QKeySequence(Qt::CTRL + Qt::SHIFT + Qt::Key_Backtab),
+                                      QKeySequence(Qt::CTRL + Qt::Key_Backtab)});
+    action->setShortcutContext(Qt::WidgetWithChildrenShortcut);
+    scene.addAction(action);
+    QObject::connect(action, &QAction::triggered, &scene,
+                     [&scene, forward] { moveFocusOutOf(scene, forward); });
     actions.push_back(action);
   }
   return actions;

@@ -101,7 +101,9 @@ class CompactHeader : public QHeaderView {
 // extra height pushed the score chart below the fold at common window sizes.
 class ScoreTable : public QTableWidget {
  public:
-  ScoreTable(int rows, int columns) : QTableWidget(rows, columns) {}
+  ScoreTable(int rows, int columns) : QTableWidget(rows, columns) {
+    setTabKeyNavigation(false);  // Tab goes on to the next field; arrows move rows
+  }
 
   [[nodiscard]] QSize sizeHint() const override {
     const int rows = std::clamp(rowCount(), 3, 8);

@@ -367,6 +367,8 @@ void MainWindow::createAnnotateMenu() {
            *this, *scene_view_, *session_, steps_,
            [this](const QString& message) { statusBar()->showMessage(message, 8000); }))
     menu->addAction(action);
+  menu->addSeparator();
+  for (QAction* action : createLeaveViewActions(*this, *scene_view_)) menu->addAction(action);
 }
 
 bool MainWindow::confirmDiscard(const QString& replaced_by, bool ask_map) {

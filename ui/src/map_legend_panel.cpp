@@ -40,6 +40,7 @@ MapLegendPanel::MapLegendPanel(StudioSession& session, QWidget* parent)
   height_bar_->hide();
   setObjectName("mapLegend");
   table_->setObjectName("mapLegendTable");
+  table_->setTabKeyNavigation(false);  // Tab goes on to the next field; arrows move rows
   table_->setHorizontalHeaderLabels({tr("Label"), tr("Voxels")});
   table_->horizontalHeader()->setSectionResizeMode(0, QHeaderView::Stretch);
   table_->horizontalHeader()->setSectionResizeMode(1, QHeaderView::ResizeToContents);

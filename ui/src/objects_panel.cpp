@@ -64,6 +64,8 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
   setObjectName("objectsPanel");
   table_->setObjectName("objectsTable");
   steps_->setObjectName("pickStepsTable");
+  table_->setTabKeyNavigation(false);  // Tab goes on to the next field; arrows move rows
+  steps_->setTabKeyNavigation(false);
   target_->setObjectName("pickTargetCombo");
   show_boxes_->setObjectName("showObjectBoxes");
   plan_button_->setObjectName("planPickButton");

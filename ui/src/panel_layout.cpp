@@ -60,7 +60,15 @@ int PanelLayout::defaultPanelsWidth() const {
 void PanelLayout::addActionsTo(QMenu& menu) {
   QMenu* panels = menu.addMenu(tr("Pan&els"));
   for (const Group& group : groups_)
-    for (QDockWidget* dock : group.tabs) panels->addAction(dock->toggleViewAction());
+    for (QDockWidget* dock : group.tabs) {
+      QAction* toggle = dock->toggleViewAction();
+      panels->addAction(toggle);
+      // A panel shown again comes to the front of its tab group, where its
+      // fields can be reached (from the keyboard too).
+      connect(toggle, &QAction::triggered, dock, [dock](bool shown) {
+        if (shown) dock->raise();
+      });
+    }
   QAction* reset = menu.addAction(tr("Reset La&yout"));
   reset->setToolTip(tr("Show every panel again where the window starts with it"));
   connect(reset, &QAction::triggered, this, &PanelLayout::arrangeDefault);

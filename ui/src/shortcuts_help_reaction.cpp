@@ -19,8 +19,11 @@ QStringList ShortcutsHelpReaction::rows() const {
   QStringList rows;
   for (const QAction* action : window_->findChildren<QAction*>()) {
     if (action->shortcut().isEmpty()) continue;
-    const QString row = action->shortcut().toString(QKeySequence::NativeText) + "\t" +
-                        action->text().remove('&');
+    // Every key of the action (Redo: Ctrl+Shift+Z, Ctrl+Y).
+    QStringList keys;
+    for (const QKeySequence& key : action->shortcuts())
+      keys << key.toString(QKeySequence::NativeText);
+    const QString row = keys.join(", ") + "\t" + action->text().remove('&');
     if (!rows.contains(row)) rows << row;
   }
   // Buttons with their own key (play / pause: Space), named by their text or,

@@ -80,4 +80,9 @@ std::vector<QAction*> createBoxEditActions(QWidget& window, QWidget& scene, Stud
                                            const BoxSteps& steps,
                                            const std::function<void(const QString&)>& report);
 
+// Tab and Shift+Tab select boxes in the 3D view, so Ctrl+Tab and
+// Ctrl+Shift+Tab take the keyboard focus out of it, to the next or previous
+// field of the window (as Qt's text editors do with Tab).
+std::vector<QAction*> createLeaveViewActions(QWidget& window, QWidget& scene);
+
 }  // namespace lom::ui
