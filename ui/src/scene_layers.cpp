@@ -92,11 +92,16 @@ size_t VoxelLayer::showCubes(const std::vector<Cube>& cubes) {
                                    static_cast<unsigned char>(cube.colour.alpha())};
     colors->InsertNextTypedTuple(rgba);
   }
-  auto data = vtkSmartPointer<vtkPolyData>::New();
-  data->SetPoints(points);
-  data->GetPointData()->AddArray(sizes);
-  data->GetPointData()->AddArray(colors);
-  mapper_->SetInputData(data);
+  // Refilled, never replaced: VTK's OpenGL glyph mapper keeps the instance
+  // buffers of every data set it has drawn, keyed by the data set, until the
+  // mapper goes; a new data set per map snapshot grew the studio by a map's
+  // worth of graphics memory at every re-fuse.
+  data_->Initialize();
+  data_->SetPoints(points);
+  data_->GetPointData()->AddArray(sizes);
+  data_->GetPointData()->AddArray(colors);
+  data_->Modified();
+  mapper_->SetInputData(data_);
   actor_->SetVisibility(points->GetNumberOfPoints() > 0);
   return static_cast<size_t>(points->GetNumberOfPoints());
 }

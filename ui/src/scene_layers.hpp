@@ -6,6 +6,7 @@
 #include <vtkBoxWidget2.h>
 #include <vtkGlyph3DMapper.h>
 #include <vtkNew.h>
+#include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkSmartPointer.h>
 
@@ -52,6 +53,7 @@ class VoxelLayer {
 
  private:
   vtkNew<vtkGlyph3DMapper> mapper_;
+  vtkNew<vtkPolyData> data_;  // the one data set the mapper draws (showCubes)
   vtkNew<vtkActor> actor_;
   std::optional<std::pair<double, double>> height_range_;
 };
