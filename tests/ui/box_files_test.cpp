@@ -691,8 +691,12 @@ TEST_F(BoxFilesTest, TabAndShiftTabInTheSceneStepThroughTheBoxes) {
     QWidget* focus = QApplication::focusWidget();
     return focus == scene || scene->isAncestorOf(focus);
   };
+  // The focused view is framed in the highlight colour (else the window's).
+  const auto frameColour = [&] { return scene->grab().toImage().pixelColor(0, 0); };
+  EXPECT_EQ(frameColour(), scene->palette().color(QPalette::Highlight));
   QTest::keyClick(QApplication::focusWidget(), Qt::Key_Tab, Qt::ControlModifier);
   EXPECT_FALSE(inScene());
+  EXPECT_EQ(frameColour(), scene->palette().color(QPalette::Window));
   EXPECT_NE(QApplication::focusWidget(), nullptr);
   EXPECT_EQ(boxes().selected(), 0);
   view->setFocus();

@@ -19,6 +19,7 @@
 #include <vtkRendererCollection.h>
 #include <vtkTextActor.h>
 
+#include <QPainter>
 #include <QResizeEvent>
 #include <QSurfaceFormat>
 #include <QTimer>
@@ -97,15 +98,34 @@ class StudioInteractorStyle : public vtkInteractorStyleTrackballCamera {
 };
 vtkStandardNewMacro(StudioInteractorStyle);
 
+constexpr int kFocusFrameWidth = 2;
+
 }  // namespace
+
+void SceneView::paintEvent(QPaintEvent* /*event*/) {
+  QPainter painter(this);
+  const QColor colour = vtk_widget_->hasFocus() ? palette().color(QPalette::Highlight)
+                                                : palette().color(QPalette::Window);
+  painter.fillRect(rect(), colour);
+}
+
+bool SceneView::eventFilter(QObject* watched, QEvent* event) {
+  if (watched == vtk_widget_ &&
+      (event->type() == QEvent::FocusIn || event->type() == QEvent::FocusOut))
+    update();
+  return QWidget::eventFilter(watched, event);
+}
 
 SceneView::SceneView(QWidget* parent)
     : QWidget(parent), scene_(std::make_unique<Scene>()), vtk_widget_(new QVTKOpenGLNativeWidget) {
   setObjectName("sceneView");
   setMinimumSize(320, 240);
   auto* layout = new QVBoxLayout(this);
-  layout->setContentsMargins(0, 0, 0, 0);
+  // Room for the focus frame (paintEvent).
+  layout->setContentsMargins(kFocusFrameWidth, kFocusFrameWidth, kFocusFrameWidth,
+                             kFocusFrameWidth);
   layout->addWidget(vtk_widget_);
+  vtk_widget_->installEventFilter(this);
   vtk_widget_->setRenderWindow(scene_->render_window);
 
   vtkRenderWindowInteractor* interactor = scene_->render_window->GetInteractor();

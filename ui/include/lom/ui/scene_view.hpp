@@ -155,6 +155,10 @@ class SceneView : public QWidget {
 
  protected:
   void resizeEvent(QResizeEvent* event) override;
+  // A frame in the highlight colour while the view has the keyboard focus
+  // (Tab there selects boxes, Ctrl+Tab leaves it: the focus must be seen).
+  void paintEvent(QPaintEvent* event) override;
+  bool eventFilter(QObject* watched, QEvent* event) override;
 
  private:
   void restoreViewAngle();  // the overview's 30 degrees, vertical
