@@ -11,6 +11,7 @@
 #include <QFile>
 #include <QFileInfo>
 #include <QImage>
+#include <QOpenGLWidget>
 #include <QProcess>
 #include <QStandardPaths>
 #include <QStatusBar>
@@ -236,11 +237,14 @@ TEST_F(BoxFilesTest, NeitherBoxesNorScreenshotsAreSavedOverTheSequencesFiles) {
   EXPECT_EQ(slurp(colour), pixels);
   ASSERT_TRUE(view->saveTo(qPath(temp_ / "view.png")).isEmpty());
   const QImage window_picture(qPath(temp_ / "window.png")), view_picture(qPath(temp_ / "view.png"));
-  const qreal ratio = window_.sceneView().devicePixelRatioF();
-  EXPECT_EQ(view_picture.size(), window_.sceneView().size() * ratio);
+  // The view's drawing, inside its focus frame.
+  const QWidget* drawing = window_.sceneView().findChild<QOpenGLWidget*>();
+  ASSERT_NE(drawing, nullptr);
+  const qreal ratio = drawing->devicePixelRatioF();
+  EXPECT_EQ(view_picture.size(), drawing->size() * ratio);
   EXPECT_LT(view_picture.width(), window_picture.width());
   // What the window's picture shows where the 3D view is.
-  const QPoint corner = window_.sceneView().mapTo(&window_, QPoint(0, 0)) * ratio;
+  const QPoint corner = drawing->mapTo(&window_, QPoint(0, 0)) * ratio;
   for (const QPoint at :
        {QPoint(5, 5), QPoint(view_picture.width() / 2, view_picture.height() / 2)})
     EXPECT_EQ(view_picture.pixel(at), window_picture.pixel(corner + at)) << at.x() << "," << at.y();

@@ -615,6 +615,8 @@ void SceneView::showBoxes(const Annotations& boxes, int selected, const LabelSet
 
 size_t SceneView::voxelCount() const { return scene_->voxel_count; }
 
+QRect SceneView::drawingRect() const { return vtk_widget_->geometry(); }
+
 bool SceneView::boxHandlesVisible() const { return scene_->handles->visible(); }
 
 QImage SceneView::renderToImage() {

@@ -37,7 +37,9 @@ QImage captureWindow(QWidget& window, SceneView& scene) {
   const QImage rendered = scene.renderToImage();
   if (!rendered.isNull() && scene.isVisible()) {
     QPainter painter(&shot);
-    const QRect area(scene.mapTo(&window, QPoint(0, 0)), scene.size());
+    // The view's drawing, inside its focus frame.
+    const QRect drawing = scene.drawingRect();
+    const QRect area(scene.mapTo(&window, drawing.topLeft()), drawing.size());
     painter.drawImage(area, rendered);
   }
   return shot;

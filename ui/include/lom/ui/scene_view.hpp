@@ -101,6 +101,9 @@ class SceneView : public QWidget {
   void setFrameCloudVisible(bool on);
   void showBoxes(const Annotations& boxes, int selected, const LabelSet& labels);
   [[nodiscard]] size_t voxelCount() const;
+  // Where the 3D drawing lies in the view (inside the focus frame), in the
+  // view's coordinates: what renderToImage shows.
+  [[nodiscard]] QRect drawingRect() const;
   [[nodiscard]] bool boxHandlesVisible() const;
   // Wireframe boxes of extracted objects in their label colours (empty hides them).
   void showObjectBoxes(const std::vector<ObjectInstance>& objects, const LabelSet& labels);
