@@ -171,15 +171,19 @@ void printInfo(const Sequence& sequence, std::ostream& out) {
   printCameraPath(sequence, out);
 }
 
+std::string lowerExtension(const std::filesystem::path& path) {
+  std::string extension = path.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension;
+}
+
 // A file that starts like an OctoMap tree file (.ot or .bt), whatever its name.
 bool isMapFile(const std::filesystem::path& path) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) return false;
   // A .ot file is read as a map, so that a broken one gets the map reader's
   // message (its header) rather than the sequence reader's (JSON).
-  std::string extension = path.extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (extension == ".ot") return true;
+  if (lowerExtension(path) == ".ot") return true;
   std::ifstream in(path, std::ios::binary);
   std::string first_line;
   std::getline(in, first_line);
@@ -250,8 +254,7 @@ int runInfo(const Words& words) {
   const std::string path = args.positional(0, "SEQ (a sequence folder or sequence.json) or MAP.ot");
   // A missing MAP.ot (a mistyped name) gets the map reader's message, not
   // the sequence reader's.
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string extension = lowerExtension(path);
   std::error_code ec;
   const bool missing_map =
       (extension == ".ot" || extension == ".bt") && !std::filesystem::exists(path, ec);

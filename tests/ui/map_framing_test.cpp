@@ -69,6 +69,13 @@ TEST(BulkBounds, LeaveOutSpecksAndHiddenLabels) {
 
 class MapFramingTest : public fixture::DemoWindowTest {
  protected:
+  // The 3D view of the fused demo map alone (the frame's points hidden).
+  SceneView& fusedMapView() {
+    openAndFuse();
+    SceneView& scene = window_.sceneView();
+    scene.setFrameCloudVisible(false);
+    return scene;
+  }
   // Pixels of the picture that are not the view's background (its gradient
   // changes only from top to bottom; the left end of a row is background
   // when the map is framed with a margin).
@@ -88,9 +95,7 @@ class MapFramingTest : public fixture::DemoWindowTest {
 };
 
 TEST_F(MapFramingTest, ASpeckFarFromTheMapDoesNotShrinkIt) {
-  openAndFuse();
-  SceneView& scene = window_.sceneView();
-  scene.setFrameCloudVisible(false);
+  SceneView& scene = fusedMapView();
   const auto fused = window_.session().worker().snapshot();
   ASSERT_TRUE(fused && !fused->empty());
   const char* actions[] = {"Zoom to Map", "Look from Above", "Reset Camera"};
@@ -118,9 +123,7 @@ TEST_F(MapFramingTest, ASpeckFarFromTheMapDoesNotShrinkIt) {
 }
 
 TEST_F(MapFramingTest, TheMapFillsTheViewWithoutLosingItsSidesWhateverItsShape) {
-  openAndFuse();
-  SceneView& scene = window_.sceneView();
-  scene.setFrameCloudVisible(false);
+  SceneView& scene = fusedMapView();
   double map[6];
   ASSERT_TRUE(scene.mapBounds(map));
   // The default window, then one whose 3D view is narrower than high (the
@@ -145,9 +148,7 @@ TEST_F(MapFramingTest, TheMapFillsTheViewWithoutLosingItsSidesWhateverItsShape) 
 // view narrower than the picture); Zoom to Map after it frames the map as
 // ever.
 TEST_F(MapFramingTest, ZoomToMapAfterLookingFromTheCameraFillsTheView) {
-  openAndFuse();
-  SceneView& scene = window_.sceneView();
-  scene.setFrameCloudVisible(false);
+  SceneView& scene = fusedMapView();
   for (const QSize size : {QSize(900, 1000), QSize(1280, 860)}) {
     window_.resize(size);
     settle();
@@ -162,9 +163,7 @@ TEST_F(MapFramingTest, ZoomToMapAfterLookingFromTheCameraFillsTheView) {
 // A map deep along the view (a corridor seen end-on): the camera stays out of
 // it and every corner of it is in view.
 TEST_F(MapFramingTest, AMapDeepAlongTheViewIsFramedFromOutside) {
-  openAndFuse();
-  SceneView& scene = window_.sceneView();
-  scene.setFrameCloudVisible(false);
+  SceneView& scene = fusedMapView();
   window_.findAction("Zoom to Map")->trigger();
   const Eigen::Vector3d along = scene.cameraDirection();
   MapSnapshot corridor;
@@ -188,9 +187,7 @@ TEST_F(MapFramingTest, AMapDeepAlongTheViewIsFramedFromOutside) {
 // plate (as a room's is when its walls are not along x and y). The view
 // frames the voxels, not the box's corners.
 TEST_F(MapFramingTest, AMapTurnedAgainstTheWorldsAxesIsFramedByItsVoxels) {
-  openAndFuse();
-  SceneView& scene = window_.sceneView();
-  scene.setFrameCloudVisible(false);
+  SceneView& scene = fusedMapView();
   window_.findAction("Zoom to Map")->trigger();
   const Eigen::Vector3d along = scene.cameraDirection();
   const Eigen::Vector3d up = scene.cameraViewUp();
