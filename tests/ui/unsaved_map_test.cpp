@@ -212,7 +212,8 @@ TEST_F(UnsavedMapTest, AFusionThatFusedNothingIsNotAsked) {
 }
 
 // A fusion that ends while the close question about it is open leaves a
-// whole map: it is asked about before the window closes (closing dropped it).
+// whole map: the question says the work has finished, and the map is asked
+// about before the window closes (closing dropped it).
 TEST_F(UnsavedMapTest, AFusionThatEndsWhileClosingIsAskedIsAskedAboutItsMap) {
   auto held = heldAtSecondFrame();
   ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
@@ -224,30 +225,67 @@ TEST_F(UnsavedMapTest, AFusionThatEndsWhileClosingIsAskedIsAskedAboutItsMap) {
   QObject::connect(&answerer, &QTimer::timeout, [&] {
     for (QWidget* widget : QApplication::topLevelWidgets()) {
       auto* box = qobject_cast<QMessageBox*>(widget);
-      if (!box || !box->isVisible()) continue;
-      if (!asked.contains(box->text())) {
-        asked << box->text();
-        if (!box->text().contains("Closing the studio now stops"))
-          QMetaObject::invokeMethod(box, "reject", Qt::QueuedConnection);  // Cancel
-        else
-          held->release = true;  // the fusion ends while the question is open
-      }
-      if (box->text().contains("Closing the studio now stops") && !closing_answered &&
-          !session().worker().isFusing())
+      if (!box || !box->isVisible() || asked.contains(box->text())) continue;
+      asked << box->text();
+      if (box->text().contains("Closing the studio now stops")) {
+        held->release = true;  // the fusion ends while the question is open
+      } else if (box->text().contains("has finished") && !closing_answered) {
         for (QAbstractButton* button : box->buttons())
-          if (button->text().remove('&') == "Close Anyway") {
+          if (button->text().remove('&') == "Close") {
             closing_answered = true;
             QMetaObject::invokeMethod(button, "click", Qt::QueuedConnection);
           }
+      } else {
+        QMetaObject::invokeMethod(box, "reject", Qt::QueuedConnection);  // Cancel
+      }
     }
   });
   answerer.start();
   EXPECT_FALSE(window_.close());
-  ASSERT_EQ(asked.size(), 2) << asked.join("\n").toStdString();
-  EXPECT_TRUE(asked[1].contains("has not been saved. Closing the studio discards it"))
-      << asked[1].toStdString();
+  ASSERT_EQ(asked.size(), 3) << asked.join("\n").toStdString();
+  EXPECT_TRUE(asked[0].contains("fusion of")) << asked[0].toStdString();
+  EXPECT_TRUE(asked[1].startsWith("The work in progress has finished")) << asked[1].toStdString();
+  EXPECT_TRUE(closing_answered);
+  EXPECT_TRUE(asked[2].contains("has not been saved. Closing the studio discards it"))
+      << asked[2].toStdString();
   EXPECT_EQ(framesShown(), static_cast<size_t>(fixture::smallDemo().frames));
   EXPECT_TRUE(session().worker().hasUnsavedMap());
+}
+
+// Reset Map asked while fusing, the fusion ending while the question is open:
+// the question becomes the one about a whole map, and offers to save it.
+TEST_F(UnsavedMapTest, TheMapQuestionOffersSaveOnceTheFusionEndsWhileItIsOpen) {
+  session().worker().setSnapshotInterval(0);  // the first frame's map is shown
+  auto held = heldAtSecondFrame();
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return held->reached == 2; }, kTimeoutMs));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return session().worker().hasUnsavedMap(); }, kTimeoutMs));
+  QStringList asked;
+  QStringList buttons_at_end;
+  QTimer answerer;
+  answerer.setInterval(20);
+  QObject::connect(&answerer, &QTimer::timeout, [&] {
+    for (QWidget* widget : QApplication::topLevelWidgets()) {
+      auto* box = qobject_cast<QMessageBox*>(widget);
+      if (!box || !box->isVisible() || asked.contains(box->text())) continue;
+      asked << box->text();
+      if (box->text().contains("being fused from")) {
+        held->release = true;
+      } else {
+        for (QAbstractButton* button : box->buttons()) buttons_at_end << button->text().remove('&');
+        QMetaObject::invokeMethod(box, "reject", Qt::QueuedConnection);  // Cancel
+      }
+    }
+  });
+  answerer.start();
+  window_.findAction("Reset Map")->trigger();
+  ASSERT_EQ(asked.size(), 2) << asked.join("\n").toStdString();
+  EXPECT_TRUE(asked[1].contains("fused from")) << asked[1].toStdString();
+  EXPECT_FALSE(asked[1].contains("being fused")) << asked[1].toStdString();
+  EXPECT_FALSE(asked[1].contains("once fusion ends")) << asked[1].toStdString();
+  EXPECT_TRUE(buttons_at_end.contains("Save Map…")) << buttons_at_end.join(", ").toStdString();
+  EXPECT_TRUE(session().worker().hasUnsavedMap());  // Cancel kept it
+  EXPECT_EQ(framesShown(), static_cast<size_t>(fixture::smallDemo().frames));
 }
 
 // Reset Map while fusing: the status says "not fused", not where the fusion

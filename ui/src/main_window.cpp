@@ -394,28 +394,36 @@ bool MainWindow::confirmDiscard(const QString& replaced_by, bool ask_map) {
 bool MainWindow::confirmDiscardMap(const QString& replaced_by) {
   if (map_discard_question_) return map_discard_question_(replaced_by);
   // A map still being fused is saved once fusion ends (Cancel Fusion ends
-  // it now): not from this question, which would wait for it.
-  const bool fusing = session_->worker().isFusing();
-  QMessageBox question(
-      QMessageBox::Question, tr("Save the fused map?"),
-      tr("The map %1 %2 has not been saved. %3 discards it.")
-              .arg(fusing ? tr("being fused from") : tr("fused from"), controller_->sequenceName(),
-                   replaced_by) +
-          (fusing ? tr("\n\nTo keep it, choose Cancel and save it (File ▸ Save Map…) once "
-                       "fusion ends.")
-                  : QString()),
-      QMessageBox::Cancel, this);
-  QPushButton* save = fusing || !map_saver_
-                          ? nullptr
-                          : question.addButton(tr("Save Map…"), QMessageBox::AcceptRole);
+  // it now): not from this question, which would wait for it. A fusion that
+  // ends while the question is open turns it into the question about a
+  // whole map, with its Save Map… button.
+  MapWorker& worker = session_->worker();
+  QMessageBox question(QMessageBox::Question, tr("Save the fused map?"), QString(),
+                       QMessageBox::Cancel, this);
+  QPushButton* save = nullptr;
   QPushButton* discard = question.addButton(tr("Discard Map"), QMessageBox::DestructiveRole);
-  if (save)
-    question.setDefaultButton(save);
-  else
-    question.setDefaultButton(QMessageBox::Cancel);
+  auto ask = [&] {
+    const bool fusing = worker.isFusing();
+    question.setText(tr("The map %1 %2 has not been saved. %3 discards it.")
+                         .arg(fusing ? tr("being fused from") : tr("fused from"),
+                              controller_->sequenceName(), replaced_by) +
+                     (fusing
+                          ? tr("\n\nTo keep it, choose Cancel and save it (File ▸ Save Map…) once "
+                               "fusion ends.")
+                          : QString()));
+    if (!fusing && !save && map_saver_) {
+      save = question.addButton(tr("Save Map…"), QMessageBox::AcceptRole);
+      question.setDefaultButton(save);
+    }
+  };
+  ask();
+  if (!save) question.setDefaultButton(QMessageBox::Cancel);
+  const QMetaObject::Connection ended =
+      connect(&worker, &MapWorker::fusionFinished, &question, [&](bool /*completed*/) { ask(); });
   question.exec();
+  disconnect(ended);
   if (save && question.clickedButton() == save)
-    return map_saver_->exportAndWait() && !session_->worker().hasUnsavedMap();
+    return map_saver_->exportAndWait() && !worker.hasUnsavedMap();
   return question.clickedButton() == discard;
 }
 
@@ -430,7 +438,7 @@ void MainWindow::showProgressOf(ExportMapReaction* reaction) {
   });
 }
 
-bool MainWindow::confirmStopWork() {
+QStringList MainWindow::workInProgress() const {
   const MapWorker& worker = session_->worker();
   QStringList work;
   if (controller_->isConverting())
@@ -440,14 +448,35 @@ bool MainWindow::confirmStopWork() {
                                                         : tr("fusion of %1"))
                 .arg(controller_->sequenceName());
   work << worker.pendingWork();
-  if (work.isEmpty()) return true;
-  QMessageBox question(QMessageBox::Question, tr("Stop the work in progress?"),
-                       tr("Closing the studio now stops:\n\n• %1\n\nWhat has not finished is "
-                          "dropped.")
-                           .arg(work.join("\n• ")),
+  return work;
+}
+
+bool MainWindow::confirmStopWork() {
+  if (workInProgress().isEmpty()) return true;
+  QMessageBox question(QMessageBox::Question, tr("Stop the work in progress?"), QString(),
                        QMessageBox::Cancel, this);
   QPushButton* close = question.addButton(tr("Close Anyway"), QMessageBox::DestructiveRole);
   question.setDefaultButton(QMessageBox::Cancel);
+  // The work goes on while the question is open: it lists what closing
+  // would stop now, not what ran when it was asked.
+  auto describe = [&] {
+    const QStringList work = workInProgress();
+    if (work.isEmpty()) {
+      question.setText(
+          tr("The work in progress has finished: closing the studio now stops "
+             "nothing."));
+      close->setText(tr("Close"));
+    } else {
+      question.setText(tr("Closing the studio now stops:\n\n• %1\n\nWhat has not finished is "
+                          "dropped.")
+                           .arg(work.join("\n• ")));
+    }
+  };
+  describe();
+  QTimer refresh;
+  refresh.setInterval(200);
+  connect(&refresh, &QTimer::timeout, &question, describe);
+  refresh.start();
   question.exec();
   return question.clickedButton() == close;
 }

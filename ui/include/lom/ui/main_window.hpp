@@ -98,6 +98,8 @@ class MainWindow : public QMainWindow {
   // Asks before closing drops a conversion, a running fusion or queued map
   // work (exports, box fits); true when there is none or the user agrees.
   [[nodiscard]] bool confirmStopWork();
+  // Conversion, fusion and queued map jobs running now, one line each.
+  [[nodiscard]] QStringList workInProgress() const;
   // An export's queued and written messages in the status bar.
   void showProgressOf(ExportMapReaction* reaction);
   void connectScene();
