@@ -92,6 +92,16 @@ void Args::expectOnly(const std::set<std::string>& known, size_t max_positionals
     if (!known.count(*dangling_)) throw UsageError("unknown option --" + *dangling_);
     throw UsageError("option --" + *dangling_ + " expects a value");
   }
+  // `--out --no-noise`: the value forgotten, the next option taken for it (a
+  // folder named --no-noise, the switch off).
+  for (const auto& [key, v] : options_) {
+    if (v.size() <= 2 || v.rfind("--", 0) != 0) continue;
+    const std::string next =
+        v.substr(2, v.find('=') == std::string::npos ? std::string::npos : v.find('=') - 2);
+    if (known.count(next) || flag_names_.count(next))
+      throw UsageError("option --" + key + " expects a value, got the option " + v +
+                       " (a value starting with -- can be given as ./" + v + ")");
+  }
   for (size_t i = 0; i < options_.size(); ++i)
     for (size_t j = 0; j < i; ++j)
       if (options_[j].first == options_[i].first)

@@ -184,14 +184,27 @@ SynthScene writeSyntheticScene(const SynthOptions& options, const fs::path& out)
   // (A symbolic link leading nowhere is there: never removed below.)
   const bool existed = fs::symlink_status(out, ec).type() != fs::file_type::not_found;
   const bool fresh = !existed || (fs::is_directory(out, ec) && fs::is_empty(out, ec));
+  // What a run stopped by a signal (Ctrl-C) leaves is what one that fails
+  // leaves: the new folders it made, or the new or empty folder's new
+  // entries, are recorded until the scene is complete.
+  const std::vector<fs::path> missing = existed ? std::vector<fs::path>{} : missingFolders(out);
+  std::vector<PendingOutput> pending;
+  if (!missing.empty()) {
+    pending.emplace_back(missing.back(), PendingOutput::Kind::Tree);
+  } else if (fresh) {
+    for (const char* folder : kFrameFolders)
+      pending.emplace_back(out / folder, PendingOutput::Kind::Tree);
+    for (const char* file : {kMarkerFile, "annotations.json"})
+      pending.emplace_back(out / file, PendingOutput::Kind::File);
+  }
   try {
     return writeScene(layout, options, out);
   } catch (...) {
     // A run that fails (a full disk) takes away what it wrote into a new or
     // empty folder; an earlier output it was replacing stays marked by
     // synth.json, without sequence.json, so that the next run replaces it.
-    if (fresh && !existed) {
-      fs::remove_all(out, ec);
+    if (!missing.empty()) {
+      fs::remove_all(missing.back(), ec);
     } else if (fresh) {
       std::vector<fs::path> written;
       for (const auto& entry : fs::directory_iterator(out, ec)) written.push_back(entry.path());

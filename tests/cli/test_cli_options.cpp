@@ -146,6 +146,22 @@ TEST_F(CliOptionTest, SwitchesGivenAValueAreRefused) {
   EXPECT_TRUE(fs::is_empty(out.path()));
 }
 
+// An option whose value was forgotten took the next option for it: `synth
+// --out --no-noise` wrote a scene with noise into a folder named --no-noise.
+TEST_F(CliOptionTest, AnOptionIsNotTakenForTheValueOfTheOneBefore) {
+  TempDir out;
+  const fs::path before = fs::current_path();
+  fs::current_path(out.path());  // where a folder named --no-noise was written
+  const auto synth = runCli("synth --seed 3 --frames 2 --out --no-noise");
+  const auto frames = runCli("fuse " + q(scene()) + " --out --frames 0:2");
+  const auto resolution = runCli("fuse " + q(scene()) + " --out --resolution=0.02");
+  fs::current_path(before);
+  expectUsage(synth, "option --out expects a value, got the option --no-noise");
+  expectUsage(frames, "option --out expects a value, got the option --frames");
+  expectUsage(resolution, "option --out expects a value, got the option --resolution=0.02");
+  EXPECT_TRUE(fs::is_empty(out.path()));
+}
+
 // Label lists and sizes take digits only: a trailing comma, blanks or a sign
 // are mistakes, as in the other comma-separated options.
 TEST_F(CliOptionTest, LabelListsAndSizesAreDigitsOnly) {

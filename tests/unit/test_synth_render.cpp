@@ -68,7 +68,11 @@ TEST(SynthRenderTest, NoiseFreeObjectPixelsLieOnTheirGroundTruthSurface) {
           if (label > 0) {
             const SynthObject* object = objectWithLabel(layout, label);
             ASSERT_NE(object, nullptr) << "label " << label << " is not in the scene";
-            ASSERT_LT(distanceToSurface(*object, p), 0.002)
+            // The 1 mm depth step moves a point by at most 0.5 mm in depth,
+            // along its pixel's ray: 0.5 mm times the ray's length per metre
+            // of depth (float storage adds well under a micrometre).
+            const double ray_per_depth = layout.camera.backProject(u, v, 1.0).norm();
+            ASSERT_LE(distanceToSurface(*object, p), 0.0005 * ray_per_depth + 1e-6)
                 << object->name << " pixel " << u << "," << v << " frame " << f;
             ASSERT_TRUE(object->box.contains(p, 0.002));
           } else {
