@@ -92,6 +92,18 @@ std::string sequenceName(const fs::path& sequence_folder_or_json) {
   return name.empty() ? "sequence" : name;
 }
 
+void describeMapFile(EvaluationReport& report, const LabelMap& map, const Sequence& sequence,
+                     const std::string& map_file, bool candidates_from_map) {
+  report.map_file = map_file;
+  report.map_fit = mapFitOf(map, sequence);
+  describeMapCandidates(report, map.fusedCandidates(), sequence.labels.size(), map_file,
+                        candidates_from_map);
+  if (!report.map_candidates_warning.empty())
+    report.warnings.push_back(report.map_candidates_warning);
+  if (const std::string fit = poorMapFitWarning(*report.map_fit, map_file); !fit.empty())
+    report.warnings.push_back(fit + " Its scores would mean little.");
+}
+
 EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOptions& options,
                                const EvaluationProgressFn& progress) {
   const Sequence sequence = loadSequence(inputs.sequence);
@@ -109,14 +121,7 @@ EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOption
     const FusedCandidates& fused = map.fusedCandidates();
     if (options.candidates_from_map && fused.recorded) named.fusion.candidates = fused.labels;
     EvaluationReport report = evaluate(sequence, annotations, map, named, progress);
-    report.map_file = named.map_file;
-    report.map_fit = mapFitOf(map, sequence);
-    describeMapCandidates(report, fused, sequence.labels.size(), named.map_file,
-                          options.candidates_from_map);
-    if (!report.map_candidates_warning.empty())
-      report.warnings.push_back(report.map_candidates_warning);
-    if (const std::string fit = poorMapFitWarning(*report.map_fit, named.map_file); !fit.empty())
-      report.warnings.push_back(fit + " Its scores would mean little.");
+    describeMapFile(report, map, sequence, named.map_file, options.candidates_from_map);
     return report;
   }
   named.map_file = (sequence.root / "sequence.json").string() + " (fused)";

@@ -416,6 +416,11 @@ TEST_F(EvaluationPanelTest, BoxesThatCannotBeScoredAreLeftOutAndNamed) {
           .arg(count - 1)
           .arg(twice.label)))
       << summary.toStdString();
+  // The exported report says so too: its means leave those boxes out.
+  const auto out = temp_.path() / "left-out";
+  ASSERT_TRUE(panel().exportReportTo(qPath(out)));
+  EXPECT_NE(lom::test::slurp(out / "report.json").find("Not scored: boxes["), std::string::npos);
+  EXPECT_NE(lom::test::slurp(out / "report.md").find("Not scored: boxes["), std::string::npos);
 
   // With only such boxes, nothing is scored and the panel says why.
   for (int index = boxes.boxCount() - 1; index >= 0; --index)
@@ -460,6 +465,10 @@ TEST_F(EvaluationPanelTest, AMapFusedPartWayIsScoredAgainstTheViewsItFused) {
       QString("Partial map (3 of %1 frames fused): the baselines use the views among them.")
           .arg(frames)))
       << panel().summaryText().toStdString();
+  const auto out = temp_.path() / "partial";
+  ASSERT_TRUE(panel().exportReportTo(qPath(out)));
+  EXPECT_NE(lom::test::slurp(out / "report.md").find("Partial map (3 of"), std::string::npos)
+      << lom::test::slurp(out / "report.md");
 
   // A complete fusion says nothing of the kind.
   openAndFuse();
@@ -467,6 +476,52 @@ TEST_F(EvaluationPanelTest, AMapFusedPartWayIsScoredAgainstTheViewsItFused) {
   EXPECT_FALSE(panel().summaryText().contains("Partial map"))
       << panel().summaryText().toStdString();
   EXPECT_GT(panel().report()->views.back(), 2u);
+}
+
+// A map opened from a file is reported as that file, with how well it fits
+// the sequence, as `score --map` reports it (the report said the map was
+// fused from the sequence with its settings).
+TEST_F(EvaluationPanelTest, AMapOpenedFromAFileIsReportedAsThatFile) {
+  openAndFuse();
+  waitForScores();
+  EXPECT_TRUE(panel().report()->map_file.empty());
+  const auto file = temp_.path() / "saved.ot";
+  fuseSequence(loadSequence(folder_), FusionOptions{}).save(file);
+  {
+    test::DialogAnswerer answer("Discard Map");
+    window_.session().openMap(qPath(file));
+  }
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] {
+        return !window_.session().isOpeningMap() && !window_.session().worker().isFusing() &&
+               panel().report() && !panel().report()->map_file.empty();
+      },
+      kTimeoutMs));
+  waitForScores();
+  EXPECT_EQ(panel().report()->map_file, file.string());
+  ASSERT_TRUE(panel().report()->map_fit.has_value());
+  EXPECT_GT(panel().report()->map_fit->fraction(), 0.5);
+  const auto out = temp_.path() / "from-file";
+  ASSERT_TRUE(panel().exportReportTo(qPath(out)));
+  const std::string markdown = lom::test::slurp(out / "report.md");
+  EXPECT_NE(markdown.find("saved.ot"), std::string::npos) << markdown;
+  EXPECT_EQ(markdown.find("fused from the sequence"), std::string::npos) << markdown;
+}
+
+// Most depths beyond the max range: the panel and the report warn, as `score`
+// does (they said nothing).
+TEST_F(EvaluationPanelTest, AMapThatLeftMostDepthsBeyondTheMaxRangeIsWarnedAbout) {
+  FusionOptions options = window_.session().fusionOptions();
+  options.map.max_range = 0.4;
+  window_.session().setFusionOptions(options);
+  openAndFuse();
+  waitForScores();
+  EXPECT_TRUE(panel().warningsText().contains("beyond the max range of 0.40 m"))
+      << panel().warningsText().toStdString();
+  const auto out = temp_.path() / "near";
+  ASSERT_TRUE(panel().exportReportTo(qPath(out)));
+  EXPECT_NE(lom::test::slurp(out / "report.json").find("beyond the max range of 0.40 m"),
+            std::string::npos);
 }
 
 // Scores of the map being replaced are neither shown nor exportable while the

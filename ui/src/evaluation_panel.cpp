@@ -350,6 +350,8 @@ void EvaluationPanel::evaluateNow() {
   EvaluationOptions options;
   options.fusion = session_.fusionOptions();
   options.iou_mode = session_.iouMode();
+  // Warnings about the boxes name their file, as `score` names it.
+  options.annotations_file = QDir::toNativeSeparators(session_.annotations().path()).toStdString();
   annotations.frame_id = sequence->frame_id;
   // A fusion cancelled or stopped part way fused only the first frames: the
   // baselines project the views among those, as `score --frames` does.
@@ -539,6 +541,10 @@ QString EvaluationPanel::exportReport(const QString& dir) const {
   EvaluationReport named = *report_;
   const QString name = session_.controller().sequenceName();
   if (!name.isEmpty()) named.sequence = name.toStdString();
+  // What the panel says beside the scores belongs in the report too: boxes
+  // left out of the means, and a map fused from only the first frames.
+  for (const QString& note : {left_out_, partial_})
+    if (!note.isEmpty()) named.warnings.push_back(note.toStdString());
   try {
     writeReport(named, std::filesystem::path(dir.toStdString()));
   } catch (const std::exception& error) {

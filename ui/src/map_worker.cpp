@@ -3,11 +3,47 @@
 #include <QMetaObject>
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 
 #include "lom/error.hpp"
 #include "lom/segmenter.hpp"
 
 namespace lom::ui {
+
+namespace {
+
+// What the scores of a map fused here do not cover, one sentence each, as
+// `score` warns about them: depths outside the map's extent, and most depths
+// beyond the max range.
+std::vector<std::string> fusionWarnings(const FrameStats& totals,
+                                        const std::vector<size_t>& frames_outside_map,
+                                        const MapParameters& map) {
+  std::vector<std::string> warnings;
+  char text[512];
+  const size_t measured = measuredPixels(totals);
+  if (totals.outside_map_pixels > 0 && measured > 0) {
+    std::snprintf(text, sizeof text,
+                  "%zu of %zu measured depth pixels (%.1f%%), in %zu frames, lie outside the "
+                  "map's extent, %s: the map leaves them out, free space and all (coarser "
+                  "voxels extend it).",
+                  totals.outside_map_pixels, measured,
+                  100.0 * static_cast<double>(totals.outside_map_pixels) / measured,
+                  frames_outside_map.size(), describeMapExtent(map.resolution).c_str());
+    warnings.emplace_back(text);
+  }
+  if (mostDepthsBeyondMaxRange(totals, map.max_range)) {
+    std::snprintf(text, sizeof text,
+                  "%.1f%% of the measured depths lay beyond the max range of %.2f m and mapped "
+                  "nothing (the farthest lies %.1f m from the camera): the scores cover the "
+                  "nearer surfaces only.",
+                  100.0 * static_cast<double>(totals.beyond_range_pixels) / measured, map.max_range,
+                  totals.farthest_range);
+    warnings.emplace_back(text);
+  }
+  return warnings;
+}
+
+}  // namespace
 
 namespace {
 using Clock = std::chrono::steady_clock;
@@ -148,6 +184,9 @@ void MapWorker::adoptMap(std::shared_ptr<LabelMap> map, size_t frames, const QSt
   post(
       [this, map = std::move(map), frames, source, id] {
         map_ = std::make_unique<LabelMap>(std::move(*map));
+        map_file_ = source.toStdString();
+        fused_totals_ = {};
+        frames_outside_map_.clear();
         frames_fused_ = frames;
         publish(takeSnapshot(*map_, frames_fused_));
         inGui([this, id, source] {
@@ -178,6 +217,9 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
     // fused, naming sequence.json and the frame.
     checkCamerasInsideMap(*sequence, fusion.map.resolution, fusion.first_frame, fusion.last_frame);
     map_ = std::make_unique<LabelMap>(sequence->labels, fusion.map);
+    map_file_.clear();
+    fused_totals_ = {};
+    frames_outside_map_.clear();
   } catch (const std::exception& error) {
     const QString message = QString::fromStdString(error.what());
     inGui([this, message] { emit errorOccurred(tr("Cannot fuse"), message); });
@@ -227,6 +269,8 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
                          frame.depth, evidence, fusion.integration);
       noteDepthRanges(stats, sequence->cameraOf(i), frame.depth, fusion.map.max_range);
       addFrameStats(totals, stats);
+      fused_totals_ = totals;
+      if (stats.outside_map_pixels > 0) frames_outside_map_.push_back(i);
     } catch (const std::exception& error) {
       const QString message =
           tr("frames[%1]: %2").arg(i).arg(QString::fromStdString(error.what()));
@@ -347,6 +391,17 @@ void MapWorker::evaluate(std::shared_ptr<const Sequence> sequence, const Annotat
               [this, generation](const EvaluationProgress&) {
                 return generation == evaluation_generation_ && !stopping_;
               });
+          // What `score` reports besides the scores: a map file's fit and
+          // candidates, or what fusing it here left out.
+          if (!map_file_.empty()) {
+            describeMapFile(report, *map_, *sequence, map_file_, false);
+          } else {
+            report.fusion_totals = fused_totals_;
+            report.frames_outside_map = frames_outside_map_;
+            for (std::string& warning :
+                 fusionWarnings(fused_totals_, frames_outside_map_, map_->parameters()))
+              report.warnings.push_back(std::move(warning));
+          }
           finish([this, report] { emit evaluationFinished(report); });
         } catch (const EvaluationCancelled&) {
           finish([] {});

@@ -206,6 +206,14 @@ inline constexpr double kPoorMapFit = 0.2;
 // or no depth could be sampled.
 [[nodiscard]] std::string poorMapFitWarning(const MapFit& fit, const std::string& map_file);
 
+// What a report of a map read from `map_file` says about that file, as
+// `score --map` reports it: its name (report.map_file), how well it fits the
+// sequence's depths (report.map_fit; a warning when poorly), and its fusion
+// candidates against the baselines' (a warning when they differ, a note when
+// the baselines took the map's: `candidates_from_map`).
+void describeMapFile(EvaluationReport& report, const LabelMap& map, const Sequence& sequence,
+                     const std::string& map_file, bool candidates_from_map);
+
 // Scores every annotated object. Resolution and max range come from `map`.
 // Throws lom::Error for unusable inputs (see checkAnnotationsForSequence; a map
 // with another label set or no occupied voxel; no view among the frames).

@@ -140,6 +140,12 @@ class MapWorker : public QObject {
 
   // Worker thread only.
   std::unique_ptr<LabelMap> map_;
+  // Worker thread: the file the map was read from (empty when fused here),
+  // and what fusing it here measured (FrameStats summed; frames with depths
+  // outside the map's extent), for the reports of its scores.
+  std::string map_file_;
+  FrameStats fused_totals_;
+  std::vector<size_t> frames_outside_map_;
   size_t frames_fused_ = 0;
   bool fusing_now_ = false;  // inside fuse(): quick jobs run between its frames
 
