@@ -161,6 +161,15 @@ int runScore(const Words& words) {
     for (const auto& entry : entries) {
       checkOptionsForSequence(entry.inputs.sequence, options, !entry.inputs.map, read);
       checkThresholdFor(threshold, entry.inputs.map, options);
+      // Every line's boxes before the first fusion: a bad file on the last
+      // line must not wait for the sequences before it to be fused.
+      try {
+        checkAnnotationsFor(entry.inputs);
+      } catch (const std::exception&) {
+        std::cerr << "labeloctomap score: " << *batch << " line " << entry.line << " ("
+                  << entry.name << ") failed\n";
+        throw;
+      }
     }
     checkOutputFolder(out, "out", what, read);
     for (const auto& entry : entries) {

@@ -92,6 +92,13 @@ std::string sequenceName(const fs::path& sequence_folder_or_json) {
   return name.empty() ? "sequence" : name;
 }
 
+void checkAnnotationsFor(const ScoreInputs& inputs) {
+  const Sequence sequence = loadSequence(inputs.sequence);
+  const Annotations annotations =
+      loadAnnotationsFor(inputs.annotations, sequence.labels, sequence.frame_id);
+  checkAnnotationsForSequence(sequence, annotations, inputs.annotations.string());
+}
+
 void describeMapFile(EvaluationReport& report, const LabelMap& map, const Sequence& sequence,
                      const std::string& map_file, bool candidates_from_map) {
   report.map_file = map_file;
@@ -154,6 +161,9 @@ std::vector<BatchEntry> readBatchList(const fs::path& list) {
   std::map<std::string, size_t> line_of_name;
   std::string line;
   for (size_t number = 1; std::getline(in, line); ++number) {
+    // A byte-order mark some editors put at the start of a UTF-8 file is not
+    // part of the first path.
+    if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     const std::string text = trimmed(line);
     if (text.empty() || text[0] == '#') continue;
     const std::string where = "line " + std::to_string(number);

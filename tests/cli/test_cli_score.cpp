@@ -694,4 +694,37 @@ TEST_F(CliScoreTest, BatchWithABadLineFailsAndWritesNothing) {
   EXPECT_FALSE(std::filesystem::exists(out / "reports"));
 }
 
+// The boxes of every line are checked before the first sequence is fused: a
+// bad file on line 2 failed only after line 1's fusion and scoring.
+TEST_F(CliScoreTest, BatchChecksEveryLinesBoxesBeforeFusingAny) {
+  TempDir out;
+  Json boxes = Json::parse(slurp(scene("bin_b") / "annotations.json"));
+  boxes["boxes"][1]["label"] = 77;
+  std::ofstream(out / "bad.json") << boxes.dump(2);
+  const auto list = out / "list.txt";
+  std::ofstream(list) << scene("bin_a").string() << " "
+                      << (scene("bin_a") / "annotations.json").string() << "\n"
+                      << scene("bin_b").string() << " bad.json\n";
+  const auto r = runCli("score --batch " + quoted(list) + " --out " + quoted(out / "reports"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("line 2 (bin_b) failed"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("boxes[1].label"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("fusing"), std::string::npos) << "line 1 was fused first:\n" << r.err;
+  EXPECT_EQ(r.out.find("bin_a"), std::string::npos) << "line 1 was scored first:\n" << r.out;
+  EXPECT_FALSE(std::filesystem::exists(out / "reports"));
+}
+
+// A list saved with a UTF-8 byte-order mark (some Windows editors) reads as
+// without: the mark was taken for part of the first path.
+TEST_F(CliScoreTest, BatchListWithAByteOrderMarkIsRead) {
+  TempDir out;
+  const auto list = out / "list.txt";
+  std::ofstream(list) << "\xEF\xBB\xBF" << scene("bin_a").string() << " "
+                      << (scene("bin_a") / "annotations.json").string() << "\n";
+  const auto r =
+      runCli("score --batch " + quoted(list) + " --out " + quoted(out / "reports") + " --quiet");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(out / "reports" / "bin_a" / "report.json"));
+}
+
 }  // namespace

@@ -248,6 +248,11 @@ struct ScoreInputs {
   std::optional<double> occupancy_threshold;  // re-thresholds a loaded map
 };
 
+// Loads the sequence and the annotations of `inputs` and checks them against
+// each other (checkAnnotationsForSequence) as scoreSequence does before its
+// fusion; throws lom::Error naming the annotations file and the field.
+void checkAnnotationsFor(const ScoreInputs& inputs);
+
 // Loads the inputs, fuses (or loads) the map and evaluates. Annotations are
 // checked against the sequence before the fusion starts.
 [[nodiscard]] EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOptions& options,
