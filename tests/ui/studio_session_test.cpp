@@ -571,6 +571,47 @@ TEST_F(StudioSessionTest, EvaluationPanelShowsWhatTheScoreCommandComputes) {
   EXPECT_EQ(table.rowCount(), static_cast<int>(expected.objects.size()) - 1);
 }
 
+// The mouse resting on a frame image while the frame or the label changes:
+// the readout describes the pixel shown now (it kept the last frame's depth
+// and the last label's probability until the mouse moved).
+TEST_F(StudioSessionTest, ThePixelReadoutFollowsTheFrameAndTheLabelShown) {
+  openAndFuse();
+  const LabelSet& labels = window_.session().sequence()->labels;
+  const int label = *visibleObjectLabels().begin();
+  window_.session().setSelectedLabel(label);
+  SequenceController& controller = window_.controller();
+  FrameImagesView& images = window_.frameImages();
+  int changed = 0;
+  for (int v = 40; v < 120; v += 20)
+    for (int u = 40; u < 160; u += 20) {
+      controller.setCurrentFrame(0);
+      QApplication::processEvents();
+      images.hoverPixel(QPoint(u, v));
+      const QString first = images.readoutText();
+      controller.setCurrentFrame(1);
+      QApplication::processEvents();
+      const QString shown = images.readoutText();
+      images.hoverPixel(QPoint(u, v));  // as a move of the mouse would say
+      EXPECT_EQ(shown, images.readoutText());
+      if (first != shown) ++changed;
+    }
+  EXPECT_GT(changed, 0) << "the frames differ nowhere: the check above proves nothing";
+
+  const int other = *std::next(visibleObjectLabels().begin());
+  window_.session().setSelectedLabel(other);
+  EXPECT_TRUE(images.readoutText().contains(
+      QString("p(%1)").arg(QString::fromStdString(labels.at(other).name))))
+      << images.readoutText().toStdString();
+  // The background's row shows the background's probability.
+  auto* legend = window_.findChild<MapLegendPanel*>();
+  ASSERT_NE(legend, nullptr);
+  emit legend->currentLabelChanged(0);
+  EXPECT_TRUE(images.readoutText().contains(
+      QString("p(%1)").arg(QString::fromStdString(labels.at(0).name))))
+      << images.readoutText().toStdString();
+  EXPECT_EQ(window_.session().selectedLabel(), other);  // still the label boxes are made for
+}
+
 TEST_F(StudioSessionTest, HeatMapHoverPickingAndProjectionVoxels) {
   openAndFuse();
   const int label = *visibleObjectLabels().begin();

@@ -108,6 +108,7 @@ FrameImagesView::FrameImagesView(QWidget* parent)
 void FrameImagesView::setHeatLabel(int label) {
   heat_label_ = label;
   showHeatMap();
+  hoverPixel(hovered_);  // the pixel still under the mouse, for this label
 }
 
 void FrameImagesView::showHeatMap() {
@@ -134,7 +135,9 @@ void FrameImagesView::showHeatMap() {
 QString FrameImagesView::readoutText() const { return readout_->text(); }
 
 void FrameImagesView::hoverPixel(const QPoint& pixel) {
-  if (!frame_ || !sequence_ || pixel.x() < 0 || pixel.y() < 0) {
+  hovered_ = pixel;
+  if (!frame_ || !sequence_ || pixel.x() < 0 || pixel.y() < 0 || pixel.x() >= frame_->depth.width ||
+      pixel.y() >= frame_->depth.height) {
     readout_->clear();
     return;
   }
@@ -187,10 +190,13 @@ void FrameImagesView::showFrame(const Sequence& sequence, const FrameData* frame
   label_legend_->setNote(QString());
   if (!labels) {
     label_pane_->setPlaceholder(tr("No labels or probabilities in this frame"));
-    return;
+  } else {
+    label_pane_->setImage(labelsToQImage(*labels, sequence.labels, color));
+    showLabelLegend(sequence.labels, *labels);
   }
-  label_pane_->setImage(labelsToQImage(*labels, sequence.labels, color));
-  showLabelLegend(sequence.labels, *labels);
+  // The mouse resting on a pane while frames step (playback, Page Down):
+  // the readout describes the new frame's pixel, not the last one's.
+  hoverPixel(hovered_);
 }
 
 void FrameImagesView::showLabelLegend(const LabelSet& label_set, const LabelImage& labels) {

@@ -54,8 +54,13 @@ void ImagePane::mouseMoveEvent(QMouseEvent* event) {
     emit hovered({-1, -1});
     return;
   }
-  const int u = (event->pos().x() - target.left()) * image_.width() / target.width();
-  const int v = (event->pos().y() - target.top()) * image_.height() / target.height();
+  // The image pixel drawn under the screen pixel: the one under its centre,
+  // as drawing a scaled image samples it (the left edge named a pixel up to
+  // a few to the left, and never the last columns and rows).
+  const int u =
+      static_cast<int>((event->pos().x() - target.left() + 0.5) * image_.width() / target.width());
+  const int v =
+      static_cast<int>((event->pos().y() - target.top() + 0.5) * image_.height() / target.height());
   emit hovered({std::clamp(u, 0, image_.width() - 1), std::clamp(v, 0, image_.height() - 1)});
 }
 

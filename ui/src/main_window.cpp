@@ -537,8 +537,10 @@ void MainWindow::connectScene() {
           &FrameImagesView::setHeatLabel);
   connect(scene_view_, &SceneView::heightColoursShown, map_legend_,
           &MapLegendPanel::showHeightColours);
+  // The background is no label to box, but its probability can be looked at.
   connect(map_legend_, &MapLegendPanel::currentLabelChanged, session_, [this](int label) {
     if (label > 0) session_->setSelectedLabel(label);
+    if (label >= 0) frame_images_->setHeatLabel(label);
   });
 }
 

@@ -53,6 +53,7 @@ class FrameImagesView : public QWidget {
   const FrameData* frame_ = nullptr;
   const std::optional<LabelImage>* labels_ = nullptr;
   int heat_label_ = -1;
+  QPoint hovered_{-1, -1};  // the image pixel under the mouse, (-1, -1) for none
 };
 
 }  // namespace lom::ui
