@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "demo_window_fixture.hpp"
+#include "lom/ui/annotations_model.hpp"
 #include "lom/ui/map_snapshot.hpp"
 #include "lom/ui/measure_reaction.hpp"
 #include "lom/ui/scene_view.hpp"
@@ -131,6 +132,48 @@ TEST_F(MeasureTest, ClicksOnTheMapMeasureBetweenSurfacePoints) {
   EXPECT_TRUE(statusMessage().isEmpty());
   emit scene.surfacePicked(second);
   EXPECT_EQ(scene.measurementPointCount(), 0u) << "measuring is off";
+}
+
+// The selected box's handles take every press on the box: a click on the map
+// inside it picked nothing and measured nothing (the first box is selected
+// from the start).
+TEST_F(MeasureTest, AClickInsideTheSelectedBoxPicksAndMeasures) {
+  openAndFuse();
+  SceneView& scene = window_.sceneView();
+  scene.setFrameCloudVisible(false);
+  scene.zoomToMap();
+  auto* vtk = scene.findChild<QVTKOpenGLNativeWidget*>();
+  ASSERT_NE(vtk, nullptr);
+  std::vector<Eigen::Vector3d> surface;
+  QObject::connect(&scene, &SceneView::surfacePicked,
+                   [&](const Eigen::Vector3d& point) { surface.push_back(point); });
+  const QPoint middle(vtk->width() / 2, vtk->height() / 2);
+  QTest::mouseClick(vtk, Qt::LeftButton, Qt::NoModifier, middle);
+  ASSERT_EQ(surface.size(), 1u) << "the map lies in the middle of the view";
+
+  // A box around the point clicked, selected: its handles are shown.
+  AnnotationsModel& boxes = window_.session().annotations();
+  GroundTruthBox around = boxes.box(0);
+  around.box.center = surface.front();
+  around.box.size = Eigen::Vector3d(0.15, 0.15, 0.15);
+  around.box.rotation = Eigen::Quaterniond::Identity();
+  boxes.addBox(around);
+  boxes.select(boxes.boxCount() - 1);
+  QApplication::processEvents();
+  ASSERT_TRUE(scene.boxHandlesVisible());
+  int edits = 0;
+  QObject::connect(&scene, &SceneView::boxEdited, [&](const OrientedBox&) { ++edits; });
+  const int steps = boxes.undoStack().count();
+
+  QTest::mouseClick(vtk, Qt::LeftButton, Qt::NoModifier, middle);
+  ASSERT_EQ(surface.size(), 2u) << "the click inside the box picked nothing";
+  EXPECT_LE((surface.back() - surface.front()).norm(), 0.02);
+  window_.findAction("Measure Distance")->trigger();
+  QTest::mouseClick(vtk, Qt::LeftButton, Qt::NoModifier, middle);
+  EXPECT_EQ(scene.measurementPointCount(), 1u);
+  EXPECT_EQ(edits, 0);
+  EXPECT_EQ(boxes.undoStack().count(), steps) << "a click is no edit of the box";
+  window_.findAction("Measure Distance")->trigger();
 }
 
 TEST_F(MeasureTest, RestingTheMouseOnAVoxelNamesItsLabel) {

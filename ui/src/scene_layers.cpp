@@ -245,10 +245,29 @@ BoxHandles::BoxHandles(vtkRenderWindowInteractor* interactor, vtkRenderer* rende
   widget_->SetScalingEnabled(true);
   widget_->SetMoveFacesEnabled(true);
 
+  vtkNew<vtkCallbackCommand> on_start;
+  on_start->SetClientData(this);
+  on_start->SetCallback([](vtkObject*, unsigned long, void* client, void*) {
+    auto* self = static_cast<BoxHandles*>(client);
+    const int* position = self->widget_->GetInteractor()->GetEventPosition();
+    self->press_[0] = position[0];
+    self->press_[1] = position[1];
+  });
+  widget_->AddObserver(vtkCommand::StartInteractionEvent, on_start);
+
   vtkNew<vtkCallbackCommand> on_end;
   on_end->SetClientData(this);
   on_end->SetCallback([](vtkObject*, unsigned long, void* client, void*) {
     auto* self = static_cast<BoxHandles*>(client);
+    // The handles take every press on the box (the selected box, which lies
+    // over the map being picked or measured): one that did not drag is the
+    // view's click, as it is beside the box (the same 3 pixels of slack).
+    const int* position = self->widget_->GetInteractor()->GetEventPosition();
+    if (std::abs(position[0] - self->press_[0]) + std::abs(position[1] - self->press_[1]) <= 3 &&
+        self->clicked_) {
+      self->clicked_(position[0], position[1]);
+      return;
+    }
     vtkNew<vtkTransform> transform;
     self->representation_->GetTransform(transform);
     vtkMatrix4x4* m = transform->GetMatrix();

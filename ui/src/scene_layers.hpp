@@ -79,12 +79,18 @@ class BoxHandles {
   void show(const OrientedBox* box);  // null hides the handles
   // Called with the edited box when a drag ends.
   void onEdited(std::function<void(const OrientedBox&)> callback) { edited_ = std::move(callback); }
+  // Called with the display position of a click on the box or its handles
+  // that did not drag: a click the handles took from the view (a pick, a
+  // measured point), not an edit.
+  void onClicked(std::function<void(int, int)> callback) { clicked_ = std::move(callback); }
   [[nodiscard]] bool visible() const { return visible_; }
 
  private:
   vtkNew<vtkBoxWidget2> widget_;
   vtkNew<vtkBoxRepresentation> representation_;
   std::function<void(const OrientedBox&)> edited_;
+  std::function<void(int, int)> clicked_;
+  int press_[2] = {0, 0};
   bool visible_ = false;
 };
 

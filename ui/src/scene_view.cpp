@@ -144,6 +144,7 @@ SceneView::SceneView(QWidget* parent)
   interactor->SetInteractorStyle(style);
   scene_->handles = std::make_unique<scene::BoxHandles>(interactor, scene_->renderer);
   scene_->handles->onEdited([this](const OrientedBox& box) { emit boxEdited(box); });
+  scene_->handles->onClicked([this](int x, int y) { pickAt(x, y); });
   scene_->axes_widget->SetOrientationMarker(scene_->axes);
   scene_->axes_widget->SetInteractor(interactor);
   scene_->axes_widget->SetEnabled(1);
