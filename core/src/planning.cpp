@@ -212,6 +212,40 @@ bool boxInPathOf(const OrientedBox& object, const OrientedBox& target,
   return true;
 }
 
+void orderForRemoval(std::vector<size_t>& removals, const std::vector<ObjectInstance>& objects,
+                     const Eigen::Vector3d& approach, double margin) {
+  const Eigen::Vector3d d = approach.normalized();
+  sortFrontToBack(removals, objects, d);
+  // blockers[k]: how many removals still in the path of removals[k]. The
+  // centroids alone put a flat object before a tall one beside it whose near
+  // edge is in its path.
+  const size_t n = removals.size();
+  std::vector<std::vector<size_t>> blocks(n);  // blocks[j]: the k that j is in the path of
+  std::vector<size_t> blockers(n, 0);
+  for (size_t j = 0; j < n; ++j)
+    for (size_t k = 0; k < n; ++k)
+      if (j != k && boxInPathOf(objects[removals[j]].box, objects[removals[k]].box, d, margin)) {
+        blocks[j].push_back(k);
+        ++blockers[k];
+      }
+  std::vector<size_t> ordered;
+  std::vector<bool> taken(n, false);
+  while (ordered.size() < n) {
+    // The front-most removal with nothing left in its path; when each has
+    // one (objects in each other's paths), the front-most of all.
+    size_t next = n;
+    for (size_t k = 0; k < n && next == n; ++k)
+      if (!taken[k] && blockers[k] == 0) next = k;
+    for (size_t k = 0; k < n && next == n; ++k)
+      if (!taken[k]) next = k;
+    taken[next] = true;
+    ordered.push_back(removals[next]);
+    for (size_t k : blocks[next])
+      if (blockers[k] > 0) --blockers[k];
+  }
+  removals = std::move(ordered);
+}
+
 std::vector<size_t> findOccluders(const std::vector<ObjectInstance>& objects, size_t target,
                                   const Eigen::Vector3d& approach, double margin) {
   const Eigen::Vector3d d = approach.normalized();
@@ -220,7 +254,7 @@ std::vector<size_t> findOccluders(const std::vector<ObjectInstance>& objects, si
     if (i == target) continue;
     if (boxInPathOf(objects[i].box, objects[target].box, d, margin)) occluders.push_back(i);
   }
-  sortFrontToBack(occluders, objects, d);
+  orderForRemoval(occluders, objects, d, margin);
   return occluders;
 }
 
@@ -317,7 +351,7 @@ PickPlan planPick(const std::vector<ObjectInstance>& objects, const LabelSet& la
         if (i != plan.target && chosen.insert(i).second) pending.push_back(i);
     }
     plan.occluders.assign(chosen.begin(), chosen.end());
-    sortFrontToBack(plan.occluders, plan.objects, plan.approach);
+    orderForRemoval(plan.occluders, plan.objects, plan.approach, margin);
   }
 
   const double target_depth = plan.objects[plan.target].centroid.dot(plan.approach);

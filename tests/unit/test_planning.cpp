@@ -123,6 +123,35 @@ TEST(Planning, TwoOccludersComeOutFrontMostFirst) {
   EXPECT_TRUE(reverse.occluders.empty());
 }
 
+// A tall object beside a flat one reaches nearer the camera, into the flat
+// one's path, while its centroid lies further back: it is removed first (the
+// centroids put the flat one first, which the robot cannot take yet).
+TEST(Planning, AnOccluderInAnotherOccludersPathIsRemovedBeforeIt) {
+  const Eigen::Vector3d d = Eigen::Vector3d::UnitX();
+  const auto box = [](Eigen::Vector3d centre, Eigen::Vector3d size) {
+    OrientedBox b;
+    b.center = centre;
+    b.size = size;
+    return b;
+  };
+  std::vector<lom::ObjectInstance> objects = {
+      objectWithBox(box({0.60, 0.0, 0.0}, {0.10, 0.10, 0.10}), {0.60, 0.0, 0.0}),  // target
+      objectWithBox(box({0.30, 0.0, 0.0}, {0.04, 0.10, 0.10}), {0.30, 0.0, 0.0}),  // flat
+      objectWithBox(box({0.31, 0.0, 0.2}, {0.20, 0.10, 0.50}), {0.31, 0.0, 0.2}),  // tall
+  };
+  for (int k = 0; k < 3; ++k) objects[static_cast<size_t>(k)].label = 10 + k;
+  ASSERT_TRUE(lom::boxInPathOf(objects[2].box, objects[1].box, d));
+  ASSERT_FALSE(lom::boxInPathOf(objects[1].box, objects[2].box, d));
+  EXPECT_EQ(lom::findOccluders(objects, 0, d), (std::vector<size_t>{2, 1}));
+
+  // Without a removal in the path, front-most first by centroid as before.
+  std::vector<size_t> apart = {2, 1};
+  objects[2].box.center.z() = 0.6;  // above the flat one's path now
+  objects[2].centroid.z() = 0.6;
+  lom::orderForRemoval(apart, objects, d);
+  EXPECT_EQ(apart, (std::vector<size_t>{1, 2}));
+}
+
 TEST(Planning, StraySpeckOfTheTargetLabelDoesNotMoveTheTargetBox) {
   const LabelMap clean = scene({{8, {0.10, -0.04, 0.0}, {0.18, 0.04, 0.08}}});
   const PickPlan expected = lom::planPick(clean, kTarget, along(kIntoTheBin));

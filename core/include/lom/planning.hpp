@@ -121,9 +121,16 @@ struct PickPlan {
 [[nodiscard]] bool boxInPathOf(const OrientedBox& object, const OrientedBox& target,
                                const Eigen::Vector3d& direction, double margin = 0.0);
 
+// Puts `removals` (indices into `objects`) in an order a robot can follow:
+// each after every removal in its path (boxInPathOf along `approach`, with
+// `margin`), otherwise front-most first by centroid along `approach` (ties:
+// by label, then instance). Objects in each other's paths go front-most
+// first.
+void orderForRemoval(std::vector<size_t>& removals, const std::vector<ObjectInstance>& objects,
+                     const Eigen::Vector3d& approach, double margin = 0.0);
+
 // Indices of the objects (other than `target`) in the target's path
-// (boxInPathOf), front-most first by centroid along `approach` (ties: by
-// label, then instance).
+// (boxInPathOf), in removal order (orderForRemoval).
 [[nodiscard]] std::vector<size_t> findOccluders(const std::vector<ObjectInstance>& objects, size_t target,
                                                 const Eigen::Vector3d& approach, double margin = 0.0);
 
