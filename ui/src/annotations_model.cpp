@@ -13,19 +13,28 @@ namespace {
 class AddBoxCommand : public QUndoCommand {
  public:
   AddBoxCommand(AnnotationsModel& model, GroundTruthBox box)
-      : model_(model), box_(std::move(box)), index_(model.boxCount()) {
+      : model_(model),
+        box_(std::move(box)),
+        index_(model.boxCount()),
+        selected_before_(model.selected()) {
     setText(QObject::tr("Add box %1").arg(QString::fromStdString(box_.name)));
   }
   void redo() override {
     model_.insertRaw(index_, box_);
     model_.select(index_);
   }
-  void undo() override { model_.removeRaw(index_); }
+  // The box selected before the add is selected again (the one before the
+  // removed box was, wherever the selection had been).
+  void undo() override {
+    model_.removeRaw(index_);
+    model_.select(selected_before_);
+  }
 
  private:
   AnnotationsModel& model_;
   GroundTruthBox box_;
   int index_;
+  int selected_before_;
 };
 
 class RemoveBoxCommand : public QUndoCommand {
