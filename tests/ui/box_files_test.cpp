@@ -752,6 +752,40 @@ TEST_F(BoxFilesTest, ADeclinedRecoveryCopyIsKept) {
   EXPECT_TRUE(QFileInfo::exists(second)) << second.toStdString();
 }
 
+// A declined copy opened with Open Boxes… (where the question said it stays)
+// is recovered work for this sequence: unsaved, and Save Boxes writes the
+// sequence's file (it showed the boxes as saved and wrote them back into the
+// hidden recovery folder).
+TEST_F(BoxFilesTest, ADeclinedRecoveryCopyOpenedIsSavedToTheSequencesFile) {
+  ASSERT_TRUE(open(tiny_.folder));
+  boxes().addBox(boxOf(1, "square_box"));
+  window_.autosave().writeNow();
+  const QString recovery = window_.autosave().currentRecoveryPath();
+  MainWindow next;
+  next.setErrorReporter([](const QString&, const QString&) {});
+  QStringList warnings;
+  next.setWarningReporter([&](const QString&, const QString& text) { warnings << text; });
+  next.setRecoveryOffer([](const QString&) { return false; });
+  next.session().setAutoFuse(false);
+  ASSERT_TRUE(next.controller().openSequence(qPath(tiny_.folder)));
+  const QString declined = BoxesAutosave::declinedPath(recovery);
+  ASSERT_TRUE(QFileInfo::exists(declined));
+  const std::string copy = slurp(declined.toStdString());
+  EXPECT_TRUE(loadBoxes(next.session(), declined).isEmpty());
+  AnnotationsModel& model = next.session().annotations();
+  ASSERT_EQ(model.boxCount(), 1);
+  EXPECT_TRUE(model.isDirty()) << "recovered boxes shown as saved";
+  EXPECT_TRUE(next.isWindowModified());
+  ASSERT_FALSE(warnings.isEmpty());
+  EXPECT_TRUE(warnings.back().contains("recovery copy")) << warnings.back().toStdString();
+  next.findAction("Save Boxes")->trigger();
+  EXPECT_FALSE(model.isDirty());
+  const Annotations saved = loadAnnotations(tiny_.folder / "annotations.json");
+  ASSERT_EQ(saved.boxes.size(), 1u);
+  EXPECT_EQ(saved.boxes[0].name, "square_box");
+  EXPECT_EQ(slurp(declined.toStdString()), copy) << "the copy is left as it is";
+}
+
 // Restored boxes older than their file on disk: Save would replace newer
 // boxes, so the restore says so.
 TEST_F(BoxFilesTest, RestoringBoxesOlderThanTheirFileWarns) {

@@ -161,6 +161,13 @@ QString otherSequenceOf(const QString& boxes_file,
   return beside.absolutePath();
 }
 
+// Whether `boxes_file` lies in the studio's own recovery folder (a declined
+// recovery copy, NAME.declined.json, that the restore question pointed to).
+bool isRecoveryCopy(const QString& boxes_file) {
+  const QString folder = QDir(studioDataFolder() + "/recovery").canonicalPath();
+  return !folder.isEmpty() && QFileInfo(boxes_file).canonicalPath() == folder;
+}
+
 }  // namespace
 
 QString loadBoxes(StudioSession& session, const QString& path) {
@@ -168,7 +175,18 @@ QString loadBoxes(StudioSession& session, const QString& path) {
     const Annotations loaded = loadAnnotations(toPath(path));
     const QString other = otherSequenceOf(path, session.sequence());
     AnnotationsModel& model = session.annotations();
-    if (other.isEmpty()) {
+    if (isRecoveryCopy(path) && session.sequence()) {
+      // Recovered work, not a file to edit: saved to the sequence's boxes
+      // file (they stayed, clean, in a hidden folder where score never
+      // looks), the copy left as it is.
+      adoptAsUnsaved(model, loaded);
+      emit session.controller().warningOccurred(
+          QObject::tr("Recovered boxes"),
+          QObject::tr("%1 is a recovery copy. Its boxes are shown as this sequence's boxes, not "
+                      "yet saved: Save Boxes writes them to %2, and the copy is left as it is.")
+              .arg(QDir::toNativeSeparators(path),
+                   QDir::toNativeSeparators(defaultBoxesPath(session))));
+    } else if (other.isEmpty()) {
       model.reset(loaded, QFileInfo(path).absoluteFilePath());
     } else {
       // Another sequence's boxes are a start for this one's, not a file to
