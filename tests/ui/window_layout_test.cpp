@@ -315,5 +315,27 @@ TEST_F(WindowLayoutTest, MenuAccessKeysAreUniqueAndSaveAsHasItsShortcut) {
   EXPECT_TRUE(redo_with_ctrl_y);
 }
 
+// Every item of the Export menu, and the Annotate items that are not one-key
+// box edits, can be chosen from the keyboard with an access key.
+TEST_F(WindowLayoutTest, ExportAndAnnotateItemsHaveAccessKeys) {
+  const auto hasAccessKey = [](const QAction* action) {
+    const int amp = action->text().indexOf('&');
+    return amp >= 0 && amp + 1 < action->text().size() && action->text()[amp + 1] != '&';
+  };
+  for (QAction* menu_action : window_.menuBar()->actions()) {
+    const QString title = menu_action->text().remove('&');
+    if (title != "Export" || !menu_action->menu()) continue;
+    for (QAction* action : menu_action->menu()->actions())
+      if (!action->isSeparator()) EXPECT_TRUE(hasAccessKey(action)) << action->text().toStdString();
+  }
+  for (const char* item :
+       {"Add Box from Label Voxels", "Add Box at Clicked Point", "Add Boxes for All Labels",
+        "Next Box", "Previous Box", "Delete Box", "Tighten Box to the Voxels Inside"}) {
+    const QAction* action = window_.findAction(item);
+    ASSERT_NE(action, nullptr) << item;
+    EXPECT_TRUE(hasAccessKey(action)) << item;
+  }
+}
+
 }  // namespace
 }  // namespace lom::ui

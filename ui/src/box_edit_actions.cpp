@@ -175,11 +175,11 @@ std::vector<QAction*> createBoxEditActions(QWidget& window, QWidget& scene, Stud
       {QObject::tr("Shrink Box Width (y)"), Qt::Key_L, Edit::ShrinkY},
       {QObject::tr("Grow Box Height (z)"), Qt::SHIFT + Qt::Key_I, Edit::GrowZ},
       {QObject::tr("Shrink Box Height (z)"), Qt::SHIFT + Qt::Key_K, Edit::ShrinkZ},
-      {QObject::tr("Next Box"), Qt::Key_Tab, Edit::Next},
+      {QObject::tr("&Next Box"), Qt::Key_Tab, Edit::Next},
       // Shift+Tab: shown so, and caught as the key it arrives as (PreviousBoxKey).
-      {QObject::tr("Previous Box"), Qt::SHIFT + Qt::Key_Tab, Edit::Previous},
-      {QObject::tr("Delete Box"), QKeySequence::Delete, Edit::Delete},
-      {QObject::tr("Tighten Box to the Voxels Inside"), Qt::Key_T, Edit::Tighten},
+      {QObject::tr("Pre&vious Box"), Qt::SHIFT + Qt::Key_Tab, Edit::Previous},
+      {QObject::tr("&Delete Box"), QKeySequence::Delete, Edit::Delete},
+      {QObject::tr("&Tighten Box to the Voxels Inside"), Qt::Key_T, Edit::Tighten},
   };
   std::vector<QAction*> actions;
   for (const Spec& spec : specs) {

@@ -358,10 +358,11 @@ void MainWindow::createAnnotateMenu() {
         statusBar()->showMessage(message);
     });
   };
-  add_box(tr("Add Box from Label Voxels"), AddBoxReaction::Mode::FitLabelVoxels, Qt::Key_B);
-  add_box(tr("Add Box at Clicked Point"), AddBoxReaction::Mode::AtPickedPoint,
+  add_box(tr("Add Box from &Label Voxels"), AddBoxReaction::Mode::FitLabelVoxels, Qt::Key_B);
+  add_box(tr("Add Box at Clic&ked Point"), AddBoxReaction::Mode::AtPickedPoint,
           Qt::SHIFT + Qt::Key_B);
-  add_box(tr("Add Boxes for All Labels"), AddBoxReaction::Mode::FitAllLabels, Qt::CTRL + Qt::Key_B);
+  add_box(tr("Add Boxes for &All Labels"), AddBoxReaction::Mode::FitAllLabels,
+          Qt::CTRL + Qt::Key_B);
   menu->addSeparator();
   for (QAction* action : createBoxEditActions(
            *this, *scene_view_, *session_, steps_,
@@ -614,12 +615,12 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
     reaction->setOnlyShownAction(only_shown);
     showProgressOf(reaction);
   };
-  export_action(tr("Voxel Mesh (PLY)…"), ExportFormat::Ply);
-  export_action(tr("Voxel Mesh (OBJ)…"), ExportFormat::Obj);
-  export_action(tr("Voxel Mesh (STL)…"), ExportFormat::Stl);
-  export_action(tr("Point Cloud (PCD)…"), ExportFormat::Pcd);
-  export_action(tr("Colour Octree (OT)…"), ExportFormat::Ot);
-  export_action(tr("Binary Octree (BT)…"), ExportFormat::Bt);
+  export_action(tr("Voxel Mesh (&PLY)…"), ExportFormat::Ply);
+  export_action(tr("Voxel Mesh (&OBJ)…"), ExportFormat::Obj);
+  export_action(tr("Voxel Mesh (ST&L)…"), ExportFormat::Stl);
+  export_action(tr("Point Clou&d (PCD)…"), ExportFormat::Pcd);
+  export_action(tr("&Colour Octree (OT)…"), ExportFormat::Ot);
+  export_action(tr("&Binary Octree (BT)…"), ExportFormat::Bt);
   export_menu->addSeparator();
   export_menu->addAction(only_shown);
 
