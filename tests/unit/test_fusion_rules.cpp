@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <thread>
 
 #include "lom/error.hpp"
 #include "lom/fusion.hpp"
@@ -246,7 +247,7 @@ TEST_P(FusionRulesTest, UnlimitedRangeRefusesRaysLongerThanTheLimit) {
 // voxels than the limit takes (kFusionBytesPerCrossedVoxel each) is refused
 // before it changes the map, naming the depth, the voxels and the memory; one
 // that fits is fused. The fast path checks (the reference path does not).
-TEST(FrameMemoryLimit, RefusesAFrameWhoseRaysCrossMoreVoxelsThanTheLimitTakes) {
+void refuseAFrameWhoseRaysCrossMoreVoxelsThanTheLimitTakes() {
   LabelMap map(threeLabels());
   const int width = 2;
   DepthImage depth{width, 1, {0.5f, 0.5f}};  // rays of 50 voxels along z
@@ -285,6 +286,14 @@ TEST(FrameMemoryLimit, RefusesAFrameWhoseRaysCrossMoreVoxelsThanTheLimitTakes) {
 
   options.frame_memory_limit_bytes = 0.0;  // the memory available: a frame this small fits
   lom::integrateFrame(map, pencilCamera(width), poseAtVoxelCentre(), depth, evidence, options);
+}
+
+// On a thread of its own: the stream buffers a frame may reuse are the
+// thread's own from its earlier frames (none here), not whatever the tests
+// before left in the main thread's (their size depended on how those tests'
+// rays were shared out between the threads, so the refusal came and went).
+TEST(FrameMemoryLimit, RefusesAFrameWhoseRaysCrossMoreVoxelsThanTheLimitTakes) {
+  std::thread(refuseAFrameWhoseRaysCrossMoreVoxelsThanTheLimitTakes).join();
 }
 
 // Rays of two threads crossing the same voxels count them once: the check
