@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>  // the IMREAD_ flags only
 #include <opencv2/imgproc.hpp>
@@ -49,21 +50,21 @@ struct CompressedMeta {
 
 namespace ros {
 namespace message_traits {
-#define LOM_ROSBAG_ANY_TRAITS(T)                                   \
-  template <>                                                      \
-  struct MD5Sum<T> {                                               \
-    static const char* value() { return "*"; }                     \
-    static const char* value(const T&) { return "*"; }             \
-  };                                                               \
-  template <>                                                      \
-  struct DataType<T> {                                             \
-    static const char* value() { return "*"; }                     \
-    static const char* value(const T&) { return "*"; }             \
-  };                                                               \
-  template <>                                                      \
-  struct Definition<T> {                                           \
-    static const char* value() { return ""; }                      \
-    static const char* value(const T&) { return ""; }              \
+#define LOM_ROSBAG_ANY_TRAITS(T)                       \
+  template <>                                          \
+  struct MD5Sum<T> {                                   \
+    static const char* value() { return "*"; }         \
+    static const char* value(const T&) { return "*"; } \
+  };                                                   \
+  template <>                                          \
+  struct DataType<T> {                                 \
+    static const char* value() { return "*"; }         \
+    static const char* value(const T&) { return "*"; } \
+  };                                                   \
+  template <>                                          \
+  struct Definition<T> {                               \
+    static const char* value() { return ""; }          \
+    static const char* value(const T&) { return ""; }  \
   };
 LOM_ROSBAG_ANY_TRAITS(lom_rosbag::ImageMeta)
 LOM_ROSBAG_ANY_TRAITS(lom_rosbag::CompressedMeta)
@@ -136,15 +137,14 @@ T readValue(const std::uint8_t* p, bool big_endian) {
 
 void checkLayout(const sensor_msgs::Image& image, size_t bytes_per_pixel) {
   const size_t row = static_cast<size_t>(image.width) * bytes_per_pixel;
-  if (image.width == 0 || image.height == 0)
-    throw Error("", "image", "a non-empty image", "0 x 0");
+  if (image.width == 0 || image.height == 0) throw Error("", "image", "a non-empty image", "0 x 0");
   if (image.step < row)
     throw Error("", "step", "at least width x bytes per pixel = " + std::to_string(row),
                 std::to_string(image.step));
   if (image.data.size() < static_cast<size_t>(image.step) * image.height)
-    throw Error("", "data", "step x height = " +
-                               std::to_string(static_cast<size_t>(image.step) * image.height) +
-                               " bytes",
+    throw Error("", "data",
+                "step x height = " +
+                    std::to_string(static_cast<size_t>(image.step) * image.height) + " bytes",
                 std::to_string(image.data.size()) + " bytes");
 }
 
@@ -161,9 +161,10 @@ DepthImage decodeDepth(const sensor_msgs::Image& image, double millimetre_scale)
     const std::uint8_t* row = image.data.data() + static_cast<size_t>(v) * image.step;
     float* out = depth.metres.data() + static_cast<size_t>(v) * depth.width;
     for (int u = 0; u < depth.width; ++u)
-      out[u] = is_float ? readValue<float>(row + 4 * u, big)
-                        : static_cast<float>(readValue<std::uint16_t>(row + 2 * u, big) *
-                                             millimetre_scale);
+      out[u] =
+          is_float
+              ? readValue<float>(row + 4 * u, big)
+              : static_cast<float>(readValue<std::uint16_t>(row + 2 * u, big) * millimetre_scale);
   }
   return depth;
 }
@@ -217,7 +218,8 @@ DepthImage decodeCompressedDepth(const sensor_msgs::CompressedImage& message,
   }
   const cv::Mat mat = decodeBytes(data, offset, cv::IMREAD_UNCHANGED);
   if (mat.empty() || mat.type() != CV_16UC1)
-    throw Error("", "compressedDepth", "a 16-bit PNG after the header", "data OpenCV cannot decode");
+    throw Error("", "compressedDepth", "a 16-bit PNG after the header",
+                "data OpenCV cannot decode");
   const bool inverse = contains(lower(message.format), "32fc1");
   DepthImage depth;
   depth.width = mat.cols;
@@ -337,12 +339,26 @@ LabelImage decodeLabel(const sensor_msgs::Image& image) {
   return label;
 }
 
-// The message as T; a lom::Error (not a null pointer) when its definition differs.
+// Throws lom::Error naming the topic and the field when a length inside the
+// message does not fit in its bytes: the ROS deserialiser allocates a stated
+// length before it reads it (a corrupted one asked for gigabytes).
+void checkLengths(const rosbag::MessageInstance& m) {
+  std::vector<std::uint8_t> bytes(m.size());
+  ros::serialization::OStream stream(bytes.data(), static_cast<std::uint32_t>(bytes.size()));
+  m.write(stream);
+  if (const auto problem = messageLengthProblem(m.getDataType(), bytes.data(), bytes.size()))
+    throw Error(m.getTopic(), problem->field, problem->expected, problem->found);
+}
+
+// The message as T; a lom::Error (not a null pointer) when its definition
+// differs or a length inside it does not fit.
 template <typename T>
 boost::shared_ptr<T> load(const rosbag::MessageInstance& m) {
+  if (m.getMD5Sum() == ros::message_traits::MD5Sum<T>::value()) checkLengths(m);
   boost::shared_ptr<T> message = m.instantiate<T>();
   if (!message)
-    throw Error(m.getTopic(), "message", std::string("a ") + ros::message_traits::DataType<T>::value() +
+    throw Error(m.getTopic(), "message",
+                std::string("a ") + ros::message_traits::DataType<T>::value() +
                     " with the standard definition",
                 m.getDataType() + " with MD5 " + m.getMD5Sum());
   return message;
@@ -393,7 +409,14 @@ struct BagContents {
   std::map<std::string, CameraInfoList> infos;
   std::vector<geometry_msgs::TransformStamped> dynamic_tf, static_tf;
   size_t bad_transforms = 0;
+  // Transforms whose quaternion was far from unit length (not mere
+  // rounding), normalised, and the range of those norms.
+  size_t normalised = 0;
+  double min_norm = INFINITY, max_norm = 0.0;
   size_t zero_tf_stamps = 0;  // dynamic transforms stamped 0, given their record time
+  // Messages left out for a length inside them that does not fit in their
+  // bytes: by topic, how many and the first one's reason.
+  std::map<std::string, std::pair<size_t, std::string>> bad_lengths;
   double begin = 0.0, end = 0.0;
 
   void read(const rosbag::MessageInstance& m) {
@@ -422,18 +445,33 @@ struct BagContents {
       entry.encoding = meta->format;
       entry.compressed = true;
     }
-    entry.stamp = header.stamp.toSec();
-    if (header.stamp.isZero()) {
-      entry.stamp = m.getTime().toSec();
+    ros::Time stamp = header.stamp;
+    if (stamp.isZero()) {
+      stamp = m.getTime();
       entry.stamp_from_bag = true;
     }
+    entry.stamp = stamp.toSec();
+    entry.nanoseconds = static_cast<std::int64_t>(stamp.toNSec());
     entry.frame_id = stripSlash(header.frame_id);
     entry.message = messages.size();
     messages.push_back(m);
     topics[m.getTopic()].images.push_back(entry);
   }
 
+  // Whether m's lengths fit (else it is counted in bad_lengths).
+  bool lengthsFit(const rosbag::MessageInstance& m) {
+    try {
+      checkLengths(m);
+      return true;
+    } catch (const Error& e) {
+      auto& [count, first] = bad_lengths[m.getTopic()];
+      if (count++ == 0) first = e.what();
+      return false;
+    }
+  }
+
   void readCameraInfo(const rosbag::MessageInstance& m) {
+    if (!lengthsFit(m)) return;
     if (const auto info = m.instantiate<sensor_msgs::CameraInfo>()) {
       const double stamp =
           info->header.stamp.isZero() ? m.getTime().toSec() : info->header.stamp.toSec();
@@ -442,11 +480,12 @@ struct BagContents {
   }
 
   void readTransforms(const rosbag::MessageInstance& m) {
-    const auto tf = m.instantiate<tf2_msgs::TFMessage>();
-    if (!tf) return;
     const std::string& topic = m.getTopic();
     const bool is_static = topic == "/tf_static" || topic == "tf_static";
     if (!is_static && topic != "/tf" && topic != "tf") return;
+    if (!lengthsFit(m)) return;
+    const auto tf = m.instantiate<tf2_msgs::TFMessage>();
+    if (!tf) return;
     for (auto t : tf->transforms) {
       // As for images: a header stamp of 0 is replaced by the record time.
       if (!is_static && t.header.stamp.isZero()) {
@@ -455,7 +494,7 @@ struct BagContents {
       }
       t.header.frame_id = stripSlash(t.header.frame_id);
       t.child_frame_id = stripSlash(t.child_frame_id);
-      const auto& q = t.transform.rotation;
+      auto& q = t.transform.rotation;
       const auto& p = t.transform.translation;
       const double norm = std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
       if (!std::isfinite(norm) || norm < 1e-6 || !std::isfinite(p.x) || !std::isfinite(p.y) ||
@@ -463,6 +502,20 @@ struct BagContents {
           t.header.frame_id == t.child_frame_id) {
         ++bad_transforms;
         continue;
+      }
+      // tf2 silently refuses a quaternion whose squared norm is 1% off (and
+      // a lookup then blamed a missing frame); the rotation it stands for is
+      // the normalised one, as the pose building takes it.
+      if (norm != 1.0) {
+        if (std::abs(norm - 1.0) > 1e-3) {
+          ++normalised;
+          min_norm = std::min(min_norm, norm);
+          max_norm = std::max(max_norm, norm);
+        }
+        q.x /= norm;
+        q.y /= norm;
+        q.z /= norm;
+        q.w /= norm;
       }
       (is_static ? static_tf : dynamic_tf).push_back(t);
     }
@@ -495,9 +548,14 @@ void readBag(rosbag::Bag& opened, const std::string& file, SequenceWriter& write
   if (unreadable)
     writer.note(std::to_string(unreadable) +
                 " messages could not be read (truncated or corrupt) and were ignored");
+  for (const auto& [topic, problem] : contents.bad_lengths)
+    writer.note(std::to_string(problem.first) + " messages on " + topic +
+                " were ignored: a length inside them does not fit in the message (the first: " +
+                problem.second + ")");
   for (auto& [name, topic] : contents.topics)
-    std::stable_sort(topic.images.begin(), topic.images.end(),
-                     [](const ImageEntry& a, const ImageEntry& b) { return a.stamp < b.stamp; });
+    std::stable_sort(
+        topic.images.begin(), topic.images.end(),
+        [](const ImageEntry& a, const ImageEntry& b) { return a.nanoseconds < b.nanoseconds; });
   for (auto& [name, list] : contents.infos)
     std::stable_sort(list.begin(), list.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -590,8 +648,9 @@ BagCameras chooseCameras(const BagContents& contents, const ChosenTopics& chosen
     bool distorted = false;
     for (double d : info.D) distorted |= std::abs(d) > 1e-9;
     if (distorted)
-      writer.note("the camera info has distortion coefficients; images are used as they are "
-                  "(rectified images are expected)");
+      writer.note(
+          "the camera info has distortion coefficients; images are used as they are "
+          "(rectified images are expected)");
     if (info_camera && (info_camera->width <= 0 || info_camera->height <= 0)) {
       info_camera->width = depth_topic.images.front().width;
       info_camera->height = depth_topic.images.front().height;
@@ -632,7 +691,7 @@ class PoseLookup {
   PoseLookup(const BagContents& contents, const Topic& depth_topic, const ImportOptions& options,
              const std::string& file, SequenceWriter& writer)
       : buffer_(ros::Duration(cacheSeconds(contents))),
-        tolerance_(options.time_tolerance),
+        tolerance_(bag::toNanoseconds(options.time_tolerance)),
         has_dynamic_(!contents.dynamic_tf.empty()) {
     const RosbagOptions& given = options.rosbag;
     camera_frame_ = stripSlash(given.camera_frame);
@@ -649,6 +708,14 @@ class PoseLookup {
     if (contents.bad_transforms)
       writer.note(std::to_string(contents.bad_transforms) +
                   " tf transforms were invalid (NaN, zero quaternion, empty frame) and ignored");
+    if (contents.normalised)
+      writer.note(std::to_string(contents.normalised) +
+                  " tf transforms have a quaternion that is not of unit length (norm " +
+                  formatNumber(contents.min_norm, 4) +
+                  (contents.max_norm != contents.min_norm
+                       ? " to " + formatNumber(contents.max_norm, 4)
+                       : std::string()) +
+                  "): normalised");
     if (contents.zero_tf_stamps)
       writer.note(std::to_string(contents.zero_tf_stamps) +
                   " tf transforms have a zero header stamp: the bag's record time is used");
@@ -709,39 +776,55 @@ class PoseLookup {
     if (lower(camera_frame_).find("optical") == std::string::npos)
       writer.note("camera frame '" + camera_frame_ +
                   "' is not named *optical*: it must have z forward, x right, y down");
-    for (const auto& t : contents.static_tf) buffer_.setTransform(t, "bag", true);
-    for (const auto& t : contents.dynamic_tf) buffer_.setTransform(t, "bag", false);
+    // What tf2 still refuses (it only logs why) is counted, not lost unsaid.
+    size_t refused = 0;
+    for (const auto& t : contents.static_tf) refused += !buffer_.setTransform(t, "bag", true);
+    for (const auto& t : contents.dynamic_tf) refused += !buffer_.setTransform(t, "bag", false);
+    if (refused)
+      writer.note(std::to_string(refused) +
+                  " tf transforms were refused by tf2 and ignored (a second transform of a "
+                  "frame at the same stamp, or one older than the rest by more than tf2 keeps)");
   }
 
   [[nodiscard]] const std::string& fixedFrame() const { return fixed_frame_; }
+  // Said with every missing transform: when no frame can be imported, the
+  // error quotes only the first frame's reason, not the report's notes.
+  void setClockNote(std::string note) { clock_note_ = std::move(note); }
   // The time span of /tf (none when only /tf_static gives the pose).
   [[nodiscard]] bool hasDynamic() const { return has_dynamic_; }
   [[nodiscard]] double begin() const { return begin_; }
   [[nodiscard]] double end() const { return end_; }
 
-  // The camera-to-fixed-frame pose at `stamp` (at the edges of tf's range,
-  // within the time tolerance); empty with the reason when tf has none.
-  std::optional<Eigen::Matrix4d> at(double stamp, std::string& reason) const {
+  // The camera-to-fixed-frame pose at `nanoseconds` (at the edges of tf's
+  // range, within the time tolerance); empty with the reason when tf has
+  // none. `seconds` is the same stamp for the reason.
+  std::optional<Eigen::Matrix4d> at(std::int64_t nanoseconds, double seconds,
+                                    std::string& reason) const {
     // A ROS 1 time holds whole seconds from 0 to 2^32 - 1: tf has nothing
-    // outside that span (a large time offset or tolerance).
-    constexpr double kRosTimeEnd = 4294967296.0;
+    // outside that span (a large time offset or tolerance); 0 would ask tf2
+    // for its latest transform.
+    constexpr std::int64_t kRosTimeEnd = std::int64_t{1} << 32;
     std::optional<geometry_msgs::TransformStamped> found;
     std::string tf_error;
-    for (double t : {stamp, stamp - tolerance_, stamp + tolerance_}) {
-      if (!(t > 0.0 && t < kRosTimeEnd)) continue;
+    for (std::int64_t t : {nanoseconds, bag::addNanoseconds(nanoseconds, -tolerance_),
+                           bag::addNanoseconds(nanoseconds, tolerance_)}) {
+      if (!(t > 0 && t / 1000000000 < kRosTimeEnd)) continue;
       try {
-        found = buffer_.lookupTransform(fixed_frame_, camera_frame_, ros::Time(t));
+        ros::Time time;
+        time.fromNSec(static_cast<std::uint64_t>(t));
+        found = buffer_.lookupTransform(fixed_frame_, camera_frame_, time);
         break;
       } catch (const tf2::TransformException& e) {
         if (tf_error.empty()) tf_error = e.what();
       }
-      if (tolerance_ == 0.0) break;
+      if (tolerance_ == 0) break;
     }
     if (!found) {
       reason = "no transform from '" + fixed_frame_ + "' to '" + camera_frame_ + "' at " +
-               stampText(stamp);
+               stampText(seconds);
       if (has_dynamic_)
-        reason += " (tf covers " + stampText(begin_) + " to " + stampText(end_) + ")";
+        reason += " (tf covers " + stampText(begin_) + " to " + stampText(end_) +
+                  (clock_note_.empty() ? "" : "; " + clock_note_) + ")";
       if (!tf_error.empty()) reason += ": " + tf_error;
       return std::nullopt;
     }
@@ -756,18 +839,21 @@ class PoseLookup {
 
  private:
   tf2::BufferCore buffer_;
-  double tolerance_;
+  std::int64_t tolerance_;  // nanoseconds
   bool has_dynamic_;
   std::string camera_frame_, fixed_frame_;
+  std::string clock_note_;
   double begin_ = INFINITY, end_ = -INFINITY;
 };
 
 // Notes on stamps that cannot match: zero header stamps, image and tf clocks
-// that do not overlap, topics with no image near any depth image.
-void noteStampProblems(const ChosenTopics& chosen, const PoseLookup& poses,
-                       const ImportOptions& options, SequenceWriter& writer) {
+// that do not overlap (also given to `poses`), topics with no image near any
+// depth image.
+void noteStampProblems(const ChosenTopics& chosen, PoseLookup& poses, const ImportOptions& options,
+                       SequenceWriter& writer) {
   const auto& depth_entries = chosen.depth->images;
   const double tol = options.time_tolerance;
+  const std::int64_t tol_ns = bag::toNanoseconds(tol);
   size_t from_bag = 0;
   for (const auto& e : depth_entries) from_bag += e.stamp_from_bag;
   if (from_bag)
@@ -775,29 +861,34 @@ void noteStampProblems(const ChosenTopics& chosen, const PoseLookup& poses,
                 " depth images have a zero header stamp: the bag's record time is used");
   const double image_begin = depth_entries.front().stamp + options.time_offset;
   const double image_end = depth_entries.back().stamp + options.time_offset;
-  if (poses.hasDynamic() && (image_end < poses.begin() - tol || image_begin > poses.end() + tol))
-    writer.note(
-        "depth image stamps (" + stampText(image_begin) + " to " + stampText(image_end) +
-        ") and tf stamps (" + stampText(poses.begin()) + " to " + stampText(poses.end()) +
-        ") do not overlap: the clocks differ by about " +
-        formatNumber(0.5 * (poses.begin() + poses.end()) - 0.5 * (image_begin + image_end), 4) +
-        " s (give it as the time offset option)");
+  if (poses.hasDynamic() && (image_end < poses.begin() - tol || image_begin > poses.end() + tol)) {
+    const std::string offset =
+        formatNumber(0.5 * (poses.begin() + poses.end()) - 0.5 * (image_begin + image_end), 4);
+    writer.note("depth image stamps (" + stampText(image_begin) + " to " + stampText(image_end) +
+                ") and tf stamps (" + stampText(poses.begin()) + " to " + stampText(poses.end()) +
+                ") do not overlap: the clocks differ by about " + offset +
+                " s (give it as the time offset option)");
+    poses.setClockNote("the image and tf stamps do not overlap: the clocks differ by about " +
+                       offset + " s, give it as the time offset option");
+  }
   auto unmatchedNote = [&](const Topic* topic, const std::string& what) {
     if (!topic) return;
-    const std::vector<double> stamps = topic->stamps();
+    const std::vector<std::int64_t> stamps = topic->nanoseconds();
     if (stamps.empty()) return;
-    double nearest = INFINITY;
+    // In nanoseconds, as the matching: through doubles, an image exactly
+    // at the tolerance could be said to be none.
+    std::optional<std::int64_t> nearest;  // image stamp - depth stamp
     for (const auto& e : depth_entries) {
-      const auto it = std::lower_bound(stamps.begin(), stamps.end(), e.stamp);
-      double gap = INFINITY;
-      if (it != stamps.end()) gap = *it - e.stamp;
-      if (it != stamps.begin() && std::abs(*std::prev(it) - e.stamp) < std::abs(gap))
-        gap = *std::prev(it) - e.stamp;
-      if (std::abs(gap) < std::abs(nearest)) nearest = gap;
+      const auto i =
+          bag::nearestNanoseconds(stamps, e.nanoseconds, std::numeric_limits<std::int64_t>::max());
+      if (!i) continue;
+      const std::int64_t gap = stamps[*i] - e.nanoseconds;
+      if (!nearest || std::abs(gap) < std::abs(*nearest)) nearest = gap;
     }
-    if (std::abs(nearest) > tol)
+    if (nearest && std::abs(*nearest) > tol_ns)
       writer.note("no " + what + " image lies within " + formatNumber(tol) +
-                  " s of a depth image (nearest " + formatNumber(nearest, 4) +
+                  " s of a depth image (nearest " +
+                  formatNumber(static_cast<double>(*nearest) * 1e-9, 4) +
                   " s away: a clock offset between the topics? raise the time tolerance)");
   };
   unmatchedNote(chosen.color, "colour");
@@ -818,14 +909,15 @@ class FrameReader {
         cameras_(cameras),
         writer_(writer),
         millimetres_(options.depth_scale.value_or(0.001)),
-        tolerance_(options.time_tolerance) {
-    if (chosen.color) color_stamps_ = chosen.color->stamps();
+        tolerance_(options.time_tolerance),
+        tolerance_ns_(bag::toNanoseconds(options.time_tolerance)) {
+    if (chosen.color) color_stamps_ = chosen.color->nanoseconds();
     if (chosen.proba) {
-      proba_stamps_ = chosen.proba->stamps();
+      proba_stamps_ = chosen.proba->nanoseconds();
       int bytes = 0;
       proba_channels_ = multiChannels(chosen.proba->firstEncoding(), bytes);
     }
-    if (chosen.label) label_stamps_ = chosen.label->stamps();
+    if (chosen.label) label_stamps_ = chosen.label->nanoseconds();
   }
 
   [[nodiscard]] double millimetres() const { return millimetres_; }
@@ -860,7 +952,7 @@ class FrameReader {
 
   void readColor(const ImageEntry& entry, SourceFrame& frame) const {
     const Topic& topic = *chosen_.color;
-    const auto i = nearestStamp(color_stamps_, entry.stamp, tolerance_);
+    const auto i = bag::nearestNanoseconds(color_stamps_, entry.nanoseconds, tolerance_ns_);
     if (!i) {
       writer_.note(
           "depth images without a colour image within the time tolerance were "
@@ -884,7 +976,7 @@ class FrameReader {
 
   void readProba(const ImageEntry& entry, SourceFrame& frame) {
     const Topic& topic = *chosen_.proba;
-    const auto i = nearestStamp(proba_stamps_, entry.stamp, tolerance_);
+    const auto i = bag::nearestNanoseconds(proba_stamps_, entry.nanoseconds, tolerance_ns_);
     if (!i)
       throw Error(
           topic.name, "stamp",
@@ -905,7 +997,7 @@ class FrameReader {
 
   void readLabel(const ImageEntry& entry, SourceFrame& frame) const {
     const Topic& topic = *chosen_.label;
-    const auto i = nearestStamp(label_stamps_, entry.stamp, tolerance_);
+    const auto i = bag::nearestNanoseconds(label_stamps_, entry.nanoseconds, tolerance_ns_);
     if (!i) {
       // With probabilities the labels are only the ground truth: a frame may lack them.
       if (!chosen_.proba)
@@ -927,8 +1019,9 @@ class FrameReader {
   const BagCameras& cameras_;
   SequenceWriter& writer_;
   double millimetres_;
-  double tolerance_;
-  std::vector<double> color_stamps_, proba_stamps_, label_stamps_;
+  double tolerance_;           // seconds, for messages
+  std::int64_t tolerance_ns_;  // the same, for matching
+  std::vector<std::int64_t> color_stamps_, proba_stamps_, label_stamps_;
   int proba_channels_ = 0;
   size_t clamped_ = 0;
 };
@@ -965,13 +1058,14 @@ void importRosbag(const fs::path& source, const ImportOptions& options, Sequence
   writer.setDepthScale(float_depth ? 0.001 : reader.millimetres());
   bag::chooseLabels(reader.probaChannels(), chosen.label != nullptr, options, file, writer);
 
-  const PoseLookup poses(contents, *chosen.depth, options, file, writer);
+  PoseLookup poses(contents, *chosen.depth, options, file, writer);
   writer.setFrameId(poses.fixedFrame());
   noteStampProblems(chosen, poses, options, writer);
 
   const auto& depth_entries = chosen.depth->images;
   writer.setFound(depth_entries.size());
   const auto selected = selectFrames(depth_entries.size(), options);
+  const std::int64_t offset = bag::toNanoseconds(options.time_offset);
   writer.setTotal(selected.size());
   for (size_t index : selected) {
     const ImageEntry& entry = depth_entries[index];
@@ -979,7 +1073,8 @@ void importRosbag(const fs::path& source, const ImportOptions& options, Sequence
     frame.name = "depth@" + stampText(entry.stamp);
     frame.stamp = entry.stamp;
     std::string reason;
-    const auto pose = poses.at(entry.stamp + options.time_offset, reason);
+    const auto pose = poses.at(bag::addNanoseconds(entry.nanoseconds, offset),
+                               entry.stamp + options.time_offset, reason);
     if (!pose) {
       if (!writer.skip(frame.name, reason)) return;
       continue;

@@ -4,7 +4,10 @@
 // gigabytes (an abort), with no message naming the file.
 #include "rosbag_check.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -24,8 +27,11 @@ namespace lom::import_detail {
 
 namespace {
 
+namespace fs = std::filesystem;
+
 constexpr char kMagic[] = "#ROSBAG V2.0\n";
 constexpr std::uint64_t kMagicBytes = sizeof(kMagic) - 1;
+constexpr std::uint64_t kVersionAt = 9;  // "#ROSBAG V" then the version
 // Record operations of format 2.0.
 constexpr std::uint8_t kMessageData = 0x02, kBagHeader = 0x03, kIndexData = 0x04, kChunk = 0x05,
                        kChunkInfo = 0x06, kConnection = 0x07;
@@ -171,11 +177,19 @@ class Walker {
   }
 
   void walk() {
+    // The bag library calls any file it cannot read a truncated bag: one
+    // that is no bag at all is said to be none, not sent to `rosbag reindex`.
     char magic[kMagicBytes];
-    if (source_.size < kMagicBytes) return;  // the bag library says what it is not
-    read(0, magic, kMagicBytes);
-    if (std::memcmp(magic, kMagic, kMagicBytes) != 0)
-      return;  // another version: the library's to judge
+    const std::uint64_t start = std::min<std::uint64_t>(source_.size, kMagicBytes);
+    read(0, magic, start);
+    if (std::memcmp(magic, kMagic, start) != 0) {
+      if (std::memcmp(magic, kMagic, std::min<std::uint64_t>(start, kVersionAt)) == 0 &&
+          start > kVersionAt)
+        return;  // another version of the format: the library's to judge
+      throw Error(file_, "bag", "a readable ROS 1 bag (format 2.0)",
+                  "a file that is not a ROS bag (it does not start with #ROSBAG V2.0)");
+    }
+    if (start < kMagicBytes) fail(start, "the file ending inside its first line, #ROSBAG V2.0");
     Fields fields;
     std::uint64_t data_at = 0;
     std::uint32_t data_bytes = 0;
@@ -270,14 +284,123 @@ class Walker {
   Source source_;
 };
 
+// The fields of one serialised message, read in order; stops at the first
+// length that does not fit.
+class MessageWalker {
+ public:
+  MessageWalker(const std::uint8_t* bytes, size_t size) : bytes_(bytes), size_(size) {}
+
+  [[nodiscard]] const std::optional<MessageLengthProblem>& problem() const { return problem_; }
+
+  bool fixed(const std::string& field, size_t bytes) {
+    if (problem_) return false;
+    if (bytes > size_ - at_) {
+      problem_ = MessageLengthProblem{
+          field, std::to_string(bytes) + " bytes",
+          "the message ends " + std::to_string(size_ - at_) + " bytes into it"};
+      return false;
+    }
+    at_ += bytes;
+    return true;
+  }
+
+  // A string or array: a 4-byte length, then that many elements of
+  // `element` bytes (at least that many when not `fixed_size`); the
+  // length, or nothing when it does not fit.
+  std::optional<std::uint32_t> array(const std::string& field, size_t element, const char* what,
+                                     bool fixed_size = true) {
+    if (problem_) return std::nullopt;
+    if (size_ - at_ < 4) {
+      fixed(field + " length", 4);
+      return std::nullopt;
+    }
+    std::uint32_t length = 0;
+    for (int b = 0; b < 4; ++b) length |= static_cast<std::uint32_t>(bytes_[at_ + b]) << (8 * b);
+    at_ += 4;
+    const size_t left = size_ - at_;
+    if (length > left / element) {
+      problem_ = MessageLengthProblem{
+          field, "a length that fits in the " + std::to_string(left) + " bytes left in the message",
+          std::to_string(length) + " " + what +
+              (element > 1 && fixed_size
+                   ? " (" + std::to_string(static_cast<std::uint64_t>(length) * element) + " bytes)"
+                   : std::string())};
+      return std::nullopt;
+    }
+    return length;
+  }
+
+  bool bytes(const std::string& field, size_t element, const char* what) {
+    const auto length = array(field, element, what);
+    if (!length) return false;
+    at_ += static_cast<size_t>(*length) * element;
+    return true;
+  }
+
+  bool text(const std::string& field) { return bytes(field, 1, "characters"); }
+
+  bool header(const std::string& prefix) {
+    return fixed(prefix + "header.seq", 4) && fixed(prefix + "header.stamp", 8) &&
+           text(prefix + "header.frame_id");
+  }
+
+ private:
+  const std::uint8_t* bytes_;
+  size_t size_;
+  size_t at_ = 0;
+  std::optional<MessageLengthProblem> problem_;
+};
+
 }  // namespace
 
+std::optional<MessageLengthProblem> messageLengthProblem(const std::string& type,
+                                                         const std::uint8_t* bytes, size_t size) {
+  MessageWalker m(bytes, size);
+  if (type == "sensor_msgs/Image") {
+    (void)(m.header("") && m.fixed("height", 4) && m.fixed("width", 4) && m.text("encoding") &&
+           m.fixed("is_bigendian", 1) && m.fixed("step", 4) && m.bytes("data", 1, "bytes"));
+  } else if (type == "sensor_msgs/CompressedImage") {
+    (void)(m.header("") && m.text("format") && m.bytes("data", 1, "bytes"));
+  } else if (type == "sensor_msgs/CameraInfo") {
+    (void)(m.header("") && m.fixed("height", 4) && m.fixed("width", 4) &&
+           m.text("distortion_model") && m.bytes("D", 8, "float64 values") && m.fixed("K", 72) &&
+           m.fixed("R", 72) && m.fixed("P", 96) && m.fixed("binning", 8) && m.fixed("roi", 17));
+  } else if (type == "tf2_msgs/TFMessage" || type == "tf/tfMessage") {
+    // A transform takes at least 76 bytes: a header with an empty frame,
+    // an empty child frame, 7 float64.
+    const auto count = m.array("transforms", 76, "transforms", false);
+    for (std::uint32_t i = 0; count && i < *count; ++i) {
+      const std::string at = "transforms[" + std::to_string(i) + "].";
+      if (!(m.header(at) && m.text(at + "child_frame_id") && m.fixed(at + "transform", 56))) break;
+    }
+  }
+  return m.problem();
+}
+
 void checkBagStructure(const std::string& file) {
+  std::error_code ec;
+  if (fs::is_directory(file, ec)) {
+    // A folder of bags (e.g. a recording split with --split) names them.
+    std::string bags;
+    size_t count = 0;
+    for (const auto& entry : fs::directory_iterator(file, ec)) {
+      std::string ext = entry.path().extension().string();
+      for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      if (ext != ".bag" || ++count > 3) continue;
+      bags += (bags.empty() ? "" : ", ") + entry.path().filename().string();
+    }
+    if (count > 3) bags += ", ...";
+    throw Error(
+        file, "bag", "a .bag file",
+        "a folder" + (bags.empty() ? std::string() : " (give one of its bags: " + bags + ")"));
+  }
   std::ifstream in(file, std::ios::binary);
   if (!in) return;  // the bag library names what is wrong with opening it
   in.seekg(0, std::ios::end);
   const auto end = in.tellg();
-  if (end <= 0) return;
+  if (end < 0) return;
+  if (end == 0)
+    throw Error(file, "bag", "a readable ROS 1 bag (format 2.0)", "a file that is empty");
   Walker walker(file, Source{&in, nullptr, static_cast<std::uint64_t>(end), ""});
   walker.walk();
 }

@@ -1,6 +1,9 @@
 #pragma once
 // A check of a ROS 1 bag's record structure before the bag library reads it
 // (rosbag_check.cpp).
+#include <cstddef>
+#include <cstdint>
+#include <optional>
 #include <string>
 
 namespace lom::import_detail {
@@ -9,8 +12,27 @@ namespace lom::import_detail {
 // within its chunk), header fields well formed, index entries on records of
 // their chunk (for uncompressed chunks; within the stated size for
 // compressed ones), chunk infos on chunks. Throws lom::Error(file, "bag",
-// ...) naming the first problem and its byte offset. Files of another format
-// or that cannot be opened are left to the bag library.
+// ...) naming the first problem and its byte offset; a folder, an empty file
+// or one that does not start with #ROSBAG are said to be no bag. Bags of
+// another format version and files that cannot be opened are left to the
+// bag library.
 void checkBagStructure(const std::string& file);
+
+// A length inside a serialised message that its bytes cannot hold: `field`
+// as the message definition names it ("D", "data", "transforms[2].
+// child_frame_id"), with what fits and what the message says.
+struct MessageLengthProblem {
+  std::string field;
+  std::string expected;
+  std::string found;
+};
+
+// Walks the serialised bytes of a sensor_msgs/Image, CompressedImage,
+// CameraInfo or tf2_msgs/TFMessage (`type` as the bag names it) without
+// allocating: the ROS deserialiser sizes each array by its stated length
+// before reading it, so a corrupted length asked for gigabytes. Empty when
+// every length fits (and for other types).
+std::optional<MessageLengthProblem> messageLengthProblem(const std::string& type,
+                                                         const std::uint8_t* bytes, size_t size);
 
 }  // namespace lom::import_detail

@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <sstream>
 
 #include "lom/error.hpp"
@@ -15,6 +17,13 @@ std::vector<double> Topic::stamps() const {
   std::vector<double> s;
   s.reserve(images.size());
   for (const auto& e : images) s.push_back(e.stamp);
+  return s;
+}
+
+std::vector<std::int64_t> Topic::nanoseconds() const {
+  std::vector<std::int64_t> s;
+  s.reserve(images.size());
+  for (const auto& e : images) s.push_back(e.nanoseconds);
   return s;
 }
 
@@ -44,6 +53,47 @@ std::string stampText(double stamp) {
   out.precision(3);
   out << stamp;
   return out.str();
+}
+
+std::int64_t toNanoseconds(double seconds) {
+  constexpr auto kMax = std::numeric_limits<std::int64_t>::max();
+  constexpr auto kMin = std::numeric_limits<std::int64_t>::min();
+  const double ns = seconds * 1e9;
+  if (std::isnan(ns)) return 0;
+  // Just below 2^63: llround of anything beyond overflows.
+  if (ns >= 9.2e18) return kMax;
+  if (ns <= -9.2e18) return kMin;
+  return std::llround(ns);
+}
+
+std::int64_t addNanoseconds(std::int64_t a, std::int64_t b) {
+  std::int64_t sum = 0;
+  if (__builtin_add_overflow(a, b, &sum))
+    return b > 0 ? std::numeric_limits<std::int64_t>::max()
+                 : std::numeric_limits<std::int64_t>::min();
+  return sum;
+}
+
+std::optional<size_t> nearestNanoseconds(const std::vector<std::int64_t>& sorted,
+                                         std::int64_t stamp, std::int64_t tolerance) {
+  const auto it = std::lower_bound(sorted.begin(), sorted.end(), stamp);
+  std::optional<size_t> best;
+  // Unsigned: the distance between two int64 stamps may exceed int64.
+  std::uint64_t best_distance = 0;
+  auto consider = [&](std::vector<std::int64_t>::const_iterator candidate) {
+    const std::uint64_t distance =
+        *candidate > stamp
+            ? static_cast<std::uint64_t>(*candidate) - static_cast<std::uint64_t>(stamp)
+            : static_cast<std::uint64_t>(stamp) - static_cast<std::uint64_t>(*candidate);
+    if (tolerance < 0 || distance > static_cast<std::uint64_t>(tolerance)) return;
+    if (!best || distance < best_distance) {
+      best = static_cast<size_t>(candidate - sorted.begin());
+      best_distance = distance;
+    }
+  };
+  if (it != sorted.begin()) consider(std::prev(it));
+  if (it != sorted.end()) consider(it);
+  return best;
 }
 
 int multiChannels(const std::string& encoding, int& bytes) {
@@ -101,6 +151,41 @@ bool labelName(const std::string& topic) {
                                contains(t, "semantic") || contains(t, "class"));
 }
 
+// The topic an image_transport republish carries ("/cam/depth/image/
+// compressedDepth" -> "/cam/depth/image"); the name itself otherwise.
+std::string transportBase(const std::string& name) {
+  const size_t slash = name.rfind('/');
+  if (slash == std::string::npos || slash == 0) return name;
+  const std::string last = lower(name.substr(slash + 1));
+  for (const char* transport : {"compressed", "compresseddepth", "theora", "zstd", "ffmpeg", "h264",
+                                "h265", "foxglove", "rvl"})
+    if (last == transport) return name.substr(0, slash);
+  return name;
+}
+
+// Whether `name` carries the depth topic's images in another transport (its
+// base + "/compressed", "/theora", or a plugin's one-word name): the depth
+// camera's own JPEG republish is no colour image, however close its name.
+bool republishOf(const std::string& name, const std::string& depth) {
+  const std::string base = transportBase(depth) + "/";
+  return name.size() > base.size() && name.compare(0, base.size(), base) == 0 &&
+         name.find('/', base.size()) == std::string::npos;
+}
+
+// Drops the topics that republish another one of `topics` in another
+// transport ("/camera/color/image_raw/compressed" beside
+// "/camera/color/image_raw"); republishes without their raw topic stay.
+void withoutRepublishes(std::vector<const Topic*>& topics) {
+  std::vector<const Topic*> kept;
+  for (const Topic* t : topics) {
+    const std::string parent = t->name.substr(0, t->name.rfind('/'));
+    if (std::none_of(topics.begin(), topics.end(),
+                     [&](const Topic* other) { return other->name == parent; }))
+      kept.push_back(t);
+  }
+  topics = kept;
+}
+
 std::string listTopics(const std::vector<const Topic*>& topics) {
   std::string text;
   for (const Topic* t : topics) {
@@ -137,6 +222,9 @@ class TopicChooser {
         if (keep(lower(t->name))) kept.push_back(t);
       if (!kept.empty()) candidates = kept;
     };
+    // A driver's raw depth topic and its compressedDepth republish are one
+    // camera's images: the raw one is taken.
+    if (candidates.size() > 1) withoutRepublishes(candidates);
     if (candidates.size() > 1) prefer([](const std::string& n) { return contains(n, "depth"); });
     if (candidates.size() > 1)
       prefer(
@@ -164,9 +252,12 @@ class TopicChooser {
     std::vector<const Topic*> candidates, grey;
     for (const Topic* t : image_topics_) {
       if (t == depth || labelName(t->name) || probaName(t->name)) continue;
+      if (republishOf(t->name, depth->name)) continue;
       if (!isColorEncoding(t->images.front())) continue;
       (lower(t->firstEncoding()) == "mono8" ? grey : candidates).push_back(t);
     }
+    withoutRepublishes(candidates);
+    withoutRepublishes(grey);
     const Topic* chosen = closestTo(depth, candidates.empty() ? grey : candidates, "colour");
     if (chosen) writer_.note("colour topic: " + chosen->name);
     return chosen;

@@ -4,7 +4,9 @@
 // names and encodings only (no ROS headers), so the choice is tested without
 // writing bags. Not a public API: used by import_rosbag.cpp.
 #include <cstddef>
+#include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,7 +20,11 @@ inline constexpr const char* kInfoType = "sensor_msgs/CameraInfo";
 
 // One image message, as the first pass over the bag saw it.
 struct ImageEntry {
-  double stamp = 0.0;
+  double stamp = 0.0;  // seconds, for messages only: see nanoseconds
+  // The stamp as ROS holds it (sec * 10^9 + nsec), for matching: at epoch
+  // times a double resolves only ~0.2 us, and a tf sample or an image at the
+  // very same stamp was missed.
+  std::int64_t nanoseconds = 0;
   bool stamp_from_bag = false;  // header stamp was 0: the bag's record time is used
   std::string frame_id;
   int width = 0, height = 0;
@@ -32,6 +38,7 @@ struct Topic {
   std::string type;
   std::vector<ImageEntry> images;  // sorted by stamp (image topics)
   [[nodiscard]] std::vector<double> stamps() const;
+  [[nodiscard]] std::vector<std::int64_t> nanoseconds() const;
   [[nodiscard]] std::string firstEncoding() const;
 };
 
@@ -42,6 +49,17 @@ bool contains(const std::string& text, const char* part);
 size_t commonPrefix(const std::string& a, const std::string& b);
 // Seconds with three decimals, for messages.
 std::string stampText(double stamp);
+
+// Seconds (an option's offset or tolerance) as nanoseconds, rounded;
+// saturated at the int64 limits (an offset of 1e30 s is no error, it only
+// leaves every stamp outside ROS time).
+std::int64_t toNanoseconds(double seconds);
+// a + b, saturated at the int64 limits.
+std::int64_t addNanoseconds(std::int64_t a, std::int64_t b);
+// Index of the stamp nearest to `stamp` within `tolerance` (all nanoseconds)
+// in a sorted list; the earlier one of two equally near.
+std::optional<size_t> nearestNanoseconds(const std::vector<std::int64_t>& sorted,
+                                         std::int64_t stamp, std::int64_t tolerance);
 
 // Channels of "32FC3" / "16UC5" / "8UC2" encodings (bytes per value in
 // `bytes`); 0 when not that form.

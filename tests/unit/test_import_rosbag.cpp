@@ -36,15 +36,42 @@ std::string errorOf(const std::function<void()>& f) {
   return "(no error)";
 }
 
+// A file that is no bag, an empty one and a folder are said to be so, not
+// called truncated bags for `rosbag reindex` to recover.
 TEST(ImportRosbag, NotABagFileIsReported) {
   test::TempDir dir;
   std::ofstream(dir / "broken.bag") << "this is not a bag\n";
-  const std::string error =
-      errorOf([&] { importSource(SourceKind::RosBag, dir / "broken.bag", dir / "seq"); });
-  if (rosbagSupported())
-    EXPECT_NE(error.find("expected a readable ROS 1 bag"), std::string::npos) << error;
-  else
-    EXPECT_NE(error.find("no ROS bag support"), std::string::npos) << error;
+  std::ofstream(dir / "empty.bag").flush();
+  fs::create_directories(dir / "bags");
+  std::ofstream(dir / "bags" / "rec.bag") << "#ROSBAG V2.0\n";
+  const auto errorFor = [&](const char* name) {
+    return errorOf([&] { importSource(SourceKind::RosBag, dir / name, dir / "seq"); });
+  };
+  const std::string broken = errorFor("broken.bag");
+  const std::string empty = errorFor("empty.bag");
+  const std::string folder = errorFor("bags");
+  if (rosbagSupported()) {
+    EXPECT_NE(broken.find("broken.bag: bag: expected a readable ROS 1 bag (format 2.0), found a "
+                          "file that is not a ROS bag (it does not start with #ROSBAG V2.0)"),
+              std::string::npos)
+        << broken;
+    EXPECT_NE(empty.find("empty.bag: bag: expected a readable ROS 1 bag (format 2.0), found a "
+                         "file that is empty"),
+              std::string::npos)
+        << empty;
+    EXPECT_NE(folder.find("bags: bag: expected a .bag file, found a folder (give one of its bags: "
+                          "rec.bag)"),
+              std::string::npos)
+        << folder;
+    for (const auto& error : {broken, empty, folder})
+      EXPECT_EQ(error.find("reindex"), std::string::npos) << error;
+    // A bag cut inside its first line is a bag cut short.
+    std::ofstream(dir / "cut.bag") << "#ROSBAG V2";
+    const std::string cut = errorFor("cut.bag");
+    EXPECT_NE(cut.find("the file ending inside its first line"), std::string::npos) << cut;
+  } else {
+    EXPECT_NE(broken.find("no ROS bag support"), std::string::npos) << broken;
+  }
   EXPECT_FALSE(fs::exists(dir / "seq"));
 }
 
@@ -54,7 +81,9 @@ constexpr int kW = 32;
 constexpr int kH = 24;
 const char* const kOptical = "camera_depth_optical_frame";
 
-float depthAt(int u, int v, int frame) { return static_cast<float>((900 + 3 * u + 2 * v + 7 * frame) / 1000.0); }
+float depthAt(int u, int v, int frame) {
+  return static_cast<float>((900 + 3 * u + 2 * v + 7 * frame) / 1000.0);
+}
 
 // world -> base_link moves along x at 1 m/s and turns about z; base_link ->
 // the optical frame is static.
@@ -106,20 +135,34 @@ struct BagSpec {
   rosbag::compression::CompressionType compression = rosbag::compression::Uncompressed;
   int proba_width = kW;  // probabilities of another resolution than depth
   int proba_height = kH;
-  bool compressed_depth = false;     // compressedDepth: a 12-byte header, then a 16-bit PNG
-  int flipped_depth_png_frame = -1;  // this frame's depth PNG has one byte flipped in IDAT
-  int cut_color_png_frame = -1;      // this frame's colour PNG ends inside IDAT
-  bool jpeg_color = false;           // compressed colour as JPEG instead of PNG
-  int cut_color_jpeg_frame = -1;     // this frame's colour JPEG ends halfway
-  bool info_projection = false;      // P differs from K (distorted raw images, rectified here)
-  int info_size_factor = 1;          // the camera info names a size this many times the images'
-  std::string info_frame;            // the camera info's frame_id (default: the depth frame)
+  bool compressed_depth = false;         // compressedDepth: a 12-byte header, then a 16-bit PNG
+  int flipped_depth_png_frame = -1;      // this frame's depth PNG has one byte flipped in IDAT
+  int cut_color_png_frame = -1;          // this frame's colour PNG ends inside IDAT
+  bool jpeg_color = false;               // compressed colour as JPEG instead of PNG
+  int cut_color_jpeg_frame = -1;         // this frame's colour JPEG ends halfway
+  bool info_projection = false;          // P differs from K (distorted raw images, rectified here)
+  int info_size_factor = 1;              // the camera info names a size this many times the images'
+  std::string info_frame;                // the camera info's frame_id (default: the depth frame)
   bool first_info_uncalibrated = false;  // the first camera info has K = 0
   bool tf_zero_stamps = false;           // dynamic tf stamped 0 (its record time is the stamp)
   bool tf_link_missing = false;          // /tf moves base_footprint, not the camera's base_link
   double stamp_scale = 1.0;              // header stamps of tf and depth: 10 + scale (t - 10)
   bool color_8uc3 = false;               // colour as 8UC3 instead of bgr8
+  // Quaternions of /tf (world -> base_link) and /tf_static (base_link -> the
+  // optical frame) multiplied by these: not unit, as some drivers write them.
+  double tf_quaternion_scale = 1.0;
+  double static_quaternion_scale = 1.0;
+  bool tf_repeated = false;  // the first /tf message written twice (tf2 refuses the second)
 };
+
+// `t` with its quaternion multiplied by `scale`.
+geometry_msgs::TransformStamped scaledRotation(geometry_msgs::TransformStamped t, double scale) {
+  t.transform.rotation.x *= scale;
+  t.transform.rotation.y *= scale;
+  t.transform.rotation.z *= scale;
+  t.transform.rotation.w *= scale;
+  return t;
+}
 
 // The offset and length of the first IDAT chunk's data in PNG bytes.
 std::pair<size_t, size_t> firstImageData(const std::vector<std::uint8_t>& png) {
@@ -143,14 +186,17 @@ void writeBag(const fs::path& path, const BagSpec& spec) {
   for (int k = -1; k <= 6; ++k) {
     const double t = 10.0 + 0.05 * k;
     tf2_msgs::TFMessage tf;
-    tf.transforms.push_back(transformMsg(worldBase(header(t)), "world",
-                                         spec.tf_link_missing ? "base_footprint" : "base_link",
-                                         header(t)));
+    tf.transforms.push_back(scaledRotation(
+        transformMsg(worldBase(header(t)), "world",
+                     spec.tf_link_missing ? "base_footprint" : "base_link", header(t)),
+        spec.tf_quaternion_scale));
     if (spec.tf_zero_stamps) tf.transforms.back().header.stamp = ros::Time();
     bag.write("/tf", ros::Time(t), tf);
+    if (spec.tf_repeated && k == -1) bag.write("/tf", ros::Time(t), tf);
   }
   tf2_msgs::TFMessage static_tf;
-  static_tf.transforms.push_back(transformMsg(baseCamera(), "base_link", kOptical, 9.9));
+  static_tf.transforms.push_back(scaledRotation(
+      transformMsg(baseCamera(), "base_link", kOptical, 9.9), spec.static_quaternion_scale));
   bag.write("/tf_static", ros::Time(9.9), static_tf);
 
   for (int f = 0; f < spec.frames; ++f) {
@@ -239,8 +285,8 @@ void writeBag(const fs::path& path, const BagSpec& spec) {
         for (int v = 0; v < kH; ++v)
           for (int u = 0; u < kW; ++u) {
             std::uint8_t* p = image.data.data() + v * image.step + 3 * u;
-            p[0] = 200;                                   // B
-            p[1] = 100;                                   // G
+            p[0] = 200;                                    // B
+            p[1] = 100;                                    // G
             p[2] = static_cast<std::uint8_t>(10 * f + u);  // R
           }
         bag.write("/camera/color/image_raw", color_stamp, image);
@@ -306,8 +352,9 @@ TEST(ImportRosbag, RoundTripWithTfProbabilitiesAndColour) {
   EXPECT_EQ(report.frames_found, 5u);
   EXPECT_EQ(report.frames_written, 4u) << report.text();
   ASSERT_EQ(report.skipped.size(), 1u) << report.text();
-  EXPECT_NE(report.skipped[0].reason.find("no transform from 'world' to 'camera_depth_optical_frame'"),
-            std::string::npos)
+  EXPECT_NE(
+      report.skipped[0].reason.find("no transform from 'world' to 'camera_depth_optical_frame'"),
+      std::string::npos)
       << report.skipped[0].reason;
   EXPECT_TRUE(anyNote(report, "depth topic: /camera/depth/image_rect_raw")) << report.text();
   EXPECT_TRUE(anyNote(report, "colour topic: /camera/color/image_raw")) << report.text();
@@ -334,8 +381,7 @@ TEST(ImportRosbag, RoundTripWithTfProbabilitiesAndColour) {
         << expected.matrix();
     const FrameData frame = loadFrame(sequence, f);
     for (int v = 0; v < kH; ++v)
-      for (int u = 0; u < kW; ++u)
-        ASSERT_NEAR(frame.depth.at(u, v), depthAt(u, v, f), 1e-6);
+      for (int u = 0; u < kW; ++u) ASSERT_NEAR(frame.depth.at(u, v), depthAt(u, v, f), 1e-6);
     ASSERT_TRUE(frame.color.has_value());
     const size_t i = (5 * kW + 7) * 3;
     EXPECT_EQ(frame.color->rgb[i], 10 * f + 7);  // R (from bgr8 with padded rows)
@@ -409,6 +455,32 @@ TEST(ImportRosbag, ACameraInfoOfAnotherFrameIsAWarning) {
       << report.text();
 }
 
+// Quaternions of norm 1.05 (/tf) and 0.99 (/tf_static, as (0, 0, 0.7, 0.7))
+// are normalised: tf2 refused them without a word, and every frame was
+// skipped for a frame "missing" from tf. What tf2 still refuses is counted.
+TEST(ImportRosbag, NonUnitQuaternionsAreNormalisedAndRefusedTransformsCounted) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.tf_quaternion_scale = 1.05;
+  spec.static_quaternion_scale = 0.99;
+  spec.tf_repeated = true;
+  ImportOptions options;
+  options.depth_filter.flying_pixels = false;
+  const ImportReport report = importBag(dir, spec, options);
+  ASSERT_EQ(report.frames_written, 4u) << report.text();
+  EXPECT_TRUE(anyNote(report,
+                      "10 tf transforms have a quaternion that is not of unit length "
+                      "(norm 0.99 to 1.05): normalised"))
+      << report.text();
+  EXPECT_TRUE(anyNote(report, "1 tf transforms were refused by tf2 and ignored")) << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  for (int f = 0; f < 4; ++f)
+    EXPECT_TRUE(sequence.frames[f].T_world_camera.matrix().isApprox(
+        (worldBase(10.0 + 0.1 * f) * baseCamera()).matrix(), 1e-6))
+        << "frame " << f << "\n"
+        << sequence.frames[f].T_world_camera.matrix();
+}
+
 // tf stamped 0 takes its record time, as images do.
 TEST(ImportRosbag, TfStampsOfZeroTakeTheRecordTime) {
   test::TempDir dir;
@@ -478,7 +550,8 @@ TEST(ImportRosbag, FloatDepthCompressedColourAndLabelImages) {
   ImportOptions options;
   options.depth_filter.flying_pixels = false;
   options.label_confidence = 0.75;
-  const ImportReport report = importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq", options);
+  const ImportReport report =
+      importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq", options);
   ASSERT_EQ(report.frames_written, 3u) << report.text();
   EXPECT_TRUE(anyNote(report, "label topic: /segmenter/labels")) << report.text();
   const Sequence sequence = loadSequence(dir / "seq");
@@ -569,6 +642,66 @@ TEST(ImportRosbag, CutJpegColourIsLeftOutWithLibjpegsReasonAndNothingPrinted) {
   EXPECT_TRUE(loadFrame(sequence, 3).color.has_value());
 }
 
+// Stamps at epoch times (sec 1700000000), where a double resolves only
+// ~0.24 us: an image stamped exactly at a tf sample gets that sample's pose,
+// also the first and the last (0.1 s past the second went through a double
+// to 95 ns before the first tf sample, outside tf).
+void writeEpochBag(const fs::path& path) {
+  rosbag::Bag bag(path.string(), rosbag::bagmode::Write);
+  const auto at = [](int ms) {
+    return ros::Time(1700000000u, static_cast<std::uint32_t>(ms) * 1000000u);
+  };
+  for (int k = 0; k <= 4; ++k) {  // tf from .100 to .300, every 50 ms
+    tf2_msgs::TFMessage tf;
+    tf.transforms.push_back(transformMsg(worldBase(10.0 + 0.05 * k), "world", "base_link", 1.0));
+    tf.transforms.back().header.stamp = at(100 + 50 * k);
+    bag.write("/tf", at(100 + 50 * k), tf);
+  }
+  tf2_msgs::TFMessage static_tf;
+  static_tf.transforms.push_back(transformMsg(baseCamera(), "base_link", kOptical, 1.0));
+  bag.write("/tf_static", at(100), static_tf);
+  for (int f = 0; f < 3; ++f) {  // images at .100, .200, .300
+    sensor_msgs::Image depth;
+    depth.header.stamp = at(100 + 100 * f);
+    depth.header.frame_id = kOptical;
+    depth.width = kW;
+    depth.height = kH;
+    depth.encoding = "16UC1";
+    depth.step = kW * 2;
+    depth.data.assign(depth.step * kH, 0);
+    for (size_t i = 0; i < depth.data.size(); i += 2) depth.data[i + 1] = 0x04;  // 1024 mm
+    bag.write("/camera/depth/image_rect_raw", depth.header.stamp, depth);
+    sensor_msgs::CameraInfo info;
+    info.header = depth.header;
+    info.width = kW;
+    info.height = kH;
+    info.K = {30, 0, 15.5, 0, 31, 11.5, 0, 0, 1};
+    bag.write("/camera/depth/camera_info", depth.header.stamp, info);
+  }
+  bag.close();
+}
+
+TEST(ImportRosbag, EpochStampsKeepTheirNanoseconds) {
+  test::TempDir dir;
+  writeEpochBag(dir / "epoch.bag");
+  ImportOptions options;
+  options.depth_filter.flying_pixels = false;
+  const ImportReport report =
+      importSource(SourceKind::RosBag, dir / "epoch.bag", dir / "seq", options);
+  ASSERT_EQ(report.frames_written, 3u) << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  for (int f = 0; f < 3; ++f)
+    EXPECT_TRUE(sequence.frames[f].T_world_camera.matrix().isApprox(
+        (worldBase(10.0 + 0.1 * f) * baseCamera()).matrix(), 1e-6))
+        << "frame " << f << " gets the tf sample at its own stamp\n"
+        << sequence.frames[f].T_world_camera.matrix();
+  // No tolerance: each stamp must be found as it is.
+  options.time_tolerance = 0.0;
+  const ImportReport exact =
+      importSource(SourceKind::RosBag, dir / "epoch.bag", dir / "exact", options);
+  EXPECT_EQ(exact.frames_written, 3u) << exact.text();
+}
+
 TEST(ImportRosbag, ClockOffsetIsReportedAndCorrectedByTheOffsetOption) {
   test::TempDir dir;
   BagSpec spec;
@@ -578,9 +711,14 @@ TEST(ImportRosbag, ClockOffsetIsReportedAndCorrectedByTheOffsetOption) {
       errorOf([&] { importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq"); });
   EXPECT_NE(error.find("no transform"), std::string::npos) << error;
   EXPECT_NE(error.find("tf covers 9.950 to 10.300"), std::string::npos) << error;
+  // The error quotes the first frame's reason only: the suggestion is in it.
+  EXPECT_NE(error.find("the clocks differ by about -1000 s, give it as the time offset option"),
+            std::string::npos)
+      << error;
   ImportOptions options;
   options.time_offset = -1000.0;
-  const ImportReport report = importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq", options);
+  const ImportReport report =
+      importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq", options);
   EXPECT_EQ(report.frames_written, 4u) << report.text();
   const Sequence sequence = loadSequence(dir / "seq");
   EXPECT_TRUE(sequence.frames[2].T_world_camera.matrix().isApprox(
@@ -783,19 +921,75 @@ TEST(ImportRosbag, DamagedRecordsInsideACompressedChunkAreAnErrorNotACrash) {
       << error;
 }
 
+// Replaces the 4-byte length `from` that follows `before` at its `nth`
+// occurrence in `bytes` with `to`.
+void patchLength(std::string& bytes, const std::string& before, std::uint32_t from,
+                 std::uint32_t to, int nth) {
+  std::string pattern = before;
+  pattern.append(reinterpret_cast<const char*>(&from), 4);
+  size_t at = std::string::npos;
+  for (int i = 0; i <= nth; ++i) {
+    at = bytes.find(pattern, at == std::string::npos ? 0 : at + 1);
+    ASSERT_NE(at, std::string::npos) << "occurrence " << i;
+  }
+  std::memcpy(bytes.data() + at + before.size(), &to, 4);
+}
+
+// A corrupted array length inside a message (the record around it intact):
+// the ROS deserialiser allocated what it claims (up to gigabytes) before it
+// found the message too short. The message is left out, naming its topic
+// and field.
+TEST(ImportRosbag, ArrayLengthsBeyondTheMessageLeaveItOut) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.info_projection = true;  // D holds 5 values
+  spec.proba_channels = 0;
+  writeBag(dir / "good.bag", spec);
+  std::string bytes = test::slurp(dir / "good.bag");
+  // The first camera info's D (after an empty distortion model): 16 Mi values.
+  const std::uint32_t info_size[3] = {kH, kW, 0};  // height, width, distortion model length
+  patchLength(bytes, std::string(reinterpret_cast<const char*>(info_size), 12), 5, 1u << 24, 0);
+  // Frame 1's depth data (after encoding, is_bigendian and step): 256 MiB.
+  const std::uint32_t step = kW * 2;
+  patchLength(bytes,
+              std::string("16UC1") + '\0' + std::string(reinterpret_cast<const char*>(&step), 4),
+              kW * kH * 2, 1u << 28, 1);
+  std::ofstream(dir / "lengths.bag", std::ios::binary) << bytes;
+  ImportOptions options;
+  options.depth_filter.flying_pixels = false;
+  const ImportReport report =
+      importSource(SourceKind::RosBag, dir / "lengths.bag", dir / "seq", options);
+  EXPECT_EQ(report.frames_written, 3u) << report.text();
+  EXPECT_TRUE(anyNote(report,
+                      "1 messages on /camera/depth/camera_info were ignored: a length inside them "
+                      "does not fit in the message (the first: /camera/depth/camera_info: D: "
+                      "expected a length that fits in the 305 bytes left in the message, found "
+                      "16777216 float64 values (134217728 bytes))"))
+      << report.text();
+  bool depth_reported = false;
+  for (const auto& s : report.skipped)
+    depth_reported |= s.frame == "depth@10.100" &&
+                      s.reason ==
+                          "/camera/depth/image_rect_raw: depth data: expected a length that fits "
+                          "in the 1536 bytes left in the message, found 268435456 bytes";
+  EXPECT_TRUE(depth_reported) << report.text();
+}
+
 TEST(ImportRosbag, MalformedBags) {
   test::TempDir dir;
   // Two depth topics: ambiguous unless one is chosen.
   BagSpec two;
   two.second_depth_topic = true;
   writeBag(dir / "two.bag", two);
-  std::string error = errorOf([&] { importSource(SourceKind::RosBag, dir / "two.bag", dir / "a"); });
+  std::string error =
+      errorOf([&] { importSource(SourceKind::RosBag, dir / "two.bag", dir / "a"); });
   EXPECT_NE(error.find("several: /camera/depth/image_raw, /camera/depth/image_rect_raw"),
             std::string::npos)
       << error;
   ImportOptions chosen;
   chosen.rosbag.depth_topic = "/camera/depth/image_raw";
-  EXPECT_EQ(importSource(SourceKind::RosBag, dir / "two.bag", dir / "a", chosen).frames_written, 4u);
+  EXPECT_EQ(importSource(SourceKind::RosBag, dir / "two.bag", dir / "a", chosen).frames_written,
+            4u);
   chosen.rosbag.depth_topic = "/nope";
   error = errorOf([&] { importSource(SourceKind::RosBag, dir / "two.bag", dir / "b", chosen); });
   EXPECT_NE(error.find("'/nope' is not in it"), std::string::npos) << error;
@@ -834,7 +1028,8 @@ TEST(ImportRosbag, MalformedBags) {
   writeBag(dir / "wide.bag", wide);
   ImportOptions options;
   options.depth_filter.flying_pixels = false;
-  ASSERT_EQ(importSource(SourceKind::RosBag, dir / "wide.bag", dir / "f", options).frames_written, 4u);
+  ASSERT_EQ(importSource(SourceKind::RosBag, dir / "wide.bag", dir / "f", options).frames_written,
+            4u);
   const FrameData frame = loadFrame(loadSequence(dir / "f"), 0);
   EXPECT_NEAR(frame.proba->pixel(1, 1)[1], 0.8f, 1e-3);
 
@@ -843,7 +1038,8 @@ TEST(ImportRosbag, MalformedBags) {
   half.proba_width = kW / 2;
   half.proba_height = kH / 2;
   writeBag(dir / "half.bag", half);
-  const ImportReport resampled = importSource(SourceKind::RosBag, dir / "half.bag", dir / "h", options);
+  const ImportReport resampled =
+      importSource(SourceKind::RosBag, dir / "half.bag", dir / "h", options);
   ASSERT_EQ(resampled.frames_written, 4u) << resampled.text();
   EXPECT_TRUE(anyNote(resampled, "probability images of 16 x 12 resampled to the depth camera"))
       << resampled.text();
@@ -855,7 +1051,8 @@ TEST(ImportRosbag, MalformedBags) {
   odd.proba_height = kH / 2;
   writeBag(dir / "odd.bag", odd);
   error = errorOf([&] { importSource(SourceKind::RosBag, dir / "odd.bag", dir / "o", options); });
-  EXPECT_NE(error.find("the probability image is 32 x 12, the depth image 32 x 24"), std::string::npos)
+  EXPECT_NE(error.find("the probability image is 32 x 12, the depth image 32 x 24"),
+            std::string::npos)
       << error;
 
   // A bag without tf.
@@ -871,15 +1068,14 @@ TEST(ImportRosbag, MalformedBags) {
     depth.data = {0xe8, 0x03, 0xe8, 0x03};
     bag.write("/depth", depth.header.stamp, depth);
   }
-  error = errorOf([&] { importSource(SourceKind::RosBag, dir / "notf.bag", dir / "g", with_intrinsics); });
+  error = errorOf(
+      [&] { importSource(SourceKind::RosBag, dir / "notf.bag", dir / "g", with_intrinsics); });
   EXPECT_NE(error.find("/tf or /tf_static"), std::string::npos) << error;
 }
 
 #else
 
-TEST(ImportRosbag, BuildWithoutBagSupportSaysSo) {
-  EXPECT_FALSE(rosbagSupported());
-}
+TEST(ImportRosbag, BuildWithoutBagSupportSaysSo) { EXPECT_FALSE(rosbagSupported()); }
 
 #endif
 

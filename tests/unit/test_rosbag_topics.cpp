@@ -3,8 +3,11 @@
 // so these tests need no bag files (and run in builds without ROS).
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "lom/error.hpp"
 #include "lom/labels.hpp"
+#include "rosbag_check.hpp"
 #include "rosbag_topics.hpp"
 #include "test_support.hpp"
 
@@ -96,6 +99,99 @@ TEST_F(RosbagTopics, ColourOfTheDepthCamerasNamespaceWins) {
   addImages("/cam1/depth/image_raw", "16UC1");
   addImages("/cam1/color/image_raw", "rgb8");
   EXPECT_EQ(nameOf(choose().color), "/cam1/color/image_raw");
+}
+
+// The depth camera's own image_transport republish (a PNG or JPEG
+// CompressedImage, not compressedDepth) shares the longest prefix with the
+// depth topic, and was taken for colour.
+TEST_F(RosbagTopics, ARepublishOfTheDepthTopicIsNeverColour) {
+  addImages("/camera/color/image_raw", "rgb8");
+  addImages("/camera/depth/image_rect_raw", "16UC1");
+  addImages("/camera/depth/image_rect_raw/compressed", "16UC1; png compressed", true);
+  EXPECT_EQ(nameOf(choose().color), "/camera/color/image_raw");
+  // Nor when it is the only candidate.
+  topics_.erase("/camera/color/image_raw");
+  EXPECT_EQ(nameOf(choose().color), "(none)");
+  // A compressedDepth depth topic: the raw topic's other republishes are its own.
+  topics_.clear();
+  addImages("/camera/depth/image_raw/compressedDepth", "16UC1; compressedDepth png", true);
+  addImages("/camera/depth/image_raw/theora", "theora", true);
+  addImages("/camera/depth/image_raw/compressed", "mono8; jpeg compressed mono8", true);
+  addImages("/camera/color/image_raw/compressed", "bgr8; jpeg compressed bgr8", true);
+  EXPECT_EQ(nameOf(choose().color), "/camera/color/image_raw/compressed");
+}
+
+// RealSense's bag with image_transport republishes of both cameras: the raw
+// topics are the depth and the colour, not an ambiguity between the raw
+// depth and its compressedDepth republish.
+TEST_F(RosbagTopics, RawTopicsWinOverTheirRepublishes) {
+  addImages("/camera/color/image_raw", "rgb8");
+  addImages("/camera/color/image_raw/compressed", "rgb8; jpeg compressed bgr8", true);
+  addImages("/camera/depth/image_rect_raw", "16UC1");
+  addImages("/camera/depth/image_rect_raw/compressed", "16UC1; jpeg compressed ", true);
+  addImages("/camera/depth/image_rect_raw/compressedDepth", "16UC1; compressedDepth", true);
+  const ChosenTopics chosen = choose();
+  EXPECT_EQ(nameOf(chosen.depth), "/camera/depth/image_rect_raw");
+  EXPECT_EQ(nameOf(chosen.color), "/camera/color/image_raw");
+  // Republishes without their raw topic are still colour.
+  topics_.erase("/camera/color/image_raw");
+  addImages("/camera/color/image_raw/theora", "theora", true);
+  EXPECT_EQ(nameOf(choose().color), "/camera/color/image_raw/compressed");
+}
+
+// Lengths inside serialised messages are checked against the bytes that
+// follow them before the ROS deserialiser allocates what they claim.
+TEST(RosbagMessageLengths, LengthsBeyondTheMessageNameTheirField) {
+  const auto u32 = [](std::uint32_t v) {
+    return std::vector<std::uint8_t>{
+        static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v >> 8),
+        static_cast<std::uint8_t>(v >> 16), static_cast<std::uint8_t>(v >> 24)};
+  };
+  // A TFMessage claiming 4 Gi transforms in 4 bytes.
+  std::vector<std::uint8_t> tf = u32(0xffffffffu);
+  auto problem = messageLengthProblem("tf2_msgs/TFMessage", tf.data(), tf.size());
+  ASSERT_TRUE(problem.has_value());
+  EXPECT_EQ(problem->field, "transforms");
+  EXPECT_EQ(problem->expected, "a length that fits in the 0 bytes left in the message");
+  EXPECT_EQ(problem->found, "4294967295 transforms");
+  // One transform whose child frame name claims 1000 characters.
+  tf = u32(1);
+  for (const auto& part : {u32(0), u32(0), u32(0), u32(0), u32(1000)})
+    tf.insert(tf.end(), part.begin(), part.end());
+  tf.resize(tf.size() + 56);
+  problem = messageLengthProblem("tf2_msgs/TFMessage", tf.data(), tf.size());
+  ASSERT_TRUE(problem.has_value());
+  EXPECT_EQ(problem->field, "transforms[0].child_frame_id");
+  EXPECT_EQ(problem->found, "1000 characters");
+  // The same transform with its child frame named "a": fits, and one byte
+  // less does not.
+  tf = u32(1);
+  for (const auto& part : {u32(0), u32(0), u32(0), u32(0), u32(1)})
+    tf.insert(tf.end(), part.begin(), part.end());
+  tf.push_back('a');
+  tf.resize(tf.size() + 56);
+  EXPECT_FALSE(messageLengthProblem("tf2_msgs/TFMessage", tf.data(), tf.size()).has_value());
+  problem = messageLengthProblem("tf2_msgs/TFMessage", tf.data(), tf.size() - 1);
+  ASSERT_TRUE(problem.has_value());
+  EXPECT_EQ(problem->field, "transforms[0].transform");
+  EXPECT_EQ(problem->found, "the message ends 55 bytes into it");
+  // Other types are not walked.
+  EXPECT_FALSE(messageLengthProblem("std_msgs/String", tf.data(), 2).has_value());
+}
+
+TEST(RosbagStamps, NearestNanosecondsIsExact) {
+  const std::int64_t second = 1700000000LL * 1000000000LL;
+  const std::vector<std::int64_t> stamps{second + 100000000, second + 120000000};
+  EXPECT_EQ(nearestNanoseconds(stamps, second + 100000000, 0), std::optional<size_t>(0));
+  EXPECT_EQ(nearestNanoseconds(stamps, second + 100000001, 0), std::nullopt);
+  EXPECT_EQ(nearestNanoseconds(stamps, second + 140000000, toNanoseconds(0.02)),
+            std::optional<size_t>(1));
+  EXPECT_EQ(nearestNanoseconds(stamps, second + 110000000, toNanoseconds(0.02)),
+            std::optional<size_t>(0))
+      << "the earlier of two equally near";
+  EXPECT_EQ(toNanoseconds(1e30), std::numeric_limits<std::int64_t>::max());
+  EXPECT_EQ(addNanoseconds(toNanoseconds(1e30), 5), std::numeric_limits<std::int64_t>::max());
+  EXPECT_EQ(nearestNanoseconds(stamps, second, toNanoseconds(1e30)), std::optional<size_t>(0));
 }
 
 TEST_F(RosbagTopics, GreyImagesOnlyWhenThereIsNoColour) {
