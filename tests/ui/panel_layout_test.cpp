@@ -257,9 +257,10 @@ TEST_F(PanelLayoutTest, ADamagedSavedLayoutLeavesTheDefaultOne) {
     EXPECT_FALSE(dock->isFloating()) << dock->objectName().toStdString();
     // Title bars below the menus, none hidden under them (the panels behind
     // another's tab are parked above the window, wholly out of sight).
-    if (dock->isVisible() && dock->geometry().bottom() > 0)
+    if (dock->isVisible() && dock->geometry().bottom() > 0) {
       EXPECT_GE(dock->geometry().top(), window->menuBar()->geometry().bottom())
           << dock->objectName().toStdString();
+    }
   }
 }
 

@@ -325,8 +325,11 @@ TEST_F(WindowLayoutTest, ExportAndAnnotateItemsHaveAccessKeys) {
   for (QAction* menu_action : window_.menuBar()->actions()) {
     const QString title = menu_action->text().remove('&');
     if (title != "Export" || !menu_action->menu()) continue;
-    for (QAction* action : menu_action->menu()->actions())
-      if (!action->isSeparator()) EXPECT_TRUE(hasAccessKey(action)) << action->text().toStdString();
+    for (QAction* action : menu_action->menu()->actions()) {
+      if (!action->isSeparator()) {
+        EXPECT_TRUE(hasAccessKey(action)) << action->text().toStdString();
+      }
+    }
   }
   for (const char* item :
        {"Add Box from Label Voxels", "Add Box at Clicked Point", "Add Boxes for All Labels",
