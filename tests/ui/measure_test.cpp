@@ -174,6 +174,26 @@ TEST_F(MeasureTest, AClickInsideTheSelectedBoxPicksAndMeasures) {
   EXPECT_EQ(edits, 0);
   EXPECT_EQ(boxes.undoStack().count(), steps) << "a click is no edit of the box";
   window_.findAction("Measure Distance")->trigger();
+
+  // Other buttons never pick, on the box or beside it.
+  QTest::mouseClick(vtk, Qt::RightButton, Qt::NoModifier, middle);
+  QTest::mouseClick(vtk, Qt::MiddleButton, Qt::NoModifier, middle);
+  EXPECT_EQ(surface.size(), 3u);
+  EXPECT_EQ(boxes.undoStack().count(), steps);
+  // A drag that moves the box and ends within a click's slack of where it
+  // began is an edit, not a click (it was dropped, the handles left moved).
+  const auto send = [&](QEvent::Type type, QPoint at, Qt::MouseButtons buttons) {
+    const Qt::MouseButton button = type == QEvent::MouseMove ? Qt::NoButton : Qt::LeftButton;
+    QMouseEvent event(type, at, vtk->mapToGlobal(at), button, buttons, Qt::NoModifier);
+    QApplication::sendEvent(vtk, &event);
+    QApplication::processEvents();
+  };
+  send(QEvent::MouseButtonPress, middle, Qt::LeftButton);
+  for (int x = 4; x <= 40; x += 4) send(QEvent::MouseMove, middle + QPoint(x, 0), Qt::LeftButton);
+  for (int x = 36; x >= 2; x -= 2) send(QEvent::MouseMove, middle + QPoint(x, 0), Qt::LeftButton);
+  send(QEvent::MouseButtonRelease, middle + QPoint(2, 0), Qt::NoButton);
+  EXPECT_EQ(surface.size(), 3u) << "the drag was taken for a click";
+  EXPECT_EQ(boxes.undoStack().count(), steps + 1) << "the drag that moved the box was dropped";
 }
 
 TEST_F(MeasureTest, RestingTheMouseOnAVoxelNamesItsLabel) {

@@ -231,7 +231,12 @@ vtkSmartPointer<vtkPolyData> graspArrows(const std::vector<Eigen::Vector3d>& tip
   return poly;
 }
 
-BoxHandles::BoxHandles(vtkRenderWindowInteractor* interactor, vtkRenderer* renderer) {
+BoxHandles::~BoxHandles() {
+  for (const unsigned long tag : press_observers_) interactor_->RemoveObserver(tag);
+}
+
+BoxHandles::BoxHandles(vtkRenderWindowInteractor* interactor, vtkRenderer* renderer)
+    : interactor_(interactor) {
   representation_->SetPlaceFactor(1.0);
   representation_->SetRenderer(renderer);
   representation_->GetOutlineProperty()->SetColor(1.0, 0.85, 0.2);
@@ -245,25 +250,42 @@ BoxHandles::BoxHandles(vtkRenderWindowInteractor* interactor, vtkRenderer* rende
   widget_->SetScalingEnabled(true);
   widget_->SetMoveFacesEnabled(true);
 
-  vtkNew<vtkCallbackCommand> on_start;
-  on_start->SetClientData(this);
-  on_start->SetCallback([](vtkObject*, unsigned long, void* client, void*) {
+  // Every press, before the handles take it: which button, where, and the
+  // box's transform then (the handles may turn the box and return it).
+  vtkNew<vtkCallbackCommand> on_press;
+  on_press->SetClientData(this);
+  on_press->SetCallback([](vtkObject*, unsigned long event, void* client, void*) {
     auto* self = static_cast<BoxHandles*>(client);
-    const int* position = self->widget_->GetInteractor()->GetEventPosition();
+    const int* position = self->interactor_->GetEventPosition();
     self->press_[0] = position[0];
     self->press_[1] = position[1];
+    self->left_press_ = event == vtkCommand::LeftButtonPressEvent;
+    self->representation_->GetTransform(self->transform_at_press_);
   });
-  widget_->AddObserver(vtkCommand::StartInteractionEvent, on_start);
+  constexpr float kBeforeTheHandles = 1.0f;  // the widget listens at 0.5
+  for (const unsigned long event :
+       {vtkCommand::LeftButtonPressEvent, vtkCommand::MiddleButtonPressEvent,
+        vtkCommand::RightButtonPressEvent})
+    press_observers_.push_back(interactor->AddObserver(event, on_press, kBeforeTheHandles));
 
   vtkNew<vtkCallbackCommand> on_end;
   on_end->SetClientData(this);
   on_end->SetCallback([](vtkObject*, unsigned long, void* client, void*) {
     auto* self = static_cast<BoxHandles*>(client);
     // The handles take every press on the box (the selected box, which lies
-    // over the map being picked or measured): one that did not drag is the
-    // view's click, as it is beside the box (the same 3 pixels of slack).
-    const int* position = self->widget_->GetInteractor()->GetEventPosition();
-    if (std::abs(position[0] - self->press_[0]) + std::abs(position[1] - self->press_[1]) <= 3 &&
+    // over the map being picked or measured): a left click that neither
+    // dragged nor changed the box is the view's click, as it is beside the
+    // box (the same 3 pixels of slack; other buttons never pick).
+    const int* position = self->interactor_->GetEventPosition();
+    vtkNew<vtkTransform> now;
+    self->representation_->GetTransform(now);
+    bool unchanged = true;
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c)
+        unchanged = unchanged && now->GetMatrix()->GetElement(r, c) ==
+                                     self->transform_at_press_->GetMatrix()->GetElement(r, c);
+    if (self->left_press_ && unchanged &&
+        std::abs(position[0] - self->press_[0]) + std::abs(position[1] - self->press_[1]) <= 3 &&
         self->clicked_) {
       self->clicked_(position[0], position[1]);
       return;

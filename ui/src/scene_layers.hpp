@@ -8,7 +8,9 @@
 #include <vtkNew.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
+#include <vtkRenderWindowInteractor.h>
 #include <vtkSmartPointer.h>
+#include <vtkTransform.h>
 
 #include <Eigen/Core>
 #include <QColor>
@@ -76,6 +78,9 @@ class VoxelLayer {
 class BoxHandles {
  public:
   explicit BoxHandles(vtkRenderWindowInteractor* interactor, vtkRenderer* renderer);
+  ~BoxHandles();
+  BoxHandles(const BoxHandles&) = delete;
+  BoxHandles& operator=(const BoxHandles&) = delete;
   void show(const OrientedBox* box);  // null hides the handles
   // Called with the edited box when a drag ends.
   void onEdited(std::function<void(const OrientedBox&)> callback) { edited_ = std::move(callback); }
@@ -90,7 +95,11 @@ class BoxHandles {
   vtkNew<vtkBoxRepresentation> representation_;
   std::function<void(const OrientedBox&)> edited_;
   std::function<void(int, int)> clicked_;
+  vtkSmartPointer<vtkRenderWindowInteractor> interactor_;
+  std::vector<unsigned long> press_observers_;
   int press_[2] = {0, 0};
+  bool left_press_ = false;
+  vtkNew<vtkTransform> transform_at_press_;
   bool visible_ = false;
 };
 
