@@ -187,10 +187,15 @@ SynthScene writeSyntheticScene(const SynthOptions& options, const fs::path& out)
   // What a run stopped by a signal (Ctrl-C) leaves is what one that fails
   // leaves: the new folders it made, or the new or empty folder's new
   // entries, are recorded until the scene is complete.
+  // The folder made for the scene goes with everything in it; the parents
+  // made for it only while empty (`a/../scene` makes `a` too, which does
+  // not hold the scene).
   const std::vector<fs::path> missing = existed ? std::vector<fs::path>{} : missingFolders(out);
   std::vector<PendingOutput> pending;
-  if (!missing.empty()) {
-    pending.emplace_back(missing.back(), PendingOutput::Kind::Tree);
+  if (!existed) {
+    pending.emplace_back(out, PendingOutput::Kind::Tree);
+    for (const fs::path& folder : missing)
+      pending.emplace_back(folder, PendingOutput::Kind::EmptyFolder);
   } else if (fresh) {
     for (const char* folder : kFrameFolders)
       pending.emplace_back(out / folder, PendingOutput::Kind::Tree);
@@ -203,8 +208,9 @@ SynthScene writeSyntheticScene(const SynthOptions& options, const fs::path& out)
     // A run that fails (a full disk) takes away what it wrote into a new or
     // empty folder; an earlier output it was replacing stays marked by
     // synth.json, without sequence.json, so that the next run replaces it.
-    if (!missing.empty()) {
-      fs::remove_all(missing.back(), ec);
+    if (!existed) {
+      fs::remove_all(out, ec);
+      for (const fs::path& folder : missing) fs::remove(folder, ec);  // innermost first; if empty
     } else if (fresh) {
       std::vector<fs::path> written;
       for (const auto& entry : fs::directory_iterator(out, ec)) written.push_back(entry.path());

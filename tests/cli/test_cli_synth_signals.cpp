@@ -47,6 +47,19 @@ TEST(CliSynthSignalTest, CtrlCRemovesTheFoldersItMade) {
   EXPECT_FALSE(fs::exists(dir / "new")) << "neither folder existed before";
 }
 
+// `made/../scene`: the scene is beside `made`, not in it. Both go, and a
+// sibling the user had stays.
+TEST(CliSynthSignalTest, CtrlCRemovesTheSceneAlsoBesideAFolderItMade) {
+  test::TempDir dir;
+  fs::create_directories(dir / "kept");
+  const auto ended = synthStoppedBy(SIGINT, dir / "made" / ".." / "scene");
+  ASSERT_TRUE(ended) << "synth did not stop after the signal";
+  EXPECT_EQ(ended->signal, SIGINT);
+  EXPECT_FALSE(fs::exists(dir / "scene")) << "the half-written scene was left";
+  EXPECT_FALSE(fs::exists(dir / "made"));
+  EXPECT_TRUE(fs::is_directory(dir / "kept"));
+}
+
 TEST(CliSynthSignalTest, SigtermEmptiesTheEmptyFolderItWasGiven) {
   test::TempDir dir;
   const fs::path out = dir / "scene";
