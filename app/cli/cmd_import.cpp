@@ -48,6 +48,9 @@ const char* const kHelp =
     "  --depth-topic T --color-topic T --camera-info-topic T --proba-topic T --label-topic T\n"
     "  --fixed-frame F        world frame (default: root of the camera's tf tree)\n"
     "  --camera-frame F       camera optical frame (default: the depth images' frame_id)\n"
+    "  --max-pose-gap S       skip a frame whose pose tf would interpolate between samples\n"
+    "                         of a moving link more than S apart (default 0.5 s; give a\n"
+    "                         large number to allow any gap)\n"
     "output:\n"
     "  --no-color             leave colour images out\n"
     "  --overwrite            replace a sequence already in SEQ\n"
@@ -97,9 +100,9 @@ CameraIntrinsics intrinsicsOption(const std::string& value) {
 }
 
 // Options only a ROS bag reads: given for another source they would be ignored without a word.
-const char* const kRosbagOnlyOptions[] = {"depth-topic", "color-topic", "camera-info-topic",
-                                          "proba-topic", "label-topic", "fixed-frame",
-                                          "camera-frame"};
+const char* const kRosbagOnlyOptions[] = {"depth-topic",  "color-topic", "camera-info-topic",
+                                          "proba-topic",  "label-topic", "fixed-frame",
+                                          "camera-frame", "max-pose-gap"};
 
 void refuseRosbagOptionsFor(const Args& args, const std::optional<SourceKind>& kind,
                             const std::string& source) {
@@ -165,13 +168,33 @@ const char* importHelp() { return kHelp; }
 
 int runImport(const Words& words) {
   const Args args(words, {"no-flying-filter", "no-color", "overwrite", "quiet"});
-  args.expectOnly({"out",         "intrinsics",   "depth-scale",       "min-depth",
-                   "max-depth",   "flying-ratio", "flying-radius",     "no-flying-filter",
-                   "bilateral",   "labels",       "label-confidence",  "first",
-                   "every",       "max-frames",   "time-tolerance",    "time-offset",
-                   "depth-topic", "color-topic",  "camera-info-topic", "proba-topic",
-                   "label-topic", "fixed-frame",  "camera-frame",      "no-color",
-                   "overwrite",   "quiet"},
+  args.expectOnly({"out",
+                   "intrinsics",
+                   "depth-scale",
+                   "min-depth",
+                   "max-depth",
+                   "flying-ratio",
+                   "flying-radius",
+                   "no-flying-filter",
+                   "bilateral",
+                   "labels",
+                   "label-confidence",
+                   "first",
+                   "every",
+                   "max-frames",
+                   "time-tolerance",
+                   "time-offset",
+                   "depth-topic",
+                   "color-topic",
+                   "camera-info-topic",
+                   "proba-topic",
+                   "label-topic",
+                   "fixed-frame",
+                   "camera-frame",
+                   "max-pose-gap",
+                   "no-color",
+                   "overwrite",
+                   "quiet"},
                   2);
   const std::string kind_name = args.positional(0, "KIND (auto, rosbag, frames, tum, quaternion, scannet, apc-shelf)");
   const std::string source = args.positional(1, "SRC (a bag file or dataset folder)");
@@ -226,6 +249,12 @@ int runImport(const Words& words) {
   options.rosbag.label_topic = args.option("label-topic").value_or("");
   options.rosbag.fixed_frame = args.option("fixed-frame").value_or("");
   options.rosbag.camera_frame = args.option("camera-frame").value_or("");
+  options.rosbag.max_pose_gap = args.number("max-pose-gap", options.rosbag.max_pose_gap);
+  if (!(options.rosbag.max_pose_gap > 0.0))
+    throw UsageError(
+        "option --max-pose-gap expects a positive number of seconds (a large one "
+        "allows any gap), got '" +
+        *args.option("max-pose-gap") + "'");
   options.write_color = !args.flag("no-color");
   options.overwrite = args.flag("overwrite");
   // Files named by options are read once the call itself is known to be right.
@@ -253,12 +282,13 @@ int runImport(const Words& words) {
     // Option values out of range are usage errors; the rest is about the data.
     if (e.problem().file.empty()) {
       const std::string& field = e.problem().field;
-      const std::string option = field == "time_tolerance"     ? "time-tolerance"
-                                 : field == "time_offset"      ? "time-offset"
-                                 : field == "label_confidence" ? "label-confidence"
-                                 : field == "depth_scale"      ? "depth-scale"
-                                 : field == "min_depth"        ? "min-depth"
-                                 : field == "max_depth"        ? "max-depth"
+      const std::string option = field == "time_tolerance"        ? "time-tolerance"
+                                 : field == "time_offset"         ? "time-offset"
+                                 : field == "max_pose_gap"        ? "max-pose-gap"
+                                 : field == "label_confidence"    ? "label-confidence"
+                                 : field == "depth_scale"         ? "depth-scale"
+                                 : field == "min_depth"           ? "min-depth"
+                                 : field == "max_depth"           ? "max-depth"
                                  : field == "flying_pixel_ratio"  ? "flying-ratio"
                                  : field == "flying_pixel_radius" ? "flying-radius"
                                  : field == "bilateral_radius"    ? "bilateral"

@@ -127,8 +127,10 @@ std::uint64_t fnv1a(const std::string& text, std::uint64_t hash = 14695981039346
 // Raised whenever the importers write a sequence differently for the same source, so
 // that a cache converted by an earlier version (stamps made from frame numbers, one-hot
 // probabilities without proba_from_label, label images of colour-and-depth sources
-// without label_placeholder) is converted again instead of reused.
-constexpr int kConversionRevision = 3;
+// without label_placeholder; bag poses from stamps rounded through a double, colour
+// from the depth camera's own republish, frames posed across long tf gaps) is
+// converted again instead of reused.
+constexpr int kConversionRevision = 4;
 
 // Files no importer reads, which the studio and the command line write
 // beside a recording (boxes, exports, reports): saving one there must not
@@ -181,12 +183,13 @@ std::string conversionFingerprint(const fs::path& source, SourceKind kind,
   const auto& f = o.depth_filter;
   text << std::setprecision(17) << r.depth_topic << '|' << r.color_topic << '|'
        << r.camera_info_topic << '|' << r.proba_topic << '|' << r.label_topic << '|'
-       << r.fixed_frame << '|' << r.camera_frame << '|' << r.no_color << '|' << o.time_tolerance
-       << '|' << o.time_offset << '|' << f.min_depth << '|' << f.max_depth << '|'
-       << f.flying_pixels << '|' << f.flying_pixel_ratio << '|' << f.flying_pixel_radius << '|'
-       << f.bilateral_radius << '|' << f.bilateral_sigma_space << '|' << f.bilateral_sigma_depth
-       << '|' << o.label_confidence << '|' << o.depth_scale.value_or(0.0) << '|' << o.first_frame
-       << '|' << o.frame_step << '|' << o.max_frames << '|' << o.write_color << '|';
+       << r.fixed_frame << '|' << r.camera_frame << '|' << r.no_color << '|' << r.max_pose_gap
+       << '|' << o.time_tolerance << '|' << o.time_offset << '|' << f.min_depth << '|'
+       << f.max_depth << '|' << f.flying_pixels << '|' << f.flying_pixel_ratio << '|'
+       << f.flying_pixel_radius << '|' << f.bilateral_radius << '|' << f.bilateral_sigma_space
+       << '|' << f.bilateral_sigma_depth << '|' << o.label_confidence << '|'
+       << o.depth_scale.value_or(0.0) << '|' << o.first_frame << '|' << o.frame_step << '|'
+       << o.max_frames << '|' << o.write_color << '|';
   if (o.intrinsics)
     text << o.intrinsics->fx << ',' << o.intrinsics->fy << ',' << o.intrinsics->cx << ','
          << o.intrinsics->cy << ',' << o.intrinsics->width << ',' << o.intrinsics->height;

@@ -408,6 +408,9 @@ struct BagContents {
   std::vector<rosbag::MessageInstance> messages;
   std::map<std::string, CameraInfoList> infos;
   std::vector<geometry_msgs::TransformStamped> dynamic_tf, static_tf;
+  // The header stamps (nanoseconds, sorted once read) of the valid /tf
+  // transforms of each link, by (parent, child); /tf_static is not in it.
+  std::map<std::pair<std::string, std::string>, std::vector<std::int64_t>> link_stamps;
   size_t bad_transforms = 0;
   // Transforms whose quaternion was far from unit length (not mere
   // rounding), normalised, and the range of those norms.
@@ -517,6 +520,9 @@ struct BagContents {
         q.z /= norm;
         q.w /= norm;
       }
+      if (!is_static)
+        link_stamps[{t.header.frame_id, t.child_frame_id}].push_back(
+            static_cast<std::int64_t>(t.header.stamp.toNSec()));
       (is_static ? static_tf : dynamic_tf).push_back(t);
     }
   }
@@ -559,6 +565,10 @@ void readBag(rosbag::Bag& opened, const std::string& file, SequenceWriter& write
   for (auto& [name, list] : contents.infos)
     std::stable_sort(list.begin(), list.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (auto& [link, stamps] : contents.link_stamps) {
+    std::sort(stamps.begin(), stamps.end());
+    stamps.erase(std::unique(stamps.begin(), stamps.end()), stamps.end());
+  }
 }
 
 // The camera info topic that best matches an image topic: the longest common
@@ -692,6 +702,8 @@ class PoseLookup {
              const std::string& file, SequenceWriter& writer)
       : buffer_(ros::Duration(cacheSeconds(contents))),
         tolerance_(bag::toNanoseconds(options.time_tolerance)),
+        max_gap_(bag::toNanoseconds(options.rosbag.max_pose_gap)),
+        max_gap_seconds_(options.rosbag.max_pose_gap),
         has_dynamic_(!contents.dynamic_tf.empty()) {
     const RosbagOptions& given = options.rosbag;
     camera_frame_ = stripSlash(given.camera_frame);
@@ -773,6 +785,7 @@ class PoseLookup {
                     "stands still can ignore this)");
       }
     }
+    findMovingLinks(contents, parent_of);
     if (lower(camera_frame_).find("optical") == std::string::npos)
       writer.note("camera frame '" + camera_frame_ +
                   "' is not named *optical*: it must have z forward, x right, y down");
@@ -828,6 +841,10 @@ class PoseLookup {
       if (!tf_error.empty()) reason += ": " + tf_error;
       return std::nullopt;
     }
+    if (auto gap = gapAt(nanoseconds, seconds)) {
+      reason = std::move(*gap);
+      return std::nullopt;
+    }
     const auto& tr = found->transform;
     const Eigen::Quaterniond q(tr.rotation.w, tr.rotation.x, tr.rotation.y, tr.rotation.z);
     Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();
@@ -838,8 +855,80 @@ class PoseLookup {
   }
 
  private:
+  // A link of the camera's chain that /tf moves, with its sample stamps.
+  struct MovingLink {
+    std::string parent, child;
+    const std::vector<std::int64_t>* stamps = nullptr;  // sorted nanoseconds, in BagContents
+  };
+
+  // The links tf2 chains between the camera frame and the fixed frame (both
+  // walked up, child -> parent, to the first frame they share) that /tf
+  // moves; links of /tf_static stand still and are left out.
+  void findMovingLinks(const BagContents& contents,
+                       const std::map<std::string, std::string>& parent_of) {
+    const auto parentOf = [&](const std::string& f) -> const std::string* {
+      const auto it = parent_of.find(f);
+      return it == parent_of.end() ? nullptr : &it->second;
+    };
+    std::vector<std::string> above_fixed{fixed_frame_};  // the fixed frame and its ancestors
+    for (const std::string* p = parentOf(fixed_frame_);
+         p && std::find(above_fixed.begin(), above_fixed.end(), *p) == above_fixed.end();
+         p = parentOf(*p))
+      above_fixed.push_back(*p);
+    const auto isAboveFixed = [&](const std::string& f) {
+      return std::find(above_fixed.begin(), above_fixed.end(), f) != above_fixed.end();
+    };
+    std::vector<std::pair<std::string, std::string>> chain;  // (parent, child)
+    std::set<std::string> seen{camera_frame_};
+    std::string f = camera_frame_;
+    for (const std::string* p = parentOf(f); !isAboveFixed(f) && p && seen.insert(*p).second;
+         p = parentOf(f)) {
+      chain.emplace_back(*p, f);
+      f = *p;
+    }
+    if (isAboveFixed(f))
+      for (const auto& g : above_fixed) {
+        if (g == f) break;
+        chain.emplace_back(*parentOf(g), g);
+      }
+    for (const auto& link : chain)
+      if (const auto it = contents.link_stamps.find(link); it != contents.link_stamps.end())
+        moving_links_.push_back({link.first, link.second, &it->second});
+  }
+
+  // Why the pose at `nanoseconds` would be a guess: on a moving link of the
+  // chain, no sample lies within the tolerance and the samples around the
+  // stamp are farther apart than the maximum pose gap. Nothing otherwise,
+  // also when the stamp lies before a link's first or after its last sample
+  // (tf2 decides there). `seconds` is the same stamp for the reason.
+  [[nodiscard]] std::optional<std::string> gapAt(std::int64_t nanoseconds, double seconds) const {
+    for (const MovingLink& link : moving_links_) {
+      const std::vector<std::int64_t>& stamps = *link.stamps;
+      if (bag::nearestNanoseconds(stamps, nanoseconds, tolerance_)) continue;
+      const auto after = std::upper_bound(stamps.begin(), stamps.end(), nanoseconds);
+      if (after == stamps.begin() || after == stamps.end()) continue;
+      const std::int64_t before = *std::prev(after);
+      const std::int64_t gap = *after - before;  // ROS times: no overflow
+      if (gap <= max_gap_) continue;
+      return "no pose at " + stampText(seconds) + ": the tf link '" + link.parent + "' -> '" +
+             link.child + "' has no sample within " +
+             formatNumber(1e-9 * static_cast<double>(tolerance_)) +
+             " s of it, and its samples around it, at " +
+             stampText(1e-9 * static_cast<double>(before)) + " and " +
+             stampText(1e-9 * static_cast<double>(*after)) + ", are " +
+             formatNumber(1e-9 * static_cast<double>(gap)) +
+             " s apart, more than the maximum pose gap of " + formatNumber(max_gap_seconds_) +
+             " s (a pose interpolated across a hole in the motion data is a guess; raise the "
+             "max pose gap option to interpolate across it)";
+    }
+    return std::nullopt;
+  }
+
   tf2::BufferCore buffer_;
   std::int64_t tolerance_;  // nanoseconds
+  std::int64_t max_gap_;    // nanoseconds
+  double max_gap_seconds_;  // the same, for messages
+  std::vector<MovingLink> moving_links_;
   bool has_dynamic_;
   std::string camera_frame_, fixed_frame_;
   std::string clock_note_;
@@ -1029,6 +1118,10 @@ class FrameReader {
 }  // namespace
 
 void importRosbag(const fs::path& source, const ImportOptions& options, SequenceWriter& writer) {
+  const double max_gap = options.rosbag.max_pose_gap;
+  if (!(max_gap > 0.0) || !std::isfinite(max_gap))
+    throw Error("", "max_pose_gap", "a positive number of seconds (a large one allows any gap)",
+                formatNumber(max_gap));
   QuietConsole quiet;
   const std::string file = source.string();
   rosbag::Bag opened;

@@ -197,7 +197,7 @@ TEST(CliImport, RosbagOptionsForAnotherSourceAreUsageErrors) {
   writeFrames(dir / "frames");
   writeQuaternion(dir / "room");
   for (const std::string option : {"depth-topic", "color-topic", "camera-info-topic", "proba-topic",
-                                   "label-topic", "fixed-frame", "camera-frame"}) {
+                                   "label-topic", "fixed-frame", "camera-frame", "max-pose-gap"}) {
     SCOPED_TRACE(option);
     const auto given = test::runCli("import frames " + quoted(dir / "frames") + " --out " +
                                     quoted(dir / "seq") + " --" + option + " x");
@@ -217,6 +217,25 @@ TEST(CliImport, RosbagOptionsForAnotherSourceAreUsageErrors) {
       << detected.err;
   EXPECT_NE(detected.err.find("usage: labeloctomap import"), std::string::npos) << detected.err;
   EXPECT_FALSE(fs::exists(dir / "seq"));
+}
+
+// --max-pose-gap takes a positive number of seconds; 0, a negative value, a
+// word or an infinity is a mistake in the call, refused before the bag is read.
+TEST(CliImport, MaxPoseGapMustBeAPositiveNumber) {
+  test::TempDir dir;
+  writeText(dir / "rec.bag", "not a bag\n");
+  for (const std::string value : {"0", "-1", "abc", "inf"}) {
+    SCOPED_TRACE(value);
+    const auto r = test::runCli("import rosbag " + quoted(dir / "rec.bag") + " --out " +
+                                quoted(dir / "seq") + " --max-pose-gap " + value);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("option --max-pose-gap expects a "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("'" + value + "'"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("usage: labeloctomap import"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "seq"));
+  const auto help = test::runCli("import --help");
+  EXPECT_NE(help.out.find("--max-pose-gap S"), std::string::npos) << help.out;
 }
 
 // A label list is checked whether or not the source has label images to name.

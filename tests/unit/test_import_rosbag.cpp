@@ -754,6 +754,147 @@ TEST(ImportRosbag, StampsOutsideRosTimeHaveNoTransform) {
       << report.skipped[0].reason;
 }
 
+// A tf sample: a pure translation (x, y) of `child` in `parent`.
+struct TfSample {
+  std::string parent, child;
+  double stamp = 0.0;
+  double x = 0.0, y = 0.0;
+};
+
+// A bag whose /tf holds `samples` (each in its own message), with
+// base_link -> the optical frame static (identity), and a 1.024 m depth image
+// with its camera info at each of `image_stamps`.
+void writeTfBag(const fs::path& path, const std::vector<TfSample>& samples,
+                const std::vector<double>& image_stamps) {
+  rosbag::Bag bag(path.string(), rosbag::bagmode::Write);
+  for (const TfSample& s : samples) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.translation() = Eigen::Vector3d(s.x, s.y, 0.0);
+    tf2_msgs::TFMessage tf;
+    tf.transforms.push_back(transformMsg(T, s.parent, s.child, s.stamp));
+    bag.write("/tf", ros::Time(s.stamp), tf);
+  }
+  tf2_msgs::TFMessage static_tf;
+  static_tf.transforms.push_back(
+      transformMsg(Eigen::Isometry3d::Identity(), "base_link", kOptical, samples.front().stamp));
+  static_tf.transforms.push_back(
+      transformMsg(Eigen::Isometry3d::Identity(), "world", "anchor", samples.front().stamp));
+  bag.write("/tf_static", ros::Time(samples.front().stamp), static_tf);
+  for (const double stamp : image_stamps) {
+    sensor_msgs::Image depth;
+    depth.header.stamp = ros::Time(stamp);
+    depth.header.frame_id = kOptical;
+    depth.width = kW;
+    depth.height = kH;
+    depth.encoding = "16UC1";
+    depth.step = kW * 2;
+    depth.data.assign(depth.step * kH, 0);
+    for (size_t i = 0; i < depth.data.size(); i += 2) depth.data[i + 1] = 0x04;  // 1024 mm
+    bag.write("/camera/depth/image_rect_raw", depth.header.stamp, depth);
+    sensor_msgs::CameraInfo info;
+    info.header = depth.header;
+    info.width = kW;
+    info.height = kH;
+    info.K = {30, 0, 15.5, 0, 31, 11.5, 0, 0, 1};
+    bag.write("/camera/depth/camera_info", depth.header.stamp, info);
+  }
+  bag.close();
+}
+
+// /tf samples 2 s apart (y from 0 to 2): a frame between them, not within the
+// time tolerance of either, is skipped naming the link, the samples and the
+// gap; --max-pose-gap 3 (or 2: the gap is not more than it) interpolates it.
+TEST(ImportRosbag, APoseAcrossAGapInTfIsSkippedUnlessTheMaxPoseGapAllowsIt) {
+  test::TempDir dir;
+  writeTfBag(dir / "gap.bag",
+             {{"world", "base_link", 100.0, 0.0, 0.0}, {"world", "base_link", 102.0, 0.0, 2.0}},
+             {100.0, 101.0, 101.99, 102.0});
+  ImportOptions options;
+  options.depth_filter.flying_pixels = false;
+  const ImportReport report =
+      importSource(SourceKind::RosBag, dir / "gap.bag", dir / "seq", options);
+  EXPECT_EQ(report.frames_written, 3u) << report.text();
+  ASSERT_EQ(report.skipped.size(), 1u) << report.text();
+  EXPECT_EQ(report.skipped[0].frame, "depth@101.000");
+  const std::string& reason = report.skipped[0].reason;
+  for (const char* part :
+       {"no pose at 101.000: the tf link 'world' -> 'base_link' has no sample within 0.02 s of it",
+        "its samples around it, at 100.000 and 102.000, are 2 s apart",
+        "more than the maximum pose gap of 0.5 s"})
+    EXPECT_NE(reason.find(part), std::string::npos) << part << "\n" << reason;
+  // Within the tolerance of a sample (101.99), the frame is kept across the gap.
+  Sequence sequence = loadSequence(dir / "seq");
+  ASSERT_EQ(sequence.frames.size(), 3u);
+  EXPECT_NEAR(sequence.frames[1].T_world_camera.translation().y(), 1.99, 1e-6);
+
+  // The chain is the same from a fixed frame beside the camera's (world -> anchor static).
+  options.rosbag.fixed_frame = "anchor";
+  const ImportReport beside =
+      importSource(SourceKind::RosBag, dir / "gap.bag", dir / "beside", options);
+  EXPECT_EQ(beside.frames_written, 3u) << beside.text();
+  ASSERT_EQ(beside.skipped.size(), 1u) << beside.text();
+  EXPECT_NE(beside.skipped[0].reason.find("'world' -> 'base_link'"), std::string::npos)
+      << beside.skipped[0].reason;
+  options.rosbag.fixed_frame.clear();
+
+  for (const double allowed : {3.0, 2.0}) {
+    options.rosbag.max_pose_gap = allowed;
+    const fs::path out = dir / ("allowed" + std::to_string(static_cast<int>(allowed)));
+    const ImportReport all = importSource(SourceKind::RosBag, dir / "gap.bag", out, options);
+    EXPECT_EQ(all.frames_written, 4u) << allowed << "\n" << all.text();
+    EXPECT_TRUE(all.skipped.empty()) << all.text();
+    sequence = loadSequence(out);
+    ASSERT_EQ(sequence.frames.size(), 4u);
+    EXPECT_NEAR(sequence.frames[1].T_world_camera.translation().y(), 1.0, 1e-6);
+    EXPECT_NEAR(sequence.frames[1].stamp.value_or(0.0), 101.0, 1e-9);
+  }
+
+  // Not a positive finite number of seconds: refused, naming the option.
+  for (const double bad : {0.0, -1.0, double(INFINITY), double(NAN)}) {
+    options.rosbag.max_pose_gap = bad;
+    const std::string error =
+        errorOf([&] { importSource(SourceKind::RosBag, dir / "gap.bag", dir / "bad", options); });
+    EXPECT_NE(error.find("max_pose_gap: expected a positive number of seconds"), std::string::npos)
+        << bad << ": " << error;
+    EXPECT_FALSE(fs::exists(dir / "bad"));
+  }
+}
+
+// tf at 30 Hz on two moving links of the chain (world -> odom, odom ->
+// base_link, out of phase) and a link outside it with a 2 s gap: images
+// midway between samples are all imported, also with no time tolerance.
+TEST(ImportRosbag, ImagesBetweenSamplesOf30HzTfAreAllImported) {
+  test::TempDir dir;
+  std::vector<TfSample> samples;
+  for (int k = 0; k <= 60; ++k) {
+    const double t = 10.0 + k / 30.0;
+    samples.push_back({"world", "odom", t, 0.0, 0.5 * (t - 10.0)});
+    if (k < 60) samples.push_back({"odom", "base_link", t + 0.01, 0.2 * (t + 0.01 - 10.0), 0.0});
+  }
+  samples.push_back({"world", "marker", 10.0, 1.0, 1.0});
+  samples.push_back({"world", "marker", 12.0, 1.0, 1.0});
+  std::vector<double> images;
+  for (int j = 0; j < 30; ++j) images.push_back(10.0 + (2 * j + 1) / 60.0);
+  writeTfBag(dir / "tf30.bag", samples, images);
+  ImportOptions options;
+  options.depth_filter.flying_pixels = false;
+  for (const double tolerance : {0.02, 0.0}) {
+    SCOPED_TRACE(tolerance);
+    options.time_tolerance = tolerance;
+    const fs::path out = dir / (tolerance > 0 ? "seq" : "exact");
+    const ImportReport report = importSource(SourceKind::RosBag, dir / "tf30.bag", out, options);
+    EXPECT_EQ(report.frames_written, 30u) << report.text();
+    EXPECT_TRUE(report.skipped.empty()) << report.text();
+    const Sequence sequence = loadSequence(out);
+    ASSERT_EQ(sequence.frames.size(), 30u);
+    for (size_t f = 0; f < 30; ++f) {
+      const Eigen::Vector3d t = sequence.frames[f].T_world_camera.translation();
+      EXPECT_NEAR(t.x(), 0.2 * (images[f] - 10.0), 1e-6) << f;
+      EXPECT_NEAR(t.y(), 0.5 * (images[f] - 10.0), 1e-6) << f;
+    }
+  }
+}
+
 // A top-level record of a bag: its offset, header length and data offset
 // (a test's own walk of format 2.0 records).
 struct BagRecord {

@@ -83,6 +83,11 @@ struct RosbagOptions {
   std::string fixed_frame;        // world frame; empty = root of the tf tree above the camera
   std::string camera_frame;       // optical frame; empty = the depth images' header.frame_id
   bool no_color = false;          // do not import colour even if a topic is found
+  // Seconds (> 0, finite): a frame is skipped when, on a link of the camera's
+  // chain that /tf moves, no sample lies within the time tolerance of its stamp
+  // and the samples around it are farther apart than this (a pose interpolated
+  // across a hole in the motion data is a guess). A large value allows any gap.
+  double max_pose_gap = 0.5;
 };
 
 struct ImportOptions {
