@@ -390,6 +390,25 @@ TEST_F(EvaluationPanelTest, TheReportsWarningsAreShown) {
   EXPECT_TRUE(panel().warningsText().isEmpty()) << panel().warningsText().toStdString();
 }
 
+// A box left out before a misnamed one: the warning numbers the misnamed box
+// as the boxes are numbered (the scores' own count skipped the one left out).
+TEST_F(EvaluationPanelTest, NameWarningsNumberTheBoxesAsTheFileDoes) {
+  openAndFuse();
+  waitForScores();
+  AnnotationsModel& boxes = window_.session().annotations();
+  Annotations edited = boxes.annotations();
+  GroundTruthBox unknown = edited.boxes.front();
+  unknown.label = 100;
+  edited.boxes[1].name = "book";
+  edited.boxes.insert(edited.boxes.begin(), unknown);
+  boxes.reset(edited, {});
+  waitForScores();
+  const QString warnings = panel().warningsText();
+  EXPECT_TRUE(warnings.contains("boxes[2].name is 'book'")) << warnings.toStdString();
+  EXPECT_EQ(warnings.count("Warning: "), 1) << warnings.toStdString();
+  EXPECT_TRUE(warnings.contains("the boxes in the studio (not saved)")) << warnings.toStdString();
+}
+
 TEST_F(EvaluationPanelTest, BoxesThatCannotBeScoredAreLeftOutAndNamed) {
   openAndFuse();
   waitForScores();

@@ -351,7 +351,12 @@ void EvaluationPanel::evaluateNow() {
   options.fusion = session_.fusionOptions();
   options.iou_mode = session_.iouMode();
   // Warnings about the boxes name their file, as `score` names it.
-  options.annotations_file = QDir::toNativeSeparators(session_.annotations().path()).toStdString();
+  const AnnotationsModel& model = session_.annotations();
+  annotations_file_ = QDir::toNativeSeparators(model.path()).toStdString();
+  if (model.isDirty() || annotations_file_.empty())
+    annotations_file_ += annotations_file_.empty() ? "the boxes in the studio (not saved)"
+                                                   : " (with edits not saved)";
+  options.annotations_file = annotations_file_;
   annotations.frame_id = sequence->frame_id;
   // A fusion cancelled or stopped part way fused only the first frames: the
   // baselines project the views among those, as `score --frames` does.
@@ -370,8 +375,24 @@ void EvaluationPanel::evaluateNow() {
   session_.worker().evaluate(sequence, annotations, options);
 }
 
-void EvaluationPanel::show(const EvaluationReport& report) {
+void EvaluationPanel::show(const EvaluationReport& scored) {
   if (!awaiting_) return;  // asked for before the map or sequence changed
+  // The scores' box numbers are those of the boxes scored (some may be left
+  // out): the name warnings number the boxes as the file does.
+  EvaluationReport report = scored;
+  if (const auto sequence = session_.sequence()) {
+    for (const std::string& warning : scored.box_name_warnings) {
+      const auto said = std::find(report.warnings.begin(), report.warnings.end(), warning);
+      if (said != report.warnings.end()) report.warnings.erase(said);
+    }
+    Annotations numbered = session_.annotations().annotations();
+    for (const UnscorableBox& left : unscorableBoxes(numbered, sequence->labels.size()))
+      numbered.boxes[left.index].name.clear();  // not scored: no name to warn about
+    report.box_name_warnings = boxNameWarnings(numbered, sequence->labels, annotations_file_,
+                                               (sequence->root / "sequence.json").string());
+    report.warnings.insert(report.warnings.begin(), report.box_name_warnings.begin(),
+                           report.box_name_warnings.end());
+  }
   report_ = report;
   // Boxes changed again while scoring: newer scores are on their way.
   stale_ = debounce_->isActive() || session_.worker().isEvaluating();

@@ -93,6 +93,7 @@ class EvaluationPanel : public QWidget {
   // Boxes left out of the scores being shown (label not an object of the
   // sequence, or a label boxed twice), for the summary.
   QString left_out_;
+  std::string annotations_file_;  // as the warnings name the boxes scored
   // Says that the scores shown are of a map fused from only some frames.
   QString partial_;
 };
