@@ -5,8 +5,38 @@
 #include <QPainter>
 #include <QToolTip>
 #include <algorithm>
+#include <vector>
 
 namespace lom::ui {
+
+namespace {
+
+// The image pixel shown at device pixel `device` of `device_extent` drawn
+// from `extent` image pixels: the one under the device pixel's centre. The
+// drawing and the readout both use it, so the readout names what is drawn
+// (Qt's own scaling samples a little differently, and not alike at every
+// size).
+int sampledIndex(int device, int device_extent, int extent) {
+  const auto index = static_cast<int>((device + 0.5) * extent / device_extent);
+  return std::clamp(index, 0, extent - 1);
+}
+
+QImage sampled(const QImage& image, const QSize& device_size) {
+  const QImage source = image.convertToFormat(QImage::Format_ARGB32);
+  QImage out(device_size, QImage::Format_ARGB32);
+  std::vector<int> columns(static_cast<size_t>(device_size.width()));
+  for (int x = 0; x < device_size.width(); ++x)
+    columns[static_cast<size_t>(x)] = sampledIndex(x, device_size.width(), source.width());
+  for (int y = 0; y < device_size.height(); ++y) {
+    const auto* in = reinterpret_cast<const QRgb*>(
+        source.constScanLine(sampledIndex(y, device_size.height(), source.height())));
+    auto* row = reinterpret_cast<QRgb*>(out.scanLine(y));
+    for (int x = 0; x < device_size.width(); ++x) row[x] = in[columns[static_cast<size_t>(x)]];
+  }
+  return out;
+}
+
+}  // namespace
 
 ImagePane::ImagePane(const QString& caption, QWidget* parent) : QWidget(parent), caption_(caption) {
   setSizePolicy(QSizePolicy::Expanding, QSizePolicy::Expanding);
@@ -54,26 +84,37 @@ void ImagePane::mouseMoveEvent(QMouseEvent* event) {
     emit hovered({-1, -1});
     return;
   }
-  // The image pixel drawn under the screen pixel: the one under its centre,
-  // as drawing a scaled image samples it (the left edge named a pixel up to
-  // a few to the left, and never the last columns and rows).
-  const int u =
-      static_cast<int>((event->pos().x() - target.left() + 0.5) * image_.width() / target.width());
-  const int v =
-      static_cast<int>((event->pos().y() - target.top() + 0.5) * image_.height() / target.height());
-  emit hovered({std::clamp(u, 0, image_.width() - 1), std::clamp(v, 0, image_.height() - 1)});
+  // The image pixel drawn under the centre of the screen pixel (the left
+  // edge named one up to a few to the left, and never the last columns and
+  // rows).
+  const qreal ratio = devicePixelRatioF();
+  const QSize device = deviceSizeOf(target);
+  const int x = std::clamp(static_cast<int>((event->pos().x() - target.left() + 0.5) * ratio), 0,
+                           device.width() - 1);
+  const int y = std::clamp(static_cast<int>((event->pos().y() - target.top() + 0.5) * ratio), 0,
+                           device.height() - 1);
+  emit hovered({sampledIndex(x, device.width(), image_.width()),
+                sampledIndex(y, device.height(), image_.height())});
 }
 
 void ImagePane::leaveEvent(QEvent*) { emit hovered({-1, -1}); }
 
+QSize ImagePane::deviceSizeOf(const QRect& target) const {
+  const qreal ratio = devicePixelRatioF();
+  return {std::max(1, qRound(target.width() * ratio)),
+          std::max(1, qRound(target.height() * ratio))};
+}
+
 void ImagePane::setImage(const QImage& image) {
   image_ = image;
+  drawn_ = QImage();
   placeholder_.clear();
   update();
 }
 
 void ImagePane::setPlaceholder(const QString& text) {
   image_ = QImage();
+  drawn_ = QImage();
   placeholder_ = text;
   update();
 }
@@ -93,9 +134,14 @@ void ImagePane::paintEvent(QPaintEvent*) {
     return;
   }
   const QRect target = imageRect();
-  // Smooth scaling would blur label borders into colours no label has.
-  painter.setRenderHint(QPainter::SmoothPixmapTransform, false);
-  painter.drawImage(target, image_);
+  // Pixel for pixel as the readout maps the mouse (and unblurred: smooth
+  // scaling would blur label borders into colours no label has).
+  const QSize device = deviceSizeOf(target);
+  if (drawn_.size() != device) {
+    drawn_ = sampled(image_, device);
+    drawn_.setDevicePixelRatio(devicePixelRatioF());
+  }
+  painter.drawImage(target.topLeft(), drawn_);
 }
 
 }  // namespace lom::ui

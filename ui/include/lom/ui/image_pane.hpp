@@ -40,11 +40,14 @@ class ImagePane : public QWidget {
 
  private:
   [[nodiscard]] QRect imageRect() const;
+  // The device pixels (HiDPI) the image is drawn into at `target`.
+  [[nodiscard]] QSize deviceSizeOf(const QRect& target) const;
   [[nodiscard]] int captionHeight() const;
 
   QString caption_;
   QString placeholder_;
   QImage image_;
+  QImage drawn_;  // image_ sampled to the device pixels it was last drawn into
 };
 
 }  // namespace lom::ui
