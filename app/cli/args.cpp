@@ -99,8 +99,7 @@ void Args::expectOnly(const std::set<std::string>& known, size_t max_positionals
     const std::string next =
         v.substr(2, v.find('=') == std::string::npos ? std::string::npos : v.find('=') - 2);
     if (known.count(next) || flag_names_.count(next))
-      throw UsageError("option --" + key + " expects a value, got the option " + v +
-                       " (a value starting with -- can be given as ./" + v + ")");
+      throw UsageError("option --" + key + " expects a value, got the option " + v);
   }
   for (size_t i = 0; i < options_.size(); ++i)
     for (size_t j = 0; j < i; ++j)

@@ -183,7 +183,7 @@ QString loadBoxes(StudioSession& session, const QString& path) {
       emit session.controller().warningOccurred(
           QObject::tr("Recovered boxes"),
           QObject::tr("%1 is a recovery copy. Its boxes are shown as this sequence's boxes, not "
-                      "yet saved: Save Boxes writes them to %2, and the copy is left as it is.")
+                      "yet saved: Save Boxes writes them to %2.")
               .arg(QDir::toNativeSeparators(path),
                    QDir::toNativeSeparators(defaultBoxesPath(session))));
     } else if (other.isEmpty()) {
