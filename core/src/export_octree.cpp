@@ -49,8 +49,9 @@ class OctreeCopy {
         options_(options),
         target_(target),
         // OctoMap's tools threshold at 0.5 (log-odds 0): shift the map's values so
-        // that exactly the map's occupied voxels are occupied there.
-        shift_(-logit(map.parameters().occupancy_threshold)) {}
+        // that exactly the map's occupied voxels are occupied there (by the
+        // tree's own float threshold: v - t >= 0 exactly when v >= t).
+        shift_(-map.tree().getOccupancyThresLog()) {}
 
   // Returns the number of leaves copied.
   size_t run() {

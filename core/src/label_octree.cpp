@@ -371,14 +371,25 @@ void LabelOcTree::applyParameters() {
   // clamping, iterators) agrees with the paper's rule.
   setResolution(parameters_.resolution);
   setProbMiss(parameters_.p_miss);
-  setOccupancyThres(parameters_.occupancy_threshold);
+  applyOccupancyThreshold();
   setClampingThresMin(parameters_.clamp_min);
   setClampingThresMax(parameters_.clamp_max);
 }
 
+void LabelOcTree::applyOccupancyThreshold() {
+  // Occupied when max_k p_k >= threshold, p and threshold equal within
+  // kOccupancyThresholdTolerance: the log-odds are floats, so a voxel seen
+  // once with p = 0.9 holds logit(0.9) rounded down to a float, and fell short
+  // of a threshold of 0.9 rounded the other way.
+  setOccupancyThres(parameters_.occupancy_threshold);
+  const double lowered =
+      std::max(parameters_.occupancy_threshold - kOccupancyThresholdTolerance, 1e-12);
+  occ_prob_thres_log = static_cast<float>(std::log(lowered / (1.0 - lowered)));
+}
+
 void LabelOcTree::setOccupancyThreshold(double threshold) {
   parameters_.occupancy_threshold = threshold;
-  setOccupancyThres(threshold);
+  applyOccupancyThreshold();
 }
 
 void LabelOcTree::setIntegrationParameters(double p_miss, double max_range) {

@@ -158,6 +158,23 @@ TEST_P(FusionRulesTest, ThresholdBoundaryCountsAsOccupied) {
   EXPECT_EQ(map.occupiedCountPerLabel().at(0), 1u);
 }
 
+// A probability equal to the threshold is "at" it, also where its float
+// log-odds fall a unit in the last place below the threshold's: a voxel seen
+// once with p = 0.9 (a label image's confidence) was free at threshold 0.9.
+TEST_P(FusionRulesTest, AProbabilityEqualToTheThresholdIsOccupiedWhateverItsRounding) {
+  for (const double threshold : {0.65, 0.9, 0.95, 0.96}) {
+    SCOPED_TRACE(threshold);
+    const auto p = static_cast<float>(threshold);
+    LabelMap map(threeLabels());
+    integrate(map, {{0.5, {0.5f * (1.0f - p), p, 0.5f * (1.0f - p)}}});
+    map.setOccupancyThreshold(threshold);
+    EXPECT_TRUE(map.voxelAt(at(0.505)).occupied);
+    EXPECT_EQ(map.occupiedCountPerLabel().count(1), 1u);
+    map.setOccupancyThreshold(threshold + 1e-4);  // above it: free
+    EXPECT_FALSE(map.voxelAt(at(0.505)).occupied);
+  }
+}
+
 TEST_P(FusionRulesTest, TiesGoToTheLowerLabelId) {
   LabelMap map(threeLabels());
   integrate(map, {{0.5, {0.1f, 0.6f, 0.6f}}});

@@ -19,11 +19,17 @@ namespace lom {
 
 class LabelOcTree;
 
+// A voxel whose largest probability is within this of the occupancy threshold
+// counts as at it (occupied): its log-odds are floats, so a probability equal
+// to the threshold may be stored a few units in the last place below it.
+inline constexpr double kOccupancyThresholdTolerance = 1e-6;
+
 // Defaults are the paper's experimental settings and OctoMap's clamping.
 struct MapParameters {
   double resolution = 0.01;           // voxel edge, metres
   double p_miss = 0.3;                // probability given to every label of a missed voxel
-  double occupancy_threshold = 0.5;   // occupied iff max_k p_k >= threshold
+  double occupancy_threshold = 0.5;   // occupied iff max_k p_k >= threshold (within
+                                      // kOccupancyThresholdTolerance: the log-odds are floats)
   double clamp_min = 0.12;            // per-label probability clamping range
   double clamp_max = 0.97;
   double max_range = 1.0;             // metres from the camera; <= 0 means unlimited

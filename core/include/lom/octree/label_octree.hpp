@@ -203,6 +203,7 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
 
  private:
   void applyParameters();
+  void applyOccupancyThreshold();
   // One node and its subtree, at most down to the finest depth (no recursion
   // deeper than the tree's 16 levels, whatever the file says).
   void readNodes(LabelOcTreeNode* node, unsigned depth, std::istream& s);
