@@ -361,7 +361,8 @@ int runFuse(const Words& words) {
   checkCamerasInsideMap(sequence, options.map.resolution, options.first_frame, options.last_frame);
   for (const auto& jump : cameraJumps(sequence, 10.0, options.first_frame, options.last_frame))
     std::cerr << "warning: " << jump << ": the map will span that distance\n";
-  for (const auto& camera : implausibleIntrinsics(sequence))
+  for (const auto& camera :
+       implausibleIntrinsics(sequence, options.first_frame, options.last_frame))
     std::cerr << "warning: " << (sequence.root / "sequence.json").string() << ": " << camera << "\n";
 
   const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);

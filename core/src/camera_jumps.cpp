@@ -61,18 +61,21 @@ std::optional<std::string> implausibleCamera(const std::string& field, const Cam
 
 }  // namespace
 
-std::vector<std::string> implausibleIntrinsics(const Sequence& sequence) {
+std::vector<std::string> implausibleIntrinsics(const Sequence& sequence, size_t first_frame,
+                                               size_t last_frame) {
   std::vector<std::string> warnings;
+  const size_t begin = std::min(first_frame, sequence.frames.size());
+  const size_t end = std::min(last_frame, sequence.frames.size());
   const bool shared_camera_used =
-      sequence.frames.empty() ||
-      std::any_of(sequence.frames.begin(), sequence.frames.end(),
-                  [](const FrameRecord& frame) { return !frame.camera; });
+      begin >= end || std::any_of(sequence.frames.begin() + static_cast<std::ptrdiff_t>(begin),
+                                  sequence.frames.begin() + static_cast<std::ptrdiff_t>(end),
+                                  [](const FrameRecord& frame) { return !frame.camera; });
   if (shared_camera_used)
     if (auto warning = implausibleCamera("camera", sequence.camera)) warnings.push_back(*warning);
   // Cameras of their own: the first implausible one, and how many more.
   std::optional<std::string> first;
   size_t others = 0;
-  for (size_t i = 0; i < sequence.frames.size(); ++i) {
+  for (size_t i = begin; i < end; ++i) {
     if (!sequence.frames[i].camera) continue;
     auto warning = implausibleCamera("frames[" + std::to_string(i) + "].camera", *sequence.frames[i].camera);
     if (!warning) continue;

@@ -121,10 +121,13 @@ void LabelMap::noteFusedCandidates(const std::optional<std::vector<int>>& candid
     sorted->erase(std::unique(sorted->begin(), sorted->end()), sorted->end());
   }
   FusedCandidates record = tree_->fusedCandidates();
+  // Unknown stays unknown: a map of an old file records no camera views
+  // either, so "no views" alone does not tell a fresh map.
+  if (!record.recorded) return;
   if (tree_->cameraViews().views == 0) {
     record = FusedCandidates{true, std::move(sorted)};
-  } else if (!record.recorded || !record.labels) {
-    return;  // unknown (an old file), or every label already
+  } else if (!record.labels) {
+    return;  // every label already
   } else if (!sorted) {
     record.labels.reset();
   } else {

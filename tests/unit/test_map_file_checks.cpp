@@ -229,6 +229,19 @@ TEST_F(MapFileTest, VersionOneMapsWithoutTheCameraViewRecordStillLoad) {
   EXPECT_FALSE(map.fusedCandidates().recorded);
 }
 
+// Frames fused into a version-1 map (fuse --start-from) leave its candidates
+// unknown: it records no camera views, which made it look fresh, and the new
+// frames' candidates were recorded as those of every frame.
+TEST_F(MapFileTest, FramesFusedIntoAVersionOneMapLeaveItsCandidatesUnknown) {
+  const fs::path path = changed([](MapFile& f) { f.version = 1; });
+  lom::LabelMap map = lom::LabelMap::load(path);
+  map.noteFusedCandidates(std::vector<int>{0, 1});
+  map.noteCameraView(Eigen::Matrix3d::Identity());
+  EXPECT_FALSE(map.fusedCandidates().recorded);
+  map.save(dir / "continued.ot");
+  EXPECT_FALSE(lom::LabelMap::load(dir / "continued.ot").fusedCandidates().recorded);
+}
+
 TEST_F(MapFileTest, VersionTwoMapsLoadWithTheirCandidatesUnknown) {
   const fs::path path = changed([](MapFile& f) { f.version = 2; });
   const lom::LabelMap map = lom::LabelMap::load(path);

@@ -259,6 +259,15 @@ TEST(ImplausibleIntrinsics, NameCamerasNoDepthCameraHas) {
   for (auto& frame : sequence.frames)
     if (!frame.camera) frame.camera = lom::CameraIntrinsics();
   EXPECT_EQ(lom::implausibleIntrinsics(sequence).size(), 1u);
+
+  // Only the frames fused count (fuse --frames 0:2 warned about frame 2's).
+  EXPECT_TRUE(lom::implausibleIntrinsics(sequence, 0, 2).empty());
+  warnings = lom::implausibleIntrinsics(sequence, 3, 5);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].rfind("frames[4].camera: fx = 1.93", 0), 0u) << warnings[0];
+  sequence.frames[1].camera.reset();  // frame 1 uses the shared camera, fx = 1
+  EXPECT_EQ(lom::implausibleIntrinsics(sequence, 0, 2).size(), 1u);
+  EXPECT_TRUE(lom::implausibleIntrinsics(sequence, 3, 4).empty());
 }
 
 TEST_F(SequenceTest, AcceptsTheJsonPathAndAppliesDefaults) {

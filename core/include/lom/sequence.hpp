@@ -1,12 +1,12 @@
 #pragma once
 // Recorded frame sequences, format "labeloctomap-sequence" version 1
 // (docs/sequence-format.md).
+#include <Eigen/Geometry>
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 #include "lom/camera.hpp"
 #include "lom/error.hpp"
@@ -102,9 +102,12 @@ void saveSequence(const Sequence& sequence, const std::filesystem::path& folder)
 // sequence's camera (when a frame uses it) and one for the first frame with a
 // camera of its own that is implausible, "camera: fx = ..., fy = ... give a
 // field of view of 179.4 x 179.1 degrees at 640 x 480 pixels; ...". A warning:
-// the values are valid numbers, and a lens may be unusual.
+// the values are valid numbers, and a lens may be unusual. Only the cameras of
+// frames [first_frame, last_frame) count (those a fusion of them uses).
 inline constexpr double kMaxPlausibleFieldOfView = 150.0;
-[[nodiscard]] std::vector<std::string> implausibleIntrinsics(const Sequence& sequence);
+[[nodiscard]] std::vector<std::string> implausibleIntrinsics(
+    const Sequence& sequence, size_t first_frame = 0,
+    size_t last_frame = std::numeric_limits<size_t>::max());
 
 // Which of a frame's images loadFrame reads besides its depth image: a part
 // left out stays empty in FrameData and its file is not opened.
