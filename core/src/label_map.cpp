@@ -115,15 +115,15 @@ void LabelMap::noteCameraView(const Eigen::Matrix3d& R_world_camera) {
 const CameraViewRecord& LabelMap::cameraViews() const { return tree_->cameraViews(); }
 
 void LabelMap::noteFusedCandidates(const std::optional<std::vector<int>>& candidates) {
+  FusedCandidates record = tree_->fusedCandidates();
+  // Unknown stays unknown: a map of an old file records no camera views
+  // either, so "no views" alone does not tell a fresh map.
+  if (!record.recorded) return;
   std::optional<std::vector<int>> sorted = candidates;
   if (sorted) {
     std::sort(sorted->begin(), sorted->end());
     sorted->erase(std::unique(sorted->begin(), sorted->end()), sorted->end());
   }
-  FusedCandidates record = tree_->fusedCandidates();
-  // Unknown stays unknown: a map of an old file records no camera views
-  // either, so "no views" alone does not tell a fresh map.
-  if (!record.recorded) return;
   if (tree_->cameraViews().views == 0) {
     record = FusedCandidates{true, std::move(sorted)};
   } else if (!record.labels) {

@@ -91,10 +91,10 @@ void writeRecoveryFile(const Annotations& boxes, const QString& save_to,
 
 RecoveredBoxes readRecoveryFile(const QString& path) {
   QFile file(path);
-  if (!file.open(QIODevice::ReadOnly)) return {loadAnnotations(toPath(path)), std::nullopt};
+  if (!file.open(QIODevice::ReadOnly)) return {loadAnnotations(toPath(path)), std::nullopt, {}};
   const QJsonObject recovery = QJsonDocument::fromJson(file.readAll()).object();
   if (recovery.value("format").toString() != QLatin1String(kRecoveryFormat))
-    return {loadAnnotations(toPath(path)), std::nullopt};
+    return {loadAnnotations(toPath(path)), std::nullopt, {}};
   // Read back through the core, which checks every field of the boxes.
   const QString boxes_file = path + ".boxes";
   writeTextFileAtomically(toPath(boxes_file),
