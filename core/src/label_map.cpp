@@ -115,7 +115,7 @@ void LabelMap::noteCameraView(const Eigen::Matrix3d& R_world_camera) {
 const CameraViewRecord& LabelMap::cameraViews() const { return tree_->cameraViews(); }
 
 void LabelMap::noteFusedCandidates(const std::optional<std::vector<int>>& candidates) {
-  FusedCandidates record = tree_->fusedCandidates();
+  const FusedCandidates& record = tree_->fusedCandidates();
   // Unknown stays unknown: a map of an old file records no camera views
   // either, so "no views" alone does not tell a fresh map.
   if (!record.recorded) return;
@@ -125,18 +125,17 @@ void LabelMap::noteFusedCandidates(const std::optional<std::vector<int>>& candid
     sorted->erase(std::unique(sorted->begin(), sorted->end()), sorted->end());
   }
   if (tree_->cameraViews().views == 0) {
-    record = FusedCandidates{true, std::move(sorted)};
+    tree_->setFusedCandidates(FusedCandidates{true, std::move(sorted)});
   } else if (!record.labels) {
     return;  // every label already
   } else if (!sorted) {
-    record.labels.reset();
+    tree_->setFusedCandidates(FusedCandidates{true, std::nullopt});
   } else {
     std::vector<int> both;
     std::set_union(record.labels->begin(), record.labels->end(), sorted->begin(), sorted->end(),
                    std::back_inserter(both));
-    record.labels = std::move(both);
+    tree_->setFusedCandidates(FusedCandidates{true, std::move(both)});
   }
-  tree_->setFusedCandidates(record);
 }
 
 const FusedCandidates& LabelMap::fusedCandidates() const { return tree_->fusedCandidates(); }
