@@ -24,6 +24,18 @@ namespace {
 class MeasureTest : public fixture::DemoWindowTest {
  protected:
   QString statusMessage() { return window_.statusBar()->currentMessage(); }
+  // The demo fused and framed in the 3D view (frame points hidden); the view's
+  // surface picks are collected in surface_.
+  QVTKOpenGLNativeWidget* viewOfTheFusedMap() {
+    openAndFuse();
+    SceneView& scene = window_.sceneView();
+    scene.setFrameCloudVisible(false);
+    scene.zoomToMap();
+    QObject::connect(&scene, &SceneView::surfacePicked,
+                     [this](const Eigen::Vector3d& point) { surface_.push_back(point); });
+    return scene.findChild<QVTKOpenGLNativeWidget*>();
+  }
+  std::vector<Eigen::Vector3d> surface_;
 };
 
 TEST(Measurement, DistanceAlongAndAcrossUp) {
@@ -70,21 +82,16 @@ TEST(Measurement, ClicksPickTheFaceOfTheFirstVoxelAlongTheRay) {
 }
 
 TEST_F(MeasureTest, ClicksOnTheMapMeasureBetweenSurfacePoints) {
-  openAndFuse();
+  auto* vtk = viewOfTheFusedMap();
+  ASSERT_NE(vtk, nullptr);
   SceneView& scene = window_.sceneView();
-  scene.setFrameCloudVisible(false);
-  scene.zoomToMap();
+  std::vector<Eigen::Vector3d>& surface = surface_;
   QAction* measure = window_.findAction("Measure Distance");
   ASSERT_NE(measure, nullptr);
   EXPECT_TRUE(measure->isCheckable());
   EXPECT_EQ(measure->shortcut(), QKeySequence("Ctrl+D"));
 
   // Off: a click on the map measures nothing.
-  auto* vtk = scene.findChild<QVTKOpenGLNativeWidget*>();
-  ASSERT_NE(vtk, nullptr);
-  std::vector<Eigen::Vector3d> surface;
-  QObject::connect(&scene, &SceneView::surfacePicked,
-                   [&](const Eigen::Vector3d& point) { surface.push_back(point); });
   const QPoint middle(vtk->width() / 2, vtk->height() / 2);
   QTest::mouseClick(vtk, Qt::LeftButton, Qt::NoModifier, middle);
   ASSERT_EQ(surface.size(), 1u) << "the map lies in the middle of the view";
@@ -138,15 +145,10 @@ TEST_F(MeasureTest, ClicksOnTheMapMeasureBetweenSurfacePoints) {
 // inside it picked nothing and measured nothing (the first box is selected
 // from the start).
 TEST_F(MeasureTest, AClickInsideTheSelectedBoxPicksAndMeasures) {
-  openAndFuse();
-  SceneView& scene = window_.sceneView();
-  scene.setFrameCloudVisible(false);
-  scene.zoomToMap();
-  auto* vtk = scene.findChild<QVTKOpenGLNativeWidget*>();
+  auto* vtk = viewOfTheFusedMap();
   ASSERT_NE(vtk, nullptr);
-  std::vector<Eigen::Vector3d> surface;
-  QObject::connect(&scene, &SceneView::surfacePicked,
-                   [&](const Eigen::Vector3d& point) { surface.push_back(point); });
+  SceneView& scene = window_.sceneView();
+  std::vector<Eigen::Vector3d>& surface = surface_;
   const QPoint middle(vtk->width() / 2, vtk->height() / 2);
   QTest::mouseClick(vtk, Qt::LeftButton, Qt::NoModifier, middle);
   ASSERT_EQ(surface.size(), 1u) << "the map lies in the middle of the view";

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <thread>
 
@@ -70,6 +71,21 @@ class UnsavedMapTest : public fixture::DemoWindowTest {
     });
     hold_ = hold;
     return hold;
+  }
+  // While `timer` runs, every 20 ms: `answer` is called once for each message
+  // box shown with a text not asked before, which `asked` records.
+  static void answerNewQuestions(QTimer& timer, QStringList& asked,
+                                 std::function<void(QMessageBox&)> answer) {
+    timer.setInterval(20);
+    QObject::connect(&timer, &QTimer::timeout, [&asked, answer = std::move(answer)] {
+      for (QWidget* widget : QApplication::topLevelWidgets()) {
+        auto* box = qobject_cast<QMessageBox*>(widget);
+        if (!box || !box->isVisible() || asked.contains(box->text())) continue;
+        asked << box->text();
+        answer(*box);
+      }
+    });
+    timer.start();
   }
   void TearDown() override {
     if (hold_) hold_->release = true;
@@ -221,26 +237,19 @@ TEST_F(UnsavedMapTest, AFusionThatEndsWhileClosingIsAskedIsAskedAboutItsMap) {
   QStringList asked;
   bool closing_answered = false;
   QTimer answerer;
-  answerer.setInterval(20);
-  QObject::connect(&answerer, &QTimer::timeout, [&] {
-    for (QWidget* widget : QApplication::topLevelWidgets()) {
-      auto* box = qobject_cast<QMessageBox*>(widget);
-      if (!box || !box->isVisible() || asked.contains(box->text())) continue;
-      asked << box->text();
-      if (box->text().contains("Closing the studio now stops")) {
-        held->release = true;  // the fusion ends while the question is open
-      } else if (box->text().contains("has finished") && !closing_answered) {
-        for (QAbstractButton* button : box->buttons())
-          if (button->text().remove('&') == "Close") {
-            closing_answered = true;
-            QMetaObject::invokeMethod(button, "click", Qt::QueuedConnection);
-          }
-      } else {
-        QMetaObject::invokeMethod(box, "reject", Qt::QueuedConnection);  // Cancel
-      }
+  answerNewQuestions(answerer, asked, [&](QMessageBox& box) {
+    if (box.text().contains("Closing the studio now stops")) {
+      held->release = true;  // the fusion ends while the question is open
+    } else if (box.text().contains("has finished") && !closing_answered) {
+      for (QAbstractButton* button : box.buttons())
+        if (button->text().remove('&') == "Close") {
+          closing_answered = true;
+          QMetaObject::invokeMethod(button, "click", Qt::QueuedConnection);
+        }
+    } else {
+      QMetaObject::invokeMethod(&box, "reject", Qt::QueuedConnection);  // Cancel
     }
   });
-  answerer.start();
   EXPECT_FALSE(window_.close());
   ASSERT_EQ(asked.size(), 3) << asked.join("\n").toStdString();
   EXPECT_TRUE(asked[0].contains("fusion of")) << asked[0].toStdString();
@@ -263,21 +272,14 @@ TEST_F(UnsavedMapTest, TheMapQuestionOffersSaveOnceTheFusionEndsWhileItIsOpen) {
   QStringList asked;
   QStringList buttons_at_end;
   QTimer answerer;
-  answerer.setInterval(20);
-  QObject::connect(&answerer, &QTimer::timeout, [&] {
-    for (QWidget* widget : QApplication::topLevelWidgets()) {
-      auto* box = qobject_cast<QMessageBox*>(widget);
-      if (!box || !box->isVisible() || asked.contains(box->text())) continue;
-      asked << box->text();
-      if (box->text().contains("being fused from")) {
-        held->release = true;
-      } else {
-        for (QAbstractButton* button : box->buttons()) buttons_at_end << button->text().remove('&');
-        QMetaObject::invokeMethod(box, "reject", Qt::QueuedConnection);  // Cancel
-      }
+  answerNewQuestions(answerer, asked, [&](QMessageBox& box) {
+    if (box.text().contains("being fused from")) {
+      held->release = true;
+    } else {
+      for (QAbstractButton* button : box.buttons()) buttons_at_end << button->text().remove('&');
+      QMetaObject::invokeMethod(&box, "reject", Qt::QueuedConnection);  // Cancel
     }
   });
-  answerer.start();
   window_.findAction("Reset Map")->trigger();
   ASSERT_EQ(asked.size(), 2) << asked.join("\n").toStdString();
   EXPECT_TRUE(asked[1].contains("fused from")) << asked[1].toStdString();

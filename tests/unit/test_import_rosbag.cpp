@@ -646,6 +646,27 @@ TEST(ImportRosbag, CutJpegColourIsLeftOutWithLibjpegsReasonAndNothingPrinted) {
 // ~0.24 us: an image stamped exactly at a tf sample gets that sample's pose,
 // also the first and the last (0.1 s past the second went through a double
 // to 95 ns before the first tf sample, outside tf).
+// A flat depth image 1024 mm away and its camera info, stamped `stamp`, on the
+// topics of a RealSense's depth camera.
+void writeFlatDepthFrame(rosbag::Bag& bag, const ros::Time& stamp) {
+  sensor_msgs::Image depth;
+  depth.header.stamp = stamp;
+  depth.header.frame_id = kOptical;
+  depth.width = kW;
+  depth.height = kH;
+  depth.encoding = "16UC1";
+  depth.step = kW * 2;
+  depth.data.assign(depth.step * kH, 0);
+  for (size_t i = 0; i < depth.data.size(); i += 2) depth.data[i + 1] = 0x04;  // 1024 mm
+  bag.write("/camera/depth/image_rect_raw", depth.header.stamp, depth);
+  sensor_msgs::CameraInfo info;
+  info.header = depth.header;
+  info.width = kW;
+  info.height = kH;
+  info.K = {30, 0, 15.5, 0, 31, 11.5, 0, 0, 1};
+  bag.write("/camera/depth/camera_info", depth.header.stamp, info);
+}
+
 void writeEpochBag(const fs::path& path) {
   rosbag::Bag bag(path.string(), rosbag::bagmode::Write);
   const auto at = [](int ms) {
@@ -661,22 +682,7 @@ void writeEpochBag(const fs::path& path) {
   static_tf.transforms.push_back(transformMsg(baseCamera(), "base_link", kOptical, 1.0));
   bag.write("/tf_static", at(100), static_tf);
   for (int f = 0; f < 3; ++f) {  // images at .100, .200, .300
-    sensor_msgs::Image depth;
-    depth.header.stamp = at(100 + 100 * f);
-    depth.header.frame_id = kOptical;
-    depth.width = kW;
-    depth.height = kH;
-    depth.encoding = "16UC1";
-    depth.step = kW * 2;
-    depth.data.assign(depth.step * kH, 0);
-    for (size_t i = 0; i < depth.data.size(); i += 2) depth.data[i + 1] = 0x04;  // 1024 mm
-    bag.write("/camera/depth/image_rect_raw", depth.header.stamp, depth);
-    sensor_msgs::CameraInfo info;
-    info.header = depth.header;
-    info.width = kW;
-    info.height = kH;
-    info.K = {30, 0, 15.5, 0, 31, 11.5, 0, 0, 1};
-    bag.write("/camera/depth/camera_info", depth.header.stamp, info);
+    writeFlatDepthFrame(bag, at(100 + 100 * f));
   }
   bag.close();
 }
@@ -781,22 +787,7 @@ void writeTfBag(const fs::path& path, const std::vector<TfSample>& samples,
       transformMsg(Eigen::Isometry3d::Identity(), "world", "anchor", samples.front().stamp));
   bag.write("/tf_static", ros::Time(samples.front().stamp), static_tf);
   for (const double stamp : image_stamps) {
-    sensor_msgs::Image depth;
-    depth.header.stamp = ros::Time(stamp);
-    depth.header.frame_id = kOptical;
-    depth.width = kW;
-    depth.height = kH;
-    depth.encoding = "16UC1";
-    depth.step = kW * 2;
-    depth.data.assign(depth.step * kH, 0);
-    for (size_t i = 0; i < depth.data.size(); i += 2) depth.data[i + 1] = 0x04;  // 1024 mm
-    bag.write("/camera/depth/image_rect_raw", depth.header.stamp, depth);
-    sensor_msgs::CameraInfo info;
-    info.header = depth.header;
-    info.width = kW;
-    info.height = kH;
-    info.K = {30, 0, 15.5, 0, 31, 11.5, 0, 0, 1};
-    bag.write("/camera/depth/camera_info", depth.header.stamp, info);
+    writeFlatDepthFrame(bag, ros::Time(stamp));
   }
   bag.close();
 }
