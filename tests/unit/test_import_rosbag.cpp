@@ -103,6 +103,17 @@ Eigen::Isometry3d baseCamera() {
   return T;
 }
 
+// Frame f of `sequence` is posed as the moving base at 10 + 0.1 f s, with the
+// camera's mount on it; `why` is said for a frame that is not.
+void expectPosesOfTheMovingBase(const Sequence& sequence, size_t frames, const char* why) {
+  ASSERT_GE(sequence.frames.size(), frames);
+  for (size_t f = 0; f < frames; ++f)
+    EXPECT_TRUE(sequence.frames[f].T_world_camera.matrix().isApprox(
+        (worldBase(10.0 + 0.1 * static_cast<double>(f)) * baseCamera()).matrix(), 1e-6))
+        << "frame " << f << why << "\n"
+        << sequence.frames[f].T_world_camera.matrix();
+}
+
 geometry_msgs::TransformStamped transformMsg(const Eigen::Isometry3d& T, const std::string& parent,
                                              const std::string& child, double stamp) {
   geometry_msgs::TransformStamped t;
@@ -474,11 +485,7 @@ TEST(ImportRosbag, NonUnitQuaternionsAreNormalisedAndRefusedTransformsCounted) {
       << report.text();
   EXPECT_TRUE(anyNote(report, "1 tf transforms were refused by tf2 and ignored")) << report.text();
   const Sequence sequence = loadSequence(dir / "seq");
-  for (int f = 0; f < 4; ++f)
-    EXPECT_TRUE(sequence.frames[f].T_world_camera.matrix().isApprox(
-        (worldBase(10.0 + 0.1 * f) * baseCamera()).matrix(), 1e-6))
-        << "frame " << f << "\n"
-        << sequence.frames[f].T_world_camera.matrix();
+  expectPosesOfTheMovingBase(sequence, 4, "");
 }
 
 // tf stamped 0 takes its record time, as images do.
@@ -642,10 +649,6 @@ TEST(ImportRosbag, CutJpegColourIsLeftOutWithLibjpegsReasonAndNothingPrinted) {
   EXPECT_TRUE(loadFrame(sequence, 3).color.has_value());
 }
 
-// Stamps at epoch times (sec 1700000000), where a double resolves only
-// ~0.24 us: an image stamped exactly at a tf sample gets that sample's pose,
-// also the first and the last (0.1 s past the second went through a double
-// to 95 ns before the first tf sample, outside tf).
 // A flat depth image 1024 mm away and its camera info, stamped `stamp`, on the
 // topics of a RealSense's depth camera.
 void writeFlatDepthFrame(rosbag::Bag& bag, const ros::Time& stamp) {
@@ -667,6 +670,10 @@ void writeFlatDepthFrame(rosbag::Bag& bag, const ros::Time& stamp) {
   bag.write("/camera/depth/camera_info", depth.header.stamp, info);
 }
 
+// Stamps at epoch times (sec 1700000000), where a double resolves only
+// ~0.24 us: an image stamped exactly at a tf sample gets that sample's pose,
+// also the first and the last (0.1 s past the second went through a double
+// to 95 ns before the first tf sample, outside tf).
 void writeEpochBag(const fs::path& path) {
   rosbag::Bag bag(path.string(), rosbag::bagmode::Write);
   const auto at = [](int ms) {
@@ -696,11 +703,7 @@ TEST(ImportRosbag, EpochStampsKeepTheirNanoseconds) {
       importSource(SourceKind::RosBag, dir / "epoch.bag", dir / "seq", options);
   ASSERT_EQ(report.frames_written, 3u) << report.text();
   const Sequence sequence = loadSequence(dir / "seq");
-  for (int f = 0; f < 3; ++f)
-    EXPECT_TRUE(sequence.frames[f].T_world_camera.matrix().isApprox(
-        (worldBase(10.0 + 0.1 * f) * baseCamera()).matrix(), 1e-6))
-        << "frame " << f << " gets the tf sample at its own stamp\n"
-        << sequence.frames[f].T_world_camera.matrix();
+  expectPosesOfTheMovingBase(sequence, 3, " gets the tf sample at its own stamp");
   // No tolerance: each stamp must be found as it is.
   options.time_tolerance = 0.0;
   const ImportReport exact =
