@@ -891,9 +891,34 @@ class PoseLookup {
         if (g == f) break;
         chain.emplace_back(*parentOf(g), g);
       }
+    // A link /tf_static also gives stands still whatever /tf adds to it.
+    std::set<std::pair<std::string, std::string>> fixed_links;
+    for (const auto& t : contents.static_tf)
+      fixed_links.emplace(t.header.frame_id, t.child_frame_id);
     for (const auto& link : chain)
-      if (const auto it = contents.link_stamps.find(link); it != contents.link_stamps.end())
+      if (const auto it = contents.link_stamps.find(link);
+          it != contents.link_stamps.end() && !fixed_links.count(link))
         moving_links_.push_back({link.first, link.second, &it->second});
+  }
+
+  // Whether `link` holds the same transform (within a micrometre and a
+  // microradian) at its samples `a` and `b`: interpolating between them is
+  // exact then, however far apart (a slow link that does not move).
+  [[nodiscard]] bool sameAt(const MovingLink& link, std::int64_t a, std::int64_t b) const {
+    try {
+      ros::Time at_a, at_b;
+      at_a.fromNSec(static_cast<std::uint64_t>(a));
+      at_b.fromNSec(static_cast<std::uint64_t>(b));
+      const auto x = buffer_.lookupTransform(link.parent, link.child, at_a).transform;
+      const auto y = buffer_.lookupTransform(link.parent, link.child, at_b).transform;
+      const Eigen::Vector3d dt(x.translation.x - y.translation.x, x.translation.y - y.translation.y,
+                               x.translation.z - y.translation.z);
+      const Eigen::Quaterniond qx(x.rotation.w, x.rotation.x, x.rotation.y, x.rotation.z);
+      const Eigen::Quaterniond qy(y.rotation.w, y.rotation.x, y.rotation.y, y.rotation.z);
+      return dt.norm() <= 1e-6 && qx.normalized().angularDistance(qy.normalized()) <= 1e-6;
+    } catch (const tf2::TransformException&) {
+      return false;
+    }
   }
 
   // Why the pose at `nanoseconds` would be a guess: on a moving link of the
@@ -909,7 +934,7 @@ class PoseLookup {
       if (after == stamps.begin() || after == stamps.end()) continue;
       const std::int64_t before = *std::prev(after);
       const std::int64_t gap = *after - before;  // ROS times: no overflow
-      if (gap <= max_gap_) continue;
+      if (gap <= max_gap_ || sameAt(link, before, *after)) continue;
       return "no pose at " + stampText(seconds) + ": the tf link '" + link.parent + "' -> '" +
              link.child + "' has no sample within " +
              formatNumber(1e-9 * static_cast<double>(tolerance_)) +

@@ -189,11 +189,19 @@ SynthScene writeSyntheticScene(const SynthOptions& options, const fs::path& out)
   // entries, are recorded until the scene is complete.
   // The folder made for the scene goes with everything in it; the parents
   // made for it only while empty (`a/../scene` makes `a` too, which does
-  // not hold the scene).
-  const std::vector<fs::path> missing = existed ? std::vector<fs::path>{} : missingFolders(out);
+  // not hold the scene). Each is named as it resolves once made (`a/..` is
+  // the folder holding `a`): one that exists already is the user's, however
+  // it is named.
+  std::vector<fs::path> missing;
+  if (!existed)
+    for (const fs::path& folder : missingFolders(out)) {
+      const fs::path real = fs::weakly_canonical(folder, ec);
+      if (!ec && !fs::exists(real, ec)) missing.push_back(real);
+    }
+  const fs::path scene = existed ? out : fs::weakly_canonical(out, ec);
   std::vector<PendingOutput> pending;
   if (!existed) {
-    pending.emplace_back(out, PendingOutput::Kind::Tree);
+    pending.emplace_back(scene, PendingOutput::Kind::Tree);
     for (const fs::path& folder : missing)
       pending.emplace_back(folder, PendingOutput::Kind::EmptyFolder);
   } else if (fresh) {
@@ -209,7 +217,7 @@ SynthScene writeSyntheticScene(const SynthOptions& options, const fs::path& out)
     // empty folder; an earlier output it was replacing stays marked by
     // synth.json, without sequence.json, so that the next run replaces it.
     if (!existed) {
-      fs::remove_all(out, ec);
+      fs::remove_all(scene, ec);
       for (const fs::path& folder : missing) fs::remove(folder, ec);  // innermost first; if empty
     } else if (fresh) {
       std::vector<fs::path> written;

@@ -47,15 +47,16 @@ TEST(CliSynthSignalTest, CtrlCRemovesTheFoldersItMade) {
   EXPECT_FALSE(fs::exists(dir / "new")) << "neither folder existed before";
 }
 
-// `made/../scene`: the scene is beside `made`, not in it. Both go, and a
-// sibling the user had stays.
+// `made/../kept/scene`: the scene is in the user's empty folder `kept`, beside
+// `made`, not in it. The scene and `made` go, `kept` stays (named
+// `made/../kept`, it looked like a folder synth had made).
 TEST(CliSynthSignalTest, CtrlCRemovesTheSceneAlsoBesideAFolderItMade) {
   test::TempDir dir;
   fs::create_directories(dir / "kept");
-  const auto ended = synthStoppedBy(SIGINT, dir / "made" / ".." / "scene");
+  const auto ended = synthStoppedBy(SIGINT, dir / "made" / ".." / "kept" / "scene");
   ASSERT_TRUE(ended) << "synth did not stop after the signal";
   EXPECT_EQ(ended->signal, SIGINT);
-  EXPECT_FALSE(fs::exists(dir / "scene")) << "the half-written scene was left";
+  EXPECT_FALSE(fs::exists(dir / "kept" / "scene")) << "the half-written scene was left";
   EXPECT_FALSE(fs::exists(dir / "made"));
   EXPECT_TRUE(fs::is_directory(dir / "kept"));
 }

@@ -854,6 +854,45 @@ TEST(ImportRosbag, APoseAcrossAGapInTfIsSkippedUnlessTheMaxPoseGapAllowsIt) {
   }
 }
 
+// Gaps that hide no motion are no reason to skip a frame: a slow link whose
+// samples around the frame are equal (an identity world -> odom at 1 Hz),
+// and a link /tf_static also gives. Both refused every frame.
+TEST(ImportRosbag, GapsThatHideNoMotionKeepTheirFrames) {
+  test::TempDir dir;
+  std::vector<TfSample> samples;
+  for (int i = 0; i <= 20; ++i) samples.push_back({"odom", "base_link", 100.0 + 0.1 * i, 0.1 * i});
+  samples.push_back({"world", "odom", 100.0, 0.0, 0.0});
+  samples.push_back({"world", "odom", 101.0, 0.0, 0.0});
+  samples.push_back({"world", "odom", 102.0, 0.0, 0.0});
+  writeTfBag(dir / "slow.bag", samples, {100.25, 100.55, 101.45, 101.75});
+  ImportOptions options;
+  options.depth_filter.flying_pixels = false;
+  const ImportReport slow =
+      importSource(SourceKind::RosBag, dir / "slow.bag", dir / "slow", options);
+  EXPECT_EQ(slow.frames_written, 4u) << slow.text();
+  EXPECT_TRUE(slow.skipped.empty()) << slow.text();
+
+  // Moved across its gap, the same slow link skips the frames between.
+  samples[samples.size() - 2].y = 0.5;
+  writeTfBag(dir / "moved.bag", samples, {100.25, 100.55, 101.45, 101.75});
+  const std::string moved =
+      errorOf([&] { importSource(SourceKind::RosBag, dir / "moved.bag", dir / "moved", options); });
+  EXPECT_NE(moved.find("the tf link 'world' -> 'odom' has no sample within"), std::string::npos)
+      << moved;
+
+  // world -> anchor is on /tf_static (writeTfBag) and also on /tf 2 s apart.
+  writeTfBag(dir / "both.bag",
+             {{"world", "anchor", 100.0, 0.0, 0.0},
+              {"world", "anchor", 102.0, 0.0, 0.0},
+              {"anchor", "base_link", 100.0, 0.0, 0.0},
+              {"anchor", "base_link", 100.4, 0.0, 0.4},
+              {"anchor", "base_link", 100.8, 0.0, 0.8}},
+             {100.2, 100.6});
+  const ImportReport both =
+      importSource(SourceKind::RosBag, dir / "both.bag", dir / "both", options);
+  EXPECT_EQ(both.frames_written, 2u) << both.text();
+}
+
 // tf at 30 Hz on two moving links of the chain (world -> odom, odom ->
 // base_link, out of phase) and a link outside it with a 2 s gap: images
 // midway between samples are all imported, also with no time tolerance.

@@ -5,6 +5,7 @@
 #include <QPainter>
 #include <QToolTip>
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace lom::ui {
@@ -89,10 +90,11 @@ void ImagePane::mouseMoveEvent(QMouseEvent* event) {
   // rows).
   const qreal ratio = devicePixelRatioF();
   const QSize device = deviceSizeOf(target);
-  const int x = std::clamp(static_cast<int>((event->pos().x() - target.left() + 0.5) * ratio), 0,
-                           device.width() - 1);
-  const int y = std::clamp(static_cast<int>((event->pos().y() - target.top() + 0.5) * ratio), 0,
-                           device.height() - 1);
+  // The device pixel under the pointer: Qt gives its position in fractions of
+  // a logical pixel where one holds several device pixels (HiDPI).
+  const QPointF at = event->localPos() - QPointF(target.topLeft());
+  const int x = std::clamp(static_cast<int>(std::floor(at.x() * ratio)), 0, device.width() - 1);
+  const int y = std::clamp(static_cast<int>(std::floor(at.y() * ratio)), 0, device.height() - 1);
   emit hovered({sampledIndex(x, device.width(), image_.width()),
                 sampledIndex(y, device.height(), image_.height())});
 }
