@@ -177,8 +177,8 @@ QString loadBoxes(StudioSession& session, const QString& path) {
     AnnotationsModel& model = session.annotations();
     if (isRecoveryCopy(path) && session.sequence()) {
       // Recovered work, not a file to edit: saved to the sequence's boxes
-      // file (they stayed, clean, in a hidden folder where score never
-      // looks), the copy left as it is.
+      // file, never back into the copy (they stayed, clean, in a hidden
+      // folder where score never looks).
       adoptAsUnsaved(model, loaded);
       emit session.controller().warningOccurred(
           QObject::tr("Recovered boxes"),
