@@ -211,8 +211,7 @@ int runScore(const Words& words) {
       if (inputs.map) noteResolution(args, reports.back(), *inputs.map);
       std::cout << reportTable(reports.back()) << "\n";
     }
-    for (const auto& report : reports) writeReport(report, out / report.sequence);
-    writeAggregate(reports, out);
+    writeBatchReports(reports, out);
     std::cout << aggregateTable(reports) << "wrote " << reports.size()
               << (reports.size() == 1 ? " report and " : " reports and ")
               << (out / "aggregate.{json,md,svg}").string() << "\n";

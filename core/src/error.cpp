@@ -9,31 +9,50 @@ namespace {
 // repeating a megabyte of it. Cut at a UTF-8 character boundary.
 constexpr size_t kMaxQuotedBytes = 4000;
 
+}  // namespace
+
 // Bytes that are not UTF-8 (a damaged file's names, a topic read from a
-// broken bag) become '?': a terminal or log shows the message, not mojibake.
-std::string validUtf8(const std::string& text) {
+// broken bag) become '?' in messages: a terminal or log shows the message,
+// not mojibake.
+std::string validUtf8(const std::string& text, const std::string& replacement) {
   std::string out;
   out.reserve(text.size());
   for (size_t i = 0; i < text.size();) {
     const auto c = static_cast<unsigned char>(text[i]);
-    size_t length = c < 0x80           ? 1
-                    : (c >> 5) == 0x6  ? 2
-                    : (c >> 4) == 0xE  ? 3
-                    : (c >> 3) == 0x1E ? 4
-                                       : 0;
-    bool valid = length > 0 && i + length <= text.size() && !(length == 2 && c < 0xC2);
-    for (size_t k = 1; valid && k < length; ++k)
-      valid = (static_cast<unsigned char>(text[i + k]) & 0xC0) == 0x80;
+    // RFC 3629: no overlong forms, no surrogates, nothing past U+10FFFF (as
+    // JSON writers check), so the second byte's range depends on the first.
+    size_t length = 0;
+    unsigned char low = 0x80, high = 0xBF;
+    if (c < 0x80)
+      length = 1;
+    else if (c >= 0xC2 && c <= 0xDF)
+      length = 2;
+    else if (c >= 0xE0 && c <= 0xEF) {
+      length = 3;
+      if (c == 0xE0) low = 0xA0;
+      if (c == 0xED) high = 0x9F;
+    } else if (c >= 0xF0 && c <= 0xF4) {
+      length = 4;
+      if (c == 0xF0) low = 0x90;
+      if (c == 0xF4) high = 0x8F;
+    }
+    bool valid = length > 0 && i + length <= text.size();
+    for (size_t k = 1; valid && k < length; ++k) {
+      const auto next = static_cast<unsigned char>(text[i + k]);
+      valid = k == 1 ? next >= low && next <= high : (next & 0xC0) == 0x80;
+    }
     if (valid) {
       out.append(text, i, length);
       i += length;
     } else {
-      out += '?';
+      out += replacement;
       ++i;
     }
   }
   return out;
 }
+
+namespace {
 
 std::string shortened(const std::string& raw) {
   const std::string text = validUtf8(raw);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 #include "evaluation_frames.hpp"
@@ -19,6 +20,82 @@ constexpr const char* kMetrics2dFromLabels =
 
 std::string orDefault(const std::string& text, const char* fallback) {
   return text.empty() ? fallback : text;
+}
+
+std::string formatPoint(const Eigen::Vector3d& p) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%.3f, %.3f, %.3f)", p.x(), p.y(), p.z());
+  return text;
+}
+
+// Boxes in which the map has no occupied voxel of any label, said in at most
+// two sentences (those outside everything the map observed, and the others):
+// LabelOctoMap scores 0 there whatever it mapped, and a box given in other
+// units or another frame (millimetres for metres) looks just like that.
+std::vector<std::string> emptyBoxWarnings(const Annotations& annotations, const LabelSet& labels,
+                                          const LabelMap& map, const std::string& file) {
+  std::vector<std::string> warnings;
+  const std::vector<GroundTruthBox>& boxes = annotations.boxes;
+  if (boxes.empty()) return warnings;
+  // A voxel counts when any part of it is in the box: its centre within
+  // half a voxel of the box (corners aside, which a box of an object never
+  // holds alone).
+  const double margin = 0.5 * map.parameters().resolution;
+  std::vector<Eigen::AlignedBox3d> reach;
+  for (const GroundTruthBox& box : boxes) {
+    const Eigen::Vector3d half =
+        box.box.rotation.toRotationMatrix().cwiseAbs() * (0.5 * box.box.size) +
+        Eigen::Vector3d::Constant(margin);
+    reach.emplace_back(box.box.center - half, box.box.center + half);
+  }
+  std::vector<bool> holds(boxes.size(), false);
+  size_t left = boxes.size();
+  for (const Eigen::Vector3d& centre : map.occupiedCentres()) {
+    for (size_t i = 0; i < boxes.size(); ++i)
+      if (!holds[i] && reach[i].contains(centre) && boxes[i].box.contains(centre, margin)) {
+        holds[i] = true;
+        --left;
+      }
+    if (left == 0) return warnings;
+  }
+  const auto bounds = map.bounds();
+  const std::optional<Eigen::AlignedBox3d> observed =
+      bounds ? std::optional(Eigen::AlignedBox3d(bounds->first, bounds->second)) : std::nullopt;
+  std::string outside, empty;
+  size_t outside_count = 0, empty_count = 0;
+  bool far = false;
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    if (holds[i]) continue;
+    const int label = boxes[i].label;
+    const std::string which = "boxes[" + std::to_string(i) + "] (label " + std::to_string(label) +
+                              ", " + (labels.contains(label) ? labels.at(label).name : "?") + ")";
+    if (!observed || !reach[i].intersects(*observed)) {
+      outside += (outside.empty() ? "" : ", ") + which;
+      ++outside_count;
+      // Farther from the map than the map is across: not a near miss.
+      far = far || !observed ||
+            observed->exteriorDistance(boxes[i].box.center) > observed->diagonal().norm();
+    } else {
+      empty += (empty.empty() ? "" : ", ") + which;
+      ++empty_count;
+    }
+  }
+  if (outside_count > 0)
+    warnings.push_back(
+        file + ": " + outside + (outside_count == 1 ? " lies" : " lie") +
+        " outside everything the map observed" +
+        (observed ? " (its known voxels span " + formatPoint(observed->min()) + " to " +
+                        formatPoint(observed->max()) + " m)"
+                  : std::string(" (the map is empty)")) +
+        ": nothing was mapped there, so " + (outside_count == 1 ? "it scores" : "they score") +
+        " 0 in every column." +
+        (far ? " A box this far from the map is often given in other units or another frame."
+             : ""));
+  if (empty_count > 0)
+    warnings.push_back(file + ": " + empty + (empty_count == 1 ? " holds" : " hold") +
+                       " no occupied voxel of any label: nothing was mapped inside " +
+                       (empty_count == 1 ? "it" : "them") + ", so LabelOctoMap scores 0 there.");
+  return warnings;
 }
 
 void checkMapAgainstSequence(const LabelMap& map, const Sequence& sequence, const std::string& map_file) {
@@ -276,6 +353,7 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
   report.resolution = map.parameters().resolution;
   report.max_range = map.parameters().max_range;
   report.occupancy_threshold = map.parameters().occupancy_threshold;
+  report.p_miss = map.parameters().p_miss;
   report.iou_mode = options.iou_mode;
   report.candidates = options.fusion.candidates;
   if (report.candidates) {  // as a set: ascending, once each
@@ -302,6 +380,10 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
           "means down");
     }
   }
+
+  for (std::string& warning : emptyBoxWarnings(
+           annotations, sequence.labels, map, orDefault(options.annotations_file, "(annotations)")))
+    report.warnings.push_back(std::move(warning));
 
   detail::FrameScan scan = detail::scanFrames(sequence, map, labels, options, progress);
   if (scan.views.empty())

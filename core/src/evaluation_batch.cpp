@@ -7,6 +7,7 @@
 #include "file_checks.hpp"
 #include "lom/error.hpp"
 #include "lom/evaluation.hpp"
+#include "lom/segmenter.hpp"
 
 namespace lom {
 
@@ -141,6 +142,10 @@ EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOption
   });
   if (progress && !progress(EvaluationProgress{"fusing", 1, 1})) throw EvaluationCancelled();
   EvaluationReport report = evaluate(sequence, annotations, map, named, progress);
+  const size_t first = std::min(options.fusion.first_frame, sequence.frames.size());
+  const size_t last = std::min(options.fusion.last_frame, sequence.frames.size());
+  if (last > first) report.fused_frames = std::make_pair(first, last - 1);
+  if (options.fusion.segmenter) report.segmenter = options.fusion.segmenter->modelPath().string();
   report.fusion_totals = totals;
   report.frames_outside_map = std::move(frames_outside_map);
   return report;

@@ -50,6 +50,12 @@ Json metricsJson(const Metrics2d& metrics) {
               {"classes", metrics.classes}};
 }
 
+// Names from the file system (the sequence folder, the map file) may hold
+// bytes that are not UTF-8: they become U+FFFD instead of failing the report.
+std::string dumped(const Json& value) {
+  return value.dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+
 // Like dump(2), but arrays of numbers stay on one line, so that a box or the
 // per-view scores read at a glance.
 void writeJson(const Json& value, int indent, std::string& out) {
@@ -59,7 +65,7 @@ void writeJson(const Json& value, int indent, std::string& out) {
     out += "{\n";
     bool first = true;
     for (auto it = value.begin(); it != value.end(); ++it) {
-      out += (first ? "" : ",\n") + inner + Json(it.key()).dump() + ": ";
+      out += (first ? "" : ",\n") + inner + dumped(Json(it.key())) + ": ";
       writeJson(it.value(), indent + 2, out);
       first = false;
     }
@@ -67,7 +73,7 @@ void writeJson(const Json& value, int indent, std::string& out) {
   } else if (value.is_array() && !value.empty() &&
              std::all_of(value.begin(), value.end(), [](const Json& v) { return v.is_primitive(); })) {
     out += "[";
-    for (size_t i = 0; i < value.size(); ++i) out += (i ? ", " : "") + value[i].dump();
+    for (size_t i = 0; i < value.size(); ++i) out += (i ? ", " : "") + dumped(value[i]);
     out += "]";
   } else if (value.is_array() && !value.empty()) {
     out += "[\n";
@@ -77,7 +83,7 @@ void writeJson(const Json& value, int indent, std::string& out) {
     }
     out += "\n" + pad + "]";
   } else {
-    out += value.dump();
+    out += dumped(value);
   }
 }
 
@@ -109,6 +115,11 @@ std::string reportJson(const EvaluationReport& report) {
             {"resolution", report.resolution},
             {"max_range", report.max_range},
             {"occupancy_threshold", report.occupancy_threshold},
+            {"p_miss", report.p_miss},
+            {"frames", report.fused_frames
+                           ? Json::array({report.fused_frames->first, report.fused_frames->second})
+                           : Json(nullptr)},
+            {"segmenter", report.segmenter.empty() ? Json(nullptr) : Json(report.segmenter)},
             {"iou_mode", iouModeName(report.iou_mode)},
             {"candidates", report.candidates ? Json(*report.candidates) : Json(nullptr)},
             {"map", report.map_file.empty() ? Json(nullptr) : Json(report.map_file)},

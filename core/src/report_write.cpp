@@ -1,3 +1,4 @@
+#include <memory>
 #include <ostream>
 #include <string>
 #include <system_error>
@@ -22,33 +23,68 @@ void makeFolder(const fs::path& dir) {
   if (ec) throw Error(dir.string(), "--out", "a folder that can be created", ec.message());
 }
 
-// All of a report's files replace the old ones together (a failure on the way,
-// such as a full disk, leaves the old report whole), in a folder that is taken
-// away again if it was created for them.
-void writeFiles(const fs::path& dir, const std::vector<std::pair<const char*, std::string>>& files) {
-  NewFolders created(dir);
-  makeFolder(dir);
+using Files = std::vector<std::pair<const char*, std::string>>;
+
+// The text formats take names from the file system (the sequence folder, the
+// map file) as they are; bytes that are not UTF-8 become U+FFFD, so that each
+// file stays what it says it is (report.json is made valid as it is written).
+std::string utf8(const std::string& text) { return validUtf8(text, "\xEF\xBF\xBD"); }
+
+Files reportFiles(const EvaluationReport& report) {
+  return {{"report.json", reportJson(report)},
+          {"report.csv", utf8(reportCsv(report))},
+          {"report.md", utf8(reportMarkdown(report))},
+          {"report.svg", utf8(reportSvg(report))}};
+}
+
+Files aggregateFiles(const std::vector<EvaluationReport>& reports) {
+  return {{"aggregate.json", aggregateJson(reports)},
+          {"aggregate.md", utf8(aggregateMarkdown(reports))},
+          {"aggregate.svg", utf8(aggregateSvg(reports))}};
+}
+
+// Files of several folders that replace the old ones together (a failure on
+// the way, such as a full disk, leaves every old file whole), in folders that
+// are taken away again if they were created for them. Everything is rendered
+// before the first file is touched.
+void writeFolders(const std::vector<std::pair<fs::path, Files>>& folders) {
+  // Made outer folder first; taken away (when not kept) innermost first.
+  std::vector<std::unique_ptr<NewFolders>> created;
+  struct TakeAway {
+    std::vector<std::unique_ptr<NewFolders>>& created;
+    ~TakeAway() {
+      while (!created.empty()) created.pop_back();
+    }
+  } take_away{created};
+  for (const auto& [dir, files] : folders) {
+    created.push_back(std::make_unique<NewFolders>(dir));
+    makeFolder(dir);
+  }
   StagedFiles staged;
-  for (const auto& [name, text] : files)
-    staged.add(dir / name, [&text = text](std::ostream& out) { out << text; }, false);
+  for (const auto& [dir, files] : folders)
+    for (const auto& [name, text] : files)
+      staged.add(
+          dir / name, [&text = text](std::ostream& out) { out << text; }, false);
   staged.commit();
-  created.keep();
+  for (auto& folder : created) folder->keep();
 }
 
 }  // namespace
 
 void writeReport(const EvaluationReport& report, const fs::path& dir) {
-  // Everything is rendered before the first file is touched.
-  writeFiles(dir, {{"report.json", reportJson(report)},
-                   {"report.csv", reportCsv(report)},
-                   {"report.md", reportMarkdown(report)},
-                   {"report.svg", reportSvg(report)}});
+  writeFolders({{dir, reportFiles(report)}});
 }
 
 void writeAggregate(const std::vector<EvaluationReport>& reports, const fs::path& dir) {
-  writeFiles(dir, {{"aggregate.json", aggregateJson(reports)},
-                   {"aggregate.md", aggregateMarkdown(reports)},
-                   {"aggregate.svg", aggregateSvg(reports)}});
+  writeFolders({{dir, aggregateFiles(reports)}});
+}
+
+void writeBatchReports(const std::vector<EvaluationReport>& reports, const fs::path& dir) {
+  std::vector<std::pair<fs::path, Files>> folders;
+  folders.emplace_back(dir, aggregateFiles(reports));
+  for (const auto& report : reports)
+    folders.emplace_back(dir / report.sequence, reportFiles(report));
+  writeFolders(folders);
 }
 
 }  // namespace lom

@@ -548,8 +548,13 @@ TEST_F(CliScoreTest, DepthsBeyondMaxRangeAreAWarning) {
             std::string::npos)
       << r.err;
   const Json report = Json::parse(slurp(out / "near" / "report.json"));
-  ASSERT_EQ(report["warnings"].size(), 1u) << report["warnings"];
-  EXPECT_NE(report["warnings"][0].get<std::string>().find("beyond the max range of 0.3 m"),
+  // Said besides: the boxes past the range that nothing was mapped in.
+  ASSERT_EQ(report["warnings"].size(), 3u) << report["warnings"];
+  EXPECT_NE(report["warnings"][0].get<std::string>().find("outside everything the map observed"),
+            std::string::npos);
+  EXPECT_EQ(report["warnings"][0].get<std::string>().find("other units"), std::string::npos);
+  EXPECT_NE(report["warnings"][1].get<std::string>().find("no occupied voxel"), std::string::npos);
+  EXPECT_NE(report["warnings"][2].get<std::string>().find("beyond the max range of 0.3 m"),
             std::string::npos);
   // The default range takes the scene: nothing to say.
   const auto fine = runCli(scoreArgs(out / "fine"));

@@ -154,6 +154,62 @@ TEST_F(ScoreChecks, MissingBoxesOnlyLeaveObjectsUnscored) {
   EXPECT_LT(report.objects[0].label, report.objects[1].label);
 }
 
+TEST_F(ScoreChecks, BoxesWithoutAnyMappedVoxelAreWarnedAbout) {
+  const lom::EvaluationReport plain =
+      lom::evaluate(*sequence_, scene_->annotations, *map_, named());
+  for (const std::string& warning : plain.warnings)
+    EXPECT_EQ(warning.find("occupied voxel"), std::string::npos) << warning;
+  for (const std::string& warning : plain.warnings)
+    EXPECT_EQ(warning.find("outside everything"), std::string::npos) << warning;
+
+  lom::Annotations annotations = scene_->annotations;
+  ASSERT_GE(annotations.boxes.size(), 3u);
+  // Typed in millimetres: far outside everything the map observed.
+  annotations.boxes[0].box.center *= 1000.0;
+  annotations.boxes[0].box.center.x() += 500.0;
+  // Inside what the map observed, but in free space: a box smaller than a
+  // voxel, at the centre of a free one (its neighbours' centres are a voxel away).
+  const auto bounds = map_->bounds();
+  ASSERT_TRUE(bounds);
+  std::optional<Eigen::Vector3d> free_centre;
+  for (int step = 1; step < 1000 && !free_centre; ++step) {
+    const Eigen::Vector3d p = bounds->first + (step / 1000.0) * (bounds->second - bounds->first);
+    const lom::VoxelState state = map_->voxelAt(p);
+    if (state.known && !state.occupied) free_centre = map_->centerOf(map_->keyOf(p));
+  }
+  ASSERT_TRUE(free_centre) << "no free voxel on the map's diagonal";
+  annotations.boxes[2].box.center = *free_centre;
+  annotations.boxes[2].box.size = Eigen::Vector3d::Constant(0.004);
+  const lom::EvaluationReport report = lom::evaluate(*sequence_, annotations, *map_, named());
+  auto warned = [&](size_t box, const std::string& what) {
+    const std::string start = "boxes.json: boxes[" + std::to_string(box) + "] (label " +
+                              std::to_string(annotations.boxes[box].label) + ", ";
+    for (const std::string& warning : report.warnings)
+      if (warning.rfind(start, 0) == 0 && warning.find(what) != std::string::npos) return true;
+    return false;
+  };
+  EXPECT_TRUE(warned(0, "lies outside everything the map observed (its known voxels span ("))
+      << ::testing::PrintToString(report.warnings);
+  EXPECT_TRUE(warned(0, "other units or another frame"))
+      << ::testing::PrintToString(report.warnings);
+  EXPECT_TRUE(warned(2, "holds no occupied voxel of any label"))
+      << ::testing::PrintToString(report.warnings);
+  EXPECT_FALSE(warned(1, "voxel")) << ::testing::PrintToString(report.warnings);
+
+  // Many such boxes are one sentence, not one each.
+  annotations.boxes[1].box.center = annotations.boxes[0].box.center + Eigen::Vector3d(0, 1, 0);
+  const lom::EvaluationReport two = lom::evaluate(*sequence_, annotations, *map_, named());
+  size_t outside = 0;
+  for (const std::string& warning : two.warnings)
+    if (warning.find("outside everything") != std::string::npos) {
+      ++outside;
+      EXPECT_NE(warning.find("boxes[0]"), std::string::npos) << warning;
+      EXPECT_NE(warning.find("boxes[1]"), std::string::npos) << warning;
+      EXPECT_NE(warning.find(" lie outside"), std::string::npos) << warning;
+    }
+  EXPECT_EQ(outside, 1u) << ::testing::PrintToString(two.warnings);
+}
+
 TEST_F(ScoreChecks, CandidatesHoldingEveryTrueLabelOnlyFixPixels) {
   // A pixel whose argmax is its true label keeps it when the other labels are
   // dropped, so 2D pixel accuracy cannot fall.

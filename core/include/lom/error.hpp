@@ -26,6 +26,12 @@ class Error : public std::runtime_error {
   Problem problem_;
 };
 
+// `text` with every byte that is not part of a valid UTF-8 character replaced
+// by `replacement`: names taken from the file system or a damaged file may be
+// any bytes, and neither a terminal nor a UTF-8 file (JSON, SVG, Markdown)
+// takes them as they are.
+[[nodiscard]] std::string validUtf8(const std::string& text, const std::string& replacement = "?");
+
 // Several problems found at once (validation lists all of them).
 class ValidationError : public std::runtime_error {
  public:

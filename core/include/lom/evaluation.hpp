@@ -99,6 +99,13 @@ struct EvaluationReport {
   double resolution = 0.0;       // of the map; also used by the projection baseline
   double max_range = 0.0;
   double occupancy_threshold = 0.0;
+  double p_miss = 0.0;  // of the map
+  // The first and last (inclusive) frames fused into the map when it was
+  // fused from the sequence (score without --map, the studio's own fusion).
+  std::optional<std::pair<size_t, size_t>> fused_frames;
+  // The segmenter model those frames ran through when they had no proba
+  // image (--segmenter); empty when none.
+  std::string segmenter;
   IouMode iou_mode = IouMode::Exact;
   std::optional<std::vector<int>> candidates;
   std::vector<size_t> views;     // frame indices of the views (frames with view: true)

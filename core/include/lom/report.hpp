@@ -27,6 +27,11 @@ void writeReport(const EvaluationReport& report, const std::filesystem::path& di
 [[nodiscard]] std::string aggregateSvg(const std::vector<EvaluationReport>& reports);
 // Writes aggregate.json, aggregate.md and aggregate.svg into `dir`, each atomically.
 void writeAggregate(const std::vector<EvaluationReport>& reports, const std::filesystem::path& dir);
+// A batch's files: the aggregate into `dir` and each report into
+// `dir`/<sequence>/, all rendered first and put in place together, so that a
+// failure on the way leaves every earlier file as it was.
+void writeBatchReports(const std::vector<EvaluationReport>& reports,
+                       const std::filesystem::path& dir);
 
 // A grouped bar chart as a standalone SVG document (no display needed).
 struct BarChart {
