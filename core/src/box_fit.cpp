@@ -139,7 +139,8 @@ LevelFrame levelFrame(const Eigen::Vector3d& up) {
     throw std::invalid_argument("box frame: up must be a finite, non-zero direction");
   LevelFrame frame;
   frame.up = up / length;
-  for (const Eigen::Vector3d& world : {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()}) {
+  for (const Eigen::Vector3d world : {Eigen::Vector3d(Eigen::Vector3d::UnitX()),
+                                      Eigen::Vector3d(Eigen::Vector3d::UnitY())}) {
     frame.x = world - world.dot(frame.up) * frame.up;
     if (frame.x.norm() > 1e-6) break;
   }

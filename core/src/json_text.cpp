@@ -85,7 +85,7 @@ class TrackingBuilder {
   bool binary(Json::binary_t& v) { return value() && dom_.binary(v); }
   bool start_object(std::size_t size) {
     if (!value()) return false;
-    path_.push_back({false, 0, {}});
+    path_.push_back({false, 0, {}, {}});
     return dom_.start_object(size);
   }
   // A key given twice in one object would silently keep the last value:
@@ -105,7 +105,7 @@ class TrackingBuilder {
   }
   bool start_array(std::size_t size) {
     if (!value()) return false;
-    path_.push_back({true, 0, {}});
+    path_.push_back({true, 0, {}, {}});
     return dom_.start_array(size);
   }
   bool end_array() {
