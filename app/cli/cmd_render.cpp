@@ -16,6 +16,7 @@
 #include "lom/error.hpp"
 #include "lom/evaluation.hpp"
 #include "lom/height_colours.hpp"
+#include "lom/render_limits.hpp"
 #include "lom/sequence.hpp"
 #include "output_paths.hpp"
 

@@ -304,6 +304,22 @@ void LabelMap::save(const std::filesystem::path& path) const {
   });
 }
 
+bool LabelMap::isMapFile(const std::filesystem::path& path) {
+  if (!notARegularFile(path).empty()) return false;
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("# Octomap OcTree file", 0) != 0) return false;
+  // Comment lines, then "id TYPE" (OcTree::write's order).
+  for (int lines = 0; lines < 64 && std::getline(in, line); ++lines) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream words(line);
+    std::string key, id;
+    words >> key >> id;
+    return key == "id" && id == "LabelOcTree";
+  }
+  return false;
+}
+
 LabelMap LabelMap::load(const std::filesystem::path& path) {
   const std::string file = path.string();
   if (const std::string why = notARegularFile(path); !why.empty())

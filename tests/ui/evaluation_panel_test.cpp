@@ -488,10 +488,17 @@ TEST_F(EvaluationPanelTest, AMapFusedPartWayIsScoredAgainstTheViewsItFused) {
   ASSERT_TRUE(panel().exportReportTo(qPath(out)));
   EXPECT_NE(lom::test::slurp(out / "report.md").find("Partial map (3 of"), std::string::npos)
       << lom::test::slurp(out / "report.md");
+  // report.json names the frames fused, as score --frames does.
+  EXPECT_NE(lom::test::slurp(out / "report.json").find("\"frames\": [0, 2]"), std::string::npos)
+      << lom::test::slurp(out / "report.json");
+  ASSERT_TRUE(panel().report()->fused_frames);
+  EXPECT_EQ(*panel().report()->fused_frames, std::make_pair(size_t{0}, size_t{2}));
 
   // A complete fusion says nothing of the kind.
   openAndFuse();
   waitForScores();
+  ASSERT_TRUE(panel().report()->fused_frames);
+  EXPECT_EQ(panel().report()->fused_frames->second, frames - 1);
   EXPECT_FALSE(panel().summaryText().contains("Partial map"))
       << panel().summaryText().toStdString();
   EXPECT_GT(panel().report()->views.back(), 2u);

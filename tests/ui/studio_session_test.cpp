@@ -113,8 +113,9 @@ TEST_F(StudioSessionTest, TheStatusBarSaysWhereAFusionFailed) {
       return error.startsWith("Fusion stopped");
     });
     ASSERT_NE(stopped, errors_.end());
-    EXPECT_TRUE(stopped->contains("frames[" + QString::number(frame) + "]"))
-        << stopped->toStdString();
+    const QString name = "frames[" + QString::number(frame) + "]";
+    EXPECT_TRUE(stopped->contains(name)) << stopped->toStdString();
+    EXPECT_EQ(stopped->count(name), 1) << "the frame named twice: " << stopped->toStdString();
   };
   failAt(0);
   EXPECT_EQ(window_.fusionStatusText(), "not fused failed before the first frame");
@@ -669,7 +670,7 @@ TEST_F(StudioSessionTest, PickedVoxelFollowsTheMap) {
   ASSERT_TRUE(QTest::qWaitFor([&] { return picked->text().contains("Occupied"); }, 10'000));
 
   window_.session().resetMap();
-  ASSERT_TRUE(QTest::qWaitFor([&] { return picked->text().contains("Unknown voxel"); }, 10'000))
+  ASSERT_TRUE(QTest::qWaitFor([&] { return picked->text().contains("No map yet"); }, 10'000))
       << picked->text().toStdString();
   window_.session().fuse();
   waitForFusion();

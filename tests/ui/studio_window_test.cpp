@@ -3,6 +3,7 @@
 
 #include <QAction>
 #include <QApplication>
+#include <QDialog>
 #include <QDockWidget>
 #include <QDragEnterEvent>
 #include <QDropEvent>
@@ -10,8 +11,10 @@
 #include <QLabel>
 #include <QMimeData>
 #include <QPushButton>
+#include <QScrollBar>
 #include <QSlider>
 #include <QStatusBar>
+#include <QTableWidget>
 #include <QTest>
 #include <QUrl>
 #include <algorithm>
@@ -382,6 +385,28 @@ TEST_F(StudioWindowTest, ShortcutListHasTheMenusKeysAndThePlayButtons) {
                           "Tab\tNext Box", "Shift+Tab\tPrevious Box", "Ctrl+Shift+Z, Ctrl+Y\tRedo",
                           "Ctrl+Tab\tLeave 3D View (Next Field)"})
     EXPECT_TRUE(rows.contains(row)) << row << "\n" << rows.join('\n').toStdString();
+  for (const QString& row : rows) EXPECT_FALSE(row.contains("Backtab")) << row.toStdString();
+}
+
+// The dialog shows both columns whole: the keys of the longest row left the
+// action names cut off in a fixed-width dialog.
+TEST_F(StudioWindowTest, ShortcutDialogShowsEveryKeyAndActionWhole) {
+  const auto* help = window_.findChild<ShortcutsHelpReaction*>();
+  ASSERT_NE(help, nullptr);
+  const std::unique_ptr<QDialog> dialog = help->createDialog();
+  dialog->show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(dialog.get()));
+  QApplication::processEvents();
+  auto* table = dialog->findChild<QTableWidget*>();
+  ASSERT_NE(table, nullptr);
+  EXPECT_EQ(table->horizontalScrollBar()->maximum(), 0) << "a column is cut off";
+  const QFontMetrics metrics(table->font());
+  for (int row = 0; row < table->rowCount(); ++row)
+    for (int column = 0; column < 2; ++column) {
+      const QString text = table->item(row, column)->text();
+      EXPECT_LE(metrics.horizontalAdvance(text), table->columnWidth(column)) << text.toStdString();
+    }
+  dialog->close();
 }
 
 TEST_F(StudioWindowTest, SceneHasOnePointPerValidDepthPixel) {

@@ -311,4 +311,32 @@ TEST_F(UnsavedMapTest, ResetMapWhileFusingLeavesTheStatusNotFused) {
 }
 
 }  // namespace
+// An export other than Save Map… never replaces a labelled map: a colour
+// octree written over the map opened (or saved) left a file Open Map cannot
+// read, and the studio still took the map for saved.
+TEST_F(UnsavedMapTest, ExportsNeverReplaceALabelledMap) {
+  openAndFuse();
+  const auto saved = temp_.path() / "saved.ot";
+  ASSERT_TRUE(exportWith("Save Map…", saved));
+  const std::string before = lom::test::slurp(saved);
+  errors_.clear();
+  EXPECT_FALSE(exportWith("Colour Octree (OT)…", saved));
+  ASSERT_EQ(errors_.size(), 1u);
+  EXPECT_TRUE(errors_.front().contains("holds a labelled map")) << errors_.front().toStdString();
+  EXPECT_TRUE(errors_.front().contains("Save Map")) << errors_.front().toStdString();
+  EXPECT_EQ(lom::test::slurp(saved), before);
+  // Save Map… over it stays possible; so does a colour octree over a colour octree.
+  errors_.clear();
+  EXPECT_TRUE(exportWith("Save Map…", saved));
+  ASSERT_TRUE(exportWith("Colour Octree (OT)…", temp_.path() / "colour.ot"));
+  EXPECT_TRUE(exportWith("Colour Octree (OT)…", temp_.path() / "colour.ot"));
+  EXPECT_TRUE(errors_.empty());
+  // The map opened from that file is protected alike.
+  openMapFile(saved);
+  errors_.clear();
+  EXPECT_FALSE(exportWith("Colour Octree (OT)…", saved));
+  EXPECT_EQ(errors_.size(), 1u);
+  EXPECT_TRUE(LabelMap::isMapFile(saved));
+}
+
 }  // namespace lom::ui

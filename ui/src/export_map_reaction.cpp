@@ -82,6 +82,21 @@ bool ExportMapReaction::exportTo(const QString& path) {
     options.labels = shown;
     shown_note = tr(" (labels shown in the 3D view only: %1 hidden)").arg(hidden.size());
   }
+  // The map's own tree, every label, is the map saved (Open Map reads it
+  // back); a colour octree, other formats and a part of the labels are not.
+  const bool saves_map = options.format == ExportFormat::Ot && options.native && !options.labels;
+  if (!saves_map && LabelMap::isMapFile(path.toStdString())) {
+    const QString loss =
+        options.native ? tr("this map's shown labels only, and the voxels of the others would be "
+                            "lost")
+                       : tr("a colour octree, and its label probabilities would be lost (Open Map "
+                            "could not read it back)");
+    report_(tr("Export"), tr("%1 holds a labelled map (the map opened or saved, or another): this "
+                             "export would replace it with %2. Choose another name, or use File ▸ "
+                             "Save Map… to replace it with this whole map.")
+                              .arg(path, loss));
+    return false;
+  }
   if (worker->isFusing())
     emit queued(tr("Export to %1 queued: it runs when fusion finishes (Fusion ▸ Cancel Fusion "
                    "ends it now).")
@@ -91,7 +106,8 @@ bool ExportMapReaction::exportTo(const QString& path) {
   const unsigned generation = worker->mapGeneration();
   const bool behind_fusion = worker->isFusing();
   worker->withMapThen(
-      [self, worker, options, path, generation, behind_fusion, shown_note](const LabelMap* map) {
+      [self, worker, options, path, generation, behind_fusion, shown_note,
+       saves_map](const LabelMap* map) {
         QString message;
         bool ok = false;
         if (behind_fusion && worker->mapGeneration() != generation) {
@@ -112,11 +128,7 @@ bool ExportMapReaction::exportTo(const QString& path) {
             message = QString::fromStdString(error.what());
           }
         }
-        // The map's own tree, every label, is the map saved (Open Map reads
-        // it back); a colour octree, other formats and a part of the labels
-        // are not.
-        const bool saved =
-            ok && options.format == ExportFormat::Ot && options.native && !options.labels;
+        const bool saved = ok && saves_map;
         return std::function<void()>([self, worker, message, ok, saved, generation] {
           if (saved) worker->markMapSaved(generation);
           if (self) emit self->finished(message, ok);

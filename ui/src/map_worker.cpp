@@ -220,6 +220,8 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
     map_file_.clear();
     fused_totals_ = {};
     frames_outside_map_.clear();
+    first_fused_frame_ = std::min(fusion.first_frame, sequence->frames.size());
+    fused_segmenter_ = fusion.segmenter ? fusion.segmenter->modelPath().string() : std::string();
   } catch (const std::exception& error) {
     const QString message = QString::fromStdString(error.what());
     inGui([this, message] { emit errorOccurred(tr("Cannot fuse"), message); });
@@ -272,8 +274,10 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
       fused_totals_ = totals;
       if (stats.outside_map_pixels > 0) frames_outside_map_.push_back(i);
     } catch (const std::exception& error) {
-      const QString message =
-          tr("frames[%1]: %2").arg(i).arg(QString::fromStdString(error.what()));
+      // Errors about a frame's files name the frame already (frames[5].depth).
+      const QString what = QString::fromStdString(error.what());
+      const QString frame = QString("frames[%1]").arg(i);
+      const QString message = what.contains(frame) ? what : frame + ": " + what;
       inGui([this, message] { emit errorOccurred(tr("Fusion stopped"), message); });
       completed = false;
       break;
@@ -397,6 +401,10 @@ void MapWorker::evaluate(std::shared_ptr<const Sequence> sequence, const Annotat
             describeMapFile(report, *map_, *sequence, map_file_, false);
           } else {
             report.fusion_totals = fused_totals_;
+            if (frames_fused_ > 0)
+              report.fused_frames =
+                  std::make_pair(first_fused_frame_, first_fused_frame_ + frames_fused_ - 1);
+            report.segmenter = fused_segmenter_;
             report.frames_outside_map = frames_outside_map_;
             for (std::string& warning :
                  fusionWarnings(fused_totals_, frames_outside_map_, map_->parameters()))

@@ -37,15 +37,18 @@ PickedVoxelView::PickedVoxelView(StudioSession& session, QWidget* parent)
             if (!picked || *picked != point) return;
             const auto sequence = session_.sequence();
             const LabelSet labels = sequence ? sequence->labels : LabelSet{};
-            setText(describe(point, voxel, labels));
+            const auto snapshot = session_.worker().snapshot();
+            const bool has_frames = snapshot && snapshot->frames_fused > 0;
+            setText(describe(point, voxel, labels, 32, has_frames));
             // Long names are shortened in the text: the tooltip tells them whole.
-            const QString whole = describe(point, voxel, labels, -1);
+            const QString whole = describe(point, voxel, labels, -1, has_frames);
             setToolTip(whole == text() ? QString() : whole);
           });
 }
 
 QString PickedVoxelView::describe(const Eigen::Vector3d& point, const VoxelState& voxel,
-                                  const LabelSet& labels, int max_name_characters) {
+                                  const LabelSet& labels, int max_name_characters,
+                                  bool map_has_frames) {
   auto name = [&](int id) {
     if (!labels.contains(id)) return QString::number(id);
     const QString whole = QString::fromStdString(labels.at(id).name);
@@ -55,24 +58,47 @@ QString PickedVoxelView::describe(const Eigen::Vector3d& point, const VoxelState
                      .arg(point.x(), 0, 'f', 3)
                      .arg(point.y(), 0, 'f', 3)
                      .arg(point.z(), 0, 'f', 3);
+  if (!voxel.known && !map_has_frames)
+    return text + tr("No map yet: no frame is fused (Fusion ▸ Fuse Sequence, or File ▸ Open "
+                     "Map…).");
   if (!voxel.known) return text + tr("Unknown voxel (never observed).");
   text += tr("%1: label %2 %3\n")
               .arg(voxel.occupied ? tr("Occupied") : tr("Free"))
               .arg(voxel.label)
               .arg(name(voxel.label));
-  std::vector<int> order(voxel.probabilities.size());
-  std::iota(order.begin(), order.end(), 0);
+  const std::vector<float>& p = voxel.probabilities;
+  if (p.empty()) return text.trimmed();
+  // Labels a voxel never saw evidence for share its lowest probability (most
+  // often the clamping floor): one line for them all, not a few picked at
+  // random among equals as if they were the runners-up.
+  const float lowest = *std::min_element(p.begin(), p.end());
+  auto at_lowest = [&](size_t id) { return p[id] <= lowest + 1e-6f; };
+  std::vector<int> order;
+  for (size_t id = 0; id < p.size(); ++id)
+    if (!at_lowest(id)) order.push_back(static_cast<int>(id));
+  const size_t lowest_count = p.size() - order.size();
   const size_t top = std::min<size_t>(5, order.size());
   std::partial_sort(order.begin(), order.begin() + static_cast<long>(top), order.end(),
-                    [&](int a, int b) {
-                      return voxel.probabilities[static_cast<size_t>(a)] >
-                             voxel.probabilities[static_cast<size_t>(b)];
+                    [&](int a, int b) {  // ties by label id, as the argmax breaks them
+                      const float pa = p[static_cast<size_t>(a)], pb = p[static_cast<size_t>(b)];
+                      return pa > pb || (pa == pb && a < b);
                     });
   for (size_t i = 0; i < top; ++i)
     text += tr("  %1  %2 %3\n")
-                .arg(voxel.probabilities[static_cast<size_t>(order[i])], 0, 'f', 3)
+                .arg(p[static_cast<size_t>(order[i])], 0, 'f', 3)
                 .arg(order[i])
                 .arg(name(order[i]));
+  if (order.size() > top)
+    text += tr("  …  %1 more above %2\n").arg(order.size() - top).arg(lowest, 0, 'f', 3);
+  if (lowest_count == 1) {
+    const int id = static_cast<int>(
+        std::find_if(p.begin(), p.end(), [&](float v) { return v <= lowest + 1e-6f; }) - p.begin());
+    text += tr("  %1  %2 %3\n").arg(lowest, 0, 'f', 3).arg(id).arg(name(id));
+  } else {
+    text += lowest_count == p.size()
+                ? tr("  %1  all %2 labels alike\n").arg(lowest, 0, 'f', 3).arg(lowest_count)
+                : tr("  %1  %2 other labels\n").arg(lowest, 0, 'f', 3).arg(lowest_count);
+  }
   return text.trimmed();
 }
 

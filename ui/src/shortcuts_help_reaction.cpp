@@ -6,9 +6,11 @@
 #include <QDialogButtonBox>
 #include <QHeaderView>
 #include <QScreen>
+#include <QStyle>
 #include <QTableWidget>
 #include <QVBoxLayout>
 #include <QWidget>
+#include <algorithm>
 
 namespace lom::ui {
 
@@ -20,9 +22,13 @@ QStringList ShortcutsHelpReaction::rows() const {
   for (const QAction* action : window_->findChildren<QAction*>()) {
     if (action->shortcut().isEmpty()) continue;
     // Every key of the action (Redo: Ctrl+Shift+Z, Ctrl+Y).
+    // Qt's own aliases (Ctrl+Shift+Backtab for Ctrl+Shift+Tab) are no key
+    // of their own to a user.
     QStringList keys;
-    for (const QKeySequence& key : action->shortcuts())
-      keys << key.toString(QKeySequence::NativeText);
+    for (const QKeySequence& key : action->shortcuts()) {
+      const QString text = key.toString(QKeySequence::NativeText);
+      if (!text.contains("Backtab") || action->shortcuts().size() == 1) keys << text;
+    }
     const QString row = keys.join(", ") + "\t" + action->text().remove('&');
     if (!rows.contains(row)) rows << row;
   }
@@ -39,8 +45,9 @@ QStringList ShortcutsHelpReaction::rows() const {
   return rows;
 }
 
-void ShortcutsHelpReaction::onTriggered() {
-  QDialog dialog(window_);
+std::unique_ptr<QDialog> ShortcutsHelpReaction::createDialog() const {
+  auto owned = std::make_unique<QDialog>(window_);
+  QDialog& dialog = *owned;
   dialog.setWindowTitle(tr("Keyboard Shortcuts"));
   const QStringList lines = rows();
   auto* table = new QTableWidget(lines.size(), 2);
@@ -53,19 +60,26 @@ void ShortcutsHelpReaction::onTriggered() {
     table->setItem(row, 0, new QTableWidgetItem(parts.value(0)));
     table->setItem(row, 1, new QTableWidgetItem(parts.value(1)));
   }
-  table->resizeColumnToContents(0);
+  table->resizeColumnsToContents();
   auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close);
   QObject::connect(buttons, &QDialogButtonBox::rejected, &dialog, &QDialog::reject);
   auto* layout = new QVBoxLayout(&dialog);
   layout->addWidget(table);
   layout->addWidget(buttons);
-  // At most the screen's free area (large scale factors, small screens):
-  // the Close button must stay on screen.
-  QSize size(460, 560);
+  // Both columns whole (the action names were cut off in a fixed width), at
+  // most the screen's free area (large scale factors, small screens): the
+  // Close button must stay on screen.
+  const QMargins margins = layout->contentsMargins();
+  const int width = table->horizontalHeader()->length() + 2 * table->frameWidth() +
+                    table->style()->pixelMetric(QStyle::PM_ScrollBarExtent) + margins.left() +
+                    margins.right() + 8;
+  QSize size(std::max(460, width), 560);
   if (const QScreen* screen = window_->screen())
     size = size.boundedTo(screen->availableGeometry().size() * 0.9);
   dialog.resize(size);
-  dialog.exec();
+  return owned;
 }
+
+void ShortcutsHelpReaction::onTriggered() { createDialog()->exec(); }
 
 }  // namespace lom::ui

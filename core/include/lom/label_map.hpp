@@ -172,6 +172,9 @@ class LabelMap {
   // Throws lom::Error naming the file for unreadable files, trees of another
   // type and header values out of range (docs/fusion.md, "The .ot file").
   [[nodiscard]] static LabelMap load(const std::filesystem::path& path);
+  // Whether `path` is a regular file whose header says it is a labelled map
+  // (OctoMap's header, tree type LabelOcTree): only the header is read.
+  [[nodiscard]] static bool isMapFile(const std::filesystem::path& path);
   // The file the map was loaded from (empty for a map made in memory); errors
   // about the map's content name it.
   [[nodiscard]] const std::filesystem::path& sourceFile() const { return source_file_; }

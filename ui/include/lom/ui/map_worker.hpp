@@ -147,6 +147,10 @@ class MapWorker : public QObject {
   FrameStats fused_totals_;
   std::vector<size_t> frames_outside_map_;
   size_t frames_fused_ = 0;
+  // Of a map fused here: its first frame (it holds frames_fused_ from there)
+  // and the segmenter model its frames without a proba image ran through.
+  size_t first_fused_frame_ = 0;
+  std::string fused_segmenter_;
   bool fusing_now_ = false;  // inside fuse(): quick jobs run between its frames
 
   // Shared.

@@ -16,8 +16,11 @@ class PickedVoxelView : public QLabel {
   explicit PickedVoxelView(StudioSession& session, QWidget* parent = nullptr);
   // The text for one voxel, e.g. "label 3 crayola_24_ct, p = 0.91" and the top 5 lines;
   // names longer than `max_name_characters` are shortened with "…" (-1: never).
+  // Without `map_has_frames` (reset, or a fusion that has fused no frame yet)
+  // an unknown voxel is said to be so because there is no map.
   [[nodiscard]] static QString describe(const Eigen::Vector3d& point, const VoxelState& voxel,
-                                        const LabelSet& labels, int max_name_characters = 32);
+                                        const LabelSet& labels, int max_name_characters = 32,
+                                        bool map_has_frames = true);
 
  private:
   StudioSession& session_;

@@ -17,6 +17,7 @@
 #include "lom/images.hpp"
 #include "lom/label_map.hpp"
 #include "lom/labels.hpp"
+#include "lom/render_limits.hpp"
 
 namespace lom::render {
 
@@ -40,11 +41,6 @@ struct ScoreColours {
   std::vector<GroundTruthBox> boxes;  // at most one per label (checkBoxLabels)
   IouMode mode = IouMode::Exact;
 };
-
-// The largest picture: each side at most 16384 pixels and 2^27 pixels in all
-// (16384 x 8192; Mesa's offscreen buffers under Xvfb read back black beyond).
-inline constexpr int kMaxRenderSide = 16384;
-inline constexpr long long kMaxRenderPixels = 1LL << 27;
 
 struct RenderOptions {
   int width = 1280;
