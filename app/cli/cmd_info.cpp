@@ -13,6 +13,8 @@
 
 #include "args.hpp"
 #include "commands.hpp"
+#include "lom/annotations.hpp"
+#include "lom/evaluation.hpp"
 #include "lom/fusion.hpp"
 #include "lom/label_map.hpp"
 #include "lom/sequence.hpp"
@@ -134,7 +136,64 @@ void printCameraPath(const Sequence& sequence, std::ostream& out) {
   out << " m (" << sequence.frame_id << "), length " << length << " m\n";
 }
 
-void printInfo(const Sequence& sequence, std::ostream& out) {
+std::string percent(double fraction) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f%%", 100.0 * fraction);
+  return text;
+}
+
+std::string depthRange(const DepthFigures& figures) {
+  std::ostringstream out;
+  out << std::setprecision(3) << figures.min << " .. " << figures.max << " m, median "
+      << figures.median << " m";
+  return out.str();
+}
+
+// The depths of the first, middle and last frames: enough to see a wrong
+// depth_scale (the map would come out that many times too small or large),
+// while reading every frame is validate's work (seconds for a long recording).
+// Returns the warning about implausible depths ("" when plausible).
+std::string printSampledDepths(const Sequence& sequence, std::ostream& out) {
+  const size_t count = sequence.frames.size();
+  std::vector<size_t> sampled;
+  for (const size_t i : {size_t{0}, count / 2, count - 1})
+    if (std::find(sampled.begin(), sampled.end(), i) == sampled.end()) sampled.push_back(i);
+  std::vector<float> metres;
+  std::vector<size_t> read;
+  std::vector<std::string> unreadable;
+  for (const size_t i : sampled) {
+    try {
+      const FrameData frame = loadFrame(sequence, i, FrameParts{false, false, false, false});
+      metres.insert(metres.end(), frame.depth.metres.begin(), frame.depth.metres.end());
+      read.push_back(i);
+    } catch (const Error&) {
+      unreadable.push_back("frames[" + std::to_string(i) + "]");
+    }
+  }
+  const DepthFigures figures =
+      depthFigures(DepthImage{static_cast<int>(metres.size()), 1, std::move(metres)});
+  out << "depth (sampled):  ";
+  if (!read.empty()) {
+    out << "frames";
+    for (size_t k = 0; k < read.size(); ++k) out << (k ? ", " : " ") << read[k];
+    if (figures.valid)
+      out << ": " << percent(figures.validFraction()) << " of pixels valid, "
+          << depthRange(figures);
+    else
+      out << ": no valid depth (every pixel 0 or invalid)";
+  }
+  if (!unreadable.empty()) {
+    out << (read.empty() ? "" : "; ");
+    for (size_t k = 0; k < unreadable.size(); ++k) out << (k ? ", " : "") << unreadable[k];
+    out << " unreadable (labeloctomap validate says why)";
+  }
+  out << "\n";
+  return implausibleDepthWarning(sequence, read, figures, true);
+}
+
+// Returns the warnings, for stderr (stdout stays the summary).
+std::vector<std::string> printInfo(const Sequence& sequence, std::ostream& out) {
+  std::vector<std::string> warnings;
   const auto& frames = sequence.frames;
   const auto& cam = sequence.camera;
   const size_t views = static_cast<size_t>(
@@ -156,6 +215,8 @@ void printInfo(const Sequence& sequence, std::ostream& out) {
   out << "views:            " << views << "\n";
   printTimeSpan(sequence, out);
   out << "depth:            " << availability(sequence, &FrameRecord::depth) << "\n";
+  if (std::string depth = printSampledDepths(sequence, out); !depth.empty())
+    warnings.push_back(std::move(depth));
   const size_t from_label = static_cast<size_t>(std::count_if(
       frames.begin(), frames.end(), [](const FrameRecord& f) { return f.proba_from_label; }));
   out << "proba:            " << availability(sequence, &FrameRecord::proba);
@@ -169,6 +230,7 @@ void printInfo(const Sequence& sequence, std::ostream& out) {
   out << "\n";
   out << "color:            " << availability(sequence, &FrameRecord::color) << "\n";
   printCameraPath(sequence, out);
+  return warnings;
 }
 
 std::string lowerExtension(const std::filesystem::path& path) {
@@ -246,6 +308,84 @@ void printMapInfo(const std::filesystem::path& path, std::ostream& out) {
         << "\n";
 }
 
+// "depth: ..." for validate: what every frame's depths are, so that a scale
+// off by a factor that still looks plausible can be seen; "" when none was read.
+std::string depthSummary(const SequenceCheck& check) {
+  size_t read = 0;
+  std::optional<double> low_fraction, high_fraction, low_median, high_median;
+  for (const auto& frame : check.frame_depths) {
+    if (!frame) continue;
+    ++read;
+    low_fraction = std::min(low_fraction.value_or(1.0), frame->validFraction());
+    high_fraction = std::max(high_fraction.value_or(0.0), frame->validFraction());
+    if (!frame->valid) continue;
+    low_median = std::min(low_median.value_or(frame->median), frame->median);
+    high_median = std::max(high_median.value_or(frame->median), frame->median);
+  }
+  if (read == 0) return "";
+  std::ostringstream out;
+  out << std::setprecision(3) << "depth: " << percent(check.depths.validFraction())
+      << " of the pixels of " << read << (read == 1 ? " frame" : " frames") << " read valid";
+  if (read > 1)
+    out << " (" << percent(*low_fraction) << " .. " << percent(*high_fraction) << " per frame)";
+  if (check.depths.valid) {
+    out << ", " << depthRange(check.depths);
+    if (read > 1) out << " (frame medians " << *low_median << " .. " << *high_median << " m)";
+  }
+  return out.str();
+}
+
+// The sequence's boxes (annotations.json, or the YAML box file of the
+// original experiments, beside sequence.json), read as score and the studio
+// read them: a file that does not load, or boxes that score refuses
+// (labels the sequence does not have, another frame), are problems; what
+// score only warns about is a warning.
+void checkSequenceBoxes(const Sequence& sequence, std::vector<Problem>& problems,
+                        std::vector<std::string>& warnings) {
+  const std::string json_file = (sequence.root / "sequence.json").string();
+  for (const char* name : {"annotations.json", "annotations.yaml", "annotations.yml"}) {
+    const std::filesystem::path file = sequence.root / name;
+    std::error_code ec;
+    // A folder or a dangling link of that name gets the loader's message.
+    if (!std::filesystem::exists(std::filesystem::symlink_status(file, ec))) continue;
+    Annotations annotations;
+    try {
+      annotations = loadAnnotationsFor(file, sequence.labels, sequence.frame_id);
+    } catch (const Error& e) {
+      // The loader stops at the first problem of a file.
+      problems.push_back(e.problem());
+      continue;
+    }
+    if (annotations.frame_id != sequence.frame_id)
+      problems.push_back({file.string(), "frame_id",
+                          "the sequence's frame \"" + sequence.frame_id + "\" (" + json_file + ")",
+                          "\"" + annotations.frame_id + "\""});
+    if (annotations.boxes.empty())
+      warnings.push_back(file.string() + ": boxes: none (score needs at least one box)");
+    // Every box score would refuse, not only the first as score says.
+    const int labels = sequence.labels.size();
+    for (const UnscorableBox& box : unscorableBoxes(annotations, labels)) {
+      // A YAML box file names its boxes' labels in `name` (object_12).
+      const std::string field =
+          "boxes[" + std::to_string(box.index) + "]." + (isYamlBoxesPath(file) ? "name" : "label");
+      if (box.boxed_before)
+        problems.push_back({file.string(), field, "each label in at most one box",
+                            "label " + std::to_string(box.label) + " again (also boxes[" +
+                                std::to_string(*box.boxed_before) + "])"});
+      else
+        problems.push_back(
+            {file.string(), field,
+             labels > 1 ? "an object label of the sequence (1.." + std::to_string(labels - 1) +
+                              "; 0 is the background; " + json_file + ")"
+                        : "an object label, but the sequence has none (only the background, "
+                          "0: it was recorded without label images)",
+             std::to_string(box.label)});
+    }
+    for (auto& warning : boxNameWarnings(annotations, sequence.labels, file.string(), json_file))
+      warnings.push_back(std::move(warning));
+  }
+}
+
 }  // namespace
 
 int runInfo(const Words& words) {
@@ -263,7 +403,9 @@ int runInfo(const Words& words) {
     return 0;
   }
   const Sequence sequence = loadSequence(path);
-  printInfo(sequence, std::cout);
+  const std::vector<std::string> warnings = printInfo(sequence, std::cout);
+  std::cout.flush();
+  for (const auto& warning : warnings) std::cerr << "warning: " << warning << "\n";
   return 0;
 }
 
@@ -273,6 +415,7 @@ int runValidate(const Words& words) {
   const std::string path = args.positional(0, "SEQ (a sequence folder or sequence.json)");
   std::vector<Problem> problems;
   std::vector<std::string> warnings;
+  std::string depths;
   size_t frames = 0;
   try {
     if (isMapFile(path))
@@ -281,17 +424,26 @@ int runValidate(const Words& words) {
                   "labeloctomap info MAP.ot describes a map)",
                   "a map file");
     const Sequence sequence = loadSequence(path);
+    const std::string json_file = (sequence.root / "sequence.json").string();
     frames = sequence.frames.size();
-    problems = validateSequence(sequence);
+    SequenceCheck check = checkSequence(sequence);
+    problems = std::move(check.problems);
+    depths = depthSummary(check);
     // No voxel size yet: the extents at the coarsest and the finest that fusion takes.
     CameraExtentCheck extents = checkCameraExtents(sequence);
     problems.insert(problems.end(), extents.problems.begin(), extents.problems.end());
-    if (!extents.warning.empty()) warnings.push_back(extents.warning);
-    for (auto& jump : cameraJumps(sequence)) warnings.push_back(std::move(jump));
-    for (auto& camera : implausibleIntrinsics(sequence)) warnings.push_back(std::move(camera));
+    // The pose and camera warnings name fields of sequence.json: with its
+    // path, as the problems and the other warnings are.
+    if (!extents.warning.empty()) warnings.push_back(json_file + ": " + extents.warning);
+    for (const auto& jump : cameraJumps(sequence)) warnings.push_back(json_file + ": " + jump);
+    for (const auto& camera : implausibleIntrinsics(sequence))
+      warnings.push_back(json_file + ": " + camera);
+    warnings.insert(warnings.end(), check.warnings.begin(), check.warnings.end());
+    checkSequenceBoxes(sequence, problems, warnings);
   } catch (const Error& e) {
     problems.push_back(e.problem());
   }
+  if (!depths.empty()) std::cout << depths << "\n";
   // Poses are valid numbers either way: a jump, or a camera that only coarser
   // voxels hold, is worth a look, not a failure.
   for (const auto& warning : warnings) std::cout << "warning: " << warning << "\n";

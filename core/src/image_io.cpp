@@ -178,12 +178,24 @@ std::string shapeText(const std::vector<size_t>& shape) {
 
 DepthImage readDepthNpy(const fs::path& path) {
   const std::string file = path.string();
-  const NpyArray array = readNpy(path);
+  const char* const depth_types =
+      "float32 depths in metres ('<f4'/'>f4'; float16 and float64 also accepted)";
+  NpyArray array;
+  try {
+    array = readNpy(path);
+  } catch (const Error& e) {
+    // readNpy lists the dtypes of every .npy it reads, uint8 and uint16
+    // among them, which depths refuse below: name only what a depth takes.
+    if (e.problem().field != "dtype") throw;
+    Problem problem = e.problem();
+    problem.expected = depth_types;
+    throw Error(problem);
+  }
   const bool single_channel = array.shape.size() == 3 && array.shape[2] == 1;
   if (array.shape.size() != 2 && !single_channel)
     throw Error(file, "shape", "a 2-D array H x W of depths in metres", shapeText(array.shape));
   if (array.type == NpyType::UInt8 || array.type == NpyType::UInt16)
-    throw Error(file, "dtype", "float32 depths in metres (float16 and float64 also accepted)",
+    throw Error(file, "dtype", depth_types,
                 typeName(array.type) + " (store integer depths as a 16-bit PNG with depth_scale)");
   DepthImage depth;
   depth.height = static_cast<int>(array.shape[0]);

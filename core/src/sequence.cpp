@@ -4,13 +4,16 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <initializer_list>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
 #include <string_view>
 #include <thread>
 
@@ -215,10 +218,30 @@ CameraIntrinsics parseCamera(const Reader& in, const Json& value, const std::str
   return camera;
 }
 
+// The shortest text that reads back as `value` ("1.000003", not "1"): a
+// pose that fails by 3e-06 must not print as the values it should have.
+std::string exactNumber(double value) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, value).ptr;
+  return std::string(text, end);
+}
+
 std::string matrixRowText(const Eigen::Matrix4d& m, int row) {
-  std::ostringstream out;
-  out << "[" << m(row, 0) << " " << m(row, 1) << " " << m(row, 2) << " " << m(row, 3) << "]";
-  return out.str();
+  return "[" + exactNumber(m(row, 0)) + " " + exactNumber(m(row, 1)) + " " +
+         exactNumber(m(row, 2)) + " " + exactNumber(m(row, 3)) + "]";
+}
+
+// "<deviation> > <tolerance>", the deviation with as many digits as it takes
+// to differ from the tolerance (1.00000001e-04 is not "0.0001 > 0.0001").
+std::string exceeding(double deviation, double tolerance) {
+  char limit[32];
+  std::snprintf(limit, sizeof limit, "%g", tolerance);
+  char shown[32];
+  for (int digits = 3; digits <= 17; ++digits) {
+    std::snprintf(shown, sizeof shown, "%.*g", digits, deviation);
+    if (std::strtod(shown, nullptr) > tolerance) break;
+  }
+  return std::string(shown) + " > " + limit;
 }
 
 Eigen::Isometry3d parsePose(const Reader& in, const Json& value, const std::string& field) {
@@ -236,11 +259,23 @@ Eigen::Isometry3d parsePose(const Reader& in, const Json& value, const std::stri
   const double last_row = (m.row(3) - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff();
   if (std::abs(det - 1.0) > kRotationTolerance || orthogonality > kRotationTolerance ||
       last_row > kLastRowTolerance) {
-    std::ostringstream found;
-    found << "det(R) = " << det << ", max |R^T R - I| = " << orthogonality << ", last row "
-          << matrixRowText(m, 3);
-    in.fail(field, "a rigid transform (orthonormal rotation, det +1, last row 0 0 0 1)",
-            found.str());
+    // Only the conditions that fail, each with its tolerance and by how much:
+    // the values themselves, rounded, can look exactly right.
+    std::vector<std::string> failing;
+    if (std::abs(det - 1.0) > kRotationTolerance) {
+      char value[32];
+      std::snprintf(value, sizeof value, "%.9g", det);
+      failing.push_back("det(R) = " + std::string(value) +
+                        ": |det(R) - 1| = " + exceeding(std::abs(det - 1.0), kRotationTolerance));
+    }
+    if (orthogonality > kRotationTolerance)
+      failing.push_back("max |R^T R - I| = " + exceeding(orthogonality, kRotationTolerance));
+    if (last_row > kLastRowTolerance)
+      failing.push_back("last row " + matrixRowText(m, 3) + " differs from [0 0 0 1] by " +
+                        exceeding(last_row, kLastRowTolerance));
+    std::string found;
+    for (const std::string& part : failing) found += (found.empty() ? "" : "; ") + part;
+    in.fail(field, "a rigid transform (orthonormal rotation, det +1, last row 0 0 0 1)", found);
   }
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = m.topRightCorner<3, 1>();
@@ -668,33 +703,292 @@ void saveSequence(const Sequence& sequence, const fs::path& folder) {
   writeTextFileAtomically(folder / "sequence.json", text);
 }
 
-std::vector<Problem> validateSequence(const Sequence& sequence) {
-  std::vector<Problem> problems;
-  bool any_depth = false;
-  const fs::path json_path = sequence.root / "sequence.json";
+namespace {
+
+// Non-negative finite floats in order of their bit patterns, binned by all
+// but the lowest 13 of their 23 mantissa bits: bins 2^-10 (0.1 %) of their
+// value wide, 261,120 bins from the smallest float to the largest.
+class DepthHistogram {
+ public:
+  void add(float z) {
+    if (counts_.empty()) counts_.assign(kBins, 0);
+    ++counts_[bitsOf(z) >> kDroppedBits];
+  }
+  // The value of rank `rank` (0-based, ascending) to within its bin's width:
+  // the bin's middle.
+  [[nodiscard]] double valueOfRank(std::uint64_t rank) const {
+    std::uint64_t below = 0;
+    for (size_t bin = 0; bin < counts_.size(); ++bin) {
+      below += counts_[bin];
+      if (below > rank) {
+        const std::uint32_t middle =
+            (static_cast<std::uint32_t>(bin) << kDroppedBits) | (1u << (kDroppedBits - 1));
+        float value = 0.f;
+        std::memcpy(&value, &middle, sizeof value);
+        return value;
+      }
+    }
+    return 0.0;
+  }
+
+ private:
+  static constexpr int kDroppedBits = 13;
+  static constexpr size_t kBins = size_t{0x7f800000} >> kDroppedBits;  // up to infinity
+  static std::uint32_t bitsOf(float z) {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &z, sizeof bits);
+    return bits;
+  }
+  std::vector<std::uint64_t> counts_;
+};
+
+bool measured(float z) { return z > 0.f && z <= std::numeric_limits<float>::max(); }
+
+// `value` with at most `decimals` decimals and every digit before the point
+// (epoch stamps), trailing zeros dropped.
+std::string fixedDigits(double value, int decimals) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", decimals, value);
+  std::string shown = text;
+  while (shown.back() == '0') shown.pop_back();
+  if (shown.back() == '.') shown.pop_back();
+  return shown == "-0" ? std::string("0") : shown;
+}
+
+std::string significant(double value, int digits = 3) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*g", digits, value);
+  return text;
+}
+
+// "a, b, c and 4 more": at most `shown` items of a list that may be long.
+std::string listSome(const std::vector<std::string>& items, size_t shown = 5) {
+  std::string text;
+  for (size_t i = 0; i < items.size() && i < shown; ++i)
+    text += (i == 0 ? "" : i + 1 == items.size() ? " and " : ", ") + items[i];
+  if (items.size() > shown) text += " and " + std::to_string(items.size() - shown) + " more";
+  return text;
+}
+
+std::string lowerExtension(const std::string& path) {
+  std::string extension = fs::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return extension;
+}
+
+// The file a frame path names, however it is spelt ("depth/0.png",
+// "./depth/0.png", a link to it).
+std::string resolvedFile(const Sequence& sequence, const std::string& relative) {
+  const fs::path path = sequence.pathOf(relative);
+  std::error_code ec;
+  const fs::path canonical = fs::weakly_canonical(path, ec);
+  return (ec ? path.lexically_normal() : canonical).string();
+}
+
+// Frames listed twice, depth files shared by frames taken from different
+// places, and stamps that go back: valid files, but a fusion of them counts
+// one image's evidence twice or spreads it over two places.
+void addFrameListWarnings(const Sequence& sequence, const std::string& json_file,
+                          std::vector<std::string>& warnings) {
+  std::map<std::string, std::vector<size_t>> frames_of_file;
+  for (size_t i = 0; i < sequence.frames.size(); ++i)
+    frames_of_file[resolvedFile(sequence, sequence.frames[i].depth)].push_back(i);
+  std::vector<std::pair<size_t, size_t>> repeats;  // (frame, the earlier frame it repeats)
+  std::vector<std::string> shared;
+  for (const auto& [file, frames] : frames_of_file) {
+    if (frames.size() < 2) continue;
+    std::vector<size_t> places;  // the first frame of each pose
+    for (const size_t i : frames) {
+      const Eigen::Matrix4d& pose = sequence.frames[i].T_world_camera.matrix();
+      const auto same = std::find_if(places.begin(), places.end(), [&](size_t earlier) {
+        return sequence.frames[earlier].T_world_camera.matrix() == pose;
+      });
+      if (same == places.end())
+        places.push_back(i);
+      else
+        repeats.emplace_back(i, *same);
+    }
+    if (places.size() < 2) continue;
+    std::vector<std::string> fields;
+    for (const size_t i : places) fields.push_back(indexed("frames", i) + ".depth");
+    shared.push_back(file + " (" + listSome(fields) + ", " + std::to_string(places.size()) +
+                     " poses)");
+  }
+  std::sort(repeats.begin(), repeats.end());
+  if (!repeats.empty()) {
+    std::vector<std::string> pairs;
+    for (const auto& [frame, earlier] : repeats)
+      pairs.push_back(indexed("frames", frame) + " repeats " + indexed("frames", earlier));
+    warnings.push_back(json_file + ": frames: " + listSome(pairs) +
+                       " (the same depth file and the same pose): fused, " +
+                       (repeats.size() == 1 ? "its" : "their") +
+                       " evidence counts twice (a frame listed again by mistake?)");
+  }
+  if (!shared.empty())
+    warnings.push_back(json_file + ": frames[].depth: " +
+                       (shared.size() == 1 ? std::string("a depth file is")
+                                           : std::to_string(shared.size()) + " depth files are") +
+                       " named by frames with different poses: " + listSome(shared, 3) +
+                       "; one image was taken from one place, so all but one of those poses "
+                       "put its depths where nothing was measured (a frame's file named twice "
+                       "by mistake?)");
+  // The format lists frames in recording order; stamps that go back are
+  // frames out of order (or another recording's stamps).
+  std::vector<std::string> back;
+  std::optional<size_t> previous;
+  for (size_t i = 0; i < sequence.frames.size(); ++i) {
+    const auto& stamp = sequence.frames[i].stamp;
+    if (!stamp) continue;
+    if (previous && *stamp < *sequence.frames[*previous].stamp)
+      back.push_back(indexed("frames", i) + ".stamp " + fixedDigits(*stamp, 6) + " after " +
+                     indexed("frames", *previous) + ".stamp " +
+                     fixedDigits(*sequence.frames[*previous].stamp, 6));
+    previous = i;
+  }
+  if (!back.empty())
+    warnings.push_back(
+        json_file + ": frames[].stamp: the stamps go back " +
+        (back.size() == 1 ? std::string("once") : std::to_string(back.size()) + " times") + ", " +
+        listSome(back, 3) + ", but frames are listed in recording order (frames out of order?)");
+}
+
+}  // namespace
+
+DepthFigures depthFigures(const DepthImage& depth) {
+  DepthFigures figures;
+  figures.pixels = depth.metres.size();
+  std::vector<float> valid;
+  valid.reserve(depth.metres.size());
+  for (const float z : depth.metres)
+    if (measured(z)) valid.push_back(z);
+  figures.valid = valid.size();
+  if (valid.empty()) return figures;
+  const auto [low, high] = std::minmax_element(valid.begin(), valid.end());
+  figures.min = *low;
+  figures.max = *high;
+  // The lower middle of an even count: a depth that was measured.
+  const auto middle = valid.begin() + static_cast<std::ptrdiff_t>((valid.size() - 1) / 2);
+  std::nth_element(valid.begin(), middle, valid.end());
+  figures.median = *middle;
+  return figures;
+}
+
+std::string implausibleDepthWarning(const Sequence& sequence, const std::vector<size_t>& frames,
+                                    const DepthFigures& figures, bool sampled) {
+  const bool near = figures.median < kMinPlausibleMedianDepth;
+  if (figures.valid == 0 || frames.empty() || (!near && figures.median <= kMaxPlausibleMedianDepth))
+    return "";
+  // A 16-bit image holds units of its camera's depth_scale; a .npy holds metres.
+  std::vector<std::string> fields;
+  std::set<double> scales;
+  size_t npy = 0;
+  for (const size_t i : frames) {
+    if (lowerExtension(sequence.frames[i].depth) == ".npy") {
+      ++npy;
+      continue;
+    }
+    const double scale = sequence.cameraOf(i).depth_scale;
+    scales.insert(scale);
+    const std::string field = scale == sequence.camera.depth_scale
+                                  ? std::string("camera.depth_scale")
+                                  : indexed("frames", i) + ".camera.depth_scale";
+    if (std::find(fields.begin(), fields.end(), field) == fields.end()) fields.push_back(field);
+  }
+  if (npy > 0) fields.push_back("frames[].depth (.npy, in metres)");
+  const std::string over = "the " + std::to_string(frames.size()) +
+                           (frames.size() == 1 ? " frame" : " frames") +
+                           (sampled ? " sampled" : "");
+  std::string text = (sequence.root / "sequence.json").string() + ": " + listSome(fields, 3) +
+                     ": the median valid depth of " + over + " is " + significant(figures.median) +
+                     " m (" + significant(figures.min) + " .. " + significant(figures.max) +
+                     " m), " + (near ? "nearer" : "farther") +
+                     " than depth cameras measure (a median of " +
+                     significant(kMinPlausibleMedianDepth) + " to " +
+                     significant(kMaxPlausibleMedianDepth) + " m expected)";
+  // The power of ten that brings the median nearest 1 m: depth units are
+  // metres, millimetres or tenths of them, rarely anything between.
+  const double factor = std::pow(10.0, std::round(-std::log10(figures.median)));
+  const std::string times = significant(factor >= 1.0 ? factor : 1.0 / factor, 6) +
+                            (factor >= 1.0 ? " times too small" : " times too large");
+  if (npy == 0 && scales.size() == 1) {
+    const double scale = *scales.begin();
+    text += ": depth_scale " + significant(scale, 6) + " metres per unit is likely wrong; " +
+            significant(scale * factor, 6) + " would give a median of " +
+            significant(figures.median * factor) + " m (fused as it is, the map comes out " +
+            times + ")";
+  } else if (npy == frames.size()) {
+    text += ": .npy depths are metres (depth_scale does not apply); scaled by " +
+            significant(factor, 6) + " they would have a median of " +
+            significant(figures.median * factor) + " m (fused as they are, the map comes out " +
+            times + ")";
+  } else {
+    text += ": check the depth scales of the frames (fused as they are, the map comes out about " +
+            times + ")";
+  }
+  return text;
+}
+
+SequenceCheck checkSequence(const Sequence& sequence) {
+  SequenceCheck check;
+  const std::string json_file = (sequence.root / "sequence.json").string();
+  check.frame_depths.resize(sequence.frames.size());
+  DepthHistogram histogram;
+  std::vector<size_t> read;  // frames whose depth image was read
   for (size_t i = 0; i < sequence.frames.size(); ++i) {
     const FrameRecord& record = sequence.frames[i];
     if (record.proba.empty() && record.label.empty())
-      problems.push_back({json_path.string(), indexed("frames", i),
-                          "a \"proba\" or a \"label\" file (fusion needs per-pixel labels)",
-                          "neither"});
-    const size_t before = problems.size();
-    const FrameData frame = readFrame(sequence, i, FrameParts{}, problems);
-    if (problems.size() == before && !any_depth)
-      for (const float z : frame.depth.metres)
-        if (std::isfinite(z) && z > 0.f) {
-          any_depth = true;
-          break;
-        }
+      check.problems.push_back({json_file, indexed("frames", i),
+                                "a \"proba\" or a \"label\" file (fusion needs per-pixel labels)",
+                                "neither"});
+    const FrameData frame = readFrame(sequence, i, FrameParts{}, check.problems);
+    // The depth counts whatever the frame's other images: a broken label
+    // image leaves its depths as they are (readFrame leaves an image that
+    // could not be read, or has the wrong size, empty).
+    if (frame.depth.metres.empty()) continue;
+    read.push_back(i);
+    const DepthFigures figures = depthFigures(frame.depth);
+    check.frame_depths[i] = figures;
+    DepthFigures& all = check.depths;
+    all.pixels += figures.pixels;
+    if (figures.valid == 0) continue;
+    all.min = all.valid == 0 ? figures.min : std::min(all.min, figures.min);
+    all.max = std::max(all.max, figures.max);
+    all.valid += figures.valid;
+    for (const float z : frame.depth.metres)
+      if (measured(z)) histogram.add(z);
+  }
+  if (check.depths.valid > 0) {
+    // The lower middle, as depthFigures takes it; clamped for a bin wider than the range.
+    const double median = histogram.valueOfRank((check.depths.valid - 1) / 2);
+    check.depths.median = std::clamp(median, check.depths.min, check.depths.max);
   }
   // Frames without a measurement are left out of fusion one by one; with
-  // none at all there is nothing to fuse, which fuse refuses.
-  if (problems.empty() && !sequence.frames.empty() && !any_depth)
-    problems.push_back({json_path.string(), "frames[].depth",
-                        "depth images with valid measurements (finite, > 0) in at least one frame",
-                        "none in the " + std::to_string(sequence.frames.size()) +
-                            " frames: every depth pixel is 0 (no measurement) or invalid"});
-  return problems;
+  // none at all there is nothing to fuse, which fuse refuses. Said whatever
+  // else is wrong (it is the one problem that fixing the others leaves),
+  // unless no depth image could be read: each frame's problem says so.
+  if (!read.empty() && check.depths.valid == 0) {
+    const size_t count = sequence.frames.size();
+    const size_t unread = count - read.size();
+    std::string found = "none in the " + std::to_string(count) + " frames: ";
+    if (unread == 0)
+      found += "every depth pixel is 0 (no measurement) or invalid";
+    else
+      found += std::to_string(unread) + " of the " + std::to_string(count) +
+               " depth images could not be read (see the frames[i].depth problems), and every "
+               "pixel of the " +
+               (read.size() == 1 ? "other" : "others") + " is 0 (no measurement) or invalid";
+    check.problems.push_back(
+        {json_file, "frames[].depth",
+         "depth images with valid measurements (finite, > 0) in at least one frame", found});
+  }
+  if (std::string depth = implausibleDepthWarning(sequence, read, check.depths); !depth.empty())
+    check.warnings.push_back(std::move(depth));
+  addFrameListWarnings(sequence, json_file, check.warnings);
+  return check;
+}
+
+std::vector<Problem> validateSequence(const Sequence& sequence) {
+  return checkSequence(sequence).problems;
 }
 
 FrameData loadFrame(const Sequence& sequence, size_t index, FrameParts parts) {

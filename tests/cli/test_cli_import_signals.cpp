@@ -145,7 +145,9 @@ TEST_F(CliImportSignalTest, AnInterruptedOverwriteKeepsTheOldSequence) {
   auto r = test::runCli("import frames '" + source().string() + "' --out '" + out.string() +
                         "' --max-frames 2 --quiet");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::ofstream(out / "annotations.json") << "{}";
+  // Boxes that load: validate below reads them.
+  std::ofstream(out / "annotations.json")
+      << R"({"format": "labeloctomap-annotations", "version": 1, "boxes": []})";
   const auto listing = [&] {
     std::vector<std::string> files;
     for (const auto& entry : fs::recursive_directory_iterator(out))

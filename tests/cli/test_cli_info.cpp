@@ -184,12 +184,16 @@ TEST_F(CliInfoTest, CameraJumpsAreWarnedAbout) {
   lom::saveSequence(sequence, seq());
   const auto result = lom::test::runCli("validate " + quoted(seq()));
   EXPECT_EQ(result.exit_code, 0) << result.out << result.err;
-  EXPECT_NE(result.out.find("warning: frames[2].pose: the camera is 300.2 m from where "
+  // Named with sequence.json, whose field it is, as validate's problems are.
+  const std::string json_file = (seq() / "sequence.json").string();
+  EXPECT_NE(result.out.find("warning: " + json_file +
+                            ": frames[2].pose: the camera is 300.2 m from where "
                             "it was in frames[1]"),
             std::string::npos)
       << result.out;
   // 300 m out, the camera also needs voxels coarser than the finest (2 mm: 65.536 m).
-  EXPECT_NE(result.out.find("warning: frames[2].pose: the camera lies outside the extent"),
+  EXPECT_NE(result.out.find("warning: " + json_file +
+                            ": frames[2].pose: the camera lies outside the extent"),
             std::string::npos)
       << result.out;
   EXPECT_NE(result.out.find("OK: 3 frames valid (2 warnings)"), std::string::npos) << result.out;
@@ -209,7 +213,11 @@ TEST_F(CliInfoTest, ImplausibleIntrinsicsAreWarnedAbout) {
   lom::saveSequence(sequence, seq());
   const auto result = lom::test::runCli("validate " + quoted(seq()));
   EXPECT_EQ(result.exit_code, 0) << result.out << result.err;
-  EXPECT_NE(result.out.find("warning: camera: fx = 0.2, fy = 0.2, cx = 2.5, cy = 1.5 give a field of view of 172.2 x 167.8 degrees at 6 x 4 pixels"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("warning: " + (seq() / "sequence.json").string() +
+                            ": camera: fx = 0.2, fy = 0.2, cx = 2.5, cy = 1.5 give a field of "
+                            "view of 172.2 x 167.8 degrees at 6 x 4 pixels"),
+            std::string::npos)
+      << result.out;
   EXPECT_NE(result.out.find("depth cameras see about 40 to 120 degrees"), std::string::npos)
       << result.out;
   EXPECT_NE(result.out.find("OK: 3 frames valid (1 warning)"), std::string::npos) << result.out;
@@ -228,11 +236,11 @@ TEST_F(CliInfoTest, ValidateFlagsCamerasOutsideTheMapsExtent) {
   lom::saveSequence(sequence, seq());
   auto result = lom::test::runCli("validate " + quoted(seq()));
   EXPECT_EQ(result.exit_code, 0) << result.out << result.err;
-  EXPECT_NE(
-      result.out.find("warning: frames[1].pose: the camera lies outside the extent of a map with "
-                      "the finest voxels fusion takes, 65.536 m either side of the origin "
-                      "on each axis at 0.002 m voxels"),
-      std::string::npos)
+  EXPECT_NE(result.out.find("warning: " + (seq() / "sequence.json").string() +
+                            ": frames[1].pose: the camera lies outside the extent of a map with "
+                            "the finest voxels fusion takes, 65.536 m either side of the origin "
+                            "on each axis at 0.002 m voxels"),
+            std::string::npos)
       << result.out;
   EXPECT_NE(result.out.find("fusing needs voxels of 0.004 m or more"), std::string::npos)
       << result.out;
@@ -248,6 +256,176 @@ TEST_F(CliInfoTest, ValidateFlagsCamerasOutsideTheMapsExtent) {
       << result.out;
   // Its neighbours did not jump: the far camera is the wrong pose.
   EXPECT_EQ(result.out.find("frames[2].pose: the camera is"), std::string::npos) << result.out;
+}
+
+// Depths of 8 cm (a depth_scale of 0.0001 for millimetres): every command
+// that reads depths says so, naming the field; validate and info give the figures.
+TEST_F(CliInfoTest, ADepthScaleNoDepthCameraHasIsWarnedAbout) {
+  auto result = lom::test::runCli("validate " + quoted(seq()));
+  EXPECT_NE(result.out.find("depth: 100.0% of the pixels of 3 frames read valid (100.0% .. "
+                            "100.0% per frame), 0.8 .. 0.8 m, median 0.8 m (frame medians 0.8 "
+                            ".. 0.8 m)\n"),
+            std::string::npos)
+      << result.out;
+  EXPECT_EQ(result.out.find("warning:"), std::string::npos) << result.out;
+  result = lom::test::runCli("info " + quoted(seq()));
+  EXPECT_NE(result.out.find("depth (sampled):  frames 0, 1, 2: 100.0% of pixels valid, 0.8 .. "
+                            "0.8 m, median 0.8 m\n"),
+            std::string::npos)
+      << result.out;
+  EXPECT_EQ(result.err, "");
+
+  lom::Sequence sequence = lom::loadSequence(seq());
+  sequence.camera.depth_scale = 0.0001;
+  lom::saveSequence(sequence, seq());
+  const std::string json_file = (seq() / "sequence.json").string();
+  result = lom::test::runCli("validate " + quoted(seq()));
+  EXPECT_EQ(result.exit_code, 0) << result.out << result.err;
+  EXPECT_NE(result.out.find("warning: " + json_file +
+                            ": camera.depth_scale: the median valid depth of the 3 frames is "
+                            "0.08 m (0.08 .. 0.08 m), nearer than depth cameras measure (a "
+                            "median of 0.1 to 20 m expected): depth_scale 0.0001 metres per unit "
+                            "is likely wrong; 0.001 would give a median of 0.8 m (fused as it "
+                            "is, the map comes out 10 times too small)\n"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find("OK: 3 frames valid (1 warning)"), std::string::npos) << result.out;
+
+  result = lom::test::runCli("info " + quoted(seq()));
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("depth (sampled):  frames 0, 1, 2: 100.0% of pixels valid, 0.08 .. "
+                            "0.08 m, median 0.08 m\n"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.err.find("warning: " + json_file +
+                            ": camera.depth_scale: the median valid depth of the 3 frames "
+                            "sampled is 0.08 m"),
+            std::string::npos)
+      << result.err;
+
+  result = lom::test::runCli("fuse " + quoted(seq()) + " --out " + quoted(dir / "m.ot"));
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.err.find("warning: " + json_file +
+                            ": camera.depth_scale: the farthest measured depth of the 3 frames "
+                            "fused is 0.0"),
+            std::string::npos)
+      << result.err;
+  EXPECT_NE(result.err.find("nearer than depth cameras measure (0.1 to 20 m): depth_scale 0.0001 "
+                            "(metres per unit of the depth images) is likely too small, which "
+                            "shrinks the map by the same factor"),
+            std::string::npos)
+      << result.err;
+
+  // A scale 1000 times too large: validate warns, fuse's max range message names the scale.
+  sequence.camera.depth_scale = 1.0;
+  lom::saveSequence(sequence, seq());
+  result = lom::test::runCli("validate " + quoted(seq()));
+  EXPECT_EQ(result.exit_code, 0) << result.out << result.err;
+  EXPECT_NE(result.out.find("is 800 m (800 .. 800 m), farther than depth cameras measure"),
+            std::string::npos)
+      << result.out;
+}
+
+// Problems anywhere (here a label image) leave "no valid depth" said.
+TEST_F(CliInfoTest, ValidateSaysThereIsNoDepthBesideOtherProblems) {
+  for (int i = 0; i < 3; ++i)
+    lom::writeDepthPng(seq() / ("frames/" + std::to_string(i) + ".depth.png"),
+                       {kWidth, kHeight, std::vector<float>(24, 0.f)}, 0.001);
+  fs::remove(seq() / "frames/2.label.png");
+  const auto result = lom::test::runCli("validate " + quoted(seq()));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.out.find("frames[2].label: expected"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find((seq() / "sequence.json").string() +
+                            ": frames[].depth: expected depth images with valid measurements"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.err.find("2 problems"), std::string::npos) << result.err;
+}
+
+// A copy of a frame, a depth file of two frames with different poses, a
+// stamp going back: valid files, so warnings naming the frames.
+TEST_F(CliInfoTest, ValidateWarnsAboutRepeatedFramesAndStampsGoingBack) {
+  lom::Sequence sequence = lom::loadSequence(seq());
+  sequence.frames.push_back(sequence.frames[1]);
+  sequence.frames[2].depth = sequence.frames[0].depth;
+  sequence.frames[2].stamp = 9.0;
+  lom::saveSequence(sequence, seq());
+  const auto result = lom::test::runCli("validate " + quoted(seq()));
+  EXPECT_EQ(result.exit_code, 0) << result.out << result.err;
+  const std::string json_file = (seq() / "sequence.json").string();
+  for (const std::string& expected : std::vector<std::string>{
+           "warning: " + json_file + ": frames: frames[3] repeats frames[1]",
+           "warning: " + json_file + ": frames[].depth: a depth file is named by frames with " +
+               "different poses: " + (seq() / "frames/0.depth.png").string() +
+               " (frames[0].depth and frames[2].depth, 2 poses)",
+           "warning: " + json_file + ": frames[].stamp: the stamps go back once, frames[2].stamp " +
+               "9 after frames[1].stamp 11,",
+           std::string("OK: 4 frames valid (3 warnings)")})
+    EXPECT_NE(result.out.find(expected), std::string::npos) << expected << "\nin\n" << result.out;
+}
+
+// The boxes beside sequence.json are read as score reads them: whatever
+// score would refuse is a problem, every box with a label the sequence
+// lacks at once.
+TEST_F(CliInfoTest, ValidateChecksTheSequencesBoxes) {
+  const fs::path boxes = seq() / "annotations.json";
+  const auto validate = [&](const std::string& text) {
+    std::ofstream(boxes) << text;
+    return lom::test::runCli("validate " + quoted(seq()));
+  };
+  const std::string head =
+      R"({"format": "labeloctomap-annotations", "version": 1, "frame_id": "world", "boxes": [)";
+  const std::string good = R"({"label": 1, "center": [0, 0, 1], "size": [0.1, 0.1, 0.1]})";
+  auto result = validate(head + good + "]}");
+  EXPECT_EQ(result.exit_code, 0) << result.out << result.err;
+  EXPECT_NE(result.out.find("OK: 3 frames valid\n"), std::string::npos) << result.out;
+
+  // Labels the sequence lacks (it has 0..2): every box named.
+  result = validate(head + good +
+                    R"(, {"label": 77, "center": [0, 0, 1], "size": [0.1, 0.1, 0.1]},
+                         {"label": 0, "center": [0, 0, 1], "size": [0.1, 0.1, 0.1]}]})");
+  EXPECT_EQ(result.exit_code, 1) << result.out << result.err;
+  EXPECT_NE(result.out.find(boxes.string() +
+                            ": boxes[1].label: expected an object label of the sequence (1..2; 0 "
+                            "is the background; " +
+                            (seq() / "sequence.json").string() + "), found 77"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find(boxes.string() + ": boxes[2].label: expected an object label"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.err.find("2 problems"), std::string::npos) << result.err;
+
+  // What the loader refuses, named as score names it.
+  const std::vector<std::pair<std::string, std::string>> broken = {
+      {head + R"({"label": 1, "center": [0, 0, 1], "size": [0.1, -0.1, 0.1]}]})",
+       ": boxes[0].size"},
+      {head + R"({"label": 1, "center": [0, 0], "size": [0.1, 0.1, 0.1]}]})",
+       ": boxes[0].center: expected 3 numbers"},
+      {head + good.substr(0, good.size() - 1) + R"(, "rotation": [0, 0, 0, 0]}]})",
+       ": boxes[0].rotation"},
+      {head + good, ": expected"},  // cut short
+      {R"({"format": "labeloctomap-annotations", "version": 1, "frame_id": "base", "boxes": [)" +
+           good + "]}",
+       ": frame_id: expected the sequence's frame \"world\""}};
+  for (const auto& [text, expected] : broken) {
+    result = validate(text);
+    EXPECT_EQ(result.exit_code, 1) << text + "\n" + result.out + result.err;
+    EXPECT_NE(result.out.find(boxes.string() + expected), std::string::npos)
+        << text + "\n" + result.out;
+  }
+
+  // The YAML box files of the original experiments, beside sequence.json.
+  fs::remove(boxes);
+  std::ofstream(seq() / "annotations.yaml")
+      << "boxes:\n  - {dimensions: [0.1, 0.1, 0.1], position: [0, 0, 1], orientation: [0, 0, "
+         "0, 1], name: object_9}\n";
+  result = lom::test::runCli("validate " + quoted(seq()));
+  EXPECT_EQ(result.exit_code, 1) << result.out << result.err;
+  EXPECT_NE(result.out.find((seq() / "annotations.yaml").string() +
+                            ": boxes[0].name: expected an object label of the sequence"),
+            std::string::npos)
+      << result.out;
 }
 
 TEST_F(CliInfoTest, ValidateListsEveryProblemOfABrokenSequence) {

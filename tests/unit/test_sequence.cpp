@@ -514,6 +514,32 @@ TEST_F(SequenceTest, RejectsNonRigidPoseNamingTheFrame) {
   EXPECT_NE(short_pose.found.find("15 elements"), std::string::npos);
 }
 
+// A pose that fails by a little names the failing condition, its tolerance
+// and the deviation with the digits that show it: rounded to 6 digits, the
+// last row 0 0 0 1.000003 read "last row [0 0 0 1]", the values expected.
+TEST_F(SequenceTest, ANonRigidPoseNamesWhatFailsByHowMuchAndTheTolerance) {
+  auto last_row = errorAfterEdit([](Json& j) { j["frames"][1]["pose"][15] = 1.000003; });
+  EXPECT_EQ(last_row.field, "frames[1].pose");
+  EXPECT_EQ(last_row.found, "last row [0 0 0 1.000003] differs from [0 0 0 1] by 3e-06 > 1e-06")
+      << last_row.message();
+
+  auto scaled = errorAfterEdit([](Json& j) {
+    j["frames"][0]["pose"] = {1.000102, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  });
+  EXPECT_EQ(scaled.found,
+            "det(R) = 1.000102: |det(R) - 1| = 0.000102 > 0.0001; "
+            "max |R^T R - I| = 0.000204 > 0.0001")
+      << scaled.message();
+
+  // Just past the tolerance: the deviation gets the digits that tell it from the tolerance.
+  auto barely = errorAfterEdit([](Json& j) {
+    j["frames"][0]["pose"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1.0000011e-6, 1};
+  });
+  EXPECT_EQ(barely.found,
+            "last row [0 0 1.0000011e-06 1] differs from [0 0 0 1] by 1.000001e-06 > 1e-06")
+      << barely.message();
+}
+
 TEST_F(SequenceTest, ReorthonormalisesSlightlyNoisyRotations) {
   writeSmallSequence(dir.path());
   Json j = readJson(json());
@@ -660,6 +686,146 @@ TEST_F(SequenceValidationTest, ReportsAFrameWithoutLabelsAndEveryOtherProblemAtO
   EXPECT_EQ(neither->found, "neither");
   EXPECT_NE(findField(list, "frames[1].color"), nullptr);
   EXPECT_NE(findField(list, "frames[1].proba"), nullptr);
+}
+
+// "No valid depth" is the one problem fixing the others leaves: it is
+// reported beside them, and depths count whatever the frame's other images.
+TEST_F(SequenceValidationTest, ReportsNoDepthAnywhereBesideOtherProblems) {
+  const lom::DepthImage empty{kWidth, kHeight, std::vector<float>(kWidth * kHeight, 0.f)};
+  lom::writeDepthPng(dir / "depth/1.png", empty, 0.001);
+  fs::remove(dir / "label/0.png");
+  auto list = problems();
+  EXPECT_EQ(findField(list, "frames[].depth"), nullptr)
+      << "frame 0 has depths, whatever its label image";
+  ASSERT_NE(findField(list, "frames[0].label"), nullptr);
+
+  lom::writeDepthPng(dir / "depth/0.png", empty, 0.001);
+  list = problems();
+  ASSERT_EQ(list.size(), 2u);
+  EXPECT_NE(findField(list, "frames[0].label"), nullptr);
+  const lom::Problem* none = findField(list, "frames[].depth");
+  ASSERT_NE(none, nullptr);
+  EXPECT_EQ(none->file, (sequence.root / "sequence.json").string());
+  EXPECT_EQ(none->found,
+            "none in the 2 frames: every depth pixel is 0 (no measurement) or invalid");
+
+  // A depth image that cannot be read holds no depth either.
+  fs::remove(dir / "depth/0.png");
+  list = problems();
+  none = findField(list, "frames[].depth");
+  ASSERT_NE(none, nullptr);
+  EXPECT_EQ(none->found,
+            "none in the 2 frames: 1 of the 2 depth images could not be read (see the "
+            "frames[i].depth problems), and every pixel of the other is 0 (no measurement) or "
+            "invalid");
+  EXPECT_NE(findField(list, "frames[0].depth"), nullptr);
+}
+
+// A wrong depth_scale gives valid numbers that decode: only the depths'
+// median shows it (0.05 m: the map would come out 10 times too small).
+TEST_F(SequenceValidationTest, WarnsAboutDepthsNoDepthCameraMeasures) {
+  lom::SequenceCheck check = lom::checkSequence(sequence);
+  EXPECT_TRUE(check.warnings.empty()) << check.warnings.front();
+  ASSERT_EQ(check.frame_depths.size(), 2u);
+  ASSERT_TRUE(check.frame_depths[1].has_value());
+  EXPECT_EQ(check.frame_depths[1]->pixels, 48u);
+  EXPECT_EQ(check.frame_depths[1]->valid, 48u);
+  EXPECT_DOUBLE_EQ(check.frame_depths[1]->validFraction(), 1.0);
+  // 0.5 + 0.001 (u + v): the lower middle of the 48 is u + v = 6.
+  EXPECT_NEAR(check.frame_depths[1]->median, 0.506, 1e-6);
+  EXPECT_EQ(check.depths.valid, 96u);
+  EXPECT_NEAR(check.depths.min, 0.5, 1e-6);
+  EXPECT_NEAR(check.depths.max, 0.512, 1e-6);
+  EXPECT_NEAR(check.depths.median, 0.506, 0.506 * 1e-3);
+
+  const std::string prefix = (sequence.root / "sequence.json").string() + ": camera.depth_scale: ";
+  sequence.camera.depth_scale = 0.0001;
+  check = lom::checkSequence(sequence);
+  EXPECT_TRUE(check.problems.empty()) << check.problems.front().message();
+  ASSERT_EQ(check.warnings.size(), 1u);
+  EXPECT_EQ(check.warnings[0],
+            prefix +
+                "the median valid depth of the 2 frames is 0.0506 m (0.05 .. 0.0512 m), nearer "
+                "than depth cameras measure (a median of 0.1 to 20 m expected): depth_scale "
+                "0.0001 metres per unit is likely wrong; 0.001 would give a median of 0.506 m "
+                "(fused as it is, the map comes out 10 times too small)");
+
+  sequence.camera.depth_scale = 1.0;
+  check = lom::checkSequence(sequence);
+  ASSERT_EQ(check.warnings.size(), 1u);
+  EXPECT_EQ(check.warnings[0].rfind(prefix, 0), 0u) << check.warnings[0];
+  EXPECT_NE(check.warnings[0].find("is 506 m (500 .. 512 m), farther than depth cameras measure"),
+            std::string::npos)
+      << check.warnings[0];
+  EXPECT_NE(check.warnings[0].find("depth_scale 1 metres per unit is likely wrong; 0.001 would "
+                                   "give a median of 0.506 m (fused as it is, the map comes out "
+                                   "1000 times too large)"),
+            std::string::npos)
+      << check.warnings[0];
+}
+
+// .npy depths are metres: millimetres written as they are name the .npy files.
+TEST_F(SequenceValidationTest, WarnsAboutNpyDepthsNotInMetres) {
+  for (size_t i = 0; i < 2; ++i) {
+    sequence.frames[i].depth = "depth/" + std::to_string(i) + ".npy";
+    lom::writeNpyFloat32(dir / sequence.frames[i].depth, {kHeight, kWidth},
+                         std::vector<float>(kWidth * kHeight, 800.0f));
+  }
+  const lom::SequenceCheck check = lom::checkSequence(sequence);
+  ASSERT_EQ(check.warnings.size(), 1u);
+  EXPECT_EQ(check.warnings[0],
+            (sequence.root / "sequence.json").string() +
+                ": frames[].depth (.npy, in metres): the median valid depth of the 2 frames is "
+                "800 m (800 .. 800 m), farther than depth cameras measure (a median of 0.1 to 20 "
+                "m expected): .npy depths are metres (depth_scale does not apply); scaled by "
+                "0.001 they would have a median of 0.8 m (fused as they are, the map comes out "
+                "1000 times too large)");
+}
+
+// Valid files listed so that a fusion counts one image twice, or puts it in
+// two places, or frames out of recording order: warnings naming the frames.
+TEST_F(SequenceValidationTest, WarnsAboutRepeatedFramesSharedDepthFilesAndStampsGoingBack) {
+  const std::string json_file = (sequence.root / "sequence.json").string();
+  lom::Sequence repeated = sequence;
+  repeated.frames.push_back(sequence.frames[0]);
+  repeated.frames.back().depth = "./depth/../depth/0.png";  // the same file, spelt otherwise
+  repeated.frames.back().stamp = 2.0;
+  lom::SequenceCheck check = lom::checkSequence(repeated);
+  EXPECT_TRUE(check.problems.empty()) << check.problems.front().message();
+  ASSERT_EQ(check.warnings.size(), 1u);
+  EXPECT_EQ(check.warnings[0],
+            json_file +
+                ": frames: frames[2] repeats frames[0] (the same depth file and the same pose): "
+                "fused, its evidence counts twice (a frame listed again by mistake?)");
+
+  lom::Sequence shared = sequence;
+  shared.frames[1].depth = sequence.frames[0].depth;
+  check = lom::checkSequence(shared);
+  ASSERT_EQ(check.warnings.size(), 1u);
+  EXPECT_EQ(check.warnings[0].rfind(json_file +
+                                        ": frames[].depth: a depth file is named by "
+                                        "frames with different poses: " +
+                                        (sequence.root / "depth/0.png").string() +
+                                        " (frames[0].depth and frames[1].depth, 2 poses)",
+                                    0),
+            0u)
+      << check.warnings[0];
+
+  lom::Sequence back = sequence;
+  back.frames[1].stamp = -0.25;
+  check = lom::checkSequence(back);
+  ASSERT_EQ(check.warnings.size(), 1u);
+  EXPECT_EQ(check.warnings[0],
+            json_file +
+                ": frames[].stamp: the stamps go back once, frames[1].stamp -0.25 after "
+                "frames[0].stamp 0, but frames are listed in recording order (frames out of "
+                "order?)");
+  // Frames without a stamp are passed over; equal stamps do not go back.
+  back.frames.push_back(sequence.frames[1]);
+  back.frames.back().stamp.reset();
+  back.frames.back().depth = "depth/1.png";
+  back.frames.back().T_world_camera.translation().x() += 0.5;
+  EXPECT_EQ(lom::checkSequence(back).warnings.size(), 2u) << "depth/1.png now has two poses";
 }
 
 TEST_F(SequenceValidationTest, LoadFrameReturnsTheImagesAndThrowsOnProblems) {
@@ -847,6 +1013,26 @@ TEST(SequenceImagesTest, DepthNpyInMetresTurnsInvalidValuesIntoZero) {
   const auto depth = lom::readDepthImage(dir / "depth.npy", 0.001);
   EXPECT_EQ(depth.width, 2);
   EXPECT_EQ(depth.metres, (std::vector<float>{1.25f, 0.0f, 0.0f, 0.0f}));
+}
+
+// readNpy reads uint8 and uint16 too, but a depth refuses them: the message
+// lists only the dtypes a depth takes.
+TEST(SequenceImagesTest, ADepthNpyOfAnotherDtypeListsOnlyTheDepthDtypes) {
+  lom::test::TempDir dir;
+  lom::writeNpyFloat32(dir / "depth.npy", {2, 2}, {1.f, 1.f, 1.f, 1.f});
+  std::string bytes = slurp(dir / "depth.npy");
+  bytes.replace(bytes.find("'<f4'"), 5, "'<i4'");
+  std::ofstream(dir / "depth.npy", std::ios::binary) << bytes;
+  try {
+    (void)lom::readDepthImage(dir / "depth.npy", 0.001);
+    ADD_FAILURE() << "an int32 depth was read";
+  } catch (const lom::Error& e) {
+    EXPECT_EQ(e.problem().file, (dir / "depth.npy").string());
+    EXPECT_EQ(e.problem().field, "dtype");
+    EXPECT_EQ(e.problem().expected,
+              "float32 depths in metres ('<f4'/'>f4'; float16 and float64 also accepted)");
+    EXPECT_EQ(e.problem().found, "'<i4' (int32)");
+  }
 }
 
 TEST(SequenceImagesTest, ReadsRecordedRealSenseDepth) {

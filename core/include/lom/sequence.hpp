@@ -78,7 +78,56 @@ void saveSequence(const Sequence& sequence, const std::filesystem::path& folder)
 
 // Opens every file of every frame and checks existence, image size, bit depth,
 // channel count, proba dtype, label ids. Returns all problems found (empty = valid).
+// (checkSequence's problems.)
 [[nodiscard]] std::vector<Problem> validateSequence(const Sequence& sequence);
+
+// The measured depths of a depth image: the pixels whose depth is finite and
+// > 0, and their nearest, median and farthest depth in metres (0 when none).
+struct DepthFigures {
+  size_t pixels = 0;
+  size_t valid = 0;
+  double min = 0.0;
+  double median = 0.0;
+  double max = 0.0;
+  [[nodiscard]] double validFraction() const {
+    return pixels ? static_cast<double>(valid) / static_cast<double>(pixels) : 0.0;
+  }
+};
+[[nodiscard]] DepthFigures depthFigures(const DepthImage& depth);
+
+// What validateSequence finds, and what it saw on the way.
+struct SequenceCheck {
+  std::vector<Problem> problems;
+  // Worth a look, but no failure (the values are valid): depths whose median
+  // no depth camera measures (a wrong depth_scale; implausibleDepthWarning),
+  // a frame listed twice, a depth file shared by frames with different poses,
+  // stamps that go back. Each names sequence.json and the frames.
+  std::vector<std::string> warnings;
+  // Per frame, the figures of its depth image; none when it could not be
+  // read (a problem says why), whatever the frame's other images.
+  std::vector<std::optional<DepthFigures>> frame_depths;
+  // Over every valid depth of the frames read. The median is taken from a
+  // histogram of the depths (bins 0.1 % wide): a whole recording's depths
+  // would not fit in memory.
+  DepthFigures depths;
+};
+[[nodiscard]] SequenceCheck checkSequence(const Sequence& sequence);
+
+// A median valid depth outside these bounds is no scene a depth camera
+// measures: they see from about 0.1-0.5 m to 10-20 m. Such depths mean a
+// wrong camera.depth_scale (or .npy depths not in metres): fused, the map is
+// shrunk or stretched by that factor without any other sign.
+inline constexpr double kMinPlausibleMedianDepth = 0.1;
+inline constexpr double kMaxPlausibleMedianDepth = 20.0;
+// "" when `figures.median` is within those bounds (or nothing was measured);
+// else a warning naming sequence.json and the depth_scale field (or the .npy
+// depths) of `frames`, the frames whose depths `figures` describe ("the 3
+// frames sampled" when `sampled`), what was found and the depth_scale that
+// would give a plausible median.
+[[nodiscard]] std::string implausibleDepthWarning(const Sequence& sequence,
+                                                  const std::vector<size_t>& frames,
+                                                  const DepthFigures& figures,
+                                                  bool sampled = false);
 
 // A camera that moves farther between two consecutive frames than
 // `limit_metres` (10 m by default: farther than a depth camera sees, so a
