@@ -293,6 +293,8 @@ void checkStartMapParameters(const MapParameters& map, const std::string& map_fi
            map.occupancy_threshold);
 }
 
+}  // namespace
+
 // Every fused depth nearer than depth cameras measure: a wrong depth_scale
 // (or .npy depths not in metres) shrinks the whole map by its factor without
 // any other sign. Fusion keeps the farthest depth, not a median (that would
@@ -328,8 +330,6 @@ std::string nearDepthWarning(const Sequence& sequence, const FusionOptions& opti
          ", which shrinks the map by the same factor (labeloctomap validate gives the median "
          "depth and a scale that fits)";
 }
-
-}  // namespace
 
 void checkFusionOptionsForSequence(const FusionOptions& options, const Sequence& sequence) {
   const std::string file = (sequence.root / "sequence.json").string();

@@ -55,6 +55,14 @@ void addFusionWarnings(const ScoreInputs& inputs, EvaluationReport& report, cons
                                                   report.frames_outside_map, report.resolution);
     if (!warning.empty()) report.warnings.push_back(warning);
   }
+  if (report.fused_frames) {
+    FusionOptions fused;
+    fused.first_frame = report.fused_frames->first;
+    fused.last_frame = report.fused_frames->second + 1;
+    const std::string warning = nearDepthWarning(loadSequence(file), fused, report.fusion_totals,
+                                                 fused.last_frame - fused.first_frame);
+    if (!warning.empty()) report.warnings.push_back(warning);
+  }
   const RangeMessage range =
       maxRangeMessage(report.fusion_totals, report.max_range, report.resolution, file.string());
   if (range.warning)

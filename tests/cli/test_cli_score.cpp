@@ -536,6 +536,30 @@ TEST_F(CliScoreTest, DepthsOutsideTheMapAreAWarning) {
             std::string::npos);
 }
 
+// A depth_scale ten times too small shrinks the map ten times: score says so
+// as fuse does (the scores would compare a tiny map with the boxes).
+TEST_F(CliScoreTest, DepthsNearerThanCamerasMeasureAreAWarning) {
+  TempDir out;
+  const auto copy = out / "tiny";
+  std::filesystem::copy(scene(), copy, std::filesystem::copy_options::recursive);
+  lom::Sequence sequence = lom::loadSequence(copy);
+  sequence.camera.depth_scale /= 10.0;
+  lom::saveSequence(sequence, copy);
+  const auto r =
+      runCli("score " + quoted(copy) + " --annotations " + quoted(copy / "annotations.json") +
+             " --frames 1:3 --out " + quoted(out / "report"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string expected = (copy / "sequence.json").string() +
+                               ": camera.depth_scale: the farthest measured depth of the 2 frames "
+                               "fused is ";
+  EXPECT_NE(r.err.find("warning: " + expected), std::string::npos) << r.err;
+  const Json report = Json::parse(slurp(out / "report" / "report.json"));
+  bool found = false;
+  for (const auto& warning : report["warnings"])
+    found = found || warning.get<std::string>().rfind(expected, 0) == 0;
+  EXPECT_TRUE(found) << report["warnings"];
+}
+
 // Scoring fuses the sequence as fuse does, and says as fuse does when max
 // range threw most of the depths away (every object then scores 0).
 TEST_F(CliScoreTest, DepthsBeyondMaxRangeAreAWarning) {
