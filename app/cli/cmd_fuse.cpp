@@ -295,42 +295,6 @@ void checkStartMapParameters(const MapParameters& map, const std::string& map_fi
 
 }  // namespace
 
-// Every fused depth nearer than depth cameras measure: a wrong depth_scale
-// (or .npy depths not in metres) shrinks the whole map by its factor without
-// any other sign. Fusion keeps the farthest depth, not a median (that would
-// take a sort of every frame's depths): when even the farthest is this near,
-// so is the median. "" when the depths reach farther.
-std::string nearDepthWarning(const Sequence& sequence, const FusionOptions& options,
-                             const FrameStats& totals, size_t fused) {
-  if (measuredPixels(totals) == 0 || totals.farthest_range >= kMinPlausibleMedianDepth) return {};
-  // 16-bit images hold units of depth_scale; .npy files hold metres.
-  size_t npy = 0, scaled = 0;
-  for (size_t i = options.first_frame; i < std::min(options.last_frame, sequence.frames.size());
-       ++i) {
-    std::string extension = std::filesystem::path(sequence.frames[i].depth).extension().string();
-    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    ++(extension == ".npy" ? npy : scaled);
-  }
-  char farthest[32];
-  std::snprintf(farthest, sizeof farthest, "%.3g", totals.farthest_range);
-  const std::string scale = "depth_scale " + number(sequence.camera.depth_scale) +
-                            " (metres per unit of the depth images) is likely too small";
-  const std::string unit = "the .npy depths are likely not in metres";
-  return (sequence.root / "sequence.json").string() + ": " +
-         (scaled && npy ? "camera.depth_scale, frames[].depth"
-          : scaled      ? "camera.depth_scale"
-                        : "frames[].depth") +
-         ": the farthest measured depth of the " + std::to_string(fused) +
-         (fused == 1 ? " frame" : " frames") + " fused is " + farthest +
-         " m, nearer than depth cameras measure (" + number(kMinPlausibleMedianDepth) + " to " +
-         number(kMaxPlausibleMedianDepth) + " m): " +
-         (scaled && npy ? scale + ", or " + unit
-          : scaled      ? scale
-                        : unit) +
-         ", which shrinks the map by the same factor (labeloctomap validate gives the median "
-         "depth and a scale that fits)";
-}
-
 void checkFusionOptionsForSequence(const FusionOptions& options, const Sequence& sequence) {
   const std::string file = (sequence.root / "sequence.json").string();
   if (const auto unknown = checkCandidates(options.candidates, sequence.labels))
@@ -443,7 +407,8 @@ int runFuse(const Words& words) {
                             options.map.resolution, start_from.has_value());
       !warning.empty())
     std::cerr << "warning: " << warning << "\n";
-  if (const std::string warning = nearDepthWarning(sequence, options, totals, frame_seconds.size());
+  if (const std::string warning =
+          nearDepthWarning(sequence, options.first_frame, options.last_frame, totals);
       !warning.empty())
     std::cerr << "warning: " << warning << "\n";
   // fuseSequenceInto has pruned the map; writing a large one takes a while

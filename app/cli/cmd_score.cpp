@@ -56,11 +56,9 @@ void addFusionWarnings(const ScoreInputs& inputs, EvaluationReport& report, cons
     if (!warning.empty()) report.warnings.push_back(warning);
   }
   if (report.fused_frames) {
-    FusionOptions fused;
-    fused.first_frame = report.fused_frames->first;
-    fused.last_frame = report.fused_frames->second + 1;
-    const std::string warning = nearDepthWarning(loadSequence(file), fused, report.fusion_totals,
-                                                 fused.last_frame - fused.first_frame);
+    const std::string warning =
+        nearDepthWarning(loadSequence(file), report.fused_frames->first,
+                         report.fused_frames->second + 1, report.fusion_totals);
     if (!warning.empty()) report.warnings.push_back(warning);
   }
   const RangeMessage range =

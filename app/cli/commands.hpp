@@ -63,11 +63,4 @@ struct RangeMessage {
 RangeMessage maxRangeMessage(const FrameStats& totals, double max_range, double resolution,
                              const std::string& sequence_file, bool continued = false);
 
-// What fuse and score say when even the farthest depth of the `fused` frames
-// (options.first_frame..last_frame) is nearer than depth cameras measure (a
-// wrong camera.depth_scale, or .npy depths not in metres): the warning
-// without its prefix, or empty.
-std::string nearDepthWarning(const Sequence& sequence, const FusionOptions& options,
-                             const FrameStats& totals, size_t fused);
-
 }  // namespace lom::cli

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -475,6 +476,42 @@ size_t measuredPixels(const FrameStats& totals) {
 
 bool mostDepthsBeyondMaxRange(const FrameStats& totals, double max_range) {
   return max_range > 0.0 && 2 * totals.beyond_range_pixels > measuredPixels(totals);
+}
+
+std::string nearDepthWarning(const Sequence& sequence, size_t first, size_t last,
+                             const FrameStats& totals) {
+  // Fusion keeps the farthest depth, not a median (that would take a sort of
+  // every frame's depths): when even the farthest is this near, so is the median.
+  if (measuredPixels(totals) == 0 || totals.farthest_range >= kMinPlausibleMedianDepth) return {};
+  // 16-bit images hold units of depth_scale; .npy files hold metres.
+  last = std::min(last, sequence.frames.size());
+  size_t npy = 0, scaled = 0;
+  for (size_t i = first; i < last; ++i) {
+    std::string extension = std::filesystem::path(sequence.frames[i].depth).extension().string();
+    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    ++(extension == ".npy" ? npy : scaled);
+  }
+  const size_t fused = last > first ? last - first : 0;
+  char text[160];
+  std::snprintf(text, sizeof text,
+                "%.3g m, nearer than depth cameras measure (%g to %g m): ", totals.farthest_range,
+                kMinPlausibleMedianDepth, kMaxPlausibleMedianDepth);
+  char scale_value[32];
+  std::snprintf(scale_value, sizeof scale_value, "%.6g", sequence.camera.depth_scale);
+  const std::string scale = std::string("depth_scale ") + scale_value +
+                            " (metres per unit of the depth images) is likely too small";
+  const std::string unit = "the .npy depths are likely not in metres";
+  return (sequence.root / "sequence.json").string() + ": " +
+         (scaled && npy ? "camera.depth_scale, frames[].depth"
+          : scaled      ? "camera.depth_scale"
+                        : "frames[].depth") +
+         ": the farthest measured depth of the " + std::to_string(fused) +
+         (fused == 1 ? " frame" : " frames") + " fused is " + text +
+         (scaled && npy ? scale + ", or " + unit
+          : scaled      ? scale
+                        : unit) +
+         ", which shrinks the map by the same factor (labeloctomap validate gives the median "
+         "depth and a scale that fits)";
 }
 
 std::optional<RayLengthProblem> checkRayLength(double max_range, double resolution) {

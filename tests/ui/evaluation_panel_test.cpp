@@ -25,6 +25,7 @@
 #include "demo_window_fixture.hpp"
 #include "dialog_answerer.hpp"
 #include "lom/evaluation.hpp"
+#include "lom/sequence.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/demo_scene.hpp"
 #include "lom/ui/main_window.hpp"
@@ -122,6 +123,23 @@ TEST_F(EvaluationPanelTest, ScoresAndEveryRowAreInViewAtTheDefaultWindowSize) {
   table.horizontalHeader()->setSortIndicator(EvaluationPanel::LabelOctoMap, Qt::DescendingOrder);
   QApplication::processEvents();
   expectAllColumnsInView();
+}
+
+// A depth_scale ten times too small fuses a map ten times too small: the
+// studio's scores say so, as score's do.
+TEST_F(EvaluationPanelTest, ScoresOfDepthsNearerThanCamerasMeasureSaySo) {
+  Sequence sequence = loadSequence(folder_);
+  sequence.camera.depth_scale /= 10.0;
+  saveSequence(sequence, folder_);
+  openAndFuse();
+  waitForScores();
+  const std::string expected = (folder_ / "sequence.json").string() +
+                               ": camera.depth_scale: the farthest measured depth of the " +
+                               std::to_string(sequence.frames.size()) + " frames fused is ";
+  const auto& warnings = panel().report()->warnings;
+  EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [&](const std::string& warning) {
+    return warning.rfind(expected, 0) == 0;
+  })) << ::testing::PrintToString(warnings);
 }
 
 TEST_F(EvaluationPanelTest, TableAndChartListTheObjectsInTheSameOrder) {

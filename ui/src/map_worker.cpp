@@ -409,6 +409,11 @@ void MapWorker::evaluate(std::shared_ptr<const Sequence> sequence, const Annotat
             for (std::string& warning :
                  fusionWarnings(fused_totals_, frames_outside_map_, map_->parameters()))
               report.warnings.push_back(std::move(warning));
+            if (std::string near =
+                    nearDepthWarning(*sequence, first_fused_frame_,
+                                     first_fused_frame_ + frames_fused_, fused_totals_);
+                !near.empty())
+              report.warnings.push_back(std::move(near));
           }
           finish([this, report] { emit evaluationFinished(report); });
         } catch (const EvaluationCancelled&) {

@@ -168,6 +168,14 @@ void addFrameStats(FrameStats& totals, const FrameStats& frame);
 // beyond max range may also lie outside the map's extent.)
 [[nodiscard]] bool mostDepthsBeyondMaxRange(const FrameStats& totals, double max_range);
 
+// What the CLI and the studio say when even the farthest depth of the frames
+// first..last-1 fused (`totals`) is nearer than depth cameras measure
+// (kMinPlausibleMedianDepth): a wrong camera.depth_scale, or .npy depths not
+// in metres, shrinks the map by that factor without any other sign. The
+// warning (naming sequence.json and the field) without a prefix, or empty.
+[[nodiscard]] std::string nearDepthWarning(const Sequence& sequence, size_t first, size_t last,
+                                           const FrameStats& totals);
+
 // The map's extent: OctoMap's 16-level keys reach kMapExtentVoxels voxels on
 // either side of the origin on each axis, so a map holds the points whose every
 // coordinate c satisfies -extent <= c < extent, extent = kMapExtentVoxels x
