@@ -226,6 +226,14 @@ int runExport(const Words& words) {
     checkOutputFolder(out_path, out_option, "the per-label files", inputs);
   } else {
     checkOutputFile(out_path, out_option, extensionOf(*format), format_text, inputs);
+    // Only --native writes a labelled map: a colour octree over one (the
+    // fused map of another sequence, say) would leave a file no command reads
+    // back as a map, every label's probabilities gone.
+    if (!options.native && LabelMap::isMapFile(out_path))
+      throw UsageError("option --" + out_option + " '" + out_path.string() +
+                       "' holds a labelled map (LabelOcTree): format " + exportFormatName(*format) +
+                       " would replace it without its labels; choose another name (--native "
+                       "writes the labelled map itself)");
     if (*format == ExportFormat::Obj)
       checkOutputFile(fs::path(out_path).replace_extension(".mtl"), out_option, ".mtl",
                       "the OBJ materials", inputs);

@@ -174,7 +174,7 @@ std::string printSampledDepths(const Sequence& sequence, std::ostream& out) {
       depthFigures(DepthImage{static_cast<int>(metres.size()), 1, std::move(metres)});
   out << "depth (sampled):  ";
   if (!read.empty()) {
-    out << "frames";
+    out << (read.size() == 1 ? "frame" : "frames");
     for (size_t k = 0; k < read.size(); ++k) out << (k ? ", " : " ") << read[k];
     if (figures.valid)
       out << ": " << percent(figures.validFraction()) << " of pixels valid, "
@@ -364,7 +364,9 @@ void checkSequenceBoxes(const Sequence& sequence, std::vector<Problem>& problems
       warnings.push_back(file.string() + ": boxes: none (score needs at least one box)");
     // Every box score would refuse, not only the first as score says.
     const int labels = sequence.labels.size();
+    std::set<size_t> refused;
     for (const UnscorableBox& box : unscorableBoxes(annotations, labels)) {
+      refused.insert(box.index);
       // A YAML box file names its boxes' labels in `name` (object_12).
       const std::string field =
           "boxes[" + std::to_string(box.index) + "]." + (isYamlBoxesPath(file) ? "name" : "label");
@@ -381,8 +383,15 @@ void checkSequenceBoxes(const Sequence& sequence, std::vector<Problem>& problems
                           "0: it was recorded without label images)",
              std::to_string(box.label)});
     }
-    for (auto& warning : boxNameWarnings(annotations, sequence.labels, file.string(), json_file))
-      warnings.push_back(std::move(warning));
+    // A box refused above is not scored: a warning on how it would be named
+    // would say the opposite.
+    for (auto& warning : boxNameWarnings(annotations, sequence.labels, file.string(), json_file)) {
+      bool of_refused = false;
+      for (const size_t index : refused)
+        of_refused =
+            of_refused || warning.find("boxes[" + std::to_string(index) + "]") != std::string::npos;
+      if (!of_refused) warnings.push_back(std::move(warning));
+    }
   }
 }
 

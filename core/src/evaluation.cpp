@@ -37,27 +37,31 @@ std::vector<std::string> emptyBoxWarnings(const Annotations& annotations, const 
   std::vector<std::string> warnings;
   const std::vector<GroundTruthBox>& boxes = annotations.boxes;
   if (boxes.empty()) return warnings;
-  // A voxel counts when any part of it is in the box: its centre within
-  // half a voxel of the box (corners aside, which a box of an object never
-  // holds alone).
-  const double margin = 0.5 * map.parameters().resolution;
+  // A voxel counts when any part of it is in the box: its centre within half
+  // its own edge of the box (a pruned leaf stands for many voxels; corners
+  // aside, which a box of an object never holds alone).
   std::vector<Eigen::AlignedBox3d> reach;
   for (const GroundTruthBox& box : boxes) {
     const Eigen::Vector3d half =
-        box.box.rotation.toRotationMatrix().cwiseAbs() * (0.5 * box.box.size) +
-        Eigen::Vector3d::Constant(margin);
+        box.box.rotation.toRotationMatrix().cwiseAbs() * (0.5 * box.box.size);
     reach.emplace_back(box.box.center - half, box.box.center + half);
   }
   std::vector<bool> holds(boxes.size(), false);
   size_t left = boxes.size();
-  for (const Eigen::Vector3d& centre : map.occupiedCentres()) {
+  map.forEachOccupied([&](const OccupiedVoxel& voxel) {
+    if (left == 0) return;
+    const double margin = 0.5 * voxel.size;
+    const Eigen::Vector3d grow = Eigen::Vector3d::Constant(margin);
     for (size_t i = 0; i < boxes.size(); ++i)
-      if (!holds[i] && reach[i].contains(centre) && boxes[i].box.contains(centre, margin)) {
+      if (!holds[i] &&
+          Eigen::AlignedBox3d(reach[i].min() - grow, reach[i].max() + grow)
+              .contains(voxel.center) &&
+          boxes[i].box.contains(voxel.center, margin)) {
         holds[i] = true;
         --left;
       }
-    if (left == 0) return warnings;
-  }
+  });
+  if (left == 0) return warnings;
   const auto bounds = map.bounds();
   const std::optional<Eigen::AlignedBox3d> observed =
       bounds ? std::optional(Eigen::AlignedBox3d(bounds->first, bounds->second)) : std::nullopt;
@@ -69,7 +73,7 @@ std::vector<std::string> emptyBoxWarnings(const Annotations& annotations, const 
     const int label = boxes[i].label;
     const std::string which = "boxes[" + std::to_string(i) + "] (label " + std::to_string(label) +
                               ", " + (labels.contains(label) ? labels.at(label).name : "?") + ")";
-    if (!observed || !reach[i].intersects(*observed)) {
+    if (!observed || !reach[i].intersects(*observed)) {  // bounds hold whole voxels
       outside += (outside.empty() ? "" : ", ") + which;
       ++outside_count;
       // Farther from the map than the map is across: not a near miss.

@@ -494,8 +494,8 @@ std::string nearDepthWarning(const Sequence& sequence, size_t first, size_t last
   const size_t fused = last > first ? last - first : 0;
   char text[160];
   std::snprintf(text, sizeof text,
-                "%.3g m, nearer than depth cameras measure (%g to %g m): ", totals.farthest_range,
-                kMinPlausibleMedianDepth, kMaxPlausibleMedianDepth);
+                "%.3g m from the camera, nearer than depth cameras measure (%g to %g m): ",
+                totals.farthest_range, kMinPlausibleMedianDepth, kMaxPlausibleMedianDepth);
   char scale_value[32];
   std::snprintf(scale_value, sizeof scale_value, "%.6g", sequence.camera.depth_scale);
   const std::string scale = std::string("depth_scale ") + scale_value +
@@ -505,8 +505,8 @@ std::string nearDepthWarning(const Sequence& sequence, size_t first, size_t last
          (scaled && npy ? "camera.depth_scale, frames[].depth"
           : scaled      ? "camera.depth_scale"
                         : "frames[].depth") +
-         ": the farthest measured depth of the " + std::to_string(fused) +
-         (fused == 1 ? " frame" : " frames") + " fused is " + text +
+         ": the farthest measured point of the " + std::to_string(fused) +
+         (fused == 1 ? " frame" : " frames") + " fused lies " + text +
          (scaled && npy ? scale + ", or " + unit
           : scaled      ? scale
                         : unit) +

@@ -134,7 +134,8 @@ std::string planJson(const PickPlan& plan, const std::string& map_file) {
       {"objects", std::move(objects)},
       {"occluders", std::move(occluders)},
       {"steps", std::move(steps)}};
-  return root.dump(2) + "\n";
+  // A map path from the file system may hold bytes that are not UTF-8.
+  return root.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 std::string planTable(const PickPlan& plan) {

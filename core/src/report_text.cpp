@@ -96,8 +96,12 @@ std::string describeSettings(const EvaluationReport& r) {
   if (r.max_range > 0.0) out << r.max_range << " m";
   else out << "unlimited";
   out << ", occupancy threshold " << r.occupancy_threshold << ", p_miss " << r.p_miss;
-  if (r.fused_frames)
-    out << ", frames " << r.fused_frames->first << "-" << r.fused_frames->second << " fused";
+  if (r.fused_frames) {
+    if (r.fused_frames->first == r.fused_frames->second)
+      out << ", frame " << r.fused_frames->first << " fused";
+    else
+      out << ", frames " << r.fused_frames->first << "-" << r.fused_frames->second << " fused";
+  }
   if (!r.segmenter.empty()) out << " (segmenter " << r.segmenter << ")";
   out << ", IU_3d from "
       << (r.iou_mode == IouMode::Exact ? "exact voxel/box intersection volumes"

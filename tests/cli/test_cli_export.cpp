@@ -73,6 +73,29 @@ class CliExportTest : public ::testing::Test {
 };
 TempDir* CliExportTest::dir_ = nullptr;
 
+// A colour octree never replaces a labelled map (another sequence's, say):
+// the file left would hold no label, and no command reads it as a map.
+TEST_F(CliExportTest, AColourOctreeNeverReplacesALabelledMap) {
+  TempDir out;
+  const fs::path other = out / "other.ot";
+  fs::copy_file(map(), other);
+  const std::string before = slurp(other);
+  auto r = runCli("export " + q(map()) + " --format ot --out " + q(other));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("holds a labelled map (LabelOcTree): format ot would replace it without "
+                       "its labels"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(slurp(other), before);
+  // The labelled map itself may replace it; a colour octree replaces a colour octree.
+  r = runCli("export " + q(map()) + " --format ot --native --out " + q(other));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  r = runCli("export " + q(map()) + " --format ot --out " + q(out / "colour.ot"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = runCli("export " + q(map()) + " --format ot --out " + q(out / "colour.ot"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
 TEST_F(CliExportTest, EveryMeshFormatOpensInAssimp) {
   if (!onPath("assimp"))
     GTEST_SKIP() << "assimp is not on PATH (Debian package assimp-utils); skipping";

@@ -306,8 +306,8 @@ TEST_F(CliInfoTest, ADepthScaleNoDepthCameraHasIsWarnedAbout) {
   result = lom::test::runCli("fuse " + quoted(seq()) + " --out " + quoted(dir / "m.ot"));
   EXPECT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.err.find("warning: " + json_file +
-                            ": camera.depth_scale: the farthest measured depth of the 3 frames "
-                            "fused is 0.0"),
+                            ": camera.depth_scale: the farthest measured point of the 3 frames "
+                            "fused lies 0.0"),
             std::string::npos)
       << result.err;
   EXPECT_NE(result.err.find("nearer than depth cameras measure (0.1 to 20 m): depth_scale 0.0001 "
@@ -395,6 +395,14 @@ TEST_F(CliInfoTest, ValidateChecksTheSequencesBoxes) {
             std::string::npos)
       << result.out;
   EXPECT_NE(result.err.find("2 problems"), std::string::npos) << result.err;
+  // A refused box named as another label is not also said to be "scored".
+  result = validate(
+      head + good +
+      R"(, {"label": 0, "name": "thing_two", "center": [0, 0, 1], "size": [0.1, 0.1, 0.1]}]})");
+  EXPECT_EQ(result.exit_code, 1) << result.out << result.err;
+  EXPECT_NE(result.out.find("boxes[1].label: expected an object label"), std::string::npos)
+      << result.out;
+  EXPECT_EQ(result.out.find("is scored"), std::string::npos) << result.out;
 
   // What the loader refuses, named as score names it.
   const std::vector<std::pair<std::string, std::string>> broken = {

@@ -550,8 +550,8 @@ TEST_F(CliScoreTest, DepthsNearerThanCamerasMeasureAreAWarning) {
              " --frames 1:3 --out " + quoted(out / "report"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::string expected = (copy / "sequence.json").string() +
-                               ": camera.depth_scale: the farthest measured depth of the 2 frames "
-                               "fused is ";
+                               ": camera.depth_scale: the farthest measured point of the 2 frames "
+                               "fused lies ";
   EXPECT_NE(r.err.find("warning: " + expected), std::string::npos) << r.err;
   const Json report = Json::parse(slurp(out / "report" / "report.json"));
   bool found = false;

@@ -210,6 +210,27 @@ TEST_F(ScoreChecks, BoxesWithoutAnyMappedVoxelAreWarnedAbout) {
   EXPECT_EQ(outside, 1u) << ::testing::PrintToString(two.warnings);
 }
 
+// A pruned leaf stands for many voxels: a box inside it, away from its
+// centre, holds an occupied voxel and is not warned about.
+TEST_F(ScoreChecks, ABoxInsideAPrunedLeafHoldsItsVoxels) {
+  std::optional<lom::OccupiedVoxel> big;
+  map_->forEachOccupied([&](const lom::OccupiedVoxel& voxel) {
+    if (!big && voxel.size > 1.5 * map_->parameters().resolution) big = voxel;
+  });
+  if (!big) GTEST_SKIP() << "the generated map has no pruned occupied leaf";
+  lom::Annotations annotations = scene_->annotations;
+  const Eigen::Vector3d corner_ward = big->center + Eigen::Vector3d::Constant(0.3 * big->size);
+  // Any box: the warning is about voxels of any label. 0.3 of the leaf's edge
+  // off its centre is more than half a finest voxel away on every axis.
+  lom::OrientedBox& box = annotations.boxes[0].box;
+  box.center = corner_ward;
+  box.size = Eigen::Vector3d::Constant(0.001);
+  box.rotation = Eigen::Quaterniond::Identity();
+  const lom::EvaluationReport report = lom::evaluate(*sequence_, annotations, *map_, named());
+  for (const std::string& warning : report.warnings)
+    EXPECT_EQ(warning.find("no occupied voxel"), std::string::npos) << warning;
+}
+
 TEST_F(ScoreChecks, CandidatesHoldingEveryTrueLabelOnlyFixPixels) {
   // A pixel whose argmax is its true label keeps it when the other labels are
   // dropped, so 2D pixel accuracy cannot fall.

@@ -134,8 +134,8 @@ TEST_F(EvaluationPanelTest, ScoresOfDepthsNearerThanCamerasMeasureSaySo) {
   openAndFuse();
   waitForScores();
   const std::string expected = (folder_ / "sequence.json").string() +
-                               ": camera.depth_scale: the farthest measured depth of the " +
-                               std::to_string(sequence.frames.size()) + " frames fused is ";
+                               ": camera.depth_scale: the farthest measured point of the " +
+                               std::to_string(sequence.frames.size()) + " frames fused lies ";
   const auto& warnings = panel().report()->warnings;
   EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [&](const std::string& warning) {
     return warning.rfind(expected, 0) == 0;

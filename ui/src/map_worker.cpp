@@ -221,7 +221,14 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
     fused_totals_ = {};
     frames_outside_map_.clear();
     first_fused_frame_ = std::min(fusion.first_frame, sequence->frames.size());
-    fused_segmenter_ = fusion.segmenter ? fusion.segmenter->modelPath().string() : std::string();
+    // Named in reports only when it runs: frames with a proba image are fused as they are.
+    fused_segmenter_.clear();
+    const size_t last_fused = std::min(fusion.last_frame, sequence->frames.size());
+    for (size_t i = first_fused_frame_; fusion.segmenter && i < last_fused; ++i)
+      if (sequence->frames[i].proba.empty()) {
+        fused_segmenter_ = fusion.segmenter->modelPath().string();
+        break;
+      }
   } catch (const std::exception& error) {
     const QString message = QString::fromStdString(error.what());
     inGui([this, message] { emit errorOccurred(tr("Cannot fuse"), message); });
