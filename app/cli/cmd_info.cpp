@@ -83,17 +83,6 @@ void printProbaLabels(const Sequence& sequence, std::ostream& out) {
         << "\n";
 }
 
-// `value` with at most `decimals` decimals, every digit before the point
-// (epoch stamps, site coordinates), trailing zeros dropped ("-0" is "0").
-std::string fixedDigits(double value, int decimals) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.*f", decimals, value);
-  std::string shown = text;
-  while (shown.back() == '0') shown.pop_back();
-  if (shown.back() == '.') shown.pop_back();
-  return shown == "-0" ? std::string("0") : shown;
-}
-
 void printTimeSpan(const Sequence& sequence, std::ostream& out) {
   std::optional<double> first, last;
   size_t stamped = 0;

@@ -744,17 +744,6 @@ class DepthHistogram {
 
 bool measured(float z) { return z > 0.f && z <= std::numeric_limits<float>::max(); }
 
-// `value` with at most `decimals` decimals and every digit before the point
-// (epoch stamps), trailing zeros dropped.
-std::string fixedDigits(double value, int decimals) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.*f", decimals, value);
-  std::string shown = text;
-  while (shown.back() == '0') shown.pop_back();
-  if (shown.back() == '.') shown.pop_back();
-  return shown == "-0" ? std::string("0") : shown;
-}
-
 std::string significant(double value, int digits = 3) {
   char text[32];
   std::snprintf(text, sizeof text, "%.*g", digits, value);
@@ -1008,6 +997,15 @@ std::vector<fs::path> frameFilesOf(const Sequence& sequence) {
     for (const std::string* name : {&frame.depth, &frame.color, &frame.proba, &frame.label})
       if (!name->empty()) files.push_back(sequence.pathOf(*name));
   return files;
+}
+
+std::string fixedDigits(double value, int decimals) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*f", decimals, value);
+  std::string shown = text;
+  while (shown.back() == '0') shown.pop_back();
+  if (shown.back() == '.') shown.pop_back();
+  return shown == "-0" ? std::string("0") : shown;
 }
 
 }  // namespace lom

@@ -81,6 +81,10 @@ void saveSequence(const Sequence& sequence, const std::filesystem::path& folder)
 // (checkSequence's problems.)
 [[nodiscard]] std::vector<Problem> validateSequence(const Sequence& sequence);
 
+// `value` with at most `decimals` decimals, every digit before the point
+// (epoch stamps, site coordinates), trailing zeros dropped ("-0" is "0").
+[[nodiscard]] std::string fixedDigits(double value, int decimals);
+
 // The measured depths of a depth image: the pixels whose depth is finite and
 // > 0, and their nearest, median and farthest depth in metres (0 when none).
 struct DepthFigures {
