@@ -128,29 +128,65 @@ std::uint64_t fnv1a(const std::string& text, std::uint64_t hash = 14695981039346
 // that a cache converted by an earlier version (stamps made from frame numbers, one-hot
 // probabilities without proba_from_label, label images of colour-and-depth sources
 // without label_placeholder; bag poses from stamps rounded through a double, colour
-// from the depth camera's own republish, frames posed across long tf gaps) is
+// from the depth camera's own republish, frames posed across long tf gaps; entries
+// without the conversion's notes, whose warnings a reused entry could not repeat) is
 // converted again instead of reused.
-constexpr int kConversionRevision = 4;
+constexpr int kConversionRevision = 5;
 
-// Files no importer reads, which the studio and the command line write
-// beside a recording (boxes, exports, reports): saving one there must not
-// throw its conversion away.
-bool neverImported(const fs::path& path) {
-  const std::string name = path.filename().string();
-  if (!name.empty() && name[0] == '.') return true;  // hidden: editors' and tools' own files
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  for (const char* output : {".json", ".yaml", ".yml", ".ply", ".obj", ".mtl", ".stl", ".pcd",
-                             ".ot", ".bt", ".csv", ".md", ".svg"})
-    if (ext == output) return true;
+// The files named by a TUM list (rgb.txt, depth.txt): "stamp file" lines.
+// Lines the import would refuse are its to report; here they name nothing.
+std::vector<fs::path> tumListedFiles(const fs::path& list) {
+  std::vector<fs::path> files;
+  std::ifstream in(list);
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream words(line);
+    std::string stamp, file;
+    if (!(words >> stamp >> file) || stamp[0] == '#') continue;
+    files.push_back(list.parent_path() / file);
+  }
+  return files;
+}
+
+// Whether the importer of `kind` may read the file or folder `relative`
+// (inside the recording's folder, one or two levels deep): only those make a
+// conversion, so that boxes, exports, reports, screenshots and renders saved
+// beside the frames leave it as it is. Hidden files are editors' and tools'
+// own. Folders the layout reads are taken whole; TUM folders are read by
+// their lists instead (tumListedFiles).
+bool readByImport(SourceKind kind, const fs::path& relative) {
+  const std::string top = relative.begin()->string();
+  const std::string name = relative.filename().string();
+  if (top.empty() || top[0] == '.' || name[0] == '.') return false;
+  const bool in_folder = relative.has_parent_path();
+  // The files an intrinsics file is looked for among (findIntrinsicsFile).
+  const std::string lowered = lower(name);
+  const bool intrinsics = !in_folder && relative.extension() == ".txt" &&
+                          (lowered.find("intrinsic") != std::string::npos || lowered == "k.txt" ||
+                           lowered == "camera.txt" || lowered == "calib.txt");
+  switch (kind) {
+    case SourceKind::Frames:  // frame-N.{depth,color,label}.png, frame-N.pose.txt
+      return (!in_folder && top.rfind("frame-", 0) == 0) || intrinsics;
+    case SourceKind::ApcShelf:  // cam.info.txt, frame-N.{color,depth}.png, segm/, masks/
+      return top == "segm" || top == "masks" ||
+             (!in_folder && (top == "cam.info.txt" || top.rfind("frame-", 0) == 0));
+    case SourceKind::Quaternion:
+      return top == "depth" || top == "color" || top == "pose.txt" || intrinsics;
+    case SourceKind::ScanNet:
+      return top == "depth" || top == "color" || top == "pose" || top == "intrinsic" ||
+             top == "label-filt" || top == "scannetv2-labels.combined.tsv";
+    case SourceKind::Tum:
+      return top == "rgb.txt" || top == "depth.txt" || top == "groundtruth.txt";
+    case SourceKind::RosBag:
+    case SourceKind::Sequence:
+      break;
+  }
   return false;
 }
 
 // What identifies a conversion: the source (names, sizes and modification times
-// of the files an import may read, two levels deep; a folder by its entries,
-// not its own time, which any new file changes), every option and the
-// conversion revision.
+// of the files its import reads, two levels deep, and those a TUM list names;
+// a folder by its entries, not its own time, which any new file changes),
+// every option and the conversion revision.
 std::string conversionFingerprint(const fs::path& source, SourceKind kind,
                                   const ImportOptions& o) {
   std::ostringstream text;
@@ -170,13 +206,22 @@ std::string conversionFingerprint(const fs::path& source, SourceKind kind,
     for (auto it = fs::recursive_directory_iterator(source, ec);
          !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
       if (it.depth() >= 1) it.disable_recursion_pending();
-      if (neverImported(it->path())) {
+      if (!readByImport(kind, it->path().lexically_relative(source))) {
         if (it->is_directory(ec)) it.disable_recursion_pending();
         continue;
       }
       files.push_back(it->path());
     }
+    if (kind == SourceKind::Tum)
+      for (const char* list : {"rgb.txt", "depth.txt"})
+        for (fs::path& file : tumListedFiles(source / list)) files.push_back(std::move(file));
+    // ScanNet's label names may lie one or two folders above the scene.
+    if (kind == SourceKind::ScanNet)
+      for (const fs::path& above : {source.parent_path(), source.parent_path().parent_path()})
+        if (isFile(above / "scannetv2-labels.combined.tsv"))
+          files.push_back(above / "scannetv2-labels.combined.tsv");
     std::sort(files.begin(), files.end());
+    files.erase(std::unique(files.begin(), files.end()), files.end());
     for (const auto& f : files) stamp(f);
   }
   const auto& r = o.rosbag;
@@ -281,6 +326,16 @@ void listSkipped(std::ostream& out, const std::vector<SkippedFrame>& skipped, si
 }
 
 }  // namespace
+
+bool isImportWarning(const std::string& note) {
+  return note.rfind(kWarningNote, 0) == 0 || note.rfind(kDefaultTumIntrinsicsNote, 0) == 0;
+}
+
+std::vector<std::string> ImportReport::warnings() const {
+  std::vector<std::string> found;
+  std::copy_if(notes.begin(), notes.end(), std::back_inserter(found), isImportWarning);
+  return found;
+}
 
 std::string ImportReport::text(size_t max_skipped_listed) const {
   std::ostringstream out;
@@ -392,6 +447,21 @@ namespace {
 constexpr const char* kSkippedFramesFile = "skipped-frames.txt";
 constexpr const char* kColourLeftOutFile = "colour-left-out.txt";
 
+// The conversion's notes as kept in its entry, one a line: a line break
+// inside one (from a message quoted in it) becomes a space.
+std::vector<std::string> notesOneALine(std::vector<std::string> notes) {
+  for (std::string& note : notes) std::replace(note.begin(), note.end(), '\n', ' ');
+  return notes;
+}
+
+std::vector<std::string> readNotes(const fs::path& file) {
+  std::vector<std::string> notes;
+  std::ifstream in(file);
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) notes.push_back(line);
+  return notes;
+}
+
 // The conversion's notes on colour images left out (frames kept without
 // colour), one per line; empty when there are none.
 std::string colourLeftOutText(const ImportReport& report) {
@@ -431,7 +501,8 @@ bool onlyConversionFiles(const fs::path& entry) {
        it.increment(ec)) {
     const std::string name = it->path().filename().string();
     if (name != "sequence.json" && name != "depth" && name != "color" && name != "proba" &&
-        name != "label" && name != kSkippedFramesFile && name != kColourLeftOutFile)
+        name != "label" && name != kSkippedFramesFile && name != kColourLeftOutFile &&
+        name != kImportNotesFile)
       return false;
   }
   return !ec;
@@ -520,6 +591,9 @@ OpenedSource openSource(const fs::path& path, const ImportOptions& options,
         opened.skipped_frames.assign(std::istreambuf_iterator<char>(in), {});
       if (std::ifstream in(opened.folder / kColourLeftOutFile); in)
         opened.colour_left_out.assign(std::istreambuf_iterator<char>(in), {});
+      opened.notes = readNotes(opened.folder / kImportNotesFile);
+      std::copy_if(opened.notes.begin(), opened.notes.end(), std::back_inserter(opened.warnings),
+                   isImportWarning);
       return opened;
     }
     // Moved aside first (an open elsewhere may be reading it), then removed.
@@ -558,6 +632,12 @@ OpenedSource openSource(const fs::path& path, const ImportOptions& options,
       opened.colour_left_out = colourLeftOutText(opened.report);
       if (!opened.colour_left_out.empty())
         writeTextFileAtomically(partial / kColourLeftOutFile, opened.colour_left_out);
+      opened.notes = notesOneALine(opened.report.notes);
+      std::string notes;
+      for (const std::string& note : opened.notes) notes += note + "\n";
+      writeTextFileAtomically(partial / kImportNotesFile, notes);
+      std::copy_if(opened.notes.begin(), opened.notes.end(), std::back_inserter(opened.warnings),
+                   isImportWarning);
     }
   } catch (const Error& e) {
     fs::remove_all(partial, ec);

@@ -290,9 +290,9 @@ void importTum(const fs::path& source, const ImportOptions& options, SequenceWri
     camera.cy = 239.5;
     known = camera;
     described = "the benchmark's default calibration";
-    writer.note(
-        "no freiburg1/2/3 in the folder name: the benchmark's default intrinsics fx = fy = 525, "
-        "cx = 319.5, cy = 239.5 are used (give the intrinsics option if they are known)");
+    writer.note(std::string(kDefaultTumIntrinsicsNote) +
+                " fx = fy = 525, cx = 319.5, cy = 239.5 are used (give the intrinsics option if "
+                "they are known)");
   } else if (known && !options.intrinsics) {
     writer.note("intrinsics: " + described);
   }

@@ -75,6 +75,11 @@ class SequenceWriter {
   bool add(SourceFrame frame);
   // Records a frame the source could not deliver; counts towards progress.
   bool skip(const std::string& frame, const std::string& reason);
+  // How far the source has been read before its frames (ImportProgress::read):
+  // reported when it has moved by a thousandth since the last report. Returns
+  // false when the progress callback asked to cancel (the import then stops
+  // without a frame, as cancelled).
+  bool reading(std::uint64_t read, std::uint64_t read_total);
   // Adds a note once (repeated notes are counted instead).
   void note(const std::string& text);
 
@@ -117,6 +122,7 @@ class SequenceWriter {
   std::vector<FrameRecord> records_;
   size_t total_ = 0;
   size_t done_ = 0;
+  std::uint64_t reading_reported_ = 0;  // thousandths of the reading last reported, plus 1
   bool finished_ = false;
   bool prepared_ = false;
   // The staging folder, or a new output folder, for a signal to remove.
@@ -194,6 +200,12 @@ LabelImage remapLabels(const LabelImage& raw, const std::map<int, int>& map,
 // How the note on a colour image left out begins (openSource lists those notes).
 inline constexpr const char* kUnreadableColourNote =
     "a colour image that cannot be read was left out";
+// How the notes that are warnings begin (ImportReport::warnings): those
+// marked so, and the default intrinsics of a TUM folder, which the CLI has
+// always printed as a plain note.
+inline constexpr const char* kWarningNote = "warning: ";
+inline constexpr const char* kDefaultTumIntrinsicsNote =
+    "no freiburg1/2/3 in the folder name: the benchmark's default intrinsics";
 // A frame's colour image, or nothing (and a note naming it) when it cannot be
 // read: colour is shown, never fused, so the frame's depth is kept.
 std::optional<ColorImage> readColorOrLeaveOut(const fs::path& path, SequenceWriter& writer);

@@ -529,17 +529,25 @@ struct BagContents {
 };
 
 // The first pass. Unreadable messages are counted and noted, not fatal.
-void readBag(rosbag::Bag& opened, const std::string& file, SequenceWriter& writer,
-             BagContents& contents) {
+// Its progress is the second half of the reading (`bytes`, the file's size,
+// after the check's); false when the progress callback asked to cancel.
+bool readBag(rosbag::Bag& opened, const std::string& file, std::uint64_t bytes,
+             SequenceWriter& writer, BagContents& contents) {
   size_t unreadable = 0;
   try {
     rosbag::View view(opened);
-    if (view.size() == 0) throw Error(file, "bag", "a bag with messages", "an empty bag");
+    const std::uint64_t messages = view.size();
+    if (messages == 0) throw Error(file, "bag", "a bag with messages", "an empty bag");
     contents.begin = view.getBeginTime().toSec();
     contents.end = view.getEndTime().toSec();
     for (const rosbag::ConnectionInfo* c : view.getConnections())
       contents.topics[c->topic] = Topic{c->topic, c->datatype, {}};
+    // Messages come in time order, not in file order: their count stands for
+    // the bytes read (the chunks are decompressed as they are reached).
+    const std::uint64_t pass = bytes > 0 ? bytes : messages;
+    std::uint64_t read = 0;
     for (const rosbag::MessageInstance& m : view) {
+      if (!writer.reading(pass + pass * read++ / messages, 2 * pass)) return false;
       try {
         contents.read(m);
       } catch (const std::exception&) {
@@ -569,6 +577,7 @@ void readBag(rosbag::Bag& opened, const std::string& file, SequenceWriter& write
     std::sort(stamps.begin(), stamps.end());
     stamps.erase(std::unique(stamps.begin(), stamps.end()), stamps.end());
   }
+  return true;
 }
 
 // The camera info topic that best matches an image topic: the longest common
@@ -1150,7 +1159,17 @@ void importRosbag(const fs::path& source, const ImportOptions& options, Sequence
   QuietConsole quiet;
   const std::string file = source.string();
   rosbag::Bag opened;
-  checkBagStructure(file);  // the bag library trusts every length and offset
+  // Before the first frame the whole file is read twice, the check and the
+  // index of messages, which for a compressed bag decompress every chunk: a
+  // cancel is heard every thousandth of the way, and the progress moves.
+  std::error_code size_error;
+  std::uint64_t bytes = fs::file_size(source, size_error);
+  if (size_error) bytes = 0;
+  const auto checked = [&](std::uint64_t at, std::uint64_t size) {
+    return writer.reading(at, 2 * size);
+  };
+  // The bag library trusts every length and offset.
+  if (!checkBagStructure(file, checked)) return;
   try {
     opened.open(file, rosbag::bagmode::Read);
   } catch (const std::exception& e) {
@@ -1165,7 +1184,7 @@ void importRosbag(const fs::path& source, const ImportOptions& options, Sequence
                                   : ""));
   }
   BagContents contents;
-  readBag(opened, file, writer, contents);
+  if (!readBag(opened, file, bytes, writer, contents)) return;
 
   const ChosenTopics chosen = bag::chooseTopics(contents.topics, options, file, writer);
   const BagCameras cameras = chooseCameras(contents, chosen, options, source, writer);

@@ -339,6 +339,20 @@ bool SequenceWriter::advance() {
   return true;
 }
 
+bool SequenceWriter::reading(std::uint64_t read, std::uint64_t read_total) {
+  if (!progress_ || read_total == 0) return true;
+  // A thousandth at a time: a bag's records come in thousands, and the
+  // command line prints each report.
+  const std::uint64_t step = std::min(read, read_total) * 1000 / read_total + 1;
+  if (step == reading_reported_) return true;
+  reading_reported_ = step;
+  if (!progress_(ImportProgress{0, 0, read, read_total})) {
+    report_.cancelled = true;
+    return false;
+  }
+  return true;
+}
+
 bool SequenceWriter::skip(const std::string& frame, const std::string& reason) {
   report_.skipped.push_back({frame, reason});
   return advance();

@@ -92,7 +92,8 @@ std::optional<std::vector<char>> decompressChunk(const std::string& compression,
 
 class Walker {
  public:
-  Walker(const std::string& file, Source source) : file_(file), source_(std::move(source)) {}
+  Walker(const std::string& file, Source source, const BagCheckProgress* keep_going = nullptr)
+      : file_(file), source_(std::move(source)), keep_going_(keep_going) {}
 
   [[noreturn]] void fail(std::uint64_t at, const std::string& what) const {
     throw Error(file_, "bag", "a readable ROS 1 bag (format 2.0)",
@@ -176,7 +177,8 @@ class Walker {
     return static_cast<std::uint8_t>(*value);
   }
 
-  void walk() {
+  // False when keep_going said to stop.
+  bool walk() {
     // The bag library calls any file it cannot read a truncated bag: one
     // that is no bag at all is said to be none, not sent to `rosbag reindex`.
     char magic[kMagicBytes];
@@ -185,7 +187,7 @@ class Walker {
     if (std::memcmp(magic, kMagic, start) != 0) {
       if (std::memcmp(magic, kMagic, std::min<std::uint64_t>(start, kVersionAt)) == 0 &&
           start > kVersionAt)
-        return;  // another version of the format: the library's to judge
+        return true;  // another version of the format: the library's to judge
       throw Error(file_, "bag", "a readable ROS 1 bag (format 2.0)",
                   "a file that is not a ROS bag (it does not start with #ROSBAG V2.0)");
     }
@@ -202,6 +204,7 @@ class Walker {
     std::optional<std::uint64_t> last_chunk;
     std::vector<std::pair<std::uint64_t, std::uint64_t>> chunk_infos;  // record offset, chunk_pos
     for (std::uint64_t at = kMagicBytes; at < source_.size;) {
+      if (keep_going_ && *keep_going_ && !(*keep_going_)(at, source_.size)) return false;
       const std::uint64_t next = record(at, source_.size, fields, data_at, data_bytes);
       const std::uint8_t operation = op(fields, at);
       if (operation == kBagHeader) {
@@ -277,11 +280,13 @@ class Walker {
     }
     for (const auto& [at, chunk_pos] : chunk_infos)
       if (chunks.count(chunk_pos) == 0) fail(at, "a chunk info record pointing at no chunk");
+    return true;
   }
 
  private:
   const std::string& file_;
   Source source_;
+  const BagCheckProgress* keep_going_;
 };
 
 // The fields of one serialised message, read in order; stops at the first
@@ -377,7 +382,7 @@ std::optional<MessageLengthProblem> messageLengthProblem(const std::string& type
   return m.problem();
 }
 
-void checkBagStructure(const std::string& file) {
+bool checkBagStructure(const std::string& file, const BagCheckProgress& keep_going) {
   std::error_code ec;
   if (fs::is_directory(file, ec)) {
     // A folder of bags (e.g. a recording split with --split) names them.
@@ -395,14 +400,14 @@ void checkBagStructure(const std::string& file) {
         "a folder" + (bags.empty() ? std::string() : " (give one of its bags: " + bags + ")"));
   }
   std::ifstream in(file, std::ios::binary);
-  if (!in) return;  // the bag library names what is wrong with opening it
+  if (!in) return true;  // the bag library names what is wrong with opening it
   in.seekg(0, std::ios::end);
   const auto end = in.tellg();
-  if (end < 0) return;
+  if (end < 0) return true;
   if (end == 0)
     throw Error(file, "bag", "a readable ROS 1 bag (format 2.0)", "a file that is empty");
-  Walker walker(file, Source{&in, nullptr, static_cast<std::uint64_t>(end), ""});
-  walker.walk();
+  Walker walker(file, Source{&in, nullptr, static_cast<std::uint64_t>(end), ""}, &keep_going);
+  return walker.walk();
 }
 
 }  // namespace lom::import_detail

@@ -3,6 +3,7 @@
 // (rosbag_check.cpp).
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -16,7 +17,14 @@ namespace lom::import_detail {
 // or one that does not start with #ROSBAG are said to be no bag. Bags of
 // another format version and files that cannot be opened are left to the
 // bag library.
-void checkBagStructure(const std::string& file);
+//
+// `keep_going` is told the bytes checked so far and the file's size before
+// each record outside the chunks: decompressing a large bz2 bag takes
+// minutes, which a cancel must not wait out. Its false stops the check, which
+// then returns false.
+using BagCheckProgress = std::function<bool(std::uint64_t checked, std::uint64_t size)>;
+[[nodiscard]] bool checkBagStructure(const std::string& file,
+                                     const BagCheckProgress& keep_going = {});
 
 // A length inside a serialised message that its bytes cannot hold: `field`
 // as the message definition names it ("D", "data", "transforms[2].

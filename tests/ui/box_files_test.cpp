@@ -263,8 +263,8 @@ TEST_F(BoxFilesTest, UnreadableBoxesFileIsReplacedWhenTheUserConfirms) {
   EXPECT_TRUE(boxes().unreadablePath().isEmpty());
 }
 
-// The import cache entry of a recording is rebuilt whenever the recording's
-// folder changes; its boxes must not go with it.
+// The import cache entry of a recording is rebuilt whenever a file of the
+// recording that its import reads changes; its boxes must not go with it.
 TEST_F(BoxFilesTest, BoxesOfAConvertedRecordingSurviveAChangeOfItsFolder) {
   const fs::path source = temp_ / "frames_layout";
   lom::test::writeFramesLayout(tiny_, source);
@@ -280,7 +280,8 @@ TEST_F(BoxFilesTest, BoxesOfAConvertedRecordingSurviveAChangeOfItsFolder) {
   EXPECT_TRUE(saved.startsWith(QStandardPaths::writableLocation(QStandardPaths::AppDataLocation)))
       << saved.toStdString();
 
-  std::ofstream(source / "notes.txt") << "a note beside the recording\n";
+  // A file the import reads is written again (the same camera matrix).
+  std::ofstream(source / "intrinsics.K.txt", std::ios::app) << "\n";
   ASSERT_TRUE(open(source));
   EXPECT_NE(window_.session().sequence()->root, first_cache);  // a new cache entry
   EXPECT_EQ(boxes().boxCount(), 1);

@@ -11,9 +11,11 @@
 #include <QProgressDialog>
 #include <QPushButton>
 #include <QSignalSpy>
+#include <QSlider>
 #include <QStatusBar>
 #include <QTest>
 #include <QTimer>
+#include <QWindow>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -32,6 +34,7 @@
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
+#include "lom/ui/timeline_widget.hpp"
 #include "test_support.hpp"
 #include "tiny_sequence.hpp"
 
@@ -57,6 +60,18 @@ class FirstFrameGate {
         if (step.done == 1) hold();
         return go_on;
       });
+    };
+  }
+  // The same, reporting first that a quarter of the recording has been
+  // read (as a bag is read through before its frames) and holding there.
+  SequenceController::SourceOpener readingOpener() {
+    return [this](const fs::path& source, const ImportOptions& options,
+                  const ImportProgressCallback& progress) {
+      ImportProgress reading;
+      reading.read = 250;
+      reading.read_total = 1000;
+      if (progress(reading)) hold();
+      return openSource(source, options, {}, progress);
     };
   }
   [[nodiscard]] bool holding() const { return holding_; }
@@ -202,7 +217,7 @@ TEST_F(ConversionProgressTest, ShowsProgressWhileTheWindowKeepsRunning) {
   // Runs while the open waits: without its own event loop the conversion
   // would wait for the gate in vain.
   QString label, bar;
-  bool modal = false;
+  bool input_kept_out = false;
   int paints_before = -1;
   PaintCounter status_paints(window_.statusBar());
   Poller poll([&] {
@@ -211,8 +226,15 @@ TEST_F(ConversionProgressTest, ShowsProgressWhileTheWindowKeepsRunning) {
     if (paints_before < 0) {
       label = dialog->labelText();
       bar = barText(*dialog);
-      modal =
-          dialog->windowModality() != Qt::NonModal && QApplication::activeModalWidget() == dialog;
+      // As under a modal dialog, the window takes no input meanwhile: neither
+      // its shortcuts (End, the last frame) nor a click on the timeline.
+      window_.activateWindow();
+      QTest::keyClick(&window_, Qt::Key_End);
+      QSlider& slider = window_.timeline().slider();
+      QTest::mouseClick(&slider, Qt::LeftButton, {},
+                        QPoint(slider.width() - 2, slider.height() / 2));
+      input_kept_out =
+          controller().currentFrame() == 1 && controller().sequenceName() == "tiny_shelf";
       // The window under the dialog must still repaint (when uncovered, say).
       paints_before = status_paints.paints;
       window_.statusBar()->showMessage("changed while converting");
@@ -227,7 +249,7 @@ TEST_F(ConversionProgressTest, ShowsProgressWhileTheWindowKeepsRunning) {
   EXPECT_GT(poll.ticks, 0);
   EXPECT_EQ(label, "Converting frames_layout…");
   EXPECT_EQ(bar, "1 of 3 frames");
-  EXPECT_TRUE(modal);
+  EXPECT_TRUE(input_kept_out);
   EXPECT_GT(status_paints.paints, paints_before);
   ASSERT_FALSE(progress.empty());
   EXPECT_EQ(progress.back(), std::make_pair(lom::test::kTinyFrames, lom::test::kTinyFrames));
@@ -349,6 +371,49 @@ TEST_F(ConversionProgressTest, ClosingTheWindowWhileConvertingAsksAndStopsIt) {
   expectTinyStillOpen();
   EXPECT_EQ(visibleProgressDialog(), nullptr);
   EXPECT_EQ(cacheLeftovers("closing_frames"), std::vector<std::string>());
+}
+
+// Closing the window from its title bar (the window manager's close, not
+// QWidget::close) while the progress shows asks as well: a modal dialog made
+// Qt drop it without a word.
+TEST_F(ConversionProgressTest, ClosingTheWindowFromTheWindowManagerWhileConvertingAsks) {
+  const fs::path folder = framesLayout("wm_closing_frames");
+  controller().setSourceOpener(gate_.opener());
+  test::DialogAnswerer answer("Cancel");
+  bool closed = true;
+  Poller poll([&] {
+    if (!gate_.holding() || !visibleProgressDialog()) return false;
+    // As the window manager's close button does (through Qt's platform layer).
+    closed = window_.windowHandle()->close();
+    gate_.release();
+    return true;
+  });
+
+  ASSERT_TRUE(controller().openSequence(qPath(folder))) << "Cancel: the conversion went on";
+  EXPECT_FALSE(closed);
+  ASSERT_EQ(answer.questions.size(), 1) << "closing asked nothing";
+  EXPECT_TRUE(answer.questions[0].contains("conversion of wm_closing_frames"))
+      << answer.questions[0].toStdString();
+  EXPECT_TRUE(window_.isVisible());
+  EXPECT_EQ(controller().sequenceName(), "wm_closing_frames");
+}
+
+// A recording is read through before its frames (a compressed bag for a
+// minute): the bar says how far, instead of a busy indicator.
+TEST_F(ConversionProgressTest, ReadingTheRecordingMovesTheBar) {
+  const fs::path folder = framesLayout("read_frames");
+  controller().setSourceOpener(gate_.readingOpener());
+  QString reading;
+  Poller poll([&] {
+    QProgressDialog* dialog = visibleProgressDialog();
+    if (!gate_.holding() || !dialog || barText(*dialog).isEmpty()) return false;
+    reading = barText(*dialog);
+    gate_.release();
+    return true;
+  });
+  ASSERT_TRUE(controller().openSequence(qPath(folder)));
+  EXPECT_EQ(reading, "Reading the recording: 25%");
+  EXPECT_EQ(controller().sequenceName(), "read_frames");
 }
 
 // A damaged frame is left out of the conversion: the user is told which and

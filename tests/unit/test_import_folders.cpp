@@ -993,5 +993,81 @@ TEST(ImportScanNet, NamesWithoutTheLabelTableAndMalformedInputs) {
   EXPECT_TRUE(anyNote(odd, "another aspect ratio")) << odd.text();
 }
 
+// ---------------------------------------------------------------------------
+// The import cache's entries: what makes a conversion, what it keeps
+
+// `file` written again, as a repair would: its size and time change.
+void touchWithNewContent(const fs::path& file) {
+  std::ofstream(file, std::ios::app) << ' ';
+  fs::last_write_time(file, fs::last_write_time(file) + std::chrono::seconds(2));
+}
+
+// A screenshot, a render or notes saved in a recording's folder (or in a
+// folder of their own there) are no input of the conversion: the entry is
+// reused, not converted again beside it. A frame file of the layout changed
+// still is.
+TEST(ImportOpen, ImagesTheLayoutDoesNotReadLeaveTheConversionAsItIs) {
+  test::TempDir dir;
+  const fs::path cache = dir / "cache";
+  const auto shots = [](const fs::path& folder) {
+    writeColorPng(folder / "screenshot.png", sceneColor(7));
+    cv::imwrite((folder / "render.jpg").string(), cv::Mat(kH, kW, CV_8UC3, cv::Scalar(1, 2, 3)));
+    writeColorPng(folder / "figures" / "map.png", sceneColor(8));
+    writeText(folder / "notes.txt", "the light was off in the first frames\n");
+  };
+  const auto expectReusedThenReconverted = [&](const fs::path& folder, const ImportOptions& options,
+                                               const fs::path& frame_file) {
+    SCOPED_TRACE(folder.filename().string());
+    const OpenedSource first = openSource(folder, options, cache);
+    ASSERT_FALSE(first.reused_cache);
+    fs::create_directories(folder / "figures");
+    shots(folder);
+    const OpenedSource again = openSource(folder, options, cache);
+    EXPECT_TRUE(again.reused_cache) << "screenshots are not frames of " << folder;
+    EXPECT_EQ(again.folder, first.folder);
+    touchWithNewContent(frame_file);
+    const OpenedSource repaired = openSource(folder, options, cache);
+    EXPECT_FALSE(repaired.reused_cache) << frame_file << " changed: converted again";
+    EXPECT_NE(repaired.folder, first.folder);
+  };
+  writeFramesFolder(dir / "frames");
+  expectReusedThenReconverted(dir / "frames", {}, dir / "frames" / "frame-000017.depth.png");
+  TumFixture tum(dir / "tum");
+  expectReusedThenReconverted(tum.dir, {}, tum.dir / "depth" / "100.033000.png");
+  // An image in a TUM folder that no list names is not read either.
+  writeColorPng(tum.dir / "rgb" / "unlisted.png", sceneColor(9));
+  EXPECT_TRUE(openSource(tum.dir, {}, cache).reused_cache);
+  writeQuaternionFolder(dir / "room");
+  ImportOptions room;
+  room.intrinsics = parseIntrinsics("30,31,15.5,11.5");
+  expectReusedThenReconverted(dir / "room", room, dir / "room" / "color" / "2.png");
+}
+
+// What `labeloctomap import` warns about (here a TUM folder's default
+// intrinsics) is kept with the cached conversion, with every note, so that
+// the studio says it on every open, not only the first.
+TEST(ImportOpen, TheConversionsWarningsAndNotesAreKeptWithItsEntry) {
+  test::TempDir dir;
+  TumFixture plain(dir / "plain");
+  const OpenedSource first = openSource(plain.dir, {}, dir / "cache");
+  ASSERT_FALSE(first.reused_cache);
+  ASSERT_EQ(first.warnings.size(), 1u) << first.report.text();
+  EXPECT_TRUE(contains(first.warnings[0], "the benchmark's default intrinsics fx = fy = 525"))
+      << first.warnings[0];
+  EXPECT_EQ(first.warnings, first.report.warnings());
+  EXPECT_EQ(first.notes, first.report.notes);
+  EXPECT_TRUE(fs::exists(first.folder / kImportNotesFile));
+  const OpenedSource reused = openSource(plain.dir, {}, dir / "cache");
+  ASSERT_TRUE(reused.reused_cache);
+  EXPECT_EQ(reused.warnings, first.warnings) << test::slurp(first.folder / kImportNotesFile);
+  EXPECT_EQ(reused.notes, first.notes);
+  // Plain notes are no warnings: the published calibration of a freiburg1 folder.
+  TumFixture calibrated(dir / "rgbd_dataset_freiburg1_desk");
+  const OpenedSource known = openSource(calibrated.dir, {}, dir / "cache");
+  EXPECT_TRUE(known.warnings.empty()) << known.warnings.front();
+  EXPECT_FALSE(known.notes.empty());
+  EXPECT_TRUE(openSource(calibrated.dir, {}, dir / "cache").warnings.empty());
+}
+
 }  // namespace
 }  // namespace lom

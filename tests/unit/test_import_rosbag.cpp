@@ -2,6 +2,7 @@
 // malformed bags. Without bag support in the build, the import must say so.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -164,6 +165,7 @@ struct BagSpec {
   double tf_quaternion_scale = 1.0;
   double static_quaternion_scale = 1.0;
   bool tf_repeated = false;  // the first /tf message written twice (tf2 refuses the second)
+  std::uint32_t chunk_threshold = 0;  // bytes of a chunk; 0: the library's (768 KiB)
 };
 
 // `t` with its quaternion multiplied by `scale`.
@@ -190,6 +192,7 @@ std::pair<size_t, size_t> firstImageData(const std::vector<std::uint8_t>& png) {
 void writeBag(const fs::path& path, const BagSpec& spec) {
   rosbag::Bag bag(path.string(), rosbag::bagmode::Write);
   bag.setCompression(spec.compression);
+  if (spec.chunk_threshold > 0) bag.setChunkThreshold(spec.chunk_threshold);
   // tf at 20 Hz from 9.95 to 10.30; the frame at 10.4 has no pose.
   // Header stamps may run on another scale than the record times (a bag
   // replayed faster, or written without record times).
@@ -464,6 +467,8 @@ TEST(ImportRosbag, ACameraInfoOfAnotherFrameIsAWarning) {
                       "warning: the camera info /camera/depth/camera_info is of frame "
                       "'camera_color_optical_frame'"))
       << report.text();
+  ASSERT_EQ(report.warnings().size(), 1u) << report.text();
+  EXPECT_NE(report.warnings()[0].find("its intrinsics may be another camera's"), std::string::npos);
 }
 
 // Quaternions of norm 1.05 (/tf) and 0.99 (/tf_static, as (0, 0, 0.7, 0.7))
@@ -514,6 +519,85 @@ TEST(ImportRosbag, ACameraChainOfStaticTransformsOnlyIsAWarning) {
   test::TempDir other;
   const ImportReport moving = importBag(other, BagSpec{});
   EXPECT_FALSE(anyNote(moving, "is static")) << moving.text();
+  EXPECT_TRUE(moving.warnings().empty()) << moving.text();
+}
+
+// Opened in the studio, such a bag is a smeared map: the warning comes with
+// every open, fresh or from the import cache, as the command line gives it.
+TEST(ImportRosbag, TheStaticPoseWarningIsKeptWithTheCachedConversion) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.tf_link_missing = true;
+  writeBag(dir / "rec.bag", spec);
+  for (int open = 0; open < 2; ++open) {
+    SCOPED_TRACE(open == 0 ? "converted" : "from the cache");
+    const OpenedSource opened = openSource(dir / "rec.bag", {}, dir / "cache");
+    EXPECT_EQ(opened.reused_cache, open == 1);
+    ASSERT_EQ(opened.warnings.size(), 1u) << test::slurp(opened.folder / kImportNotesFile);
+    EXPECT_EQ(opened.warnings[0].rfind("warning: every transform from 'base_link' to '" +
+                                           std::string(kOptical) + "' is static",
+                                       0),
+              0u)
+        << opened.warnings[0];
+    EXPECT_GT(opened.notes.size(), opened.warnings.size()) << "the topics chosen, for one";
+  }
+}
+
+// A compressed bag is read through twice before its first frame (its records
+// checked, then its messages indexed), which decompresses every chunk: for a
+// large bz2 bag, minutes. The progress moves meanwhile, in bytes of the file,
+// and a cancel is heard there, not once the whole file is read.
+TEST(ImportRosbag, ReadingABagReportsItsProgressAndHearsACancel) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.compression = rosbag::compression::BZ2;
+  spec.chunk_threshold = 4096;  // chunks of a few messages each
+  writeBag(dir / "rec.bag", spec);
+  const std::uint64_t size = fs::file_size(dir / "rec.bag");
+  std::vector<ImportProgress> steps;
+  const ImportReport whole = importSource(SourceKind::RosBag, dir / "rec.bag", dir / "seq", {},
+                                          [&](const ImportProgress& step) {
+                                            steps.push_back(step);
+                                            return true;
+                                          });
+  EXPECT_EQ(whole.frames_written, 4u) << whole.text();
+  size_t reading = 0, checking = 0, indexing = 0;
+  std::uint64_t last = 0;
+  for (; reading < steps.size() && steps[reading].read_total > 0; ++reading) {
+    const ImportProgress& step = steps[reading];
+    EXPECT_EQ(step.done, 0u) << "before the frames";
+    EXPECT_EQ(step.total, 0u);
+    EXPECT_EQ(step.read_total, 2 * size) << "two passes over the file";
+    EXPECT_GE(step.read, last) << "step " << reading;
+    last = step.read;
+    ++(step.read < size ? checking : indexing);
+  }
+  EXPECT_GE(checking, 3u) << "the record check moves through the file";
+  EXPECT_GE(indexing, 3u) << "so does the index of messages";
+  ASSERT_LT(reading, steps.size());
+  EXPECT_EQ(steps[reading].done, 1u) << "then the frames";
+  for (size_t i = reading; i < steps.size(); ++i) EXPECT_EQ(steps[i].read_total, 0u);
+
+  // Cancelled while the records are checked, and while the messages are
+  // indexed: no frame converted, nothing written, not asked again.
+  for (const std::uint64_t cancel_at : {std::uint64_t{0}, size}) {
+    SCOPED_TRACE(cancel_at == 0 ? "checking" : "indexing");
+    size_t calls_after = 0, frames_seen = 0;
+    bool cancelled = false;
+    const ImportReport report =
+        importSource(SourceKind::RosBag, dir / "rec.bag", dir / "cancelled", {},
+                     [&](const ImportProgress& step) {
+                       if (cancelled) ++calls_after;
+                       frames_seen = std::max(frames_seen, step.done);
+                       cancelled = cancelled || (step.read_total > 0 && step.read >= cancel_at);
+                       return !cancelled;
+                     });
+    EXPECT_TRUE(report.cancelled);
+    EXPECT_EQ(report.frames_written, 0u);
+    EXPECT_EQ(frames_seen, 0u) << "stopped before the first frame";
+    EXPECT_EQ(calls_after, 0u);
+    EXPECT_FALSE(fs::exists(dir / "cancelled"));
+  }
 }
 
 // Header stamps spanning far more than the record times (a bag replayed 100

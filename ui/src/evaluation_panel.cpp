@@ -285,10 +285,9 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   connect(&worker, &MapWorker::evaluationFailed, this,
           [this](const QString& message) { clearReport(message); });
   connect(export_, &QPushButton::clicked, this, [this] {
-    // The folder dialog starts beside the sequence, not wherever the studio started.
-    const auto sequence = session_.sequence();
-    const QString start =
-        sequence ? QString::fromStdString(sequence->root.parent_path().string()) : QString();
+    // The folder dialog starts beside the sequence (or the converted recording,
+    // not in the import cache), not wherever the studio started.
+    const QString start = session_.controller().outputFolder();
     const QString dir = QFileDialog::getExistingDirectory(this, tr("Export Report To"), start);
     if (!dir.isEmpty()) exportReportTo(dir);
   });

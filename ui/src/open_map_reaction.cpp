@@ -24,8 +24,8 @@ void OpenMapReaction::updateEnabled() { action()->setEnabled(session_.sequence()
 void OpenMapReaction::onTriggered() {
   if (!session_.sequence()) return;
   // Maps are usually written beside the sequence folder (labeloctomap fuse
-  // refuses to write inside it).
-  const QString start = QString::fromStdString(session_.sequence()->root.parent_path().string());
+  // refuses to write inside it), or beside the recording that was converted.
+  const QString start = session_.controller().outputFolder();
   const QString path = chooser_(start);
   if (!path.isEmpty()) session_.openMap(path);
 }

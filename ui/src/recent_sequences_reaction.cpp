@@ -27,8 +27,10 @@ void RecentSequencesReaction::rebuildMenu() {
   }
   int number = 1;
   for (const QString& path : paths) {
-    const QFileInfo info(path);
-    const QString name = info.isDir() || !info.exists() ? info.fileName() : info.dir().dirName();
+    // A sequence.json goes by its folder's name; a folder or a bag by its own.
+    const QFileInfo info(QDir::cleanPath(path));
+    const QString name =
+        info.fileName() == QLatin1String("sequence.json") ? info.dir().dirName() : info.fileName();
     QAction* entry = menu_->addAction(
         tr("&%1 %2  (%3)").arg(number++).arg(name, QDir::toNativeSeparators(path)));
     // An entry whose sequence is gone is reported once (by the open) and dropped.

@@ -66,6 +66,7 @@ struct SequenceController::Conversion {
   std::atomic<bool> cancel{false};
   std::atomic<size_t> done{0};
   std::atomic<size_t> total{0};
+  std::atomic<int> read_per_mille{-1};  // -1: not reading (frames, or not yet)
   // A progress call is queued to the GUI thread and has not run yet: later
   // progress is picked up by it instead of queuing another.
   std::atomic<bool> progress_queued{false};
@@ -140,6 +141,19 @@ bool SequenceController::openSequence(const QString& folder_or_json) {
                          QString::fromStdString(opened.skipped_frames) +
                              tr("\nThe other frames are open. Repair or replace these files and "
                                 "open the recording again to convert them."));
+  // What `labeloctomap import` warns about, such as every frame at one pose,
+  // makes a wrong map without a frame left out: said on every open too.
+  if (!opened.warnings.empty()) {
+    QStringList lines;
+    for (const std::string& warning : opened.warnings)
+      lines << QStringLiteral("• ") + QString::fromStdString(warning);
+    emit warningOccurred(
+        tr("Check the conversion"),
+        tr("The conversion of %1 warns:\n\n%2\n\nIt is open as converted; labeloctomap import "
+           "says the same. All the conversion's notes are in %3.")
+            .arg(sequenceName(), lines.join('\n'),
+                 QString::fromStdString((opened.folder / kImportNotesFile).string())));
+  }
   return true;
 }
 
@@ -167,12 +181,19 @@ std::optional<OpenedSource> SequenceController::convert(const QString& path) {
                                            &receiver](const ImportProgress& step) {
     conversion->done = step.done;
     conversion->total = step.total;
+    conversion->read_per_mille =
+        step.total == 0 && step.read_total > 0
+            ? static_cast<int>(std::min(step.read, step.read_total) * 1000 / step.read_total)
+            : -1;
     if (!conversion->progress_queued.exchange(true))
       QMetaObject::invokeMethod(
           &receiver,
           [this, conversion] {
             conversion->progress_queued = false;
-            emit conversionProgress(clampToInt(conversion->done), clampToInt(conversion->total));
+            if (const int per_mille = conversion->read_per_mille; per_mille >= 0)
+              emit conversionReading(per_mille);
+            else
+              emit conversionProgress(clampToInt(conversion->done), clampToInt(conversion->total));
           },
           Qt::QueuedConnection);
     return !conversion->cancel;
@@ -243,6 +264,12 @@ std::optional<OpenedSource> SequenceController::convert(const QString& path) {
   return opened;
 }
 
+QString SequenceController::outputFolder() const {
+  if (!sequence_) return {};
+  if (converted_) return QFileInfo(QDir::cleanPath(sequence_path_)).absolutePath();
+  return QString::fromStdString(sequence_->root.parent_path().string());
+}
+
 QString SequenceController::sequenceName() const {
   if (!sequence_) return {};
   // A converted recording is known by its own name, not by its cache folder's
@@ -279,10 +306,19 @@ void SequenceController::loadCurrentFrame() {
   } catch (const std::exception& error) {
     frame_data_.reset();
     frame_labels_.reset();
+    // Reported once the frame change has reached the views: the message box
+    // waits for an answer, and meanwhile the window must show the frame it
+    // names, not the one before.
     if (reported_broken_frames_.insert(current_frame_).second)
-      emit errorOccurred(
-          tr("Cannot load frame %1 (frames[%2])").arg(current_frame_ + 1).arg(current_frame_),
-          describeFailure(error, sequence_path_));
+      QMetaObject::invokeMethod(
+          this,
+          [this,
+           title =
+               tr("Cannot load frame %1 (frames[%2])").arg(current_frame_ + 1).arg(current_frame_),
+           message = describeFailure(error, sequence_path_)] {
+            emit errorOccurred(title, message);
+          },
+          Qt::QueuedConnection);
   }
 }
 

@@ -2,6 +2,7 @@
 // Importing recordings: ROS 1 bags and the RGB-D dataset layouts in common use
 // are converted to v1 sequences (docs/import.md, docs/sequence-format.md).
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -135,13 +136,28 @@ struct ImportReport {
   bool cancelled = false;
   // Multi-line human summary: counts, then skipped frames, then notes.
   [[nodiscard]] std::string text(size_t max_skipped_listed = 20) const;
+  // The notes that say the sequence may be wrong although no frame was
+  // skipped (every frame at one pose, another camera's intrinsics, default
+  // intrinsics): the studio shows them on every open of the recording.
+  [[nodiscard]] std::vector<std::string> warnings() const;
 };
 
+// Whether a note of an import report is one of its warnings().
+[[nodiscard]] bool isImportWarning(const std::string& note);
+
 struct ImportProgress {
-  size_t done = 0;
-  size_t total = 0;
+  size_t done = 0;   // frames converted or skipped
+  size_t total = 0;  // frames to convert; 0 while the source is still being read
+  // Before the frames, while the source is read through (a ROS bag: its
+  // records checked, then its messages indexed, a pass over the file each):
+  // bytes gone through of `read_total`, the passes' bytes together. A
+  // compressed bag takes seconds to minutes there. Both 0 otherwise.
+  std::uint64_t read = 0;
+  std::uint64_t read_total = 0;
 };
-// Returning false cancels the import (nothing is left in the output folder).
+// Returning false cancels the import (nothing is left in the output folder);
+// it is asked between frames and, while the source is read, every thousandth
+// of the way.
 using ImportProgressCallback = std::function<bool(const ImportProgress&)>;
 
 // Converts `source` (of the given kind; nullopt = detect) into a v1 sequence in
@@ -180,7 +196,14 @@ struct OpenedSource {
   // Likewise, frames kept without their colour image (which could not be
   // read): the files and why. Empty otherwise.
   std::string colour_left_out;
+  // The conversion's notes (report.notes), and those of them that are
+  // warnings (ImportReport::warnings), also for a reused conversion: they are
+  // kept in the cache entry (kImportNotesFile) as the skipped frames are.
+  std::vector<std::string> notes;
+  std::vector<std::string> warnings;
 };
+// The file of a cache entry (OpenedSource::folder) with its notes, one a line.
+inline constexpr const char* kImportNotesFile = "import-notes.txt";
 [[nodiscard]] OpenedSource openSource(const std::filesystem::path& path,
                                       const ImportOptions& options = {},
                                       const std::filesystem::path& cache_root = {},

@@ -1,7 +1,9 @@
 #pragma once
 // The progress of a ROS bag's or dataset folder's conversion when it is
-// opened: a modal dialog over the window ("Converting NAME…", frames done of
-// total) whose Cancel stops the conversion and keeps the open sequence.
+// opened: a dialog over the window ("Converting NAME…", how far the recording
+// has been read, then frames done of total) whose Cancel stops the conversion
+// and keeps the open sequence. The window takes no input meanwhile, as under a
+// modal dialog, except that it can still be closed (which asks first).
 #include <QObject>
 #include <QPointer>
 #include <QString>
@@ -29,8 +31,13 @@ class ConversionProgress : public QObject {
  private:
   void show(const QString& name);
   void setProgress(int done, int total);
+  void setReading(int per_mille);
+  void updateBar();
   void cancel();
   void close();
+  // Whether `event` for `watched` is input to the window (or a panel floated
+  // from it) that the dialog keeps from it.
+  [[nodiscard]] bool blocksInput(QObject* watched, QEvent* event) const;
 
   QWidget* window_;
   SequenceController& controller_;
@@ -39,6 +46,7 @@ class ConversionProgress : public QObject {
   QPushButton* cancel_button_ = nullptr;
   int done_ = 0;
   int total_ = 0;
+  int reading_ = -1;  // thousandths of the recording read before its frames; -1 after
 };
 
 }  // namespace lom::ui

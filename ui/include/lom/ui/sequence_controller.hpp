@@ -34,9 +34,10 @@ class SequenceController : public QObject {
   // worker thread while this waits in a local event loop, so the windows keep
   // repainting; it returns when the conversion has ended. Input to the windows
   // waits for the first progressDelay() ms; a conversion still running then
-  // emits conversionStarted (the window shows its progress, modally). A
-  // cancelled conversion keeps the previous sequence, reports no error and
-  // returns false. While one open is under way, others are refused (false).
+  // emits conversionStarted (the window shows its progress and takes no
+  // other input than a close: ConversionProgress). A cancelled conversion
+  // keeps the previous sequence, reports no error and returns false. While
+  // one open is under way, others are refused (false).
   bool openSequence(const QString& folder_or_json);
 
   [[nodiscard]] bool hasSequence() const { return sequence_ != nullptr; }
@@ -47,6 +48,11 @@ class SequenceController : public QObject {
   // Whether the open sequence is the conversion of a bag or dataset folder
   // (its folder is then in the import cache, not beside the recording).
   [[nodiscard]] bool isConverted() const { return converted_; }
+  // Where file dialogs for the studio's outputs and maps start: the folder
+  // that holds the sequence folder, or for a converted recording the one that
+  // holds the recording (never the hidden import cache). Empty without a
+  // sequence.
+  [[nodiscard]] QString outputFolder() const;
   // The file of the open sequence (its sequence.json or a frame file, and for
   // a converted recording the bag or any file already in the recording's
   // folder) that `path` names, under any name; empty when it names none (or
@@ -104,6 +110,9 @@ class SequenceController : public QObject {
   void conversionStarted(const QString& name);
   // Frames converted (or skipped) so far; total is 0 while still unknown.
   void conversionProgress(int done, int total);
+  // Before its frames, how far the recording has been read through (a ROS
+  // bag is checked and indexed first), in thousandths.
+  void conversionReading(int per_mille);
   // Every conversion ends with this (before an error is reported).
   void conversionFinished(const QString& name, bool cancelled);
 
