@@ -345,42 +345,16 @@ void checkSequenceBoxes(const Sequence& sequence, std::vector<Problem>& problems
       problems.push_back(e.problem());
       continue;
     }
-    if (annotations.frame_id != sequence.frame_id)
-      problems.push_back({file.string(), "frame_id",
-                          "the sequence's frame \"" + sequence.frame_id + "\" (" + json_file + ")",
-                          "\"" + annotations.frame_id + "\""});
+    if (auto problem = frameIdProblem(sequence, annotations, file.string()))
+      problems.push_back(std::move(*problem));
     if (annotations.boxes.empty())
       warnings.push_back(file.string() + ": boxes: none (score needs at least one box)");
     // Every box score would refuse, not only the first as score says.
-    const int labels = sequence.labels.size();
-    std::set<size_t> refused;
-    for (const UnscorableBox& box : unscorableBoxes(annotations, labels)) {
-      refused.insert(box.index);
-      // A YAML box file names its boxes' labels in `name` (object_12).
-      const std::string field =
-          "boxes[" + std::to_string(box.index) + "]." + (isYamlBoxesPath(file) ? "name" : "label");
-      if (box.boxed_before)
-        problems.push_back({file.string(), field, "each label in at most one box",
-                            "label " + std::to_string(box.label) + " again (also boxes[" +
-                                std::to_string(*box.boxed_before) + "])"});
-      else
-        problems.push_back(
-            {file.string(), field,
-             labels > 1 ? "an object label of the sequence (1.." + std::to_string(labels - 1) +
-                              "; 0 is the background; " + json_file + ")"
-                        : "an object label, but the sequence has none (only the background, "
-                          "0: it was recorded without label images)",
-             std::to_string(box.label)});
-    }
-    // A box refused above is not scored: a warning on how it would be named
-    // would say the opposite.
-    for (auto& warning : boxNameWarnings(annotations, sequence.labels, file.string(), json_file)) {
-      bool of_refused = false;
-      for (const size_t index : refused)
-        of_refused =
-            of_refused || warning.find("boxes[" + std::to_string(index) + "]") != std::string::npos;
-      if (!of_refused) warnings.push_back(std::move(warning));
-    }
+    for (Problem& problem : boxLabelProblems(annotations, sequence.labels.size(), file.string(),
+                                             "the sequence " + json_file))
+      problems.push_back(std::move(problem));
+    for (auto& warning : boxNameWarnings(annotations, sequence.labels, file.string(), json_file))
+      warnings.push_back(std::move(warning));
   }
 }
 

@@ -63,8 +63,10 @@ std::vector<std::string> emptyBoxWarnings(const Annotations& annotations, const 
   });
   if (left == 0) return warnings;
   const auto bounds = map.bounds();
-  const std::optional<Eigen::AlignedBox3d> observed =
-      bounds ? std::optional(Eigen::AlignedBox3d(bounds->first, bounds->second)) : std::nullopt;
+  const bool mapped = bounds.has_value();
+  Eigen::AlignedBox3d observed;
+  observed.setEmpty();
+  if (mapped) observed = Eigen::AlignedBox3d(bounds->first, bounds->second);
   std::string outside, empty;
   size_t outside_count = 0, empty_count = 0;
   bool far = false;
@@ -73,12 +75,12 @@ std::vector<std::string> emptyBoxWarnings(const Annotations& annotations, const 
     const int label = boxes[i].label;
     const std::string which = "boxes[" + std::to_string(i) + "] (label " + std::to_string(label) +
                               ", " + (labels.contains(label) ? labels.at(label).name : "?") + ")";
-    if (!observed || !reach[i].intersects(*observed)) {  // bounds hold whole voxels
+    if (!mapped || !reach[i].intersects(observed)) {  // bounds hold whole voxels
       outside += (outside.empty() ? "" : ", ") + which;
       ++outside_count;
       // Farther from the map than the map is across: not a near miss.
-      far = far || !observed ||
-            observed->exteriorDistance(boxes[i].box.center) > observed->diagonal().norm();
+      far = far || !mapped ||
+            observed.exteriorDistance(boxes[i].box.center) > observed.diagonal().norm();
     } else {
       empty += (empty.empty() ? "" : ", ") + which;
       ++empty_count;
@@ -88,9 +90,9 @@ std::vector<std::string> emptyBoxWarnings(const Annotations& annotations, const 
     warnings.push_back(
         file + ": " + outside + (outside_count == 1 ? " lies" : " lie") +
         " outside everything the map observed" +
-        (observed ? " (its known voxels span " + formatPoint(observed->min()) + " to " +
-                        formatPoint(observed->max()) + " m)"
-                  : std::string(" (the map is empty)")) +
+        (mapped ? " (its known voxels span " + formatPoint(observed.min()) + " to " +
+                      formatPoint(observed.max()) + " m)"
+                : std::string(" (the map is empty)")) +
         ": nothing was mapped there, so " + (outside_count == 1 ? "it scores" : "they score") +
         " 0 in every column." +
         (far ? " A box this far from the map is often given in other units or another frame."
@@ -133,24 +135,33 @@ std::optional<IouMode> parseIouMode(const std::string& name) {
   return std::nullopt;
 }
 
+std::optional<Problem> frameIdProblem(const Sequence& sequence, const Annotations& annotations,
+                                      const std::string& annotations_file) {
+  if (annotations.frame_id == sequence.frame_id) return std::nullopt;
+  return Problem{orDefault(annotations_file, "(annotations)"), "frame_id",
+                 "the sequence's frame \"" + sequence.frame_id + "\" (" +
+                     (sequence.root / "sequence.json").string() + ")",
+                 "\"" + annotations.frame_id + "\""};
+}
+
 void checkAnnotationsForSequence(const Sequence& sequence, const Annotations& annotations,
                                  const std::string& annotations_file) {
-  const std::string file = orDefault(annotations_file, "(annotations)");
-  if (annotations.frame_id != sequence.frame_id)
-    throw Error(file, "frame_id",
-                "the sequence's frame \"" + sequence.frame_id + "\" (" +
-                    (sequence.root / "sequence.json").string() + ")",
-                "\"" + annotations.frame_id + "\"");
-  checkBoxLabels(annotations, sequence.labels.size(), file, "the sequence");
+  if (auto problem = frameIdProblem(sequence, annotations, annotations_file))
+    throw Error(std::move(*problem));
+  checkBoxLabels(annotations, sequence.labels.size(), orDefault(annotations_file, "(annotations)"),
+                 "the sequence");
 }
 
 std::vector<std::string> boxNameWarnings(const Annotations& annotations, const LabelSet& labels,
                                          const std::string& annotations_file,
                                          const std::string& labels_file) {
+  std::vector<bool> scored(annotations.boxes.size(), true);
+  for (const UnscorableBox& box : unscorableBoxes(annotations, labels.size()))
+    scored[box.index] = false;
   std::vector<std::string> warnings;
   for (size_t i = 0; i < annotations.boxes.size(); ++i) {
     const GroundTruthBox& box = annotations.boxes[i];
-    if (!labels.contains(box.label)) continue;
+    if (!scored[i] || !labels.contains(box.label)) continue;
     const std::string& name = labels.at(box.label).name;
     if (box.name.empty() || box.name == name) continue;
     warnings.push_back(annotations_file + ": boxes[" + std::to_string(i) + "].name is '" +
@@ -162,28 +173,38 @@ std::vector<std::string> boxNameWarnings(const Annotations& annotations, const L
   return warnings;
 }
 
+std::vector<Problem> boxLabelProblems(const Annotations& annotations, int label_count,
+                                      const std::string& annotations_file,
+                                      const std::string& labelled) {
+  const std::string file = orDefault(annotations_file, "(annotations)");
+  const int n = label_count;
+  std::vector<Problem> problems;
+  for (const UnscorableBox& box : unscorableBoxes(annotations, n)) {
+    // A YAML box file names its boxes' labels in `name` (object_12): it has no `label`.
+    const std::string field =
+        "boxes[" + std::to_string(box.index) + "]." + (isYamlBoxesPath(file) ? "name" : "label");
+    if (box.boxed_before)
+      problems.push_back({file, field, "each label in at most one box",
+                          "label " + std::to_string(box.label) + " again (also boxes[" +
+                              std::to_string(*box.boxed_before) + "])"});
+    else
+      problems.push_back(
+          {file, field,
+           n > 1 ? "an object label of " + labelled + " (1.." + std::to_string(n - 1) +
+                       "; 0 is the background)"
+                 : "an object label, but " + labelled +
+                       " has none (only the background, 0: it was recorded without label images)",
+           std::to_string(box.label)});
+  }
+  return problems;
+}
+
 void checkBoxLabels(const Annotations& annotations, int label_count,
                     const std::string& annotations_file, const std::string& labelled) {
   const std::string file = orDefault(annotations_file, "(annotations)");
   if (annotations.boxes.empty()) throw Error(file, "boxes", "at least one box to score", "none");
-  const int n = label_count;
-  const std::vector<UnscorableBox> unscorable = unscorableBoxes(annotations, n);
-  if (unscorable.empty()) return;
-  const UnscorableBox& box = unscorable.front();
-  // A YAML box file names its boxes' labels in `name` (object_12): it has no `label`.
-  const std::string field =
-      "boxes[" + std::to_string(box.index) + "]." + (isYamlBoxesPath(file) ? "name" : "label");
-  if (!box.boxed_before)
-    throw Error(
-        file, field,
-        n > 1 ? "an object label of " + labelled + " (1.." + std::to_string(n - 1) +
-                    "; 0 is the background)"
-              : "an object label, but " + labelled +
-                    " has none (only the background, 0: it was recorded without label images)",
-        std::to_string(box.label));
-  throw Error(file, field, "each label in at most one box",
-              "label " + std::to_string(box.label) + " again (also boxes[" +
-                  std::to_string(*box.boxed_before) + "])");
+  std::vector<Problem> problems = boxLabelProblems(annotations, label_count, file, labelled);
+  if (!problems.empty()) throw Error(std::move(problems.front()));
 }
 
 std::vector<UnscorableBox> unscorableBoxes(const Annotations& annotations, int label_count) {

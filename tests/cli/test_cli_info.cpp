@@ -385,10 +385,9 @@ TEST_F(CliInfoTest, ValidateChecksTheSequencesBoxes) {
                     R"(, {"label": 77, "center": [0, 0, 1], "size": [0.1, 0.1, 0.1]},
                          {"label": 0, "center": [0, 0, 1], "size": [0.1, 0.1, 0.1]}]})");
   EXPECT_EQ(result.exit_code, 1) << result.out << result.err;
-  EXPECT_NE(result.out.find(boxes.string() +
-                            ": boxes[1].label: expected an object label of the sequence (1..2; 0 "
-                            "is the background; " +
-                            (seq() / "sequence.json").string() + "), found 77"),
+  EXPECT_NE(result.out.find(
+                boxes.string() + ": boxes[1].label: expected an object label of the sequence " +
+                (seq() / "sequence.json").string() + " (1..2; 0 is the background), found 77"),
             std::string::npos)
       << result.out;
   EXPECT_NE(result.out.find(boxes.string() + ": boxes[2].label: expected an object label"),
@@ -401,6 +400,16 @@ TEST_F(CliInfoTest, ValidateChecksTheSequencesBoxes) {
       R"(, {"label": 0, "name": "thing_two", "center": [0, 0, 1], "size": [0.1, 0.1, 0.1]}]})");
   EXPECT_EQ(result.exit_code, 1) << result.out << result.err;
   EXPECT_NE(result.out.find("boxes[1].label: expected an object label"), std::string::npos)
+      << result.out;
+  EXPECT_EQ(result.out.find("is scored"), std::string::npos) << result.out;
+  // Nor is a second box of a label (the loader refuses it), whichever name it bears.
+  result = validate(
+      head + good +
+      R"(, {"label": 1, "name": "thing_two", "center": [0, 0, 1], "size": [0.1, 0.1, 0.1]}]})");
+  EXPECT_EQ(result.exit_code, 1) << result.out << result.err;
+  EXPECT_NE(result.out.find("boxes[1].label: expected each label in at most one box, found label "
+                            "1 again (also boxes[0]"),
+            std::string::npos)
       << result.out;
   EXPECT_EQ(result.out.find("is scored"), std::string::npos) << result.out;
 

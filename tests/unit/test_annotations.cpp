@@ -5,6 +5,7 @@
 
 #include "lom/annotations.hpp"
 #include "lom/error.hpp"
+#include "lom/evaluation.hpp"
 #include "test_input_helpers.hpp"
 #include "test_support.hpp"
 
@@ -260,6 +261,41 @@ TEST_F(AnnotationsYamlTest, RejectsBadDimensionsNamesAndDisagreeingFrames) {
 
   writeText(yaml(), "boxes: [ {dimensions: [1, 1, 1]");
   EXPECT_EQ(errorOf([&] { (void)lom::importYamlBoxes(yaml()); }).expected, "valid YAML");
+}
+
+// Every box score would refuse is listed (score throws the first), and a
+// refused box is never said to be "scored" under another name.
+TEST(BoxLabelProblemsTest, ListsEveryRefusedBoxAndWarnsOnlyOfScoredOnes) {
+  const lom::LabelSet labels(
+      {{0, "background", {0, 0, 0}}, {1, "cup", {1, 1, 1}}, {2, "book", {2, 2, 2}}});
+  lom::Annotations annotations;
+  annotations.boxes = {{1, "mug", {}}, {1, "jar", {}}, {7, "lamp", {}}, {2, "book", {}}};
+  const std::vector<lom::Problem> problems =
+      lom::boxLabelProblems(annotations, labels.size(), "boxes.json", "the sequence");
+  ASSERT_EQ(problems.size(), 2u);
+  EXPECT_EQ(problems[0].field, "boxes[1].label");
+  EXPECT_EQ(problems[0].expected, "each label in at most one box");
+  EXPECT_EQ(problems[0].found, "label 1 again (also boxes[0])");
+  EXPECT_EQ(problems[1].field, "boxes[2].label");
+  EXPECT_EQ(problems[1].expected, "an object label of the sequence (1..2; 0 is the background)");
+  EXPECT_EQ(problems[1].found, "7");
+  const lom::Problem first = errorOf(
+      [&] { lom::checkBoxLabels(annotations, labels.size(), "boxes.json", "the sequence"); });
+  EXPECT_EQ(first.field, problems[0].field);
+
+  const std::vector<std::string> warnings =
+      lom::boxNameWarnings(annotations, labels, "boxes.json", "sequence.json");
+  ASSERT_EQ(warnings.size(), 1u);  // boxes[0] only: boxes[1] and [2] are not scored
+  EXPECT_NE(warnings[0].find("boxes[0].name is 'mug'"), std::string::npos) << warnings[0];
+
+  annotations.boxes.resize(1);
+  EXPECT_TRUE(
+      lom::boxLabelProblems(annotations, labels.size(), "boxes.json", "the sequence").empty());
+  annotations.boxes.clear();
+  EXPECT_EQ(errorOf([&] {
+              lom::checkBoxLabels(annotations, labels.size(), "boxes.json", "the sequence");
+            }).field,
+            "boxes");
 }
 
 }  // namespace

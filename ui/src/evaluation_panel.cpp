@@ -384,11 +384,9 @@ void EvaluationPanel::show(const EvaluationReport& scored) {
       const auto said = std::find(report.warnings.begin(), report.warnings.end(), warning);
       if (said != report.warnings.end()) report.warnings.erase(said);
     }
-    Annotations numbered = session_.annotations().annotations();
-    for (const UnscorableBox& left : unscorableBoxes(numbered, sequence->labels.size()))
-      numbered.boxes[left.index].name.clear();  // not scored: no name to warn about
-    report.box_name_warnings = boxNameWarnings(numbered, sequence->labels, annotations_file_,
-                                               (sequence->root / "sequence.json").string());
+    report.box_name_warnings =
+        boxNameWarnings(session_.annotations().annotations(), sequence->labels, annotations_file_,
+                        (sequence->root / "sequence.json").string());
     report.warnings.insert(report.warnings.begin(), report.box_name_warnings.begin(),
                            report.box_name_warnings.end());
   }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "lom/annotations.hpp"
+#include "lom/error.hpp"
 #include "lom/fusion.hpp"
 #include "lom/geometry.hpp"
 #include "lom/label_map.hpp"
@@ -179,23 +180,37 @@ struct UnscorableBox {
 [[nodiscard]] std::vector<UnscorableBox> unscorableBoxes(const Annotations& annotations,
                                                          int label_count);
 
+// The annotations' frame_id when it is not the sequence's (score refuses
+// such boxes), naming `annotations_file` and the sequence's sequence.json.
+[[nodiscard]] std::optional<Problem> frameIdProblem(const Sequence& sequence,
+                                                    const Annotations& annotations,
+                                                    const std::string& annotations_file);
+
+// One problem per box that cannot be scored against labels 0..label_count-1
+// of `labelled` ("the sequence", "the map", a file): its label is not an
+// object label, or an earlier box has it. In box order; empty when every box
+// can be scored (the want of any box is not among them).
+[[nodiscard]] std::vector<Problem> boxLabelProblems(const Annotations& annotations, int label_count,
+                                                    const std::string& annotations_file,
+                                                    const std::string& labelled);
+
 // Throws lom::Error (naming options.annotations_file and the field) when the
 // annotations' frame_id differs from the sequence's or a box's label is not an
 // object label of the sequence.
 void checkAnnotationsForSequence(const Sequence& sequence, const Annotations& annotations,
                                  const std::string& annotations_file);
 
-// Throws lom::Error (naming the file and the field) when there is no box, a
-// box's label is not an object label (1..label_count-1) of `labelled` ("the
-// sequence", "the map") or a label has two boxes.
 // One sentence per box whose name in `annotations_file` is not the name of
 // its label in `labels` (read from `labels_file`): boxes drawn for another
-// label numbering? The box is scored, and named, as its label.
+// label numbering? The box is scored, and named, as its label. Boxes that
+// cannot be scored (unscorableBoxes) are not scored: they get no sentence.
 [[nodiscard]] std::vector<std::string> boxNameWarnings(const Annotations& annotations,
                                                        const LabelSet& labels,
                                                        const std::string& annotations_file,
                                                        const std::string& labels_file);
 
+// Throws lom::Error (naming the file and the field) when there is no box, or
+// for the first of boxLabelProblems.
 void checkBoxLabels(const Annotations& annotations, int label_count,
                     const std::string& annotations_file, const std::string& labelled);
 // Throws lom::Error naming `map_file` and the field "labels" (or "labels[k]")
