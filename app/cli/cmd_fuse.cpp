@@ -443,6 +443,17 @@ int runFuse(const Words& words) {
     std::cout << "  " << std::setw(3) << label << "  " << std::left << std::setw(36)
               << map.labels().at(label).name << std::right << std::setw(8) << count << "\n";
   if (options.segmenter) std::cout << segmenterSummary(*options.segmenter) << "\n";
+  // Depths were mapped, yet the network's probabilities made no voxel occupied:
+  // most likely flattened by a softmax applied to probabilities (docs/segmenter.md).
+  if (options.segmenter && occupied == 0) {
+    const SegmenterStats stats = options.segmenter->stats();
+    if (stats.inferences + stats.memory_hits + stats.disk_hits > 0)
+      std::cerr << "warning: no voxel is occupied: the probabilities of the segmenter "
+                << options.segmenter->modelPath().filename().string()
+                << " never made one so (is it the model for these labels? a model whose "
+                   "output is already probabilities needs \"output\": \"probabilities\" in "
+                << segmenterConfigPath(options.segmenter->modelPath()).filename().string() << ")\n";
+  }
   std::cout << "wrote " << out.string() << "\n";
   return 0;
 }

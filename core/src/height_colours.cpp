@@ -7,6 +7,13 @@
 
 namespace lom {
 
+Rgb shadedLabelColour(const LabelSet& labels, int id) {
+  if (id == 0) return kShadedBackgroundColour;
+  if (!labels.contains(id)) return {255, 0, 255};
+  const Rgb& colour = labels.at(id).color;
+  return colour == Rgb{0, 0, 0} ? Rgb{96, 96, 96} : colour;
+}
+
 Rgb heightRampColour(double t) {
   // Evenly spaced stops, linear in between: neighbouring heights get
   // neighbouring colours, and the ends are told apart at a glance.

@@ -84,9 +84,19 @@ std::string csvText(const std::string& text) {
   return out + "\"";
 }
 
+// The views' frames; many (a view every few frames of a long recording)
+// are told by the first few and the last, so that the settings stay a line
+// (report.json lists them all).
 std::string joinViews(const std::vector<size_t>& views) {
+  constexpr size_t kNamed = 3;
   std::string text;
-  for (size_t v : views) text += (text.empty() ? "" : ", ") + std::to_string(v);
+  for (size_t i = 0; i < views.size(); ++i) {
+    if (views.size() > 2 * kNamed && i == kNamed) {
+      text += ", ... " + std::to_string(views.back());
+      break;
+    }
+    text += (text.empty() ? "" : ", ") + std::to_string(views[i]);
+  }
   return text;
 }
 

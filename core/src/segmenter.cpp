@@ -66,7 +66,10 @@ std::string numberText(double value) {
 // shape, output names), read straight from the protobuf wire format:
 // ModelProto.graph = 7; GraphProto.initializer = 5, .input = 11, .output = 12;
 // TensorProto.name = 8; ValueInfoProto.name = 1, .type = 2; TypeProto.tensor_type = 1;
-// TypeProto.Tensor.shape = 2; TensorShapeProto.dim = 1; Dimension.dim_value = 1, .dim_param = 2.
+// TypeProto.Tensor.shape = 2; TensorShapeProto.dim = 1; Dimension.dim_value = 1, .dim_param = 2;
+// and, to tell whether the output is already probabilities, ModelProto.opset_import = 8
+// (OperatorSetIdProto.domain = 1, .version = 2), GraphProto.node = 1 (NodeProto.input = 1,
+// .output = 2, .op_type = 4, .attribute = 5, .domain = 7; AttributeProto.name = 1, .i = 3).
 
 struct WireField {
   std::uint32_t number = 0;
@@ -139,10 +142,68 @@ struct OnnxValueInfo {
   std::vector<std::int64_t> dims;  // -1 = not fixed (symbolic or absent)
 };
 
+struct OnnxNode {
+  std::string op_type;
+  std::string domain;
+  std::vector<std::string> inputs;
+  std::vector<std::string> outputs;
+  std::optional<std::int64_t> axis;  // the "axis" attribute
+};
+
 struct OnnxGraphInfo {
   std::vector<OnnxValueInfo> inputs;  // graph inputs that are not initializers
   std::vector<OnnxValueInfo> outputs;
+  std::vector<OnnxNode> nodes;
+  std::int64_t opset = 0;  // of the default domain; 0 = not given
 };
+
+OnnxNode readNode(std::string_view bytes) {
+  OnnxNode node;
+  WireReader reader(bytes);
+  WireField f;
+  while (reader.next(f)) {
+    if (f.type != 2) continue;
+    if (f.number == 1) node.inputs.emplace_back(f.bytes);
+    if (f.number == 2) node.outputs.emplace_back(f.bytes);
+    if (f.number == 4) node.op_type = std::string(f.bytes);
+    if (f.number == 7) node.domain = std::string(f.bytes);
+    if (f.number != 5) continue;
+    WireReader attribute(f.bytes);
+    WireField a;
+    std::string name;
+    std::optional<std::int64_t> value;
+    while (attribute.next(a)) {
+      if (a.number == 1 && a.type == 2) name = std::string(a.bytes);
+      if (a.number == 3 && a.type == 0) value = static_cast<std::int64_t>(a.value);
+    }
+    if (name == "axis" && value) node.axis = value;
+  }
+  return node;
+}
+
+// Whether the graph output `name` is made by a Softmax over the channel axis
+// (axis 1 of N x C x H x W), through Identity nodes: the values are then
+// probabilities already. Softmax's default axis is 1 before opset 13, -1 since.
+bool endsWithChannelSoftmax(const OnnxGraphInfo& graph, std::string name) {
+  for (size_t step = 0; step <= graph.nodes.size(); ++step) {
+    const auto producer =
+        std::find_if(graph.nodes.begin(), graph.nodes.end(), [&](const OnnxNode& node) {
+          return std::find(node.outputs.begin(), node.outputs.end(), name) != node.outputs.end();
+        });
+    if (producer == graph.nodes.end()) return false;
+    if (!producer->domain.empty() && producer->domain != "ai.onnx") return false;
+    if (producer->op_type == "Identity" && !producer->inputs.empty()) {
+      name = producer->inputs.front();
+      continue;
+    }
+    if (producer->op_type != "Softmax") return false;
+    const std::int64_t axis = producer->axis                          ? *producer->axis
+                              : (graph.opset > 0 && graph.opset < 13) ? 1
+                                                                      : -1;
+    return axis == 1 || axis == -3;
+  }
+  return false;
+}
 
 OnnxValueInfo readValueInfo(std::string_view bytes) {
   OnnxValueInfo info;
@@ -183,20 +244,32 @@ OnnxGraphInfo readOnnxGraphInfo(std::string_view model) {
   WireField field;
   std::string_view graph;
   bool has_graph = false;
+  OnnxGraphInfo info;
   while (reader.next(field)) {
     if (field.number == 7 && field.type == 2) {
       graph = field.bytes;
       has_graph = true;
+    } else if (field.number == 8 && field.type == 2) {
+      WireReader opset(field.bytes);
+      WireField o;
+      std::string domain;
+      std::int64_t version = 0;
+      while (opset.next(o)) {
+        if (o.number == 1 && o.type == 2) domain = std::string(o.bytes);
+        if (o.number == 2 && o.type == 0) version = static_cast<std::int64_t>(o.value);
+      }
+      if (domain.empty() || domain == "ai.onnx") info.opset = version;
     }
   }
   if (!has_graph) throw std::runtime_error("no graph");
   std::set<std::string> initializers;
   std::vector<OnnxValueInfo> inputs;
-  OnnxGraphInfo info;
   WireReader g(graph);
   while (g.next(field)) {
     if (field.type != 2) continue;
-    if (field.number == 5) {
+    if (field.number == 1) {
+      info.nodes.push_back(readNode(field.bytes));
+    } else if (field.number == 5) {
       WireReader tensor(field.bytes);
       WireField t;
       while (tensor.next(t))
@@ -275,6 +348,9 @@ NetOutputPtr readCachedOutput(const fs::path& path) {
     out->chw.resize(array.size());
     if (array.bytes.size() != out->chw.size() * sizeof(float) || out->chw.empty()) return nullptr;
     std::memcpy(out->chw.data(), array.bytes.data(), array.bytes.size());
+    // What the network's output became after checkOutputValues: probabilities.
+    for (float p : out->chw)
+      if (!(p >= 0.f && p <= 1.f)) return nullptr;  // also NaN
     return out;
   } catch (const std::exception&) {
     return nullptr;  // an unreadable cache file is recomputed and replaced
@@ -306,12 +382,16 @@ struct Segmenter::Impl {
   std::string input_name;
   std::string output_name;
   std::optional<int> model_width, model_height;  // fixed input size of the model
+  bool output_from_graph = false;                // config.output said by the model's final Softmax
 
   std::mutex mutex;  // guards everything below
   cv::dnn::Net net;
   SegmenterStats stats;
   MemoryCache memory{0};
   bool disk_write_failed = false;
+  std::optional<int> output_channels;  // known after a run or a probe
+  std::string output_shape;            // "1 x C x H' x W'" of that run, for messages
+  bool probed = false;                 // a probe ran (and maybe failed)
 
   [[nodiscard]] std::string modelFile() const { return model_path.string(); }
   [[nodiscard]] std::string configFile() const {
@@ -336,7 +416,29 @@ struct Segmenter::Impl {
 
   NetOutputPtr infer(const ColorImage& color, int input_width, int input_height);
   void checkOutputValues(NetOutput& output) const;
+  // Throws the error for `channels` output channels that do not fit `labels`
+  // (`shape` = the output's shape, for the message).
+  void checkChannels(int channels, const LabelSet& labels, const std::string& shape) const;
 };
+
+void Segmenter::Impl::checkChannels(int channels, const LabelSet& labels,
+                                    const std::string& shape) const {
+  const std::string found = std::to_string(channels) + " channels (output " + shape + ")";
+  if (config.labels) {
+    if (static_cast<int>(config.labels->size()) != channels)
+      throw Error(modelFile(), "output channels",
+                  std::to_string(config.labels->size()) +
+                      " channels (one per entry of \"labels\" in " + configFile() + ")",
+                  found);
+  } else if (channels != labels.size()) {
+    throw Error(modelFile(), "output channels",
+                std::to_string(labels.size()) + (labels.size() == 1 ? " channel" : " channels") +
+                    ", one per label of the sequence (or list the label of each "
+                    "channel as \"labels\" in " +
+                    configFile() + ")",
+                found);
+  }
+}
 
 NetOutputPtr Segmenter::Impl::infer(const ColorImage& color, int input_width, int input_height) {
   // Pre-processing in float: resize (area when shrinking, bilinear otherwise),
@@ -406,13 +508,17 @@ void Segmenter::Impl::checkOutputValues(NetOutput& output) const {
     if (!std::isfinite(output.chw[i]))
       throw Error(modelFile(), "output", "finite scores", "a non-finite value " + where(i));
   if (config.output == SegmenterOutput::Probabilities) {
+    const std::string why =
+        output_from_graph
+            ? "the model ends with a Softmax over the channels; write \"output\": \"scores\" in " +
+                  configFile() + " for a model whose output needs a softmax"
+            : configFile() +
+                  " says \"output\": \"probabilities\"; use \"scores\" for a model whose "
+                  "output needs a softmax";
     for (size_t i = 0; i < output.chw.size(); ++i) {
       const float p = output.chw[i];
       if (p < -kProbabilityTolerance || p > 1.0 + kProbabilityTolerance)
-        throw Error(modelFile(), "output",
-                    "probabilities in [0, 1] (" + configFile() +
-                        " says \"output\": \"probabilities\"; use \"scores\" for a model whose "
-                        "output needs a softmax)",
+        throw Error(modelFile(), "output", "probabilities in [0, 1] (" + why + ")",
                     "the value " + numberText(p) + " " + where(i));
       output.chw[i] = std::clamp(p, 0.f, 1.f);
     }
@@ -482,6 +588,13 @@ std::shared_ptr<Segmenter> Segmenter::load(const fs::path& model, const Segmente
   const OnnxValueInfo& input = graph.inputs.front();
   impl->input_name = input.name;
   impl->output_name = graph.outputs.front().name;
+  // A network whose output comes out of a Softmax over the channels gives
+  // probabilities: a second softmax would flatten them to about 1/C.
+  if (!impl->config.output) {
+    impl->output_from_graph = endsWithChannelSoftmax(graph, impl->output_name);
+    impl->config.output =
+        impl->output_from_graph ? SegmenterOutput::Probabilities : SegmenterOutput::Scores;
+  }
   if (input.has_shape) {
     const auto& dims = input.dims;
     if (dims.size() != 4)
@@ -591,16 +704,12 @@ ProbabilityImage Segmenter::segment(const ColorImage& color, int width, int heig
   // channels do not match the labels, before a bad output reaches the cache.
   const auto labelsOfChannels = [&](const NetOutputPtr& output) {
     const int channels = output->channels;
+    impl.checkChannels(channels, labels,
+                       "1 x " + std::to_string(channels) + " x " + std::to_string(output->height) +
+                           " x " + std::to_string(output->width));
     std::vector<int> channel_label(static_cast<size_t>(channels), -1);
     if (impl.config.labels) {
       const auto& configured = *impl.config.labels;
-      if (static_cast<int>(configured.size()) != channels)
-        throw Error(impl.modelFile(), "output channels",
-                    std::to_string(configured.size()) +
-                        " channels (one per entry of \"labels\" in " + impl.configFile() + ")",
-                    std::to_string(channels) + " channels (output 1 x " + std::to_string(channels) +
-                        " x " + std::to_string(output->height) + " x " +
-                        std::to_string(output->width) + ")");
       for (int c = 0; c < channels; ++c) {
         const SegmenterLabel& label = configured[static_cast<size_t>(c)];
         if (!label.dropped())
@@ -608,32 +717,41 @@ ProbabilityImage Segmenter::segment(const ColorImage& color, int width, int heig
               label.name.empty() ? label.id : *labels.findByName(label.name);
       }
     } else {
-      if (channels != labels.size())
-        throw Error(
-            impl.modelFile(), "output channels",
-            std::to_string(labels.size()) + (labels.size() == 1 ? " channel" : " channels") +
-                ", one per label of the sequence (or list the label of each "
-                "channel as \"labels\" in " +
-                impl.configFile() + ")",
-            std::to_string(channels) + " channels (output 1 x " + std::to_string(channels) + " x " +
-                std::to_string(output->height) + " x " + std::to_string(output->width) + ")");
       for (int c = 0; c < channels; ++c) channel_label[static_cast<size_t>(c)] = c;
     }
     return channel_label;
+  };
+
+  // A disk cache entry of a shape this model does not give (or that does not
+  // fit the labels, as this model's output would) is damaged: recomputed and replaced.
+  const auto cachedFits = [&](const NetOutputPtr& cached) {
+    if (impl.output_channels && cached->channels != *impl.output_channels) return false;
+    try {
+      (void)labelsOfChannels(cached);
+    } catch (const Error&) {
+      return false;
+    }
+    return true;
   };
 
   NetOutputPtr output;
   {
     const std::lock_guard<std::mutex> lock(impl.mutex);
     output = impl.memory.get(key);
+    NetOutputPtr cached;
+    if (!output && !folder.empty()) cached = readCachedOutput(folder / (key + ".npy"));
     if (output) {
       ++impl.stats.memory_hits;
-    } else if (!folder.empty() && (output = readCachedOutput(folder / (key + ".npy")))) {
+    } else if (cached && cachedFits(cached)) {
+      output = std::move(cached);
       ++impl.stats.disk_hits;
       impl.memory.put(key, output);
     } else {
       output = impl.infer(color, input_width, input_height);
       ++impl.stats.inferences;
+      impl.output_channels = output->channels;
+      impl.output_shape = "1 x " + std::to_string(output->channels) + " x " +
+                          std::to_string(output->height) + " x " + std::to_string(output->width);
       (void)labelsOfChannels(output);  // an output of the wrong shape is not kept
       impl.memory.put(key, output);
       if (!folder.empty() && !impl.disk_write_failed) {
@@ -690,6 +808,42 @@ ProbabilityImage Segmenter::segment(const ColorImage& color, int width, int heig
     ++k;
   }
   return proba;
+}
+
+std::optional<int> Segmenter::outputChannels() const {
+  Impl& impl = *impl_;
+  const std::lock_guard<std::mutex> lock(impl.mutex);
+  if (impl.output_channels || impl.probed) return impl.output_channels;
+  impl.probed = true;
+  const auto [width, height] = inputSize(64, 64);
+  ColorImage grey;
+  grey.width = width;
+  grey.height = height;
+  grey.rgb.assign(static_cast<size_t>(width) * height * 3, 128);
+  try {
+    const NetOutputPtr output = impl.infer(grey, width, height);
+    impl.output_channels = output->channels;
+    impl.output_shape = "1 x " + std::to_string(output->channels) + " x " +
+                        std::to_string(output->height) + " x " + std::to_string(output->width) +
+                        " for a " + std::to_string(width) + " x " + std::to_string(height) +
+                        " image";
+  } catch (const std::exception&) {
+    // Not this image's size, or values checkOutputValues refuses: the first
+    // real run says what is wrong.
+  }
+  return impl.output_channels;
+}
+
+void Segmenter::checkFits(const LabelSet& labels) const {
+  checkLabels(labels);
+  if (const auto channels = outputChannels()) {
+    std::string shape;
+    {
+      const std::lock_guard<std::mutex> lock(impl_->mutex);
+      shape = impl_->output_shape;
+    }
+    impl_->checkChannels(*channels, labels, shape);
+  }
 }
 
 SegmenterStats Segmenter::stats() const {

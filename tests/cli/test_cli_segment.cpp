@@ -183,6 +183,42 @@ TEST_F(CliSegmentTest, ErrorsAreClearAndLeaveTheSequenceAlone) {
   EXPECT_NE(r.err.find("a sequence without colour images"), std::string::npos) << r.err;
 }
 
+// A model that ends with a Softmax gives probabilities: without MODEL.json
+// they are used as they are (a second softmax over 40 labels would leave every
+// label about 1/40 and the map empty); declared "scores", fuse warns about the
+// empty map.
+TEST_F(CliSegmentTest, FuseWithAModelEndingWithASoftmax) {
+  const auto forty = dir_ / "forty";
+  (void)lom::test::writeColourWallSequence(forty, 2, 37);
+  lom::test::ConvModelSpec spec = lom::test::colourChannelModel();
+  spec.weights = {0.f, 0.f, 0.f, 10.f, 0.f, 0.f, 0.f, 10.f, 0.f};  // confident
+  spec.outputs = 40;
+  spec.weights.resize(40 * 3, 0.f);
+  spec.bias.resize(40, -10.f);  // the extra labels never win
+  spec.softmax = true;
+  const auto model = dir_ / "softmax.onnx";
+  lom::test::writeModel(model, lom::test::buildConvModel(spec));
+  const std::string fuse = "fuse " + quoted(forty) + " --out " + quoted(dir_ / "m.ot") +
+                           " --resolution 0.05 --max-range 5 --segmenter " + quoted(model);
+  const auto r = runCli(fuse);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto counts = lom::LabelMap::load(dir_ / "m.ot").occupiedCountPerLabel();
+  EXPECT_EQ(counts.count(1), 1u) << r.out;
+  EXPECT_EQ(counts.count(2), 1u) << r.out;
+  EXPECT_EQ(r.err.find("no voxel is occupied"), std::string::npos) << r.err;
+
+  std::ofstream(dir_ / "softmax.json") << R"({"output": "scores"})";
+  const auto twice = runCli(fuse);
+  ASSERT_EQ(twice.exit_code, 0) << twice.err;
+  EXPECT_NE(twice.out.find("occupied voxels: 0"), std::string::npos) << twice.out;
+  EXPECT_NE(twice.err.find("warning: no voxel is occupied: the probabilities of the segmenter "
+                           "softmax.onnx"),
+            std::string::npos)
+      << twice.err;
+  EXPECT_NE(twice.err.find("\"output\": \"probabilities\" in softmax.json"), std::string::npos)
+      << twice.err;
+}
+
 TEST_F(CliSegmentTest, AColourImageOfAnotherSizeOrAnUnwritableFolderIsRefusedFirst) {
   const std::string before = slurp(dir_ / "seq" / "sequence.json");
   // A colour image wider than the camera: refused as fuse --segmenter refuses it.

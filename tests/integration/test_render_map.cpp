@@ -249,6 +249,72 @@ TEST(RenderMap, PinholeCameraPutsObjectsWhereTheCameraModelProjectsThem) {
   EXPECT_EQ(pixel(image, 70, 80 - 24), (std::array<int, 3>{255, 255, 255}));
 }
 
+// A camera whose pixels are not square (fx != fy): the picture is narrower
+// across than down by fx / fy, as the camera model projects the blocks.
+TEST(RenderMap, PinholeCameraHonoursBothFocalLengths) {
+  LOM_REQUIRE_DISPLAY();
+  const lom::LabelMap map = sampleMap();
+  lom::render::PinholeView view = cameraBeforeTheBlocks(90.0, 70.0);
+  view.intrinsics.fx = 120.0;       // fy stays 180
+  for (const int scale : {1, 2}) {  // the camera's size, and --size twice as large
+    SCOPED_TRACE(scale);
+    lom::render::RenderOptions options = flatPicture(200 * scale, 150 * scale);
+    options.camera = view;
+    const lom::ColorImage image = lom::render::renderMap(map, options);
+    const auto label = [&](double u, double v) {
+      const auto p = pixel(image, static_cast<int>(std::lround(u * scale)),
+                           static_cast<int>(std::lround(v * scale)));
+      for (int l = 1; l <= 3; ++l)
+        if (p == rgb(map.labels().at(l).color)) return l;
+      return 0;
+    };
+    const auto project = [&](const Eigen::Vector3d& p_world) {
+      const Eigen::Vector2d uv = view.intrinsics.project(view.T_world_camera.inverse() * p_world);
+      // Pixel centres of the scaled picture: (u + 0.5) * scale - 0.5.
+      return Eigen::Vector2d((uv.x() + 0.5) - 0.5 / scale, (uv.y() + 0.5) - 0.5 / scale);
+    };
+    // Face centres of the three blocks towards the camera.
+    const Eigen::Vector3d faces[3] = {{0.0, 0.06, 0.06}, {0.02, 0.24, 0.06}, {0.02, -0.12, 0.06}};
+    for (int l = 1; l <= 3; ++l) {
+      const Eigen::Vector2d uv = project(faces[l - 1]);
+      EXPECT_EQ(label(uv.x(), uv.y()), l) << "label " << l << " at " << uv.transpose();
+    }
+    // Label 1's face reaches 0.06 m off the axis at 0.5 m: 14.4 pixels
+    // across (fx), 21.6 down (fy).
+    EXPECT_EQ(label(90 + 12, 70), 1);
+    EXPECT_EQ(label(90 - 12, 70), 1);
+    EXPECT_EQ(label(90 + 17, 70), 0);
+    EXPECT_EQ(label(90 - 17, 70), 0);
+    EXPECT_EQ(label(90, 70 - 19), 1);
+    EXPECT_EQ(label(90, 70 - 24), 0);
+    // Label 2's face, 0.52 m away, spans y from 0.20 to 0.28 m: u = 90 - 120 (y - 0.06) / 0.52,
+    // from 57.7 to 39.2 (with fx = fy, 40.2 to 13.8).
+    EXPECT_EQ(label(90 - 120 * 0.14 / 0.52 - 2, 70), 2);
+    EXPECT_EQ(label(90 - 120 * 0.22 / 0.52 + 2, 70), 2);
+    EXPECT_EQ(label(90 - 120 * 0.22 / 0.52 - 3, 70), 0);
+  }
+}
+
+// Shaded, the background label (black in the palette) is drawn in the grey
+// the studio's 3D view uses, one rule for both (lom::shadedLabelColour).
+TEST(RenderMap, ShadedBackgroundIsTheStudiosGrey) {
+  LOM_REQUIRE_DISPLAY();
+  const lom::LabelMap map = lom::test::MapBuilder(2, kRes)
+                                .occupy(blockKeys(0, 6, 0, 6, 0, 1), 0)
+                                .occupy(blockKeys(2, 4, 2, 4, 1, 3), 1)
+                                .build();
+  ASSERT_EQ(map.labels().at(0).color, (lom::Rgb{0, 0, 0}));
+  EXPECT_EQ(lom::shadedLabelColour(map.labels(), 0), lom::kShadedBackgroundColour);
+  lom::render::RenderOptions options;
+  options.width = 320;
+  options.height = 240;
+  const lom::ColorImage image = lom::render::renderMap(map, options);
+  EXPECT_GT(countShade(image, rgb(lom::kShadedBackgroundColour)), 500u);
+  // Flat, it keeps its palette colour (a picture that serves as a label image).
+  const lom::ColorImage flat = lom::render::renderMap(map, flatPicture(320, 240));
+  EXPECT_GT(countColour(flat, {0, 0, 0}), 500u);
+}
+
 // The same camera turned around sees no voxel: an error, not a blank picture.
 TEST(RenderMap, CameraThatSeesNoVoxelIsAnError) {
   LOM_REQUIRE_DISPLAY();

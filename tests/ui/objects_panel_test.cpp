@@ -16,6 +16,7 @@
 
 #include "demo_window_fixture.hpp"
 #include "lom/annotations.hpp"
+#include "lom/ui/annotations_model.hpp"
 #include "lom/ui/demo_scene.hpp"
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/map_worker.hpp"
@@ -119,7 +120,10 @@ TEST_F(ObjectsPanelTest, PlanPickEndsWithPickingTheTargetAndDrawsThePlan) {
   EXPECT_EQ(plan.target_label, target);
   EXPECT_EQ(plan.steps.back().action, StepAction::Pick);
   EXPECT_EQ(plan.objects[plan.steps.back().object].label, target);
-  EXPECT_EQ(plan.approach_source, ApproachSource::Sequence);
+  // As `labeloctomap plan` plans the map: along the cameras it was fused from.
+  EXPECT_EQ(plan.approach_source, ApproachSource::MapCameras);
+  EXPECT_TRUE(panel.statusText().contains("the mean viewing direction of the frames fused"))
+      << panel.statusText().toStdString();
 
   QTableWidget& steps = panel.stepsTable();
   ASSERT_EQ(steps.rowCount(), static_cast<int>(plan.steps.size()));
@@ -136,7 +140,7 @@ TEST_F(ObjectsPanelTest, PlanPickEndsWithPickingTheTargetAndDrawsThePlan) {
       : plan.occluders.size() == 1
           ? QString("1 occluder to remove first.")
           : QString("%1 occluders to remove first.").arg(plan.occluders.size());
-  EXPECT_TRUE(panel.statusText().endsWith(occluders)) << panel.statusText().toStdString();
+  EXPECT_TRUE(panel.statusText().contains(occluders)) << panel.statusText().toStdString();
   EXPECT_EQ(scene.pickPlanArrowCount(), plan.steps.size());
   EXPECT_FALSE(scene.renderToImage().isNull());
 
@@ -145,6 +149,49 @@ TEST_F(ObjectsPanelTest, PlanPickEndsWithPickingTheTargetAndDrawsThePlan) {
   ASSERT_TRUE(QTest::qWaitFor([&] { return !panel.isBusy(); }, kTimeoutMs));
   EXPECT_FALSE(panel.plan().has_value());
   EXPECT_FALSE(scene.pickPlanVisible());
+}
+
+// The Target drop-down is a label drop-down: letters typed into it find a
+// target by name and are not the window's one-key box edits; another target
+// plans again rather than leave the steps of the previous one on show.
+TEST_F(ObjectsPanelTest, TheTargetIsChosenByNameAndPlannedAgain) {
+  openFuseAndExtract();
+  ObjectsPanel& panel = window_.objectsPanel();
+  QComboBox& target = panel.targetCombo();
+  ASSERT_GE(target.count(), 2);
+  AnnotationsModel& boxes = window_.session().annotations();
+  ASSERT_GT(boxes.boxCount(), 0);
+  boxes.select(0);
+  const GroundTruthBox before = boxes.box(0);
+  const int edits = boxes.undoStack().count();
+
+  target.setCurrentIndex(0);
+  QTest::mouseClick(&panel.planButton(), Qt::LeftButton);
+  ASSERT_TRUE(panel.plan().has_value()) << panel.statusText().toStdString();
+  EXPECT_EQ(panel.plan()->target_label, target.itemData(0).toInt());
+
+  window_.activateWindow();
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&window_));
+  target.setFocus();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return target.hasFocus(); }, 5000));
+  const int wanted = target.count() - 1;
+  const QString entry = target.itemText(wanted);
+  const QString prefix = entry.mid(entry.indexOf(' ') + 1).left(4);
+  ASSERT_TRUE(prefix.at(0).isLetter()) << entry.toStdString();
+  QTest::keyClicks(&target, prefix);
+  EXPECT_EQ(target.currentIndex(), wanted) << target.currentText().toStdString();
+  QTest::keyClick(&target, Qt::Key_W);
+  QTest::keyClick(&target, Qt::Key_B);
+  EXPECT_EQ(boxes.undoStack().count(), edits);
+  EXPECT_EQ(boxes.box(0).box.center, before.box.center);
+  EXPECT_EQ(boxes.box(0).box.size, before.box.size);
+
+  ASSERT_TRUE(panel.plan().has_value());
+  EXPECT_EQ(panel.plan()->target_label, target.itemData(wanted).toInt());
+  const QString steps_object =
+      panel.stepsTable().item(panel.stepsTable().rowCount() - 1, ObjectsPanel::Object)->text();
+  EXPECT_TRUE(steps_object.startsWith(QString::number(target.itemData(wanted).toInt()) + " "))
+      << steps_object.toStdString();
 }
 
 }  // namespace

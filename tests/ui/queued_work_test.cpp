@@ -316,6 +316,34 @@ TEST_F(QueuedWorkTest, ClosingAnywayStopsTheWork) {
   EXPECT_EQ(answer.questions.size(), 1);
 }
 
+// Closing during a fusion can keep the frames fused so far: the fusion
+// stops, and the map is asked about as a finished one (Save Map…).
+TEST_F(QueuedWorkTest, ClosingDuringFusionCanKeepTheMapSoFar) {
+  auto reached = std::make_shared<std::atomic<size_t>>(0);
+  session().worker().setFrameFusedHook([reached](size_t frames) {
+    *reached = frames;
+    if (frames == 2) std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  });
+  QStringList map_questions;
+  window_.setMapDiscardQuestion([&](const QString& replaced_by) {
+    map_questions << replaced_by;
+    return false;  // Cancel: the window stays
+  });
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  ASSERT_TRUE(QTest::qWaitFor([&] { return *reached >= 2; }, kTimeoutMs));
+  ASSERT_TRUE(session().worker().isFusing());
+  test::DialogAnswerer answer("Stop Fusion and Keep the Map…");
+  EXPECT_FALSE(window_.close());
+  session().worker().setFrameFusedHook({});
+  EXPECT_EQ(answer.questions.size(), 1);
+  EXPECT_FALSE(session().worker().isFusing());
+  ASSERT_EQ(map_questions.size(), 1);
+  EXPECT_GE(session().worker().snapshot()->frames_fused, 2u);
+  EXPECT_LT(session().worker().snapshot()->frames_fused,
+            static_cast<size_t>(window_.controller().frameCount()));
+  EXPECT_TRUE(session().worker().hasUnsavedMap());
+}
+
 TEST_F(QueuedWorkTest, ReportAndObjectsOfAMapThatIsGoneCannotBeUsed) {
   openAndFuse();
   EvaluationPanel& scores = window_.evaluationPanel();

@@ -485,6 +485,8 @@ TEST_F(StudioSessionTest, UnsavedBoxesAreOfferedBackFromTheRecoveryFile) {
   });
   next.session().setAutoFuse(false);
   ASSERT_TRUE(next.controller().openSequence(qPath(folder_)));
+  // Offered once the switch to the sequence has finished.
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !next.autosave().isOfferPending(); }, kTimeoutMs));
   EXPECT_EQ(offered, recovery);
   EXPECT_EQ(next.session().annotations().boxCount(), initial - 1);
   EXPECT_TRUE(next.session().annotations().isDirty());

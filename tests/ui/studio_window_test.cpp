@@ -275,6 +275,21 @@ TEST_F(StudioWindowTest, RoomBeyondMaxRangeIsMappedByTheOfferedRefuse) {
   EXPECT_EQ(window_.sceneView().voxelColouring(), VoxelColouring::Height);
 }
 
+// A frame step redraws the 3D view once (software GL takes most of a second
+// for a redraw: a second one halved the playback speed).
+TEST_F(StudioWindowTest, AFrameStepRedrawsTheViewOnce) {
+  ASSERT_TRUE(openTiny());
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !window_.session().worker().isFusing(); }, 60000));
+  QTest::qWait(300);  // what the fusion's end redraws
+  QAction* next = menuAction("Next Frame");
+  ASSERT_NE(next, nullptr);
+  const size_t before = window_.sceneView().renderCount();
+  next->trigger();
+  QTest::qWait(300);
+  EXPECT_EQ(window_.controller().currentFrame(), 1);
+  EXPECT_EQ(window_.sceneView().renderCount(), before + 1);
+}
+
 TEST_F(StudioWindowTest, StepsThroughFramesWithActionsAndSlider) {
   ASSERT_TRUE(openTiny());
   QAction* next = menuAction("Next Frame");

@@ -15,6 +15,19 @@ TEST(HeightColours, RampRunsFromBlueThroughGreenToRed) {
   EXPECT_EQ(lom::heightRampColour(0.125), (lom::Rgb{59, 111, 175}));
 }
 
+TEST(HeightColours, ShadedViewsDrawTheBackgroundGreyAndBlackLabelsDarkGrey) {
+  // One rule for the studio's 3D view and legend and `labeloctomap render`.
+  const lom::LabelSet labels(
+      {{0, "__background__", {0, 0, 0}}, {1, "cup", {200, 30, 30}}, {2, "black_box", {0, 0, 0}}});
+  EXPECT_EQ(lom::shadedLabelColour(labels, 0), (lom::Rgb{150, 150, 160}));
+  EXPECT_EQ(lom::shadedLabelColour(labels, 1), (lom::Rgb{200, 30, 30}));
+  EXPECT_EQ(lom::shadedLabelColour(labels, 2), (lom::Rgb{96, 96, 96}));
+  EXPECT_EQ(lom::shadedLabelColour(labels, 7), (lom::Rgb{255, 0, 255}));
+  // The background is grey whatever its palette colour.
+  const lom::LabelSet coloured({{0, "floor", {10, 120, 10}}, {1, "cup", {200, 30, 30}}});
+  EXPECT_EQ(lom::shadedLabelColour(coloured, 0), lom::kShadedBackgroundColour);
+}
+
 TEST(HeightColours, RampClampsOutOfRangeAndNaN) {
   EXPECT_EQ(lom::heightRampColour(-3.0), lom::heightRampColour(0.0));
   EXPECT_EQ(lom::heightRampColour(7.0), lom::heightRampColour(1.0));

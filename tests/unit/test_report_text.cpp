@@ -29,6 +29,16 @@ TEST(ReportText, TheSettingsCountOneViewInTheSingular) {
   report.views = {0, 4};
   EXPECT_NE(lom::reportMarkdown(report).find(", 2 views (frames 0, 4)"), std::string::npos)
       << lom::reportMarkdown(report);
+  report.views = {0, 10, 20, 30, 40, 50};
+  EXPECT_NE(lom::reportTable(report).find(", 6 views (frames 0, 10, 20, 30, 40, 50)"),
+            std::string::npos)
+      << lom::reportTable(report);
+  // A view every ten frames of a long recording: the settings stay one line.
+  report.views.clear();
+  for (size_t frame = 0; frame < 1500; frame += 10) report.views.push_back(frame);
+  const std::string table = lom::reportTable(report);
+  EXPECT_NE(table.find(", 150 views (frames 0, 10, 20, ... 1490)"), std::string::npos) << table;
+  EXPECT_EQ(table.find("750"), std::string::npos) << table;
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 
 #include "lom/error.hpp"
@@ -91,7 +92,7 @@ TEST(SegmenterConfig, DefaultsAndEveryKey) {
   EXPECT_EQ(defaults.mean, (std::array<double, 3>{0, 0, 0}));
   EXPECT_EQ(defaults.stddev, (std::array<double, 3>{1, 1, 1}));
   EXPECT_EQ(defaults.channel_order, lom::SegmenterChannelOrder::Rgb);
-  EXPECT_EQ(defaults.output, lom::SegmenterOutput::Scores);
+  EXPECT_FALSE(defaults.output);  // the model tells (a final Softmax: probabilities)
   EXPECT_EQ(defaults.resize, lom::SegmenterResize::Linear);
   EXPECT_FALSE(defaults.labels);
 
@@ -106,7 +107,7 @@ TEST(SegmenterConfig, DefaultsAndEveryKey) {
   EXPECT_EQ(c.mean, (std::array<double, 3>{104, 117, 123}));
   EXPECT_EQ(c.stddev, (std::array<double, 3>{58.4, 57.1, 57.4}));
   EXPECT_EQ(c.channel_order, lom::SegmenterChannelOrder::Bgr);
-  EXPECT_EQ(c.output, lom::SegmenterOutput::Probabilities);
+  EXPECT_EQ(*c.output, lom::SegmenterOutput::Probabilities);
   EXPECT_EQ(c.resize, lom::SegmenterResize::Nearest);
   ASSERT_TRUE(c.labels);
   ASSERT_EQ(c.labels->size(), 4u);
@@ -229,6 +230,25 @@ TEST(Segmenter, ProbabilitiesFromTheModelAreUsedAsIs) {
   double sum = 0.0;
   for (double p : once) sum += std::exp(p);
   EXPECT_NEAR(twice.pixel(1, 1)[0], std::exp(once[0]) / sum, kTolerance);
+}
+
+TEST(Segmenter, AModelEndingWithASoftmaxGivesProbabilitiesWithoutAConfig) {
+  // Without MODEL.json, a second softmax over 3 channels would have flattened
+  // the probabilities towards 1/3 (with 40 labels: nothing ever occupied).
+  TempDir dir;
+  ConvModelSpec spec = mixedModel();
+  spec.bias = {4.f, -2.f, 0.f};  // far from uniform
+  spec.softmax = true;
+  const auto segmenter = Segmenter::load(writeModelFile(dir, "net.onnx", spec), memoryOnly());
+  EXPECT_EQ(segmenter->config().output, lom::SegmenterOutput::Probabilities);
+  const ColorImage image = lom::test::makeColorImage(5, 4, varied);
+  const ProbabilityImage proba = segmenter->segment(image, 5, 4, labelsOf(3));
+  for (int v = 0; v < 4; ++v)
+    for (int u = 0; u < 5; ++u)
+      expectPixel(proba, u, v, lom::test::expectedProbabilities(spec, varied(u, v)));
+  // A model without a Softmax still gets one.
+  const auto plain = Segmenter::load(writeModelFile(dir, "plain.onnx", mixedModel()), memoryOnly());
+  EXPECT_EQ(plain->config().output, lom::SegmenterOutput::Scores);
 }
 
 TEST(Segmenter, ScoresDeclaredAsProbabilitiesAreRejected) {
@@ -470,6 +490,106 @@ TEST(Segmenter, DiskCacheIsSharedAcrossLoadsAndKeyedByModelConfigAndImage) {
   const auto fourth = Segmenter::load(model);
   (void)fourth->segment(image, 6, 4, labelsOf(3), cache);
   EXPECT_EQ(fourth->stats().inferences, 0u);
+}
+
+TEST(Segmenter, CacheEntriesOfAnotherShapeOrNotProbabilitiesAreRecomputed) {
+  // Entries that read as .npy files but cannot be this model's output: the
+  // wrong channel count, a NaN, a value above 1. Each is a miss, recomputed
+  // and replaced, never an error blaming the model.
+  TempDir dir;
+  const auto model = writeModelFile(dir, "net.onnx", mixedModel());
+  const auto cache = dir / "cache";
+  const ColorImage image = lom::test::makeColorImage(6, 4, varied);
+  const ProbabilityImage computed =
+      Segmenter::load(model)->segment(image, 6, 4, labelsOf(3), cache);
+  std::filesystem::path entry;
+  for (const auto& file : std::filesystem::directory_iterator(cache)) entry = file.path();
+  ASSERT_FALSE(entry.empty());
+
+  const std::vector<float> good_values = [&] {
+    const lom::NpyArray array = lom::readNpy(entry);
+    std::vector<float> values(array.size());
+    std::memcpy(values.data(), array.bytes.data(), array.bytes.size());
+    return values;
+  }();
+  std::vector<float> with_nan = good_values;
+  with_nan[5] = std::nanf("");
+  std::vector<float> above_one = good_values;
+  above_one[7] = 3.0f;
+  const std::vector<std::pair<std::vector<size_t>, std::vector<float>>> damaged = {
+      {{2, 4, 6}, std::vector<float>(good_values.begin(), good_values.begin() + 48)},
+      {{3, 4, 6}, with_nan},
+      {{3, 4, 6}, above_one}};
+  for (const auto& [shape, values] : damaged) {
+    SCOPED_TRACE(shape[0]);
+    lom::writeNpyFloat32(entry, shape, values);
+    const auto segmenter = Segmenter::load(model);
+    ProbabilityImage recomputed;
+    EXPECT_NO_THROW(recomputed = segmenter->segment(image, 6, 4, labelsOf(3), cache));
+    EXPECT_EQ(segmenter->stats().inferences, 1u);
+    EXPECT_EQ(segmenter->stats().disk_hits, 0u);
+    EXPECT_EQ(recomputed.values, computed.values);
+    // Replaced: the next run reads it.
+    const auto next = Segmenter::load(model);
+    (void)next->segment(image, 6, 4, labelsOf(3), cache);
+    EXPECT_EQ(next->stats().disk_hits, 1u);
+  }
+
+  // An entry that fits the labels but not the channel count this model gives.
+  ConvModelSpec four = mixedModel();
+  four.outputs = 4;
+  four.weights.insert(four.weights.end(), {0.5f, 0.5f, 0.5f});
+  four.bias.push_back(0.f);
+  const auto four_model = writeModelFile(dir, "four.onnx", four);
+  const auto segmenter = Segmenter::load(four_model);
+  const ColorImage other = lom::test::makeColorImage(6, 4, blockColour);
+  (void)segmenter->segment(other, 6, 4, labelsOf(4), cache);  // learns: 4 channels
+  std::filesystem::path four_entry;
+  for (const auto& file : std::filesystem::directory_iterator(cache))
+    if (file.path() != entry) four_entry = file.path();
+  ASSERT_FALSE(four_entry.empty());
+  lom::writeNpyFloat32(four_entry, {3, 4, 6}, good_values);
+  const auto memoryless = [&] {
+    lom::SegmenterOptions options;
+    options.memory_cache_bytes = 0;
+    return options;
+  }();
+  const auto fresh = Segmenter::load(four_model, memoryless);
+  (void)fresh->outputChannels();
+  const std::string message =
+      errorOf([&] { (void)fresh->segment(other, 6, 4, labelsOf(3), cache); });
+  EXPECT_NE(message.find("four.onnx: output channels: expected 3 channels"), std::string::npos)
+      << message;  // the model's 4 channels, not the entry's 3
+}
+
+TEST(Segmenter, CheckFitsProbesTheChannelCountBeforeAnyWork) {
+  TempDir dir;
+  const auto segmenter =
+      Segmenter::load(writeModelFile(dir, "net.onnx", mixedModel()), memoryOnly());
+  EXPECT_EQ(segmenter->outputChannels(), 3);
+  EXPECT_NO_THROW(segmenter->checkFits(labelsOf(3)));
+  const std::string message = errorOf([&] { segmenter->checkFits(labelsOf(5)); });
+  EXPECT_NE(message.find("net.onnx: output channels: expected 5 channels, one per label of the "
+                         "sequence"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("found 3 channels (output 1 x 3 x 64 x 64"), std::string::npos) << message;
+  EXPECT_EQ(segmenter->stats().inferences, 0u);  // a probe is no frame's run
+
+  // A model of fixed input size is probed at that size; "labels" in MODEL.json
+  // must have one entry per channel.
+  ConvModelSpec fixed = mixedModel();
+  fixed.input_width = 10;
+  fixed.input_height = 6;
+  const auto model = writeModelFile(dir, "fixed.onnx", fixed);
+  writeText(dir / "fixed.json", R"({"labels": [0, 1]})");
+  const auto configured = Segmenter::load(model, memoryOnly());
+  const std::string labelled = errorOf([&] { configured->checkFits(labelsOf(3)); });
+  EXPECT_NE(labelled.find("fixed.onnx: output channels: expected 2 channels (one per entry of "
+                          "\"labels\""),
+            std::string::npos)
+      << labelled;
+  EXPECT_NE(labelled.find("1 x 3 x 6 x 10"), std::string::npos) << labelled;
 }
 
 TEST(Segmenter, UnwritableCacheWarnsOnceAndKeepsGoing) {

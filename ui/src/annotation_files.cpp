@@ -388,7 +388,8 @@ void BoxesAutosave::writeNow() {
       }
     }
   }
-  if (recovery_path_.isEmpty() || !session_.annotations().isDirty()) return;
+  if (recovery_path_.isEmpty() || !offered_path_.isEmpty() || !session_.annotations().isDirty())
+    return;
   // While another sequence opens (a warning about its boxes may be up), the
   // boxes shown may already be the new sequence's: never written to the
   // previous sequence's recovery file.
@@ -452,7 +453,8 @@ bool BoxesAutosave::takeLock(const QString& path, qint64* holder) {
 }
 
 void BoxesAutosave::discard() {
-  if (!recovery_path_.isEmpty()) QFile::remove(recovery_path_);
+  // A copy not offered yet holds the boxes of an earlier session, not these.
+  if (!recovery_path_.isEmpty() && offered_path_.isEmpty()) QFile::remove(recovery_path_);
 }
 
 void BoxesAutosave::onSequenceChanged() {
@@ -461,6 +463,7 @@ void BoxesAutosave::onSequenceChanged() {
   // the new sequence's.
   lock_.reset();
   locked_out_of_.clear();
+  offered_path_.clear();  // an offer still waiting was the previous sequence's
   recovery_path_ = session_.controller().hasSequence() && !leave_files_alone_
                        ? recoveryPath(session_.controller().sequencePath())
                        : QString();
@@ -480,6 +483,20 @@ void BoxesAutosave::onSequenceChanged() {
     return;
   }
   if (!QFileInfo::exists(path)) return;
+  // Offered once the switch has reached every view: the question waits for
+  // an answer, and meanwhile the window shows the sequence it names (the
+  // status bar and the frame too). Until then the file is neither written
+  // nor removed here.
+  offered_path_ = path;
+  QTimer::singleShot(0, this, [this, path] {
+    if (offered_path_ != path) return;  // another sequence opened first
+    offered_path_.clear();
+    offerRecovery(path);
+  });
+}
+
+void BoxesAutosave::offerRecovery(const QString& path) {
+  if (recovery_path_ != path || !QFileInfo::exists(path)) return;
   if (!offer_ || !offer_(path)) {
     keepAsDeclined(path);
     return;

@@ -17,6 +17,7 @@
 #include <functional>
 #include <optional>
 
+#include "label_search.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/box_edit_actions.hpp"
 #include "lom/ui/box_math.hpp"
@@ -30,28 +31,6 @@
 namespace lom::ui {
 
 namespace {
-
-// Decides, for a widget with the focus, who gets a key the window has a
-// shortcut for: `take` returns true when the widget takes it (it gets the key
-// press), false when it leaves it to the window's shortcut, nothing for Qt's
-// default.
-class ShortcutKeys : public QObject {
- public:
-  ShortcutKeys(QObject* parent, std::function<std::optional<bool>(const QKeyEvent&)> take)
-      : QObject(parent), take_(std::move(take)) {}
-
- protected:
-  bool eventFilter(QObject*, QEvent* event) override {
-    if (event->type() != QEvent::ShortcutOverride) return false;
-    const std::optional<bool> take = take_(*static_cast<QKeyEvent*>(event));
-    if (!take) return false;
-    event->setAccepted(*take);
-    return true;
-  }
-
- private:
-  std::function<std::optional<bool>(const QKeyEvent&)> take_;
-};
 
 // Ctrl+Z / Ctrl+Shift+Z in a field undo and redo box edits, as everywhere in
 // the window: the field's own text undo would otherwise take the keys, and a
@@ -67,68 +46,6 @@ std::optional<bool> leaveUndoToTheWindow(const QKeyEvent& key) {
   if (key.matches(QKeySequence::Redo)) return false;
   return std::nullopt;
 }
-
-// A label drop-down with the focus takes the letters typed into it (Qt's
-// search by name) instead of the window's one-key box edits (W moves a box,
-// B adds one), which would otherwise edit the box while the user picks a label.
-std::optional<bool> takeTypedLetters(const QKeyEvent& key) {
-  const Qt::KeyboardModifiers chords = Qt::ControlModifier | Qt::AltModifier | Qt::MetaModifier;
-  if ((key.modifiers() & chords) || key.text().isEmpty() || !key.text().at(0).isPrint())
-    return std::nullopt;
-  return true;
-}
-
-// Letters typed into a label drop-down find a label by its name: the entries
-// start with the label's number ("10 dove_beauty_bar"), so Qt's own search by
-// first letter never matched a letter. Letters typed within a second add up
-// ("do" finds dove_beauty_bar past dasani_water_bottle); the choice counts as
-// the user's (activated).
-class LabelNameSearch : public QObject {
- public:
-  explicit LabelNameSearch(QObject* parent) : QObject(parent) {}
-
- protected:
-  bool eventFilter(QObject* watched, QEvent* event) override {
-    if (event->type() != QEvent::KeyPress) return false;
-    auto* combo = qobject_cast<QComboBox*>(watched);
-    const auto* key = static_cast<QKeyEvent*>(event);
-    if (!combo || !takeTypedLetters(*key) || !key->text().at(0).isLetter()) return false;
-    if (!typed_.isValid() || typed_.elapsed() > 1000 || watched != last_) prefix_.clear();
-    typed_.start();
-    last_ = watched;
-    const QString letter = key->text().toLower();
-    prefix_ += letter;
-    // As Qt's own search: when the letters so far match nothing, the last one
-    // starts again.
-    if (!select(*combo, prefix_) && prefix_ != letter) {
-      prefix_ = letter;
-      select(*combo, prefix_);
-    }
-    return true;
-  }
-
- private:
-  // The first enabled entry whose name starts with `prefix`, chosen; false
-  // when there is none.
-  static bool select(QComboBox& combo, const QString& prefix) {
-    const auto* model = qobject_cast<const QStandardItemModel*>(combo.model());
-    for (int i = 0; i < combo.count(); ++i) {
-      const QString text = combo.itemText(i);
-      const bool enabled = !model || !model->item(i) || model->item(i)->isEnabled();
-      if (!enabled || !text.mid(text.indexOf(' ') + 1).toLower().startsWith(prefix)) continue;
-      if (i != combo.currentIndex()) {
-        combo.setCurrentIndex(i);
-        emit combo.activated(i);
-      }
-      return true;
-    }
-    return false;
-  }
-
-  QString prefix_;
-  QElapsedTimer typed_;
-  QObject* last_ = nullptr;
-};
 
 QDoubleSpinBox* makeField(double low, double high, int decimals, double step,
                           const QString& suffix) {
@@ -160,6 +77,7 @@ BoxEditorPanel::BoxEditorPanel(StudioSession& session, BoxSteps& steps, QWidget*
       new_label_(new ElidingComboBox) {
   setObjectName("boxEditor");
   list_->setObjectName("boxList");
+  list_->setAccessibleName(tr("Boxes"));
   new_label_->setObjectName("newBoxLabel");
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(2, 2, 2, 2);
@@ -194,6 +112,7 @@ BoxEditorPanel::BoxEditorPanel(StudioSession& session, BoxSteps& steps, QWidget*
                                                       : makeField(-1000, 1000, 3, 0.005, ""));
     fields_[static_cast<size_t>(i)]->setObjectName(QString("boxField%1").arg(i));
     fields_[static_cast<size_t>(i)]->setToolTip(tips[i]);
+    fields_[static_cast<size_t>(i)]->setAccessibleName(tips[i]);  // the grid's headings are apart
     grid->addWidget(fields_[static_cast<size_t>(i)], 1 + i % 3, 1 + i / 3);
     connect(fields_[static_cast<size_t>(i)], qOverload<double>(&QDoubleSpinBox::valueChanged), this,
             &BoxEditorPanel::onFieldEdited);
@@ -248,12 +167,8 @@ BoxEditorPanel::BoxEditorPanel(StudioSession& session, BoxSteps& steps, QWidget*
   // The key steps too: Undo there undoes box edits, as in every field.
   for (QDoubleSpinBox* step : steps_box->findChildren<QDoubleSpinBox*>())
     step->installEventFilter(undo_keys);
-  auto* search_keys = new ShortcutKeys(this, takeTypedLetters);
-  box_label_->installEventFilter(search_keys);
-  new_label_->installEventFilter(search_keys);
-  auto* name_search = new LabelNameSearch(this);
-  box_label_->installEventFilter(name_search);
-  new_label_->installEventFilter(name_search);
+  searchLabelsByName(*box_label_);
+  searchLabelsByName(*new_label_);
 }
 
 void BoxEditorPanel::rebuildLabels() {

@@ -173,6 +173,7 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
       debounce_(new QTimer(this)) {
   setObjectName("evaluationPanel");
   table_->setObjectName("evaluationTable");
+  table_->setAccessibleName(tr("Scores"));
   summary_->setObjectName("evaluationSummary");
   warnings_->setObjectName("evaluationWarnings");
   table_->setHorizontalHeader(new CompactHeader(table_));
@@ -285,11 +286,28 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   connect(&worker, &MapWorker::evaluationFailed, this,
           [this](const QString& message) { clearReport(message); });
   connect(export_, &QPushButton::clicked, this, [this] {
-    // The folder dialog starts beside the sequence (or the converted recording,
-    // not in the import cache), not wherever the studio started.
-    const QString start = session_.controller().outputFolder();
-    const QString dir = QFileDialog::getExistingDirectory(this, tr("Export Report To"), start);
-    if (!dir.isEmpty()) exportReportTo(dir);
+    // The folder dialog proposes NAME-report beside the sequence (or the
+    // converted recording, not in the import cache): each sequence's report
+    // has a folder of its own, as `score --batch` gives it, and one
+    // sequence's export does not offer to replace another's. A folder dialog
+    // chooses only folders that exist, so it is made for the dialog, and
+    // taken away again (when still empty) unless the report goes there.
+    const QString proposed = session_.controller().proposedOutput(QStringLiteral("-report"));
+    const bool made = !QFileInfo::exists(proposed) && QDir().mkdir(proposed);
+    QFileDialog dialog(this, tr("Export Report To"));
+    dialog.setFileMode(QFileDialog::Directory);
+    dialog.setOption(QFileDialog::ShowDirsOnly);
+    if (QFileInfo(proposed).isDir()) {
+      dialog.setDirectory(QFileInfo(proposed).absolutePath());
+      dialog.selectFile(proposed);
+    } else {
+      dialog.setDirectory(session_.controller().outputFolder());
+    }
+    const QStringList chosen =
+        dialog.exec() == QDialog::Accepted ? dialog.selectedFiles() : QStringList();
+    const QString dir = chosen.isEmpty() ? QString() : chosen.front();
+    const bool exported = !dir.isEmpty() && exportReportTo(dir);
+    if (made && !(exported && QFileInfo(dir) == QFileInfo(proposed))) QDir().rmdir(proposed);
   });
   showMessage(tr("Open a sequence, fuse it and add boxes to score the map."));
 }

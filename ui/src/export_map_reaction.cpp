@@ -31,8 +31,14 @@ ExportMapReaction::ExportMapReaction(QAction* action, ExportOptions options,
 
 QString ExportMapReaction::askPath() const {
   const QString extension = QString::fromLatin1(exportFormatName(options_.format));
-  return askSaveFileName(parent_, options_.native ? tr("Save Map") : tr("Export Map"),
-                         "map." + extension,
+  // Beside the sequence (where Open Map starts) and named after it: another
+  // sequence's map is not proposed for replacing. A colour octree gets a name
+  // of its own, since it may not replace the map saved as NAME.ot.
+  const QString suffix =
+      (options_.format == ExportFormat::Ot && !options_.native ? "-colour." : ".") + extension;
+  QString start = session_.controller().proposedOutput(suffix);
+  if (start.isEmpty()) start = "map" + suffix;
+  return askSaveFileName(parent_, options_.native ? tr("Save Map") : tr("Export Map"), start,
                          tr("%1 files (*.%2)").arg(extension.toUpper(), extension), {extension});
 }
 

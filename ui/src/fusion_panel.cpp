@@ -1,11 +1,13 @@
 #include "lom/ui/fusion_panel.hpp"
 
+#include <QCoreApplication>
 #include <QDoubleSpinBox>
 #include <QFileDialog>
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QLineEdit>
+#include <QPointer>
 #include <QPushButton>
 #include <QSignalBlocker>
 #include <QVBoxLayout>
@@ -102,6 +104,7 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   form->addRow(tr("Threshold"), threshold_);
   form->addRow(tr("Candidates"), candidates_);
   segmenter_path_->setReadOnly(true);
+  segmenter_path_->setAccessibleName(tr("Segmenter model"));  // its label names the row
   // Short enough for a narrow dock; the tooltip says what the model is for.
   segmenter_path_->setPlaceholderText(tr("none"));
   segmenter_path_->setToolTip(
@@ -142,6 +145,18 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   setEnabled(session_.sequence() != nullptr);
   connect(&session_.controller(), &SequenceController::sequenceChanged, this, [this] {
     setEnabled(session_.sequence() != nullptr);
+    const std::shared_ptr<const Segmenter> previous = segmenter_;
+    segmenter_note_.clear();
+    // The session has dropped a segmenter whose channels do not fit the new
+    // labels (StudioSession::onSequenceChanged): say why.
+    if (previous && !session_.fusionOptions().segmenter && session_.sequence()) {
+      try {
+        previous->checkFits(session_.sequence()->labels);
+      } catch (const std::exception& error) {
+        segmenter_note_ = tr("Segmenter %1 removed: it does not fit this sequence's labels: %2")
+                              .arg(segmenterText(previous), QString::fromStdString(error.what()));
+      }
+    }
     loadFromSession();  // the candidates of the previous sequence are gone
   });
   // A map read from a file brings its own parameters (edits not yet applied
@@ -176,19 +191,38 @@ bool FusionPanel::setSegmenterModel(const QString& model_path) {
     segmenter_.reset();
   } else {
     try {
-      auto loaded = Segmenter::load(model_path.toStdString());
-      // Its channels must name labels of the open sequence, as the command
-      // line checks before any work: else Re-fuse would drop the map and fail.
-      if (const auto sequence = session_.sequence()) loaded->checkLabels(sequence->labels);
+      SegmenterOptions options;
+      // Problems that do not stop segmentation (an unwritable cache folder)
+      // come from the fusion worker: shown in the note, in the GUI thread.
+      options.warn = [panel = QPointer<FusionPanel>(this)](const std::string& message) {
+        QMetaObject::invokeMethod(
+            QCoreApplication::instance(),
+            [panel, text = QString::fromStdString(message)] {
+              if (panel) panel->showSegmenterWarning(text);
+            },
+            Qt::QueuedConnection);
+      };
+      auto loaded = Segmenter::load(model_path.toStdString(), std::move(options));
+      // Its channels must fit the labels of the open sequence (names and ids,
+      // and the channel count, from one run on a small image): else Re-fuse
+      // would drop the map and fail.
+      if (const auto sequence = session_.sequence()) loaded->checkFits(sequence->labels);
       segmenter_ = std::move(loaded);
     } catch (const std::exception& error) {
-      setNote(tr("Segmenter: %1").arg(QString::fromStdString(error.what())));
+      segmenter_note_ = tr("Segmenter: %1").arg(QString::fromStdString(error.what()));
+      setNote(segmenter_note_);
       return false;
     }
   }
+  segmenter_note_.clear();
   segmenter_path_->setText(segmenterText(segmenter_));
   onEdited();
   return true;
+}
+
+void FusionPanel::showSegmenterWarning(const QString& text) {
+  segmenter_note_ = tr("Segmenter: %1").arg(text);
+  onEdited();
 }
 
 void FusionPanel::chooseSegmenter() {
@@ -248,24 +282,37 @@ void FusionPanel::onEdited() {
       checkRayLength(wanted.map.max_range, wanted.map.resolution);
   const bool pending = hasPendingChanges();
   refuse_->setEnabled(pending && ok && !unknown && !too_long);
+  // What became of the segmenter (refused, removed, its cache) comes first,
+  // whatever else is said.
+  const auto noteAfterSegmenter = [this](const QString& text) {
+    setNote(segmenter_note_.isEmpty() ? text : segmenter_note_ + ' ' + text);
+  };
   if (unknown)
-    setNote(tr("Candidates: %1 is not a label of the sequence (0 to %2).")
-                .arg(unknown->label)
-                .arg(unknown->label_count - 1));
+    noteAfterSegmenter(tr("Candidates: %1 is not a label of the sequence (0 to %2).")
+                           .arg(unknown->label)
+                           .arg(unknown->label_count - 1));
   else if (!ok)
-    setNote(tr("Candidates: label ids separated by spaces."));
+    noteAfterSegmenter(tr("Candidates: label ids separated by spaces."));
   else if (too_long)
-    setNote(tr("Max range / resolution makes rays %1 voxels long; at most %2: choose a coarser "
-               "resolution or a shorter max range.")
-                .arg(too_long->voxels, 0, 'f', 0)
-                .arg(too_long->limit, 0, 'f', 0));
+    noteAfterSegmenter(
+        tr("Max range / resolution makes rays %1 voxels long; at most %2: choose a coarser "
+           "resolution or a shorter max range.")
+            .arg(too_long->voxels, 0, 'f', 0)
+            .arg(too_long->limit, 0, 'f', 0));
   else if (candidates && std::find(candidates->begin(), candidates->end(), 0) == candidates->end())
     // As `labeloctomap fuse` notes: renormalised over objects only, every pixel becomes one.
-    setNote((pending ? tr("Changed: re-fuse to apply. ") : QString()) +
-            tr("The candidates leave out 0, the background: background pixels are fused (and "
-               "projected) as objects."));
-  else
-    setNote(pending ? tr("Changed: re-fuse to apply.") : range_note_);
+    noteAfterSegmenter(
+        (pending ? tr("Changed: re-fuse to apply. ") : QString()) +
+        tr("The candidates leave out 0, the background: background pixels are fused (and "
+           "projected) as objects."));
+  else {
+    // What became of the segmenter (refused, removed, its cache) comes first.
+    QStringList notes;
+    for (const QString& note :
+         {segmenter_note_, pending ? tr("Changed: re-fuse to apply.") : range_note_})
+      if (!note.isEmpty()) notes << note;
+    setNote(notes.join(' '));
+  }
 }
 
 void FusionPanel::showDepthRanges(const FrameStats& totals, double max_range) {

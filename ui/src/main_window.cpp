@@ -8,6 +8,8 @@
 #include <QCloseEvent>
 #include <QComboBox>
 #include <QDockWidget>
+#include <QEventLoop>
+#include <QFocusEvent>
 #include <QIcon>
 #include <QKeyEvent>
 #include <QLabel>
@@ -24,6 +26,7 @@
 #include <QTimer>
 #include <QVBoxLayout>
 #include <algorithm>
+#include <memory>
 #include <optional>
 
 #include "lom/ui/about_reaction.hpp"
@@ -91,6 +94,9 @@ class DockScrollArea : public QScrollArea {
     setWidgetResizable(true);
     setFrameShape(QFrame::NoFrame);
     setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
+    // Tab goes to the panel's controls: the frameless area itself showed no
+    // focus (the wheel still scrolls it, and a control's focus brings it into view).
+    setFocusPolicy(Qt::NoFocus);
   }
 
   [[nodiscard]] QSize sizeHint() const override {
@@ -142,29 +148,92 @@ QSize initialWindowSize(const QSize& available) {
 
 namespace {
 
-// Space plays the frames, except where a focused control has a use for it:
-// a Map Labels row's check box, a button, a field. Qt gives a window-wide
-// shortcut the key before the widget; accepting the override gives it back.
-class SpaceForFocusedControls : public QObject {
+// Keys the window has shortcuts for (Space plays the frames, Home/End and
+// Page Up/Down step them, letters and Delete edit the selected box), left to
+// a focused control that has a use for them, as it expects: Qt gives a
+// window-wide shortcut the key before the widget; accepting the override
+// gives it back.
+// - Space: a Map Labels row's check box, a button, a field, a drop-down.
+// - Letters and Delete: a drop-down (its entries are found by typing) and a
+//   list or table, except the box list and the Evaluation table, whose
+//   selected row is the box the keys edit.
+// - Home/End, Page Up/Down: those lists and tables too (their rows).
+// Text fields take their keys themselves (ShortcutKeys where needed). The
+// filter also brings a panel forward when Tab moves the focus into it.
+class KeysForFocusedControls : public QObject {
  public:
-  explicit SpaceForFocusedControls(QWidget* window) : QObject(window), window_(window) {}
+  explicit KeysForFocusedControls(QMainWindow* window) : QObject(window), window_(window) {}
 
  protected:
   bool eventFilter(QObject* watched, QEvent* event) override {
+    if (event->type() == QEvent::FocusIn) {
+      bringPanelForward(qobject_cast<QWidget*>(watched), static_cast<QFocusEvent*>(event));
+      return false;
+    }
     if (event->type() != QEvent::ShortcutOverride) return false;
     const auto* key = static_cast<QKeyEvent*>(event);
-    if (key->key() != Qt::Key_Space || key->modifiers() != Qt::NoModifier) return false;
     auto* widget = qobject_cast<QWidget*>(watched);
-    if (!widget || widget->window() != window_) return false;
-    if (qobject_cast<QAbstractItemView*>(widget) || qobject_cast<QAbstractButton*>(widget) ||
-        qobject_cast<QAbstractSpinBox*>(widget) || qobject_cast<QComboBox*>(widget) ||
-        qobject_cast<QLineEdit*>(widget))
-      event->accept();
+    if (!widget || !inWindow(widget)) return false;
+    const bool view = qobject_cast<QAbstractItemView*>(widget) != nullptr;
+    const bool combo = qobject_cast<QComboBox*>(widget) != nullptr;
+    if (key->key() == Qt::Key_Space && key->modifiers() == Qt::NoModifier) {
+      if (view || combo || qobject_cast<QAbstractButton*>(widget) ||
+          qobject_cast<QAbstractSpinBox*>(widget) || qobject_cast<QLineEdit*>(widget))
+        event->accept();
+      return false;
+    }
+    const Qt::KeyboardModifiers chords = Qt::ControlModifier | Qt::AltModifier | Qt::MetaModifier;
+    if (key->modifiers() & chords) return false;
+    // The box list's and the Evaluation table's rows are the boxes: there the
+    // keys stay the window's (PageDown steps the frame, W moves the box).
+    const bool box_rows = widget->objectName() == QLatin1String("boxList") ||
+                          widget->objectName() == QLatin1String("evaluationTable");
+    if (box_rows) return false;
+    switch (key->key()) {
+      case Qt::Key_Home:
+      case Qt::Key_End:
+      case Qt::Key_PageUp:
+      case Qt::Key_PageDown:
+        if (view) event->accept();
+        return false;
+      default:
+        break;
+    }
+    const bool typed = !key->text().isEmpty() && key->text().at(0).isPrint();
+    const bool deletes = key->key() == Qt::Key_Delete || key->key() == Qt::Key_Backspace;
+    if ((combo || view) && (typed || deletes)) event->accept();
     return false;
   }
 
  private:
-  QWidget* window_;
+  // In the window or one of its panels, floating ones too (a floating
+  // panel is a window of its own, whose parent is still the main window).
+  [[nodiscard]] bool inWindow(const QWidget* widget) const {
+    for (const QWidget* up = widget; up != nullptr; up = up->parentWidget())
+      if (up == window_) return true;
+    return false;
+  }
+
+  // The panels of a tab group that are not in front stay "visible" to Qt, off
+  // the window: Tab walks into them, and what is typed there (a box's centre)
+  // changes what nobody sees. The focus coming into such a panel from the
+  // keyboard brings it to the front (not the focus coming back with the
+  // window: a panel put behind by a click on another tab stays there).
+  void bringPanelForward(QWidget* widget, const QFocusEvent* focus) const {
+    const Qt::FocusReason reason = focus->reason();
+    if (!widget || (reason != Qt::TabFocusReason && reason != Qt::BacktabFocusReason &&
+                    reason != Qt::ShortcutFocusReason))
+      return;
+    for (QWidget* up = widget; up != nullptr && up != window_; up = up->parentWidget())
+      if (auto* dock = qobject_cast<QDockWidget*>(up)) {
+        if (!dock->isFloating() && !window_->tabifiedDockWidgets(dock).isEmpty() &&
+            dock->visibleRegion().isEmpty())
+          dock->raise();
+        return;
+      }
+  }
+
+  QMainWindow* window_;
 };
 
 }  // namespace
@@ -179,7 +248,7 @@ MainWindow::MainWindow(QWidget* parent)
       scene_view_(new SceneView),
       status_label_(new QLabel) {
   registerStudioResources();
-  qApp->installEventFilter(new SpaceForFocusedControls(this));
+  qApp->installEventFilter(new KeysForFocusedControls(this));
   steps_ = BoxSteps::load();
   setWindowTitle(tr("LabelOctoMap Studio"));
   setWindowIcon(QIcon(":/icons/labeloctomap-studio.svg"));
@@ -243,17 +312,20 @@ MainWindow::MainWindow(QWidget* parent)
           &MainWindow::onCurrentFrameChanged);
   connect(timeline_, &TimelineWidget::frameRequested, controller_,
           &SequenceController::setCurrentFrame);
-  // Made last, so that it asks about recovered boxes after every panel has
-  // switched to the new sequence: a fusion that finishes while the question
-  // waits then reaches panels that are ready for it.
+  // It asks about recovered boxes once the switch to the new sequence has
+  // finished (every panel, the frame and the status bar show it): a fusion
+  // that finishes while the question waits then reaches panels that are
+  // ready for it. The question names the sequence: the window behind it may
+  // be hidden, and the recovery file's name is a hash.
   autosave_ = new BoxesAutosave(*session_, [this](const QString& file) {
     return QMessageBox::question(
                this, tr("Recover unsaved boxes?"),
-               tr("Boxes of this sequence were not saved when the studio last closed.\n"
-                  "Restore them from %1?\n\n"
-                  "No keeps them as a boxes file, %2 (numbered when an earlier one is there), "
+               tr("Boxes of %1 were not saved when the studio last closed.\n"
+                  "Restore them from %2?\n\n"
+                  "No keeps them as a boxes file, %3 (numbered when an earlier one is there), "
                   "that File ▸ Open Boxes… opens (they are not offered again).")
-                   .arg(file, BoxesAutosave::declinedPath(file))) == QMessageBox::Yes;
+                   .arg(controller_->sequenceName(), file, BoxesAutosave::declinedPath(file))) ==
+           QMessageBox::Yes;
   });
 }
 
@@ -457,6 +529,12 @@ bool MainWindow::confirmStopWork() {
   QMessageBox question(QMessageBox::Question, tr("Stop the work in progress?"), QString(),
                        QMessageBox::Cancel, this);
   QPushButton* close = question.addButton(tr("Close Anyway"), QMessageBox::DestructiveRole);
+  // A fusion under way need not take the frames fused so far with it: it
+  // stops as Cancel Fusion stops it, and the map is then asked about (Save
+  // Map…, Discard Map or Cancel) as a finished one is.
+  QPushButton* keep = nullptr;
+  if (session_->worker().isFusing())
+    keep = question.addButton(tr("Stop Fusion and Keep the Map…"), QMessageBox::AcceptRole);
   question.setDefaultButton(QMessageBox::Cancel);
   // The work goes on while the question is open: it lists what closing
   // would stop now, not what ran when it was asked.
@@ -479,6 +557,21 @@ bool MainWindow::confirmStopWork() {
   connect(&refresh, &QTimer::timeout, &question, describe);
   refresh.start();
   question.exec();
+  if (keep && question.clickedButton() == keep) {
+    MapWorker& worker = session_->worker();
+    worker.cancel();
+    // Cancelling is heard between frames: the wait is a frame's fusion.
+    QEventLoop stopped;
+    const QMetaObject::Connection finished =
+        connect(&worker, &MapWorker::stateChanged, &stopped, [&] {
+          if (!worker.isFusing()) stopped.quit();
+        });
+    if (worker.isFusing()) stopped.exec(QEventLoop::ExcludeUserInputEvents);
+    disconnect(finished);
+    // Work that waited for the fusion (an export) or ran beside it (a
+    // conversion) is not the user's to lose unasked.
+    return workInProgress().isEmpty() || confirmStopWork();
+  }
   return question.clickedButton() == close;
 }
 
@@ -729,6 +822,12 @@ void MainWindow::onSequenceChanged() {
   timeline_->setPlaying(false);  // another sequence starts still, on its first frame
   timeline_->setFrameCount(controller_->frameCount());
   scene_view_->showSequence(controller_->sequence());
+  // Settings changed for an earlier sequence fuse this one too, which changes
+  // its scores: said, not done silently. Shown until another message comes.
+  if (const QString note = session_->carriedOverSettingsNote(); !note.isEmpty())
+    statusBar()->showMessage(note);
+  else
+    statusBar()->clearMessage();  // another sequence's message
 }
 
 void MainWindow::onCurrentFrameChanged() {
@@ -747,6 +846,14 @@ void MainWindow::onCurrentFrameChanged() {
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
+  // A close asked for again while the questions below are open (or while a
+  // fusion stops) waits for their answers.
+  if (closing_) {
+    event->ignore();
+    return;
+  }
+  closing_ = true;
+  const std::shared_ptr<void> done(nullptr, [this](void*) { closing_ = false; });
   const bool unsaved = controller_->hasUnsavedWork();  // commits a value being typed first
   // Each question is asked about what is true once the ones before it are
   // answered: a fusion may end while one of them is open. A map still being

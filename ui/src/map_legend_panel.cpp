@@ -40,6 +40,7 @@ MapLegendPanel::MapLegendPanel(StudioSession& session, QWidget* parent)
   height_bar_->hide();
   setObjectName("mapLegend");
   table_->setObjectName("mapLegendTable");
+  table_->setAccessibleName(tr("Map labels"));
   table_->setTabKeyNavigation(false);  // Tab goes on to the next field; arrows move rows
   table_->setHorizontalHeaderLabels({tr("Label"), tr("Voxels")});
   table_->horizontalHeader()->setSectionResizeMode(0, QHeaderView::Stretch);
@@ -105,7 +106,8 @@ void MapLegendPanel::rebuild() {
                              ? QString::fromStdString(sequence->labels.at(label).name)
                              : tr("label %1").arg(label);
     // The background is drawn grey in the 3D view (its palette colour is black).
-    const QColor color = label == 0 ? QColor(150, 150, 160) : labelColor(sequence->labels, label);
+    const Rgb shaded = shadedLabelColour(sequence->labels, label);  // as the 3D view draws it
+    const QColor color(shaded[0], shaded[1], shaded[2]);
     auto* item = new QTableWidgetItem(swatch(color), name);
     item->setToolTip(name);  // the table elides long names
     item->setData(kLabelRole, label);

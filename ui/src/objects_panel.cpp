@@ -8,12 +8,14 @@
 #include <QPointer>
 #include <QPushButton>
 #include <QScrollArea>
+#include <QSignalBlocker>
 #include <QSplitter>
 #include <QTableWidget>
 #include <QVBoxLayout>
 #include <cmath>
 #include <memory>
 
+#include "label_search.hpp"
 #include "lom/label_map.hpp"
 #include "lom/ui/elision.hpp"
 #include "lom/ui/map_worker.hpp"
@@ -67,6 +69,8 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
   table_->setTabKeyNavigation(false);  // Tab goes on to the next field; arrows move rows
   steps_->setTabKeyNavigation(false);
   target_->setObjectName("pickTargetCombo");
+  table_->setAccessibleName(tr("Objects"));
+  steps_->setAccessibleName(tr("Pick steps"));
   show_boxes_->setObjectName("showObjectBoxes");
   plan_button_->setObjectName("planPickButton");
   refresh_->setObjectName("refreshObjectsButton");
@@ -86,8 +90,10 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
   show_boxes_->setChecked(true);
   status_->setWordWrap(true);
   plan_button_->setEnabled(false);
-  target_->setToolTip(tr("The object to pick: the objects in front of it along the mean "
-                         "viewing direction of the sequence are removed first."));
+  target_->setToolTip(
+      tr("The object to pick: the objects in front of it along the mean "
+         "viewing direction of the frames fused are removed first."));
+  searchLabelsByName(*target_);
 
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(2, 2, 2, 2);
@@ -105,7 +111,9 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
   auto* plan_layout = new QVBoxLayout(plan_part);
   plan_layout->setContentsMargins(0, 0, 0, 0);
   auto* plan_row = new QHBoxLayout;
-  plan_row->addWidget(new QLabel(tr("Target:")));
+  auto* target_label = new QLabel(tr("&Target:"));
+  target_label->setBuddy(target_);  // its name to a screen reader, Alt+T to it
+  plan_row->addWidget(target_label);
   plan_row->addWidget(target_, 1);
   plan_row->addWidget(plan_button_);
   plan_layout->addLayout(plan_row);
@@ -150,6 +158,12 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
   update_refresh();
   connect(refresh_, &QPushButton::clicked, this, &ObjectsPanel::refresh);
   connect(plan_button_, &QPushButton::clicked, this, &ObjectsPanel::planPick);
+  // A plan on show is of the target chosen: another choice plans again (the
+  // objects are at hand, so it is quick), rather than leave the steps of the
+  // previous target under the new name.
+  connect(target_, qOverload<int>(&QComboBox::currentIndexChanged), this, [this](int index) {
+    if (plan_ && index >= 0) planPick();
+  });
   connect(show_boxes_, &QCheckBox::toggled, this, [this] { emitBoxes(); });
   showMessage(tr("Open a sequence and fuse it to list its objects."));
 }
@@ -175,20 +189,23 @@ void ObjectsPanel::refresh() {
   worker->withMap([self, worker, generation](const LabelMap* map) {
     auto objects = std::make_shared<std::vector<ObjectInstance>>();
     auto error = std::make_shared<QString>();
+    auto approach = std::make_shared<std::optional<Eigen::Vector3d>>();
     if (map) {
       try {
         *objects = extractObjects(*map);
+        *approach = map->meanViewingDirection();
       } catch (const std::exception& e) {
         *error = QString::fromStdString(e.what());
       }
     }
     QMetaObject::invokeMethod(
         worker,
-        [self, objects, error, generation] {
+        [self, objects, error, approach, generation] {
           if (!self) return;
           --self->busy_;
           if (generation != self->generation_) return;  // superseded
           if (!error->isEmpty()) return self->showMessage(*error);
+          self->map_approach_ = *approach;
           self->showObjects(std::move(*objects));
         },
         Qt::QueuedConnection);
@@ -198,6 +215,8 @@ void ObjectsPanel::refresh() {
 void ObjectsPanel::clearObjects(const QString& message) {
   ++generation_;  // an extraction under way is of the old map
   objects_.clear();
+  map_approach_.reset();
+  clearPlan();  // before the target list empties (a plan on show would plan again)
   table_->setRowCount(0);
   target_->clear();
   plan_button_->setEnabled(false);
@@ -212,6 +231,7 @@ void ObjectsPanel::showObjects(std::vector<ObjectInstance> objects) {
   table_->setSortingEnabled(false);
   table_->setRowCount(static_cast<int>(objects_.size()));
   const int previous_target = target_->currentData().isValid() ? target_->currentData().toInt() : -1;
+  const QSignalBlocker quiet(target_);  // no plan to redo while the list fills
   target_->clear();
   for (int row = 0; row < table_->rowCount(); ++row) {
     const ObjectInstance& object = objects_[static_cast<size_t>(row)];
@@ -240,9 +260,12 @@ void ObjectsPanel::planPick() {
   if (session_.worker().isFusing()) return;  // the objects are of the previous map
   const int target = target_->currentData().toInt();
   try {
+    // As `labeloctomap plan` plans the same map: along the cameras it was
+    // fused from (some of the frames, maybe); a map that records none is
+    // viewed as the whole sequence is.
     PlanOptions options;
-    options.approach = meanViewingDirection(*sequence);
-    options.approach_source = ApproachSource::Sequence;
+    options.approach = map_approach_ ? *map_approach_ : meanViewingDirection(*sequence);
+    options.approach_source = map_approach_ ? ApproachSource::MapCameras : ApproachSource::Sequence;
     const auto snapshot = session_.worker().snapshot();
     const double resolution = snapshot && snapshot->resolution > 0 ? snapshot->resolution : 0.01;
     showPlan(lom::planPick(objects_, sequence->labels, target, *options.approach, options, resolution));
@@ -265,10 +288,20 @@ void ObjectsPanel::showPlan(PickPlan plan) {
   }
   const QString target = shortName(QString::fromStdString(plan_->target_name));
   const size_t occluders = plan_->occluders.size();
-  showMessage(occluders == 0 ? tr("Pick %1: nothing to remove first.").arg(target)
-              : occluders == 1
-                  ? tr("Pick %1: 1 occluder to remove first.").arg(target)
-                  : tr("Pick %1: %2 occluders to remove first.").arg(target).arg(occluders));
+  const Eigen::Vector3d& approach = plan_->approach;
+  const QString direction = QStringLiteral("(%1, %2, %3)")
+                                .arg(approach.x(), 0, 'f', 2)
+                                .arg(approach.y(), 0, 'f', 2)
+                                .arg(approach.z(), 0, 'f', 2);
+  showMessage((occluders == 0 ? tr("Pick %1: nothing to remove first.").arg(target)
+               : occluders == 1
+                   ? tr("Pick %1: 1 occluder to remove first.").arg(target)
+                   : tr("Pick %1: %2 occluders to remove first.").arg(target).arg(occluders)) +
+              " " +
+              (plan_->approach_source == ApproachSource::MapCameras
+                   ? tr("Approach %1: the mean viewing direction of the frames fused.")
+                   : tr("Approach %1: the mean viewing direction of the sequence's frames."))
+                  .arg(direction));
   // The steps in sight: the panel scrolls inside its dock when the dock is short.
   for (QWidget* up = parentWidget(); up != nullptr; up = up->parentWidget())
     if (auto* area = qobject_cast<QScrollArea*>(up)) {

@@ -33,9 +33,16 @@ void RecentSequencesReaction::rebuildMenu() {
         info.fileName() == QLatin1String("sequence.json") ? info.dir().dirName() : info.fileName();
     QAction* entry = menu_->addAction(
         tr("&%1 %2  (%3)").arg(number++).arg(name, QDir::toNativeSeparators(path)));
-    // An entry whose sequence is gone is reported once (by the open) and dropped.
+    // An entry whose sequence is gone is reported once (by the open) and
+    // dropped; never without that report (an open cancelled at the question
+    // about unsaved work, say, while the folder was being renamed).
     connect(entry, &QAction::triggered, this, [this, path] {
-      if (!controller_.openSequence(path) && !QFileInfo::exists(path)) recent_.remove(path);
+      bool reported = false;
+      const auto report = connect(&controller_, &SequenceController::errorOccurred, this,
+                                  [&reported] { reported = true; });
+      const bool opened = controller_.openSequence(path);
+      disconnect(report);
+      if (!opened && reported && !QFileInfo::exists(path)) recent_.remove(path);
     });
   }
   menu_->addSeparator();

@@ -25,9 +25,11 @@ void SaveScreenshotReaction::onTriggered() {
   QStringList formats{QStringLiteral("png")};
   for (const QByteArray& format : QImageWriter::supportedImageFormats())
     formats << QString::fromLatin1(format);
-  const QString path = askSaveFileName(
-      &window_, title, view ? "labeloctomap-3d-view.png" : "labeloctomap-studio.png",
-      tr("Images (*.png *.jpg)"), formats);
+  // Beside the sequence and named after it, as the map and the report are.
+  const QString suffix = view ? "-3d-view.png" : ".png";
+  QString start = controller_.proposedOutput(suffix);
+  if (start.isEmpty()) start = view ? "labeloctomap-3d-view.png" : "labeloctomap-studio.png";
+  const QString path = askSaveFileName(&window_, title, start, tr("Images (*.png *.jpg)"), formats);
   if (path.isEmpty()) return;
   const QString error = saveTo(path);
   if (!error.isEmpty()) {

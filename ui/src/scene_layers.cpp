@@ -60,8 +60,10 @@ size_t VoxelLayer::show(const MapSnapshot& snapshot, const LabelSet& labels,
   cubes.reserve(snapshot.voxels.size());
   for (const OccupiedVoxel& voxel : snapshot.voxels) {
     if (hidden.count(voxel.label)) continue;
-    // The background's palette colour is black; grey keeps the shelf readable.
-    QColor c = voxel.label == 0 ? QColor(150, 150, 160) : labelColor(labels, voxel.label);
+    // The background's palette colour is black; grey keeps the shelf readable
+    // (the rule `labeloctomap render` draws with).
+    const Rgb shaded = shadedLabelColour(labels, voxel.label);
+    QColor c(shaded[0], shaded[1], shaded[2]);
     if (by_height) {
       const Rgb rgb = heights.colour(voxel.center);
       c = QColor(rgb[0], rgb[1], rgb[2]);

@@ -17,6 +17,9 @@
 namespace lom::ui {
 
 void SceneView::showProjectionVoxels(const MapSnapshot* voxels, const LabelSet& labels) {
+  // Nothing shown, nothing to hide: no redraw (this is asked on every frame
+  // step, which redraws the view itself; a second redraw halved playback).
+  if (!voxels && scene_->projection_count == 0) return;
   scene_->projection_count =
       scene_->projection.show(voxels ? *voxels : MapSnapshot{}, labels, {}, false);
   render();
@@ -59,7 +62,7 @@ void SceneView::showObjectBoxes(const std::vector<ObjectInstance>& objects,
 size_t SceneView::objectBoxCount() const { return scene_->object_box_count; }
 
 void SceneView::showPickPlan(const PickPlan* plan) {
-  for (const auto& label : scene_->plan_labels) scene_->renderer->RemoveActor(label);
+  for (const auto& label : scene_->plan_labels) scene_->overlay->RemoveActor(label);
   scene_->plan_labels.clear();
   scene_->plan_box_count = 0;
   scene_->plan_arrow_count = 0;
@@ -106,7 +109,7 @@ void SceneView::showPickPlan(const PickPlan* plan) {
     text->GetTextProperty()->SetFontSize(18);
     text->GetTextProperty()->SetBold(true);
     text->GetTextProperty()->SetColor(color.redF(), color.greenF(), color.blueF());
-    scene_->renderer->AddActor(text);
+    scene_->overlay->AddActor(text);  // over the map, as the arrows
     scene_->plan_labels.push_back(text);
   }
   scene_->plan_arrow_count = tips.size();

@@ -63,6 +63,7 @@ struct SceneView::Scene {
   scene::VoxelLayer voxels;
   scene::VoxelLayer projection;
   size_t projection_count = 0;
+  size_t renders = 0;  // redraws of the window (SceneView::render)
   scene::VoxelLayer breakdown;
   size_t breakdown_count = 0;
   // Drawn by a renderer of its own on top of the scene's (same camera).
@@ -159,7 +160,10 @@ struct SceneView::Scene {
     for (scene::PolyActor* part : {&cloud, &other_frustums, &current_frustum, &boxes, &object_boxes,
                                    &plan_boxes, &plan_arrows}) {
       part->show(nullptr);
-      renderer->AddActor(part->actor);
+      // The grasp arrows (and their numbers) over the map: the target's
+      // grasp faces the approach, so it is behind the objects to remove,
+      // hidden exactly when there is something to remove.
+      (part == &plan_arrows ? overlay.Get() : renderer.Get())->AddActor(part->actor);
     }
     renderer->AddActor(voxels.actor());
     renderer->AddActor(projection.actor());

@@ -126,6 +126,9 @@ SceneView::SceneView(QWidget* parent)
                              kFocusFrameWidth);
   layout->addWidget(vtk_widget_);
   vtk_widget_->installEventFilter(this);
+  vtk_widget_->setAccessibleName(tr("3D view"));
+  vtk_widget_->setAccessibleDescription(
+      tr("The map, the camera frustums and the boxes; Tab and Shift+Tab choose a box"));
   vtk_widget_->setRenderWindow(scene_->render_window);
 
   vtkRenderWindowInteractor* interactor = scene_->render_window->GetInteractor();
@@ -219,6 +222,13 @@ void SceneView::showSequence(const Sequence& sequence) {
   if (!sequence.frames.empty()) scene_->home_viewpoint = scene::viewpointOf(sequence, 0);
   scene_->cloud.show(nullptr);
   scene_->point_count = 0;
+  // The previous sequence's map goes with it: its reset reaches the view only
+  // later, through the map worker, and the first frame's framing (showFrame)
+  // must not include voxels of another scene, which would leave this one a
+  // speck in the middle.
+  scene_->snapshot = MapSnapshot{};
+  scene_->bulk.reset();
+  scene_->voxel_count = scene_->voxels.show(scene_->snapshot, scene_->labels, {}, false);
   scene_->current_frustum.show(nullptr);
   std::vector<size_t> all(sequence.frames.size());
   std::iota(all.begin(), all.end(), size_t{0});
@@ -263,7 +273,7 @@ void SceneView::clear() {
   scene_->handles->show(nullptr);
   scene_->object_boxes.show(nullptr);
   scene_->object_box_count = 0;
-  for (const auto& label : scene_->plan_labels) scene_->renderer->RemoveActor(label);
+  for (const auto& label : scene_->plan_labels) scene_->overlay->RemoveActor(label);
   scene_->plan_labels.clear();
   scene_->plan_boxes.show(nullptr);
   scene_->plan_arrows.show(nullptr);
@@ -630,6 +640,9 @@ void SceneView::render() {
   if (!scene_ || !vtk_widget_->isValid()) return;
   scene_->renderer->ResetCameraClippingRange();
   scene_->render_window->Render();
+  ++scene_->renders;
 }
+
+size_t SceneView::renderCount() const { return scene_->renders; }
 
 }  // namespace lom::ui

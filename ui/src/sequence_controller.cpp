@@ -85,30 +85,46 @@ void SequenceController::cancelConversion() {
 bool SequenceController::openSequence(const QString& folder_or_json) {
   if (opening_) return false;
   const FlagGuard opening(opening_);
-  if (hasUnsavedWork() && discard_guard_ && !discard_guard_()) return false;
   const QString absolute = QFileInfo(folder_or_json).absoluteFilePath();
-  OpenedSource opened;
-  try {
-    // A sequence opens as it is; a ROS bag or a dataset folder that the importer
-    // recognises is converted once into the import cache and opened from there.
-    const std::optional<SourceKind> kind = detectSource(toPath(absolute)).kind;
-    if (kind && *kind != SourceKind::Sequence) {
-      std::optional<OpenedSource> converted = convert(absolute);
-      if (!converted) return false;  // cancelled: the open sequence stays
-      opened = std::move(*converted);
-    } else {
-      opened = openSource(toPath(absolute), import_options_);
-    }
-  } catch (const std::exception& error) {
+  const auto failed = [&](const std::exception& error) {
     emit errorOccurred(tr("Cannot open sequence"),
                        withStudioHint(describeFailure(error, absolute)));
     return false;
+  };
+  // A sequence opens as it is; a ROS bag or a dataset folder that the importer
+  // recognises is converted once into the import cache and opened from there.
+  // What cannot be opened at all (gone, unreadable, no sequence) is said
+  // before the unsaved work is asked about: saving or discarding it for an
+  // open that then fails would be for nothing. A plain sequence is loaded
+  // first too (only its sequence.json is read); a conversion runs after the
+  // question, which may cancel it.
+  std::optional<OpenedSource> opened;
+  try {
+    const std::optional<SourceKind> kind = detectSource(toPath(absolute)).kind;
+    if (kind && *kind != SourceKind::Sequence) {
+      if (!QFileInfo(absolute).isReadable())
+        throw Error(absolute.toStdString(), "", "a recording the studio may read",
+                    "no permission to read it");
+    } else {
+      opened = openSource(toPath(absolute), import_options_);  // throws for no known layout
+    }
+  } catch (const std::exception& error) {
+    return failed(error);
+  }
+  if (hasUnsavedWork() && discard_guard_ && !discard_guard_()) return false;
+  if (!opened) {
+    try {
+      opened = convert(absolute);
+      if (!opened) return false;  // cancelled: the open sequence stays
+    } catch (const std::exception& error) {
+      return failed(error);
+    }
   }
   // Views holding the old sequence or frame let go of them before they are freed.
   emit sequenceAboutToChange();
-  sequence_ = std::make_unique<Sequence>(std::move(opened.sequence));
+  sequence_ = std::make_unique<Sequence>(std::move(opened->sequence));
   sequence_path_ = absolute;
-  converted_ = opened.converted;
+  converted_ = opened->converted;
   reported_broken_frames_.clear();
   current_frame_ = sequence_->frames.empty() ? -1 : 0;
   loadCurrentFrame();
@@ -130,29 +146,29 @@ bool SequenceController::openSequence(const QString& folder_or_json) {
                                                "from where they were measured: check the camera "
                                                "in sequence.json."));
   }
-  if (!opened.colour_left_out.empty())
+  if (!opened->colour_left_out.empty())
     emit warningOccurred(tr("Colour images left out"),
-                         QString::fromStdString(opened.colour_left_out) +
+                         QString::fromStdString(opened->colour_left_out) +
                              tr("These frames are open without colour (colour is shown, never "
                                 "fused). Repair or replace the files and open the recording "
                                 "again to see it."));
-  if (!opened.skipped_frames.empty())
+  if (!opened->skipped_frames.empty())
     emit warningOccurred(tr("Frames left out"),
-                         QString::fromStdString(opened.skipped_frames) +
+                         QString::fromStdString(opened->skipped_frames) +
                              tr("\nThe other frames are open. Repair or replace these files and "
                                 "open the recording again to convert them."));
   // What `labeloctomap import` warns about, such as every frame at one pose,
   // makes a wrong map without a frame left out: said on every open too.
-  if (!opened.warnings.empty()) {
+  if (!opened->warnings.empty()) {
     QStringList lines;
-    for (const std::string& warning : opened.warnings)
+    for (const std::string& warning : opened->warnings)
       lines << QStringLiteral("• ") + QString::fromStdString(warning);
     emit warningOccurred(
         tr("Check the conversion"),
         tr("The conversion of %1 warns:\n\n%2\n\nIt is open as converted; labeloctomap import "
            "says the same. All the conversion's notes are in %3.")
             .arg(sequenceName(), lines.join('\n'),
-                 QString::fromStdString((opened.folder / kImportNotesFile).string())));
+                 QString::fromStdString((opened->folder / kImportNotesFile).string())));
   }
   return true;
 }
@@ -268,6 +284,15 @@ QString SequenceController::outputFolder() const {
   if (!sequence_) return {};
   if (converted_) return QFileInfo(QDir::cleanPath(sequence_path_)).absolutePath();
   return QString::fromStdString(sequence_->root.parent_path().string());
+}
+
+QString SequenceController::proposedOutput(const QString& suffix) const {
+  if (!sequence_) return {};
+  QString name = sequenceName();
+  // "recording.bag.ot" would read as a bag's.
+  if (converted_ && QFileInfo(sequence_path_).isFile()) name = QFileInfo(name).completeBaseName();
+  if (name.isEmpty()) name = QStringLiteral("sequence");
+  return QDir(outputFolder()).filePath(name + suffix);
 }
 
 QString SequenceController::sequenceName() const {

@@ -9,6 +9,7 @@
 #include <QUrl>
 #include <QWidget>
 
+#include "lom/import.hpp"
 #include "lom/ui/sequence_controller.hpp"
 
 namespace lom::ui {
@@ -38,9 +39,11 @@ QString SequenceDropHandler::droppedSequencePath(const QMimeData* mime) {
     if (!url.isLocalFile()) continue;
     const QFileInfo info(url.toLocalFile());
     // A sequence folder or its sequence.json, a dataset folder, or a ROS bag.
-    // Another JSON file (boxes, a report) is no sequence: the drop is refused
-    // rather than asking about unsaved work for an open that cannot succeed.
-    if (info.isDir() || info.suffix().compare("bag", Qt::CaseInsensitive) == 0 ||
+    // Another JSON file (boxes, a report) is no sequence, nor is a folder of
+    // no layout the importer knows (the folder that holds the sequences, say):
+    // the drop is refused rather than trying an open that cannot succeed.
+    if ((info.isDir() && detectSource(info.absoluteFilePath().toStdString()).kind) ||
+        info.suffix().compare("bag", Qt::CaseInsensitive) == 0 ||
         (info.suffix().compare("json", Qt::CaseInsensitive) == 0 && isSequenceJson(info)))
       return info.absoluteFilePath();
   }

@@ -1,9 +1,11 @@
 #include "lom/ui/studio_session.hpp"
 
 #include <QFileInfo>
+#include <QStringList>
 
 #include "lom/annotations.hpp"
 #include "lom/evaluation.hpp"
+#include "lom/segmenter.hpp"
 #include "lom/ui/annotation_files.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/map_file_reader.hpp"
@@ -51,6 +53,9 @@ StudioSession::StudioSession(QObject* parent)
     commitPendingEdits();  // a value still being typed is part of the work
     return annotations_->isDirty() || worker_->hasUnsavedMap();
   });
+  connect(controller_, &SequenceController::sequenceChanged, this, [this] {
+    if (!startup_map_) startup_map_ = options_.map;
+  });
   connect(controller_, &SequenceController::sequenceChanged, this,
           &StudioSession::onSequenceChanged);
 }
@@ -76,6 +81,16 @@ void StudioSession::onSequenceChanged() {
     options_.candidates.reset();
     emit fusionOptionsChanged();
   }
+  // The segmenter stays only if its channels fit this sequence's labels: else
+  // every fusion would fail at once (the Fusion panel says why it went).
+  if (options_.segmenter) {
+    try {
+      options_.segmenter->checkFits(sequence_->labels);
+    } catch (const std::exception&) {
+      options_.segmenter.reset();
+      emit fusionOptionsChanged();
+    }
+  }
 
   // The boxes of the sequence, when there are any, are the ones to edit.
   loadSequenceBoxes(*this);
@@ -90,6 +105,31 @@ void StudioSession::onSequenceChanged() {
     }
   setSelectedLabel(first_label);
   if (auto_fuse_) fuse();
+}
+
+QString StudioSession::carriedOverSettingsNote() const {
+  if (!startup_map_) return {};
+  const MapParameters& now = options_.map;
+  const MapParameters& start = *startup_map_;
+  const auto differ = [](double a, double b) { return !qFuzzyCompare(1.0 + a, 1.0 + b); };
+  const bool p_miss = differ(now.p_miss, start.p_miss);
+  const bool threshold = differ(now.occupancy_threshold, start.occupancy_threshold);
+  const bool clamp =
+      differ(now.clamp_min, start.clamp_min) || differ(now.clamp_max, start.clamp_max);
+  if (!differ(now.resolution, start.resolution) && !differ(now.max_range, start.max_range) &&
+      !p_miss && !threshold && !clamp)
+    return {};
+  // The voxel size and the range always: they are what a sequence's scores
+  // depend on most; the others when they are not the start-up ones.
+  const double cm = now.resolution * 100.0;
+  QStringList settings{
+      tr("%1 cm voxels").arg(cm, 0, 'f', cm < 1.0 ? 2 : 1),
+      now.max_range > 0.0 ? tr("up to %1 m").arg(now.max_range, 0, 'f', 1) : tr("no range limit")};
+  if (p_miss) settings << tr("p_miss %1").arg(now.p_miss, 0, 'g', 3);
+  if (threshold) settings << tr("threshold %1").arg(now.occupancy_threshold, 0, 'g', 3);
+  if (clamp) settings << tr("clamping %1 to %2").arg(now.clamp_min).arg(now.clamp_max);
+  return tr("Fusing with the settings in use, not the start-up ones: %1 (Fusion panel).")
+      .arg(settings.join(", "));
 }
 
 void StudioSession::setIouMode(IouMode mode) {

@@ -36,6 +36,8 @@ TimelineWidget::TimelineWidget(const StepActions& actions, QWidget* parent)
   play_->setAutoRaise(true);
   play_->setIcon(mediaIcon(MediaIcon::Play, palette()));
   play_->setToolTip(tr("Play / pause (Space)"));
+  // Names a screen reader says (a tooltip is only its description).
+  play_->setAccessibleName(tr("Play"));
   play_->setShortcut(Qt::Key_Space);
   speed_->setObjectName("playSpeed");
   for (int fps : {1, 2, 5, 10, 15, 30}) speed_->addItem(tr("%1 fps").arg(fps), fps);
@@ -52,6 +54,9 @@ TimelineWidget::TimelineWidget(const StepActions& actions, QWidget* parent)
   });
   slider_->setObjectName("frameSlider");
   frame_number_->setObjectName("frameNumber");
+  slider_->setAccessibleName(tr("Frame"));
+  frame_number_->setAccessibleName(tr("Frame number"));
+  speed_->setAccessibleName(tr("Playback speed"));
   slider_->setTracking(true);
   frame_number_->setKeyboardTracking(false);
   frame_number_->setPrefix(tr("frame "));

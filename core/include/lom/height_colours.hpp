@@ -16,6 +16,16 @@ enum class VoxelColouring {
   Height,  // by height along the map's up direction (HeightColours)
 };
 
+// The background label's colour in shaded views of a map (the studio's 3D view
+// and map legend, `labeloctomap render` without --flat): its palette colour is
+// black in the VOC palette, which would hide all shading.
+inline constexpr Rgb kShadedBackgroundColour{150, 150, 160};
+// The one colour rule of shaded views: label 0 in kShadedBackgroundColour,
+// another label coloured pure black in dark grey (96, 96, 96) so that its shape
+// stays visible, every other label in its colour; magenta for an id `labels`
+// does not have.
+[[nodiscard]] Rgb shadedLabelColour(const LabelSet& labels, int id);
+
 // A colour ramp from low (blue) through cyan, green and yellow to high (red);
 // t is clamped to [0, 1].
 [[nodiscard]] Rgb heightRampColour(double t);

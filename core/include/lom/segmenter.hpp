@@ -48,7 +48,10 @@ struct SegmenterConfig {
   std::array<double, 3> mean{0.0, 0.0, 0.0};
   std::array<double, 3> stddev{1.0, 1.0, 1.0};  // "std" in MODEL.json
   SegmenterChannelOrder channel_order = SegmenterChannelOrder::Rgb;
-  SegmenterOutput output = SegmenterOutput::Scores;
+  // Absent ("output" not in MODEL.json): Probabilities when the node producing
+  // the network's output is a Softmax over the channel axis, else Scores.
+  // Segmenter::config() holds the value used.
+  std::optional<SegmenterOutput> output;
   // The label of each output channel; absent = channel c is label c (and the
   // network must have one channel per label of the sequence).
   std::optional<std::vector<SegmenterLabel>> labels;
@@ -107,6 +110,15 @@ class Segmenter {
   // Checks the configured channel labels against a label set (ids in range, names
   // known, each label once). The channel count itself is checked on the first run.
   void checkLabels(const LabelSet& labels) const;
+
+  // The number of output channels, learnt from the first run, or else from one
+  // run on a grey image of the model's input size (64 x 64 for a model that
+  // accepts any size; not counted in stats()). nullopt when the network cannot
+  // run on that image: its first real run then tells.
+  [[nodiscard]] std::optional<int> outputChannels() const;
+  // checkLabels, plus the channel count (outputChannels) against the labels:
+  // throws the lom::Error segment() would throw on its first run, before any work.
+  void checkFits(const LabelSet& labels) const;
 
   // Probabilities of `color`, `width` x `height` (the depth image's size), one
   // channel per kept network channel, channel_labels = their label ids. Runs the

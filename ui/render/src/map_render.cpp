@@ -7,6 +7,7 @@
 #include <vtkFloatArray.h>
 #include <vtkImageData.h>
 #include <vtkNew.h>
+#include <vtkPerspectiveTransform.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -54,7 +55,7 @@ std::vector<Rgb> scoreColours(const SurfaceMesh& mesh, double resolution,
   const auto box = std::find_if(score.boxes.begin(), score.boxes.end(),
                                 [&](const GroundTruthBox& b) { return b.label == mesh.label; });
   if (box == score.boxes.end()) {
-    const Rgb grey = mesh.label == 0 ? Rgb{150, 150, 160} : Rgb{195, 195, 200};
+    const Rgb grey = mesh.label == 0 ? kShadedBackgroundColour : Rgb{195, 195, 200};
     return std::vector<Rgb>(mesh.triangles.size(), grey);
   }
   std::vector<Eigen::Vector3d> voxels;
@@ -100,9 +101,10 @@ vtkSmartPointer<vtkPolyData> labelSurfaces(const LabelMap& map, const KeysByLabe
       all_vertices.insert(all_vertices.end(), mesh.vertices.begin(), mesh.vertices.end());
   const HeightColours heights = HeightColours::spanning(all_vertices, orbitUp(map, options));
   for (const SurfaceMesh& mesh : meshes) {
-    Rgb color = map.labels().at(mesh.label).color;
-    // Black (the background label of the VOC palette) would hide all shading.
-    if (options.shading && color == Rgb{0, 0, 0}) color = {96, 96, 96};
+    // Shaded, as the studio draws it (the background grey, black labels dark
+    // grey: black would hide all shading); flat, exactly the label's colour.
+    Rgb color = options.shading ? shadedLabelColour(map.labels(), mesh.label)
+                                : map.labels().at(mesh.label).color;
     const vtkIdType offset = points->GetNumberOfPoints();
     for (const auto& v : mesh.vertices) points->InsertNextPoint(v.x(), v.y(), v.z());
     const std::vector<Rgb> by_score =
@@ -131,6 +133,7 @@ void placePinhole(vtkCamera* camera, const PinholeView& view, int width, int hei
   const CameraIntrinsics& k = view.intrinsics;
   const double sx = static_cast<double>(width) / k.width;
   const double sy = static_cast<double>(height) / k.height;
+  const double fx = k.fx * sx;
   const double fy = k.fy * sy;
   // Pixel centres sit at integer coordinates: the image spans [-0.5, size - 0.5].
   const double cx = (k.cx + 0.5) * sx;
@@ -142,9 +145,17 @@ void placePinhole(vtkCamera* camera, const PinholeView& view, int width, int hei
   const Eigen::Vector3d focal = origin + forward;
   camera->SetFocalPoint(focal.data());
   camera->SetViewUp(-down.x(), -down.y(), -down.z());
+  // The view angle gives both axes fy: x is then scaled by fx / fy after the
+  // projection (the user transform acts on normalised viewport coordinates),
+  // so that a point lands at u = fx X / Z + cx, v = fy Y / Z + cy.
   camera->SetViewAngle(2.0 * std::atan(0.5 * height / fy) * 180.0 / kPi);
-  // The optical axis lands at normalised viewport coordinates -WindowCenter.
-  camera->SetWindowCenter(1.0 - 2.0 * cx / width, 2.0 * cy / height - 1.0);
+  const double x_scale = fx / fy;
+  vtkNew<vtkPerspectiveTransform> stretch;
+  stretch->Scale(x_scale, 1.0, 1.0);
+  camera->SetUserTransform(stretch.Get());
+  // The optical axis lands at normalised viewport coordinates -WindowCenter
+  // (x before the stretch, which scales it too).
+  camera->SetWindowCenter((1.0 - 2.0 * cx / width) / x_scale, 2.0 * cy / height - 1.0);
 }
 
 // The centres of the framed voxels (their cubes reach half an edge further).

@@ -89,9 +89,15 @@ class BoxesAutosave : public QObject {
   void leaveRecoveryFilesAlone() { leave_files_alone_ = true; }
   void writeNow();
   void discard();  // removes the recovery file of the open sequence
+  // Whether the recovery file of the sequence just opened is still to be
+  // offered: the offer comes once the switch to it has finished.
+  [[nodiscard]] bool isOfferPending() const { return !offered_path_.isEmpty(); }
 
  private:
   void onSequenceChanged();
+  // Asks whether to restore the boxes of `path` (the open sequence's recovery
+  // file) and restores them, or keeps them as a boxes file.
+  void offerRecovery(const QString& path);
   // Keeps a recovery file that is not restored as a plain boxes file beside
   // it (NAME.declined.json, or the next free name); returns where it went.
   QString keepAsDeclined(const QString& path);
@@ -107,6 +113,7 @@ class BoxesAutosave : public QObject {
   // studio on the same sequence neither offers, writes nor removes it.
   std::unique_ptr<QLockFile> lock_;
   QString locked_out_of_;  // the recovery file whose lock another studio holds
+  QString offered_path_;   // the recovery file about to be offered
   bool restoring_ = false;
   bool leave_files_alone_ = false;
 };

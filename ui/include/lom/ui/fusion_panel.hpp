@@ -43,9 +43,13 @@ class FusionPanel : public QWidget {
   // a changed field is not valid (the note says which).
   bool fuseWithShownSettings();
   // Loads an ONNX model (and its .json beside it) for the next fusion; an
-  // empty path means no network. False, with the reason shown, when it fails.
+  // empty path means no network. False, with the reason shown, when it fails
+  // or does not fit the open sequence's labels (Segmenter::checkFits).
   bool setSegmenterModel(const QString& model_path);
   [[nodiscard]] QString noteText() const;
+  // A problem the segmenter reports that does not stop it (e.g. "cannot write
+  // the segmenter cache"): shown in the note until the model changes.
+  void showSegmenterWarning(const QString& text);
   // What a fusion measured (MapWorker::depthRangesMeasured): a note and the
   // extend-range button when most depths lay beyond its max range.
   void showDepthRanges(const FrameStats& totals, double max_range);
@@ -82,6 +86,8 @@ class FusionPanel : public QWidget {
   double suggested_range_ = 0.0;  // what extend_range_ re-fuses with
   double suggested_resolution_ = 0.0;
   QString range_note_;  // why it is shown
+  // Why the segmenter was refused or removed, or what it warned about.
+  QString segmenter_note_;
 };
 
 }  // namespace lom::ui

@@ -97,6 +97,8 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] bool confirmDiscardMap(const QString& replaced_by);
   // Asks before closing drops a conversion, a running fusion or queued map
   // work (exports, box fits); true when there is none or the user agrees.
+  // During a fusion it may also stop the fusion and keep the map so far
+  // (true, the fusion stopped: the map is then asked about as a finished one).
   [[nodiscard]] bool confirmStopWork();
   // Conversion, fusion and queued map jobs running now, one line each.
   [[nodiscard]] QStringList workInProgress() const;
@@ -126,6 +128,7 @@ class MainWindow : public QMainWindow {
   ObjectsPanel* objects_panel_ = nullptr;
   PanelLayout* panel_layout_ = nullptr;
   bool remember_layout_ = false;
+  bool closing_ = false;  // closeEvent is asking its questions
   BoxesAutosave* autosave_ = nullptr;
   FrameImagesView* frame_images_;
   SceneView* scene_view_;

@@ -78,6 +78,9 @@ class ObjectsPanel : public QWidget {
   QLabel* status_;
   std::vector<ObjectInstance> objects_;
   std::optional<PickPlan> plan_;
+  // The mean viewing direction of the cameras the map was fused from, when it
+  // records them (a map of some frames is viewed from those frames).
+  std::optional<Eigen::Vector3d> map_approach_;
   int busy_ = 0;
   unsigned generation_ = 0;
 };

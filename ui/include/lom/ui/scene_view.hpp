@@ -127,6 +127,8 @@ class SceneView : public QWidget {
   [[nodiscard]] size_t framePointCount() const;
   // Renders now and returns the 3D view's pixels (same size as this widget).
   [[nodiscard]] QImage renderToImage();
+  // Redraws of the view so far (a frame step is one: software GL redraws slowly).
+  [[nodiscard]] size_t renderCount() const;
 
   // What the tooltip says of the voxel under the resting mouse: its label,
   // probability, size and centre; empty over no voxel.

@@ -28,7 +28,9 @@ class SequenceController : public QObject {
 
   // Loads `folder/sequence.json` (or the json itself) and goes to frame 0.
   // On failure emits errorOccurred with the core's message (which names the
-  // file and field), keeps the previous sequence and returns false.
+  // file and field), keeps the previous sequence and returns false. A path
+  // that is gone or holds no sequence or recording (and a sequence.json that
+  // does not load) fails before the discard guard is asked.
   //
   // A ROS bag or a dataset folder is converted (into the import cache) on a
   // worker thread while this waits in a local event loop, so the windows keep
@@ -53,6 +55,11 @@ class SequenceController : public QObject {
   // holds the recording (never the hidden import cache). Empty without a
   // sequence.
   [[nodiscard]] QString outputFolder() const;
+  // The file or folder an output of the open sequence is proposed as: in
+  // outputFolder(), named after the sequence (a bag's name without .bag)
+  // followed by `suffix` ("NAME.ot", "NAME-report"), so that the outputs of
+  // one sequence never replace another's unasked. Empty without a sequence.
+  [[nodiscard]] QString proposedOutput(const QString& suffix) const;
   // The file of the open sequence (its sequence.json or a frame file, and for
   // a converted recording the bag or any file already in the recording's
   // folder) that `path` names, under any name; empty when it names none (or

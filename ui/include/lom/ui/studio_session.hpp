@@ -39,6 +39,12 @@ class StudioSession : public QObject {
   void setOccupancyThreshold(double threshold);
   // Whether opening a sequence starts fusing it.
   void setAutoFuse(bool on) { auto_fuse_ = on; }
+  // The fusion settings carry over from one sequence to the next (sequences
+  // are compared at one setting). When those in use differ from the ones the
+  // studio started with (its command line's, else the defaults), a sentence
+  // that says them, for the window to show as another sequence opens; else
+  // empty.
+  [[nodiscard]] QString carriedOverSettingsNote() const;
 
   void fuse();        // (re)starts fusion of the whole sequence
   void resetMap();    // cancels and drops the map (after the map guard, below)
@@ -96,6 +102,9 @@ class StudioSession : public QObject {
   AnnotationsModel* annotations_;
   std::shared_ptr<const Sequence> sequence_;
   FusionOptions options_;
+  // The map parameters when the first sequence opened: the command line's or
+  // the defaults (nothing else sets them before there is a sequence).
+  std::optional<MapParameters> startup_map_;
   bool auto_fuse_ = true;
   unsigned map_generation_ = 0;
   std::set<int> hidden_labels_;

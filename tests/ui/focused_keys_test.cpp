@@ -1,0 +1,88 @@
+// The window's one-key shortcuts against the control with the focus: a list,
+// table or drop-down keeps the keys it has a use for (typing a name, Delete,
+// Home/End), and the focus never works in a panel nobody sees.
+#include <gtest/gtest.h>
+
+#include <QComboBox>
+#include <QDockWidget>
+#include <QDoubleSpinBox>
+#include <QTableView>
+#include <QTest>
+
+#include "demo_window_fixture.hpp"
+#include "lom/ui/annotations_model.hpp"
+#include "lom/ui/main_window.hpp"
+#include "lom/ui/sequence_controller.hpp"
+#include "lom/ui/studio_session.hpp"
+
+namespace lom::ui {
+namespace {
+
+class FocusedKeysTest : public fixture::DemoWindowTest {
+ protected:
+  void SetUp() override {
+    fixture::DemoWindowTest::SetUp();
+    openAndFuse();
+    window_.activateWindow();
+    ASSERT_TRUE(QTest::qWaitForWindowActive(&window_));
+    ASSERT_GT(boxes().boxCount(), 0);
+    boxes().select(0);
+  }
+  void TearDown() override { boxes().undoStack().setClean(); }
+  AnnotationsModel& boxes() { return window_.session().annotations(); }
+  QDockWidget& dock(const char* name) { return *window_.findChild<QDockWidget*>(name); }
+  // Its panel to the front, then the focus to it.
+  static void focus(QWidget& widget) {
+    for (QWidget* up = &widget; up; up = up->parentWidget())
+      if (auto* panel = qobject_cast<QDockWidget*>(up)) panel->raise();
+    widget.setFocus();
+    ASSERT_TRUE(QTest::qWaitFor([&] { return widget.hasFocus(); }, 5000));
+  }
+};
+
+TEST_F(FocusedKeysTest, ListsAndTablesKeepLettersDeleteAndHomeEnd) {
+  auto* legend = window_.findChild<QTableView*>("mapLegendTable");
+  ASSERT_NE(legend, nullptr);
+  focus(*legend);
+  const GroundTruthBox before = boxes().box(0);
+  const int edits = boxes().undoStack().count();
+  const int boxes_before = boxes().boxCount();
+  const int frame = window_.controller().currentFrame();
+  ASSERT_GE(window_.controller().frameCount(), 2);
+  for (const Qt::Key key :
+       {Qt::Key_K, Qt::Key_W, Qt::Key_B, Qt::Key_Delete, Qt::Key_End, Qt::Key_PageDown})
+    QTest::keyClick(legend, key);
+  EXPECT_EQ(boxes().undoStack().count(), edits);
+  EXPECT_EQ(boxes().boxCount(), boxes_before);
+  EXPECT_EQ(boxes().box(0).box.size, before.box.size);
+  EXPECT_EQ(boxes().box(0).box.center, before.box.center);
+  EXPECT_EQ(window_.controller().currentFrame(), frame);
+
+  // The Evaluation table's rows are the boxes: there the letters edit the
+  // selected one, as in the box list.
+  auto* scores = window_.findChild<QTableView*>("evaluationTable");
+  ASSERT_NE(scores, nullptr);
+  focus(*scores);
+  boxes().select(0);
+  QTest::keyClick(scores, Qt::Key_W);
+  EXPECT_EQ(boxes().undoStack().count(), edits + 1);
+  EXPECT_NE(boxes().box(0).box.center, before.box.center);
+}
+
+TEST_F(FocusedKeysTest, TheFocusBringsItsPanelToTheFront) {
+  QDockWidget& evaluation = dock("evaluationDock");
+  QDockWidget& box_panel = dock("boxesDock");
+  ASSERT_TRUE(window_.tabifiedDockWidgets(&evaluation).contains(&box_panel));
+  evaluation.raise();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !evaluation.visibleRegion().isEmpty(); }, 5000));
+  ASSERT_TRUE(box_panel.visibleRegion().isEmpty());
+  auto* centre_x = window_.findChild<QDoubleSpinBox*>("boxField0");
+  ASSERT_NE(centre_x, nullptr);
+  centre_x->setFocus(Qt::TabFocusReason);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !box_panel.visibleRegion().isEmpty(); }, 5000))
+      << "the Boxes panel stayed behind the Evaluation panel";
+  EXPECT_TRUE(centre_x->hasFocus());
+}
+
+}  // namespace
+}  // namespace lom::ui
