@@ -75,7 +75,7 @@ std::string commandLine(int argc, char** argv) {
 }
 
 void printUsage(std::ostream& out) {
-  out << "usage: labeloctomap COMMAND [ARGS]\n\ncommands:\n";
+  out << "usage: labeloctomap COMMAND [ARGS] | labeloctomap --version\n\ncommands:\n";
   for (const auto& c : kCommands) out << "  " << c.usage << "\n";
 }
 
@@ -107,6 +107,11 @@ int main(int argc, char** argv) {
       !std::strcmp(argv[1], "help")) {
     printUsage(argc < 2 ? std::cerr : std::cout);
     return argc < 2 ? 2 : 0;
+  }
+  // As the studio's --version: the version of the build, for bug reports.
+  if (argc == 2 && (!std::strcmp(argv[1], "--version") || !std::strcmp(argv[1], "-v"))) {
+    std::cout << "labeloctomap " << LOM_VERSION << "\n";
+    return 0;
   }
   const std::string name = argv[1];
   lom::cli::Words words(argv + 2, argv + argc);

@@ -31,6 +31,17 @@ void expectUsage(const lom::test::CliResult& r, const std::string& option,
   EXPECT_NE(r.err.find("usage: labeloctomap"), std::string::npos) << r.err;
 }
 
+// As the studio's: the build's version, for bug reports; no display needed.
+TEST_F(CliOptionTest, VersionIsPrinted) {
+  for (const char* option : {"--version", "-v"}) {
+    const auto result = lom::test::runCli(option);
+    EXPECT_EQ(result.exit_code, 0) << option << "\n" << result.out << result.err;
+    EXPECT_EQ(result.out.rfind("labeloctomap ", 0), 0u) << result.out;
+    EXPECT_NE(result.out.find_first_of("0123456789"), std::string::npos) << result.out;
+    EXPECT_EQ(result.out.find("usage"), std::string::npos) << result.out;
+  }
+}
+
 TEST_F(CliOptionTest, IntegersThatDoNotFitAreRefusedNotWrappedAround) {
   TempDir out;
   // 4294967302 = 2^32 + 6 would become label 6.

@@ -5,7 +5,9 @@
 
 #include <QAccessible>
 #include <QApplication>
+#include <QLabel>
 #include <QTest>
+#include <cmath>
 
 #include "demo_window_fixture.hpp"
 #include "lom/ui/main_window.hpp"
@@ -36,6 +38,25 @@ TEST_F(AccessibleNamesTest, EveryControlTabReachesHasAName) {
       unnamed << QString("%1 \"%2\"").arg(class_name, widget->objectName());
   }
   EXPECT_TRUE(unnamed.isEmpty()) << unnamed.join(", ").toStdString();
+}
+
+// WCAG's contrast ratio of two colours (1 to 21; text needs 4.5).
+double contrast(const QColor& a, const QColor& b) {
+  const auto luminance = [](const QColor& c) {
+    const auto channel = [](double v) {
+      return v <= 0.03928 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+    };
+    return 0.2126 * channel(c.redF()) + 0.7152 * channel(c.greenF()) + 0.0722 * channel(c.blueF());
+  };
+  const double la = luminance(a), lb = luminance(b);
+  return (std::max(la, lb) + 0.05) / (std::min(la, lb) + 0.05);
+}
+
+TEST_F(AccessibleNamesTest, TheScoreWarningsReadOnTheirBackground) {
+  auto* warnings = window_.findChild<QLabel*>("evaluationWarnings");
+  ASSERT_NE(warnings, nullptr);
+  const QPalette colours = warnings->palette();
+  EXPECT_GE(contrast(colours.color(QPalette::WindowText), colours.color(QPalette::Window)), 4.5);
 }
 
 }  // namespace

@@ -222,7 +222,13 @@ EvaluationPanel::EvaluationPanel(StudioSession& session, QWidget* parent)
   // not fit the depths): in the report's own words, hidden when there is none.
   warnings_->setWordWrap(true);
   warnings_->setTextInteractionFlags(Qt::TextSelectableByMouse);
-  warnings_->setStyleSheet("color: #b35900;");
+  // Orange that reads (at least 4.5:1) on the panel's background, light or dark.
+  QPalette warning_colours = warnings_->palette();
+  warning_colours.setColor(QPalette::WindowText,
+                           palette().color(QPalette::Window).lightness() >= 128
+                               ? QColor(0x8a, 0x45, 0x00)
+                               : QColor(0xff, 0xb8, 0x6b));
+  warnings_->setPalette(warning_colours);
   warnings_->hide();
   export_->setEnabled(false);
   iou_mode_->setObjectName("evaluationIouMode");

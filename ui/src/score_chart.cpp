@@ -83,10 +83,12 @@ void ScoreChart::paintEvent(QPaintEvent*) {
   painter.fillRect(rect(), palette().base());
   const QFontMetrics metrics = fontMetrics();
   const QRect plot = plotRect();
-  painter.setPen(palette().color(QPalette::Mid));
   for (const GridLabel& label : gridLabels()) {
     const int y = label.rect.center().y();
+    painter.setPen(palette().color(QPalette::Mid));  // faint lines
     painter.drawLine(plot.left(), y, plot.right(), y);
+    // Numbers in the text colour: the grid's grey on white was 2:1, too faint to read.
+    painter.setPen(palette().color(QPalette::Text));
     painter.drawText(label.rect, Qt::AlignRight | Qt::AlignVCenter, QString::number(label.percent));
   }
   const QString names[3] = {tr("Proj. mean"), tr("Proj. max"), tr("LabelOctoMap")};
