@@ -282,37 +282,31 @@ void FusionPanel::onEdited() {
       checkRayLength(wanted.map.max_range, wanted.map.resolution);
   const bool pending = hasPendingChanges();
   refuse_->setEnabled(pending && ok && !unknown && !too_long);
-  // What became of the segmenter (refused, removed, its cache) comes first,
-  // whatever else is said.
-  const auto noteAfterSegmenter = [this](const QString& text) {
-    setNote(segmenter_note_.isEmpty() ? text : segmenter_note_ + ' ' + text);
-  };
+  QString note;
   if (unknown)
-    noteAfterSegmenter(tr("Candidates: %1 is not a label of the sequence (0 to %2).")
-                           .arg(unknown->label)
-                           .arg(unknown->label_count - 1));
+    note = tr("Candidates: %1 is not a label of the sequence (0 to %2).")
+               .arg(unknown->label)
+               .arg(unknown->label_count - 1);
   else if (!ok)
-    noteAfterSegmenter(tr("Candidates: label ids separated by spaces."));
+    note = tr("Candidates: label ids separated by spaces.");
   else if (too_long)
-    noteAfterSegmenter(
-        tr("Max range / resolution makes rays %1 voxels long; at most %2: choose a coarser "
-           "resolution or a shorter max range.")
-            .arg(too_long->voxels, 0, 'f', 0)
-            .arg(too_long->limit, 0, 'f', 0));
+    note = tr("Max range / resolution makes rays %1 voxels long; at most %2: choose a coarser "
+              "resolution or a shorter max range.")
+               .arg(too_long->voxels, 0, 'f', 0)
+               .arg(too_long->limit, 0, 'f', 0);
   else if (candidates && std::find(candidates->begin(), candidates->end(), 0) == candidates->end())
     // As `labeloctomap fuse` notes: renormalised over objects only, every pixel becomes one.
-    noteAfterSegmenter(
-        (pending ? tr("Changed: re-fuse to apply. ") : QString()) +
-        tr("The candidates leave out 0, the background: background pixels are fused (and "
-           "projected) as objects."));
-  else {
-    // What became of the segmenter (refused, removed, its cache) comes first.
-    QStringList notes;
-    for (const QString& note :
-         {segmenter_note_, pending ? tr("Changed: re-fuse to apply.") : range_note_})
-      if (!note.isEmpty()) notes << note;
-    setNote(notes.join(' '));
-  }
+    note = (pending ? tr("Changed: re-fuse to apply. ") : QString()) +
+           tr("The candidates leave out 0, the background: background pixels are fused (and "
+              "projected) as objects.");
+  else
+    note = pending ? tr("Changed: re-fuse to apply.") : range_note_;
+  // What became of the segmenter (refused, removed, its cache) comes first,
+  // whatever else is said.
+  QStringList notes;
+  for (const QString& part : {segmenter_note_, note})
+    if (!part.isEmpty()) notes << part;
+  setNote(notes.join(' '));
 }
 
 void FusionPanel::showDepthRanges(const FrameStats& totals, double max_range) {
