@@ -19,6 +19,7 @@
 #include <stdexcept>
 #include <string_view>
 #include <unordered_map>
+#include <utility>
 
 #include "file_checks.hpp"
 #include "lom/error.hpp"
@@ -384,8 +385,10 @@ struct Segmenter::Impl {
   std::optional<int> model_width, model_height;  // fixed input size of the model
   bool output_from_graph = false;                // config.output said by the model's final Softmax
 
-  std::mutex mutex;  // guards everything below
+  std::mutex net_mutex;  // guards the network, held while it runs
   cv::dnn::Net net;
+  std::mutex probe_mutex;  // one channel probe at a time
+  std::mutex mutex;        // guards everything below (never held while the network runs)
   SegmenterStats stats;
   MemoryCache memory{0};
   bool disk_write_failed = false;
@@ -734,41 +737,67 @@ ProbabilityImage Segmenter::segment(const ColorImage& color, int width, int heig
     return true;
   };
 
+  // The state lock is never held while the network runs (net_mutex is): a
+  // caller asking for the channels or the statistics (the studio's GUI thread,
+  // on a sequence switch) does not wait for a slow model's inference.
   NetOutputPtr output;
   {
     const std::lock_guard<std::mutex> lock(impl.mutex);
     output = impl.memory.get(key);
-    NetOutputPtr cached;
-    if (!output && !folder.empty()) cached = readCachedOutput(folder / (key + ".npy"));
-    if (output) {
-      ++impl.stats.memory_hits;
-    } else if (cached && cachedFits(cached)) {
+    if (output) ++impl.stats.memory_hits;
+  }
+  if (!output && !folder.empty()) {
+    NetOutputPtr cached = readCachedOutput(folder / (key + ".npy"));
+    const std::lock_guard<std::mutex> lock(impl.mutex);
+    if (cached && cachedFits(cached)) {
       output = std::move(cached);
       ++impl.stats.disk_hits;
       impl.memory.put(key, output);
-    } else {
+    }
+  }
+  if (!output) {
+    {
+      const std::lock_guard<std::mutex> lock(impl.mutex);
+      ++impl.stats.running;
+    }
+    try {
+      const std::lock_guard<std::mutex> net_lock(impl.net_mutex);
       output = impl.infer(color, input_width, input_height);
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(impl.mutex);
+      --impl.stats.running;
+      throw;
+    }
+    bool write_cache = false;
+    {
+      const std::lock_guard<std::mutex> lock(impl.mutex);
+      --impl.stats.running;
       ++impl.stats.inferences;
       impl.output_channels = output->channels;
       impl.output_shape = "1 x " + std::to_string(output->channels) + " x " +
                           std::to_string(output->height) + " x " + std::to_string(output->width);
       (void)labelsOfChannels(output);  // an output of the wrong shape is not kept
       impl.memory.put(key, output);
-      if (!folder.empty() && !impl.disk_write_failed) {
-        try {
-          std::error_code ec;
-          fs::create_directories(folder, ec);
-          // The reason itself (a read-only file system, a file in its place),
-          // not the writer's later "folder does not exist".
-          if (ec || !fs::is_directory(folder))
-            throw std::runtime_error(ec ? ec.message() : "a file stands in its place");
-          writeCachedOutput(folder / (key + ".npy"), *output);
-        } catch (const std::exception& e) {
-          impl.disk_write_failed = true;
-          if (impl.options.warn)
-            impl.options.warn("cannot write the segmenter cache in " + folder.string() +
-                              " (results are kept in memory only): " + e.what());
+      write_cache = !folder.empty() && !impl.disk_write_failed;
+    }
+    if (write_cache) {
+      try {
+        std::error_code ec;
+        fs::create_directories(folder, ec);
+        // The reason itself (a read-only file system, a file in its place),
+        // not the writer's later "folder does not exist".
+        if (ec || !fs::is_directory(folder))
+          throw std::runtime_error(ec ? ec.message() : "a file stands in its place");
+        writeCachedOutput(folder / (key + ".npy"), *output);
+      } catch (const std::exception& e) {
+        bool first = false;
+        {
+          const std::lock_guard<std::mutex> lock(impl.mutex);
+          first = !std::exchange(impl.disk_write_failed, true);
         }
+        if (first && impl.options.warn)
+          impl.options.warn("cannot write the segmenter cache in " + folder.string() +
+                            " (results are kept in memory only): " + e.what());
       }
     }
   }
@@ -812,24 +841,33 @@ ProbabilityImage Segmenter::segment(const ColorImage& color, int width, int heig
 
 std::optional<int> Segmenter::outputChannels() const {
   Impl& impl = *impl_;
-  const std::lock_guard<std::mutex> lock(impl.mutex);
-  if (impl.output_channels || impl.probed) return impl.output_channels;
-  impl.probed = true;
+  // One probe at a time; the state lock is not held while it runs.
+  const std::lock_guard<std::mutex> probe_lock(impl.probe_mutex);
+  {
+    const std::lock_guard<std::mutex> lock(impl.mutex);
+    if (impl.output_channels || impl.probed) return impl.output_channels;
+  }
   const auto [width, height] = inputSize(64, 64);
   ColorImage grey;
   grey.width = width;
   grey.height = height;
   grey.rgb.assign(static_cast<size_t>(width) * height * 3, 128);
+  NetOutputPtr output;
   try {
-    const NetOutputPtr output = impl.infer(grey, width, height);
+    const std::lock_guard<std::mutex> net_lock(impl.net_mutex);
+    output = impl.infer(grey, width, height);
+  } catch (const std::exception&) {
+    // Not this image's size, or values checkOutputValues refuses: the first
+    // real run says what is wrong.
+  }
+  const std::lock_guard<std::mutex> lock(impl.mutex);
+  impl.probed = true;
+  if (output && !impl.output_channels) {
     impl.output_channels = output->channels;
     impl.output_shape = "1 x " + std::to_string(output->channels) + " x " +
                         std::to_string(output->height) + " x " + std::to_string(output->width) +
                         " for a " + std::to_string(width) + " x " + std::to_string(height) +
                         " image";
-  } catch (const std::exception&) {
-    // Not this image's size, or values checkOutputValues refuses: the first
-    // real run says what is wrong.
   }
   return impl.output_channels;
 }

@@ -12,7 +12,10 @@
 
 #include "demo_window_fixture.hpp"
 #include "lom/segmenter.hpp"
+#include "lom/ui/frame_images_view.hpp"
 #include "lom/ui/fusion_panel.hpp"
+#include "lom/ui/image_pane.hpp"
+#include "lom/ui/sequence_controller.hpp"
 #include "onnx_model_builder.hpp"
 
 namespace lom::ui {
@@ -109,6 +112,60 @@ TEST_F(SegmenterPanelTest, AnotherSequenceKeepsTheSegmenterOnlyIfItFitsItsLabels
   EXPECT_FALSE(panel.hasPendingChanges());
   EXPECT_TRUE(window_.findChild<QPushButton*>("clearSegmenterButton") != nullptr &&
               !window_.findChild<QPushButton*>("clearSegmenterButton")->isEnabled());
+}
+
+// The frame views show the probabilities fusion reads: with a segmenter, its
+// output for a frame without a proba of its own; without, the frame's files.
+TEST_F(SegmenterPanelTest, TheFrameShowsTheSegmentersProbabilities) {
+  const auto wall = temp_ / "wall";
+  (void)lom::test::writeColourWallSequence(wall, 2);  // colour images, no proba
+  openAndWait(wall);
+  StudioSession& session = window_.session();
+  SequenceController& controller = session.controller();
+  FrameImagesView& images = window_.frameImages();
+  images.setHeatLabel(1);  // red_block
+  ASSERT_NE(controller.currentFrameData(), nullptr);
+  EXPECT_FALSE(controller.currentFrameData()->proba.has_value());
+  EXPECT_EQ(images.heatPane().caption(), "Probability: none");
+
+  FusionPanel& panel = window_.fusionPanel();
+  panel.maxRangeBox().setValue(2.0);
+  ASSERT_TRUE(panel.setSegmenterModel(qPath(writeColourModel("colours.onnx"))));
+  panel.refuseButton().click();  // applies the segmenter
+  ASSERT_TRUE(session.fusionOptions().segmenter != nullptr);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !controller.isSegmentingFrame(); }, kTimeoutMs));
+  EXPECT_TRUE(controller.frameUsesSegmenter());
+  EXPECT_TRUE(controller.frameSegmenterProblem().isEmpty())
+      << controller.frameSegmenterProblem().toStdString();
+  const FrameData* frame = controller.currentFrameData();
+  ASSERT_NE(frame, nullptr);
+  ASSERT_TRUE(frame->proba.has_value());
+  ASSERT_TRUE(frame->color.has_value());
+  const ProbabilityImage expected = session.fusionOptions().segmenter->segment(
+      *frame->color, frame->depth.width, frame->depth.height, controller.sequence().labels);
+  ASSERT_EQ(frame->proba->channels, expected.channels);
+  ASSERT_EQ(frame->proba->values.size(), expected.values.size());
+  for (size_t i = 0; i < expected.values.size(); ++i)
+    ASSERT_FLOAT_EQ(frame->proba->values[i], expected.values[i]) << "value " << i;
+  // The left half of frame 0 is red: the red block is the most probable there.
+  EXPECT_GT(frame->proba->pixel(1, 2)[1], 0.5f);
+  EXPECT_EQ(images.heatPane().caption(), "Probability of red_block (segmenter colours.onnx)");
+  ASSERT_TRUE(controller.currentLabels().has_value());
+  EXPECT_EQ(controller.currentLabels()->ids[2 * 8 + 1], 1);
+
+  // The next frame (red on the right) gets its own run.
+  controller.stepFrames(1);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !controller.isSegmentingFrame(); }, kTimeoutMs));
+  ASSERT_TRUE(controller.currentFrameData()->proba.has_value());
+  EXPECT_GT(controller.currentFrameData()->proba->pixel(6, 2)[1], 0.5f);
+
+  // Without the segmenter the frame is its files again.
+  FusionOptions options = session.fusionOptions();
+  options.segmenter.reset();
+  session.setFusionOptions(options);
+  EXPECT_FALSE(controller.frameUsesSegmenter());
+  EXPECT_FALSE(controller.currentFrameData()->proba.has_value());
+  EXPECT_EQ(images.heatPane().caption(), "Probability: none");
 }
 
 TEST_F(SegmenterPanelTest, AnUnwritableCacheIsSaidInTheNote) {

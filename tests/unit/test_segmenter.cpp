@@ -3,9 +3,13 @@
 // against probabilities computed here from the model's weights.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <thread>
 
 #include "lom/error.hpp"
 #include "lom/segmenter.hpp"
@@ -590,6 +594,50 @@ TEST(Segmenter, CheckFitsProbesTheChannelCountBeforeAnyWork) {
             std::string::npos)
       << labelled;
   EXPECT_NE(labelled.find("1 x 3 x 6 x 10"), std::string::npos) << labelled;
+}
+
+// The studio asks for the channels and the statistics from its GUI thread
+// (on a sequence switch) while a fusion worker segments a frame: those calls
+// must not wait for the network to finish.
+TEST(Segmenter, ChannelsAndStatsDoNotWaitForARunningInference) {
+  using Clock = std::chrono::steady_clock;
+  TempDir dir;
+  const auto segmenter =
+      Segmenter::load(writeModelFile(dir, "net.onnx", mixedModel()), memoryOnly());
+  EXPECT_EQ(segmenter->outputChannels(), 3);  // probed before any frame, as the studio does
+  std::atomic<bool> done{false};
+  Clock::duration shortest_run = Clock::duration::max();
+  std::thread worker([&] {
+    // Large images, each new (no cache hit): every call runs the network.
+    for (int i = 0; i < 3; ++i) {
+      const ColorImage image = lom::test::makeColorImage(1280, 960, [i](int u, int v) {
+        return Rgb{static_cast<std::uint8_t>(u + i), static_cast<std::uint8_t>(v),
+                   static_cast<std::uint8_t>(i)};
+      });
+      const auto start = Clock::now();
+      (void)segmenter->segment(image, 64, 48, labelsOf(3));
+      shortest_run = std::min(shortest_run, Clock::now() - start);
+    }
+    done = true;
+  });
+  // Asked again and again meanwhile: each answer comes at once, not after a run.
+  Clock::duration longest_answer{0};
+  size_t seen_running = 0;
+  while (!done) {
+    const auto start = Clock::now();
+    seen_running += segmenter->stats().running;
+    EXPECT_EQ(segmenter->outputChannels(), 3);
+    EXPECT_NO_THROW(segmenter->checkFits(labelsOf(3)));
+    longest_answer = std::max(longest_answer, Clock::now() - start);
+  }
+  worker.join();
+  EXPECT_GT(seen_running, 0u) << "the statistics never showed a run in progress";
+  EXPECT_LT(longest_answer * 4, shortest_run)
+      << "an answer took " << std::chrono::duration<double, std::milli>(longest_answer).count()
+      << " ms; one network run " << std::chrono::duration<double, std::milli>(shortest_run).count()
+      << " ms";
+  EXPECT_EQ(segmenter->stats().running, 0u);
+  EXPECT_EQ(segmenter->stats().inferences, 3u);
 }
 
 TEST(Segmenter, UnwritableCacheWarnsOnceAndKeepsGoing) {

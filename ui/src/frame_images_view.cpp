@@ -111,12 +111,26 @@ void FrameImagesView::setHeatLabel(int label) {
   hoverPixel(hovered_);  // the pixel still under the mouse, for this label
 }
 
+void FrameImagesView::setSegmenterState(const QString& model, bool running,
+                                        const QString& problem) {
+  segmenter_model_ = model;
+  segmenter_running_ = running;
+  segmenter_problem_ = problem;
+}
+
 void FrameImagesView::showHeatMap() {
   const bool known_label = sequence_ && sequence_->labels.contains(heat_label_);
   heat_legend_->setRange(std::nullopt);  // shown with a heat map only
   if (!frame_) {
     heat_pane_->setCaption(tr("Probability"));
     heat_pane_->setPlaceholder(QString());
+  } else if (!frame_->proba && !segmenter_model_.isEmpty()) {
+    heat_pane_->setCaption(segmenter_running_ ? tr("Probability: segmenting…")
+                                              : tr("Probability: none"));
+    heat_pane_->setPlaceholder(
+        segmenter_running_ ? tr("The segmenter %1 is running on this frame…").arg(segmenter_model_)
+                           : tr("The segmenter %1 gave no probabilities: %2")
+                                 .arg(segmenter_model_, segmenter_problem_));
   } else if (!frame_->proba) {
     heat_pane_->setCaption(tr("Probability: none"));
     heat_pane_->setPlaceholder(tr("No probabilities in this frame"));
@@ -124,9 +138,11 @@ void FrameImagesView::showHeatMap() {
     heat_pane_->setCaption(tr("Probability (choose a label)"));
     heat_pane_->setPlaceholder(tr("Choose a label in the map legend"));
   } else {
+    const QString name = QString::fromStdString(sequence_->labels.at(heat_label_).name);
     heat_pane_->setCaption(
-        tr("Probability of %1")
-            .arg(QString::fromStdString(sequence_->labels.at(heat_label_).name)));
+        segmenter_model_.isEmpty()
+            ? tr("Probability of %1").arg(name)
+            : tr("Probability of %1 (segmenter %2)").arg(name, segmenter_model_));
     heat_pane_->setImage(probabilityHeatMap(*frame_->proba, heat_label_));
     heat_legend_->setRange(std::make_pair(0.0, 1.0));
   }

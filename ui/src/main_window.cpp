@@ -310,6 +310,8 @@ MainWindow::MainWindow(QWidget* parent)
   connect(controller_, &SequenceController::sequenceChanged, this, &MainWindow::onSequenceChanged);
   connect(controller_, &SequenceController::currentFrameChanged, this,
           &MainWindow::onCurrentFrameChanged);
+  connect(controller_, &SequenceController::currentFrameDataChanged, this,
+          &MainWindow::onCurrentFrameChanged);
   connect(timeline_, &TimelineWidget::frameRequested, controller_,
           &SequenceController::setCurrentFrame);
   // It asks about recovered boxes once the switch to the new sequence has
@@ -839,6 +841,9 @@ void MainWindow::onCurrentFrameChanged() {
     return;
   }
   const auto index = static_cast<size_t>(controller_->currentFrame());
+  frame_images_->setSegmenterState(controller_->frameSegmenterName(),
+                                   controller_->isSegmentingFrame(),
+                                   controller_->frameSegmenterProblem());
   frame_images_->showFrame(controller_->sequence(), controller_->currentFrameData(),
                            controller_->currentLabels());
   scene_view_->showFrame(controller_->sequence(), index, controller_->currentFrameData(),

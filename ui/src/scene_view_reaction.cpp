@@ -30,6 +30,8 @@ SceneViewReaction::SceneViewReaction(QAction* action, Kind kind, StudioSession& 
   if (kind_ == Kind::ProjectionVoxels) {
     connect(&session_.controller(), &SequenceController::currentFrameChanged, this,
             &SceneViewReaction::showProjection);
+    connect(&session_.controller(), &SequenceController::currentFrameDataChanged, this,
+            &SceneViewReaction::showProjection);
     connect(&session_, &StudioSession::fusionOptionsChanged, this,
             &SceneViewReaction::showProjection);
   }

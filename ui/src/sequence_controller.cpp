@@ -4,6 +4,7 @@
 #include <QEventLoop>
 #include <QFileInfo>
 #include <QMetaObject>
+#include <QThreadPool>
 #include <QTimer>
 #include <algorithm>
 #include <atomic>
@@ -14,6 +15,7 @@
 #include <utility>
 
 #include "lom/error.hpp"
+#include "lom/segmenter.hpp"
 #include "lom/ui/frame_labels.hpp"
 
 namespace lom::ui {
@@ -72,10 +74,19 @@ struct SequenceController::Conversion {
   std::atomic<bool> progress_queued{false};
 };
 
-SequenceController::SequenceController(QObject* parent) : QObject(parent) {}
+SequenceController::SequenceController(QObject* parent)
+    : QObject(parent),
+      segment_pool_(new QThreadPool(this)),
+      frame_generation_(std::make_shared<std::atomic<unsigned>>(0)) {
+  segment_pool_->setMaxThreadCount(1);
+}
 
 SequenceController::~SequenceController() {
   if (conversion_) conversion_->cancel = true;
+  // A segmentation under way finishes before the controller it reports to goes.
+  ++*frame_generation_;
+  segment_pool_->clear();
+  segment_pool_->waitForDone();
 }
 
 void SequenceController::cancelConversion() {
@@ -322,11 +333,17 @@ void SequenceController::stepFrames(int delta) {
 }
 
 void SequenceController::loadCurrentFrame() {
+  ++*frame_generation_;
+  segment_pool_->clear();  // segmentations of frames left before their turn
+  frame_uses_segmenter_ = false;
+  segmenting_ = false;
+  segmenter_problem_.clear();
   frame_data_.reset();
   frame_labels_.reset();
   if (!sequence_ || current_frame_ < 0) return;
   try {
     frame_data_ = loadFrame(*sequence_, static_cast<size_t>(current_frame_));
+    startFrameSegmentation();
     frame_labels_ = labelsOfFrame(*frame_data_);
   } catch (const std::exception& error) {
     frame_data_.reset();
@@ -345,6 +362,70 @@ void SequenceController::loadCurrentFrame() {
           },
           Qt::QueuedConnection);
   }
+}
+
+void SequenceController::setFrameSegmenter(std::shared_ptr<const Segmenter> segmenter) {
+  if (segmenter == frame_segmenter_) return;
+  frame_segmenter_ = std::move(segmenter);
+  if (!sequence_ || current_frame_ < 0) return;
+  // The frame read again: its own probabilities, or the new segmenter's. (A
+  // sequence being opened announces its frame itself, once every view knows
+  // the sequence.)
+  loadCurrentFrame();
+  if (!opening_) emit currentFrameDataChanged();
+}
+
+QString SequenceController::frameSegmenterName() const {
+  if (!frame_uses_segmenter_ || !frame_segmenter_) return {};
+  return QString::fromStdString(frame_segmenter_->modelPath().filename().string());
+}
+
+void SequenceController::startFrameSegmentation() {
+  const auto index = static_cast<size_t>(current_frame_);
+  if (!frame_data_ || !segmenterRunsOn(*sequence_, index, frame_segmenter_.get())) return;
+  frame_uses_segmenter_ = true;
+  frame_data_->proba.reset();  // a proba made from the label image is no segmenter's output
+  if (!frame_data_->color) {
+    segmenter_problem_ = tr("the frame has no colour image for the segmenter to run on");
+    return;
+  }
+  segmenting_ = true;
+  struct Job {
+    std::shared_ptr<const Segmenter> segmenter;
+    ColorImage color;
+    int width = 0, height = 0;
+    LabelSet labels;
+    std::filesystem::path cache;
+  };
+  auto job = std::make_shared<Job>(
+      Job{frame_segmenter_, *frame_data_->color, frame_data_->depth.width,
+          frame_data_->depth.height, sequence_->labels, frame_segmenter_->cacheDirFor(*sequence_)});
+  const unsigned generation = *frame_generation_;
+  segment_pool_->start([this, job, generation, current = frame_generation_] {
+    if (*current != generation) return;  // the frame was left before its turn
+    auto proba = std::make_shared<std::optional<ProbabilityImage>>();
+    QString problem;
+    try {
+      *proba =
+          job->segmenter->segment(job->color, job->width, job->height, job->labels, job->cache);
+    } catch (const std::exception& error) {
+      problem = QString::fromStdString(error.what());
+    }
+    QMetaObject::invokeMethod(
+        this,
+        [this, proba, problem, generation] {
+          if (*frame_generation_ != generation || !frame_data_) return;
+          segmenting_ = false;
+          if (*proba) {
+            frame_data_->proba = std::move(**proba);
+            frame_labels_ = labelsOfFrame(*frame_data_);
+          } else {
+            segmenter_problem_ = problem;
+          }
+          emit currentFrameDataChanged();
+        },
+        Qt::QueuedConnection);
+  });
 }
 
 QString SequenceController::sequenceFileAt(const QString& path) const {

@@ -21,6 +21,9 @@ StudioSession::StudioSession(QObject* parent)
       worker_(new MapWorker(this)),
       annotations_(new AnnotationsModel(this)),
       map_reader_(new MapFileReader(this)) {
+  // The frames show the probabilities fusion reads: the segmenter's, where it runs.
+  connect(this, &StudioSession::fusionOptionsChanged, this,
+          [this] { controller_->setFrameSegmenter(options_.segmenter); });
   connect(map_reader_, &MapFileReader::finished, this,
           [this](unsigned ticket, const QString& path, std::shared_ptr<LabelMap> map,
                  const QString& error, const QString& fit_warning) {

@@ -83,6 +83,7 @@ struct SegmenterStats {
   size_t inferences = 0;     // network runs
   size_t memory_hits = 0;    // outputs found in memory
   size_t disk_hits = 0;      // outputs read from the disk cache
+  size_t running = 0;        // network runs in progress now
 };
 
 class Segmenter {

@@ -26,6 +26,10 @@ class FrameImagesView : public QWidget {
   void clear();
   // The label whose probability the heat map shows (-1 for none).
   void setHeatLabel(int label);
+  // Where the frame's probabilities come from, when a segmenter gives them
+  // (set before showFrame): its file name (empty: the frame's own files),
+  // whether it is still running, and why it gave none.
+  void setSegmenterState(const QString& model, bool running, const QString& problem);
 
   [[nodiscard]] const ImagePane& colorPane() const { return *color_pane_; }
   [[nodiscard]] const ImagePane& depthPane() const { return *depth_pane_; }
@@ -53,6 +57,9 @@ class FrameImagesView : public QWidget {
   const FrameData* frame_ = nullptr;
   const std::optional<LabelImage>* labels_ = nullptr;
   int heat_label_ = -1;
+  QString segmenter_model_;
+  bool segmenter_running_ = false;
+  QString segmenter_problem_;
   QPoint hovered_{-1, -1};  // the image pixel under the mouse, (-1, -1) for none
 };
 

@@ -3,6 +3,7 @@
 // through its signals.
 #include <QObject>
 #include <QString>
+#include <atomic>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -11,6 +12,12 @@
 
 #include "lom/import.hpp"
 #include "lom/sequence.hpp"
+
+class QThreadPool;
+
+namespace lom {
+class Segmenter;
+}
 
 namespace lom::ui {
 
@@ -90,6 +97,21 @@ class SequenceController : public QObject {
   }
   [[nodiscard]] const std::optional<LabelImage>& currentLabels() const { return frame_labels_; }
 
+  // The segmenter fusion runs (null for none). Where it runs on the current
+  // frame (lom::segmenterRunsOn: a frame without a proba of its own), the
+  // frame's probabilities are its output, as fusion sees them: computed on a
+  // worker thread (or found in its caches), they replace the frame's data when
+  // they arrive (currentFrameDataChanged). Until then the frame has none.
+  void setFrameSegmenter(std::shared_ptr<const Segmenter> segmenter);
+  // Whether the current frame's probabilities are (or will be) the segmenter's.
+  [[nodiscard]] bool frameUsesSegmenter() const { return frame_uses_segmenter_; }
+  // The segmenter's file name, when frameUsesSegmenter().
+  [[nodiscard]] QString frameSegmenterName() const;
+  // Whether the segmenter is still running on the current frame.
+  [[nodiscard]] bool isSegmentingFrame() const { return segmenting_; }
+  // Why the segmenter gave the current frame no probabilities (empty: it did, or is running).
+  [[nodiscard]] QString frameSegmenterProblem() const { return segmenter_problem_; }
+
   // Whether the work on the open sequence has unsaved changes (asked before
   // another sequence replaces it and before the window closes).
   [[nodiscard]] bool hasUnsavedWork() const { return unsaved_work_ && unsaved_work_(); }
@@ -109,6 +131,9 @@ class SequenceController : public QObject {
   void sequenceAboutToChange();
   void sequenceChanged();
   void currentFrameChanged(int index);
+  // The current frame's data changed in place (the segmenter's probabilities
+  // arrived, or the segmenter changed): views showing it show it again.
+  void currentFrameDataChanged();
   void errorOccurred(const QString& title, const QString& message);
   // The sequence opened, but something in it was left out (frames its
   // conversion skipped, boxes with labels it does not have).
@@ -129,6 +154,8 @@ class SequenceController : public QObject {
   // Rethrows the conversion's error; nullopt when it was cancelled.
   [[nodiscard]] std::optional<OpenedSource> convert(const QString& path);
   void loadCurrentFrame();
+  // Starts the segmenter on the current frame when it runs there.
+  void startFrameSegmentation();
 
   std::function<bool()> discard_guard_;
   std::function<bool()> unsaved_work_;
@@ -146,6 +173,14 @@ class SequenceController : public QObject {
   std::optional<LabelImage> frame_labels_;
   // A broken frame is reported once, not on every pass of the slider.
   std::set<int> reported_broken_frames_;
+  std::shared_ptr<const Segmenter> frame_segmenter_;
+  // One segmentation at a time; a frame left before its turn is not segmented.
+  QThreadPool* segment_pool_;
+  // Counts frame loads: a segmentation started for an earlier one is dropped.
+  std::shared_ptr<std::atomic<unsigned>> frame_generation_;
+  bool frame_uses_segmenter_ = false;
+  bool segmenting_ = false;
+  QString segmenter_problem_;
 };
 
 }  // namespace lom::ui
