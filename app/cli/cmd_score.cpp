@@ -2,8 +2,12 @@
 // baselines, for one sequence or a batch list (docs/evaluation.md).
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
+#include <set>
+#include <string>
+#include <vector>
 
 #include "args.hpp"
 #include "commands.hpp"
@@ -41,6 +45,62 @@ void checkOptionsForSequence(const fs::path& sequence_path, const EvaluationOpti
     checkCamerasInsideMap(sequence, options.fusion.map.resolution, options.fusion.first_frame,
                           options.fusion.last_frame);
   inputs.addSequence(sequence);
+}
+
+// The frame files scoring reads (depth, proba, label; the colour image when a
+// segmenter runs on the frame) exist and are files: a batch checks every
+// line's before its first fusion, so that a missing file on its last line
+// does not wait for the sequences before it to be fused and scored.
+void checkFrameFilesExist(const fs::path& sequence_path, const EvaluationOptions& options,
+                          bool with_segmenter) {
+  const Sequence sequence = loadSequence(sequence_path);
+  const std::string json = (sequence.root / "sequence.json").string();
+  const size_t end = std::min(options.fusion.last_frame, sequence.frames.size());
+  for (size_t i = options.fusion.first_frame; i < end; ++i) {
+    const FrameRecord& frame = sequence.frames[i];
+    const auto check = [&](const std::string& relative, const char* field) {
+      if (relative.empty()) return;
+      const fs::path file = sequence.root / relative;
+      std::error_code ec;
+      const fs::file_status status = fs::status(file, ec);
+      if (fs::is_regular_file(status)) return;
+      throw Error(json, "frames[" + std::to_string(i) + "]." + field,
+                  "an existing image file (" + file.string() + ")",
+                  fs::exists(status) ? "not a regular file" : "no such file");
+    };
+    check(frame.depth, "depth");
+    check(frame.proba, "proba");
+    check(frame.label, "label");
+    if (with_segmenter && (frame.proba.empty() || frame.proba_from_label))
+      check(frame.color, "color");
+  }
+}
+
+// Report folders in DIR that this batch did not write (an earlier run's, of
+// sequences not on this list) sit beside its aggregate: said, since a script
+// collecting DIR/*/report.json would mix them in. They are not removed: they
+// may be someone's results.
+void warnReportsOfOtherRuns(const fs::path& out, const std::vector<BatchEntry>& entries,
+                            const Args& args) {
+  if (args.flag("quiet")) return;
+  std::set<std::string> listed;
+  for (const auto& entry : entries) listed.insert(entry.name);
+  std::vector<std::string> others;
+  std::error_code ec;
+  for (fs::directory_iterator it(out, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    std::error_code file_ec;
+    if (listed.count(name) == 0 && it->is_directory(file_ec) &&
+        fs::is_regular_file(it->path() / "report.json", file_ec))
+      others.push_back(name);
+  }
+  if (others.empty()) return;
+  std::sort(others.begin(), others.end());
+  std::string names;
+  for (const std::string& name : others) names += (names.empty() ? "" : ", ") + name;
+  std::cerr << "warning: " << out.string() << " also holds reports of sequences not in this batch ("
+            << names << "), from an earlier run; aggregate.json covers only the " << entries.size()
+            << " listed\n";
 }
 
 // What the command line adds to a report's warnings: when scoreSequence fused
@@ -167,10 +227,12 @@ int runScore(const Words& words) {
     for (const auto& entry : entries) {
       checkOptionsForSequence(entry.inputs.sequence, options, !entry.inputs.map, read);
       checkThresholdFor(threshold, entry.inputs.map, options);
-      // Every line's boxes before the first fusion: a bad file on the last
-      // line must not wait for the sequences before it to be fused.
+      // Every line's boxes and frame files before the first fusion: a bad
+      // file on the last line must not wait for the sequences before it to
+      // be fused.
       try {
         checkAnnotationsFor(entry.inputs);
+        checkFrameFilesExist(entry.inputs.sequence, options, args.option("segmenter").has_value());
       } catch (const std::exception&) {
         std::cerr << "labeloctomap score: " << *batch << " line " << entry.line << " ("
                   << entry.name << ") failed\n";
@@ -208,7 +270,8 @@ int runScore(const Words& words) {
       } catch (const std::exception&) {
         if (show_progress) std::fprintf(stderr, "\n");
         std::cerr << "labeloctomap score: " << *batch << " line " << entries[i].line << " ("
-                  << entries[i].name << ") failed\n";
+                  << entries[i].name << ") failed; nothing was written to " << out.string()
+                  << " (the reports are written once every sequence is scored)\n";
         throw;
       }
       if (show_progress) std::fprintf(stderr, "\n");
@@ -218,6 +281,7 @@ int runScore(const Words& words) {
       std::cout << reportTable(reports.back()) << "\n";
     }
     writeBatchReports(reports, out);
+    warnReportsOfOtherRuns(out, entries, args);
     std::cout << aggregateTable(reports) << "wrote " << reports.size()
               << (reports.size() == 1 ? " report and " : " reports and ")
               << (out / "aggregate.{json,md,svg}").string() << "\n";

@@ -743,6 +743,53 @@ TEST_F(CliScoreTest, BatchChecksEveryLinesBoxesBeforeFusingAny) {
   EXPECT_FALSE(std::filesystem::exists(out / "reports"));
 }
 
+// So are the frame files each line's scoring reads: a missing depth image on
+// line 2 failed only after line 1 was fused and its table printed.
+TEST_F(CliScoreTest, BatchChecksEveryLinesFrameFilesBeforeFusingAny) {
+  TempDir out;
+  std::filesystem::copy(scene("bin_b"), out / "bin_b", std::filesystem::copy_options::recursive);
+  const lom::Sequence copy = lom::loadSequence(out / "bin_b");
+  std::filesystem::remove(out / "bin_b" / copy.frames[2].depth);
+  const auto list = out / "list.txt";
+  std::ofstream(list) << scene("bin_a").string() << " "
+                      << (scene("bin_a") / "annotations.json").string() << "\n"
+                      << "bin_b bin_b/annotations.json\n";
+  const auto r = runCli("score --batch " + quoted(list) + " --out " + quoted(out / "reports"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("line 2 (bin_b) failed"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("sequence.json: frames[2].depth: expected an existing image file"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("no such file"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out.find("bin_a"), std::string::npos) << "line 1 was scored first:\n" << r.out;
+  EXPECT_FALSE(std::filesystem::exists(out / "reports"));
+}
+
+// A batch written into the folder of an earlier, longer one says which report
+// folders there are not of this batch (a script collecting DIR/*/report.json
+// would mix them in); it leaves them.
+TEST_F(CliScoreTest, BatchOverAnEarlierOneNamesTheReportsItDidNotWrite) {
+  TempDir out;
+  const auto list = out / "list.txt";
+  std::ofstream(list) << scene("bin_a").string() << " "
+                      << (scene("bin_a") / "annotations.json").string() << "\n"
+                      << scene("bin_b").string() << " "
+                      << (scene("bin_b") / "annotations.json").string() << "\n";
+  auto r = runCli("score --batch " + quoted(list) + " --out " + quoted(out / "reports"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("not in this batch"), std::string::npos) << r.err;
+  std::ofstream(list) << scene("bin_a").string() << " "
+                      << (scene("bin_a") / "annotations.json").string() << "\n";
+  r = runCli("score --batch " + quoted(list) + " --out " + quoted(out / "reports"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: " + (out / "reports").string() +
+                       " also holds reports of sequences not in this batch (bin_b)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("aggregate.json covers only the 1 listed"), std::string::npos) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(out / "reports" / "bin_b" / "report.json"));
+}
+
 // A list saved with a UTF-8 byte-order mark (some Windows editors) reads as
 // without: the mark was taken for part of the first path.
 TEST_F(CliScoreTest, BatchListWithAByteOrderMarkIsRead) {

@@ -5,6 +5,7 @@
 #include <QAction>
 #include <QApplication>
 #include <QDir>
+#include <QDoubleSpinBox>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QMenu>
@@ -29,6 +30,8 @@
 #include "lom/ui/annotation_files.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/evaluation_panel.hpp"
+#include "lom/ui/fusion_panel.hpp"
+#include "lom/ui/map_worker.hpp"
 #include "lom/ui/recent_sequences.hpp"
 #include "lom/ui/scene_view.hpp"
 #include "lom/ui/sequence_drop_handler.hpp"
@@ -141,6 +144,46 @@ TEST_F(SequenceSwitchTest, SettingsCarriedOverToTheNextSequenceAreNamed) {
   window_.session().setFusionOptions(FusionOptions{});
   ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
   EXPECT_EQ(window_.statusBar()->currentMessage(), QString());
+}
+
+// A value typed in the Fusion panel but not applied is the user's setting for
+// what is fused next: the next sequence is fused with it and the note says so;
+// a re-fusion with other values renews the note.
+TEST_F(SequenceSwitchTest, UnappliedFusionSettingsFuseTheNextSequence) {
+  StudioSession& session = window_.session();
+  session.setAutoFuse(false);  // no map: nothing to ask about before the switch
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  FusionPanel& panel = window_.fusionPanel();
+  panel.resolutionBox().setValue(0.02);  // typed, not applied
+  ASSERT_TRUE(panel.hasPendingChanges());
+
+  const auto fused = [&] {
+    return QTest::qWaitFor(
+        [&] {
+          const auto snapshot = session.worker().snapshot();
+          return !session.worker().isFusing() && snapshot && snapshot->frames_fused > 0;
+        },
+        fixture::kTimeoutMs);
+  };
+  session.setAutoFuse(true);
+  const lom::test::TinySequence tiny = writeTiny();
+  ASSERT_TRUE(window_.controller().openSequence(qPath(tiny.folder)));
+  ASSERT_TRUE(fused());
+  EXPECT_DOUBLE_EQ(session.fusionOptions().map.resolution, 0.02);
+  EXPECT_DOUBLE_EQ(session.worker().snapshot()->resolution, 0.02) << "fused with it";
+  EXPECT_NEAR(panel.resolutionBox().value(), 0.02, 1e-9);
+  EXPECT_FALSE(panel.hasPendingChanges());
+  QString note = window_.statusBar()->currentMessage();
+  EXPECT_TRUE(note.contains("2.0 cm voxels")) << note.toStdString();
+
+  // Re-fused at 4 cm: the note names the settings now in use.
+  panel.resolutionBox().setValue(0.04);
+  panel.refuseButton().click();
+  ASSERT_TRUE(fused());
+  EXPECT_DOUBLE_EQ(session.worker().snapshot()->resolution, 0.04);
+  note = window_.statusBar()->currentMessage();
+  EXPECT_TRUE(note.contains("4.0 cm voxels")) << note.toStdString();
+  EXPECT_FALSE(note.contains("2.0 cm")) << note.toStdString();
 }
 
 // Save Map…, the exports, the screenshots and Export report… propose names

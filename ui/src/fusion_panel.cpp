@@ -143,6 +143,18 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   loadFromSession();
   // Nothing to fuse until a sequence is open.
   setEnabled(session_.sequence() != nullptr);
+  // Settings typed but not applied are the user's choice for what is fused
+  // next: the next sequence is fused with them (the status bar says so, as for
+  // any setting carried over), not with the ones they were meant to replace.
+  // Candidates name labels of one scene and go with it.
+  connect(&session_.controller(), &SequenceController::sequenceAboutToChange, this, [this] {
+    if (!hasPendingChanges() || !session_.sequence()) return;
+    onEdited();
+    if (!refuse_->isEnabled()) return;  // not valid: the next sequence's values replace them
+    FusionOptions options = effectiveOptions();
+    options.candidates = session_.fusionOptions().candidates;
+    session_.setFusionOptions(options);
+  });
   connect(&session_.controller(), &SequenceController::sequenceChanged, this, [this] {
     setEnabled(session_.sequence() != nullptr);
     const std::shared_ptr<const Segmenter> previous = segmenter_;

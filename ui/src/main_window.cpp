@@ -362,6 +362,7 @@ void MainWindow::createDocks() {
   // When the depth-range note and its Re-fuse button appear (at the panel's
   // top, after the panel has laid them out), the dock is raised and scrolled
   // to them.
+  connect(&session_->worker(), &MapWorker::fusionStarted, this, &MainWindow::renewSettingsNote);
   connect(&session_->worker(), &MapWorker::depthRangesMeasured, this, [this, fusion] {
     QTimer::singleShot(0, fusion, [this, fusion] {
       QPushButton& button = fusion_panel_->extendRangeButton();
@@ -826,10 +827,22 @@ void MainWindow::onSequenceChanged() {
   scene_view_->showSequence(controller_->sequence());
   // Settings changed for an earlier sequence fuse this one too, which changes
   // its scores: said, not done silently. Shown until another message comes.
-  if (const QString note = session_->carriedOverSettingsNote(); !note.isEmpty())
-    statusBar()->showMessage(note);
+  settings_note_ = session_->carriedOverSettingsNote();
+  if (!settings_note_.isEmpty())
+    statusBar()->showMessage(settings_note_);
   else
     statusBar()->clearMessage();  // another sequence's message
+}
+
+void MainWindow::renewSettingsNote() {
+  // A re-fusion with other settings makes the note shown at the sequence's
+  // opening wrong: it is said again for the settings now in use (or goes).
+  if (settings_note_.isEmpty() || statusBar()->currentMessage() != settings_note_) return;
+  settings_note_ = session_->carriedOverSettingsNote();
+  if (!settings_note_.isEmpty())
+    statusBar()->showMessage(settings_note_);
+  else
+    statusBar()->clearMessage();
 }
 
 void MainWindow::onCurrentFrameChanged() {

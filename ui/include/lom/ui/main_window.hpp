@@ -109,6 +109,7 @@ class MainWindow : public QMainWindow {
   // A reaction's message that lasts until the next one; empty clears it.
   void showStatusMessage(const QString& message);
   void onSequenceChanged();
+  void renewSettingsNote();
   void onCurrentFrameChanged();
   // View actions that need a sequence, or anything in the scene (a sequence
   // or a map), are enabled only while there is one.
@@ -129,6 +130,7 @@ class MainWindow : public QMainWindow {
   PanelLayout* panel_layout_ = nullptr;
   bool remember_layout_ = false;
   bool closing_ = false;  // closeEvent is asking its questions
+  QString settings_note_;  // the carried-over settings note shown when the sequence opened
   BoxesAutosave* autosave_ = nullptr;
   FrameImagesView* frame_images_;
   SceneView* scene_view_;
