@@ -195,7 +195,23 @@ VoxelState LabelMap::voxelAt(const Eigen::Vector3d& p) const {
 }
 
 VoxelState LabelMap::voxelAt(const VoxelKey& key) const {
-  return stateOf(*tree_, tree_->search(toOctomap(key)));
+  const octomap::OcTreeKey octo_key = toOctomap(key);
+  VoxelState state = stateOf(*tree_, tree_->search(octo_key));
+  if (!state.known) return state;
+  // The depth of the leaf found: the shallowest node on the key's path without children.
+  const unsigned max_depth = tree_->getTreeDepth();
+  unsigned depth = max_depth;
+  for (unsigned d = 1; d < max_depth; ++d) {
+    const LabelOcTreeNode* node = tree_->search(octo_key, d);
+    if (node && !tree_->nodeHasChildren(node)) {
+      depth = d;
+      break;
+    }
+  }
+  state.center = {tree_->keyToCoord(octo_key[0], depth), tree_->keyToCoord(octo_key[1], depth),
+                  tree_->keyToCoord(octo_key[2], depth)};
+  state.size = tree_->getNodeSize(depth);
+  return state;
 }
 
 void LabelMap::forEachOccupied(const std::function<void(const OccupiedVoxel&)>& visit) const {

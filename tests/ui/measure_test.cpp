@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <QAction>
+#include <QLabel>
 #include <QRegularExpression>
 #include <QStatusBar>
 #include <QTest>
@@ -79,6 +80,42 @@ TEST(Measurement, ClicksPickTheFaceOfTheFirstVoxelAlongTheRay) {
   ASSERT_TRUE(slanted.has_value());
   EXPECT_NEAR(slanted->point.x(), 0.1, 1e-12);
   EXPECT_NEAR(slanted->point.y(), 0.0, 1e-12);
+}
+
+// Without a map (nothing fused yet) a click on the frame's points picks the
+// point drawn there, found by a ray as the voxels are: the depth buffer a
+// picker would read is not readable under every OpenGL.
+TEST_F(MeasureTest, ClicksOnTheFramePointsPickThemWithoutAMap) {
+  StudioSession& session = window_.session();
+  session.setAutoFuse(false);
+  ASSERT_TRUE(window_.controller().openSequence(fixture::qPath(folder_)));
+  SceneView& scene = window_.sceneView();
+  scene.setFrameCloudVisible(true);
+  scene.lookFromFrame(window_.controller().sequence(), 0);
+  QObject::connect(&scene, &SceneView::surfacePicked,
+                   [this](const Eigen::Vector3d& point) { surface_.push_back(point); });
+  auto* vtk = scene.findChild<QVTKOpenGLNativeWidget*>();
+  ASSERT_NE(vtk, nullptr);
+  QTest::qWait(50);
+  const QPoint middle(vtk->width() / 2, vtk->height() / 2);
+  QTest::mouseClick(vtk, Qt::LeftButton, Qt::NoModifier, middle);
+  ASSERT_EQ(surface_.size(), 1u) << "the frame's points fill the middle of its own view";
+  // A point of frame 0: back in its camera, it lies at the depth measured there.
+  const Sequence& sequence = window_.controller().sequence();
+  const Eigen::Vector3d in_camera = sequence.frames[0].T_world_camera.inverse() * surface_[0];
+  const Eigen::Vector2d pixel = sequence.cameraOf(0).project(in_camera);
+  const FrameData* frame = window_.controller().currentFrameData();
+  ASSERT_NE(frame, nullptr);
+  const int u = static_cast<int>(std::floor(pixel.x())),
+            v = static_cast<int>(std::floor(pixel.y()));
+  ASSERT_TRUE(u >= 0 && v >= 0 && u < frame->depth.width && v < frame->depth.height);
+  EXPECT_NEAR(in_camera.z(), frame->depth.at(u, v), 0.02);
+  // The Picked Voxel panel has the point, and says there is no map yet.
+  ASSERT_TRUE(session.pickedPoint().has_value());
+  auto* panel = window_.findChild<QLabel*>("pickedVoxel");
+  ASSERT_NE(panel, nullptr);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return panel->text().contains("No map yet"); }, 5000))
+      << panel->text().toStdString();
 }
 
 TEST_F(MeasureTest, ClicksOnTheMapMeasureBetweenSurfacePoints) {

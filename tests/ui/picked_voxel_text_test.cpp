@@ -4,6 +4,7 @@
 // random as runners-up, and "no map" apart from "never observed".
 #include <gtest/gtest.h>
 
+#include "lom/ui/map_snapshot.hpp"
 #include "lom/ui/picked_voxel_view.hpp"
 
 namespace lom::ui {
@@ -55,6 +56,33 @@ TEST(PickedVoxelText, AFreeVoxelWithoutEvidenceForAnyLabelSaysSo) {
                                                  labelsNamed(std::vector<std::string>(40, "x")));
   EXPECT_EQ(linesOf(text), (QStringList{"Free: label 0 x", "  0.120  all 40 labels alike"}))
       << text.toStdString();
+}
+
+// The voxel described is named by its centre and size (after a re-fusion at
+// another resolution it is not the one first clicked), and centres print
+// exactly at any resolution.
+TEST(PickedVoxelText, TheVoxelDescribedIsNamedByItsCentreAndSize) {
+  const LabelSet labels = labelsNamed({"bg", "bear"});
+  VoxelState coarse = occupied({0.12f, 0.97f});
+  coarse.center = Eigen::Vector3d(0.15, -0.03, 0.05);
+  coarse.size = 0.02;
+  QString text = PickedVoxelView::describe(Eigen::Vector3d(0.155, -0.035, 0.055), coarse, labels);
+  EXPECT_TRUE(
+      text.startsWith("Point (0.155, -0.035, 0.055)\nVoxel of 2 cm centred at (0.150, "
+                      "-0.030, 0.050)\nOccupied: label 1 bear"))
+      << text.toStdString();
+  VoxelState fine = coarse;
+  fine.center = Eigen::Vector3d(0.1225, -0.0375, 0.0025);
+  fine.size = 0.005;
+  text = PickedVoxelView::describe(fine.center, fine, labels);
+  EXPECT_TRUE(text.startsWith(
+      "Point (0.1225, -0.0375, 0.0025)\nVoxel of 0.5 cm centred at (0.1225, -0.0375, 0.0025)"))
+      << text.toStdString();
+  EXPECT_EQ(coordinateDecimals(0.01), 3);
+  EXPECT_EQ(coordinateDecimals(0.005), 4);
+  EXPECT_EQ(coordinateDecimals(0.0025), 5);
+  EXPECT_EQ(coordinateDecimals(0.02), 3);
+  EXPECT_EQ(coordinateDecimals(0.0), 3);
 }
 
 TEST(PickedVoxelText, NoMapIsNotANeverObservedVoxel) {

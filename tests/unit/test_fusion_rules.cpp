@@ -99,6 +99,18 @@ TEST_P(FusionRulesTest, OneHitGivesLogitOfEachLabelClampedBelow) {
   EXPECT_NEAR(state.probabilities[2], 0.12, 1e-6);
 }
 
+// What holds the point: the voxel's own centre and edge, not the point asked.
+TEST_P(FusionRulesTest, AVoxelsStateNamesItsCentreAndSize) {
+  LabelMap map(threeLabels());
+  integrate(map, {{0.5, {0.7f, 0.2f, 0.1f}}});
+  const auto state = map.voxelAt(Eigen::Vector3d(0.0071, 0.0012, 0.5093));
+  ASSERT_TRUE(state.known);
+  EXPECT_NEAR((state.center - at(0.505)).norm(), 0.0, 1e-9);
+  EXPECT_DOUBLE_EQ(state.size, 0.01);
+  EXPECT_FALSE(map.voxelAt(at(0.705)).known);
+  EXPECT_EQ(map.voxelAt(at(0.705)).size, 0.0);
+}
+
 TEST_P(FusionRulesTest, TwoFramesAddLogOdds) {
   LabelMap map(threeLabels());
   integrate(map, {{0.5, {0.2f, 0.7f, 0.1f}}});

@@ -124,4 +124,14 @@ std::optional<VoxelHit> firstVoxelHit(const MapSnapshot& snapshot, const std::se
   return VoxelHit{origin + nearest * d, nearest_voxel};
 }
 
+int coordinateDecimals(double voxel_size) {
+  const double half = 0.5 * voxel_size;
+  if (!(half > 0.0) || !std::isfinite(half)) return 3;
+  for (int decimals = 3; decimals < 6; ++decimals) {
+    const double scaled = half * std::pow(10.0, decimals);
+    if (std::abs(scaled - std::round(scaled)) < 1e-6 * std::max(1.0, scaled)) return decimals;
+  }
+  return 6;
+}
+
 }  // namespace lom::ui

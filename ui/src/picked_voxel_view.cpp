@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "lom/ui/elision.hpp"
+#include "lom/ui/map_snapshot.hpp"
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/studio_session.hpp"
 
@@ -14,7 +15,9 @@ PickedVoxelView::PickedVoxelView(StudioSession& session, QWidget* parent)
   setObjectName("pickedVoxel");
   setWordWrap(true);
   setAlignment(Qt::AlignTop | Qt::AlignLeft);
-  setTextInteractionFlags(Qt::TextSelectableByMouse);
+  // Its numbers can be selected and copied with the keyboard too (Tab reaches it).
+  setTextInteractionFlags(Qt::TextSelectableByMouse | Qt::TextSelectableByKeyboard);
+  setFocusPolicy(Qt::StrongFocus);
   const QString hint = tr("Click a voxel in the 3D view to see its probabilities.");
   setText(hint);
   // The voxel clicked is looked up again whenever the map changes (each
@@ -54,10 +57,20 @@ QString PickedVoxelView::describe(const Eigen::Vector3d& point, const VoxelState
     const QString whole = QString::fromStdString(labels.at(id).name);
     return max_name_characters < 0 ? whole : shortName(whole, max_name_characters);
   };
+  const int decimals = voxel.known ? coordinateDecimals(voxel.size) : 3;
   QString text = tr("Point (%1, %2, %3)\n")
-                     .arg(point.x(), 0, 'f', 3)
-                     .arg(point.y(), 0, 'f', 3)
-                     .arg(point.z(), 0, 'f', 3);
+                     .arg(point.x(), 0, 'f', decimals)
+                     .arg(point.y(), 0, 'f', decimals)
+                     .arg(point.z(), 0, 'f', decimals);
+  // The voxel described: after a re-fusion at another resolution (or where
+  // the tree has merged equal voxels) it is not the one first clicked.
+  if (voxel.known && voxel.size > 0.0)
+    text += tr("Voxel of %1 centred at (%2, %3, %4)\n")
+                .arg(voxel.size < 1.0 ? tr("%1 cm").arg(voxel.size * 100.0, 0, 'g', 3)
+                                      : tr("%1 m").arg(voxel.size, 0, 'g', 3))
+                .arg(voxel.center.x(), 0, 'f', decimals)
+                .arg(voxel.center.y(), 0, 'f', decimals)
+                .arg(voxel.center.z(), 0, 'f', decimals);
   if (!voxel.known && !map_has_frames)
     return text + tr("No map yet: no frame is fused (Fusion ▸ Fuse Sequence, or File ▸ Open "
                      "Map…).");

@@ -10,6 +10,7 @@
 #include <QToolTip>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "scene_state.hpp"
@@ -31,6 +32,41 @@ std::optional<VoxelHit> SceneView::voxelAt(int x, int y) const {
   return firstVoxelHit(scene_->snapshot, scene_->hidden, near_point, world(1.0) - near_point);
 }
 
+std::optional<Eigen::Vector3d> SceneView::framePointAt(int x, int y) const {
+  if (!scene_->cloud_visible || !scene_->cloud.actor->GetVisibility()) return std::nullopt;
+  vtkPolyData* cloud = scene_->cloud.mapper->GetInput();
+  if (!cloud || cloud->GetNumberOfPoints() == 0) return std::nullopt;
+  vtkRenderer* renderer = scene_->renderer;
+  auto world = [renderer](double px, double py, double depth) {
+    renderer->SetDisplayPoint(px, py, depth);
+    renderer->DisplayToWorld();
+    const double* w = renderer->GetWorldPoint();
+    return Eigen::Vector3d(w[0] / w[3], w[1] / w[3], w[2] / w[3]);
+  };
+  // The ray through the pixel, and one through a pixel two to the side: at
+  // each depth their distance is how far a point may be from the ray and
+  // still be drawn under the cursor (points are drawn 3 pixels wide).
+  const Eigen::Vector3d near0 = world(x, y, 0.0), ray0 = world(x, y, 1.0) - near0;
+  const Eigen::Vector3d near1 = world(x + 2, y, 0.0), ray1 = world(x + 2, y, 1.0) - near1;
+  const double length2 = ray0.squaredNorm();
+  if (!(length2 > 0.0) || !std::isfinite(length2)) return std::nullopt;
+  std::optional<Eigen::Vector3d> best;
+  double best_s = std::numeric_limits<double>::infinity();
+  vtkPoints* points = cloud->GetPoints();
+  for (vtkIdType i = 0, n = points->GetNumberOfPoints(); i < n; ++i) {
+    Eigen::Vector3d p;
+    points->GetPoint(i, p.data());
+    const double s = (p - near0).dot(ray0) / length2;
+    if (s < 0.0 || s > 1.0 || s >= best_s) continue;
+    const Eigen::Vector3d on_ray = near0 + s * ray0;
+    const double reach = ((near1 + s * ray1) - on_ray).norm();
+    if ((p - on_ray).squaredNorm() > reach * reach) continue;
+    best_s = s;
+    best = p;
+  }
+  return best;
+}
+
 void SceneView::pickAt(int x, int y) {
   vtkRenderer* renderer = scene_->renderer;
   if (const auto hit = voxelAt(x, y)) {
@@ -41,12 +77,18 @@ void SceneView::pickAt(int x, int y) {
     emit pointPicked(scene_->snapshot.voxels[hit->voxel].center);
     return;
   }
-  // No voxel there: whatever else the depth buffer holds (the frame's points).
-  if (renderer->GetZ(x, y) >= 1.0) return;  // background, or an unreadable buffer
-  vtkNew<vtkWorldPointPicker> picker;
-  picker->Pick(x, y, 0.0, renderer);
+  // No voxel there: the frame's points (an empty map, a map still to come),
+  // found by a ray through the pixel as the voxels are; else whatever else the
+  // depth buffer holds, when it can be read.
   Eigen::Vector3d point;
-  picker->GetPickPosition(point.data());
+  if (const auto frame_point = framePointAt(x, y)) {
+    point = *frame_point;
+  } else {
+    if (renderer->GetZ(x, y) >= 1.0) return;  // background, or an unreadable buffer
+    vtkNew<vtkWorldPointPicker> picker;
+    picker->Pick(x, y, 0.0, renderer);
+    picker->GetPickPosition(point.data());
+  }
   emit surfacePicked(point);
   Eigen::Vector3d eye;
   renderer->GetActiveCamera()->GetPosition(eye.data());
@@ -70,9 +112,9 @@ void SceneView::hoverAt(int x, int y) {
                .arg(voxel.label)
                .arg(voxel.probability, 0, 'f', 2)
                .arg(size)
-               .arg(voxel.center.x(), 0, 'f', 3)
-               .arg(voxel.center.y(), 0, 'f', 3)
-               .arg(voxel.center.z(), 0, 'f', 3);
+               .arg(voxel.center.x(), 0, 'f', coordinateDecimals(voxel.size))
+               .arg(voxel.center.y(), 0, 'f', coordinateDecimals(voxel.size))
+               .arg(voxel.center.z(), 0, 'f', coordinateDecimals(voxel.size));
   }
   hover_text_ = text;
   if (text.isEmpty()) {

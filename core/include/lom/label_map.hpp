@@ -93,6 +93,10 @@ struct VoxelState {
   bool occupied = false;
   int label = -1;           // argmax label (valid when known)
   std::vector<float> probabilities;  // one per label (empty when unknown)
+  // The leaf that holds the point (valid when known): a pruned leaf is larger
+  // than the map's resolution.
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  double size = 0.0;
 };
 
 class LabelMap {

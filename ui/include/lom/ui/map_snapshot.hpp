@@ -60,6 +60,11 @@ struct VoxelHit {
   Eigen::Vector3d point;
   size_t voxel = 0;  // in snapshot.voxels
 };
+// Decimals that print the centres of voxels of edge `voxel_size` exactly
+// (odd multiples of half the edge: 3 for 1 cm, 4 for 5 mm, 5 for 2.5 mm);
+// at least 3 (millimetres), at most 6.
+[[nodiscard]] int coordinateDecimals(double voxel_size);
+
 [[nodiscard]] std::optional<VoxelHit> firstVoxelHit(const MapSnapshot& snapshot,
                                                     const std::set<int>& hidden,
                                                     const Eigen::Vector3d& origin,

@@ -170,6 +170,9 @@ class SceneView : public QWidget {
   void render();
   void placeAxesMarker();
   [[nodiscard]] std::optional<VoxelHit> voxelAt(int x, int y) const;  // VTK display pixels
+  // The frame point drawn under the pixel nearest the eye (the frame's
+  // points shown), found by a ray through it: the depth buffer is not always readable.
+  [[nodiscard]] std::optional<Eigen::Vector3d> framePointAt(int x, int y) const;
   void pickAt(int x, int y);
   void hoverAt(int x, int y);
   // The bulk of the voxels shown (mapBulk), worked out once per snapshot and
