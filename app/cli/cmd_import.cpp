@@ -56,10 +56,9 @@ const char* const kHelp =
     "  --overwrite            replace a sequence already in SEQ\n"
     "  --quiet                no progress bar\n";
 
-LabelSet labelsOption(const std::string& value) {
-  if (value == "apc2016") return apc2016Labels();
+LabelSet labelsFromOption(const std::string& value) {
   try {
-    return readLabelList(value);
+    return labelsOption(value);
   } catch (const Error& e) {
     Problem problem = e.problem();
     problem.field = problem.field.empty() ? "--labels" : "--labels, " + problem.field;
@@ -259,7 +258,7 @@ int runImport(const Words& words) {
   options.overwrite = args.flag("overwrite");
   // Files named by options are read once the call itself is known to be right.
   if (auto value = args.option("intrinsics")) options.intrinsics = intrinsicsOption(*value);
-  if (auto value = args.option("labels")) options.labels = labelsOption(*value);
+  if (auto value = args.option("labels")) options.labels = labelsFromOption(*value);
 
   const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
   ImportReport report;

@@ -60,7 +60,8 @@ constexpr const char* kHelp =
     "  --intrinsics K       Camera of a dataset folder or bag that does not store it: fx,fy,cx,cy\n"
     "                       or a file with the 3x3 camera matrix (as `labeloctomap import`).\n"
     "  --labels FILE        Names of the label ids of a dataset folder or bag being converted,\n"
-    "                       one per line from id 0 (as `labeloctomap import --labels`).\n"
+    "                       one per line from id 0, or apc2016 for the built-in APC 2016 set\n"
+    "                       (as `labeloctomap import --labels`).\n"
     "  --resolution R       Voxel size to fuse with, in metres (0.002 to 1; default 0.01), as\n"
     "                       the Fusion panel's Resolution.\n"
     "  --max-range M        Max range to fuse with, in metres (0 = unlimited; default 1), as\n"
@@ -212,7 +213,7 @@ Parsed parseArguments(const QStringList& words, StudioArguments& arguments) {
   if (parser.isSet(labels_option)) {
     const QString value = parser.value(labels_option);
     try {
-      arguments.labels = lom::readLabelList(value.toStdString());
+      arguments.labels = lom::labelsOption(value.toStdString());
     } catch (const std::exception& error) {
       std::cerr << "labeloctomap-studio: --labels: " << error.what() << "\n";
       return {1, Request::Run};

@@ -9,6 +9,7 @@
 #include "lom/box_fit.hpp"
 #include "lom/error.hpp"
 #include "lom/iou.hpp"
+#include "lom/level_plane.hpp"
 
 namespace lom {
 
@@ -111,11 +112,14 @@ void checkMapAgainstSequence(const LabelMap& map, const Sequence& sequence, cons
     throw Error(file, "map", "at least one occupied voxel", "an empty map");
 }
 
-// Box IU of the largest cluster's fitted box (0 and no box when there are no voxels).
-double fittedBoxIou(const std::vector<VoxelKey>& voxels, double resolution, const OrientedBox& truth,
-                    double tolerance_voxels, std::optional<OrientedBox>* fitted = nullptr) {
+// Box IU of the largest cluster's fitted box, level with the scene (0 and no
+// box when there are no voxels).
+double fittedBoxIou(const std::vector<VoxelKey>& voxels, double resolution,
+                    const OrientedBox& truth, double tolerance_voxels, const SceneLevel& level,
+                    std::optional<OrientedBox>* fitted = nullptr) {
   if (voxels.empty()) return 0.0;
-  const OrientedBox box = fitOrientedBox(largestCluster(voxels, tolerance_voxels), resolution);
+  const OrientedBox box =
+      fitOrientedBox(largestCluster(voxels, tolerance_voxels), resolution, level.up, level.plane);
   if (fitted) *fitted = box;
   return boxIoU(box, truth);
 }
@@ -417,6 +421,13 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
   report.views = scan.views;
 
   const double resolution = report.resolution;
+  // Boxes are fitted level with the scene, as the studio fits them: a world
+  // that is the first camera's frame would otherwise tilt every box by its
+  // pitch. The sequence's poses stand in for a map that records no camera.
+  std::vector<Eigen::Matrix3d> camera_rotations;
+  for (const FrameRecord& frame : sequence.frames)
+    camera_rotations.push_back(frame.T_world_camera.linear());
+  const SceneLevel level = sceneLevelOf(map, meanCameraUp(camera_rotations));
   EvaluationProgress step{"scoring", 0, boxes.size()};
   for (const auto& box : boxes) {
     ObjectScore object;
@@ -428,13 +439,13 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
     object.voxels = mapped.size();
     object.labeloctomap_volumes = voxelIouVolumes(mapped, resolution, box.box, options.iou_mode);
     object.iou_3d.labeloctomap = object.labeloctomap_volumes.iou();
-    object.box_iou.labeloctomap = fittedBoxIou(mapped, resolution, box.box,
-                                               options.cluster_tolerance_voxels, &object.fitted_box);
+    object.box_iou.labeloctomap = fittedBoxIou(
+        mapped, resolution, box.box, options.cluster_tolerance_voxels, level, &object.fitted_box);
     for (const auto& view : scan.view_voxels) {
       const std::vector<VoxelKey>& projected = view.at(box.label);
       object.per_view.push_back(voxelIou(projected, resolution, box.box, options.iou_mode));
       object.per_view_box_iou.push_back(
-          fittedBoxIou(projected, resolution, box.box, options.cluster_tolerance_voxels));
+          fittedBoxIou(projected, resolution, box.box, options.cluster_tolerance_voxels, level));
     }
     meanAndMax(object.per_view, object.iou_3d.projection_mean, object.iou_3d.projection_max);
     meanAndMax(object.per_view_box_iou, object.box_iou.projection_mean, object.box_iou.projection_max);

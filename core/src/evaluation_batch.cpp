@@ -101,7 +101,8 @@ void checkAnnotationsFor(const ScoreInputs& inputs) {
 }
 
 void describeMapFile(EvaluationReport& report, const LabelMap& map, const Sequence& sequence,
-                     const std::string& map_file, bool candidates_from_map) {
+                     const std::string& map_file, bool candidates_from_map, size_t first_frame,
+                     size_t last_frame) {
   report.map_file = map_file;
   report.map_fit = mapFitOf(map, sequence);
   describeMapCandidates(report, map.fusedCandidates(), sequence.labels.size(), map_file,
@@ -110,6 +111,20 @@ void describeMapFile(EvaluationReport& report, const LabelMap& map, const Sequen
     report.warnings.push_back(report.map_candidates_warning);
   if (const std::string fit = poorMapFitWarning(*report.map_fit, map_file); !fit.empty())
     report.warnings.push_back(fit + " Its scores would mean little.");
+  // Every fused frame is recorded in the map (a map written before the
+  // record says 0): a map fused from other frames than those scored is
+  // compared with baselines that saw more, or fewer, views than it did.
+  const size_t end = std::min(last_frame, sequence.frames.size());
+  const size_t scored = end > first_frame ? end - first_frame : 0;
+  const std::uint32_t fused = map.cameraViews().views;
+  if (fused > 0 && fused != scored)
+    report.warnings.push_back(
+        map_file + " was fused from " + std::to_string(fused) +
+        (fused == 1 ? " frame" : " frames") + ", the baselines project the " +
+        std::to_string(scored) + (scored == 1 ? " frame" : " frames") + " scored (frames " +
+        std::to_string(first_frame) + " to " + std::to_string(end == 0 ? 0 : end - 1) +
+        "): the comparison is not matched; fuse and score the same frames (--frames), or score "
+        "without --map");
 }
 
 EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOptions& options,
@@ -129,7 +144,8 @@ EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOption
     const FusedCandidates& fused = map.fusedCandidates();
     if (options.candidates_from_map && fused.recorded) named.fusion.candidates = fused.labels;
     EvaluationReport report = evaluate(sequence, annotations, map, named, progress);
-    describeMapFile(report, map, sequence, named.map_file, options.candidates_from_map);
+    describeMapFile(report, map, sequence, named.map_file, options.candidates_from_map,
+                    options.fusion.first_frame, options.fusion.last_frame);
     return report;
   }
   named.map_file = (sequence.root / "sequence.json").string() + " (fused)";

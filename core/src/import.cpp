@@ -240,7 +240,8 @@ std::string conversionFingerprint(const fs::path& source, SourceKind kind,
          << o.intrinsics->cy << ',' << o.intrinsics->width << ',' << o.intrinsics->height;
   text << '|';
   if (o.labels)
-    for (const auto& label : o.labels->all()) text << label.name << ',';
+    // Each name with its length: names may hold commas.
+    for (const auto& label : o.labels->all()) text << label.name.size() << ':' << label.name << ',';
   return text.str();
 }
 

@@ -20,6 +20,31 @@ LabelSet::LabelSet(std::vector<LabelInfo> labels) : labels_(std::move(labels)) {
 
 namespace {
 bool isControl(unsigned char c) { return c < 0x20 || c == 0x7f; }
+
+// The byte where `text` stops being UTF-8 (a stray byte, a cut or overlong
+// sequence, a surrogate), or npos.
+size_t invalidUtf8At(const std::string& text) {
+  const size_t n = text.size();
+  size_t i = 0;
+  while (i < n) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    const size_t length = c < 0x80         ? 1
+                          : (c >> 5) == 6  ? 2
+                          : (c >> 4) == 14 ? 3
+                          : (c >> 3) == 30 ? 4
+                                           : 0;
+    if (length == 0 || i + length > n) return i;
+    for (size_t k = 1; k < length; ++k)
+      if ((static_cast<unsigned char>(text[i + k]) & 0xC0) != 0x80) return i;
+    const auto next = static_cast<unsigned char>(length > 1 ? text[i + 1] : 0);
+    if ((length == 2 && c < 0xC2) || (length == 3 && c == 0xE0 && next < 0xA0) ||
+        (length == 3 && c == 0xED && next >= 0xA0) || (length == 4 && c == 0xF0 && next < 0x90) ||
+        (length == 4 && (c > 0xF4 || (c == 0xF4 && next >= 0x90))))
+      return i;
+    i += length;
+  }
+  return std::string::npos;
+}
 }  // namespace
 
 std::string labelNameProblem(const std::string& name) {
@@ -38,6 +63,10 @@ std::string labelNameProblem(const std::string& name) {
     return std::string(what) + " (0x" + kHex[c >> 4] + kHex[c & 15] + ") at byte " +
            std::to_string(i);
   }
+  // Names are written into JSON, PLY and reports as UTF-8: a name in another
+  // encoding (Latin-1) would come out changed, and no longer be found by name.
+  if (const size_t at = invalidUtf8At(name); at != std::string::npos)
+    return "a byte that is not UTF-8 at byte " + std::to_string(at) + " (save the file as UTF-8)";
   return {};
 }
 
@@ -89,6 +118,10 @@ LabelSet readLabelList(const std::filesystem::path& file) {
     // A byte-order mark some editors put at the start of a UTF-8 file is not
     // part of the first line (which may be a comment).
     if (number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+    // A UTF-16 file (Windows Notepad's "Unicode") would fail on its NUL bytes.
+    if (number == 1 && (line.rfind("\xFF\xFE", 0) == 0 || line.rfind("\xFE\xFF", 0) == 0))
+      throw Error(name, "", "a label list in UTF-8 (or ASCII)",
+                  "a UTF-16 file (it starts with a UTF-16 byte-order mark): save it as UTF-8");
     while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t'))
       line.pop_back();
     const auto first = line.find_first_not_of(" \t");
@@ -176,6 +209,11 @@ LabelSet apc2016Labels() {
     ++id;
   }
   return LabelSet(std::move(labels));
+}
+
+LabelSet labelsOption(const std::string& value) {
+  if (value == "apc2016") return apc2016Labels();
+  return readLabelList(value);
 }
 
 }  // namespace lom

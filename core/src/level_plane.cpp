@@ -133,13 +133,37 @@ std::optional<LevelPlane> findLevelPlane(const std::vector<Eigen::Vector3d>& cen
     }
   }
   if (best_count < std::max(kMinimumOnPlane, sampled / 12)) return std::nullopt;
-  return LevelPlane{best.normal, best_count, sampled};
+  return LevelPlane{best.normal, best_count, sampled, best.normal.dot(best.point)};
 }
 
 Eigen::Vector3d levelledUp(const std::vector<Eigen::Vector3d>& centres,
                            const Eigen::Vector3d& cameras_up, double resolution) {
   const auto plane = findLevelPlane(centres, cameras_up, resolution);
   return plane ? plane->normal : cameras_up;
+}
+
+SceneLevel sceneLevel(const std::vector<Eigen::Vector3d>& centres,
+                      const std::optional<Eigen::Vector3d>& cameras_up, double resolution) {
+  SceneLevel level;
+  if (!cameras_up || !cameras_up->allFinite() || !(cameras_up->norm() > 1e-12)) return level;
+  level.plane = findLevelPlane(centres, *cameras_up, resolution);
+  level.up = level.plane ? level.plane->normal : cameras_up->normalized();
+  return level;
+}
+
+std::optional<Eigen::Vector3d> meanCameraUp(const std::vector<Eigen::Matrix3d>& rotations) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  size_t views = 0;
+  for (const Eigen::Matrix3d& rotation : rotations) {
+    const Eigen::Vector3d up = -rotation.col(1);
+    if (!up.allFinite()) continue;
+    sum += up;
+    ++views;
+  }
+  const double length = sum.norm();
+  if (views == 0 || !std::isfinite(length) || length < 0.5 * static_cast<double>(views))
+    return std::nullopt;
+  return Eigen::Vector3d(sum / length);
 }
 
 }  // namespace lom

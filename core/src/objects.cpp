@@ -84,8 +84,9 @@ std::map<int, std::vector<LabelledKey>> occupiedByLabel(const LabelMap& map,
   return by_label;
 }
 
-ObjectInstance makeObject(const LabelMap& map, int label, int instance, std::vector<VoxelKey> cluster,
-                     const std::vector<LabelledKey>& all) {
+ObjectInstance makeObject(const LabelMap& map, int label, int instance,
+                          std::vector<VoxelKey> cluster, const std::vector<LabelledKey>& all,
+                          const SceneLevel& level) {
   ObjectInstance object;
   object.label = label;
   object.name = map.labels().at(label).name;
@@ -102,7 +103,7 @@ ObjectInstance makeObject(const LabelMap& map, int label, int instance, std::vec
   const auto count = static_cast<double>(object.voxels.size());
   object.centroid /= count;
   object.mean_probability = probability_sum / count;
-  object.box = fitOrientedBox(object.voxels, map.parameters().resolution);
+  object.box = fitOrientedBox(object.voxels, map.parameters().resolution, level.up, level.plane);
   return object;
 }
 
@@ -154,7 +155,10 @@ std::vector<ObjectInstance> extractObjects(const LabelMap& map, const ObjectOpti
   }
 
   std::vector<ObjectInstance> objects;
-  for (const auto& [label, list] : occupiedByLabel(map, wanted, options.map_file)) {
+  const auto by_label = occupiedByLabel(map, wanted, options.map_file);
+  // Boxes stand level with the scene, as the studio's do (once for all objects).
+  const SceneLevel level = by_label.empty() ? SceneLevel{} : sceneLevelOf(map);
+  for (const auto& [label, list] : by_label) {
     std::vector<VoxelKey> keys;
     keys.reserve(list.size());
     for (const auto& v : list) keys.push_back(v.key);
@@ -163,7 +167,8 @@ std::vector<ObjectInstance> extractObjects(const LabelMap& map, const ObjectOpti
     const size_t label_clusters = clusters.size();
     if (!options.all_clusters && clusters.size() > 1) clusters.resize(1);  // the others are outliers
     for (size_t i = 0; i < clusters.size(); ++i) {
-      ObjectInstance object = makeObject(map, label, static_cast<int>(i), std::move(clusters[i]), list);
+      ObjectInstance object =
+          makeObject(map, label, static_cast<int>(i), std::move(clusters[i]), list, level);
       object.label_voxels = keys.size();
       object.label_clusters = label_clusters;
       objects.push_back(std::move(object));

@@ -360,6 +360,11 @@ TEST(StudioCommandLine, FusionSettingsAndTheirWarningsOnTheCommandLine) {
                                         qPath(temp / "labels.txt"), qPath(tiny.folder)});
   ASSERT_EQ(labelled.exit_code, 0) << labelled.err.toStdString();
   EXPECT_TRUE(labelled.err.contains("note: --labels is not used")) << labelled.err.toStdString();
+  // The built-in set by name, as `labeloctomap import --labels apc2016` takes it.
+  const StudioRun builtin = runStudio(
+      {"--screenshot", qPath(temp / "tiny.png"), "--labels", "apc2016", qPath(tiny.folder)});
+  EXPECT_EQ(builtin.exit_code, 0) << builtin.err.toStdString();
+  EXPECT_TRUE(builtin.err.contains("note: --labels is not used")) << builtin.err.toStdString();
   const StudioRun missing = runStudio({"--screenshot", qPath(temp / "tiny.png"), "--labels",
                                        qPath(temp / "none.txt"), qPath(tiny.folder)});
   EXPECT_EQ(missing.exit_code, 1) << missing.err.toStdString();

@@ -473,6 +473,25 @@ TEST(ImportOpen, ADamagedCacheEntryIsConvertedAgainAndColourLeftOutIsKept) {
         << entry.path();
 }
 
+// Label lists that differ only where a name holds a comma ("a,b" + "c"
+// against "a" + "b,c") are different conversions: one reused the other's entry
+// and its names.
+TEST(ImportOpen, LabelListsWithCommasInNamesAreDifferentEntries) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  ImportOptions first_options, second_options;
+  first_options.labels =
+      LabelSet({{0, "__background__", {0, 0, 0}}, {1, "a,b", {128, 0, 0}}, {2, "c", {0, 128, 0}}});
+  second_options.labels =
+      LabelSet({{0, "__background__", {0, 0, 0}}, {1, "a", {128, 0, 0}}, {2, "b,c", {0, 128, 0}}});
+  const OpenedSource first = openSource(dir / "src", first_options, dir / "cache");
+  const OpenedSource second = openSource(dir / "src", second_options, dir / "cache");
+  EXPECT_FALSE(second.reused_cache);
+  EXPECT_NE(second.folder, first.folder);
+  EXPECT_EQ(second.sequence.labels.at(1).name, "a");
+  EXPECT_TRUE(openSource(dir / "src", first_options, dir / "cache").reused_cache);
+}
+
 // A recording opened through a symbolic link is the same cache entry.
 TEST(ImportOpen, ALinkToARecordingReusesItsEntry) {
   test::TempDir dir;

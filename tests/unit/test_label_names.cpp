@@ -57,3 +57,31 @@ TEST(LabelNameTest, MapsAndSequencesAreNeverWrittenWithNamesTheyCannotReadBack) 
 }
 
 }  // namespace
+
+namespace {
+
+// A label list saved in Latin-1 or UTF-16 is refused where it is read, naming
+// the line and the byte: its names would otherwise come out changed
+// ("caf\uFFFD cup") and no longer be found by name.
+TEST(LabelNameTest, LabelListsInAnotherEncodingThanUtf8AreRefused) {
+  lom::test::TempDir dir;
+  std::ofstream(dir / "latin1.txt") << "__background__\nmug\ncaf\xe9 cup\n";
+  lom::Problem problem = errorOf([&] { (void)lom::readLabelList(dir / "latin1.txt"); });
+  EXPECT_EQ(problem.field, "line 3");
+  EXPECT_EQ(problem.found, "a byte that is not UTF-8 at byte 3 (save the file as UTF-8)");
+  std::ofstream(dir / "utf16.txt") << std::string("\xFF\xFE_\0_\0b\0g\0\n\0", 12);
+  problem = errorOf([&] { (void)lom::readLabelList(dir / "utf16.txt"); });
+  EXPECT_EQ(problem.expected, "a label list in UTF-8 (or ASCII)");
+  EXPECT_NE(problem.found.find("a UTF-16 file"), std::string::npos) << problem.found;
+  // UTF-8 names of every length of character are kept.
+  std::ofstream(dir / "utf8.txt")
+      << "__background__\ncaf\xc3\xa9 cup\n\xe6\x9d\xaf\n\xf0\x9f\x8d\xb5\n";
+  const lom::LabelSet labels = lom::readLabelList(dir / "utf8.txt");
+  EXPECT_EQ(labels.at(1).name, "caf\xc3\xa9 cup");
+  EXPECT_EQ(labels.at(3).name, "\xf0\x9f\x8d\xb5");
+  for (const std::string bad : {"\xc0\xaf", "\xed\xa0\x80", "\xe6\x9d", "\xf5\x80\x80\x80"})
+    EXPECT_NE(lom::labelNameProblem("x" + bad).find("not UTF-8 at byte 1"), std::string::npos)
+        << bad;
+}
+
+}  // namespace

@@ -3,10 +3,15 @@
 #include <QAction>
 #include <QMetaObject>
 #include <QPointer>
+#include <QStringList>
+#include <map>
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "lom/box_fit.hpp"
+#include "lom/level_plane.hpp"
+#include "lom/sequence.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/map_worker.hpp"
 #include "lom/ui/pending_edits.hpp"
@@ -35,12 +40,44 @@ QString count(size_t n, const QString& one, const QString& many) {
 }
 
 // The box of a label's voxels: fitted to their largest cluster (none without
-// voxels), its z along the map's up.
+// voxels), level with the scene, as the evaluation fits it.
 std::optional<OrientedBox> fittedBox(const std::vector<VoxelKey>& voxels, double resolution,
-                                     const Eigen::Vector3d& up) {
-  const std::vector<VoxelKey> cluster = largestCluster(voxels, 2.0);
-  if (cluster.empty()) return std::nullopt;
-  return fitOrientedBox(cluster, resolution, up);
+                                     const SceneLevel& level, AddBoxReaction::FitShare& share) {
+  std::vector<std::vector<VoxelKey>> clusters = voxelClusters(voxels, 2.0);
+  share = {};
+  if (clusters.empty()) return std::nullopt;
+  share.fitted = clusters.front().size();
+  share.label = voxels.size();
+  share.other_clusters = clusters.size() - 1;
+  return fitOrientedBox(clusters.front(), resolution, level.up, level.plane);
+}
+
+// The cameras' mean up of the sequence's poses: the evaluation's stand-in for
+// the up of a map that records no camera (sceneLevelOf), here too so that the
+// studio fits the box the score judges.
+std::optional<Eigen::Vector3d> sequenceUp(const std::shared_ptr<const Sequence>& sequence) {
+  if (!sequence) return std::nullopt;
+  std::vector<Eigen::Matrix3d> rotations;
+  for (const FrameRecord& frame : sequence->frames)
+    rotations.push_back(frame.T_world_camera.linear());
+  return meanCameraUp(rotations);
+}
+
+// "fitted to 120 of 200 voxels of mug; 80 more in 2 other clusters left out",
+// or empty when the fit left out at most kLeftOutShare of the label's voxels.
+QString leftOutText(const QString& name, const AddBoxReaction::FitShare& share) {
+  const size_t left_out = share.label - share.fitted;
+  if (static_cast<double>(left_out) <=
+      AddBoxReaction::kLeftOutShare * static_cast<double>(share.label))
+    return {};
+  return AddBoxReaction::tr("fitted to %1 of %2 voxels of %3; %4 more in %5 left out")
+      .arg(share.fitted)
+      .arg(share.label)
+      .arg(name)
+      .arg(left_out)
+      .arg(share.other_clusters == 1
+               ? AddBoxReaction::tr("another cluster")
+               : AddBoxReaction::tr("%1 other clusters").arg(share.other_clusters));
 }
 
 }  // namespace
@@ -103,12 +140,17 @@ void AddBoxReaction::onTriggered() {
                    "fusion finishes.")
                     .arg(name));
   worker->withCurrentMap(
-      [self, worker, box, generation, asked_with, up = mapUp()](const LabelMap* map,
-                                                                bool final) mutable {
+      [self, worker, box, generation, asked_with, sequence_up = sequenceUp(sequence)](
+          const LabelMap* map, bool final) mutable {
         std::optional<OrientedBox> fitted_box;
+        FitShare share;
         try {
-          if (map)
-            fitted_box = fittedBox(map->voxelsOfLabel(box.label), map->parameters().resolution, up);
+          if (map) {
+            const std::vector<VoxelKey> voxels = map->voxelsOfLabel(box.label);
+            if (!voxels.empty())
+              fitted_box = fittedBox(voxels, map->parameters().resolution,
+                                     sceneLevelOf(*map, sequence_up), share);
+          }
         } catch (const std::exception& error) {  // leaves standing for too many voxels
           sayFitFailed(self, worker, error);
           return true;
@@ -118,8 +160,8 @@ void AddBoxReaction::onTriggered() {
         const bool fitted = fitted_box.has_value();
         QMetaObject::invokeMethod(
             worker,
-            [self, box, fitted, generation, asked_with] {
-              if (self) self->addFitted(box, fitted, generation, asked_with);
+            [self, box, fitted, share, generation, asked_with] {
+              if (self) self->addFitted(box, fitted, share, generation, asked_with);
             },
             Qt::QueuedConnection);
         return true;
@@ -160,8 +202,8 @@ void AddBoxReaction::addArrived(const std::vector<GroundTruthBox>& boxes, int as
   if (kept >= 0 && (editing || kept != asked_with)) model.select(model.indexOfLabel(kept));
 }
 
-void AddBoxReaction::addFitted(const GroundTruthBox& box, bool fitted, unsigned generation,
-                               int asked_with) {
+void AddBoxReaction::addFitted(const GroundTruthBox& box, bool fitted, const FitShare& share,
+                               unsigned generation, int asked_with) {
   const QString name = QString::fromStdString(box.name);
   emit status(QString());
   if (generation != session_.mapGeneration()) {
@@ -191,6 +233,10 @@ void AddBoxReaction::addFitted(const GroundTruthBox& box, bool fitted, unsigned 
   // box added by hand).
   if (selectExistingBox(box.label)) return;
   addArrived({box}, asked_with, false);
+  // An object split into clusters (seen in parts, or two objects of one
+  // label) gets a box around one part only: said, so that it is checked.
+  const QString left_out = leftOutText(name, share);
+  if (!left_out.isEmpty()) emit status(tr("Box %1.").arg(left_out));
 }
 
 void AddBoxReaction::fitFailed(const QString& message) {
@@ -207,23 +253,30 @@ void AddBoxReaction::fitAllLabels() {
   const int asked_with = selectedBoxLabel();
   if (worker->isFusing()) emit status(tr("Boxes for every label: when fusion finishes."));
   worker->withCurrentMap(
-      [self, worker, labels, generation, asked_with, up = mapUp()](const LabelMap* map,
-                                                                   bool final) {
+      [self, worker, labels, generation, asked_with, sequence_up = sequenceUp(session_.sequence())](
+          const LabelMap* map, bool final) {
         // Labels keep appearing while frames are fused: fit once all are in.
         if (!final) return false;
         std::vector<GroundTruthBox> boxes;
+        std::vector<FitShare> shares;
         try {
           if (map) {
             std::set<int> objects;  // the background's voxels are never boxed: not expanded
             for (int label = 1; label < map->numLabels(); ++label)
               if (labels.contains(label)) objects.insert(label);
-            for (const auto& [label, keys] : map->voxelsByLabel(objects)) {
+            const std::map<int, std::vector<VoxelKey>> by_label = map->voxelsByLabel(objects);
+            // Levelled once for every box: it gathers the whole map.
+            const SceneLevel level =
+                by_label.empty() ? SceneLevel{} : sceneLevelOf(*map, sequence_up);
+            for (const auto& [label, keys] : by_label) {
               GroundTruthBox box;
               box.label = label;
               box.name = labels.at(label).name;
+              FitShare share;
               // keys: never empty here
-              box.box = *fittedBox(keys, map->parameters().resolution, up);
+              box.box = *fittedBox(keys, map->parameters().resolution, level, share);
               boxes.push_back(std::move(box));
+              shares.push_back(share);
             }
           }
         } catch (const std::exception& error) {  // leaves standing for too many voxels
@@ -232,8 +285,8 @@ void AddBoxReaction::fitAllLabels() {
         }
         QMetaObject::invokeMethod(
             worker,
-            [self, boxes, generation, asked_with] {
-              if (self) self->addAllFitted(boxes, generation, asked_with);
+            [self, boxes, shares, generation, asked_with] {
+              if (self) self->addAllFitted(boxes, shares, generation, asked_with);
             },
             Qt::QueuedConnection);
         return true;
@@ -241,7 +294,8 @@ void AddBoxReaction::fitAllLabels() {
       tr("box fits for every label"));
 }
 
-void AddBoxReaction::addAllFitted(const std::vector<GroundTruthBox>& boxes, unsigned generation,
+void AddBoxReaction::addAllFitted(const std::vector<GroundTruthBox>& boxes,
+                                  const std::vector<FitShare>& shares, unsigned generation,
                                   int asked_with) {
   emit status(QString());
   if (generation != session_.mapGeneration()) {
@@ -252,12 +306,19 @@ void AddBoxReaction::addAllFitted(const std::vector<GroundTruthBox>& boxes, unsi
   }
   AnnotationsModel& model = session_.annotations();
   std::vector<GroundTruthBox> added;
+  QStringList left_out;  // of the boxes added
   size_t already = 0;
-  for (const GroundTruthBox& box : boxes) {
-    if (model.indexOfLabel(box.label) >= 0)
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const GroundTruthBox& box = boxes[i];
+    if (model.indexOfLabel(box.label) >= 0) {
       ++already;
-    else
-      added.push_back(box);
+      continue;
+    }
+    added.push_back(box);
+    if (i < shares.size()) {
+      const QString text = leftOutText(QString::fromStdString(box.name), shares[i]);
+      if (!text.isEmpty()) left_out << text;
+    }
   }
   if (added.empty()) {
     emit failed(tr("No boxes to add"), !boxes.empty()
@@ -273,6 +334,9 @@ void AddBoxReaction::addAllFitted(const std::vector<GroundTruthBox>& boxes, unsi
   if (already)
     message +=
         tr("; %1 kept").arg(count(already, tr("label boxed already"), tr("labels boxed already")));
+  // Objects split into clusters got a box around one part only: said, so
+  // that those boxes are checked.
+  if (!left_out.isEmpty()) message += tr("; boxes %1").arg(left_out.join(tr("; ")));
   emit status(message + ".");
 }
 

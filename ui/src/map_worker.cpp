@@ -405,7 +405,8 @@ void MapWorker::evaluate(std::shared_ptr<const Sequence> sequence, const Annotat
           // What `score` reports besides the scores: a map file's fit and
           // candidates, or what fusing it here left out.
           if (!map_file_.empty()) {
-            describeMapFile(report, *map_, *sequence, map_file_, false);
+            describeMapFile(report, *map_, *sequence, map_file_, false, options.fusion.first_frame,
+                            options.fusion.last_frame);
           } else {
             report.fusion_totals = fused_totals_;
             if (frames_fused_ > 0)

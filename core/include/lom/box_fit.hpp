@@ -6,6 +6,7 @@
 
 #include "lom/geometry.hpp"
 #include "lom/label_map.hpp"
+#include "lom/level_plane.hpp"
 
 namespace lom {
 
@@ -36,18 +37,51 @@ inline constexpr size_t kBulkPartVoxels = 8;
 [[nodiscard]] std::vector<VoxelKey> bulkVoxels(const std::vector<VoxelKey>& keys,
                                                size_t min_part_voxels = kBulkPartVoxels);
 
-// A box enclosing every voxel cube: the smaller of the box along the principal
-// axes of the voxel centres and the axis-aligned box (which wins ties). Its
-// frame is canonical: box z is the axis nearest `up` (world +z by default),
-// pointing up, and box x the other axis nearest the world's x made level
-// (perpendicular to `up`; the world's y when `up` is along x), pointing that
-// way (yaw in (-90, 90] degrees for up = +z). Box edits in the box's frame
-// (move up, grow the height, turn) then act as their names say. The box's
-// shape does not depend on `up`, only which of its axes is called which.
-// Keys are OctoMap keys of voxels of edge `resolution`. Throws
+// The box of an object's voxels, level with the scene: box z is `up`
+// (normalised; world +z by default), the box's height the voxels' extent along
+// up, and its yaw the one whose footprint (the voxel cubes projected onto the
+// plane perpendicular to up) has the smallest area, searched over a quarter
+// turn to within 0.05 degrees. The box therefore turns with the world: a
+// rigid rotation of the voxels and of `up` alike gives the same box, rotated
+// (within a voxel, as the voxels themselves differ). Only an object that lies
+// tilted gets a tilted box: the box along the principal axes of the voxel
+// centres is taken instead when its volume is under 0.8 times the level
+// box's (surfaces seen from one side tilt principal axes by several degrees
+// for a box only a few percent smaller, which the level box beats by far).
+//
+// Each voxel reaches half an edge from its centre along each box axis (its
+// cube's extent in a box aligned with the voxel grid; a box turned against
+// the grid would otherwise grow with the turn). Extents are robust. With
+// `support` (the plane the objects rest on: the scene's level plane, whose
+// normal is up), voxels whose centres lie more than a voxel edge below it are
+// left out, unless they are more than half of the voxels. Along each box axis, end layers one voxel
+// edge thick holding fewer than max(2, 1% of the voxels) voxels, and fewer than a quarter of the
+// median layer's, are left out layer after layer, for at most 5% of the
+// voxels at each end: a stray voxel or a chain of them joined to an object
+// does not stretch its box, an object of under 20 voxels keeps every voxel,
+// and a thin object (its every layer as sparse) keeps its ends.
+//
+// Its frame is canonical: box z is the axis nearest `up`, pointing up (`up`
+// itself for a level box), and box x the other axis nearest the world's x
+// made level (perpendicular to `up`; the world's y when `up` is along x),
+// pointing that way (yaw in (-90, 90] degrees from that level x). Box edits
+// in the box's frame (move up, grow the height, turn) then act as their names
+// say. Keys are OctoMap keys of voxels of edge `resolution`. Throws
 // std::invalid_argument for no keys or an `up` that is zero or not finite.
 [[nodiscard]] OrientedBox fitOrientedBox(const std::vector<VoxelKey>& keys, double resolution,
-                                         const Eigen::Vector3d& up = Eigen::Vector3d::UnitZ());
+                                         const Eigen::Vector3d& up = Eigen::Vector3d::UnitZ(),
+                                         const std::optional<LevelPlane>& support = std::nullopt);
+
+// The level of a map's scene for its boxes, as the studio levels its views
+// (LabelMap::upDirection): the cameras' mean up the map records, levelled by
+// the largest plane of its occupied voxels (sceneLevel of lom/level_plane.hpp),
+// which is the support of fitOrientedBox. `cameras_up` stands in for a map
+// that records no camera (fused by an older version, or generated): the mean
+// up of the poses it was fused from (meanCameraUp). +z and no plane without
+// either. Gathers the map's occupied leaves once: call it once per map, not
+// per object.
+[[nodiscard]] SceneLevel sceneLevelOf(
+    const LabelMap& map, const std::optional<Eigen::Vector3d>& cameras_up = std::nullopt);
 
 // The rotation of a box level with `up`: its z is `up` (normalised), its x the
 // world's x made perpendicular to `up` (the world's y when `up` is along x).

@@ -232,9 +232,13 @@ inline constexpr double kPoorMapFit = 0.2;
 // `score --map` reports it: its name (report.map_file), how well it fits the
 // sequence's depths (report.map_fit; a warning when poorly), and its fusion
 // candidates against the baselines' (a warning when they differ, a note when
-// the baselines took the map's: `candidates_from_map`).
+// the baselines took the map's: `candidates_from_map`), and a warning when
+// the map records another number of fused frames than the frames scored,
+// [first_frame, last_frame) clipped to the sequence (a map fused from some of
+// them, or continued over them twice: the comparison is not matched).
 void describeMapFile(EvaluationReport& report, const LabelMap& map, const Sequence& sequence,
-                     const std::string& map_file, bool candidates_from_map);
+                     const std::string& map_file, bool candidates_from_map, size_t first_frame = 0,
+                     size_t last_frame = static_cast<size_t>(-1));
 
 // Scores every annotated object. Resolution and max range come from `map`.
 // Throws lom::Error for unusable inputs (see checkAnnotationsForSequence; a map

@@ -41,7 +41,7 @@ class LabelSet {
 // a text header or report and in the map file.
 inline constexpr std::size_t kMaxLabelNameBytes = 255;
 inline constexpr const char* kLabelNameRule =
-    "a label name of 1 to 255 bytes without control characters (line breaks, tabs, NUL)";
+    "a label name of 1 to 255 bytes of UTF-8 without control characters (line breaks, tabs, NUL)";
 
 // What is wrong with `name` as a label name ("a name of 300 bytes", "a line
 // feed (0x0a) at byte 5"); empty when it is a valid name.
@@ -64,6 +64,10 @@ inline constexpr const char* kLabelNameRule =
 // kMaxLabelListBytes, an invalid or repeated name, or not 1 to 256 names.
 inline constexpr std::size_t kMaxLabelListBytes = 1 << 20;
 [[nodiscard]] LabelSet readLabelList(const std::filesystem::path& file);
+
+// What a `--labels` option names: "apc2016" (the built-in set above) or a
+// label list file (readLabelList), for both programs.
+[[nodiscard]] LabelSet labelsOption(const std::string& value);
 
 // Colour of label `id` in the PASCAL VOC palette (1 -> 128,0,0).
 [[nodiscard]] Rgb vocColor(int id);

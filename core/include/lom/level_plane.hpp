@@ -14,6 +14,9 @@ struct LevelPlane {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit, on the side of the cameras' up
   size_t voxels = 0;                                  // of the sampled voxels, those on the plane
   size_t sampled = 0;                                 // voxels sampled
+  // normal . p for the points p of the plane (through the mean of the centres
+  // on it): a point's height above the plane is normal . point - offset.
+  double offset = 0.0;
 };
 
 // Planes tilted from the cameras' up by more than this are not levels.
@@ -35,5 +38,24 @@ inline constexpr double kMaxLevelTiltDegrees = 30.0;
 // `cameras_up` levelled: the normal of findLevelPlane when there is one, else `cameras_up`.
 [[nodiscard]] Eigen::Vector3d levelledUp(const std::vector<Eigen::Vector3d>& centres,
                                          const Eigen::Vector3d& cameras_up, double resolution);
+
+// Up in a scene and the plane its objects rest on, for boxes that stand level.
+struct SceneLevel {
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // unit
+  std::optional<LevelPlane> plane;                // its normal is `up` when present
+};
+
+// levelledUp and its plane, as the studio levels its views: `cameras_up`
+// levelled by findLevelPlane; +z and no plane without a cameras' up.
+[[nodiscard]] SceneLevel sceneLevel(const std::vector<Eigen::Vector3d>& centres,
+                                    const std::optional<Eigen::Vector3d>& cameras_up,
+                                    double resolution);
+
+// The cameras' mean up (each camera's -y, in the world) of camera rotations
+// R_world_camera, normalised, as LabelMap::camerasUp takes it from the views
+// fused: nullopt for none, or when they disagree (the mean is shorter than
+// half a unit).
+[[nodiscard]] std::optional<Eigen::Vector3d> meanCameraUp(
+    const std::vector<Eigen::Matrix3d>& rotations);
 
 }  // namespace lom

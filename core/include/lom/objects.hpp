@@ -50,7 +50,11 @@ struct ObjectInstance {
   size_t label_voxels = 0;           // all occupied voxels of the label, before clustering
   size_t label_clusters = 0;         // clusters of the label with >= min_cluster_voxels voxels
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // mean of the voxel centres
-  OrientedBox box;                   // encloses every voxel cube of the cluster
+  // Fitted to the cluster (fitOrientedBox of lom/box_fit.hpp), level with the
+  // map's up (sceneLevelOf: its cameras' mean up levelled by its largest
+  // plane; +z for a map that records no camera): holds the cluster's voxels
+  // but those under the level plane and in sparse end layers.
+  OrientedBox box;
   double mean_probability = 0.0;     // mean over the voxels of p(label)
 
   [[nodiscard]] size_t voxelCount() const { return voxels.size(); }
