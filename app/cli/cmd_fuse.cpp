@@ -435,13 +435,7 @@ int runFuse(const Words& words) {
   if (const long peak_kib = peakResidentKiB(); peak_kib > 0)
     std::cout << "memory: peak resident " << (peak_kib + 512) / 1024
               << " MiB for the whole run (frames, work buffers and the map)\n";
-  const auto counts = map.occupiedCountPerLabel();
-  size_t occupied = 0;
-  for (const auto& [label, count] : counts) occupied += count;
-  std::cout << "occupied voxels: " << occupied << "\n";
-  for (const auto& [label, count] : counts)
-    std::cout << "  " << std::setw(3) << label << "  " << std::left << std::setw(36)
-              << map.labels().at(label).name << std::right << std::setw(8) << count << "\n";
+  const size_t occupied = printOccupiedPerLabel(map, "occupied voxels: ", std::cout);
   if (options.segmenter) std::cout << segmenterSummary(*options.segmenter) << "\n";
   // Depths were mapped, yet the network's probabilities made no voxel occupied:
   // most likely flattened by a softmax applied to probabilities (docs/segmenter.md).

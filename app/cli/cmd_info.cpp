@@ -18,6 +18,7 @@
 #include "lom/fusion.hpp"
 #include "lom/label_map.hpp"
 #include "lom/sequence.hpp"
+#include "lom/text_columns.hpp"
 
 namespace lom::cli {
 
@@ -287,14 +288,7 @@ void printMapInfo(const std::filesystem::path& path, std::ostream& out) {
       out << (k ? "  " : "") << axes[k] << " " << bounds->first[k] << " .. " << bounds->second[k];
     out << " m\n";
   }
-  const auto counts = map.occupiedCountPerLabel();
-  size_t occupied = 0;
-  for (const auto& [label, count] : counts) occupied += count;
-  out << "occupied voxels:  " << occupied << "\n";
-  for (const auto& [label, count] : counts)
-    out << "  " << std::setw(5) << label << "  " << std::left << std::setw(36)
-        << singleLineText(map.labels().at(label).name) << std::right << std::setw(8) << count
-        << "\n";
+  printOccupiedPerLabel(map, "occupied voxels:  ", out);
 }
 
 // "depth: ..." for validate: what every frame's depths are, so that a scale
@@ -431,6 +425,18 @@ int runValidate(const Words& words) {
   std::cerr << "labeloctomap validate: " << problems.size()
             << (problems.size() == 1 ? " problem" : " problems") << " found in " << path << "\n";
   return 1;
+}
+
+size_t printOccupiedPerLabel(const LabelMap& map, const std::string& heading, std::ostream& out) {
+  const auto counts = map.occupiedCountPerLabel();
+  size_t occupied = 0;
+  for (const auto& [label, count] : counts) occupied += count;
+  out << heading << occupied << "\n";
+  for (const auto& [label, count] : counts)
+    out << "  " << padLeft(std::to_string(label), 5) << "  "
+        << padRight(singleLineText(map.labels().at(label).name), 36)
+        << padLeft(std::to_string(count), 8) << "\n";
+  return occupied;
 }
 
 }  // namespace lom::cli

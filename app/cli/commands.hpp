@@ -2,10 +2,12 @@
 // One function per labeloctomap subcommand; each lives in its own cmd_*.cpp.
 // They return the process exit code and may throw lom::Error,
 // lom::ValidationError or cli::UsageError (handled in main.cpp).
+#include <iosfwd>
 #include <string>
 #include <vector>
 
 namespace lom {
+class LabelMap;
 struct FrameStats;
 struct FusionOptions;
 struct MapParameters;
@@ -62,5 +64,9 @@ struct RangeMessage {
 };
 RangeMessage maxRangeMessage(const FrameStats& totals, double max_range, double resolution,
                              const std::string& sequence_file, bool continued = false);
+
+// "<heading> N" and one line per label (id, name, occupied voxels), as fuse and
+// info print them; names line up by terminal columns (cmd_info.cpp). Returns N.
+size_t printOccupiedPerLabel(const LabelMap& map, const std::string& heading, std::ostream& out);
 
 }  // namespace lom::cli

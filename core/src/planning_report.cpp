@@ -1,12 +1,12 @@
 // plan.json and the plan table; the fields are documented in docs/planning.md.
 #include <cmath>
 #include <cstdio>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "lom/atomic_file.hpp"
 #include "lom/planning.hpp"
+#include "lom/text_columns.hpp"
 
 namespace lom {
 
@@ -55,13 +55,8 @@ std::string triple(const Eigen::Vector3d& v, int decimals = 3) {
 }
 
 // Left-aligned in `width` columns, always followed by at least one space (long text is cut with "~").
-std::string pad(std::string text, size_t width) {
-  if (text.size() >= width) text = text.substr(0, width - 2) + "~";
-  return text + std::string(width - text.size(), ' ');
-}
-
-std::string padLeft(const std::string& text, size_t width) {
-  return text.size() >= width ? text : std::string(width - text.size(), ' ') + text;
+std::string pad(const std::string& text, size_t width) {
+  return padRight(cutToColumns(text, width - 1), width);
 }
 
 std::string objectName(const ObjectInstance& object) {

@@ -8,6 +8,7 @@
 
 #include "lom/labels.hpp"
 #include "lom/report.hpp"
+#include "lom/text_columns.hpp"
 
 namespace lom {
 
@@ -152,14 +153,6 @@ std::string excludedFramesText(const EvaluationReport& r) {
 void markdownMetricsRow(std::ostringstream& out, const char* name, const Metrics2d& m) {
   out << "| " << name << " | " << percent(m.pixel_accuracy) << " | " << percent(m.mean_accuracy) << " | "
       << percent(m.mean_iu) << " | " << percent(m.fw_iu) << " |\n";
-}
-
-std::string padRight(const std::string& text, size_t width) {
-  return text.size() >= width ? text : text + std::string(width - text.size(), ' ');
-}
-
-std::string padLeft(const std::string& text, size_t width) {
-  return text.size() >= width ? text : std::string(width - text.size(), ' ') + text;
 }
 
 std::string tableScores(const MethodScores& s) {
