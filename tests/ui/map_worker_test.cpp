@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "demo_window_fixture.hpp"
+#include "lom/evaluation.hpp"
 #include "lom/fusion.hpp"
 #include "lom/label_map.hpp"
 #include "lom/sequence.hpp"
@@ -175,6 +176,34 @@ TEST(MapWorkerTest, ACameraOutsideTheMapStopsFusionBeforeAnyFrame) {
   worker.withMap([&](const LabelMap* map) { fused = map ? map->numLeaves() : 0; });
   ASSERT_TRUE(QTest::qWaitFor([&] { return fused.load() != 1; }, fixture::kTimeoutMs));
   EXPECT_EQ(fused.load(), 0u);  // no frame was fused
+}
+
+// A map fused without any occupied voxel (every depth beyond the max range)
+// cannot be scored: the panel is told why in the studio's words, not in a
+// file validator's about a "(map)" that names no file.
+TEST(MapWorkerTest, AnEmptyMapIsNotScoredAndTheMessageSaysWhy) {
+  test::TempDir temp;
+  const SynthScene scene = writeSyntheticScene(fixture::smallDemo(), temp.path() / "scene");
+  const auto sequence = std::make_shared<const Sequence>(loadSequence(temp.path() / "scene"));
+  MapWorker worker;
+  bool finished = false;
+  QObject::connect(&worker, &MapWorker::fusionFinished, [&](bool) { finished = true; });
+  EvaluationOptions options;
+  options.fusion.map.max_range = 0.05;  // the scene's depths are all farther
+  worker.startFusion(sequence, options.fusion);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return finished; }, fixture::kTimeoutMs));
+  ASSERT_TRUE(worker.snapshot()->counts.empty());
+
+  QString failure;
+  bool scored = false;
+  QObject::connect(&worker, &MapWorker::evaluationFailed, [&](const QString& m) { failure = m; });
+  QObject::connect(&worker, &MapWorker::evaluationFinished, [&] { scored = true; });
+  worker.evaluate(sequence, scene.annotations, options);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !failure.isEmpty() || scored; }, fixture::kTimeoutMs));
+  EXPECT_FALSE(scored);
+  EXPECT_TRUE(failure.startsWith("Nothing to score: the map holds no occupied voxel"))
+      << failure.toStdString();
+  EXPECT_FALSE(failure.contains("(map)")) << failure.toStdString();
 }
 
 }  // namespace

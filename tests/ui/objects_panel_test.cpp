@@ -8,6 +8,7 @@
 #include <QComboBox>
 #include <QPushButton>
 #include <QRegion>
+#include <QStatusBar>
 #include <QTableWidget>
 #include <QTest>
 #include <algorithm>
@@ -192,6 +193,53 @@ TEST_F(ObjectsPanelTest, TheTargetIsChosenByNameAndPlannedAgain) {
       panel.stepsTable().item(panel.stepsTable().rowCount() - 1, ObjectsPanel::Object)->text();
   EXPECT_TRUE(steps_object.startsWith(QString::number(target.itemData(wanted).toInt()) + " "))
       << steps_object.toStdString();
+}
+
+// Save Plan… writes the plan shown as `labeloctomap plan --out` does, beside
+// the sequence and named after it; it never replaces a file of the sequence,
+// and there is nothing to save before a plan or after the map changed.
+TEST_F(ObjectsPanelTest, SavePlanWritesThePlanShownAsPlanJson) {
+  openFuseAndExtract();
+  ObjectsPanel& panel = window_.objectsPanel();
+  EXPECT_FALSE(panel.savePlanButton().isEnabled());
+  EXPECT_FALSE(panel.savePlanTo(qPath(temp_.path() / "early.json")).isEmpty());
+  EXPECT_FALSE(std::filesystem::exists(temp_.path() / "early.json"));
+
+  const int target = *visibleObjectLabels().begin();
+  panel.targetCombo().setCurrentIndex(panel.targetCombo().findData(target));
+  QTest::mouseClick(&panel.planButton(), Qt::LeftButton);
+  ASSERT_TRUE(panel.plan().has_value()) << panel.statusText().toStdString();
+  ASSERT_TRUE(panel.savePlanButton().isEnabled());
+
+  const auto chosen = temp_.path() / "my plan.json";
+  QString offered;
+  panel.setPlanFileChooser([&](const QString& start) {
+    offered = start;
+    return qPath(chosen);
+  });
+  QTest::mouseClick(&panel.savePlanButton(), Qt::LeftButton);
+  EXPECT_EQ(offered, window_.controller().proposedOutput("-plan.json"));
+  EXPECT_TRUE(offered.endsWith("-plan.json")) << offered.toStdString();
+  ASSERT_TRUE(std::filesystem::exists(chosen)) << panel.statusText().toStdString();
+  EXPECT_TRUE(panel.statusText().startsWith("Plan saved to")) << panel.statusText().toStdString();
+  EXPECT_TRUE(window_.statusBar()->currentMessage().startsWith("Plan saved to"))
+      << window_.statusBar()->currentMessage().toStdString();
+  const std::string text = test::slurp(chosen);
+  EXPECT_EQ(text, planJson(*panel.plan()));  // the map was fused here: no file to name
+  EXPECT_NE(text.find("\"labeloctomap-plan\""), std::string::npos) << text;
+
+  // The sequence's own files are never replaced by a plan.
+  const auto sequence_json = folder_ / "sequence.json";
+  const std::string before = test::slurp(sequence_json);
+  const QString refused = panel.savePlanTo(qPath(sequence_json));
+  EXPECT_TRUE(refused.contains("is a file of the sequence")) << refused.toStdString();
+  EXPECT_EQ(test::slurp(sequence_json), before);
+
+  // A new fusion drops the plan, and with it what there is to save.
+  window_.session().fuse();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !panel.plan().has_value(); }, kTimeoutMs));
+  EXPECT_FALSE(panel.savePlanButton().isEnabled());
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !window_.session().worker().isFusing(); }, kTimeoutMs));
 }
 
 }  // namespace

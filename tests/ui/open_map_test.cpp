@@ -70,6 +70,9 @@ TEST_F(OpenMapTest, AMapFromAFileReplacesTheFusedOneWithItsParameters) {
   });
   const unsigned generation = session().mapGeneration();
   open_map->trigger();
+  // While the file is read the status bar says so (it said nothing before).
+  EXPECT_TRUE(window_.fusionStatusText().contains("reading map demo_5mm.ot"))
+      << window_.fusionStatusText().toStdString();
   waitForMap();
   EXPECT_TRUE(errors_.empty()) << errors_.front().toStdString();
   // The dialog starts beside the sequence folder, where maps are written.
@@ -225,6 +228,7 @@ TEST_F(OpenMapTest, AMapOfAnotherLabelSetOrNoMapAtAllIsRefused) {
   openAndFuse();
   const MapSnapshotPtr before = session().worker().snapshot();
   const unsigned generation = session().mapGeneration();
+  const QString status = window_.fusionStatusText();
 
   LabelMap other(LabelSet({{0, "floor", {1, 2, 3}}, {1, "cup", {4, 5, 6}}}), MapParameters{});
   const auto other_path = temp_.path() / "other_labels.ot";
@@ -247,7 +251,10 @@ TEST_F(OpenMapTest, AMapOfAnotherLabelSetOrNoMapAtAllIsRefused) {
   ASSERT_EQ(errors_.size(), 3u);
   EXPECT_TRUE(errors_.back().contains("missing.ot")) << errors_.back().toStdString();
 
-  // The fused map is still the one shown, with its parameters.
+  // The fused map is still the one shown, with its parameters, and the status
+  // bar says what it said before the files were read.
+  EXPECT_EQ(window_.fusionStatusText(), status);
+  EXPECT_TRUE(status.contains("fused")) << status.toStdString();
   EXPECT_EQ(session().worker().snapshot(), before);
   EXPECT_EQ(session().mapGeneration(), generation);
   EXPECT_DOUBLE_EQ(session().fusionOptions().map.resolution, 0.01);

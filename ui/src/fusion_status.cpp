@@ -1,5 +1,6 @@
 #include "lom/ui/fusion_status.hpp"
 
+#include <QFileInfo>
 #include <QFontMetrics>
 #include <QHBoxLayout>
 #include <QLabel>
@@ -67,14 +68,22 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
   // A new fusion: the last one's count is not this one's, also when it fails
   // on its first frame or replaces a fusion still running.
   connect(&worker, &MapWorker::fusionStarted, this, [this] {
+    before_opening_.reset();
     progressed_ = failed_ = false;
     progress_->setFormat(tr("fusing"));
     progress_->setRange(0, 1);
     progress_->setValue(0);
     rate_->clear();
   });
+  // Taking in a map read from a file (a snapshot of a large map takes a while):
+  // nothing is being fused.
+  connect(&worker, &MapWorker::adoptionStarted, this, [this](const QString& source) {
+    progress_->setFormat(tr("opening map"));
+    rate_->setText(QFileInfo(source).fileName());
+  });
   // A map read from a file: nothing was fused here.
   connect(&worker, &MapWorker::mapAdopted, this, [this](const QString& source) {
+    before_opening_.reset();
     progress_->setFormat(tr("map from file"));
     progress_->setRange(0, 1);
     progress_->setValue(1);
@@ -85,6 +94,7 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
   // Reset Map: nothing fused, also when it stopped a fusion (whose end says
   // where it stopped just before).
   connect(&worker, &MapWorker::mapReset, this, [this] {
+    before_opening_.reset();
     progressed_ = failed_ = false;
     progress_->setFormat(tr("not fused"));
     progress_->setRange(0, 1);
@@ -116,6 +126,28 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
       rate_->clear();
     }
   });
+}
+
+void FusionStatus::showOpeningMap(const QString& file_name) {
+  if (!before_opening_)
+    before_opening_ = Shown{progress_->format(), rate_->text(), progress_->toolTip(),
+                            progress_->maximum(), progress_->value()};
+  progress_->setFormat(tr("reading map"));
+  progress_->setRange(0, 1);
+  progress_->setValue(0);
+  rate_->setText(file_name);
+  progress_->setToolTip(QString());
+}
+
+void FusionStatus::endOpeningMap() {
+  if (!before_opening_) return;
+  const Shown shown = *before_opening_;
+  before_opening_.reset();
+  progress_->setFormat(shown.format);
+  progress_->setRange(0, shown.maximum);
+  progress_->setValue(shown.value);
+  rate_->setText(shown.rate);
+  progress_->setToolTip(shown.tool_tip);
 }
 
 QString FusionStatus::text() const { return progress_->text() + " " + rate_->text(); }

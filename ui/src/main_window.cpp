@@ -9,6 +9,7 @@
 #include <QComboBox>
 #include <QDockWidget>
 #include <QEventLoop>
+#include <QFileInfo>
 #include <QFocusEvent>
 #include <QIcon>
 #include <QKeyEvent>
@@ -600,8 +601,14 @@ void MainWindow::connectScene() {
           [this](const QString& title, const QString& message) { report_error_(title, message); });
   connect(&session_->worker(), &MapWorker::workFailed, this,
           [this](const QString& title, const QString& message) { report_error_(title, message); });
+  connect(session_, &StudioSession::mapOpenStarted, this, [this](const QString& path) {
+    fusion_status_->showOpeningMap(QFileInfo(path).fileName());
+  });
   connect(session_, &StudioSession::mapOpenFailed, this,
-          [this](const QString& title, const QString& message) { report_error_(title, message); });
+          [this](const QString& title, const QString& message) {
+            fusion_status_->endOpeningMap();
+            report_error_(title, message);
+          });
   connect(session_, &StudioSession::mapOpened, this, [this](const QString& path) {
     statusBar()->showMessage(
         tr("Map read from %1 (not fused here; Fuse re-fuses the sequence).").arg(path), 8000);

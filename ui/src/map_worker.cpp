@@ -199,6 +199,7 @@ void MapWorker::adoptMap(std::shared_ptr<LabelMap> map, size_t frames, const QSt
       false);
   setState(State::Fusing);
   emit fusionStarted();
+  emit adoptionStarted(source);
 }
 
 void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const FusionOptions& options,
@@ -396,6 +397,14 @@ void MapWorker::evaluate(std::shared_ptr<const Sequence> sequence, const Annotat
         if (!map_) {
           return finish([this] { emit evaluationFailed(tr("Fuse the sequence first.")); });
         }
+        // What a score of an empty map would fail with names no file here.
+        if (map_->occupiedCountPerLabel().empty())
+          return finish([this] {
+            emit evaluationFailed(
+                tr("Nothing to score: the map holds no occupied voxel. Its frames put no depth "
+                   "within the max range, or no label's probability reached the occupancy "
+                   "threshold (Fusion panel)."));
+          });
         try {
           EvaluationReport report = lom::evaluate(
               *sequence, annotations, *map_, options,

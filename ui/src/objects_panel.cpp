@@ -2,14 +2,18 @@
 
 #include <QCheckBox>
 #include <QComboBox>
+#include <QDir>
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QLabel>
+#include <QMainWindow>
+#include <QMessageBox>
 #include <QPointer>
 #include <QPushButton>
 #include <QScrollArea>
 #include <QSignalBlocker>
 #include <QSplitter>
+#include <QStatusBar>
 #include <QTableWidget>
 #include <QVBoxLayout>
 #include <cmath>
@@ -19,6 +23,7 @@
 #include "lom/label_map.hpp"
 #include "lom/ui/elision.hpp"
 #include "lom/ui/map_worker.hpp"
+#include "lom/ui/save_file_dialog.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
 #include "number_item.hpp"
@@ -61,6 +66,7 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
       target_(new ElidingComboBox),
       refresh_(new QPushButton(tr("Refresh"))),
       plan_button_(new QPushButton(tr("Plan pick"))),
+      save_plan_button_(new QPushButton(tr("Save Plan…"))),
       steps_(new QTableWidget(0, StepColumns)),
       status_(new QLabel) {
   setObjectName("objectsPanel");
@@ -73,6 +79,10 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
   steps_->setAccessibleName(tr("Pick steps"));
   show_boxes_->setObjectName("showObjectBoxes");
   plan_button_->setObjectName("planPickButton");
+  save_plan_button_->setObjectName("savePlanButton");
+  save_plan_button_->setToolTip(
+      tr("Write the plan shown to a plan.json file, as labeloctomap plan --out writes it"));
+  save_plan_button_->setEnabled(false);
   refresh_->setObjectName("refreshObjectsButton");
   status_->setObjectName("objectsStatus");
   table_->setHorizontalHeaderLabels({tr("Label"), tr("Object"), tr("Voxels"), tr("Mean p")});
@@ -118,6 +128,12 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
   plan_row->addWidget(plan_button_);
   plan_layout->addLayout(plan_row);
   plan_layout->addWidget(steps_, 1);
+  // Under the steps it saves (beside Plan pick it widened the dock past a
+  // small screen's room).
+  auto* save_row = new QHBoxLayout;
+  save_row->addStretch(1);
+  save_row->addWidget(save_plan_button_);
+  plan_layout->addLayout(save_row);
   for (QTableWidget* table : {table_, steps_}) table->setMinimumHeight(rowsHeight(*table, 3));
   auto* splitter = new QSplitter(Qt::Vertical);
   splitter->setObjectName("objectsSplitter");
@@ -158,6 +174,12 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
   update_refresh();
   connect(refresh_, &QPushButton::clicked, this, &ObjectsPanel::refresh);
   connect(plan_button_, &QPushButton::clicked, this, &ObjectsPanel::planPick);
+  connect(save_plan_button_, &QPushButton::clicked, this, &ObjectsPanel::savePlan);
+  // What a saved plan names as its map: the file, for a map opened from one.
+  connect(&worker, &MapWorker::fusionStarted, this, [this] { map_source_.clear(); });
+  connect(&worker, &MapWorker::mapAdopted, this,
+          [this](const QString& source) { map_source_ = source; });
+  connect(&worker, &MapWorker::mapReset, this, [this] { map_source_.clear(); });
   // A plan on show is of the target chosen: another choice plans again (the
   // objects are at hand, so it is quick), rather than leave the steps of the
   // previous target under the new name.
@@ -275,8 +297,43 @@ void ObjectsPanel::planPick() {
   }
 }
 
+void ObjectsPanel::savePlan() {
+  if (!plan_) return;
+  QString start = session_.controller().proposedOutput(QStringLiteral("-plan.json"));
+  if (start.isEmpty()) start = QStringLiteral("plan.json");
+  const QString path = plan_file_chooser_ ? plan_file_chooser_(start)
+                                          : askSaveFileName(this, tr("Save Plan"), start,
+                                                            tr("Plans (*.json)"), {"json"});
+  if (path.isEmpty()) return;
+  const QString error = savePlanTo(path);
+  if (!error.isEmpty()) {
+    QMessageBox::warning(this, tr("Save Plan"), error);
+    return;
+  }
+  // Said where it went, also in the status bar: the panel may have scrolled
+  // its own status line out of sight to show the steps.
+  const QString saved = tr("Plan saved to %1.").arg(QDir::toNativeSeparators(path));
+  showMessage(saved);
+  if (auto* main = qobject_cast<QMainWindow*>(window()))
+    main->statusBar()->showMessage(saved, 8000);
+}
+
+QString ObjectsPanel::savePlanTo(const QString& path) {
+  if (!plan_) return tr("There is no plan to save: choose a target and press Plan pick.");
+  if (const QString input = session_.controller().sequenceFileAt(path); !input.isEmpty())
+    return tr("%1 is a file of the sequence (%2): a plan never replaces it. Choose another name.")
+        .arg(QDir::toNativeSeparators(path), input);
+  try {
+    writePlanJson(*plan_, path.toStdString(), map_source_.toStdString());
+  } catch (const std::exception& error) {
+    return tr("The plan was not saved: %1").arg(QString::fromStdString(error.what()));
+  }
+  return {};
+}
+
 void ObjectsPanel::showPlan(PickPlan plan) {
   plan_ = std::move(plan);
+  save_plan_button_->setEnabled(true);
   steps_->setRowCount(static_cast<int>(plan_->steps.size()));
   for (int row = 0; row < steps_->rowCount(); ++row) {
     const PlanStep& step = plan_->steps[static_cast<size_t>(row)];
@@ -315,6 +372,7 @@ void ObjectsPanel::showPlan(PickPlan plan) {
 void ObjectsPanel::clearPlan() {
   const bool had_plan = plan_.has_value();
   plan_.reset();
+  save_plan_button_->setEnabled(false);
   steps_->setRowCount(0);
   if (had_plan) emit pickPlanChanged(nullptr);
 }

@@ -149,6 +149,7 @@ void StudioSession::openMap(const QString& path) {
   if (!sequence_) return;
   if (!mayDropMap(tr("Opening %1").arg(QFileInfo(path).fileName()))) return;
   map_reader_->read(path, sequence_);
+  emit mapOpenStarted(path);
 }
 
 bool StudioSession::isOpeningMap() const { return map_reader_->isReading(); }

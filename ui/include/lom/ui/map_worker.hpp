@@ -98,6 +98,9 @@ class MapWorker : public QObject {
   void snapshotChanged();
   void fusionProgress(int done, int total, double frames_per_second);
   void fusionFinished(bool completed);
+  // adoptMap began taking the map read from `source` (after fusionStarted:
+  // the worker is busy with it, though nothing is fused).
+  void adoptionStarted(const QString& source);
   // A map read from `source` replaced the fused one (adoptMap).
   void mapAdopted(const QString& source);
   // reset() emptied the map (after the end of the fusion it stopped, unless

@@ -5,7 +5,9 @@
 // direction, as `labeloctomap plan --sequence`): the ordered steps in a table,
 // the occluders highlighted and the grasp arrows in 3D. The extraction and the
 // plan run on the map worker's thread.
+#include <QString>
 #include <QWidget>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -41,6 +43,7 @@ class ObjectsPanel : public QWidget {
   [[nodiscard]] QComboBox& targetCombo() { return *target_; }
   [[nodiscard]] QCheckBox& showBoxesCheck() { return *show_boxes_; }
   [[nodiscard]] QPushButton& planButton() { return *plan_button_; }
+  [[nodiscard]] QPushButton& savePlanButton() { return *save_plan_button_; }
   [[nodiscard]] const std::vector<ObjectInstance>& objects() const { return objects_; }
   [[nodiscard]] const std::optional<PickPlan>& plan() const { return plan_; }
   [[nodiscard]] bool isBusy() const { return busy_ > 0; }
@@ -51,6 +54,19 @@ class ObjectsPanel : public QWidget {
  public slots:
   void refresh();    // extracts the objects of the current map
   void planPick();   // for the target chosen in the combo
+  void savePlan();   // asks where (the chooser) and writes plan.json there
+
+ public:
+  // Writes the plan shown as `labeloctomap plan --out` writes plan.json
+  // (atomically; "map" names the .ot file the map was opened from, empty for
+  // a map fused here). Returns what went wrong, empty on success: there is no
+  // plan, or `path` is a file of the sequence, or it could not be written.
+  QString savePlanTo(const QString& path);
+  // For tests: replaces the save dialog (given the proposed file, returns the
+  // chosen one, empty for cancel).
+  void setPlanFileChooser(std::function<QString(const QString& start)> chooser) {
+    plan_file_chooser_ = std::move(chooser);
+  }
 
  signals:
   // The boxes to draw changed: `objects` is empty when they are hidden.
@@ -74,6 +90,7 @@ class ObjectsPanel : public QWidget {
   QComboBox* target_;
   QPushButton* refresh_;
   QPushButton* plan_button_;
+  QPushButton* save_plan_button_;
   QTableWidget* steps_;
   QLabel* status_;
   std::vector<ObjectInstance> objects_;
@@ -81,6 +98,8 @@ class ObjectsPanel : public QWidget {
   // The mean viewing direction of the cameras the map was fused from, when it
   // records them (a map of some frames is viewed from those frames).
   std::optional<Eigen::Vector3d> map_approach_;
+  QString map_source_;  // the .ot file the map was opened from; empty when fused here
+  std::function<QString(const QString&)> plan_file_chooser_;
   int busy_ = 0;
   unsigned generation_ = 0;
 };

@@ -89,6 +89,7 @@ class StudioSession : public QObject {
   void hiddenLabelsChanged();
   void selectedLabelChanged(int label);
   void pickedPointChanged();
+  void mapOpenStarted(const QString& path);  // the file is being read
   void mapOpened(const QString& path);
   void mapOpenFailed(const QString& title, const QString& message);
 
