@@ -12,6 +12,7 @@
 #include "commands.hpp"
 #include "lom/error.hpp"
 #include "lom/export.hpp"
+#include "lom/fusion.hpp"
 #include "lom/label_map.hpp"
 #include "output_paths.hpp"
 
@@ -179,9 +180,9 @@ ExportSummary runExportTo(const LabelMap& map, const ExportOptions& options, con
 
 int runExport(const Words& words) {
   const Args args(words, {"per-label", "smooth", "points", "native", "no-merge"});
-  args.expectOnly(
-      {"voxels", "format", "out", "labels", "per-label", "smooth", "points", "native", "no-merge"},
-      1);
+  args.expectOnly({"voxels", "format", "out", "labels", "per-label", "smooth", "points", "native",
+                   "no-merge", "sequence"},
+                  1);
   const fs::path map_path = args.positional(0, "MAP.ot");
   auto format_name = args.option("format");
   auto out = args.option("out");
@@ -218,9 +219,15 @@ int runExport(const Words& words) {
     options.labels = std::set<int>(list.begin(), list.end());
   }
   checkSwitches(options);
+  const auto sequence_path = args.option("sequence");
+  if (sequence_path && *format != ExportFormat::Objects)
+    throw UsageError(
+        "option --sequence goes only with --format objects (it stands the boxes on "
+        "the up of the cameras the map was fused from)");
 
   CommandInputs inputs;
   inputs.addFile(map_path, "the input map");
+  if (sequence_path) inputs.addSequenceJson(*sequence_path);
   const std::string format_text = std::string("format ") + exportFormatName(*format);
   if (options.per_label) {
     checkOutputFolder(out_path, out_option, "the per-label files", inputs);
@@ -239,6 +246,14 @@ int runExport(const Words& words) {
                       "the OBJ materials", inputs);
   }
 
+  // The sequence is read before the map: it is the cheaper file to get wrong.
+  if (sequence_path) {
+    const Sequence sequence = loadSequence(*sequence_path);
+    inputs.addSequenceFiles(sequence);
+    if (!options.per_label)
+      checkOutputFile(out_path, out_option, extensionOf(*format), format_text, inputs);
+    options.cameras_up = camerasUpOf(sequence);
+  }
   const LabelMap map = LabelMap::load(map_path);
   const auto counts = map.occupiedCountPerLabel();
   checkSomethingToExport(map, map_path, options, counts);
@@ -253,7 +268,13 @@ int runExport(const Words& words) {
     std::cerr << "note: OBJ readers split the mtllib line at spaces: they will not find "
               << fs::path(out_path).replace_extension(".mtl").filename().string()
               << " (the label colours); a file name without spaces keeps them\n";
+  if (*format == ExportFormat::Objects)
+    if (const std::string note =
+            boxesOnWorldZNote(map, map_path.string(), sequence_path.has_value());
+        !note.empty())
+      std::cerr << "note: " << note << "\n";
   const ExportSummary summary = runExportTo(map, options, out_path, out_option);
+  for (const std::string& note : summary.notes) std::cerr << "note: " << note << "\n";
   for (const int label : summary.empty_labels)
     std::cerr << "note: label " << label << " (" << map.labels().at(label).name
               << ") has no occupied voxel; nothing written for it\n";

@@ -356,6 +356,25 @@ int runFuse(const Words& words) {
     }
     checkStartMapParameters(earlier->parameters(), *start_from);
     options.map = earlier->parameters();  // what the checks and messages below speak of
+    // Its frames were restricted to some labels: the new ones are too, unless
+    // --candidates says otherwise (the map's record widens to both).
+    const FusedCandidates& recorded = earlier->fusedCandidates();
+    if (!args.option("candidates") && recorded.recorded && recorded.labels) {
+      options.candidates = recorded.labels;
+      std::string ids;
+      for (const int id : *recorded.labels) ids += (ids.empty() ? "" : ",") + std::to_string(id);
+      if (!args.flag("quiet"))
+        std::cerr << "note: fusing with the candidates " << *start_from << " was fused with ("
+                  << ids << "), as it records; --candidates chooses others\n";
+    }
+    const CameraViewRecord& views = earlier->cameraViews();
+    if (views.views > 0 &&
+        sameCameraViews(views, cameraViewsOf(sequence, options.first_frame, options.last_frame)))
+      std::cerr << "warning: " << *start_from
+                << " was fused from these very frames already (it records the same camera views): "
+                   "fusing them again counts each of their observations twice, which makes the "
+                   "map surer than the data are; fuse other frames into it, or leave out "
+                   "--start-from\n";
   }
   // Before the jumps: a camera outside the map is the wrong pose, not its neighbours.
   checkCamerasInsideMap(sequence, options.map.resolution, options.first_frame, options.last_frame);

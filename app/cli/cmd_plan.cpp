@@ -14,6 +14,7 @@
 #include "lom/box_fit.hpp"
 #include "lom/error.hpp"
 #include "lom/evaluation.hpp"
+#include "lom/fusion.hpp"
 #include "lom/label_map.hpp"
 #include "lom/planning.hpp"
 #include "lom/sequence.hpp"
@@ -65,6 +66,15 @@ std::vector<int> parseCandidates(const std::string& text, const LabelSet& labels
 }
 
 }  // namespace
+
+std::string boxesOnWorldZNote(const LabelMap& map, const std::string& map_file,
+                              bool sequence_given) {
+  if (sequence_given || map.camerasUp()) return {};
+  return map_file +
+         " does not record which way up its cameras were (a map of an older version, or "
+         "cameras that disagree): the object boxes stand on the world's +z axis; --sequence SEQ, "
+         "the recording it was fused from, stands them level with the scene, as score does";
+}
 
 int runPlan(const Words& words) {
   const Args args(words, {"all-clusters", "transitive"});
@@ -118,6 +128,7 @@ int runPlan(const Words& words) {
     if (out) checkOutputFile(*out, "out", ".json", what, inputs);
     options.approach = meanViewingDirection(*sequence);
     options.approach_source = ApproachSource::Sequence;
+    options.objects.cameras_up = camerasUpOf(*sequence);  // for a map that records none
   }
 
   const LabelMap map = LabelMap::load(map_path);
@@ -145,6 +156,9 @@ int runPlan(const Words& words) {
                 << " (its level plane or cameras): the placements assume z up and may lie on "
                    "their side (docs/planning.md)\n";
     }
+  if (const std::string note = boxesOnWorldZNote(map, map_path.string(), sequence.has_value());
+      !note.empty())
+    std::cerr << "note: " << note << "\n";
   const PickPlan plan = planPick(map, target, options);
   if (plan.approach_source == ApproachSource::FreeSpace)
     std::cerr << "note: the approach direction was guessed from the map's observed free space "

@@ -166,12 +166,26 @@ void noteYamlBoxes(const fs::path& annotations, const Args& args) {
                "positions read in the sequence's frame\n";
 }
 
+// A map keeps the parameters it was fused with: options that would have
+// fused it otherwise are overridden, said once each (unless quiet).
 void noteResolution(const Args& args, const EvaluationReport& report, const fs::path& map) {
-  if (!args.option("resolution") || args.number("resolution", 0.0) == report.resolution ||
-      args.flag("quiet"))
-    return;
-  std::cerr << "note: " << map.string() << " has resolution " << report.resolution
-            << " m; it overrides --resolution " << args.number("resolution", 0.0) << "\n";
+  if (args.flag("quiet")) return;
+  const struct {
+    const char* option;
+    double map_value;
+    const char* what;
+  } parameters[] = {{"resolution", report.resolution, "resolution"},
+                    {"max-range", report.max_range, "max range"},
+                    {"p-miss", report.p_miss, "p_miss"}};
+  for (const auto& parameter : parameters) {
+    if (!args.option(parameter.option)) continue;
+    const double given = args.number(parameter.option, 0.0);
+    if (given == parameter.map_value) continue;
+    std::cerr << "note: " << map.string() << " has " << parameter.what << " " << parameter.map_value
+              << (std::string(parameter.option) == "p-miss" ? "" : " m") << "; it overrides --"
+              << parameter.option << " " << given
+              << " (a map keeps the settings it was fused with)\n";
+  }
 }
 
 }  // namespace

@@ -69,4 +69,11 @@ RangeMessage maxRangeMessage(const FrameStats& totals, double max_range, double 
 // info print them; names line up by terminal columns (cmd_info.cpp). Returns N.
 size_t printOccupiedPerLabel(const LabelMap& map, const std::string& heading, std::ostream& out);
 
+// Object boxes of a map that records no camera up stand on the world's +z:
+// the note export objects and plan print then (without "note: "), naming
+// --sequence, which gives them its cameras' up; empty when the map records
+// its up or `sequence_given` (cmd_plan.cpp).
+std::string boxesOnWorldZNote(const LabelMap& map, const std::string& map_file,
+                              bool sequence_given);
+
 }  // namespace lom::cli

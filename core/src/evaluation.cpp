@@ -32,7 +32,9 @@ std::string formatPoint(const Eigen::Vector3d& p) {
 // Boxes in which the map has no occupied voxel of any label, said in at most
 // two sentences (those outside everything the map observed, and the others):
 // LabelOctoMap scores 0 there whatever it mapped, and a box given in other
-// units or another frame (millimetres for metres) looks just like that.
+// units or another frame (millimetres for metres) looks just like that. A
+// third names boxes far larger than the map (millimetres again), which hold
+// voxels but score about 0. Each names its first ten boxes and counts the rest.
 std::vector<std::string> emptyBoxWarnings(const Annotations& annotations, const LabelSet& labels,
                                           const LabelMap& map, const std::string& file) {
   std::vector<std::string> warnings;
@@ -62,46 +64,67 @@ std::vector<std::string> emptyBoxWarnings(const Annotations& annotations, const 
         --left;
       }
   });
-  if (left == 0) return warnings;
   const auto bounds = map.bounds();
   const bool mapped = bounds.has_value();
   Eigen::AlignedBox3d observed;
   observed.setEmpty();
   if (mapped) observed = Eigen::AlignedBox3d(bounds->first, bounds->second);
-  std::string outside, empty;
-  size_t outside_count = 0, empty_count = 0;
+  const std::string span = mapped ? " (its known voxels span " + formatPoint(observed.min()) +
+                                        " to " + formatPoint(observed.max()) + " m)"
+                                  : std::string(" (the map is empty)");
+  // Many boxes are named up to ten, then counted: a sentence, not a page.
+  const auto listed = [](const std::vector<std::string>& names) {
+    constexpr size_t kNamed = 10;
+    std::string text;
+    for (size_t i = 0; i < std::min(names.size(), kNamed); ++i) text += (i ? ", " : "") + names[i];
+    if (names.size() > kNamed) text += " and " + std::to_string(names.size() - kNamed) + " more";
+    return text;
+  };
+  std::vector<std::string> outside, empty, huge;
   bool far = false;
+  const double across = mapped ? observed.diagonal().norm() : 0.0;
   for (size_t i = 0; i < boxes.size(); ++i) {
-    if (holds[i]) continue;
     const int label = boxes[i].label;
     const std::string which = "boxes[" + std::to_string(i) + "] (label " + std::to_string(label) +
                               ", " + (labels.contains(label) ? labels.at(label).name : "?") + ")";
-    if (!mapped || !reach[i].intersects(observed)) {  // bounds hold whole voxels
-      outside += (outside.empty() ? "" : ", ") + which;
-      ++outside_count;
+    const bool outside_map = !mapped || !reach[i].intersects(observed);  // bounds hold whole voxels
+    // Far larger than all the map saw: it may hold voxels, yet scores about 0
+    // (one outside the map is said to be there).
+    if (!outside_map && boxes[i].box.size.maxCoeff() > 3.0 * across) {
+      char size[96];
+      std::snprintf(size, sizeof size, " is %.3g x %.3g x %.3g m", boxes[i].box.size.x(),
+                    boxes[i].box.size.y(), boxes[i].box.size.z());
+      huge.push_back(which + size);
+    }
+    if (holds[i]) continue;
+    if (outside_map) {
+      outside.push_back(which);
       // Farther from the map than the map is across: not a near miss.
-      far = far || !mapped ||
-            observed.exteriorDistance(boxes[i].box.center) > observed.diagonal().norm();
+      far = far || !mapped || observed.exteriorDistance(boxes[i].box.center) > across;
     } else {
-      empty += (empty.empty() ? "" : ", ") + which;
-      ++empty_count;
+      empty.push_back(which);
     }
   }
-  if (outside_count > 0)
-    warnings.push_back(
-        file + ": " + outside + (outside_count == 1 ? " lies" : " lie") +
-        " outside everything the map observed" +
-        (mapped ? " (its known voxels span " + formatPoint(observed.min()) + " to " +
-                      formatPoint(observed.max()) + " m)"
-                : std::string(" (the map is empty)")) +
-        ": nothing was mapped there, so " + (outside_count == 1 ? "it scores" : "they score") +
-        " 0 in every column." +
-        (far ? " A box this far from the map is often given in other units or another frame."
-             : ""));
-  if (empty_count > 0)
-    warnings.push_back(file + ": " + empty + (empty_count == 1 ? " holds" : " hold") +
+  if (!outside.empty())
+    warnings.push_back(file + ": " + listed(outside) + (outside.size() == 1 ? " lies" : " lie") +
+                       " outside everything the map observed" + span +
+                       ": nothing was mapped there, so " +
+                       (outside.size() == 1 ? "it scores" : "they score") + " 0 in every column." +
+                       (far ? " A box this far from the map is often given in other units or "
+                              "another frame."
+                            : ""));
+  if (!empty.empty())
+    warnings.push_back(file + ": " + listed(empty) + (empty.size() == 1 ? " holds" : " hold") +
                        " no occupied voxel of any label: nothing was mapped inside " +
-                       (empty_count == 1 ? "it" : "them") + ", so LabelOctoMap scores 0 there.");
+                       (empty.size() == 1 ? "it" : "them") + ", so LabelOctoMap scores 0 there.");
+  if (!huge.empty())
+    warnings.push_back(
+        file + ": " + listed(huge) +
+        (huge.size() == 1 ? ", more than three times" : ", each more than three times") +
+        " as large as everything the map observed" + span +
+        ": an object's voxels fill almost none of " + (huge.size() == 1 ? "it" : "them") +
+        ", so its IU is about 0 in every column. A box this large is often "
+        "given in millimetres for metres.");
   return warnings;
 }
 
@@ -401,12 +424,28 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
     for (size_t i = 0; i < annotations.boxes.size(); ++i) {
       const int label = annotations.boxes[i].label;
       if (std::binary_search(report.candidates->begin(), report.candidates->end(), label)) continue;
+      // A map fused earlier with other candidates (score --map --candidates)
+      // may hold the label: only the baselines cannot.
+      const FusedCandidates& fused = map.fusedCandidates();
+      const bool map_may_hold =
+          !fused.recorded || !fused.labels ||
+          std::binary_search(fused.labels->begin(), fused.labels->end(), label);
+      const std::string box = orDefault(options.annotations_file, "(annotations)") + ": boxes[" +
+                              std::to_string(i) + "] is of label " + std::to_string(label) + " (" +
+                              sequence.labels.at(label).name +
+                              "), which is not among the candidates " + list;
       report.warnings.push_back(
-          orDefault(options.annotations_file, "(annotations)") + ": boxes[" + std::to_string(i) +
-          "] is of label " + std::to_string(label) + " (" + sequence.labels.at(label).name +
-          "), which is not among the candidates " + list +
-          ": no voxel or pixel can take that label, so it scores 0 in every column and pulls the "
-          "means down");
+          map_may_hold
+              ? box +
+                    ": no pixel of the projection baselines and the 2D metrics can take that "
+                    "label, so they score 0 for it, while " +
+                    orDefault(options.map_file, "the map") +
+                    (fused.recorded ? " was fused with it"
+                                    : " may hold it (it does not record its candidates)") +
+                    ": the comparison is not matched (leave out --candidates to use the map's)"
+              : box +
+                    ": no voxel or pixel can take that label, so it scores 0 in every column "
+                    "and pulls the means down");
     }
   }
 
@@ -424,10 +463,7 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
   // Boxes are fitted level with the scene, as the studio fits them: a world
   // that is the first camera's frame would otherwise tilt every box by its
   // pitch. The sequence's poses stand in for a map that records no camera.
-  std::vector<Eigen::Matrix3d> camera_rotations;
-  for (const FrameRecord& frame : sequence.frames)
-    camera_rotations.push_back(frame.T_world_camera.linear());
-  const SceneLevel level = sceneLevelOf(map, meanCameraUp(camera_rotations));
+  const SceneLevel level = sceneLevelOf(map, camerasUpOf(sequence));
   EvaluationProgress step{"scoring", 0, boxes.size()};
   for (const auto& box : boxes) {
     ObjectScore object;

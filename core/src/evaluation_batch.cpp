@@ -7,6 +7,7 @@
 #include "file_checks.hpp"
 #include "lom/error.hpp"
 #include "lom/evaluation.hpp"
+#include "lom/fusion.hpp"
 #include "lom/segmenter.hpp"
 
 namespace lom {
@@ -117,12 +118,22 @@ void describeMapFile(EvaluationReport& report, const LabelMap& map, const Sequen
   const size_t end = std::min(last_frame, sequence.frames.size());
   const size_t scored = end > first_frame ? end - first_frame : 0;
   const std::uint32_t fused = map.cameraViews().views;
-  if (fused > 0 && fused != scored)
+  const std::string frames_text =
+      "frames " + std::to_string(first_frame) + " to " + std::to_string(end == 0 ? 0 : end - 1);
+  if (fused > 0 && fused == scored &&
+      !sameCameraViews(map.cameraViews(), cameraViewsOf(sequence, first_frame, end)))
+    report.warnings.push_back(
+        map_file + " was fused from " + std::to_string(fused) +
+        (fused == 1 ? " frame" : " frames") + ", as many as are scored, but not from " +
+        frames_text +
+        ": the directions its cameras looked in differ from theirs, so the baselines project "
+        "other views than the map fused; fuse and score the same frames (--frames), or score "
+        "without --map");
+  else if (fused > 0 && fused != scored)
     report.warnings.push_back(
         map_file + " was fused from " + std::to_string(fused) +
         (fused == 1 ? " frame" : " frames") + ", the baselines project the " +
-        std::to_string(scored) + (scored == 1 ? " frame" : " frames") + " scored (frames " +
-        std::to_string(first_frame) + " to " + std::to_string(end == 0 ? 0 : end - 1) +
+        std::to_string(scored) + (scored == 1 ? " frame" : " frames") + " scored (" + frames_text +
         "): the comparison is not matched; fuse and score the same frames (--frames), or score "
         "without --map");
 }

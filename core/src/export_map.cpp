@@ -303,7 +303,11 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
     object_options.labels = std::vector<int>(selected.begin(), selected.end());
     object_options.map_file = file;
     object_options.min_cluster_voxels = 1;  // every label with occupied voxels has an entry
+    object_options.cameras_up = options.cameras_up;
     const auto objects = extractObjects(map, object_options);
+    for (const ObjectInstance& object : objects)
+      if (std::string note = leftOutNote(object); !note.empty())
+        summary.notes.push_back(std::move(note));
     writeObjectsJson(objects, map, out);
     summary.files.push_back(out);
     summary.items = objects.size();

@@ -16,6 +16,7 @@
 
 #include "fusion_internal.hpp"
 #include "lom/error.hpp"
+#include "lom/level_plane.hpp"
 #include "lom/octree/label_octree.hpp"
 #include "lom/segmenter.hpp"
 
@@ -630,6 +631,22 @@ void fuseSequenceInto(LabelMap& map, const Sequence& sequence, const FusionOptio
     if (progress && !progress(report)) break;
   }
   map.prune();  // merge every identical set of children once fusion is over
+}
+
+CameraViewRecord cameraViewsOf(const Sequence& sequence, size_t first, size_t last) {
+  CameraViewRecord record;
+  const size_t end = std::min(last, sequence.frames.size());
+  for (size_t i = first; i < end; ++i)
+    addCameraView(record, sequence.frames[i].T_world_camera.linear());
+  return record;
+}
+
+std::optional<Eigen::Vector3d> camerasUpOf(const Sequence& sequence) {
+  std::vector<Eigen::Matrix3d> rotations;
+  rotations.reserve(sequence.frames.size());
+  for (const FrameRecord& frame : sequence.frames)
+    rotations.push_back(frame.T_world_camera.linear());
+  return meanCameraUp(rotations);
 }
 
 }  // namespace lom

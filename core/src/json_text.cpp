@@ -1,5 +1,7 @@
 #include "json_text.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -266,6 +268,28 @@ Json parseText(const std::string& text, const std::string& file) {
     throw Error(file, builder.errorField(),
                 "a finite number (JSON numbers here must fit a double, at most about 1.8e308)",
                 "'" + builder.errorToken() + "' at " + where);
+  }
+  // NaN and Infinity are no JSON, but Python's json.dump writes them (unless
+  // allow_nan=False): name the field, and the fix, not only a lexer error.
+  {
+    // The lexer stops just after the first character that cannot go on a
+    // literal ('N', the 'a' of "nan", the 'I' of "-Infinity"): the word is
+    // the letters (and sign) around it.
+    const auto wordChar = [](char c) {
+      return std::isalpha(static_cast<unsigned char>(c)) || c == '-';
+    };
+    size_t start = std::min(builder.errorPosition(), text.size());
+    while (start > 0 && wordChar(text[start - 1])) --start;
+    size_t word_end = start;
+    while (word_end < text.size() && word_end - start < 12 && wordChar(text[word_end])) ++word_end;
+    std::string word = text.substr(start, word_end - start);
+    std::string bare = word.rfind('-', 0) == 0 ? word.substr(1) : word;
+    for (char& c : bare) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (bare == "nan" || bare == "infinity" || bare == "inf")
+      throw Error(file, builder.errorField(),
+                  "a finite number (JSON has no NaN or Infinity; Python's json.dump writes them "
+                  "unless given allow_nan=False)",
+                  "'" + word + "' at " + positionText(text, start));
   }
   throw Error(file, "", "valid JSON", withoutExceptionId(builder.errorMessage()));
 }

@@ -99,17 +99,38 @@ void LabelMap::setIntegrationParameters(double p_miss, double max_range) {
   tree_->setIntegrationParameters(p_miss, max_range);
 }
 
-void LabelMap::noteCameraView(const Eigen::Matrix3d& R_world_camera) {
+bool addCameraView(CameraViewRecord& record, const Eigen::Matrix3d& R_world_camera) {
   const Eigen::Vector3d up = -R_world_camera.col(1), forward = R_world_camera.col(2);
-  if (!up.allFinite() || !forward.allFinite()) return;
-  CameraViewRecord record = tree_->cameraViews();
-  if (record.views == std::numeric_limits<std::uint32_t>::max()) return;  // enough views
+  if (!up.allFinite() || !forward.allFinite()) return false;
+  if (record.views == std::numeric_limits<std::uint32_t>::max()) return false;  // enough views
   for (int a = 0; a < 3; ++a) {
     record.up_sum[a] += up[a];
     record.forward_sum[a] += forward[a];
   }
   ++record.views;
-  tree_->setCameraViews(record);
+  return true;
+}
+
+bool sameCameraViews(const CameraViewRecord& a, const CameraViewRecord& b) {
+  if (a.views != b.views) return false;
+  // Sums of unit vectors: rounding grows with the count, far below what one
+  // other view changes (a view differs from another by more than 1e-6).
+  const double tolerance = 1e-9 * std::max<double>(a.views, 1.0);
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(a.up_sum[i] - b.up_sum[i]) > tolerance ||
+        std::abs(a.forward_sum[i] - b.forward_sum[i]) > tolerance)
+      return false;
+  return true;
+}
+
+void LabelMap::noteCameraView(const Eigen::Matrix3d& R_world_camera) {
+  CameraViewRecord record = tree_->cameraViews();
+  // Unknown stays unknown: a map read from a file of before the record
+  // (version 1, or one that says neither views nor candidates) was fused from
+  // views nobody counted; counting only those fused now would make it look
+  // like a map of these frames alone.
+  if (record.views == 0 && !tree_->fusedCandidates().recorded) return;
+  if (addCameraView(record, R_world_camera)) tree_->setCameraViews(record);
 }
 
 const CameraViewRecord& LabelMap::cameraViews() const { return tree_->cameraViews(); }

@@ -132,6 +132,25 @@ std::string ObjectInstance::id() const {
   return instance == 0 ? std::to_string(label) : std::to_string(label) + "#" + std::to_string(instance);
 }
 
+std::string leftOutNote(const ObjectInstance& object) {
+  if (object.instance != 0 || object.label_voxels <= object.voxelCount()) return {};
+  const size_t left_out = object.label_voxels - object.voxelCount();
+  if (static_cast<double>(left_out) <= kLeftOutShare * static_cast<double>(object.label_voxels))
+    return {};
+  const size_t others = object.label_clusters > 0 ? object.label_clusters - 1 : 0;
+  std::string where;
+  if (others == 0)
+    where = "specks too small to be objects";
+  else if (others == 1)
+    where = "another cluster";
+  else
+    where = std::to_string(others) + " other clusters";
+  return "the box of label " + std::to_string(object.label) + " (" + object.name + ") holds the " +
+         std::to_string(object.voxelCount()) + " voxels of its largest cluster; " +
+         std::to_string(left_out) + " more of its " + std::to_string(object.label_voxels) +
+         " lie in " + where + ", left out";
+}
+
 std::vector<std::vector<VoxelKey>> euclideanClusters(const std::vector<VoxelKey>& keys, double tolerance_voxels,
                                                      size_t min_size) {
   // Clusters are connected components: taking the largest of what is left
@@ -157,7 +176,7 @@ std::vector<ObjectInstance> extractObjects(const LabelMap& map, const ObjectOpti
   std::vector<ObjectInstance> objects;
   const auto by_label = occupiedByLabel(map, wanted, options.map_file);
   // Boxes stand level with the scene, as the studio's do (once for all objects).
-  const SceneLevel level = by_label.empty() ? SceneLevel{} : sceneLevelOf(map);
+  const SceneLevel level = by_label.empty() ? SceneLevel{} : sceneLevelOf(map, options.cameras_up);
   for (const auto& [label, list] : by_label) {
     std::vector<VoxelKey> keys;
     keys.reserve(list.size());

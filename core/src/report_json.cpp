@@ -142,6 +142,7 @@ std::string aggregateJson(const std::vector<EvaluationReport>& reports) {
     Json entry{{"sequence", report.sequence}, {"report", report.sequence + "/report.json"}};
     const Json summary = summaryJson(report.summary);
     for (auto it = summary.begin(); it != summary.end(); ++it) entry[it.key()] = it.value();
+    entry["warnings"] = report.warnings;  // what makes its numbers doubtful, as its report says
     sequences.push_back(std::move(entry));
   }
   const Json root{{"format", kAggregateFormat},

@@ -291,6 +291,17 @@ std::string aggregateMarkdown(const std::vector<EvaluationReport>& reports) {
         r.summary);
   row("all", summarizeAll(reports));
   out << "\n![Mean IU_3d per sequence](aggregate.svg)\n";
+  // Each sequence's warnings, so that a doubtful row is not read as a good one.
+  bool any = false;
+  for (const auto& r : reports) any = any || !r.warnings.empty();
+  if (any) {
+    out << "\n**Warnings**\n";
+    for (const auto& r : reports) {
+      if (r.warnings.empty()) continue;
+      out << "\n" << markdownText(r.sequence) << ":\n\n";
+      for (const std::string& warning : r.warnings) out << "- " << markdownText(warning) << "\n";
+    }
+  }
   return out.str();
 }
 

@@ -14,6 +14,7 @@
 
 #include "lom/export.hpp"
 #include "lom/label_map.hpp"
+#include "lom/objects.hpp"
 #include "lom/sequence.hpp"
 #include "test_support.hpp"
 
@@ -250,6 +251,55 @@ TEST_F(CliExportTest, OctreesAndObjectsAreWritten) {
   text << json.rdbuf();
   EXPECT_NE(text.str().find("\"format\": \"labeloctomap-objects\""), std::string::npos);
   EXPECT_EQ(text.str().find("\"label\": 0,"), std::string::npos);  // the background is no object
+}
+
+// A map that records no camera (built here without any) has its boxes stand
+// on the world's +z, said on stderr; --sequence gives them its cameras' up.
+// Boxes that leave out much of their label say so too.
+TEST_F(CliExportTest, ObjectsOfAMapWithoutCamerasSayWhichUpTheyStandOn) {
+  TempDir out;
+  lom::LabelMap bare(lom::loadSequence(scene()).labels);
+  lom::OrientedBox big;
+  big.center = Eigen::Vector3d(0.3, 0.0, 0.1);
+  big.size = Eigen::Vector3d(0.2, 0.2, 0.1);
+  lom::OrientedBox far = big;
+  far.center.x() = -0.3;
+  far.size = Eigen::Vector3d(0.1, 0.1, 0.1);
+  ASSERT_GT(lom::rasterizeBox(bare, big, 1, 0.9), 0u);
+  ASSERT_GT(lom::rasterizeBox(bare, far, 1, 0.9), 0u);
+  bare.save(out / "bare.ot");
+  const std::string bare_map = q(out / "bare.ot");
+  auto r = runCli("export " + bare_map + " --format objects --out " + q(out / "o.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("note: " + (out / "bare.ot").string() +
+                       " does not record which way up its cameras were"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("the object boxes stand on the world's +z axis; --sequence SEQ"),
+            std::string::npos)
+      << r.err;
+  const std::string name = lom::loadSequence(scene()).labels.at(1).name;
+  EXPECT_NE(r.err.find("note: the box of label 1 (" + name +
+                       ") holds the 4000 voxels of its "
+                       "largest cluster; 1000 more of its 5000 lie in another cluster, left out"),
+            std::string::npos)
+      << r.err;
+  r = runCli("export " + bare_map + " --format objects --sequence " + q(scene()) + " --out " +
+             q(out / "s.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("does not record which way up"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::exists(out / "s.json"));
+  // The fused map records its cameras: nothing to say.
+  r = runCli("export " + q(map()) + " --format objects --out " + q(out / "f.json"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("does not record which way up"), std::string::npos) << r.err;
+  // --sequence is for object boxes only.
+  r = runCli("export " + bare_map + " --format ply --sequence " + q(scene()) + " --out " +
+             q(out / "m.ply"));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("option --sequence goes only with --format objects"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(out / "m.ply"));
 }
 
 TEST_F(CliExportTest, MistakesGiveClearMessagesAndNoFile) {

@@ -102,6 +102,58 @@ TEST_F(CliFuseTest, FramesFusedIntoAnEarlierMapGiveTheMapOfAllTheFrames) {
   EXPECT_EQ(lom::test::slurp(out / "first.ot"), first);
 }
 
+// Fusing into a map the frames it was fused from counts them twice: a warning
+// (the map records its camera views); other frames are not warned about.
+TEST_F(CliFuseTest, FusingTheSameFramesAgainIsWarnedAbout) {
+  TempDir out;
+  const std::string first = (out / "first.ot").string();
+  ASSERT_EQ(runCli("fuse " + scene() + " --frames 0:2 --quiet --out '" + first + "'").exit_code, 0);
+  const auto again = runCli("fuse " + scene() + " --frames 0:2 --quiet --start-from '" + first +
+                            "' --out '" + (out / "twice.ot").string() + "'");
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.err.find("warning: " + first +
+                           " was fused from these very frames already (it records the same camera "
+                           "views): fusing them again counts each of their observations twice"),
+            std::string::npos)
+      << again.err;
+  const auto other = runCli("fuse " + scene() + " --frames 2: --quiet --start-from '" + first +
+                            "' --out '" + (out / "both.ot").string() + "'");
+  EXPECT_EQ(other.exit_code, 0) << other.err;
+  EXPECT_EQ(other.err.find("warning:"), std::string::npos) << other.err;
+}
+
+// A map fused with --candidates is continued with the same candidates unless
+// --candidates says otherwise: the same map as all its frames fused at once.
+TEST_F(CliFuseTest, AMapFusedWithCandidatesIsContinuedWithThem) {
+  TempDir out;
+  const std::string first = (out / "first.ot").string();
+  ASSERT_EQ(
+      runCli("fuse " + scene() + " --frames 0:2 --candidates 0,1 --quiet --out '" + first + "'")
+          .exit_code,
+      0);
+  const auto r = runCli("fuse " + scene() + " --frames 2: --start-from '" + first + "' --out '" +
+                        (out / "both.ot").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("note: fusing with the candidates " + first +
+                       " was fused with (0,1), as it records"),
+            std::string::npos)
+      << r.err;
+  ASSERT_EQ(runCli("fuse " + scene() + " --candidates 0,1 --quiet --out '" +
+                   (out / "all.ot").string() + "'")
+                .exit_code,
+            0);
+  EXPECT_EQ(lom::test::slurp(out / "both.ot"), lom::test::slurp(out / "all.ot"));
+  EXPECT_EQ(lom::LabelMap::load(out / "both.ot").fusedCandidates().labels,
+            (std::vector<int>{0, 1}));
+  // --candidates chooses others: the record widens to both, no note.
+  const auto wider = runCli("fuse " + scene() + " --frames 2: --candidates 0,2 --start-from '" +
+                            first + "' --out '" + (out / "wider.ot").string() + "'");
+  ASSERT_EQ(wider.exit_code, 0) << wider.err;
+  EXPECT_EQ(wider.err.find("note: fusing with the candidates"), std::string::npos) << wider.err;
+  EXPECT_EQ(lom::LabelMap::load(out / "wider.ot").fusedCandidates().labels,
+            (std::vector<int>{0, 1, 2}));
+}
+
 // A map to start from holds its own settings; fuse takes only those its
 // options could give (a map written elsewhere or edited may hold any).
 TEST_F(CliFuseTest, StartingFromAMapWithSettingsFuseWouldRefuseIsRefused) {

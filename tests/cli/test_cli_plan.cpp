@@ -115,6 +115,11 @@ TEST_F(CliPlanTest, TargetByNameAndApproachFromTheMapsFreeSpace) {
   EXPECT_EQ(plan["approach"]["source"], "free-space");
   EXPECT_GT(plan["approach"]["direction"][0].get<double>(), 0.95);
   EXPECT_EQ(plan["occluders"], Json::array({"30", "8"}));
+  // The map was built without cameras: its boxes stand on +z, said.
+  EXPECT_NE(r.err.find("note: " + path("bin.ot").string() +
+                       " does not record which way up its cameras were"),
+            std::string::npos)
+      << r.err;
 }
 
 TEST_F(CliPlanTest, SequenceGivesTheMeanViewingDirection) {
@@ -134,6 +139,8 @@ TEST_F(CliPlanTest, SequenceGivesTheMeanViewingDirection) {
       << r.err;
   EXPECT_NE(r.err.find("The approach from --sequence may point anywhere."), std::string::npos)
       << r.err;
+  // Its cameras' up stands in for the up the map does not record.
+  EXPECT_EQ(r.err.find("does not record which way up"), std::string::npos) << r.err;
 }
 
 TEST_F(CliPlanTest, WithoutApproachTheMapsRecordedCamerasGiveIt) {

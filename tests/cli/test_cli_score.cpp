@@ -136,6 +136,26 @@ TEST_F(CliScoreTest, SavedMapScoresLikeTheFusedOne) {
             std::string::npos)
       << part.err;
   EXPECT_TRUE(std::filesystem::exists(out / "part" / "report.json"));
+  // As many frames as were fused, but other ones: the recorded camera
+  // directions tell, a warning.
+  const auto other = runCli(scoreArgs(out / "other") + " --map " + quoted(out / "m01.ot") +
+                            " --frames 2:3 --quiet");
+  EXPECT_EQ(other.exit_code, 0) << other.err;
+  EXPECT_NE(other.err.find("warning: " + (out / "m01.ot").string() +
+                           " was fused from 1 frame, as many as are scored, but not from frames "
+                           "2 to 2: the directions its cameras looked in differ"),
+            std::string::npos)
+      << other.err;
+  // The map's own max range and p_miss override those given, each said.
+  const auto own = runCli(scoreArgs(out / "own") + " --map " + quoted(out / "m01.ot") +
+                          " --frames 0:1 --max-range 0.9 --p-miss 0.4");
+  EXPECT_EQ(own.exit_code, 0) << own.err;
+  EXPECT_NE(own.err.find("m; it overrides --max-range 0.9 (a map keeps the settings it was "
+                         "fused with)"),
+            std::string::npos)
+      << own.err;
+  EXPECT_NE(own.err.find(" has p_miss 0.3; it overrides --p-miss 0.4"), std::string::npos)
+      << own.err;
   // --quiet leaves out every note (warnings stay).
   const auto quiet = runCli(scoreArgs(out / "quiet") + " --map " + quoted(out / "m01.ot") +
                             " --frames 0:1 --resolution 0.02 --quiet");
@@ -325,6 +345,18 @@ TEST_F(CliScoreTest, AMapsCandidatesAreTheBaselinesCandidates) {
       0);
   EXPECT_NE(runCli("info " + quoted(out / "all.ot")).out.find("candidates:       every label"),
             std::string::npos);
+  // Its box of a label left out of the candidates is not 0 in every column:
+  // the map was fused with that label, only the baselines cannot take it.
+  const auto wider = runCli(scoreArgs(out / "wider") + " --map " + quoted(out / "all.ot") +
+                            " --candidates " + candidates);
+  ASSERT_EQ(wider.exit_code, 0) << wider.err;
+  EXPECT_NE(wider.err.find("which is not among the candidates " + candidates +
+                           ": no pixel of the projection baselines and the 2D metrics can take "
+                           "that label, so they score 0 for it, while " +
+                           (out / "all.ot").string() + " was fused with it"),
+            std::string::npos)
+      << wider.err;
+  EXPECT_EQ(wider.err.find("so it scores 0 in every column"), std::string::npos) << wider.err;
   // Candidates without the background make every pixel an object: said.
   const std::string objects_only = candidates.substr(2);
   const auto no_background = runCli("fuse " + quoted(scene()) + " --candidates " + objects_only +

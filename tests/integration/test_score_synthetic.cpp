@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <iostream>
+#include <set>
 
 #include "lom/error.hpp"
 #include "lom/evaluation.hpp"
@@ -208,6 +209,57 @@ TEST_F(ScoreChecks, BoxesWithoutAnyMappedVoxelAreWarnedAbout) {
       EXPECT_NE(warning.find(" lie outside"), std::string::npos) << warning;
     }
   EXPECT_EQ(outside, 1u) << ::testing::PrintToString(two.warnings);
+
+  // Many more are named up to ten and counted.
+  lom::Annotations many = scene_->annotations;
+  std::set<int> used;
+  for (const lom::GroundTruthBox& box : many.boxes) used.insert(box.label);
+  size_t added = 0;
+  for (int label = 1; label < sequence_->labels.size() && added < 15; ++label) {
+    if (used.count(label)) continue;
+    lom::GroundTruthBox far_box = annotations.boxes[0];  // in millimetres, far away
+    far_box.label = label;
+    far_box.name = sequence_->labels.at(label).name;
+    many.boxes.push_back(far_box);
+    ++added;
+  }
+  ASSERT_EQ(added, 15u) << "the scene has too few labels for this test";
+  const lom::EvaluationReport fifteen = lom::evaluate(*sequence_, many, *map_, named());
+  bool counted = false;
+  for (const std::string& warning : fifteen.warnings)
+    if (warning.find("outside everything") != std::string::npos) {
+      counted = warning.find(" and 5 more lie outside") != std::string::npos;
+      EXPECT_LT(warning.size(), 1000u) << warning;
+    }
+  EXPECT_TRUE(counted) << ::testing::PrintToString(fifteen.warnings);
+}
+
+// A box typed in millimetres about the origin holds the whole map: it is not
+// empty, yet scores about 0. Said, with the likely cause.
+TEST_F(ScoreChecks, BoxesFarLargerThanTheMapAreWarnedAbout) {
+  lom::Annotations annotations = scene_->annotations;
+  ASSERT_GE(annotations.boxes.size(), 2u);
+  const auto bounds = map_->bounds();
+  ASSERT_TRUE(bounds);
+  annotations.boxes[1].box.center = 0.5 * (bounds->first + bounds->second);
+  annotations.boxes[1].box.size *= 1000.0;
+  const lom::EvaluationReport report = lom::evaluate(*sequence_, annotations, *map_, named());
+  const std::string start =
+      "boxes.json: boxes[1] (label " + std::to_string(annotations.boxes[1].label) + ", ";
+  bool warned = false;
+  for (const std::string& warning : report.warnings)
+    warned = warned || (warning.rfind(start, 0) == 0 &&
+                        warning.find("more than three times as large as everything the map "
+                                     "observed") != std::string::npos &&
+                        warning.find("given in millimetres for metres") != std::string::npos);
+  EXPECT_TRUE(warned) << ::testing::PrintToString(report.warnings);
+  for (const lom::ObjectScore& object : report.objects)
+    if (object.label == annotations.boxes[1].label) EXPECT_LT(object.iou_3d.labeloctomap, 0.01);
+  // The scene's own boxes are not.
+  const lom::EvaluationReport plain =
+      lom::evaluate(*sequence_, scene_->annotations, *map_, named());
+  for (const std::string& warning : plain.warnings)
+    EXPECT_EQ(warning.find("as large as everything"), std::string::npos) << warning;
 }
 
 // A pruned leaf stands for many voxels: a box inside it, away from its

@@ -130,6 +130,32 @@ TEST(JsonInputTest, NumberBeyondADoubleInAnnotationsNamesTheField) {
       << problem.message();
 }
 
+// Python's json.dump writes NaN and Infinity, which JSON has not: the
+// message names the field and the fix.
+TEST(JsonInputTest, NaNAndInfinityNameTheFieldAndTheFix) {
+  for (const std::string word : {"NaN", "Infinity", "-Infinity", "nan"}) {
+    lom::test::TempDir dir;
+    writeText(dir / "boxes.json",
+              R"({"format": "labeloctomap-annotations", "version": 1, "boxes": [)"
+              R"({"label": 1, "center": [0, 0, 0], "size": [1, 1, 1]},)"
+              "\n {\"label\": 2, \"center\": [0, " +
+                  word + R"(, 0], "size": [1, 1, 1]}]})");
+    const lom::Problem problem = errorOf([&] { (void)lom::loadAnnotations(dir / "boxes.json"); });
+    EXPECT_EQ(problem.file, (dir / "boxes.json").string()) << word;
+    EXPECT_EQ(problem.field, "boxes[1].center[1]") << word << ": " << problem.message();
+    EXPECT_NE(problem.expected.find("JSON has no NaN or Infinity"), std::string::npos)
+        << problem.message();
+    EXPECT_NE(problem.expected.find("allow_nan=False"), std::string::npos) << problem.message();
+    EXPECT_NE(problem.found.find("'" + word + "' at line 2, column 29"), std::string::npos)
+        << problem.message();
+  }
+  // Other lexer errors stay what they were.
+  lom::test::TempDir dir;
+  writeText(dir / "boxes.json", R"({"boxes": [Nope]})");
+  const lom::Problem other = errorOf([&] { (void)lom::loadAnnotations(dir / "boxes.json"); });
+  EXPECT_EQ(other.expected, "valid JSON");
+}
+
 TEST(JsonInputTest, HugeIntegerLiteralIsReportedLikeAnOverflowingNumber) {
   lom::test::TempDir dir;
   writeText(dir / "sequence.json", "{\"version\": 1" + std::string(400, '0') + "}");

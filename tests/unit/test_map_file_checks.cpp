@@ -238,8 +238,47 @@ TEST_F(MapFileTest, FramesFusedIntoAVersionOneMapLeaveItsCandidatesUnknown) {
   map.noteFusedCandidates(std::vector<int>{0, 1});
   map.noteCameraView(Eigen::Matrix3d::Identity());
   EXPECT_FALSE(map.fusedCandidates().recorded);
+  // Its views stay unknown too: counting only the new one would make it look
+  // like the map of that frame alone (score --map would compare it so).
+  EXPECT_EQ(map.cameraViews().views, 0u);
+  EXPECT_FALSE(map.meanViewingDirection());
   map.save(dir / "continued.ot");
-  EXPECT_FALSE(lom::LabelMap::load(dir / "continued.ot").fusedCandidates().recorded);
+  const lom::LabelMap continued = lom::LabelMap::load(dir / "continued.ot");
+  EXPECT_FALSE(continued.fusedCandidates().recorded);
+  EXPECT_EQ(continued.cameraViews().views, 0u);
+}
+
+TEST_F(MapFileTest, VersionTwoMapsKeepCountingTheirRecordedViews) {
+  const fs::path path = changed([](MapFile& f) {
+    f.version = 2;
+    f.up_sum[1] = -1.0;  // one view of a camera with the identity rotation
+    f.forward_sum[2] = 1.0;
+    f.up_views = 1;
+  });
+  lom::LabelMap map = lom::LabelMap::load(path);
+  ASSERT_EQ(map.cameraViews().views, 1u);
+  ASSERT_FALSE(map.fusedCandidates().recorded);
+  map.noteCameraView(Eigen::Matrix3d::Identity());
+  EXPECT_EQ(map.cameraViews().views, 2u);
+  EXPECT_DOUBLE_EQ(map.cameraViews().forward_sum[2], 2.0);
+}
+
+TEST(CameraViewRecord, SameViewsAreTheSameFramesInAnyOrder) {
+  const Eigen::Matrix3d a = Eigen::Matrix3d::Identity();
+  const Eigen::Matrix3d b = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d c = Eigen::AngleAxisd(-0.2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  lom::CameraViewRecord ab, ba, ac, abb;
+  for (const auto* r : {&a, &b}) EXPECT_TRUE(lom::addCameraView(ab, *r));
+  for (const auto* r : {&b, &a}) EXPECT_TRUE(lom::addCameraView(ba, *r));
+  for (const auto* r : {&a, &c}) EXPECT_TRUE(lom::addCameraView(ac, *r));
+  for (const auto* r : {&a, &b, &b}) EXPECT_TRUE(lom::addCameraView(abb, *r));
+  EXPECT_TRUE(lom::sameCameraViews(ab, ba));
+  EXPECT_FALSE(lom::sameCameraViews(ab, ac));   // as many views, other directions
+  EXPECT_FALSE(lom::sameCameraViews(ab, abb));  // another count
+  Eigen::Matrix3d broken = a;
+  broken(0, 2) = std::nan("");
+  EXPECT_FALSE(lom::addCameraView(ab, broken));
+  EXPECT_EQ(ab.views, 2u);
 }
 
 TEST_F(MapFileTest, VersionTwoMapsLoadWithTheirCandidatesUnknown) {

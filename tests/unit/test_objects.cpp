@@ -1,6 +1,8 @@
 // Objects of a labelled map: clusters, boxes, centroids, counts, probabilities.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <cmath>
 #include <string>
 
 #include "lom/error.hpp"
@@ -75,6 +77,47 @@ TEST(Objects, StraySpeckOfTheLabelDoesNotMoveTheBox) {
   EXPECT_TRUE(o.box.center.isApprox(clean.box.center, 1e-12));
   EXPECT_TRUE(o.box.size.isApprox(clean.box.size, 1e-12));
   EXPECT_TRUE(o.centroid.isApprox(book.center, 1e-9));
+}
+
+// A map that records no camera (an older map, or one built without) stands
+// its boxes on the up it is given, the mean up of the cameras it was fused
+// from: here a world whose up is +y, with a tall object turned 25 degrees
+// about it.
+TEST(Objects, BoxesOfAMapWithoutCamerasStandOnTheUpTheyAreGiven) {
+  LabelMap map = emptyMap();
+  OrientedBox tall;
+  tall.center = Eigen::Vector3d(0.2, 0.15, 0.1);
+  tall.size = Eigen::Vector3d(0.08, 0.04, 0.16);  // 16 cm along its z ...
+  // ... which stands along the world's +y, turned 25 degrees about it.
+  tall.rotation = Eigen::AngleAxisd(25.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX());
+  ASSERT_GT(lom::rasterizeBox(map, tall, 19), 400u);
+  ASSERT_FALSE(map.camerasUp());
+
+  lom::ObjectOptions options;
+  options.cameras_up = Eigen::Vector3d::UnitY();
+  const ObjectInstance standing = lom::extractObjects(map, options).at(0);
+  const Eigen::Matrix3d axes = standing.box.rotation.toRotationMatrix();
+  EXPECT_GT(std::abs(axes.col(2).dot(Eigen::Vector3d::UnitY())), 0.999) << axes;
+  EXPECT_NEAR(standing.box.size.z(), 0.16, 0.021);  // its height, along that up
+  EXPECT_LT(standing.box.volume(), 1.3 * tall.volume());
+
+  // Without it the box stands on +z, the world's up of a map that says nothing.
+  const ObjectInstance on_z = lom::extractObjects(map).at(0);
+  const Eigen::Matrix3d z_axes = on_z.box.rotation.toRotationMatrix();
+  EXPECT_LT(std::abs(z_axes.col(2).dot(Eigen::Vector3d::UnitY())), 0.9) << z_axes;
+}
+
+TEST(Objects, LeftOutVoxelsAreNotedAboveAShare) {
+  LabelMap map = emptyMap();
+  lom::rasterizeBox(map, aabb({0.0, 0.0, 0.0}, {0.10, 0.10, 0.05}), 19);   // 500 voxels
+  lom::rasterizeBox(map, aabb({0.30, 0.0, 0.0}, {0.32, 0.02, 0.02}), 19);  // 8, 1.6%
+  EXPECT_EQ(lom::leftOutNote(lom::extractObjects(map).at(0)), "");
+  lom::rasterizeBox(map, aabb({-0.30, 0.0, 0.0}, {-0.25, 0.05, 0.02}), 19);  // 50 more
+  const ObjectInstance object = lom::extractObjects(map).at(0);
+  EXPECT_EQ(lom::leftOutNote(object),
+            "the box of label 19 (i_am_a_bunny_book) holds the 500 voxels of its largest "
+            "cluster; 58 more of its 558 lie in 2 other clusters, left out");
 }
 
 TEST(Objects, AllClustersReportsEveryClusterAsAnInstance) {

@@ -19,6 +19,23 @@ TEST(ReportText, AggregateLinksWorkForNamesWithSpacesAndBrackets) {
   EXPECT_NE(text.find("](caf%C3%A9%7C100%25/report.md)"), std::string::npos) << text;
 }
 
+// A sequence's warnings make its row doubtful: the aggregate keeps them.
+TEST(ReportText, AggregateKeepsEachSequencesWarnings) {
+  std::vector<lom::EvaluationReport> reports(2);
+  reports[0].sequence = "bin_a";
+  reports[1].sequence = "bin_b";
+  EXPECT_EQ(lom::aggregateMarkdown(reports).find("Warnings"), std::string::npos);
+  reports[1].warnings = {"m.ot was fused from 3 frames, the baselines project the 5 frames"};
+  const std::string text = lom::aggregateMarkdown(reports);
+  EXPECT_NE(text.find("**Warnings**\n\nbin\\_b:\n\n- m.ot was fused from 3 frames"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("bin\\_a:"), std::string::npos) << text;
+  const std::string json = lom::aggregateJson(reports);
+  EXPECT_NE(json.find("m.ot was fused from 3 frames"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"warnings\": []"), std::string::npos) << json;
+}
+
 TEST(ReportText, TheSettingsCountOneViewInTheSingular) {
   lom::EvaluationReport report;
   report.sequence = "bin_a";

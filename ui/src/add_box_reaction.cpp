@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "lom/box_fit.hpp"
+#include "lom/fusion.hpp"
 #include "lom/level_plane.hpp"
 #include "lom/sequence.hpp"
 #include "lom/ui/annotations_model.hpp"
@@ -56,11 +57,7 @@ std::optional<OrientedBox> fittedBox(const std::vector<VoxelKey>& voxels, double
 // the up of a map that records no camera (sceneLevelOf), here too so that the
 // studio fits the box the score judges.
 std::optional<Eigen::Vector3d> sequenceUp(const std::shared_ptr<const Sequence>& sequence) {
-  if (!sequence) return std::nullopt;
-  std::vector<Eigen::Matrix3d> rotations;
-  for (const FrameRecord& frame : sequence->frames)
-    rotations.push_back(frame.T_world_camera.linear());
-  return meanCameraUp(rotations);
+  return sequence ? camerasUpOf(*sequence) : std::nullopt;
 }
 
 // "fitted to 120 of 200 voxels of mug; 80 more in 2 other clusters left out",

@@ -9,10 +9,12 @@
 #include <QJsonObject>
 #include <QMessageBox>
 #include <QStandardPaths>
+#include <QStringList>
 #include <QTimer>
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <set>
 #include <stdexcept>
 
 #include "lom/atomic_file.hpp"
@@ -325,10 +327,16 @@ void loadSequenceBoxes(StudioSession& session) {
 
 QString unknownLabelsMessage(const Annotations& annotations, const LabelSet& labels,
                              const QString& file) {
+  constexpr int kListed = 10;  // boxes named one per line; the rest counted
   QStringList problems;
+  int unknown = 0;
+  std::set<int> unknown_labels;
   for (size_t i = 0; i < annotations.boxes.size(); ++i) {
     const int label = annotations.boxes[i].label;
     if (labels.contains(label)) continue;
+    ++unknown;
+    unknown_labels.insert(label);
+    if (unknown > kListed) continue;
     problems << QObject::tr("%1: boxes[%2]: label %3 is not a label of the sequence (0 to %4)")
                     .arg(file)
                     .arg(i)
@@ -336,6 +344,23 @@ QString unknownLabelsMessage(const Annotations& annotations, const LabelSet& lab
                     .arg(labels.size() - 1);
   }
   if (problems.isEmpty()) return {};
+  if (unknown > kListed) {
+    QStringList ids;
+    for (const int label : unknown_labels) {
+      if (ids.size() == kListed) {
+        ids << QStringLiteral("…");
+        break;
+      }
+      ids << QString::number(label);
+    }
+    problems << QObject::tr(
+                    "… and %1 more boxes; in all %2 of the %3 boxes have labels the "
+                    "sequence does not have (%4)")
+                    .arg(unknown - kListed)
+                    .arg(unknown)
+                    .arg(annotations.boxes.size())
+                    .arg(ids.join(QStringLiteral(", ")));
+  }
   return problems.join('\n') +
          QObject::tr(
              "\n\nThese boxes are kept but cannot be scored: change their label or delete "

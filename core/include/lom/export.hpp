@@ -129,6 +129,8 @@ struct ExportOptions {
   bool points = false;     // ply: voxel centres instead of a mesh
   bool native = false;     // ot: the map itself (LabelOcTree) instead of a ColorOcTree
   bool merge_coplanar = true;
+  // objects: the up of a map that records no camera (ObjectOptions::cameras_up).
+  std::optional<Eigen::Vector3d> cameras_up;
 };
 
 struct ExportSummary {
@@ -141,6 +143,8 @@ struct ExportSummary {
   // not write, from an earlier export of another map or other labels. They
   // are left as they were (they may be the user's); callers say so.
   std::vector<std::filesystem::path> earlier_files;
+  // objects: what the boxes leave out of their labels' voxels (leftOutNote).
+  std::vector<std::string> notes;
 };
 
 // File name stem of a label in a per-label folder: "08_creativity_chenille_stems"

@@ -286,5 +286,13 @@ struct FusionProgress {
 // once. The caller checks that the labels agree (lom::checkMapLabels).
 void fuseSequenceInto(LabelMap& map, const Sequence& sequence, const FusionOptions& options,
                       const std::function<bool(const FusionProgress&)>& progress = {});
+// The camera views fusing frames [first, last) of `sequence` records in a map
+// (last is clipped to the sequence), to tell whether a map was fused from
+// those frames (sameCameraViews).
+[[nodiscard]] CameraViewRecord cameraViewsOf(const Sequence& sequence, size_t first = 0,
+                                             size_t last = static_cast<size_t>(-1));
+// The mean up of the sequence's cameras (meanCameraUp of lom/level_plane.hpp):
+// the stand-in for the up of a map fused from it that records no camera.
+[[nodiscard]] std::optional<Eigen::Vector3d> camerasUpOf(const Sequence& sequence);
 
 }  // namespace lom

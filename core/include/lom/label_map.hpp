@@ -78,6 +78,14 @@ struct CameraViewRecord {
   std::uint32_t views = 0;
 };
 
+// Adds the view of a camera with rotation `R_world_camera` to `record` (as
+// LabelMap::noteCameraView does); false, and nothing added, for a rotation
+// that is not finite or a record that holds as many views as it can count.
+bool addCameraView(CameraViewRecord& record, const Eigen::Matrix3d& R_world_camera);
+// Whether two records hold the same views: the same count and the same summed
+// directions, up to the rounding of adding them in another order.
+[[nodiscard]] bool sameCameraViews(const CameraViewRecord& a, const CameraViewRecord& b);
+
 // The class candidates the fused frames were restricted to (fuse --candidates):
 // the labels the fusion may have put in the map, which the projection
 // baselines of a score of the map must use too. `labels` is nullopt when some
@@ -111,7 +119,9 @@ class LabelMap {
   [[nodiscard]] const LabelSet& labels() const { return labels_; }
   [[nodiscard]] int numLabels() const { return labels_.size(); }
   [[nodiscard]] const MapParameters& parameters() const { return parameters_; }
-  // Records a fused view's camera (integrateFrame does, for every frame).
+  // Records a fused view's camera (integrateFrame does, for every frame). A
+  // map read from a file that records no views and no candidates (written
+  // before the record) keeps recording none: its earlier views are unknown.
   void noteCameraView(const Eigen::Matrix3d& R_world_camera);
   [[nodiscard]] const CameraViewRecord& cameraViews() const;
   // Records the candidates of a frame about to be fused (integrateFrame

@@ -35,6 +35,12 @@ struct ObjectOptions {
   // called a pixel or two of another object that label), which a pick plan
   // would otherwise ask the robot to remove.
   size_t min_cluster_voxels = kDefaultMinObjectVoxels;
+  // The up of a map that records no camera (fused before the record, or
+  // built without cameras): the mean up of the cameras it was fused from
+  // (meanCameraUp of lom/level_plane.hpp), which the boxes stand level on, as
+  // the score's do (sceneLevelOf). A map's recorded up comes first; without
+  // either, boxes stand on the world's +z.
+  std::optional<Eigen::Vector3d> cameras_up;
   // Only for error messages.
   std::string map_file;
 };
@@ -61,6 +67,17 @@ struct ObjectInstance {
   // "19" for instance 0, "19#2" for instance 2.
   [[nodiscard]] std::string id() const;
 };
+
+// Share of a label's voxels above which a box that leaves them out (in other
+// clusters, or specks too small to be objects) says so, as the studio's do.
+inline constexpr double kLeftOutShare = 0.05;
+
+// "the box of label 3 (mug) holds the 120 voxels of its largest cluster; 80
+// more of its 200 lie in 2 other clusters, left out", or empty when the
+// object's cluster holds all but at most kLeftOutShare of the label's voxels
+// (instance 0 only, of objects extracted without all_clusters: with it the
+// other clusters are objects of their own).
+[[nodiscard]] std::string leftOutNote(const ObjectInstance& object);
 
 // Euclidean clusters of voxel keys (largestCluster of lom/box_fit.hpp applied
 // repeatedly): by decreasing size, ties to the cluster holding the smallest key;

@@ -57,8 +57,9 @@ enum class UnsavedBoxesAnswer { Save, Discard, Cancel };
 // Problems go to the controller's errorOccurred.
 void loadSequenceBoxes(StudioSession& session);
 
-// "FILE: boxes[i]: label N is not a label of the sequence ..." for each box
-// whose label `labels` does not have; empty when all are known.
+// "FILE: boxes[i]: label N is not a label of the sequence ..." for each of the
+// first 10 boxes whose label `labels` does not have, then how many more there
+// are and their labels; empty when all are known.
 [[nodiscard]] QString unknownLabelsMessage(const Annotations& annotations, const LabelSet& labels,
                                            const QString& file);
 
