@@ -460,12 +460,24 @@ int runFuse(const Words& words) {
   // most likely flattened by a softmax applied to probabilities (docs/segmenter.md).
   if (options.segmenter && occupied == 0) {
     const SegmenterStats stats = options.segmenter->stats();
+    // The advice depends on how its output was read: a softmax over
+    // probabilities flattens them; probabilities already never reached it.
+    const bool read_as_scores = options.segmenter->config().output.value_or(
+                                    SegmenterOutput::Scores) == SegmenterOutput::Scores;
     if (stats.inferences + stats.memory_hits + stats.disk_hits > 0)
-      std::cerr << "warning: no voxel is occupied: the probabilities of the segmenter "
-                << options.segmenter->modelPath().filename().string()
-                << " never made one so (is it the model for these labels? a model whose "
-                   "output is already probabilities needs \"output\": \"probabilities\" in "
-                << segmenterConfigPath(options.segmenter->modelPath()).filename().string() << ")\n";
+      std::cerr
+          << "warning: no voxel is occupied: the probabilities of the segmenter "
+          << options.segmenter->modelPath().filename().string()
+          << " never made one so (is it the model for these labels? "
+          << (read_as_scores
+                  ? "its output was read as scores and went through a softmax: a model "
+                    "whose output is already probabilities needs \"output\": "
+                    "\"probabilities\" in " +
+                        segmenterConfigPath(options.segmenter->modelPath()).filename().string()
+                  : std::string("its output was read as probabilities, and no label's "
+                                "reached the occupancy threshold: check its labels, "
+                                "channel order and normalisation (docs/segmenter.md)"))
+          << ")\n";
   }
   std::cout << "wrote " << out.string() << "\n";
   return 0;

@@ -172,12 +172,13 @@ EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOption
   const size_t first = std::min(options.fusion.first_frame, sequence.frames.size());
   const size_t last = std::min(options.fusion.last_frame, sequence.frames.size());
   if (last > first) report.fused_frames = std::make_pair(first, last - 1);
-  // Named only when it ran: frames with a proba image are fused as they are.
-  if (options.fusion.segmenter &&
-      std::any_of(sequence.frames.begin() + static_cast<std::ptrdiff_t>(first),
-                  sequence.frames.begin() + static_cast<std::ptrdiff_t>(std::max(first, last)),
-                  [](const FrameRecord& frame) { return frame.proba.empty(); }))
-    report.segmenter = options.fusion.segmenter->modelPath().string();
+  // Named only when it ran: frames with a proba image of their own are fused
+  // as they are (one an import made from the label image is replaced).
+  for (size_t i = first; i < last && options.fusion.segmenter; ++i)
+    if (segmenterRunsOn(sequence, i, options.fusion.segmenter.get())) {
+      report.segmenter = options.fusion.segmenter->modelPath().string();
+      break;
+    }
   report.fusion_totals = totals;
   report.frames_outside_map = std::move(frames_outside_map);
   return report;

@@ -2,6 +2,9 @@
 // quaternion-pose layout, ScanNet exports.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include "import_internal.hpp"
@@ -405,6 +408,44 @@ void importQuaternion(const fs::path& source, const ImportOptions& options,
       bool any = false;
       for (const auto& f : depth_files) any |= line_of_number.count(f.number) > 0;
       by_number = any;
+    }
+  }
+  if (by_number) {
+    // Lines whose numbers name no depth image. Numbers that are the images'
+    // shifted by a constant (lines from 0 for images from 1) would give every
+    // image its neighbour's pose: refused, not matched.
+    std::set<long> image_numbers;
+    for (const auto& f : depth_files) image_numbers.insert(f.number);
+    std::vector<long> orphans;
+    for (const auto& [id, line] : line_of_number)
+      if (!image_numbers.count(id)) orphans.push_back(id);
+    if (!orphans.empty() && line_of_number.size() == image_numbers.size()) {
+      const long shift = *image_numbers.begin() - line_of_number.begin()->first;
+      bool shifted = shift != 0;
+      auto image = image_numbers.begin();
+      for (auto it = line_of_number.begin(); shifted && it != line_of_number.end(); ++it, ++image)
+        shifted = *image - it->first == shift;
+      if (shifted)
+        throw Error(pose_file.string(), "poses",
+                    "lines of 8 numbers starting with the number of their depth image",
+                    "lines numbered " + std::to_string(line_of_number.begin()->first) + " to " +
+                        std::to_string(line_of_number.rbegin()->first) + " for depth images " +
+                        std::to_string(*image_numbers.begin()) + " to " +
+                        std::to_string(*image_numbers.rbegin()) + ": each line's number is its " +
+                        "image's " + (shift > 0 ? "minus " : "plus ") +
+                        std::to_string(std::labs(shift)) +
+                        ", so matched by number every image would take another's pose; number "
+                        "the lines as the images are, or leave the numbers out (line i is then "
+                        "the pose of the i-th image)");
+    }
+    if (!orphans.empty()) {
+      std::string listed;
+      for (size_t i = 0; i < std::min<size_t>(orphans.size(), 5); ++i)
+        listed += (i ? ", " : "") + std::to_string(orphans[i]);
+      if (orphans.size() > 5) listed += ", ...";
+      writer.note("pose.txt: " + std::to_string(orphans.size()) +
+                  (orphans.size() == 1 ? " line names" : " lines name") +
+                  " no depth image (numbers " + listed + "), left out");
     }
   }
   if (!by_number && lines.size() != depth_files.size()) {

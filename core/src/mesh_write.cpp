@@ -13,6 +13,7 @@
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 #include "lom/export.hpp"
+#include "lom/height_colours.hpp"
 
 namespace lom {
 
@@ -29,8 +30,10 @@ void requireTriangles(const std::vector<SurfaceMesh>& meshes, const std::filesys
     throw Error(path.string(), "mesh", "at least one triangle to write", "an empty surface");
 }
 
+// As the studio and `render` shade them: mesh viewers shade faces too, and
+// the background's black (VOC palette) would hide every shape.
 Rgb colorOf(const LabelSet& labels, int label) {
-  return labels.contains(label) ? labels.at(label).color : vocColor(label);
+  return labels.contains(label) ? shadedLabelColour(labels, label) : vocColor(label);
 }
 
 std::string nameOf(const LabelSet& labels, int label) {

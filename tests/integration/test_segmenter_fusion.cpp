@@ -246,6 +246,16 @@ TEST(SegmenterFusion, ProbaMadeFromTheLabelImageIsScoredIn2dOnlyWithASegmenter) 
   EXPECT_EQ(network.metrics_2d->pixels, 48u);
   EXPECT_TRUE(network.metrics_2d_excluded_frames.empty());
   EXPECT_TRUE(network.metrics_2d_not_scored.empty());
+
+  // Scored by fusing the sequence (score --segmenter): the report names the
+  // network that replaced the proba made from the label image.
+  boxes.boxes.front().box.size = Eigen::Vector3d::Constant(0.2);
+  lom::saveAnnotations(boxes, dir / "boxes.json");
+  lom::ScoreInputs inputs;
+  inputs.sequence = dir / "seq";
+  inputs.annotations = dir / "boxes.json";
+  const lom::EvaluationReport scored = lom::scoreSequence(inputs, options);
+  EXPECT_EQ(scored.segmenter, segmenter->modelPath().string());
 }
 
 TEST(SegmenterFusion, FrameWithoutColourIsAClearError) {

@@ -21,6 +21,7 @@
 #include "demo_window_fixture.hpp"
 #include "lom/evaluation.hpp"
 #include "lom/fusion.hpp"
+#include "lom/objects.hpp"
 #include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/fusion_panel.hpp"
 #include "lom/ui/open_map_reaction.hpp"
@@ -106,6 +107,34 @@ TEST_F(OpenMapTest, AMapFromAFileReplacesTheFusedOneWithItsParameters) {
     EXPECT_DOUBLE_EQ(report->objects[i].box_iou.labeloctomap,
                      expected.objects[i].box_iou.labeloctomap);
   }
+}
+
+// A map that records no camera (an older map, or one built without cameras)
+// is levelled by the cameras of the sequence it is opened with: the views,
+// colours by height and boxes placed by a click stand on their up, not on +z.
+TEST_F(OpenMapTest, AMapWithoutCamerasTakesTheSequencesUp) {
+  std::vector<QString> warnings;  // a block of voxels does not fit the depths: said, not asked
+  window_.setWarningReporter([&](const QString& title, const QString& message) {
+    warnings.push_back(title + ": " + message);
+  });
+  openAndFuse();
+  const Sequence sequence = loadSequence(folder_);
+  LabelMap bare(sequence.labels);
+  OrientedBox block;
+  block.center = Eigen::Vector3d(0.0, 0.0, 0.05);
+  block.size = Eigen::Vector3d(0.1, 0.1, 0.1);
+  ASSERT_GT(rasterizeBox(bare, block, 1, 0.9), 0u);
+  ASSERT_FALSE(bare.camerasUp());
+  const auto path = temp_.path() / "bare.ot";
+  bare.save(path);
+  session().openMap(qPath(path));
+  waitForMap();
+  const MapSnapshot& shown = *session().worker().snapshot();
+  ASSERT_EQ(shown.counts.at(1), bare.occupiedCountPerLabel().at(1));
+  const auto sequence_up = camerasUpOf(sequence);
+  ASSERT_TRUE(sequence_up);
+  ASSERT_TRUE(shown.up) << "no up: the views would stand on +z";
+  EXPECT_GT(shown.up->dot(*sequence_up), std::cos(30.0 * M_PI / 180.0));
 }
 
 // `labeloctomap fuse` takes settings the Fusion panel's fields show rounded

@@ -30,6 +30,7 @@
 #include "lom/box_fit.hpp"
 #include "lom/error.hpp"
 #include "lom/export.hpp"
+#include "lom/objects.hpp"
 #include "test_mesh_checks.hpp"
 #include "test_support.hpp"
 
@@ -234,6 +235,26 @@ TEST(ExportFiles, ObjHasOneMaterialPerLabelAndReadsBackInVtk) {
     EXPECT_NEAR(g * 255, c[1], 1e-6);
     EXPECT_NEAR(b * 255, c[2], 1e-6);
   }
+}
+
+// The background is black in the VOC palette: meshes of it (every
+// geometry-only recording) take the grey the studio and render shade it in.
+TEST(ExportFiles, TheBackgroundsMeshIsGreyNotBlack) {
+  TempDir dir;
+  lom::LabelMap map(lom::apc2016Labels());
+  lom::OrientedBox block;
+  block.size = Eigen::Vector3d(0.05, 0.05, 0.05);
+  ASSERT_GT(lom::rasterizeBox(map, block, 0, 0.9), 0u);
+  auto o = options(lom::ExportFormat::Obj);
+  o.labels = std::set<int>{0};
+  (void)lom::exportMap(map, o, dir / "map.obj");
+  const std::string mtl = slurp(dir / "map.mtl");
+  std::istringstream kd(mtl.substr(mtl.find("Kd ") + 3));
+  double r, g, b;
+  kd >> r >> g >> b;
+  EXPECT_NEAR(r * 255, 150, 1e-6) << mtl;
+  EXPECT_NEAR(g * 255, 150, 1e-6) << mtl;
+  EXPECT_NEAR(b * 255, 160, 1e-6) << mtl;
 }
 
 TEST(ExportFiles, StlPerLabelIsClosedAfterVtkMergesItsPoints) {

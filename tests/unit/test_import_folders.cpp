@@ -835,6 +835,33 @@ TEST(ImportQuaternion, WholeNumbersTooLargeForFrameNumbersAreTimeStamps) {
   EXPECT_TRUE(anySkipped(numbered, "no pose for it in pose.txt")) << numbered.text();
 }
 
+// Lines numbered from 0 for images numbered from 1: matched by number, every
+// image would take its neighbour's pose. Refused, naming the shift; a line
+// that names no image among good ones is noted.
+TEST(ImportQuaternion, LineNumbersShiftedFromTheImagesAreRefused) {
+  test::TempDir dir;
+  writeQuaternionFolder(dir / "room");  // images 1, 2, 3
+  const std::string shifted = errorOf([&] {
+    importQuaternionPoses(dir.path(), "0 0 0 0 0 0 0 1\n1 0.1 0 0 0 0 0 1\n2 0.2 0 0 0 0 0 1\n",
+                          "shifted");
+  });
+  EXPECT_TRUE(contains(shifted,
+                       "pose.txt: poses: expected lines of 8 numbers starting with the "
+                       "number of their depth image"))
+      << shifted;
+  EXPECT_TRUE(contains(shifted,
+                       "lines numbered 0 to 2 for depth images 1 to 3: each line's "
+                       "number is its image's minus 1"))
+      << shifted;
+  EXPECT_FALSE(fs::exists(dir / "shifted"));
+  const ImportReport extra = importQuaternionPoses(
+      dir.path(), "1 0 0 0 0 0 0 1\n2 0.1 0 0 0 0 0 1\n3 0.2 0 0 0 0 0 1\n7 0.3 0 0 0 0 0 1\n",
+      "extra");
+  EXPECT_EQ(extra.frames_written, 3u);
+  EXPECT_TRUE(anyNote(extra, "pose.txt: 1 line names no depth image (numbers 7), left out"))
+      << extra.text();
+}
+
 TEST(ImportQuaternion, MalformedInputs) {
   test::TempDir dir;
   writeQuaternionFolder(dir / "room");

@@ -10,7 +10,8 @@
 
 namespace lom::ui {
 
-MapSnapshotPtr takeSnapshot(const LabelMap& map, size_t frames_fused) {
+MapSnapshotPtr takeSnapshot(const LabelMap& map, size_t frames_fused,
+                            const std::optional<Eigen::Vector3d>& fallback_up) {
   auto snapshot = std::make_shared<MapSnapshot>();
   map.forEachOccupied([&](const OccupiedVoxel& voxel) { snapshot->voxels.push_back(voxel); });
   snapshot->counts = map.occupiedCountPerLabel();
@@ -18,7 +19,10 @@ MapSnapshotPtr takeSnapshot(const LabelMap& map, size_t frames_fused) {
   snapshot->occupancy_threshold = map.parameters().occupancy_threshold;
   snapshot->frames_fused = frames_fused;
   // Levelled from the voxels already gathered (LabelMap::upDirection would gather them again).
-  if (const auto cameras_up = map.camerasUp()) {
+  std::optional<Eigen::Vector3d> cameras_up = map.camerasUp();
+  if (!cameras_up && fallback_up && fallback_up->allFinite() && fallback_up->norm() > 1e-12)
+    cameras_up = fallback_up->normalized();
+  if (cameras_up) {
     std::vector<Eigen::Vector3d> centres;
     centres.reserve(snapshot->voxels.size());
     for (const OccupiedVoxel& voxel : snapshot->voxels) centres.push_back(voxel.center);

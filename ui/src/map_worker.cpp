@@ -176,19 +176,21 @@ void MapWorker::startFusion(std::shared_ptr<const Sequence> sequence,
   emit fusionStarted();
 }
 
-void MapWorker::adoptMap(std::shared_ptr<LabelMap> map, size_t frames, const QString& source) {
+void MapWorker::adoptMap(std::shared_ptr<LabelMap> map, size_t frames, const QString& source,
+                         std::optional<Eigen::Vector3d> fallback_up) {
   const unsigned id = beginNewMap();
   unsaved_map_ = false;
   threshold_ = map->parameters().occupancy_threshold;
   threshold_pending_ = false;
   post(
-      [this, map = std::move(map), frames, source, id] {
+      [this, map = std::move(map), frames, source, id, fallback_up] {
         map_ = std::make_unique<LabelMap>(std::move(*map));
+        fallback_up_ = fallback_up;
         map_file_ = source.toStdString();
         fused_totals_ = {};
         frames_outside_map_.clear();
         frames_fused_ = frames;
-        publish(takeSnapshot(*map_, frames_fused_));
+        publish(takeSnapshot(*map_, frames_fused_, fallback_up_));
         inGui([this, id, source] {
           if (id != fusion_id_) return;  // superseded meanwhile
           setState(State::Idle);
@@ -222,11 +224,12 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
     fused_totals_ = {};
     frames_outside_map_.clear();
     first_fused_frame_ = std::min(fusion.first_frame, sequence->frames.size());
-    // Named in reports only when it runs: frames with a proba image are fused as they are.
+    // Named in reports only when it runs: frames with a proba image of their own
+    // are fused as they are (segmenterRunsOn).
     fused_segmenter_.clear();
     const size_t last_fused = std::min(fusion.last_frame, sequence->frames.size());
     for (size_t i = first_fused_frame_; fusion.segmenter && i < last_fused; ++i)
-      if (sequence->frames[i].proba.empty()) {
+      if (segmenterRunsOn(*sequence, i, fusion.segmenter.get())) {
         fused_segmenter_ = fusion.segmenter->modelPath().string();
         break;
       }
@@ -236,6 +239,7 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
     return finish(false);
   }
   frames_fused_ = 0;
+  fallback_up_.reset();  // a fused map records its cameras
   publish(takeSnapshot(*map_, 0));
   std::function<void(size_t)> frame_fused_hook;
   {
@@ -256,7 +260,7 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
     applyPendingThreshold();
     if (paused_) {
       const auto pause_start = Clock::now();
-      publish(takeSnapshot(*map_, frames_fused_));
+      publish(takeSnapshot(*map_, frames_fused_, fallback_up_));
       std::unique_lock lock(mutex_);
       while (paused_ && !*cancelled && !stopping_) {
         wake_.wait_for(lock, std::chrono::milliseconds(50));
@@ -298,7 +302,7 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
     const bool last_frame = i + 1 == last;
     const int interval = std::max(snapshot_interval_ms_.load(), 2 * gui_snapshot_ms_.load());
     if (!last_frame && secondsSince(last_snapshot) * 1000.0 >= interval) {
-      publish(takeSnapshot(*map_, frames_fused_));
+      publish(takeSnapshot(*map_, frames_fused_, fallback_up_));
       last_snapshot = Clock::now();
     }
     inGui([this, done, total, rate] { emit fusionProgress(done, total, rate); });
@@ -307,7 +311,7 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
   // As fuseSequence does: the studio's map, its exports and .ot files are
   // then the command line's for the same frames.
   map_->prune();
-  publish(takeSnapshot(*map_, frames_fused_));
+  publish(takeSnapshot(*map_, frames_fused_, fallback_up_));
   const double max_range = fusion.map.max_range;
   inGui([this, id, totals, max_range] {
     if (id == fusion_id_) emit depthRangesMeasured(totals, max_range);
@@ -338,6 +342,7 @@ void MapWorker::reset() {
   post(
       [this, id] {
         map_.reset();
+        fallback_up_.reset();
         frames_fused_ = 0;
         publish(std::make_shared<MapSnapshot>());
         // After the stopped fusion's end (queued before this): the status
@@ -352,7 +357,7 @@ void MapWorker::reset() {
 void MapWorker::applyPendingThreshold() {
   if (!threshold_pending_.exchange(false) || !map_) return;
   map_->setOccupancyThreshold(threshold_);
-  publish(takeSnapshot(*map_, frames_fused_));
+  publish(takeSnapshot(*map_, frames_fused_, fallback_up_));
 }
 
 void MapWorker::setOccupancyThreshold(double threshold) {

@@ -49,7 +49,8 @@ StudioSession::StudioSession(QObject* parent)
               options_.candidates = map->fusedCandidates().labels;
             emit fusionOptionsChanged();
             ++map_generation_;
-            worker_->adoptMap(std::move(map), sequence_->frames.size(), path);
+            worker_->adoptMap(std::move(map), sequence_->frames.size(), path,
+                              camerasUpOf(*sequence_));
             emit mapOpened(path);
           });
   controller_->setUnsavedWorkCheck([this] {

@@ -21,7 +21,8 @@ struct MapSnapshot {
   double occupancy_threshold = 0.5;
   size_t frames_fused = 0;
   // The map's up direction (LabelMap::upDirection: its cameras' mean up,
-  // levelled by the largest plane of voxels near it).
+  // levelled by the largest plane of voxels near it; for a map that records
+  // no camera, the fallback up given to takeSnapshot, levelled alike).
   std::optional<Eigen::Vector3d> up;
 
   [[nodiscard]] bool empty() const { return voxels.empty(); }
@@ -29,7 +30,11 @@ struct MapSnapshot {
 
 using MapSnapshotPtr = std::shared_ptr<const MapSnapshot>;
 
-[[nodiscard]] MapSnapshotPtr takeSnapshot(const LabelMap& map, size_t frames_fused);
+// `fallback_up` stands in for the cameras' up of a map that records none (an
+// older map opened with the sequence it was fused from: its cameras' mean up).
+[[nodiscard]] MapSnapshotPtr takeSnapshot(
+    const LabelMap& map, size_t frames_fused,
+    const std::optional<Eigen::Vector3d>& fallback_up = std::nullopt);
 
 // The box holding the cubes of the snapshot's bulk: the voxels shown (labels
 // in `hidden` left out) in connected parts of at least kBulkPartVoxels

@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -37,8 +38,10 @@ class MapWorker : public QObject {
   // Replaces the map with `map` (read from `source`, a .ot file), as a fusion
   // of `frames` frames that has just completed: a fusion in progress is
   // cancelled, fusionStarted, mapAdopted and fusionFinished(true) follow, and
-  // the threshold becomes the map's.
-  void adoptMap(std::shared_ptr<LabelMap> map, size_t frames, const QString& source);
+  // the threshold becomes the map's. `fallback_up` (the sequence's cameras'
+  // mean up) levels the views of a map that records no camera.
+  void adoptMap(std::shared_ptr<LabelMap> map, size_t frames, const QString& source,
+                std::optional<Eigen::Vector3d> fallback_up = std::nullopt);
   void setPaused(bool paused);
   void cancel();  // keeps what was fused so far
   void reset();   // cancels and drops the map
@@ -147,6 +150,7 @@ class MapWorker : public QObject {
   // and what fusing it here measured (FrameStats summed; frames with depths
   // outside the map's extent), for the reports of its scores.
   std::string map_file_;
+  std::optional<Eigen::Vector3d> fallback_up_;  // worker thread: for an adopted map (adoptMap)
   FrameStats fused_totals_;
   std::vector<size_t> frames_outside_map_;
   size_t frames_fused_ = 0;
