@@ -114,6 +114,8 @@ void importApcShelf(const fs::path& source, const ImportOptions& options, Sequen
   for (size_t index : selected) {
     const auto& depth_file = depth_files[index];
     const std::string name = frameName(depth_file.number);
+    // Its colour, segm and mask files are named as its depth image is.
+    const std::string stem = numberedStem(depth_file, ".depth.png");
     if (depth_file.number < 0 || static_cast<size_t>(depth_file.number) >= pose_count) {
       if (!writer.skip(name, "no camera pose for it in cam.info.txt (" +
                                  std::to_string(pose_count) + " poses)"))
@@ -128,11 +130,11 @@ void importApcShelf(const fs::path& source, const ImportOptions& options, Sequen
       frame.depth = readRaw16(depth_file.path);
       for (float& z : frame.depth.metres)
         z = static_cast<float>(unrotateApcDepth(static_cast<std::uint16_t>(z)) * scale);
-      const fs::path color = source / (name + ".color.png");
+      const fs::path color = source / (stem + ".color.png");
       if (isFile(color)) frame.color = readColorOrLeaveOut(color, writer);
 
       // Ground truth: value / 6 is the label id.
-      const fs::path segm = source / "segm" / (name + ".segm.png");
+      const fs::path segm = source / "segm" / (stem + ".segm.png");
       if (isFile(segm)) {
         LabelImage label = readLabelImage(segm);
         size_t bad = 0;
@@ -155,8 +157,7 @@ void importApcShelf(const fs::path& source, const ImportOptions& options, Sequen
       std::vector<std::optional<DepthImage>> masks;
       size_t found = 0;
       for (int id : object_ids) {
-        const fs::path mask =
-            source / "masks" / (name + "." + labels.at(id).name + ".mask.png");
+        const fs::path mask = source / "masks" / (stem + "." + labels.at(id).name + ".mask.png");
         if (!isFile(mask)) {
           masks.emplace_back();
           continue;
@@ -207,7 +208,7 @@ void importApcShelf(const fs::path& source, const ImportOptions& options, Sequen
         writer.note("frames without masks: their segm labels became one-hot probabilities");
       } else {
         throw Error((source / "masks").string(), name,
-                    "masks/" + name + ".<object>.mask.png or segm/" + name + ".segm.png",
+                    "masks/" + stem + ".<object>.mask.png or segm/" + stem + ".segm.png",
                     "neither");
       }
     } catch (const Error& e) {

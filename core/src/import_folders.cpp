@@ -197,7 +197,8 @@ void importFrames(const fs::path& source, const ImportOptions& options, Sequence
   for (size_t index : selected) {
     const auto& depth_file = depth_files[index];
     const std::string name = frameName(depth_file.number);
-    const fs::path base = source / name;
+    // The frame's other files are named as its depth image is (frame-15 or frame-000015).
+    const fs::path base = source / numberedStem(depth_file, ".depth.png");
     SourceFrame frame;
     frame.name = name;
     const fs::path pose_file = fs::path(base.string() + ".pose.txt");

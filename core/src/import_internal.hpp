@@ -171,6 +171,12 @@ struct NumberedFile {
 [[nodiscard]] std::vector<NumberedFile> numberedFiles(const fs::path& folder,
                                                       const std::string& prefix,
                                                       const std::string& suffix);
+// The name of a numbered file without `suffix` ("frame-15" of frame-15.depth.png):
+// the files of the same frame are named from it, however its number is padded.
+[[nodiscard]] inline std::string numberedStem(const NumberedFile& file, const std::string& suffix) {
+  const std::string name = file.path.filename().string();
+  return name.size() >= suffix.size() ? name.substr(0, name.size() - suffix.size()) : name;
+}
 // Same, with any of the suffixes (first match per number wins).
 [[nodiscard]] std::vector<NumberedFile> numberedFiles(const fs::path& folder,
                                                       const std::string& prefix,

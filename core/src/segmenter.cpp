@@ -395,6 +395,9 @@ struct Segmenter::Impl {
   std::optional<int> output_channels;  // known after a run or a probe
   std::string output_shape;            // "1 x C x H' x W'" of that run, for messages
   bool probed = false;                 // a probe ran (and maybe failed)
+  // The probe's output was refused for its values (not for the image's size):
+  // a model that gives no valid output on a grey image gives none on any.
+  std::optional<Problem> probe_value_problem;
 
   [[nodiscard]] std::string modelFile() const { return model_path.string(); }
   [[nodiscard]] std::string configFile() const {
@@ -853,15 +856,19 @@ std::optional<int> Segmenter::outputChannels() const {
   grey.height = height;
   grey.rgb.assign(static_cast<size_t>(width) * height * 3, 128);
   NetOutputPtr output;
+  std::optional<Problem> value_problem;
   try {
     const std::lock_guard<std::mutex> net_lock(impl.net_mutex);
     output = impl.infer(grey, width, height);
+  } catch (const Error& error) {
+    // Values checkOutputValues refuses are kept for checkFits; another
+    // failure may be this image's size: the first real run says.
+    if (error.problem().field == "output") value_problem = error.problem();
   } catch (const std::exception&) {
-    // Not this image's size, or values checkOutputValues refuses: the first
-    // real run says what is wrong.
   }
   const std::lock_guard<std::mutex> lock(impl.mutex);
   impl.probed = true;
+  if (value_problem) impl.probe_value_problem = std::move(value_problem);
   if (output && !impl.output_channels) {
     impl.output_channels = output->channels;
     impl.output_shape = "1 x " + std::to_string(output->channels) + " x " +
@@ -874,7 +881,16 @@ std::optional<int> Segmenter::outputChannels() const {
 
 void Segmenter::checkFits(const LabelSet& labels) const {
   checkLabels(labels);
-  if (const auto channels = outputChannels()) {
+  const auto channels = outputChannels();
+  {
+    const std::lock_guard<std::mutex> lock(impl_->mutex);
+    if (impl_->probe_value_problem) {
+      Problem problem = *impl_->probe_value_problem;
+      problem.found += " (on a uniform grey test image; its output is refused for any image)";
+      throw Error(problem);
+    }
+  }
+  if (channels) {
     std::string shape;
     {
       const std::lock_guard<std::mutex> lock(impl_->mutex);

@@ -152,6 +152,25 @@ TEST(ImportFrames, RoundTrip) {
   }
 }
 
+// Numbers need not be padded to six digits: a frame's files are named as its
+// depth image is.
+TEST(ImportFrames, UnpaddedFrameNumbersFindTheirFiles) {
+  test::TempDir dir;
+  writeFramesFolder(dir / "src");
+  for (const auto& entry : fs::directory_iterator(dir / "src")) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("frame-0000", 0) == 0)
+      fs::rename(entry.path(), dir / "src" / ("frame-" + name.substr(10)));  // frame-15.depth.png
+  }
+  ASSERT_TRUE(fs::exists(dir / "src" / "frame-15.pose.txt"));
+  const ImportReport report = importSource(SourceKind::Frames, dir / "src", dir / "seq");
+  EXPECT_EQ(report.frames_written, 2u) << report.text();
+  const Sequence sequence = loadSequence(dir / "seq");
+  ASSERT_EQ(sequence.frames.size(), 2u);
+  EXPECT_TRUE(sequence.frames[1].T_world_camera.matrix().isApprox(scenePose(1), 1e-12));
+  EXPECT_TRUE(loadFrame(sequence, 1).color.has_value());
+}
+
 TEST(ImportFrames, FrameNumbersAreNotWrittenAsTimeStamps) {
   test::TempDir dir;
   writeFramesFolder(dir / "src");

@@ -270,6 +270,24 @@ TEST(Segmenter, ScoresDeclaredAsProbabilitiesAreRejected) {
   EXPECT_NE(message.find("\"scores\""), std::string::npos) << message;
 }
 
+// Its output is refused on any image: checkFits (the studio's Choose…) says so
+// before a fusion would drop the map to fail on the first frame.
+TEST(Segmenter, CheckFitsRefusesAModelWhoseOutputIsNeverValid) {
+  TempDir dir;
+  ConvModelSpec spec = mixedModel();
+  spec.bias = {5.f, 0.f, 0.f};  // scores well above 1
+  const auto model = writeModelFile(dir, "net.onnx", spec);
+  writeText(dir / "net.json", R"({"output": "probabilities"})");
+  const auto segmenter = Segmenter::load(model, memoryOnly());
+  const std::string message = errorOf([&] { segmenter->checkFits(labelsOf(3)); });
+  EXPECT_NE(message.find("net.onnx: output: expected probabilities in [0, 1]"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("on a uniform grey test image"), std::string::npos) << message;
+  // Read as scores (the default), the same network fits.
+  std::filesystem::remove(dir / "net.json");
+  EXPECT_NO_THROW(Segmenter::load(model, memoryOnly())->checkFits(labelsOf(3)));
+}
+
 // ---------------------------------------------------------------------------
 // Sizes
 
