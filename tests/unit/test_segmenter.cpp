@@ -255,12 +255,18 @@ TEST(Segmenter, AModelEndingWithASoftmaxGivesProbabilitiesWithoutAConfig) {
   EXPECT_EQ(plain->config().output, lom::SegmenterOutput::Scores);
 }
 
-TEST(Segmenter, ScoresDeclaredAsProbabilitiesAreRejected) {
-  TempDir dir;
+// net.onnx in `dir`: scores well above 1, declared as probabilities in net.json.
+std::filesystem::path writeScoresDeclaredAsProbabilities(const TempDir& dir) {
   ConvModelSpec spec = mixedModel();
-  spec.bias = {5.f, 0.f, 0.f};  // scores well above 1
+  spec.bias = {5.f, 0.f, 0.f};
   const auto model = writeModelFile(dir, "net.onnx", spec);
   writeText(dir / "net.json", R"({"output": "probabilities"})");
+  return model;
+}
+
+TEST(Segmenter, ScoresDeclaredAsProbabilitiesAreRejected) {
+  TempDir dir;
+  const auto model = writeScoresDeclaredAsProbabilities(dir);
   const auto segmenter = Segmenter::load(model, memoryOnly());
   const std::string message = errorOf([&] {
     (void)segmenter->segment(lom::test::makeColorImage(3, 2, varied), 3, 2, labelsOf(3));
@@ -274,10 +280,7 @@ TEST(Segmenter, ScoresDeclaredAsProbabilitiesAreRejected) {
 // before a fusion would drop the map to fail on the first frame.
 TEST(Segmenter, CheckFitsRefusesAModelWhoseOutputIsNeverValid) {
   TempDir dir;
-  ConvModelSpec spec = mixedModel();
-  spec.bias = {5.f, 0.f, 0.f};  // scores well above 1
-  const auto model = writeModelFile(dir, "net.onnx", spec);
-  writeText(dir / "net.json", R"({"output": "probabilities"})");
+  const auto model = writeScoresDeclaredAsProbabilities(dir);
   const auto segmenter = Segmenter::load(model, memoryOnly());
   const std::string message = errorOf([&] { segmenter->checkFits(labelsOf(3)); });
   EXPECT_NE(message.find("net.onnx: output: expected probabilities in [0, 1]"), std::string::npos)
