@@ -371,10 +371,11 @@ int runFuse(const Words& words) {
     if (views.views > 0 &&
         sameCameraViews(views, cameraViewsOf(sequence, options.first_frame, options.last_frame)))
       std::cerr << "warning: " << *start_from
-                << " was fused from these very frames already (it records the same camera views): "
-                   "fusing them again counts each of their observations twice, which makes the "
-                   "map surer than the data are; fuse other frames into it, or leave out "
-                   "--start-from\n";
+                << " was fused from these very frames already, it seems (it records as many "
+                   "camera views as they are, looking the same ways): fusing them again counts "
+                   "each of their observations twice, which makes the map surer than the data "
+                   "are; fuse other frames into it, or leave out --start-from (cameras that only "
+                   "moved, never turned, look alike: then ignore this)\n";
   }
   // Before the jumps: a camera outside the map is the wrong pose, not its neighbours.
   checkCamerasInsideMap(sequence, options.map.resolution, options.first_frame, options.last_frame);
