@@ -270,7 +270,7 @@ int runExport(const Words& words) {
               << " (the label colours); a file name without spaces keeps them\n";
   if (*format == ExportFormat::Objects)
     if (const std::string note =
-            boxesOnWorldZNote(map, map_path.string(), sequence_path.has_value());
+            boxesOnWorldZNote(map, map_path.string(), options.cameras_up.has_value());
         !note.empty())
       std::cerr << "note: " << note << "\n";
   const ExportSummary summary = runExportTo(map, options, out_path, out_option);

@@ -67,9 +67,8 @@ std::vector<int> parseCandidates(const std::string& text, const LabelSet& labels
 
 }  // namespace
 
-std::string boxesOnWorldZNote(const LabelMap& map, const std::string& map_file,
-                              bool sequence_given) {
-  if (sequence_given || map.camerasUp()) return {};
+std::string boxesOnWorldZNote(const LabelMap& map, const std::string& map_file, bool up_given) {
+  if (up_given || map.camerasUp()) return {};
   return map_file +
          " does not record which way up its cameras were (a map of an older version, or "
          "cameras that disagree): the object boxes stand on the world's +z axis; --sequence SEQ, "
@@ -156,7 +155,8 @@ int runPlan(const Words& words) {
                 << " (its level plane or cameras): the placements assume z up and may lie on "
                    "their side (docs/planning.md)\n";
     }
-  if (const std::string note = boxesOnWorldZNote(map, map_path.string(), sequence.has_value());
+  if (const std::string note =
+          boxesOnWorldZNote(map, map_path.string(), options.objects.cameras_up.has_value());
       !note.empty())
     std::cerr << "note: " << note << "\n";
   const PickPlan plan = planPick(map, target, options);

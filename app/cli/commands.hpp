@@ -72,8 +72,7 @@ size_t printOccupiedPerLabel(const LabelMap& map, const std::string& heading, st
 // Object boxes of a map that records no camera up stand on the world's +z:
 // the note export objects and plan print then (without "note: "), naming
 // --sequence, which gives them its cameras' up; empty when the map records
-// its up or `sequence_given` (cmd_plan.cpp).
-std::string boxesOnWorldZNote(const LabelMap& map, const std::string& map_file,
-                              bool sequence_given);
+// its up or `up_given` (a --sequence whose cameras agree on one; cmd_plan.cpp).
+std::string boxesOnWorldZNote(const LabelMap& map, const std::string& map_file, bool up_given);
 
 }  // namespace lom::cli

@@ -84,9 +84,12 @@ std::vector<std::string> emptyBoxWarnings(const Annotations& annotations, const 
   bool far = false;
   const double across = mapped ? observed.diagonal().norm() : 0.0;
   for (size_t i = 0; i < boxes.size(); ++i) {
-    const int label = boxes[i].label;
-    const std::string which = "boxes[" + std::to_string(i) + "] (label " + std::to_string(label) +
-                              ", " + (labels.contains(label) ? labels.at(label).name : "?") + ")";
+    // Named only for a box that is warned about (most are not).
+    const auto which = [&] {
+      const int label = boxes[i].label;
+      return "boxes[" + std::to_string(i) + "] (label " + std::to_string(label) + ", " +
+             (labels.contains(label) ? labels.at(label).name : "?") + ")";
+    };
     const bool outside_map = !mapped || !reach[i].intersects(observed);  // bounds hold whole voxels
     // Far larger than all the map saw: it may hold voxels, yet scores about 0
     // (one outside the map is said to be there).
@@ -94,15 +97,15 @@ std::vector<std::string> emptyBoxWarnings(const Annotations& annotations, const 
       char size[96];
       std::snprintf(size, sizeof size, " is %.3g x %.3g x %.3g m", boxes[i].box.size.x(),
                     boxes[i].box.size.y(), boxes[i].box.size.z());
-      huge.push_back(which + size);
+      huge.push_back(which() + size);
     }
     if (holds[i]) continue;
     if (outside_map) {
-      outside.push_back(which);
+      outside.push_back(which());
       // Farther from the map than the map is across: not a near miss.
       far = far || !mapped || observed.exteriorDistance(boxes[i].box.center) > across;
     } else {
-      empty.push_back(which);
+      empty.push_back(which());
     }
   }
   if (!outside.empty())
