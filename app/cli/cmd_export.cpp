@@ -2,6 +2,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
@@ -10,6 +11,7 @@
 
 #include "args.hpp"
 #include "commands.hpp"
+#include "lom/box_fit.hpp"
 #include "lom/error.hpp"
 #include "lom/export.hpp"
 #include "lom/fusion.hpp"
@@ -179,9 +181,9 @@ ExportSummary runExportTo(const LabelMap& map, const ExportOptions& options, con
 }  // namespace
 
 int runExport(const Words& words) {
-  const Args args(words, {"per-label", "smooth", "points", "native", "no-merge"});
+  const Args args(words, {"per-label", "smooth", "points", "native", "no-merge", "level"});
   args.expectOnly({"voxels", "format", "out", "labels", "per-label", "smooth", "points", "native",
-                   "no-merge", "sequence"},
+                   "no-merge", "sequence", "level"},
                   1);
   const fs::path map_path = args.positional(0, "MAP.ot");
   auto format_name = args.option("format");
@@ -219,11 +221,18 @@ int runExport(const Words& words) {
     options.labels = std::set<int>(list.begin(), list.end());
   }
   checkSwitches(options);
-  const auto sequence_path = args.option("sequence");
-  if (sequence_path && *format != ExportFormat::Objects)
+  const bool level = args.flag("level");
+  if (level && !isMesh(options) && !isPointCloud(options))
     throw UsageError(
-        "option --sequence goes only with --format objects (it stands the boxes on "
-        "the up of the cameras the map was fused from)");
+        "option --level applies to the mesh and point cloud formats (ply, obj, stl, pcd), not "
+        "to format " +
+        std::string(exportFormatName(*format)) +
+        " (octrees and object boxes stay in the map's frame, where the sequence's poses are)");
+  const auto sequence_path = args.option("sequence");
+  if (sequence_path && *format != ExportFormat::Objects && !level)
+    throw UsageError(
+        "option --sequence goes only with --format objects or --level (it gives the up of "
+        "the cameras the map was fused from)");
 
   CommandInputs inputs;
   inputs.addFile(map_path, "the input map");
@@ -257,6 +266,21 @@ int runExport(const Words& words) {
   const LabelMap map = LabelMap::load(map_path);
   const auto counts = map.occupiedCountPerLabel();
   checkSomethingToExport(map, map_path, options, counts);
+  if (level) {
+    options.rotation = levellingRotation(map);
+    // A map that records no camera: the sequence's cameras, levelled by the
+    // map's largest plane, as its boxes are (sceneLevelOf).
+    if (!options.rotation && options.cameras_up) {
+      const Eigen::Vector3d up = sceneLevelOf(map, options.cameras_up).up;
+      options.rotation =
+          Eigen::Quaterniond::FromTwoVectors(up, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    }
+    if (!options.rotation)
+      throw Error(map_path.string(), "--level",
+                  "a map that records the cameras it was fused from (or --sequence SEQ, the "
+                  "sequence it was fused from), whose up turns onto +z",
+                  "a map that records no camera");
+  }
   if (options.per_label)
     for (const auto& file : perLabelFiles(map, options, counts, out_path)) {
       checkOutputInFolder(file, out_option, inputs);
@@ -290,6 +314,16 @@ int runExport(const Words& words) {
     if (shown < summary.earlier_files.size())
       std::cerr << " and " << summary.earlier_files.size() - shown << " more";
     std::cerr << "; remove them, or export into an empty folder, to keep the folder one map's\n";
+  }
+  if (const auto& r = options.rotation) {
+    const Eigen::Vector3d up = r->transpose() * Eigen::Vector3d::UnitZ();  // the map's up
+    char text[240];
+    std::snprintf(text, sizeof text,
+                  "levelled: the map's up (%.4f, %.4f, %.4f) turned onto +z about the origin, "
+                  "x' = R x with R = [%.6f %.6f %.6f; %.6f %.6f %.6f; %.6f %.6f %.6f]",
+                  up.x(), up.y(), up.z(), (*r)(0, 0), (*r)(0, 1), (*r)(0, 2), (*r)(1, 0),
+                  (*r)(1, 1), (*r)(1, 2), (*r)(2, 0), (*r)(2, 1), (*r)(2, 2));
+    std::cout << text << "\n";
   }
   std::cout << "wrote " << summary.items << " " << summary.item_name;
   if (options.format == ExportFormat::Pcd || options.points) std::cout << " (occupied voxels)";

@@ -155,6 +155,10 @@ int runPlan(const Words& words) {
                 << " (its level plane or cameras): the placements assume z up and may lie on "
                    "their side (docs/planning.md)\n";
     }
+  if (options.empty_bin)
+    if (const std::string warning = binContentsWarning(map, *options.empty_bin, map_path.string());
+        !warning.empty())
+      std::cerr << "warning: " << warning << "\n";
   if (const std::string note =
           boxesOnWorldZNote(map, map_path.string(), options.objects.cameras_up.has_value());
       !note.empty())

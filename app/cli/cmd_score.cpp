@@ -80,9 +80,8 @@ void checkFrameFilesExist(const fs::path& sequence_path, const EvaluationOptions
 // sequences not on this list) sit beside its aggregate: said, since a script
 // collecting DIR/*/report.json would mix them in. They are not removed: they
 // may be someone's results.
-void warnReportsOfOtherRuns(const fs::path& out, const std::vector<BatchEntry>& entries,
-                            const Args& args) {
-  if (args.flag("quiet")) return;
+// A warning, so said with --quiet too.
+void warnReportsOfOtherRuns(const fs::path& out, const std::vector<BatchEntry>& entries) {
   std::set<std::string> listed;
   for (const auto& entry : entries) listed.insert(entry.name);
   std::vector<std::string> others;
@@ -240,11 +239,17 @@ int runScore(const Words& words) {
     checkOutputFolder(out, "out", what, read);
     for (const auto& entry : entries) {
       checkOptionsForSequence(entry.inputs.sequence, options, !entry.inputs.map, read);
-      checkThresholdFor(threshold, entry.inputs.map, options);
-      // Every line's boxes and frame files before the first fusion: a bad
+      // Every line's map, boxes and frame files before the first fusion: a bad
       // file on the last line must not wait for the sequences before it to
       // be fused.
       try {
+        if (const auto& map_file = entry.inputs.map) {
+          const LabelMap map = LabelMap::load(*map_file);
+          checkMapLabels(map, loadSequence(entry.inputs.sequence), map_file->string());
+          if (threshold) checkOccupancyThreshold(*threshold, map.parameters(), map_file->string());
+        } else {
+          checkThresholdFor(threshold, std::nullopt, options);
+        }
         checkAnnotationsFor(entry.inputs);
         checkFrameFilesExist(entry.inputs.sequence, options, args.option("segmenter").has_value());
       } catch (const std::exception&) {
@@ -295,7 +300,9 @@ int runScore(const Words& words) {
       std::cout << reportTable(reports.back()) << "\n";
     }
     writeBatchReports(reports, out);
-    warnReportsOfOtherRuns(out, entries, args);
+    for (const std::string& warning : mixedSettingsWarnings(reports))
+      std::cerr << "warning: " << warning << "\n";
+    warnReportsOfOtherRuns(out, entries);
     std::cout << aggregateTable(reports) << "wrote " << reports.size()
               << (reports.size() == 1 ? " report and " : " reports and ")
               << (out / "aggregate.{json,md,svg}").string() << "\n";

@@ -42,7 +42,7 @@ const Command kCommands[] = {
      "                                per-object IU_3d against projection baselines"},
     {"export", lom::cli::runExport,
      "export MAP.ot --format ply|obj|stl|pcd|ot|bt|objects [--per-label] [--labels 8,19]\n"
-     "       [--smooth] [--points] [--native] [--no-merge] [--sequence SEQ] --out PATH\n"
+     "       [--smooth] [--points] [--native] [--no-merge] [--level] [--sequence SEQ] --out PATH\n"
      "       | export MAP.ot --voxels OUT.pcd   (options: docs/export.md)\n"
      "                                write meshes, point clouds, octrees or object boxes"},
     {"render", lom::cli::runRender,

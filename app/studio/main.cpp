@@ -486,6 +486,8 @@ int main(int argc, char** argv) {
     // No one is there to close a dialog: errors go to stderr and the exit code.
     bool failed = false;
     window.recentSequences().freeze();  // a picture taken is not a session to reopen
+    // ... nor one that reads or leaves the labels a recording was converted with.
+    window.controller().setRemembersConversions(false);
     // Unsaved boxes of an earlier session stay for the next interactive one.
     window.autosave().leaveRecoveryFilesAlone();
     window.setWarningReporter([](const QString& title, const QString& message) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <set>
 
 #include "evaluation_frames.hpp"
 #include "lom/box_fit.hpp"
@@ -467,6 +468,11 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
   // that is the first camera's frame would otherwise tilt every box by its
   // pitch. The sequence's poses stand in for a map that records no camera.
   const SceneLevel level = sceneLevelOf(map, camerasUpOf(sequence));
+  // The projection baselines' boxes are levelled by what the views see (the
+  // same up, levelled by the largest plane of every view's points), not by
+  // the map scored: its voxels change with its threshold, p_miss or frames,
+  // and the baselines of one sequence must not change with them.
+  const SceneLevel views_level = sceneLevel(scan.view_centres, camerasUpOf(sequence), resolution);
   EvaluationProgress step{"scoring", 0, boxes.size()};
   for (const auto& box : boxes) {
     ObjectScore object;
@@ -483,14 +489,48 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
     for (const auto& view : scan.view_voxels) {
       const std::vector<VoxelKey>& projected = view.at(box.label);
       object.per_view.push_back(voxelIou(projected, resolution, box.box, options.iou_mode));
-      object.per_view_box_iou.push_back(
-          fittedBoxIou(projected, resolution, box.box, options.cluster_tolerance_voxels, level));
+      object.per_view_box_iou.push_back(fittedBoxIou(
+          projected, resolution, box.box, options.cluster_tolerance_voxels, views_level));
     }
     meanAndMax(object.per_view, object.iou_3d.projection_mean, object.iou_3d.projection_max);
     meanAndMax(object.per_view_box_iou, object.box_iou.projection_mean, object.box_iou.projection_max);
     report.objects.push_back(std::move(object));
     ++step.done;
     if (progress && !progress(step)) throw EvaluationCancelled();
+  }
+  // A box whose label neither the map nor any view holds scores 0 in every
+  // column, whatever the methods: boxes of another scene, or a label the
+  // segmentation never gives. (An object without depth, a transparent one,
+  // still has its pixels; a label left out by the candidates is said above.)
+  {
+    std::set<int> mapped_labels;
+    for (const ObjectScore& object : report.objects)
+      if (object.voxels > 0) mapped_labels.insert(object.label);
+    std::vector<std::string> nowhere;
+    for (size_t i = 0; i < annotations.boxes.size(); ++i) {  // in the file's order
+      const int label = annotations.boxes[i].label;
+      if (mapped_labels.count(label) || scan.labels_in_views.count(label)) continue;
+      if (report.candidates &&
+          !std::binary_search(report.candidates->begin(), report.candidates->end(), label))
+        continue;
+      nowhere.push_back("boxes[" + std::to_string(i) + "] (label " + std::to_string(label) + ", " +
+                        sequence.labels.at(label).name + ")");
+    }
+    if (!nowhere.empty()) {
+      constexpr size_t kNamed = 10;
+      std::string list;
+      for (size_t i = 0; i < std::min(nowhere.size(), kNamed); ++i)
+        list += (i ? ", " : "") + nowhere[i];
+      if (nowhere.size() > kNamed)
+        list += " and " + std::to_string(nowhere.size() - kNamed) + " more";
+      const bool one = nowhere.size() == 1;
+      report.warnings.push_back(
+          orDefault(options.annotations_file, "(annotations)") + ": " + list + ": no voxel of " +
+          orDefault(options.map_file, "the map") + " and no pixel of the views scored has " +
+          (one ? "its label" : "their labels") + ", so " + (one ? "it scores" : "they score") +
+          " 0 in every column. Are the boxes of another scene, or is the label one the "
+          "segmentation never gives?");
+    }
   }
   report.summary = summarize(report.objects);
   if (scan.confusion && scan.confusion->total() > 0) report.metrics_2d = scan.confusion->metrics();

@@ -46,7 +46,9 @@ std::map<int, std::vector<VoxelKey>> projectView(const Sequence& sequence, size_
                                                  const FrameData& frame, const LabelMap& map,
                                                  const std::vector<int>& slot_of_label,
                                                  const std::vector<int>& scored_labels,
-                                                 const EvaluationOptions& options) {
+                                                 const EvaluationOptions& options,
+                                                 std::unordered_set<std::uint64_t>& seen,
+                                                 std::vector<char>& label_seen) {
   const FrameEvidence evidence = makeEvidence(sequence, index, frame, options.fusion);
   const CameraIntrinsics& camera = sequence.cameraOf(index);
   const Eigen::Isometry3d& T_world_camera = sequence.frames[index].T_world_camera;
@@ -60,18 +62,28 @@ std::map<int, std::vector<VoxelKey>> projectView(const Sequence& sequence, size_
                 std::to_string(evidence.width()) + "x" + std::to_string(evidence.height()));
 
   std::vector<std::unordered_set<std::uint64_t>> keys(scored_labels.size());
+  size_t unseen = static_cast<size_t>(std::count(label_seen.begin(), label_seen.end(), 0));
   for (int v = 0; v < depth.height; ++v) {
     for (int u = 0; u < depth.width; ++u) {
       const float z = depth.at(u, v);
-      if (!(z > 0.f) || !std::isfinite(z)) continue;
+      const bool measured = z > 0.f && std::isfinite(z);
+      // A pixel without depth still tells which labels the view holds, as long
+      // as some scored label has not been seen yet.
+      if (!measured && unseen == 0) continue;
       const int label = evidence.argmax(u, v);
       if (label < 0) continue;  // no probability for any candidate
       const int slot = slot_of_label[static_cast<size_t>(label)];
-      if (slot < 0) continue;
+      if (slot >= 0 && !label_seen[static_cast<size_t>(slot)]) {
+        label_seen[static_cast<size_t>(slot)] = 1;
+        --unseen;
+      }
+      if (!measured) continue;
       const Eigen::Vector3d point = T_world_camera * camera.backProject(u, v, z);
       if (max_range > 0.0 && (point - origin).norm() > max_range) continue;
       try {
-        keys[static_cast<size_t>(slot)].insert(pack(map.keyOf(point)));
+        const std::uint64_t key = pack(map.keyOf(point));
+        seen.insert(key);
+        if (slot >= 0) keys[static_cast<size_t>(slot)].insert(key);
       } catch (const Error&) {
         // Outside the octree's extent: the fusion drops such points too.
       }
@@ -137,14 +149,16 @@ FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
     scores_2d[i] = scored_2d;
     if (record.view || scored_2d) to_load.push_back(i);
   }
+  std::unordered_set<std::uint64_t> seen;  // every view's voxels, any label
+  std::vector<char> label_seen(scored_labels.size(), 0);
   EvaluationProgress report{"projecting", 0, to_load.size()};
   for (size_t i : to_load) {
     const FrameRecord& record = sequence.frames[i];
     const FrameData frame = loadFrameWithSegmenter(sequence, i, options.fusion.segmenter.get());
     if (record.view) {
       scan.views.push_back(i);
-      scan.view_voxels.push_back(
-          projectView(sequence, i, frame, map, slot_of_label, scored_labels, options));
+      scan.view_voxels.push_back(projectView(sequence, i, frame, map, slot_of_label, scored_labels,
+                                             options, seen, label_seen));
     }
     if (scores_2d[i] && frame.label && frame.proba) {
       if (!scan.confusion) scan.confusion.emplace(sequence.labels.size());
@@ -157,6 +171,12 @@ FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
     ++report.done;
     if (progress && !progress(report)) throw EvaluationCancelled();
   }
+  for (size_t s = 0; s < scored_labels.size(); ++s)
+    if (label_seen[s]) scan.labels_in_views.insert(scored_labels[s]);
+  std::vector<std::uint64_t> ordered(seen.begin(), seen.end());
+  std::sort(ordered.begin(), ordered.end());  // the same scene gives the same level
+  scan.view_centres.reserve(ordered.size());
+  for (const std::uint64_t key : ordered) scan.view_centres.push_back(map.centerOf(unpack(key)));
   return scan;
 }
 

@@ -3,6 +3,7 @@
 // 2D confusion matrices, gathered in one pass over the frames.
 #include <map>
 #include <optional>
+#include <set>
 #include <vector>
 
 #include "lom/evaluation.hpp"
@@ -13,6 +14,13 @@ struct FrameScan {
   std::vector<size_t> views;
   // For each view (same order), the voxels each scored label occupies in that view alone.
   std::vector<std::map<int, std::vector<VoxelKey>>> view_voxels;
+  // The centres of the voxels every view's points fall in, whatever their
+  // label (the background's floor and walls too), in key order: the scene as
+  // the projection baselines see it, which levels their boxes.
+  std::vector<Eigen::Vector3d> view_centres;
+  // The scored labels some pixel of some view takes (its argmax), with a
+  // depth or without one (a transparent object's pixels have none).
+  std::set<int> labels_in_views;
   std::optional<ConfusionMatrix> confusion;             // frames with label and proba images
   std::optional<ConfusionMatrix> confusion_candidates;  // the same, after candidates
   std::vector<size_t> excluded_2d;  // frames with label and proba, the proba made from the label

@@ -1,7 +1,9 @@
 // exportMap: one entry point for every export format (the CLI's `export`).
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cctype>
+#include <sstream>
 #include <stdexcept>
 
 #include "lom/atomic_file.hpp"
@@ -74,6 +76,9 @@ void checkOptions(const LabelMap& map, const ExportOptions& o, const fs::path& o
   if (o.native && o.labels)
     throw Error(file, "labels", "no label selection with the native map (it keeps every label)",
                 "a label list");
+  if (o.rotation && !isMesh(o) && !isPointCloud(o))
+    throw Error(file, "level", "a mesh or point cloud format (ply, obj, stl, pcd)",
+                "format " + format);
   if (!o.merge_coplanar && (!isMesh(o) || o.smooth))
     throw Error(file, "no-merge",
                 "the voxel meshes of formats ply, obj and stl (without smoothing)",
@@ -99,11 +104,29 @@ std::set<int> selectedLabels(const LabelMap& map, const ExportOptions& o) {
   return all;
 }
 
+// The header line that says which frame a mesh's coordinates are in.
+std::string frameComment(const LabelMap& map, const std::optional<Eigen::Matrix3d>& rotation) {
+  std::ostringstream text;
+  text.precision(9);
+  if (rotation) {
+    const Eigen::Matrix3d& r = *rotation;
+    text << "frame: levelled, the map's world rotated about its origin by R = [" << r(0, 0) << " "
+         << r(0, 1) << " " << r(0, 2) << "; " << r(1, 0) << " " << r(1, 1) << " " << r(1, 2) << "; "
+         << r(2, 0) << " " << r(2, 1) << " " << r(2, 2) << "] (x' = R x), so that its up is +z";
+  } else if (const auto up = map.upDirection()) {
+    text << "frame: the map's world (the sequence's poses), metres; its up is (" << up->x() << " "
+         << up->y() << " " << up->z() << ")";
+  } else {
+    text << "frame: the map's world (the sequence's poses), metres";
+  }
+  return text.str();
+}
+
 void writeMeshes(const std::vector<SurfaceMesh>& meshes, const LabelMap& map, ExportFormat format,
-                 const fs::path& path, std::vector<fs::path>& files) {
+                 const fs::path& path, std::vector<fs::path>& files, const std::string& frame) {
   switch (format) {
     case ExportFormat::Ply:
-      writeMeshesPly(meshes, map.labels(), path);
+      writeMeshesPly(meshes, map.labels(), path, frame);
       break;
     case ExportFormat::Stl:
       writeMeshesStl(meshes, map.labels(), path);
@@ -111,7 +134,7 @@ void writeMeshes(const std::vector<SurfaceMesh>& meshes, const LabelMap& map, Ex
     default: {
       fs::path mtl = path;
       mtl.replace_extension(".mtl");
-      writeMeshesObj(meshes, map.labels(), path, mtl);
+      writeMeshesObj(meshes, map.labels(), path, mtl, frame);
       files.push_back(mtl);
       break;
     }
@@ -215,6 +238,13 @@ std::vector<fs::path> earlierPerLabelFiles(const fs::path& folder,
 }
 
 }  // namespace
+
+std::optional<Eigen::Matrix3d> levellingRotation(const LabelMap& map) {
+  const std::optional<Eigen::Vector3d> up = map.upDirection();
+  if (!up || !up->allFinite() || !(up->norm() > 0.0)) return std::nullopt;
+  return Eigen::Quaterniond::FromTwoVectors(up->normalized(), Eigen::Vector3d::UnitZ())
+      .toRotationMatrix();
+}
 
 std::optional<ExportFormat> parseExportFormat(const std::string& name) {
   for (const auto& info : kFormats)
@@ -330,8 +360,9 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
   if (isPointCloud(options)) {
     summary.item_name = "points";
     const auto write = [&](const std::set<int>& labels, const fs::path& path) {
-      summary.items += options.format == ExportFormat::Pcd ? writeVoxelsPcd(map, labels, path)
-                                                           : writeVoxelsPly(map, labels, path);
+      summary.items += options.format == ExportFormat::Pcd
+                           ? writeVoxelsPcd(map, labels, path, options.rotation)
+                           : writeVoxelsPly(map, labels, path, options.rotation);
       summary.files.push_back(path);
     };
     if (!options.per_label) {
@@ -345,6 +376,7 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
   }
 
   summary.item_name = "triangles";
+  const std::string frame = frameComment(map, options.rotation);
   std::vector<SurfaceMesh> meshes;
   for (const auto& [label, keys] : voxels) {
     SurfaceMesh mesh;
@@ -362,15 +394,17 @@ ExportSummary exportMap(const LabelMap& map, const ExportOptions& options, const
                           VoxelSurfaceOptions{options.merge_coplanar});
     }
     mesh.label = label;
+    if (options.rotation)  // a rotation keeps the triangles' winding (outward normals)
+      for (Eigen::Vector3d& vertex : mesh.vertices) vertex = *options.rotation * vertex;
     summary.items += mesh.triangles.size();
     if (options.per_label) {
       staging->write(
-          [&] { writeMeshes({mesh}, map, options.format, pathFor(label), summary.files); });
+          [&] { writeMeshes({mesh}, map, options.format, pathFor(label), summary.files, frame); });
     } else {
       meshes.push_back(std::move(mesh));
     }
   }
-  if (!options.per_label) writeMeshes(meshes, map, options.format, out, summary.files);
+  if (!options.per_label) writeMeshes(meshes, map, options.format, out, summary.files, frame);
   if (options.per_label) publish();
   return summary;
 }

@@ -11,6 +11,7 @@
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 #include "lom/export.hpp"
+#include "lom/height_colours.hpp"
 #include "lom/octree/label_octree.hpp"
 
 namespace lom {
@@ -90,7 +91,7 @@ class OctreeCopy {
       to->setLogOdds(from->getLogOdds() + shift_);
       if constexpr (std::is_same_v<Tree, octomap::ColorOcTree>) {
         if (occupied) {
-          const Rgb c = map_.labels().at(label).color;
+          const Rgb c = shadedLabelColour(map_.labels(), label);  // as the meshes
           to->setColor(c[0], c[1], c[2]);
         }
       }

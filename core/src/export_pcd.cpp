@@ -14,6 +14,7 @@
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 #include "lom/export.hpp"
+#include "lom/height_colours.hpp"
 
 namespace lom {
 
@@ -93,12 +94,16 @@ void writeWithPcl(const std::filesystem::path& path, const std::filesystem::path
 
 pcl::PointCloud<LabelledVoxelPoint> voxelCloud(const LabelMap& map,
                                                const std::optional<std::set<int>>& labels,
-                                               const std::filesystem::path& path) {
+                                               const std::filesystem::path& path,
+                                               const std::optional<Eigen::Matrix3d>& rotation) {
   pcl::PointCloud<LabelledVoxelPoint> cloud;
   for (const auto& [label, keys] : occupiedVoxelsByLabel(map, labels)) {
-    const Rgb color = map.labels().at(label).color;
+    // The studio's shading: the background's black (VOC palette) would hide
+    // the points of a geometry-only recording on a viewer's black background.
+    const Rgb color = shadedLabelColour(map.labels(), label);
     for (const VoxelKey& key : keys) {
-      const Eigen::Vector3d c = map.centerOf(key);
+      const Eigen::Vector3d c =
+          rotation ? Eigen::Vector3d(*rotation * map.centerOf(key)) : map.centerOf(key);
       const VoxelState state = map.voxelAt(key);
       LabelledVoxelPoint point;
       point.x = static_cast<float>(c.x());
@@ -124,8 +129,9 @@ pcl::PointCloud<LabelledVoxelPoint> voxelCloud(const LabelMap& map,
 }
 
 size_t writePcd(const LabelMap& map, const std::optional<std::set<int>>& labels,
-                const std::filesystem::path& path) {
-  const auto cloud = voxelCloud(map, labels, path);
+                const std::filesystem::path& path,
+                const std::optional<Eigen::Matrix3d>& rotation = std::nullopt) {
+  const auto cloud = voxelCloud(map, labels, path, rotation);
   writePathAtomically(path, [&](const std::filesystem::path& temporary) {
     writeWithPcl(path, temporary, "PCD", "DATA binary", cloud.size(), kPcdPointBytes,
                  [&] { return pcl::io::savePCDFileBinary(temporary.string(), cloud); });
@@ -140,13 +146,15 @@ size_t writeVoxelsPcd(const LabelMap& map, const std::filesystem::path& path) {
 }
 
 size_t writeVoxelsPcd(const LabelMap& map, const std::set<int>& labels,
-                      const std::filesystem::path& path) {
-  return writePcd(map, labels, path);
+                      const std::filesystem::path& path,
+                      const std::optional<Eigen::Matrix3d>& rotation) {
+  return writePcd(map, labels, path, rotation);
 }
 
 size_t writeVoxelsPly(const LabelMap& map, const std::set<int>& labels,
-                      const std::filesystem::path& path) {
-  const auto cloud = voxelCloud(map, labels, path);
+                      const std::filesystem::path& path,
+                      const std::optional<Eigen::Matrix3d>& rotation) {
+  const auto cloud = voxelCloud(map, labels, path, rotation);
   pcl::PCLPointCloud2 blob;
   pcl::toPCLPointCloud2(cloud, blob);
   writePathAtomically(path, [&](const std::filesystem::path& temporary) {

@@ -59,7 +59,7 @@ std::string number(double value) {
 }  // namespace
 
 void writeMeshesPly(const std::vector<SurfaceMesh>& meshes, const LabelSet& labels,
-                    const std::filesystem::path& path) {
+                    const std::filesystem::path& path, const std::string& frame) {
   requireTriangles(meshes, path);
   constexpr size_t kVertexBytes = 3 * 4 + 3 + 4;
   std::string vertices;
@@ -89,6 +89,7 @@ void writeMeshesPly(const std::vector<SurfaceMesh>& meshes, const LabelSet& labe
   writeFileAtomically(path, [&](std::ostream& out) {
     out << "ply\nformat binary_little_endian 1.0\n"
         << "comment labeloctomap voxel surface; vertex label = label id\n";
+    if (!frame.empty()) out << "comment " << singleLineText(frame) << "\n";
     for (const auto& m : meshes)
       out << "comment label " << m.label << " " << singleLineText(nameOf(labels, m.label)) << "\n";
     out << "element vertex " << vertex_count << "\n"
@@ -113,7 +114,8 @@ void writeMeshesPly(const std::vector<SurfaceMesh>& meshes, const LabelSet& labe
 }
 
 void writeMeshesObj(const std::vector<SurfaceMesh>& meshes, const LabelSet& labels,
-                    const std::filesystem::path& obj_path, const std::filesystem::path& mtl_path) {
+                    const std::filesystem::path& obj_path, const std::filesystem::path& mtl_path,
+                    const std::string& frame) {
   requireTriangles(meshes, obj_path);
   // Material and object names: "08_creativity_chenille_stems" (no spaces in OBJ names).
   const auto materialOf = [&](int label) {
@@ -139,8 +141,9 @@ void writeMeshesObj(const std::vector<SurfaceMesh>& meshes, const LabelSet& labe
   files.add(
       obj_path,
       [&](std::ostream& out) {
-        out << "# labeloctomap voxel surface, one object per label\n"
-            << "mtllib " << mtl_path.filename().string() << "\n";
+        out << "# labeloctomap voxel surface, one object per label\n";
+        if (!frame.empty()) out << "# " << singleLineText(frame) << "\n";
+        out << "mtllib " << mtl_path.filename().string() << "\n";
         size_t offset = 1;  // OBJ indices start at 1
         for (const auto& m : meshes) {
           out << "\no " << materialOf(m.label) << "\nusemtl " << materialOf(m.label) << "\n";

@@ -1,15 +1,15 @@
 // Pick planning: occluders, grasps, placements (docs/planning.md).
 #include "lom/planning.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
-
-#include <Eigen/Geometry>
 
 #include "lom/error.hpp"
 #include "lom/octree/label_octree.hpp"
@@ -277,6 +277,33 @@ Grasp graspFor(const ObjectInstance& object, const Eigen::Vector3d& approach) {
   local[best] = sign * half[best];
   grasp.position = object.box.center + grasp.axes * local;
   return grasp;
+}
+
+std::string binContentsWarning(const LabelMap& map, const OrientedBox& bin,
+                               const std::string& map_file) {
+  const double resolution = map.parameters().resolution;
+  std::map<int, double> voxels;  // per label, in voxels of the map's resolution
+  map.forEachOccupied([&](const OccupiedVoxel& voxel) {
+    if (voxel.label == 0 || !bin.contains(voxel.center)) return;
+    voxels[voxel.label] += std::pow(voxel.size / resolution, 3.0);
+  });
+  if (voxels.empty()) return {};
+  double total = 0.0;
+  std::string list;
+  size_t named = 0;
+  for (const auto& [label, count] : voxels) {
+    total += count;
+    if (named++ < 10)
+      list += (list.empty() ? "" : ", ") + labelText(map.labels(), label) + ": " +
+              std::to_string(static_cast<long long>(std::llround(count)));
+  }
+  if (voxels.size() > 10) list += " and " + std::to_string(voxels.size() - 10) + " more labels";
+  return "--empty-bin " + vectorText(bin.center) + "," + vectorText(bin.size) + " holds " +
+         std::to_string(static_cast<long long>(std::llround(total))) +
+         " occupied voxels of objects in " + map_file + " (" + list +
+         "): it is not empty there, and the placements do not look at the map, so objects "
+         "placed in it may collide with them. Is the bin given in the map's coordinates "
+         "(metres, the map's frame)?";
 }
 
 std::vector<Placement> placeInBin(const std::vector<OrientedBox>& boxes, const std::optional<OrientedBox>& bin,

@@ -142,11 +142,18 @@ std::string aggregateJson(const std::vector<EvaluationReport>& reports) {
     Json entry{{"sequence", report.sequence}, {"report", report.sequence + "/report.json"}};
     const Json summary = summaryJson(report.summary);
     for (auto it = summary.begin(); it != summary.end(); ++it) entry[it.key()] = it.value();
+    // The settings its scores depend on, as its report.json has them.
+    entry["resolution"] = report.resolution;
+    entry["max_range"] = report.max_range;
+    entry["occupancy_threshold"] = report.occupancy_threshold;
+    entry["p_miss"] = report.p_miss;
+    entry["iou_mode"] = iouModeName(report.iou_mode);
     entry["warnings"] = report.warnings;  // what makes its numbers doubtful, as its report says
     sequences.push_back(std::move(entry));
   }
   const Json root{{"format", kAggregateFormat},
                   {"version", kVersion},
+                  {"warnings", mixedSettingsWarnings(reports)},
                   {"sequences", std::move(sequences)},
                   {"summary", summaryJson(summarizeAll(reports))}};
   return pretty(root);

@@ -4,6 +4,8 @@
 #include <cctype>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <functional>
 #include <sstream>
 
 #include "lom/labels.hpp"
@@ -275,11 +277,105 @@ std::string reportTable(const EvaluationReport& report) {
   return out.str();
 }
 
+std::vector<std::string> mixedSettingsWarnings(const std::vector<EvaluationReport>& reports) {
+  auto number = [](double value, const char* unit) {
+    std::ostringstream text;
+    text << value << unit;
+    return text.str();
+  };
+  const struct {
+    const char* what;
+    std::function<std::string(const EvaluationReport&)> value;
+  } settings[] = {
+      {"resolution", [&](const EvaluationReport& r) { return number(r.resolution, " m"); }},
+      {"max range",
+       [&](const EvaluationReport& r) {
+         return r.max_range > 0.0 ? number(r.max_range, " m") : std::string("unlimited");
+       }},
+      {"occupancy threshold",
+       [&](const EvaluationReport& r) { return number(r.occupancy_threshold, ""); }},
+      {"p_miss", [&](const EvaluationReport& r) { return number(r.p_miss, ""); }},
+      {"IU_3d mode",
+       [](const EvaluationReport& r) { return std::string(iouModeName(r.iou_mode)); }},
+      {"segmenter",
+       [](const EvaluationReport& r) {
+         return r.segmenter.empty() ? std::string("none")
+                                    : std::filesystem::path(r.segmenter).filename().string();
+       }},
+  };
+  std::vector<std::string> warnings;
+  for (const auto& setting : settings) {
+    // Each value with the sequences that have it, in the batch's order.
+    std::vector<std::pair<std::string, std::vector<std::string>>> groups;
+    for (const EvaluationReport& r : reports) {
+      const std::string value = setting.value(r);
+      auto group = std::find_if(groups.begin(), groups.end(),
+                                [&](const auto& g) { return g.first == value; });
+      if (group == groups.end()) group = groups.insert(groups.end(), {value, {}});
+      group->second.push_back(r.sequence);
+    }
+    if (groups.size() < 2) continue;
+    std::string list;
+    for (const auto& [value, names] : groups) {
+      std::string who;
+      for (size_t i = 0; i < names.size() && i < 3; ++i) who += (i ? ", " : "") + names[i];
+      if (names.size() > 3) who += " and " + std::to_string(names.size() - 3) + " more";
+      list += (list.empty() ? "" : "; ") + value + " (" + who + ")";
+    }
+    warnings.push_back("the sequences were scored at different " + std::string(setting.what) +
+                       "s: " + list +
+                       "; the \"all\" row averages scores that are not comparable (score them "
+                       "at one setting)");
+  }
+  return warnings;
+}
+
 std::string aggregateMarkdown(const std::vector<EvaluationReport>& reports) {
   std::ostringstream out;
   out << "# Segmentation results of " << reports.size() << " sequences\n\n"
-      << "Mean IU_3d x100 over the objects of each sequence; the last row is the mean over all objects.\n\n"
-      << "| sequence | objects | Projection (Mean) | Projection (Max) | LabelOctoMap | LabelOctoMap > Projection (Max) |\n"
+      << "Mean IU_3d x100 over the objects of each sequence; the last row is the mean over all "
+         "objects.\n\n";
+  // The settings, when the sequences share them (else the warnings say how they differ).
+  if (!reports.empty()) {
+    const EvaluationReport& first = reports.front();
+    auto shared = [&](auto get) {
+      return std::all_of(reports.begin(), reports.end(),
+                         [&](const EvaluationReport& r) { return get(r) == get(first); });
+    };
+    std::vector<std::string> parts;
+    std::ostringstream value;
+    auto add = [&](const std::string& text) { parts.push_back(text); };
+    if (shared([](const EvaluationReport& r) { return r.resolution; })) {
+      value.str("");
+      value << first.resolution * 100.0 << " cm voxels";
+      add(value.str());
+    }
+    if (shared([](const EvaluationReport& r) { return r.max_range; })) {
+      value.str("");
+      if (first.max_range > 0.0)
+        value << "max range " << first.max_range << " m";
+      else
+        value << "no range limit";
+      add(value.str());
+    }
+    if (shared([](const EvaluationReport& r) { return r.occupancy_threshold; })) {
+      value.str("");
+      value << "threshold " << first.occupancy_threshold;
+      add(value.str());
+    }
+    if (shared([](const EvaluationReport& r) { return r.p_miss; })) {
+      value.str("");
+      value << "p_miss " << first.p_miss;
+      add(value.str());
+    }
+    if (shared([](const EvaluationReport& r) { return r.iou_mode; }))
+      add(std::string("IU_3d ") + iouModeName(first.iou_mode));
+    std::string line;
+    for (const std::string& part : parts) line += (line.empty() ? "" : ", ") + part;
+    if (!line.empty()) out << "Settings of every sequence: " << line << ".\n\n";
+  }
+  out << "| sequence | objects | Projection (Mean) | Projection (Max) | LabelOctoMap | "
+         "LabelOctoMap > Projection (Max) |\n"
       << "|---|---:|---:|---:|---:|---:|\n";
   auto row = [&](const std::string& name, const ScoreSummary& s) {
     const auto cells = markBest(s.iou_3d);
@@ -292,10 +388,15 @@ std::string aggregateMarkdown(const std::vector<EvaluationReport>& reports) {
   row("all", summarizeAll(reports));
   out << "\n![Mean IU_3d per sequence](aggregate.svg)\n";
   // Each sequence's warnings, so that a doubtful row is not read as a good one.
-  bool any = false;
+  const std::vector<std::string> mixed = mixedSettingsWarnings(reports);
+  bool any = !mixed.empty();
   for (const auto& r : reports) any = any || !r.warnings.empty();
   if (any) {
     out << "\n**Warnings**\n";
+    if (!mixed.empty()) {
+      out << "\nall:\n\n";
+      for (const std::string& warning : mixed) out << "- " << markdownText(warning) << "\n";
+    }
     for (const auto& r : reports) {
       if (r.warnings.empty()) continue;
       out << "\n" << markdownText(r.sequence) << ":\n\n";

@@ -197,6 +197,46 @@ TEST_F(CliExportTest, AnObjNamedWithASpaceGetsANote) {
   EXPECT_EQ(plain.err.find("note:"), std::string::npos) << plain.err;
 }
 
+// --level: the fused map records its cameras, so it has an up to turn onto
+// +z; a map without any (a v1 file, a generated one) needs --sequence; and
+// octrees and boxes stay in the map's frame.
+TEST_F(CliExportTest, LevelTurnsTheMapsUpOntoZAndSaysHow) {
+  TempDir out;
+  auto r = runCli("export " + q(map()) + " --format ply --level --out " + q(out / "level.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("levelled: the map's up ("), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("turned onto +z about the origin, x' = R x with R = ["), std::string::npos)
+      << r.out;
+  EXPECT_NE(slurp(out / "level.ply").find("comment frame: levelled"), std::string::npos);
+
+  for (const char* format : {"ot", "bt", "objects"}) {
+    const std::string file =
+        std::string("level.") + (std::string(format) == "objects" ? "json" : format);
+    r = runCli("export " + q(map()) + " --format " + format + " --level --out " + q(out / file));
+    EXPECT_EQ(r.exit_code, 2) << format << r.err;
+    EXPECT_NE(r.err.find("option --level applies to the mesh and point cloud formats"),
+              std::string::npos)
+        << r.err;
+  }
+
+  lom::LabelMap bare(lom::LabelMap::load(map()).labels());  // records no camera
+  lom::OrientedBox block;
+  block.size = Eigen::Vector3d(0.05, 0.05, 0.05);
+  ASSERT_GT(lom::rasterizeBox(bare, block, 1, 0.9), 0u);
+  bare.save(out / "bare.ot");
+  r = runCli("export " + q(out / "bare.ot") + " --format pcd --level --out " + q(out / "b.pcd"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("bare.ot: --level: expected a map that records the cameras it was fused "
+                       "from (or --sequence SEQ"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(out / "b.pcd"));
+  r = runCli("export " + q(out / "bare.ot") + " --format pcd --level --sequence " + q(scene()) +
+             " --out " + q(out / "b.pcd"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(out / "b.pcd"));
+}
+
 TEST_F(CliExportTest, LabelSelectionWritesOnlyThoseLabels) {
   TempDir out;
   const lom::LabelMap m = lom::LabelMap::load(map());

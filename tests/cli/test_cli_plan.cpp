@@ -186,6 +186,21 @@ TEST_F(CliPlanTest, EmptyBinCandidatesAndAllClusters) {
     EXPECT_NEAR(y, 0.6, 1e-9);
   }
   EXPECT_NE(r.out.find("bin "), std::string::npos) << r.out;
+  EXPECT_EQ(r.err.find("not empty"), std::string::npos) << r.err;  // nothing of the map there
+
+  // A bin over the objects (given in the wrong place): placed all the same,
+  // with a warning naming what the map has in it.
+  const auto over =
+      runCli("plan " + map() + " --target 19 --approach 1,0,0 --empty-bin 0.2,0,0.05,0.16,0.2,0.1");
+  ASSERT_EQ(over.exit_code, 0) << over.err;
+  EXPECT_NE(over.err.find("warning: --empty-bin 0.2,0,0.05,0.16,0.2,0.1 holds "), std::string::npos)
+      << over.err;
+  // 8's block, 0.16 to 0.24 by 0.1 by 0.09 m at 1 cm: 8 x 10 x 9 voxels.
+  EXPECT_NE(over.err.find("occupied voxels of objects in " + path("bin.ot").string() +
+                          " (8 (creativity_chenille_stems): 720"),
+            std::string::npos)
+      << over.err;
+  EXPECT_NE(over.err.find("it is not empty there"), std::string::npos) << over.err;
 }
 
 TEST_F(CliPlanTest, UnknownTargetLabelFailsNamingTheMap) {

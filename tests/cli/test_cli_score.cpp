@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cli_scene_fixture.hpp"
+#include "lom/label_map.hpp"
 #include "lom/sequence.hpp"
 #include "test_support.hpp"
 
@@ -831,6 +832,36 @@ TEST_F(CliScoreTest, BatchOverAnEarlierOneNamesTheReportsItDidNotWrite) {
       << r.err;
   EXPECT_NE(r.err.find("aggregate.json covers only the 1 listed"), std::string::npos) << r.err;
   EXPECT_TRUE(std::filesystem::exists(out / "reports" / "bin_b" / "report.json"));
+  // A warning, not a note: --quiet says it too.
+  r = runCli("score --batch " + quoted(list) + " --out " + quoted(out / "reports") + " --quiet");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("also holds reports of sequences not in this batch (bin_b)"),
+            std::string::npos)
+      << r.err;
+}
+
+// A listed map of another label set (or a --threshold it cannot take) fails
+// before the first line is fused, as a missing map does, naming its line.
+TEST_F(CliScoreTest, BatchChecksEveryLinesMapBeforeFusingAny) {
+  TempDir out;
+  std::vector<lom::LabelInfo> two(2);
+  two[1].id = 1;
+  two[0].name = "background";
+  two[1].name = "thing";
+  lom::LabelMap(lom::LabelSet(two)).save(out / "other.ot");
+  const auto list = out / "list.txt";
+  std::ofstream(list) << scene("bin_a").string() << " "
+                      << (scene("bin_a") / "annotations.json").string() << "\n"
+                      << scene("bin_b").string() << " "
+                      << (scene("bin_b") / "annotations.json").string() << " "
+                      << (out / "other.ot").string() << "\n";
+  const auto r = runCli("score --batch " + quoted(list) + " --out " + quoted(out / "reports"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("line 2 (bin_b) failed"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find((out / "other.ot").string() + ": labels: expected"), std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.out.find("bin_a"), std::string::npos) << "line 1 was scored first:\n" << r.out;
+  EXPECT_FALSE(std::filesystem::exists(out / "reports"));
 }
 
 // A list saved with a UTF-8 byte-order mark (some Windows editors) reads as

@@ -217,6 +217,26 @@ TEST_F(CliSegmentTest, FuseWithAModelEndingWithASoftmax) {
       << twice.err;
   EXPECT_NE(twice.err.find("\"output\": \"probabilities\" in softmax.json"), std::string::npos)
       << twice.err;
+
+  // Read as probabilities, an output that never reaches the threshold (every
+  // label 1/40) gets the other advice: MODEL.json is not the fix there.
+  spec.weights.assign(40 * 3, 0.f);
+  spec.bias.assign(40, 0.f);
+  const auto flat = dir_ / "flat.onnx";
+  lom::test::writeModel(flat, lom::test::buildConvModel(spec));
+  std::ofstream(dir_ / "flat.json") << R"({"output": "probabilities"})";
+  const auto uniform = runCli("fuse " + quoted(forty) + " --out " + quoted(dir_ / "flat.ot") +
+                              " --resolution 0.05 --max-range 5 --segmenter " + quoted(flat));
+  ASSERT_EQ(uniform.exit_code, 0) << uniform.err;
+  EXPECT_NE(uniform.err.find("warning: no voxel is occupied: the probabilities of the segmenter "
+                             "flat.onnx"),
+            std::string::npos)
+      << uniform.err;
+  EXPECT_NE(uniform.err.find("its output was read as probabilities, and no label's reached the "
+                             "occupancy threshold"),
+            std::string::npos)
+      << uniform.err;
+  EXPECT_EQ(uniform.err.find("went through a softmax"), std::string::npos) << uniform.err;
 }
 
 TEST_F(CliSegmentTest, AColourImageOfAnotherSizeOrAnUnwritableFolderIsRefusedFirst) {

@@ -40,6 +40,10 @@ TEST(ScoreSynthetic, LabelOctoMapBeatsProjectionMaxBeatsProjectionMean) {
 
     ASSERT_EQ(report.objects.size(), scene.annotations.boxes.size());
     EXPECT_EQ(report.views.size(), 3u);
+    // The transparent bottle (seed 6) has pixels of its label, though no
+    // depth: not a box of a label the views never hold.
+    for (const std::string& warning : report.warnings)
+      EXPECT_EQ(warning.find("no pixel of the views scored has"), std::string::npos) << warning;
     for (const auto& o : report.objects) {
       SCOPED_TRACE("seed " + std::to_string(seed) + " " + o.name);
       ASSERT_EQ(o.per_view.size(), 3u);
@@ -108,6 +112,40 @@ void expectError(Call call, const std::string& file, const std::string& field) {
   }
 }
 
+// The projection baselines project the same views whatever map is scored:
+// their scores, the Box IU of the boxes fitted to their voxels included, must
+// not move with the map's threshold, p_miss or the frames it was fused from
+// (a table comparing fusion settings would get baselines that move with them).
+TEST(ScoreSynthetic, TheBaselinesDoNotDependOnTheMapScored) {
+  TempDir dir;
+  const lom::SynthScene scene = lom::writeSyntheticScene(sceneOptions(1, 320, 240, 8), dir.path());
+  const lom::Sequence sequence = lom::loadSequence(dir.path());
+  const lom::EvaluationOptions options;
+  const lom::LabelMap map = lom::fuseSequence(sequence, options.fusion);
+  const lom::EvaluationReport report = lom::evaluate(sequence, scene.annotations, map, options);
+  std::vector<lom::FusionOptions> others(3, options.fusion);
+  others[0].map.occupancy_threshold = 0.9;
+  others[1].map.p_miss = 0.45;
+  others[2].last_frame = 3;
+  bool labeloctomap_moved = false;  // the maps differ, so the test means something
+  for (size_t k = 0; k < others.size(); ++k) {
+    SCOPED_TRACE("map " + std::to_string(k));
+    const lom::LabelMap other = lom::fuseSequence(sequence, others[k]);
+    const lom::EvaluationReport again = lom::evaluate(sequence, scene.annotations, other, options);
+    ASSERT_EQ(again.objects.size(), report.objects.size());
+    for (size_t i = 0; i < report.objects.size(); ++i) {
+      const lom::ObjectScore& a = report.objects[i];
+      const lom::ObjectScore& b = again.objects[i];
+      SCOPED_TRACE(a.name);
+      EXPECT_EQ(a.per_view, b.per_view);
+      EXPECT_EQ(a.per_view_box_iou, b.per_view_box_iou);
+      EXPECT_EQ(a.box_iou.projection_max, b.box_iou.projection_max);
+      labeloctomap_moved |= a.box_iou.labeloctomap != b.box_iou.labeloctomap;
+    }
+  }
+  EXPECT_TRUE(labeloctomap_moved);
+}
+
 TEST_F(ScoreChecks, BoxLabelOutsideTheSequenceIsAnError) {
   lom::Annotations annotations = scene_->annotations;
   annotations.boxes[1].label = 40;  // the sequence has labels 0..39
@@ -153,6 +191,46 @@ TEST_F(ScoreChecks, MissingBoxesOnlyLeaveObjectsUnscored) {
   ASSERT_EQ(report.objects.size(), 2u);
   EXPECT_EQ(report.summary.objects, 2u);
   EXPECT_LT(report.objects[0].label, report.objects[1].label);
+}
+
+// Boxes of another scene (the annotations of the wrong recording) sit where
+// the map has voxels, of other labels: their labels are in neither the map
+// nor the views, which is said. An object without depth (the transparent
+// bottle) is not: its pixels hold its label.
+TEST_F(ScoreChecks, BoxesOfLabelsTheMapAndTheViewsNeverHoldAreWarnedAbout) {
+  const std::string said = "and no pixel of the views scored has";
+  const lom::EvaluationReport plain =
+      lom::evaluate(*sequence_, scene_->annotations, *map_, named());
+  for (const std::string& warning : plain.warnings)
+    EXPECT_EQ(warning.find(said), std::string::npos) << warning;
+
+  lom::Annotations annotations = scene_->annotations;
+  std::set<int> used;
+  for (const auto& box : annotations.boxes) used.insert(box.label);
+  int other = 1;
+  while (used.count(other) || other == lom::kSynthTransparentLabel) ++other;
+  ASSERT_GE(annotations.boxes.size(), 2u);
+  annotations.boxes[1].label = other;
+  const lom::EvaluationReport report = lom::evaluate(*sequence_, annotations, *map_, named());
+  std::vector<std::string> found;
+  for (const std::string& warning : report.warnings)
+    if (warning.find(said) != std::string::npos) found.push_back(warning);
+  ASSERT_EQ(found.size(), 1u) << ::testing::PrintToString(report.warnings);
+  EXPECT_EQ(found[0].rfind("boxes.json: boxes[1] (label " + std::to_string(other) + ", " +
+                               sequence_->labels.at(other).name +
+                               "): no voxel of map.ot and no pixel of the views scored has its "
+                               "label, so it scores 0 in every column.",
+                           0),
+            0u)
+      << found[0];
+  // Candidates that leave the label out say so already: not twice.
+  lom::EvaluationOptions restricted = named();
+  restricted.fusion.candidates = std::vector<int>{0};
+  for (const auto& box : scene_->annotations.boxes)
+    restricted.fusion.candidates->push_back(box.label);
+  const lom::EvaluationReport narrowed = lom::evaluate(*sequence_, annotations, *map_, restricted);
+  for (const std::string& warning : narrowed.warnings)
+    EXPECT_EQ(warning.find(said), std::string::npos) << warning;
 }
 
 TEST_F(ScoreChecks, BoxesWithoutAnyMappedVoxelAreWarnedAbout) {

@@ -540,6 +540,29 @@ TEST_F(BoxFilesTest, BoxesWithUnknownLabelsAreReportedByFileAndIndex) {
   ASSERT_EQ(warnings_.size(), 1);
   EXPECT_TRUE(warnings_.front().contains("other.json: boxes[1]"))
       << warnings_.front().toStdString();
+
+  // A box of the background is no object either (score refuses it); saving
+  // such boxes keeps them and says at once that score will refuse the file.
+  annotations.boxes.push_back(boxOf(0, "__background__"));
+  saveAnnotations(annotations, tiny_.folder / "annotations.json");
+  warnings_.clear();
+  ASSERT_TRUE(open(tiny_.folder));
+  ASSERT_EQ(warnings_.size(), 1) << warnings_.join('\n').toStdString();
+  EXPECT_TRUE(warnings_.front().contains("boxes[2]: label 0 is the background, not an object"))
+      << warnings_.front().toStdString();
+  warnings_.clear();
+  GroundTruthBox moved = boxes().box(0);
+  moved.box.center.x() += 0.01;
+  boxes().setBox(0, moved, "move");  // something to save
+  window_.findAction("Save Boxes")->trigger();
+  EXPECT_TRUE(errors_.isEmpty()) << errors_.join('\n').toStdString();
+  EXPECT_FALSE(boxes().isDirty());
+  EXPECT_EQ(loadAnnotations(tiny_.folder / "annotations.json").boxes.size(), 3u);
+  ASSERT_EQ(warnings_.filter("Saved with labels the sequence lacks").size(), 1)
+      << warnings_.join('\n').toStdString();
+  EXPECT_TRUE(warnings_.front().contains("`labeloctomap score` refuses the file"))
+      << warnings_.front().toStdString();
+  EXPECT_TRUE(warnings_.front().contains("boxes[1]: label 999")) << warnings_.front().toStdString();
 }
 
 TEST_F(BoxFilesTest, BoxesOfAnotherFrameAreAWarningThatSaysHowTheyAreRead) {

@@ -13,6 +13,7 @@
 #include <QPushButton>
 #include <QSettings>
 #include <QSlider>
+#include <QStatusBar>
 #include <QTest>
 #include <QTimer>
 #include <cstdio>
@@ -160,6 +161,53 @@ TEST_F(RecordingOpenTest, DialogsForOutputsStartBesideTheRecording) {
   // A sequence's dialogs start beside its folder, as before.
   ASSERT_TRUE(controller().openSequence(qPath(tiny_.folder)));
   EXPECT_EQ(controller().outputFolder(), qPath(temp_.path()));
+}
+
+// A recording converted with --labels (its boxes name those labels) opened
+// again without them (Open Recent in a session started on another sequence)
+// is converted with the same labels, and the status bar says so; labels
+// given for the session take precedence.
+TEST_F(RecordingOpenTest, ARecordingOpenedAgainKeepsTheLabelsItWasConvertedWith) {
+  const fs::path frames = temp_ / "labelled_room";
+  test::writeFramesLayout(tiny_, frames);
+  const ImportOptions plain = controller().importOptions();
+  auto labelSet = [](const std::vector<std::string>& names) {
+    std::vector<LabelInfo> labels;
+    for (const std::string& name : names) {
+      LabelInfo label;
+      label.id = static_cast<int>(labels.size());
+      label.name = name;
+      label.color = {static_cast<std::uint8_t>(40 * labels.size()), 200, 10};
+      labels.push_back(label);
+    }
+    return LabelSet(labels);
+  };
+  ImportOptions labelled = plain;
+  labelled.labels = labelSet({"__background__", "mug", "bowl"});
+  controller().setImportOptions(labelled);
+  ASSERT_TRUE(controller().openSequence(qPath(frames))) << errors_.join('\n').toStdString();
+  ASSERT_EQ(controller().sequence().labels, *labelled.labels);
+
+  controller().setImportOptions(plain);  // a later session without --labels
+  ASSERT_TRUE(controller().openSequence(qPath(tiny_.folder)));
+  window_.statusBar()->clearMessage();
+  ASSERT_TRUE(controller().openSequence(qPath(frames))) << errors_.join('\n').toStdString();
+  EXPECT_EQ(controller().sequence().labels, *labelled.labels);
+  EXPECT_TRUE(window_.statusBar()->currentMessage().contains(
+      "labelled_room was converted with the labels it was converted with before"))
+      << window_.statusBar()->currentMessage().toStdString();
+
+  ImportOptions other = plain;
+  other.labels = labelSet({"__background__", "cup"});
+  controller().setImportOptions(other);
+  ASSERT_TRUE(controller().openSequence(qPath(tiny_.folder)));
+  ASSERT_TRUE(controller().openSequence(qPath(frames))) << errors_.join('\n').toStdString();
+  EXPECT_EQ(controller().sequence().labels, *other.labels);
+  controller().setImportOptions(plain);
+  ASSERT_TRUE(controller().openSequence(qPath(tiny_.folder)));
+  ASSERT_TRUE(controller().openSequence(qPath(frames)));
+  EXPECT_EQ(controller().sequence().labels, *other.labels);  // the last conversion's
+  EXPECT_TRUE(errors_.isEmpty()) << errors_.join('\n').toStdString();
 }
 
 // Open Recent names a bag by its file name (its folder may hold many bags)

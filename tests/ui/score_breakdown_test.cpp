@@ -18,6 +18,8 @@
 
 #include "demo_window_fixture.hpp"
 #include "lom/box_fit.hpp"
+#include "lom/label_map.hpp"
+#include "lom/objects.hpp"
 #include "lom/ui/annotations_model.hpp"
 #include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/scene_view.hpp"
@@ -236,7 +238,31 @@ TEST_F(ScoreBreakdownTest, TightenPullsARoughBoxOntoTheVoxelsItHolds) {
   boxes().setBox(index, away, "away");
   tighten->trigger();
   EXPECT_TRUE(boxes().box(index).box.center.isApprox(away.box.center));
-  EXPECT_TRUE(statusMessage().startsWith("Tighten Box: no voxel of the map has its centre inside"))
+  EXPECT_TRUE(
+      statusMessage().startsWith("Tighten Box: no voxel of an object has its centre inside"))
+      << statusMessage().toStdString();
+
+  // A map of background only (a recording without labels) around the box:
+  // moving the box cannot help, which the status bar says instead.
+  boxes().setBox(index, rough, "back");
+  LabelMap background(window_.session().sequence()->labels);
+  ASSERT_GT(rasterizeBox(background, rough.box, 0, 0.9), 0u);
+  const auto file = temp_.path() / "background.ot";
+  background.save(file);
+  window_.setWarningReporter([](const QString&, const QString&) {});  // "Map of another scene?"
+  window_.session().openMap(fixture::qPath(file));
+  ASSERT_TRUE(QTest::qWaitFor(
+      [&] {
+        const auto shown = window_.session().worker().snapshot();
+        return !window_.session().worker().isFusing() && shown && !shown->voxels.empty() &&
+               shown->counts.size() == 1;
+      },
+      fixture::kTimeoutMs));
+  tighten->trigger();
+  EXPECT_TRUE(boxes().box(index).box.size.isApprox(rough.box.size));
+  EXPECT_TRUE(
+      statusMessage().startsWith("Tighten Box: the map has no voxel of an object, only "
+                                 "background"))
       << statusMessage().toStdString();
 }
 

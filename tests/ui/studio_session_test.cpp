@@ -20,6 +20,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -126,6 +127,158 @@ TEST_F(StudioSessionTest, TheStatusBarSaysWhereAFusionFailed) {
   openAndFuse();
   EXPECT_FALSE(window_.fusionStatusText().contains("failed"))
       << window_.fusionStatusText().toStdString();
+}
+
+// A Re-fuse that fails on its first frame (a frame's image gone, a segmenter
+// that cannot run on the frames) keeps the map the user had, with the
+// settings it was fused with; the Fusion panel keeps the values typed.
+TEST_F(StudioSessionTest, AReFuseThatFailsOnItsFirstFrameKeepsTheMap) {
+  openAndFuse();
+  StudioSession& session = window_.session();
+  MapWorker& worker = session.worker();
+  const auto before = worker.snapshot();
+  ASSERT_GT(before->voxels.size(), 0u);
+  ASSERT_TRUE(worker.hasUnsavedMap());
+  const double max_range = session.fusionOptions().map.max_range;
+  const QString status = window_.fusionStatusText();
+
+  const Sequence& sequence = *session.sequence();
+  const auto depth = sequence.pathOf(sequence.frames[0].depth);
+  const auto hidden = temp_.path() / "hidden_depth.png";
+  std::filesystem::rename(depth, hidden);
+  errors_.clear();
+  FusionPanel& panel = window_.fusionPanel();
+  panel.maxRangeBox().setValue(max_range + 0.5);
+  ASSERT_TRUE(panel.refuseButton().isEnabled());
+  panel.refuseButton().click();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !worker.isFusing(); }, kTimeoutMs));
+  QTest::qWait(50);  // the last snapshot arrives through the event loop
+  std::filesystem::rename(hidden, depth);
+
+  const auto stopped = std::find_if(errors_.begin(), errors_.end(), [](const QString& error) {
+    return error.startsWith("Fusion stopped");
+  });
+  ASSERT_NE(stopped, errors_.end());
+  EXPECT_TRUE(stopped->contains("the map shown before is kept")) << stopped->toStdString();
+  const auto after = worker.snapshot();
+  EXPECT_EQ(after->voxels.size(), before->voxels.size());
+  EXPECT_EQ(after->frames_fused, before->frames_fused);
+  EXPECT_EQ(window_.sceneView().voxelCount(), before->voxels.size());
+  EXPECT_TRUE(worker.hasUnsavedMap());  // still the fused map, still not saved
+  // The status says the map before is shown, and why the new one is not.
+  EXPECT_TRUE(window_.fusionStatusText().startsWith(status.section(' ', 0, 1)))
+      << window_.fusionStatusText().toStdString() << " after " << status.toStdString();
+  EXPECT_TRUE(window_.fusionStatusText().contains("re-fuse failed, map kept"))
+      << window_.fusionStatusText().toStdString();
+  // The scores and baselines are the kept map's: its range, not the one typed.
+  EXPECT_EQ(session.fusionOptions().map.max_range, max_range);
+  EXPECT_DOUBLE_EQ(panel.maxRangeBox().value(), max_range + 0.5);
+  EXPECT_TRUE(panel.refuseButton().isEnabled());  // the typed value can be tried again
+
+  // With the frame back, that try fuses the new range.
+  panel.refuseButton().click();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !worker.isFusing(); }, kTimeoutMs));
+  EXPECT_EQ(session.fusionOptions().map.max_range, max_range + 0.5);
+  EXPECT_FALSE(window_.fusionStatusText().contains("kept"))
+      << window_.fusionStatusText().toStdString();
+}
+
+// Cancelled before its first frame, a Re-fuse leaves the map as it was too.
+TEST_F(StudioSessionTest, AReFuseCancelledBeforeItsFirstFrameKeepsTheMap) {
+  openAndFuse();
+  StudioSession& session = window_.session();
+  MapWorker& worker = session.worker();
+  const size_t voxels = worker.snapshot()->voxels.size();
+  ASSERT_GT(voxels, 0u);
+  // The worker is held up by a job until the fusion queued behind it has been
+  // cancelled, so that the fusion starts cancelled.
+  std::atomic<bool> release{false};
+  worker.withMap([&release](const LabelMap*) {
+    while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  });
+  session.fuse();
+  worker.cancel();
+  release = true;
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !worker.isFusing(); }, kTimeoutMs));
+  QTest::qWait(50);
+  EXPECT_EQ(worker.snapshot()->voxels.size(), voxels);
+  EXPECT_TRUE(window_.fusionStatusText().contains("re-fuse stopped, map kept"))
+      << window_.fusionStatusText().toStdString();
+  EXPECT_TRUE(errors_.empty()) << errors_.front().toStdString();
+  // Reset Map still empties it.
+  window_.session().resetMap();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return worker.snapshot()->voxels.empty(); }, kTimeoutMs));
+}
+
+// A figure of the map may leave out the camera frustums, the axes in the
+// corner and the boxes (with the selected box's handles): View menu toggles.
+TEST_F(StudioSessionTest, AFigureCanLeaveOutTheCamerasTheAxesAndTheBoxes) {
+  openAndFuse();
+  window_.session().annotations().select(0);
+  SceneView& view = window_.sceneView();
+  ASSERT_TRUE(view.boxHandlesVisible());
+  ASSERT_TRUE(QTest::qWaitFor([&] { return view.objectBoxCount() > 0; }, kTimeoutMs));
+  ASSERT_TRUE(view.objectBoxesVisible());
+  const QImage all = view.renderToImage();
+  const QRect corner = view.axesMarkerRect();
+  ASSERT_FALSE(corner.isEmpty());
+  const char* names[] = {"Show Camera Frustums", "Show Axes Marker", "Show Box Outlines"};
+  for (const char* name : names) {
+    QAction* action = window_.findAction(name);
+    ASSERT_NE(action, nullptr) << name;
+    ASSERT_TRUE(action->isCheckable() && action->isChecked()) << name;
+    action->trigger();
+  }
+  EXPECT_FALSE(view.camerasVisible());
+  EXPECT_FALSE(view.axesVisible());
+  EXPECT_FALSE(view.boxesVisible());
+  EXPECT_FALSE(view.boxHandlesVisible());
+  EXPECT_FALSE(view.currentCameraInView());  // nothing of a hidden camera is framed
+  EXPECT_FALSE(view.objectBoxesVisible());   // the Objects panel's boxes go too
+  const QImage bare = view.renderToImage();
+  bare.save(QString::fromStdString((temp_.path() / "bare.png").string()));
+  if (const char* keep = std::getenv("LOM_KEEP_SCREENSHOTS"))
+    bare.save(QString(keep) + "/bare.png");
+  ASSERT_EQ(bare.size(), all.size());
+  EXPECT_NE(bare.copy(corner), all.copy(corner)) << "the axes are still drawn";
+  EXPECT_NE(bare, all);
+
+  // A figure larger than the view: File ▸ 3D View Picture Size ▸ 2x, then
+  // Save 3D View… writes a picture twice as wide and high, of the same view.
+  QAction* twice = window_.findAction("2x");
+  ASSERT_NE(twice, nullptr);
+  twice->trigger();
+  {
+    ui::test::DialogAnswerer answer("Replace|Yes", qPath(temp_.path() / "figure"));
+    window_.findAction("Save 3D View…")->trigger();
+  }
+  const QImage figure(qPath(temp_.path() / "figure.png"));
+  if (const char* keep = std::getenv("LOM_KEEP_SCREENSHOTS"))
+    figure.save(QString(keep) + "/figure-2x.png");
+  ASSERT_FALSE(figure.isNull());
+  EXPECT_EQ(figure.size(), 2 * bare.size());
+  // The same picture, at twice the size: shrunk back, it differs from the
+  // view's little (the background is plain, the lines as thin as on screen).
+  const QImage shrunk = figure.scaled(bare.size(), Qt::IgnoreAspectRatio, Qt::SmoothTransformation)
+                            .convertToFormat(QImage::Format_RGB32);
+  const QImage shown = bare.convertToFormat(QImage::Format_RGB32);
+  double difference = 0.0;
+  for (int y = 0; y < shown.height(); ++y)
+    for (int x = 0; x < shown.width(); ++x) {
+      const QRgb a = shown.pixel(x, y), b = shrunk.pixel(x, y);
+      difference += std::abs(qRed(a) - qRed(b)) + std::abs(qGreen(a) - qGreen(b)) +
+                    std::abs(qBlue(a) - qBlue(b));
+    }
+  difference /= 3.0 * shown.width() * shown.height();
+  EXPECT_LT(difference, 25.0) << "mean difference per channel";
+  window_.findAction("1x (as on screen)")->trigger();
+  // A box selected or edited meanwhile stays hidden, and comes back when asked.
+  window_.session().annotations().select(1);
+  EXPECT_FALSE(view.boxHandlesVisible());
+  for (const char* name : names) window_.findAction(name)->trigger();
+  EXPECT_TRUE(view.camerasVisible() && view.axesVisible() && view.boxesVisible());
+  EXPECT_TRUE(view.boxHandlesVisible());
+  EXPECT_EQ(view.renderToImage().copy(corner), all.copy(corner));
 }
 
 // Screenshots frame the map and the camera of the frame shown (the camera of

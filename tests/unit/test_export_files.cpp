@@ -30,6 +30,7 @@
 #include "lom/box_fit.hpp"
 #include "lom/error.hpp"
 #include "lom/export.hpp"
+#include "lom/height_colours.hpp"
 #include "lom/objects.hpp"
 #include "test_mesh_checks.hpp"
 #include "test_support.hpp"
@@ -255,6 +256,106 @@ TEST(ExportFiles, TheBackgroundsMeshIsGreyNotBlack) {
   EXPECT_NEAR(r * 255, 150, 1e-6) << mtl;
   EXPECT_NEAR(g * 255, 150, 1e-6) << mtl;
   EXPECT_NEAR(b * 255, 160, 1e-6) << mtl;
+
+  // Point clouds and the colour octree too: black points vanish on a viewer's
+  // black background.
+  (void)lom::exportMap(map, options(lom::ExportFormat::Pcd), dir / "map.pcd");
+  auto points = options(lom::ExportFormat::Ply);
+  points.points = true;
+  (void)lom::exportMap(map, points, dir / "points.ply");
+  for (const fs::path& file : {dir / "map.pcd", dir / "points.ply"}) {
+    pcl::PCLPointCloud2 blob;
+    ASSERT_EQ(file.extension() == ".pcd" ? pcl::io::loadPCDFile(file.string(), blob)
+                                         : pcl::io::loadPLYFile(file.string(), blob),
+              0)
+        << file;
+    pcl::PointCloud<pcl::PointXYZRGBL> cloud;
+    pcl::fromPCLPointCloud2(blob, cloud);
+    ASSERT_FALSE(cloud.empty()) << file;
+    for (const auto& p : cloud) {
+      ASSERT_EQ(p.label, 0u) << file;
+      ASSERT_EQ(rgbOf(p), rgbOf(lom::kShadedBackgroundColour)) << file;
+    }
+  }
+  (void)lom::exportMap(map, options(lom::ExportFormat::Ot), dir / "color.ot");
+  std::unique_ptr<octomap::AbstractOcTree> tree(
+      octomap::AbstractOcTree::read((dir / "color.ot").string()));
+  auto* color = dynamic_cast<octomap::ColorOcTree*>(tree.get());
+  ASSERT_NE(color, nullptr);
+  size_t occupied = 0;
+  for (auto it = color->begin_leafs(), end = color->end_leafs(); it != end; ++it)
+    if (color->isNodeOccupied(*it)) {
+      ++occupied;
+      EXPECT_EQ(rgbOf(it->getColor()), rgbOf(lom::kShadedBackgroundColour));
+    }
+  EXPECT_GT(occupied, 0u);
+}
+
+// A recording's world is its first camera's frame (y down): --level turns
+// the map's up onto +z for tools that take z as up, says the rotation in the
+// header, and keeps the meshes closed and the points where the voxels are.
+TEST(ExportFiles, LevelledExportsTurnTheMapsUpOntoZ) {
+  TempDir dir;
+  lom::LabelMap map(lom::apc2016Labels());
+  lom::OrientedBox slab;  // thin along the cameras' up (world -y)
+  slab.center = Eigen::Vector3d(0.1, 0.3, 0.8);
+  slab.size = Eigen::Vector3d(0.2, 0.04, 0.1);
+  ASSERT_GT(lom::rasterizeBox(map, slab, 5, 0.9), 0u);
+  EXPECT_FALSE(lom::levellingRotation(map));                   // no camera recorded: no up
+  const Eigen::Matrix3d camera = Eigen::Matrix3d::Identity();  // looking along +z, image y down
+  map.noteCameraView(camera);
+  map.noteCameraView(camera);
+  const auto rotation = lom::levellingRotation(map);
+  ASSERT_TRUE(rotation);
+  // The map's up: the cameras' (-y) levelled by the slab's plane, within 30 degrees of it.
+  const auto up = map.upDirection();
+  ASSERT_TRUE(up);
+  EXPECT_GT(up->dot(Eigen::Vector3d(0, -1, 0)), std::cos(30.0 * M_PI / 180.0));
+  EXPECT_NEAR((*rotation * *up - Eigen::Vector3d::UnitZ()).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(rotation->determinant(), 1.0, 1e-12);
+
+  auto plain = options(lom::ExportFormat::Ply);
+  (void)lom::exportMap(map, plain, dir / "plain.ply");
+  auto level = plain;
+  level.rotation = rotation;
+  (void)lom::exportMap(map, level, dir / "level.ply");
+  const ReadMesh before = readWithVtk<vtkPLYReader>(dir / "plain.ply");
+  const ReadMesh after = readWithVtk<vtkPLYReader>(dir / "level.ply");
+  ASSERT_EQ(after.vertices.size(), before.vertices.size());
+  for (size_t i = 0; i < before.vertices.size(); ++i)
+    ASSERT_LT((after.vertices[i] - *rotation * before.vertices[i]).norm(), 1e-5) << i;
+  expectClosed(after, static_cast<double>(lom::occupiedVoxelsByLabel(map).at(5).size()) * 1e-6,
+               "level.ply");
+  const std::string header = slurp(dir / "level.ply").substr(0, 600);
+  EXPECT_NE(header.find("comment frame: levelled, the map's world rotated about its origin by R ="),
+            std::string::npos)
+      << header;
+  EXPECT_NE(slurp(dir / "plain.ply")
+                .substr(0, 600)
+                .find("comment frame: the map's world (the "
+                      "sequence's poses), metres; its up is ("),
+            std::string::npos);
+
+  auto obj = options(lom::ExportFormat::Obj);
+  obj.rotation = rotation;
+  (void)lom::exportMap(map, obj, dir / "level.obj");
+  EXPECT_EQ(slurp(dir / "level.obj").find("# frame: levelled"),
+            slurp(dir / "level.obj").find('\n') + 1);
+
+  auto points = options(lom::ExportFormat::Pcd);
+  points.rotation = rotation;
+  (void)lom::exportMap(map, points, dir / "level.pcd");
+  pcl::PointCloud<pcl::PointXYZRGBL> cloud;
+  ASSERT_EQ(pcl::io::loadPCDFile((dir / "level.pcd").string(), cloud), 0);
+  ASSERT_FALSE(cloud.empty());
+  for (const auto& p : cloud) {
+    const Eigen::Vector3d world = rotation->transpose() * Eigen::Vector3d(p.x, p.y, p.z);
+    ASSERT_TRUE(map.voxelAt(world).occupied) << world.transpose();
+  }
+
+  auto octree = options(lom::ExportFormat::Ot);
+  octree.rotation = rotation;
+  EXPECT_THROW((void)lom::exportMap(map, octree, dir / "level.ot"), lom::Error);
 }
 
 TEST(ExportFiles, StlPerLabelIsClosedAfterVtkMergesItsPoints) {

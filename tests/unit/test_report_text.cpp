@@ -36,6 +36,51 @@ TEST(ReportText, AggregateKeepsEachSequencesWarnings) {
   EXPECT_NE(json.find("\"warnings\": []"), std::string::npos) << json;
 }
 
+// Sequences scored at other settings (maps of other resolutions in a batch
+// list) make the "all" row an average of scores that do not compare: said in
+// both aggregate files, which also keep each sequence's settings.
+TEST(ReportText, AggregateSaysWhenTheSequencesWereScoredAtOtherSettings) {
+  std::vector<lom::EvaluationReport> reports(4);
+  for (size_t i = 0; i < reports.size(); ++i) {
+    reports[i].sequence = "bin_" + std::string(1, static_cast<char>('a' + i));
+    reports[i].resolution = 0.01;
+    reports[i].max_range = 1.0;
+    reports[i].occupancy_threshold = 0.5;
+    reports[i].p_miss = 0.3;
+  }
+  EXPECT_TRUE(lom::mixedSettingsWarnings(reports).empty());
+  std::string text = lom::aggregateMarkdown(reports);
+  EXPECT_EQ(text.find("Warnings"), std::string::npos) << text;
+  EXPECT_NE(text.find("Settings of every sequence: 1 cm voxels, max range 1 m, threshold 0.5"),
+            std::string::npos)
+      << text;
+
+  reports[2].resolution = 0.02;
+  reports[3].occupancy_threshold = 0.7;
+  const std::vector<std::string> warnings = lom::mixedSettingsWarnings(reports);
+  ASSERT_EQ(warnings.size(), 2u);
+  EXPECT_EQ(warnings[0],
+            "the sequences were scored at different resolutions: 0.01 m (bin_a, bin_b, bin_d); "
+            "0.02 m (bin_c); the \"all\" row averages scores that are not comparable (score "
+            "them at one setting)");
+  EXPECT_NE(warnings[1].find("different occupancy thresholds: 0.5 (bin_a, bin_b, bin_c); 0.7 "
+                             "(bin_d)"),
+            std::string::npos)
+      << warnings[1];
+  text = lom::aggregateMarkdown(reports);
+  EXPECT_NE(text.find("**Warnings**\n\nall:\n\n- the sequences were scored at different "
+                      "resolutions"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("cm voxels"), std::string::npos) << "not every sequence's: " << text;
+  EXPECT_NE(text.find("Settings of every sequence: max range 1 m, p_miss 0.3"), std::string::npos)
+      << text;
+  const std::string json = lom::aggregateJson(reports);
+  EXPECT_NE(json.find("different resolutions"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"resolution\": 0.02"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"occupancy_threshold\": 0.7"), std::string::npos) << json;
+}
+
 TEST(ReportText, TheSettingsCountOneViewInTheSingular) {
   lom::EvaluationReport report;
   report.sequence = "bin_a";

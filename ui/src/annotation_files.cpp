@@ -333,15 +333,21 @@ QString unknownLabelsMessage(const Annotations& annotations, const LabelSet& lab
   std::set<int> unknown_labels;
   for (size_t i = 0; i < annotations.boxes.size(); ++i) {
     const int label = annotations.boxes[i].label;
-    if (labels.contains(label)) continue;
+    // The background is no object either: `labeloctomap score` refuses both.
+    if (labels.contains(label) && label != 0) continue;
     ++unknown;
     unknown_labels.insert(label);
     if (unknown > kListed) continue;
-    problems << QObject::tr("%1: boxes[%2]: label %3 is not a label of the sequence (0 to %4)")
-                    .arg(file)
-                    .arg(i)
-                    .arg(label)
-                    .arg(labels.size() - 1);
+    if (label == 0)
+      problems << QObject::tr("%1: boxes[%2]: label 0 is the background, not an object")
+                      .arg(file)
+                      .arg(i);
+    else
+      problems << QObject::tr("%1: boxes[%2]: label %3 is not a label of the sequence (0 to %4)")
+                      .arg(file)
+                      .arg(i)
+                      .arg(label)
+                      .arg(labels.size() - 1);
   }
   if (problems.isEmpty()) return {};
   if (unknown > kListed) {
@@ -368,11 +374,23 @@ QString unknownLabelsMessage(const Annotations& annotations, const LabelSet& lab
 }
 
 BoxesAutosave::BoxesAutosave(StudioSession& session, std::function<bool(const QString&)> offer,
-                             int interval_ms)
-    : QObject(&session), session_(session), offer_(std::move(offer)), timer_(new QTimer(this)) {
+                             int interval_ms, int edit_delay_ms)
+    : QObject(&session),
+      session_(session),
+      offer_(std::move(offer)),
+      timer_(new QTimer(this)),
+      after_edit_(new QTimer(this)) {
   timer_->setInterval(interval_ms);
   connect(timer_, &QTimer::timeout, this, &BoxesAutosave::writeNow);
   timer_->start();
+  // Not restarted by later edits: a drag of many small edits is written
+  // while it goes on, at most edit_delay_ms behind.
+  after_edit_->setSingleShot(true);
+  after_edit_->setInterval(edit_delay_ms);
+  connect(after_edit_, &QTimer::timeout, this, &BoxesAutosave::writeNow);
+  connect(&session_.annotations(), &AnnotationsModel::boxesChanged, this, [this] {
+    if (!after_edit_->isActive()) after_edit_->start();
+  });
   connect(&session_.controller(), &SequenceController::sequenceChanged, this,
           &BoxesAutosave::onSequenceChanged);
   // Clean boxes need no recovery: a file left behind would offer boxes that

@@ -5,6 +5,7 @@
 #include <QKeyEvent>
 #include <QSettings>
 #include <QWidget>
+#include <algorithm>
 #include <cmath>
 
 #include "lom/box_fit.hpp"
@@ -82,9 +83,21 @@ void BoxEditReaction::onTriggered() {
         return;
       }
       if (!tight) {
-        report_(
-            tr("Tighten Box: no voxel of the map has its centre inside the box; move the box "
-               "over the object first."));
+        // Why: moving the box helps only where the map has object voxels.
+        const MapSnapshotPtr snapshot = session_.worker().snapshot();
+        const bool objects =
+            snapshot && std::any_of(snapshot->voxels.begin(), snapshot->voxels.end(),
+                                    [](const OccupiedVoxel& leaf) { return leaf.label != 0; });
+        if (!snapshot || snapshot->voxels.empty()) {
+          report_(tr("Tighten Box: the map is empty; fuse the sequence first."));
+          return;
+        }
+        report_(objects ? tr("Tighten Box: no voxel of an object has its centre inside the box "
+                             "(the background's are left out); move the box over the object "
+                             "first.")
+                        : tr("Tighten Box: the map has no voxel of an object, only background "
+                             "(a recording without labels or probabilities), so there is "
+                             "nothing to tighten onto; size the box by hand."));
         return;
       }
       box.box = *tight;

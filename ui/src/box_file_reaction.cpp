@@ -152,7 +152,18 @@ void BoxFileReaction::saveTo(QString path) {
   // The unreadable-file question may have had another name chosen.
   if (!confirmTarget(path) || refuseSequenceFile(path)) return;
   const QString error = saveBoxes(session_, path);
-  if (!error.isEmpty()) report_(tr("Boxes"), error);
+  if (!error.isEmpty()) return report_(tr("Boxes"), error);
+  // Saved as they are (nothing is lost), but a file `labeloctomap score`
+  // refuses is said at once, not when the scores are wanted.
+  if (const auto sequence = session_.sequence())
+    if (const QString unknown = unknownLabelsMessage(
+            session_.annotations().annotations(), sequence->labels, QDir::toNativeSeparators(path));
+        !unknown.isEmpty())
+      emit session_.controller().warningOccurred(
+          tr("Saved with labels the sequence lacks"),
+          tr("The boxes were saved, but `labeloctomap score` refuses the file while it holds "
+             "these:\n\n%1")
+              .arg(unknown));
 }
 
 }  // namespace lom::ui

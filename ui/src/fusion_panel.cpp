@@ -174,6 +174,18 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   // A map read from a file brings its own parameters (edits not yet applied
   // are of the map it replaced).
   connect(&session_, &StudioSession::mapOpened, this, &FusionPanel::loadFromSession);
+  // A fusion that kept the map before it: the boxes keep the values typed,
+  // which differ from that map's again (Re-fuse tries them once more).
+  connect(&session_, &StudioSession::previousMapKept, this, [this] {
+    const MapParameters& map = session_.fusionOptions().map;
+    auto shown = [](const QDoubleSpinBox* box, double value) {
+      const double rounded = QString::number(value, 'f', box->decimals()).toDouble();
+      return std::clamp(rounded, box->minimum(), box->maximum());
+    };
+    shown_ = {shown(resolution_, map.resolution), shown(max_range_, std::max(0.0, map.max_range)),
+              shown(p_miss_, map.p_miss)};
+    onEdited();
+  });
   connect(threshold_, qOverload<double>(&QDoubleSpinBox::valueChanged), this,
           [this](double value) { session_.setOccupancyThreshold(value); });
   for (QDoubleSpinBox* box : {resolution_, max_range_, p_miss_})

@@ -68,8 +68,11 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
   // A new fusion: the last one's count is not this one's, also when it fails
   // on its first frame or replaces a fusion still running.
   connect(&worker, &MapWorker::fusionStarted, this, [this] {
+    before_fusion_ =
+        before_opening_.value_or(Shown{progress_->format(), rate_->text(), progress_->toolTip(),
+                                       progress_->maximum(), progress_->value()});
     before_opening_.reset();
-    progressed_ = failed_ = false;
+    progressed_ = failed_ = kept_ = false;
     progress_->setFormat(tr("fusing"));
     progress_->setRange(0, 1);
     progress_->setValue(0);
@@ -108,8 +111,16 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
   // A fusion that failed (the error was reported first) or was stopped; one
   // that ended before its first frame fused nothing and has no count to show.
   connect(&worker, &MapWorker::errorOccurred, this, [this] { failed_ = true; });
+  connect(&worker, &MapWorker::previousMapKept, this, [this] {
+    kept_ = true;
+    progress_->setFormat(before_fusion_.format);
+    progress_->setRange(0, before_fusion_.maximum);
+    progress_->setValue(before_fusion_.value);
+    progress_->setToolTip(before_fusion_.tool_tip);
+    rate_->setText(failed_ ? tr("re-fuse failed, map kept") : tr("re-fuse stopped, map kept"));
+  });
   connect(&worker, &MapWorker::fusionFinished, this, [this](bool completed) {
-    if (completed) return;
+    if (completed || kept_) return;
     if (!progressed_) {
       progress_->setFormat(tr("not fused"));
       rate_->setText(failed_ ? tr("failed before the first frame")

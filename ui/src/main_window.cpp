@@ -4,6 +4,7 @@
 #include <QAbstractItemView>
 #include <QAbstractSpinBox>
 #include <QAction>
+#include <QActionGroup>
 #include <QApplication>
 #include <QCloseEvent>
 #include <QComboBox>
@@ -301,6 +302,8 @@ MainWindow::MainWindow(QWidget* parent)
   connect(
       controller_, &SequenceController::warningOccurred, this,
       [this](const QString& title, const QString& message) { report_warning_(title, message); });
+  connect(controller_, &SequenceController::noteOccurred, this,
+          [this](const QString& message) { statusBar()->showMessage(message, 15000); });
   connect(controller_, &SequenceController::conversionFinished, this,
           [this](const QString& name, bool cancelled) {
             if (cancelled)
@@ -699,8 +702,20 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   new SaveScreenshotReaction(screenshot, *this, *scene_view_, *controller_);
   QAction* scene_picture = file->addAction(tr("Save 3D &View…"));
   scene_picture->setShortcut(Qt::SHIFT + Qt::Key_F12);
-  new SaveScreenshotReaction(scene_picture, *this, *scene_view_, *controller_,
-                             SaveScreenshotReaction::Kind::SceneView);
+  auto* scene_saver = new SaveScreenshotReaction(scene_picture, *this, *scene_view_, *controller_,
+                                                 SaveScreenshotReaction::Kind::SceneView);
+  // For figures larger than the view on screen.
+  QMenu* picture_size = file->addMenu(tr("3D View Picture Si&ze"));
+  auto* sizes = new QActionGroup(picture_size);
+  for (int magnification = 1; magnification <= 4; ++magnification) {
+    QAction* size = picture_size->addAction(magnification == 1 ? tr("&1x (as on screen)")
+                                                               : tr("&%1x").arg(magnification));
+    size->setCheckable(true);
+    size->setChecked(magnification == 1);
+    sizes->addAction(size);
+    connect(size, &QAction::triggered, scene_saver,
+            [scene_saver, magnification] { scene_saver->setMagnification(magnification); });
+  }
   file->addSeparator();
   auto* quit = file->addAction(tr("&Quit"), this, &QWidget::close);
   quit->setShortcut(QKeySequence::Quit);
@@ -760,7 +775,8 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
     using Kind = SceneViewReaction::Kind;
     if (kind == Kind::LookFromFrame || kind == Kind::FramePoints || kind == Kind::ProjectionVoxels)
       sequence_view_actions_.push_back(action);
-    else if (kind != Kind::OpacityByProbability && kind != Kind::ColourByHeight)
+    else if (kind != Kind::OpacityByProbability && kind != Kind::ColourByHeight &&
+             kind != Kind::Cameras && kind != Kind::Axes && kind != Kind::Boxes)
       scene_view_actions_.push_back(action);  // display settings stay available
   };
   scene_action(tr("Look from &Current Camera"), SceneViewReaction::Kind::LookFromFrame,
@@ -775,6 +791,10 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
   scene_action(tr("Sho&w Frame Points"), SceneViewReaction::Kind::FramePoints, QKeySequence());
   scene_action(tr("Show Pro&jection Voxels of This View"),
                SceneViewReaction::Kind::ProjectionVoxels, QKeySequence());
+  // What a figure may leave out.
+  scene_action(tr("Show Camera Fr&ustums"), SceneViewReaction::Kind::Cameras, QKeySequence());
+  scene_action(tr("Show Axes Mar&ker"), SceneViewReaction::Kind::Axes, QKeySequence());
+  scene_action(tr("Show Bo&x Outlines"), SceneViewReaction::Kind::Boxes, QKeySequence());
   auto toggle = [&](const QString& text, const QKeySequence& key, auto make) {
     QAction* action = view->addAction(text);
     action->setShortcut(key);

@@ -167,11 +167,13 @@ unsigned MapWorker::beginNewMap() {
 
 void MapWorker::startFusion(std::shared_ptr<const Sequence> sequence,
                             const FusionOptions& options) {
+  const bool was_unsaved = unsaved_map_;
   const unsigned id = beginNewMap();
   unsaved_map_ = true;
-  post([this, sequence, options, id, cancelled = fusion_cancel_] {
-    fuse(sequence, options, id, cancelled);
-  }, false);
+  const Start start{id, map_generation_, was_unsaved};
+  post([this, sequence, options, start,
+        cancelled = fusion_cancel_] { fuse(sequence, options, start, cancelled); },
+       false);
   setState(State::Fusing);
   emit fusionStarted();
 }
@@ -205,7 +207,8 @@ void MapWorker::adoptMap(std::shared_ptr<LabelMap> map, size_t frames, const QSt
 }
 
 void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const FusionOptions& options,
-                     unsigned id, const std::shared_ptr<std::atomic<bool>>& cancelled) {
+                     const Start& start_of, const std::shared_ptr<std::atomic<bool>>& cancelled) {
+  const unsigned id = start_of.id;
   auto finish = [this, id](bool completed) {
     inGui([this, id, completed] {
       if (id != fusion_id_) return;  // superseded by a newer fusion
@@ -213,29 +216,60 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
       emit fusionFinished(completed);
     });
   };
+  // The map shown stays until this fusion has fused a frame: a Re-fuse that
+  // fails on its first frame (a segmenter that cannot run on the frames, a
+  // missing image) or is cancelled before it keeps the map the user had,
+  // rather than leave an empty one. Not for a map replaced meanwhile (another
+  // fusion, Reset Map, another sequence: the generation moved on).
+  struct Previous {
+    std::unique_ptr<LabelMap> map;
+    std::string file;
+    std::optional<Eigen::Vector3d> up;
+    FrameStats totals;
+    std::vector<size_t> outside;
+    size_t frames = 0, first = 0;
+    std::string segmenter;
+  } previous;
+  auto keepPrevious = [this, start_of] {
+    inGui([this, start_of, source = QString::fromStdString(map_file_)] {
+      if (start_of.id != fusion_id_ || start_of.generation != map_generation_) return;
+      unsaved_map_ = start_of.was_unsaved;
+      emit previousMapKept(source);
+    });
+  };
+  const bool had_map = map_ && (frames_fused_ > 0 || !map_file_.empty());
   FusionOptions fusion = options;
   fusion.map.occupancy_threshold = threshold_;
   try {
     // As fuseSequence: a camera outside the map fails before any frame is
     // fused, naming sequence.json and the frame.
     checkCamerasInsideMap(*sequence, fusion.map.resolution, fusion.first_frame, fusion.last_frame);
-    map_ = std::make_unique<LabelMap>(sequence->labels, fusion.map);
+    auto fresh = std::make_unique<LabelMap>(sequence->labels, fusion.map);
+    // Named in reports only when it runs: frames with a proba image of their own
+    // are fused as they are (segmenterRunsOn).
+    const size_t first_fused = std::min(fusion.first_frame, sequence->frames.size());
+    const size_t last_fused = std::min(fusion.last_frame, sequence->frames.size());
+    std::string segmenter;
+    for (size_t i = first_fused; fusion.segmenter && i < last_fused; ++i)
+      if (segmenterRunsOn(*sequence, i, fusion.segmenter.get())) {
+        segmenter = fusion.segmenter->modelPath().string();
+        break;
+      }
+    if (had_map)
+      previous = {std::move(map_),    std::move(map_file_),       fallback_up_,
+                  fused_totals_,      frames_outside_map_,        frames_fused_,
+                  first_fused_frame_, std::move(fused_segmenter_)};
+    map_ = std::move(fresh);
     map_file_.clear();
     fused_totals_ = {};
     frames_outside_map_.clear();
-    first_fused_frame_ = std::min(fusion.first_frame, sequence->frames.size());
-    // Named in reports only when it runs: frames with a proba image of their own
-    // are fused as they are (segmenterRunsOn).
-    fused_segmenter_.clear();
-    const size_t last_fused = std::min(fusion.last_frame, sequence->frames.size());
-    for (size_t i = first_fused_frame_; fusion.segmenter && i < last_fused; ++i)
-      if (segmenterRunsOn(*sequence, i, fusion.segmenter.get())) {
-        fused_segmenter_ = fusion.segmenter->modelPath().string();
-        break;
-      }
+    first_fused_frame_ = first_fused;
+    fused_segmenter_ = std::move(segmenter);
   } catch (const std::exception& error) {
-    const QString message = QString::fromStdString(error.what());
+    QString message = QString::fromStdString(error.what());
+    if (had_map) message += " " + tr("Nothing was fused: the map shown before is kept.");
     inGui([this, message] { emit errorOccurred(tr("Cannot fuse"), message); });
+    if (had_map) keepPrevious();  // not replaced yet
     return finish(false);
   }
   frames_fused_ = 0;
@@ -289,12 +323,15 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
       // Errors about a frame's files name the frame already (frames[5].depth).
       const QString what = QString::fromStdString(error.what());
       const QString frame = QString("frames[%1]").arg(i);
-      const QString message = what.contains(frame) ? what : frame + ": " + what;
+      QString message = what.contains(frame) ? what : frame + ": " + what;
+      if (previous.map && frames_fused_ == 0 && start_of.generation == map_generation_)
+        message += " " + tr("Nothing was fused: the map shown before is kept.");
       inGui([this, message] { emit errorOccurred(tr("Fusion stopped"), message); });
       completed = false;
       break;
     }
     ++frames_fused_;
+    if (previous.map) previous = {};  // this fusion's map is the one kept now
     if (frame_fused_hook) frame_fused_hook(frames_fused_);
     const int done = static_cast<int>(i + 1 - first);
     const double busy = std::max(1e-6, secondsSince(start) - paused_seconds);
@@ -308,6 +345,23 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
     inGui([this, done, total, rate] { emit fusionProgress(done, total, rate); });
   }
   fusing_now_ = false;
+  if (!completed && previous.map && frames_fused_ == 0 && !stopping_ &&
+      start_of.generation == map_generation_) {
+    map_ = std::move(previous.map);
+    map_file_ = std::move(previous.file);
+    fallback_up_ = previous.up;
+    fused_totals_ = previous.totals;
+    frames_outside_map_ = std::move(previous.outside);
+    frames_fused_ = previous.frames;
+    first_fused_frame_ = previous.first;
+    fused_segmenter_ = std::move(previous.segmenter);
+    // A threshold changed while this fusion ran is the one the view shows.
+    if (map_->parameters().occupancy_threshold != threshold_)
+      map_->setOccupancyThreshold(threshold_);
+    publish(takeSnapshot(*map_, frames_fused_, fallback_up_));
+    keepPrevious();
+    return finish(false);
+  }
   // As fuseSequence does: the studio's map, its exports and .ot files are
   // then the command line's for the same frames.
   map_->prune();

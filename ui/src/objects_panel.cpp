@@ -180,6 +180,8 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
   connect(&worker, &MapWorker::mapAdopted, this,
           [this](const QString& source) { map_source_ = source; });
   connect(&worker, &MapWorker::mapReset, this, [this] { map_source_.clear(); });
+  connect(&worker, &MapWorker::previousMapKept, this,
+          [this](const QString& source) { map_source_ = source; });
   // A plan on show is of the target chosen: another choice plans again (the
   // objects are at hand, so it is quick), rather than leave the steps of the
   // previous target under the new name.

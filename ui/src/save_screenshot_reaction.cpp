@@ -48,9 +48,13 @@ QString SaveScreenshotReaction::saveTo(const QString& path) {
               "name.")
         .arg(path, input);
   if (kind_ == Kind::SceneView) {
-    const QImage view = scene_.renderToImage();
-    if (view.isNull() || !scene_.isVisible())
+    if (!scene_.isVisible())
       return tr("The 3D view is not shown, so there is no picture of it to save.");
+    const QImage view = scene_.renderToImage(magnification_);
+    if (view.isNull())
+      return tr("The 3D view could not be drawn at %1 times its size; a smaller picture size "
+                "may work.")
+          .arg(magnification_);
     return saveImageAtomically(view, path);
   }
   return saveImageAtomically(captureWindow(window_, scene_), path);

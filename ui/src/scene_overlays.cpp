@@ -44,6 +44,10 @@ void SceneView::showScoreBreakdown(const std::vector<ScoreBreakdown>& breakdowns
 
 size_t SceneView::scoreBreakdownCount() const { return scene_->breakdown_count; }
 
+bool SceneView::objectBoxesVisible() const {
+  return scene_->object_boxes.actor->GetVisibility() != 0;
+}
+
 void SceneView::showObjectBoxes(const std::vector<ObjectInstance>& objects,
                                 const LabelSet& labels) {
   std::vector<OrientedBox> boxes;
@@ -56,6 +60,7 @@ void SceneView::showObjectBoxes(const std::vector<ObjectInstance>& objects,
   }
   scene_->object_box_count = boxes.size();
   scene_->object_boxes.show(boxes.empty() ? nullptr : scene::boxWireframes(boxes, colors).Get());
+  scene_->object_boxes.actor->SetVisibility(!boxes.empty() && scene_->boxes_visible);
   render();
 }
 

@@ -81,6 +81,13 @@ struct SceneView::Scene {
   bool opacity_by_probability = false;
   VoxelColouring colouring = VoxelColouring::Labels;
   bool cloud_visible = true;
+  bool cameras_visible = true;
+  bool axes_visible = true;
+  bool boxes_visible = true;
+  // The boxes last shown (showBoxes), shown again when they are turned on.
+  Annotations shown_boxes;
+  int selected_box = -1;
+  LabelSet box_labels;
   size_t voxel_count = 0;
   vtkNew<vtkAxesActor> axes;
   vtkNew<vtkOrientationMarkerWidget> axes_widget;

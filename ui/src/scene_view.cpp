@@ -6,6 +6,7 @@
 #include <vtkCamera.h>
 #include <vtkCaptionActor2D.h>
 #include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkImageData.h>
 #include <vtkInteractorStyleTrackballCamera.h>
 #include <vtkMatrix4x4.h>
 #include <vtkNew.h>
@@ -14,6 +15,7 @@
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
+#include <vtkRenderLargeImage.h>
 #include <vtkRenderWindowInteractor.h>
 #include <vtkRenderer.h>
 #include <vtkRendererCollection.h>
@@ -342,7 +344,8 @@ void SceneView::zoomToMap(bool with_current_camera) {
   if (scene_->voxel_count == 0) return;
   double bounds[6];
   if (!mapBounds(bounds)) return;
-  if (with_current_camera && scene_->current_frustum.actor->GetVisibility()) {
+  if (with_current_camera && scene_->cameras_visible &&
+      scene_->current_frustum.actor->GetVisibility()) {
     double camera[6];
     scene_->current_frustum.actor->GetBounds(camera);
     for (int axis = 0; axis < 3; ++axis) {
@@ -463,7 +466,7 @@ double SceneView::boxExtentInView(const double bounds[6]) const {
 }
 
 bool SceneView::currentCameraInView() const {
-  if (!scene_->current_frustum.actor->GetVisibility()) return false;
+  if (!scene_->cameras_visible || !scene_->current_frustum.actor->GetVisibility()) return false;
   double bounds[6];
   scene_->current_frustum.actor->GetBounds(bounds);
   // Every corner of the frustum's box inside the picture.
@@ -618,11 +621,49 @@ void SceneView::setFrameCloudVisible(bool on) {
 }
 
 void SceneView::showBoxes(const Annotations& boxes, int selected, const LabelSet& labels) {
+  scene_->shown_boxes = boxes;
+  scene_->selected_box = selected;
+  scene_->box_labels = labels;
   scene_->boxes.show(scene::boxOutlines(boxes, labels, selected));
-  const bool has_selection = selected >= 0 && selected < static_cast<int>(boxes.boxes.size());
-  scene_->handles->show(has_selection ? &boxes.boxes[static_cast<size_t>(selected)].box : nullptr);
+  scene_->boxes.actor->SetVisibility(scene_->boxes_visible && !boxes.boxes.empty());
+  const bool has_selection =
+      scene_->boxes_visible && selected >= 0 && selected < static_cast<int>(boxes.boxes.size());
+  scene_->handles->show(
+      has_selection ? &scene_->shown_boxes.boxes[static_cast<size_t>(selected)].box : nullptr);
   render();
 }
+
+void SceneView::setCamerasVisible(bool on) {
+  scene_->cameras_visible = on;
+  // Out of the renderer while hidden: show() of a new frame's frustums sets
+  // their visibility, and hidden parts must not be framed.
+  for (scene::PolyActor* part : {&scene_->other_frustums, &scene_->current_frustum})
+    if (on)
+      scene_->renderer->AddActor(part->actor);
+    else
+      scene_->renderer->RemoveActor(part->actor);
+  render();
+}
+
+void SceneView::setAxesVisible(bool on) {
+  scene_->axes_visible = on;
+  scene_->axes_widget->SetEnabled(on ? 1 : 0);
+  if (on) scene_->axes_widget->InteractiveOff();
+  render();
+}
+
+void SceneView::setBoxesVisible(bool on) {
+  scene_->boxes_visible = on;
+  // The objects' boxes (Objects panel) go with the ground-truth boxes.
+  scene_->object_boxes.actor->SetVisibility(on && scene_->object_box_count > 0);
+  const Annotations boxes = scene_->shown_boxes;
+  const LabelSet labels = scene_->box_labels;
+  showBoxes(boxes, scene_->selected_box, labels);
+}
+
+bool SceneView::camerasVisible() const { return scene_->cameras_visible; }
+bool SceneView::axesVisible() const { return scene_->axes_visible; }
+bool SceneView::boxesVisible() const { return scene_->boxes_visible; }
 
 size_t SceneView::voxelCount() const { return scene_->voxel_count; }
 
@@ -630,9 +671,47 @@ QRect SceneView::drawingRect() const { return vtk_widget_->geometry(); }
 
 bool SceneView::boxHandlesVisible() const { return scene_->handles->visible(); }
 
-QImage SceneView::renderToImage() {
+QImage SceneView::renderToImage(int magnification) {
   render();
-  return vtk_widget_->grabFramebuffer();
+  if (magnification <= 1) return vtk_widget_->grabFramebuffer();
+  magnification = std::min(magnification, 4);
+  // vtkRenderLargeImage renders tiles of the window's size with the camera
+  // narrowed to each: a gradient background and the axes' own viewport would
+  // be drawn whole in every tile.
+  vtkRenderer* renderer = scene_->renderer;
+  double low[3], high[3];
+  renderer->GetBackground(low);
+  renderer->GetBackground2(high);
+  renderer->GradientBackgroundOff();
+  renderer->SetBackground(0.5 * (low[0] + high[0]), 0.5 * (low[1] + high[1]),
+                          0.5 * (low[2] + high[2]));
+  const bool axes = scene_->axes_visible;
+  if (axes) scene_->axes_widget->SetEnabled(0);
+  vtkNew<vtkRenderLargeImage> large;
+  large->SetInput(renderer);
+  large->SetMagnification(magnification);
+  large->Update();
+  renderer->SetBackground(low);
+  renderer->GradientBackgroundOn();
+  if (axes) {
+    scene_->axes_widget->SetEnabled(1);
+    scene_->axes_widget->InteractiveOff();
+  }
+  render();
+  vtkImageData* image = large->GetOutput();
+  int size[3] = {0, 0, 0};
+  image->GetDimensions(size);
+  const int components = image->GetNumberOfScalarComponents();
+  if (size[0] <= 0 || size[1] <= 0 || components < 3 || !image->GetScalarPointer()) return {};
+  QImage picture(size[0], size[1], QImage::Format_RGB888);
+  const auto* pixels = static_cast<const unsigned char*>(image->GetScalarPointer());
+  for (int y = 0; y < size[1]; ++y) {  // VTK's rows go up from the bottom
+    unsigned char* row = picture.scanLine(size[1] - 1 - y);
+    for (int x = 0; x < size[0]; ++x)
+      for (int c = 0; c < 3; ++c)
+        row[3 * x + c] = pixels[(static_cast<size_t>(y) * size[0] + x) * components + c];
+  }
+  return picture;
 }
 
 void SceneView::render() {

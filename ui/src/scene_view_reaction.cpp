@@ -16,7 +16,8 @@ SceneViewReaction::SceneViewReaction(QAction* action, Kind kind, StudioSession& 
                         kind_ == Kind::LookFromAbove || kind_ == Kind::LookFromFront ||
                         kind_ == Kind::LookFromSide;
   action->setCheckable(!one_shot);
-  action->setChecked(kind_ == Kind::FramePoints);
+  action->setChecked(kind_ == Kind::FramePoints || kind_ == Kind::Cameras || kind_ == Kind::Axes ||
+                     kind_ == Kind::Boxes);
   if (kind_ == Kind::ColourByHeight) {
     // Geometry without labels (a single label) shows its shape by height;
     // labelled sequences open in their label colours.
@@ -49,6 +50,15 @@ void SceneViewReaction::onTriggered() {
       break;
     case Kind::FramePoints:
       scene_.setFrameCloudVisible(action()->isChecked());
+      break;
+    case Kind::Cameras:
+      scene_.setCamerasVisible(action()->isChecked());
+      break;
+    case Kind::Axes:
+      scene_.setAxesVisible(action()->isChecked());
+      break;
+    case Kind::Boxes:
+      scene_.setBoxesVisible(action()->isChecked());
       break;
     case Kind::OpacityByProbability:
       scene_.setOpacityByProbability(action()->isChecked());

@@ -4,6 +4,7 @@
 #include <QEventLoop>
 #include <QFileInfo>
 #include <QMetaObject>
+#include <QSettings>
 #include <QThreadPool>
 #include <QTimer>
 #include <algorithm>
@@ -24,6 +25,82 @@ namespace {
 
 std::filesystem::path toPath(const QString& path) {
   return std::filesystem::path(path.toStdString());
+}
+
+// The labels and camera a recording was last converted with (--labels,
+// --intrinsics), by its absolute path: opened again without them, its boxes
+// would name labels the conversion does not have.
+const char* const kConversionKey = "conversionOptions";
+
+QString conversionKeyOf(const QString& recording) {
+  QFileInfo info(recording);
+  const QString canonical = info.canonicalFilePath();
+  // QSettings keys treat '/' and '\\' as group separators: the path is hashed.
+  const QByteArray path = (canonical.isEmpty() ? info.absoluteFilePath() : canonical).toUtf8();
+  return QString(kConversionKey) + "/" + QString::number(qHash(path), 16) + "-" +
+         QString::number(path.size());
+}
+
+void rememberConversion(const QString& recording, const ImportOptions& options) {
+  QSettings settings;
+  const QString key = conversionKeyOf(recording);
+  settings.remove(key);
+  if (!options.labels && !options.intrinsics) return;
+  settings.setValue(key + "/path", QFileInfo(recording).absoluteFilePath());
+  if (options.labels) {
+    QVariantList labels;
+    for (const LabelInfo& label : options.labels->all())
+      labels.push_back(QVariant(QVariantList{QString::fromStdString(label.name), label.color[0],
+                                             label.color[1], label.color[2]}));  // one entry
+    settings.setValue(key + "/labels", labels);
+  }
+  if (const auto& k = options.intrinsics)
+    settings.setValue(key + "/intrinsics", QVariantList{k->width, k->height, k->fx, k->fy, k->cx,
+                                                        k->cy, k->depth_scale});
+}
+
+// What the settings remember for `recording`, filling what `options` lacks;
+// the names of what was taken ("labels", "intrinsics").
+QStringList recallConversion(const QString& recording, ImportOptions& options) {
+  const QSettings settings;
+  const QString key = conversionKeyOf(recording);
+  QStringList taken;
+  if (settings.value(key + "/path").toString() != QFileInfo(recording).absoluteFilePath())
+    return taken;  // another recording's (a hash collision) or none
+  if (!options.labels) {
+    std::vector<LabelInfo> labels;
+    for (const QVariant& entry : settings.value(key + "/labels").toList()) {
+      const QVariantList fields = entry.toList();
+      if (fields.size() != 4) return taken;
+      LabelInfo label;
+      label.id = static_cast<int>(labels.size());
+      label.name = fields[0].toString().toStdString();
+      for (int c = 0; c < 3; ++c)
+        label.color[static_cast<size_t>(c)] =
+            static_cast<std::uint8_t>(std::clamp(fields[c + 1].toInt(), 0, 255));
+      labels.push_back(std::move(label));
+    }
+    if (!labels.empty()) {
+      options.labels = LabelSet(std::move(labels));
+      taken << "labels";
+    }
+  }
+  if (!options.intrinsics) {
+    const QVariantList k = settings.value(key + "/intrinsics").toList();
+    if (k.size() == 7) {
+      CameraIntrinsics camera;
+      camera.width = k[0].toInt();
+      camera.height = k[1].toInt();
+      camera.fx = k[2].toDouble();
+      camera.fy = k[3].toDouble();
+      camera.cx = k[4].toDouble();
+      camera.cy = k[5].toDouble();
+      camera.depth_scale = k[6].toDouble();
+      options.intrinsics = camera;
+      taken << "intrinsics";
+    }
+  }
+  return taken;
 }
 
 // The core's messages already name the file and field; other exceptions get
@@ -141,6 +218,8 @@ bool SequenceController::openSequence(const QString& folder_or_json) {
   loadCurrentFrame();
   emit sequenceChanged();
   emit currentFrameChanged(current_frame_);
+  // Said once the window shows the sequence (its own messages come first).
+  if (!conversion_note_.isEmpty()) emit noteOccurred(std::exchange(conversion_note_, QString()));
   if (const auto jumps = cameraJumps(*sequence_); !jumps.empty()) {
     QStringList lines;
     for (const auto& jump : jumps) lines << QString::fromStdString(jump);
@@ -225,7 +304,10 @@ std::optional<OpenedSource> SequenceController::convert(const QString& path) {
           Qt::QueuedConnection);
     return !conversion->cancel;
   };
-  auto run = [&, opener, progress, source = toPath(path), options = import_options_] {
+  ImportOptions with = import_options_;
+  const QStringList recalled =
+      remembers_conversions_ ? recallConversion(path, with) : QStringList();
+  auto run = [&, opener, progress, source = toPath(path), options = with] {
     try {
       opened = opener(source, options, progress);
     } catch (...) {
@@ -288,6 +370,12 @@ std::optional<OpenedSource> SequenceController::convert(const QString& path) {
   emit conversionFinished(name, cancelled);
   if (cancelled) return std::nullopt;
   if (failure) std::rethrow_exception(failure);
+  if (remembers_conversions_) rememberConversion(path, with);
+  if (!recalled.isEmpty())
+    conversion_note_ = (tr("%1 was converted with the %2 it was converted with before (its boxes "
+                           "name those labels); --labels and --intrinsics given at start-up take "
+                           "precedence.")
+                            .arg(name, recalled.join(tr(" and "))));
   return opened;
 }
 

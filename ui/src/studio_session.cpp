@@ -47,6 +47,7 @@ StudioSession::StudioSession(QObject* parent)
             // (maps written before the record keep the panel's candidates).
             if (map->fusedCandidates().recorded)
               options_.candidates = map->fusedCandidates().labels;
+            map_options_ = options_;
             emit fusionOptionsChanged();
             ++map_generation_;
             worker_->adoptMap(std::move(map), sequence_->frames.size(), path,
@@ -59,6 +60,14 @@ StudioSession::StudioSession(QObject* parent)
   });
   connect(controller_, &SequenceController::sequenceChanged, this, [this] {
     if (!startup_map_) startup_map_ = options_.map;
+  });
+  connect(worker_, &MapWorker::previousMapKept, this, [this] {
+    const double threshold =
+        options_.map.occupancy_threshold;  // the view's, as in setFusionOptions
+    options_ = map_options_ = replaced_options_;
+    options_.map.occupancy_threshold = threshold;
+    emit fusionOptionsChanged();
+    emit previousMapKept();
   });
   connect(controller_, &SequenceController::sequenceChanged, this,
           &StudioSession::onSequenceChanged);
@@ -172,6 +181,8 @@ void StudioSession::fuse() {
   if (!sequence_) return;
   ++map_generation_;
   map_reader_->forget();  // the map asked for last is this fusion's, not a file still being read
+  replaced_options_ = map_options_;
+  map_options_ = options_;
   worker_->setOccupancyThreshold(options_.map.occupancy_threshold);
   worker_->startFusion(sequence_, options_);
 }

@@ -67,10 +67,13 @@ struct SmoothSurfaceOptions {
 // PLY: binary, vertices with x y z (float), red green blue (label colour) and
 // label (uint). OBJ: one object and one material per label, materials in
 // `mtl_path` (the OBJ refers to it by file name). STL: binary, no colour.
+// `frame` (one line, may be empty) is written as a header comment: which
+// frame the coordinates are in.
 void writeMeshesPly(const std::vector<SurfaceMesh>& meshes, const LabelSet& labels,
-                    const std::filesystem::path& path);
+                    const std::filesystem::path& path, const std::string& frame = {});
 void writeMeshesObj(const std::vector<SurfaceMesh>& meshes, const LabelSet& labels,
-                    const std::filesystem::path& obj_path, const std::filesystem::path& mtl_path);
+                    const std::filesystem::path& obj_path, const std::filesystem::path& mtl_path,
+                    const std::string& frame = {});
 void writeMeshesStl(const std::vector<SurfaceMesh>& meshes, const LabelSet& labels,
                     const std::filesystem::path& path);
 
@@ -82,11 +85,14 @@ void writeMeshesStl(const std::vector<SurfaceMesh>& meshes, const LabelSet& labe
 // finest-resolution voxels so every point stands for one voxel. Atomic.
 // Returns the number of points written.
 size_t writeVoxelsPcd(const LabelMap& map, const std::filesystem::path& path);
+// With `rotation`, every point is rotated by it about the origin (--level).
 size_t writeVoxelsPcd(const LabelMap& map, const std::set<int>& labels,
-                      const std::filesystem::path& path);
+                      const std::filesystem::path& path,
+                      const std::optional<Eigen::Matrix3d>& rotation = std::nullopt);
 // The same points as a binary PLY (PCL's writer): x y z, red green blue, label, probability.
 size_t writeVoxelsPly(const LabelMap& map, const std::set<int>& labels,
-                      const std::filesystem::path& path);
+                      const std::filesystem::path& path,
+                      const std::optional<Eigen::Matrix3d>& rotation = std::nullopt);
 
 // ---- Octrees ----
 
@@ -131,7 +137,16 @@ struct ExportOptions {
   bool merge_coplanar = true;
   // objects: the up of a map that records no camera (ObjectOptions::cameras_up).
   std::optional<Eigen::Vector3d> cameras_up;
+  // Meshes and point clouds: every vertex and point rotated by this about the
+  // origin (levellingRotation: the map's up onto +z, for tools that take z as
+  // up); written in the mesh headers.
+  std::optional<Eigen::Matrix3d> rotation;
 };
+
+// The smallest rotation that turns the map's up (LabelMap::upDirection: its
+// level plane's normal, else its cameras' mean up) onto +z; nullopt for a map
+// that has no up (it records no camera).
+[[nodiscard]] std::optional<Eigen::Matrix3d> levellingRotation(const LabelMap& map);
 
 struct ExportSummary {
   std::vector<std::filesystem::path> files;  // in the order written

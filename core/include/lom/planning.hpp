@@ -141,6 +141,14 @@ void orderForRemoval(std::vector<size_t>& removals, const std::vector<ObjectInst
 // its longer horizontal axis (x or y; ties: x) on its floor (z), `gap` metres
 // apart and from the walls; a box that does not fit is "outside" (a later,
 // smaller one may still fit). One placement per box.
+// A warning when the empty bin is not empty in the map: the occupied voxels
+// of objects (labels 1 and up; the background is the bin's own floor and
+// walls) whose centres lie in `bin`, counted per label; empty when none.
+// Placements ignore the map, so objects placed there would collide with them
+// (a bin given in other coordinates, or over the source bin).
+[[nodiscard]] std::string binContentsWarning(const LabelMap& map, const OrientedBox& bin,
+                                             const std::string& map_file);
+
 [[nodiscard]] std::vector<Placement> placeInBin(const std::vector<OrientedBox>& boxes,
                                                 const std::optional<OrientedBox>& bin, double gap);
 

@@ -20,6 +20,12 @@ namespace lom {
 // with its parents when missing), each file atomically.
 void writeReport(const EvaluationReport& report, const std::filesystem::path& dir);
 
+// The settings a batch's sequences were scored at differently (the map's
+// resolution, max range, threshold and p_miss, the IU_3d mode, the segmenter):
+// one sentence each, naming the values and their sequences, since the "all"
+// row then averages scores that are not comparable. Empty when they agree.
+[[nodiscard]] std::vector<std::string> mixedSettingsWarnings(
+    const std::vector<EvaluationReport>& reports);
 // A batch: the mean over all objects of all sequences, and one row per sequence.
 [[nodiscard]] std::string aggregateJson(const std::vector<EvaluationReport>& reports);
 [[nodiscard]] std::string aggregateMarkdown(const std::vector<EvaluationReport>& reports);

@@ -58,25 +58,26 @@ enum class UnsavedBoxesAnswer { Save, Discard, Cancel };
 void loadSequenceBoxes(StudioSession& session);
 
 // "FILE: boxes[i]: label N is not a label of the sequence ..." for each of the
-// first 10 boxes whose label `labels` does not have, then how many more there
-// are and their labels; empty when all are known.
+// first 10 boxes whose label `labels` does not have (or the background, 0,
+// which is no object), then how many more there are and their labels; empty
+// when all are object labels of `labels`.
 [[nodiscard]] QString unknownLabelsMessage(const Annotations& annotations, const LabelSet& labels,
                                            const QString& file);
 
 // Writes the unsaved boxes of the open sequence to a recovery file every
-// `interval_ms`, and removes it as soon as the boxes in memory are clean
-// again (saved, undone back to the saved state, replaced by other boxes, or
-// discarded with the sequence once another one opened). Opening a sequence
-// with a recovery file asks `offer` whether to restore it; a declined copy is
-// kept as declinedPath (not offered again, not lost), and a restore warns when
-// the boxes' file was written after the copy.
+// `interval_ms` and `edit_delay_ms` after an edit (so that a studio ended by
+// a signal or a crash loses at most the last seconds of editing), and removes it as soon as the
+// boxes in memory are clean again (saved, undone back to the saved state, replaced by other boxes,
+// or discarded with the sequence once another one opened). Opening a sequence with a recovery file
+// asks `offer` whether to restore it; a declined copy is kept as declinedPath (not offered again,
+// not lost), and a restore warns when the boxes' file was written after the copy.
 class BoxesAutosave : public QObject {
   Q_OBJECT
 
  public:
   // offer(recovery_file) returns true to restore.
   BoxesAutosave(StudioSession& session, std::function<bool(const QString&)> offer,
-                int interval_ms = 60'000);
+                int interval_ms = 60'000, int edit_delay_ms = 2'000);
   // perSourceFile("recovery", sequence_path)
   [[nodiscard]] static QString recoveryPath(const QString& sequence_path);
   // Where the boxes of a recovery file go when its offer is declined: a plain
@@ -109,6 +110,7 @@ class BoxesAutosave : public QObject {
   StudioSession& session_;
   std::function<bool(const QString&)> offer_;
   QTimer* timer_;
+  QTimer* after_edit_;     // single shot, started by an edit unless already running
   QString recovery_path_;  // of the open sequence; empty while another studio has it
   // Held while this studio keeps the open sequence's recovery file: a second
   // studio on the same sequence neither offers, writes nor removes it.

@@ -28,6 +28,10 @@ class FusionStatus : public QWidget {
     int maximum = 1, value = 0;
   };
   std::optional<Shown> before_opening_;  // set while a map file is read
+  // What was shown as the current fusion started: shown again, with why, when
+  // that fusion keeps the map before it (MapWorker::previousMapKept).
+  Shown before_fusion_;
+  bool kept_ = false;  // the current fusion kept the map before it
   QProgressBar* progress_;
   QLabel* rate_;
   bool progressed_ = false;  // the current fusion has reported a frame

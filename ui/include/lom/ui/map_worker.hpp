@@ -34,6 +34,8 @@ class MapWorker : public QObject {
 
   // Fuses the option's frame range of `sequence` into a new map, replacing the
   // current one. Snapshots are published at most every `snapshot_interval_ms`.
+  // Until its first frame is fused the current map is kept: a fusion that
+  // fails or is cancelled before then leaves it (previousMapKept).
   void startFusion(std::shared_ptr<const Sequence> sequence, const FusionOptions& options);
   // Replaces the map with `map` (read from `source`, a .ot file), as a fusion
   // of `frames` frames that has just completed: a fusion in progress is
@@ -101,6 +103,10 @@ class MapWorker : public QObject {
   void snapshotChanged();
   void fusionProgress(int done, int total, double frames_per_second);
   void fusionFinished(bool completed);
+  // A fusion that failed or was cancelled before fusing its first frame left
+  // the map it was to replace in place (read from `source`, empty when fused
+  // here); fusionFinished(false) follows.
+  void previousMapKept(const QString& source);
   // adoptMap began taking the map read from `source` (after fusionStarted:
   // the worker is busy with it, though nothing is fused).
   void adoptionStarted(const QString& source);
@@ -130,8 +136,13 @@ class MapWorker : public QObject {
   void loop();
   void runQuickJobs();
   void runGuarded(Job& job);
+  struct Start {
+    unsigned id = 0;           // the fusion's (fusion_id_)
+    unsigned generation = 0;   // the map's it makes (map_generation_)
+    bool was_unsaved = false;  // whether the map it replaces was (unsaved_map_)
+  };
   void fuse(const std::shared_ptr<const Sequence>& sequence, const FusionOptions& options,
-            unsigned id, const std::shared_ptr<std::atomic<bool>>& cancelled);
+            const Start& start, const std::shared_ptr<std::atomic<bool>>& cancelled);
   void publish(MapSnapshotPtr snapshot);
   void applyPendingThreshold();
   void inGui(std::function<void()> call);

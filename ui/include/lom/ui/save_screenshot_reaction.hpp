@@ -19,6 +19,9 @@ class SaveScreenshotReaction : public Reaction {
                          const SequenceController& controller, Kind kind = Kind::Window);
   // Writes the picture to `path`; an error message, empty on success.
   QString saveTo(const QString& path);
+  // The 3D view's picture this many times its size on screen (1 to 4; File ▸
+  // 3D View Picture Size).
+  void setMagnification(int magnification) { magnification_ = magnification; }
 
  protected:
   void onTriggered() override;
@@ -28,6 +31,7 @@ class SaveScreenshotReaction : public Reaction {
   SceneView& scene_;
   const SequenceController& controller_;
   Kind kind_;
+  int magnification_ = 1;
 };
 
 }  // namespace lom::ui

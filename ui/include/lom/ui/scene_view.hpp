@@ -99,6 +99,16 @@ class SceneView : public QWidget {
   void showScoreBreakdown(const std::vector<ScoreBreakdown>& breakdowns);
   [[nodiscard]] size_t scoreBreakdownCount() const;
   void setFrameCloudVisible(bool on);
+  // What a figure may leave out (View menu): the camera frustums, the
+  // orientation axes in the corner, the boxes' outlines (ground truth, with
+  // the selected box's handles, and the objects' of the Objects panel).
+  // Hidden parts are not framed by Reset Camera either.
+  void setCamerasVisible(bool on);
+  void setAxesVisible(bool on);
+  void setBoxesVisible(bool on);
+  [[nodiscard]] bool camerasVisible() const;
+  [[nodiscard]] bool axesVisible() const;
+  [[nodiscard]] bool boxesVisible() const;
   void showBoxes(const Annotations& boxes, int selected, const LabelSet& labels);
   [[nodiscard]] size_t voxelCount() const;
   // Where the 3D drawing lies in the view (inside the focus frame), in the
@@ -108,6 +118,7 @@ class SceneView : public QWidget {
   // Wireframe boxes of extracted objects in their label colours (empty hides them).
   void showObjectBoxes(const std::vector<ObjectInstance>& objects, const LabelSet& labels);
   [[nodiscard]] size_t objectBoxCount() const;
+  [[nodiscard]] bool objectBoxesVisible() const;
   // A pick plan: the occluders' boxes thick and red, the target's thick and
   // green, one grasp arrow per step (yellow first to green last) with its step
   // number. Null hides it.
@@ -126,7 +137,11 @@ class SceneView : public QWidget {
   // Points of the current frame's cloud (one per valid depth pixel).
   [[nodiscard]] size_t framePointCount() const;
   // Renders now and returns the 3D view's pixels (same size as this widget).
-  [[nodiscard]] QImage renderToImage();
+  // With a magnification of 2 to 4, a picture that many times as wide and as
+  // high, rendered in tiles (for figures): the same view, lines and points
+  // as thin as on screen, on a plain background of the gradient's middle
+  // colour and without the corner axes (both would repeat in every tile).
+  [[nodiscard]] QImage renderToImage(int magnification = 1);
   // Redraws of the view so far (a frame step is one: software GL redraws slowly).
   [[nodiscard]] size_t renderCount() const;
 

@@ -22,7 +22,10 @@ class SceneViewReaction : public Reaction {
     ColourByHeight,
     LookFromAbove,
     LookFromFront,
-    LookFromSide
+    LookFromSide,
+    Cameras,  // show the camera frustums
+    Axes,     // show the orientation axes
+    Boxes     // show the boxes' outlines
   };
   SceneViewReaction(QAction* action, Kind kind, StudioSession& session, SceneView& scene);
 

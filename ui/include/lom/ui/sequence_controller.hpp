@@ -74,8 +74,15 @@ class SequenceController : public QObject {
   [[nodiscard]] QString sequenceFileAt(const QString& path) const;
   // Options of the conversion of bags and dataset folders (the camera
   // intrinsics of a layout without them, for instance).
+  // A recording converted with labels or intrinsics (--labels, --intrinsics)
+  // is converted with them again when it is opened later without them (Open
+  // Recent, a drop, another start-up): its boxes name those labels. The ones
+  // given now take precedence. Remembered per recording in the settings.
+  // Not in a picture run (setRemembersConversions(false)): its result must
+  // not depend on earlier sessions, nor change what later ones do.
   [[nodiscard]] const ImportOptions& importOptions() const { return import_options_; }
   void setImportOptions(const ImportOptions& options) { import_options_ = options; }
+  void setRemembersConversions(bool on) { remembers_conversions_ = on; }
   [[nodiscard]] QString sequenceName() const;
   [[nodiscard]] int frameCount() const;
   [[nodiscard]] int currentFrame() const { return current_frame_; }  // -1 without a sequence
@@ -145,6 +152,9 @@ class SequenceController : public QObject {
   // Before its frames, how far the recording has been read through (a ROS
   // bag is checked and indexed first), in thousandths.
   void conversionReading(int per_mille);
+  // Something worth a line in the status bar (a conversion that took the
+  // labels the recording was converted with before).
+  void noteOccurred(const QString& message);
   // Every conversion ends with this (before an error is reported).
   void conversionFinished(const QString& name, bool cancelled);
 
@@ -163,6 +173,8 @@ class SequenceController : public QObject {
   QString sequence_path_;
   bool converted_ = false;
   ImportOptions import_options_;
+  bool remembers_conversions_ = true;
+  QString conversion_note_;  // said (noteOccurred) once the converted sequence is shown
   SourceOpener source_opener_;
   bool opening_ = false;
   std::shared_ptr<Conversion> conversion_;

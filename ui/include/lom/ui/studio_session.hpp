@@ -92,6 +92,10 @@ class StudioSession : public QObject {
   void mapOpenStarted(const QString& path);  // the file is being read
   void mapOpened(const QString& path);
   void mapOpenFailed(const QString& title, const QString& message);
+  // A fusion failed or was cancelled before its first frame: the map it was
+  // to replace stays, and the fusion options are that map's again (the
+  // Fusion panel keeps the values typed for the next try).
+  void previousMapKept();
 
  private:
   void onSequenceChanged();
@@ -103,6 +107,10 @@ class StudioSession : public QObject {
   AnnotationsModel* annotations_;
   std::shared_ptr<const Sequence> sequence_;
   FusionOptions options_;
+  // The options the map shown was fused with (or read with), and those of the
+  // map the fusion in progress replaces: the options again when that
+  // fusion keeps it (MapWorker::previousMapKept).
+  FusionOptions map_options_, replaced_options_;
   // The map parameters when the first sequence opened: the command line's or
   // the defaults (nothing else sets them before there is a sequence).
   std::optional<MapParameters> startup_map_;
