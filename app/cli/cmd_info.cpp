@@ -265,6 +265,11 @@ void printMapInfo(const std::filesystem::path& path, std::ostream& out) {
   } else {
     out << "every label\n";
   }
+  out << "probabilities:    ";
+  if (!map.fusedEvidence().recorded)
+    out << "not recorded (a map of data version 1 to 3)\n";
+  else
+    out << describeEvidence(map.fusedEvidence()) << "\n";
   out << "camera views:     " << map.cameraViews().views;
   if (const auto up = map.camerasUp())
     out << ", mean up (" << up->x() << ", " << up->y() << ", " << up->z() << ")";

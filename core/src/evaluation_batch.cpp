@@ -103,7 +103,7 @@ void checkAnnotationsFor(const ScoreInputs& inputs) {
 
 void describeMapFile(EvaluationReport& report, const LabelMap& map, const Sequence& sequence,
                      const std::string& map_file, bool candidates_from_map, size_t first_frame,
-                     size_t last_frame) {
+                     size_t last_frame, const Segmenter* segmenter) {
   report.map_file = map_file;
   report.map_fit = mapFitOf(map, sequence);
   describeMapCandidates(report, map.fusedCandidates(), sequence.labels.size(), map_file,
@@ -120,6 +120,23 @@ void describeMapFile(EvaluationReport& report, const LabelMap& map, const Sequen
   const std::uint32_t fused = map.cameraViews().views;
   const std::string frames_text =
       "frames " + std::to_string(first_frame) + " to " + std::to_string(end == 0 ? 0 : end - 1);
+  // The map's probabilities against the baselines': a map fused with a
+  // segmenter scored against projections of the frames' own probabilities
+  // (or the other way round) compares two segmentations, not two methods.
+  const FusedEvidence& map_evidence = map.fusedEvidence();
+  if (map_evidence.recorded && !map_evidence.empty()) {
+    const FusedEvidence baselines = evidenceOf(sequence, first_frame, end, segmenter);
+    if (!baselines.empty() && baselines != map_evidence) {
+      std::string fix;
+      if (map_evidence.models.size() == 1)
+        fix = "give --segmenter " + map_evidence.models.front() +
+              (map_evidence.own_probabilities ? "" : " as the map was fused") + ", or ";
+      report.warnings.push_back(map_file + " was fused with " + describeEvidence(map_evidence) +
+                                ", but the projection baselines and the 2D metrics read " +
+                                describeEvidence(baselines) + ": the comparison is not matched; " +
+                                fix + "score without --map");
+    }
+  }
   if (fused > 0 && fused == scored &&
       !sameCameraViews(map.cameraViews(), cameraViewsOf(sequence, first_frame, end)))
     report.warnings.push_back(
@@ -156,7 +173,8 @@ EvaluationReport scoreSequence(const ScoreInputs& inputs, const EvaluationOption
     if (options.candidates_from_map && fused.recorded) named.fusion.candidates = fused.labels;
     EvaluationReport report = evaluate(sequence, annotations, map, named, progress);
     describeMapFile(report, map, sequence, named.map_file, options.candidates_from_map,
-                    options.fusion.first_frame, options.fusion.last_frame);
+                    options.fusion.first_frame, options.fusion.last_frame,
+                    options.fusion.segmenter.get());
     return report;
   }
   named.map_file = (sequence.root / "sequence.json").string() + " (fused)";

@@ -622,6 +622,7 @@ void fuseSequenceInto(LabelMap& map, const Sequence& sequence, const FusionOptio
       p.field = "frames[" + std::to_string(i) + "]." + p.field;
       throw Error(p);
     }
+    map.noteFusedEvidence(evidenceSourceOf(sequence, i, options.segmenter.get()));
     // How much of the frame max range cut off, for the caller to warn about
     // (counted apart from the integration, which keeps to its own work).
     noteDepthRanges(report.stats, sequence.cameraOf(i), frame.depth, map.parameters().max_range);
@@ -631,6 +632,20 @@ void fuseSequenceInto(LabelMap& map, const Sequence& sequence, const FusionOptio
     if (progress && !progress(report)) break;
   }
   map.prune();  // merge every identical set of children once fusion is over
+}
+
+std::string evidenceSourceOf(const Sequence& sequence, size_t index, const Segmenter* segmenter) {
+  return segmenterRunsOn(sequence, index, segmenter) ? segmenter->modelPath().filename().string()
+                                                     : std::string();
+}
+
+FusedEvidence evidenceOf(const Sequence& sequence, size_t first, size_t last,
+                         const Segmenter* segmenter) {
+  LabelMap record(LabelSet{{LabelInfo{0, "record", {0, 0, 0}}}});
+  const size_t end = std::min(last, sequence.frames.size());
+  for (size_t i = first; i < end; ++i)
+    record.noteFusedEvidence(evidenceSourceOf(sequence, i, segmenter));
+  return record.fusedEvidence();
 }
 
 CameraViewRecord cameraViewsOf(const Sequence& sequence, size_t first, size_t last) {

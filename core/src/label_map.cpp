@@ -161,6 +161,35 @@ void LabelMap::noteFusedCandidates(const std::optional<std::vector<int>>& candid
 
 const FusedCandidates& LabelMap::fusedCandidates() const { return tree_->fusedCandidates(); }
 
+void LabelMap::noteFusedEvidence(const std::string& model) {
+  FusedEvidence record = tree_->fusedEvidence();
+  if (!record.recorded) return;  // unknown stays unknown (a map of an older file)
+  if (model.empty()) {
+    if (record.own_probabilities) return;
+    record.own_probabilities = true;
+  } else {
+    const auto at = std::lower_bound(record.models.begin(), record.models.end(), model);
+    if (at != record.models.end() && *at == model) return;
+    record.models.insert(at, model);
+  }
+  tree_->setFusedEvidence(record);
+}
+
+const FusedEvidence& LabelMap::fusedEvidence() const { return tree_->fusedEvidence(); }
+
+std::string describeEvidence(const FusedEvidence& evidence) {
+  std::string models;
+  for (size_t i = 0; i < evidence.models.size(); ++i)
+    models += (i == 0 ? "" : i + 1 == evidence.models.size() ? " and " : ", ") + evidence.models[i];
+  const std::string segmenters =
+      models.empty() ? std::string()
+                     : (evidence.models.size() == 1 ? "segmenter " : "segmenters ") + models;
+  if (evidence.own_probabilities)
+    return "the frames' own probabilities" +
+           (segmenters.empty() ? std::string() : " and " + segmenters);
+  return segmenters.empty() ? std::string("no recorded probabilities") : segmenters;
+}
+
 std::vector<Eigen::Vector3d> LabelMap::occupiedCentres() const {
   std::vector<Eigen::Vector3d> centres;
   forEachOccupied([&](const OccupiedVoxel& voxel) { centres.push_back(voxel.center); });

@@ -511,7 +511,7 @@ namespace {
 constexpr char kMagic[4] = {'L', 'O', 'M', 'T'};
 // 1: labels, parameters, nodes. 2: and the camera view record after the
 // parameters. 3: and the fused candidates after the camera views.
-constexpr std::uint32_t kFileVersion = 3;
+constexpr std::uint32_t kFileVersion = 4;
 
 template <typename T>
 void writePod(std::ostream& s, const T& v) {
@@ -549,6 +549,19 @@ std::ostream& LabelOcTree::writeData(std::ostream& s) const {
   if (fused_candidates_.recorded && candidates) {
     writePod(s, static_cast<std::uint16_t>(candidates->size()));
     for (const int id : *candidates) writePod(s, static_cast<std::uint16_t>(id));
+  }
+  // Where the probabilities came from (version 4): 0 not known (a map read
+  // from an older file), or 1, whether some frame had its own (0 or 1), and
+  // the segmentation models' file names (a count, uint16, then each as a
+  // uint16 length and its bytes).
+  writePod(s, static_cast<std::uint8_t>(fused_evidence_.recorded ? 1 : 0));
+  if (fused_evidence_.recorded) {
+    writePod(s, static_cast<std::uint8_t>(fused_evidence_.own_probabilities ? 1 : 0));
+    writePod(s, static_cast<std::uint16_t>(fused_evidence_.models.size()));
+    for (const std::string& model : fused_evidence_.models) {
+      writePod(s, static_cast<std::uint16_t>(model.size()));
+      s.write(model.data(), static_cast<std::streamsize>(model.size()));
+    }
   }
   // OctoMap's node stream cannot express an empty tree, so say whether one follows.
   writePod(s, static_cast<std::uint8_t>(root != nullptr));
@@ -599,6 +612,41 @@ FusedCandidates readFusedCandidates(std::istream& s, std::uint16_t count) {
     candidates.labels = std::move(ids);
   }
   return candidates;
+}
+
+// Where the probabilities came from (data version 4, writeData).
+FusedEvidence readFusedEvidence(std::istream& s) {
+  constexpr std::uint16_t kMaxModels = 1024, kMaxName = 4096;
+  FusedEvidence evidence;
+  std::uint8_t known = 0;
+  if (!readPod(s, known)) truncated("evidence", "an evidence flag");
+  if (known > 1)
+    throw Error("", "evidence", "an evidence flag 0 (not known) or 1", std::to_string(known));
+  evidence.recorded = known == 1;
+  if (!evidence.recorded) return evidence;
+  std::uint8_t own = 0;
+  std::uint16_t n = 0;
+  if (!readPod(s, own) || !readPod(s, n)) truncated("evidence", "a flag and a model count");
+  if (own > 1) throw Error("", "evidence", "an own-probabilities flag 0 or 1", std::to_string(own));
+  if (n > kMaxModels)
+    throw Error("", "evidence", "at most " + std::to_string(kMaxModels) + " models",
+                std::to_string(n));
+  evidence.own_probabilities = own == 1;
+  for (std::uint16_t i = 0; i < n; ++i) {
+    const std::string field = "evidence.models[" + std::to_string(i) + "]";
+    std::uint16_t length = 0;
+    if (!readPod(s, length)) truncated(field, "a name length");
+    if (length == 0 || length > kMaxName)
+      throw Error("", field, "a file name of 1 to " + std::to_string(kMaxName) + " bytes",
+                  std::to_string(length) + " bytes");
+    std::string name(length, '\0');
+    s.read(name.data(), length);
+    if (!s) truncated(field, "a name of " + std::to_string(length) + " bytes");
+    if (!evidence.models.empty() && name <= evidence.models.back())
+      throw Error("", field, "model names in increasing order, each once", name);
+    evidence.models.push_back(std::move(name));
+  }
+  return evidence;
 }
 
 }  // namespace
@@ -663,6 +711,7 @@ void LabelOcTree::readLabelledData(std::istream& s) {
   }
   FusedCandidates candidates =
       version >= 3 ? readFusedCandidates(s, count) : FusedCandidates{false, std::nullopt};
+  FusedEvidence evidence = version >= 4 ? readFusedEvidence(s) : FusedEvidence{false, false, {}};
   std::uint8_t has_nodes = 0;
   if (!readPod(s, has_nodes)) truncated("nodes", "a node flag");
   if (has_nodes > 1)
@@ -672,6 +721,7 @@ void LabelOcTree::readLabelledData(std::istream& s) {
   parameters_ = parameters;
   camera_views_ = camera_views;
   fused_candidates_ = std::move(candidates);
+  fused_evidence_ = std::move(evidence);
   applyParameters();
   if (!has_nodes) return;
   root = new LabelOcTreeNode();

@@ -206,6 +206,10 @@ TEST_F(CliSegmentTest, FuseWithAModelEndingWithASoftmax) {
   EXPECT_EQ(counts.count(1), 1u) << r.out;
   EXPECT_EQ(counts.count(2), 1u) << r.out;
   EXPECT_EQ(r.err.find("no voxel is occupied"), std::string::npos) << r.err;
+  // The map says where its probabilities came from.
+  const auto info = runCli("info " + quoted(dir_ / "m.ot"));
+  EXPECT_NE(info.out.find("probabilities:    segmenter softmax.onnx\n"), std::string::npos)
+      << info.out;
 
   std::ofstream(dir_ / "softmax.json") << R"({"output": "scores"})";
   const auto twice = runCli(fuse);

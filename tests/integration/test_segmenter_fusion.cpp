@@ -214,18 +214,24 @@ TEST(SegmenterFusion, ProbaMadeFromTheLabelImageIsReplacedByTheNetworks) {
   EXPECT_THROW((void)lom::loadFusionFrame(sequence, 0, nullptr), lom::Error);
 }
 
-TEST(SegmenterFusion, ProbaMadeFromTheLabelImageIsScoredIn2dOnlyWithASegmenter) {
-  TempDir dir;
+// The one-frame colour wall in `dir`/seq with a label image of label 2 made
+// into probabilities, as an import does (proba_from_label), and a view.
+lom::Sequence writeWallWithLabelProba(const TempDir& dir) {
   lom::Sequence sequence = lom::test::writeColourWallSequence(dir / "seq", 1);
   lom::LabelImage truth{8, 6, std::vector<std::uint16_t>(48, 2)};
   lom::writeLabelPng(dir / "seq" / "label.png", truth);
-  // The label image made into probabilities, as an import does.
   (void)writeUniformProba(sequence, "one_hot.npy", {0.05f, 0.05f, 0.9f});
   sequence.frames[0].label = "label.png";
   sequence.frames[0].proba = "one_hot.npy";
   sequence.frames[0].proba_from_label = true;
   sequence.frames[0].view = true;
   lom::saveSequence(sequence, sequence.root);
+  return sequence;
+}
+
+TEST(SegmenterFusion, ProbaMadeFromTheLabelImageIsScoredIn2dOnlyWithASegmenter) {
+  TempDir dir;
+  const lom::Sequence sequence = writeWallWithLabelProba(dir);
 
   const auto segmenter = loadModel(dir);
   const lom::LabelMap map = fuseWithSegmenter(sequence, *segmenter, 1);
@@ -256,6 +262,64 @@ TEST(SegmenterFusion, ProbaMadeFromTheLabelImageIsScoredIn2dOnlyWithASegmenter) 
   inputs.annotations = dir / "boxes.json";
   const lom::EvaluationReport scored = lom::scoreSequence(inputs, options);
   EXPECT_EQ(scored.segmenter, segmenter->modelPath().string());
+}
+
+// A map records where its probabilities came from: scored with --map
+// against baselines that read other ones (the frames' own, not the
+// segmenter's it was fused with), the report says the comparison is not
+// matched and how to match it.
+TEST(SegmenterFusion, AMapFusedWithASegmenterSaysSoWhenTheBaselinesReadOtherProbabilities) {
+  TempDir dir;
+  const lom::Sequence sequence = writeWallWithLabelProba(dir);  // the segmenter replaces its proba
+  const auto segmenter = loadModel(dir);
+  lom::FusionOptions fusion = fusionOptions();
+  fusion.segmenter = segmenter;
+  lom::fuseSequence(sequence, fusion).save(dir / "network.ot");
+  fusion.segmenter.reset();
+  lom::fuseSequence(sequence, fusion).save(dir / "own.ot");
+
+  const lom::FusedEvidence network = lom::LabelMap::load(dir / "network.ot").fusedEvidence();
+  EXPECT_TRUE(network.recorded);
+  EXPECT_FALSE(network.own_probabilities);
+  EXPECT_EQ(network.models, (std::vector<std::string>{"colour.onnx"}));
+  const lom::FusedEvidence own = lom::LabelMap::load(dir / "own.ot").fusedEvidence();
+  EXPECT_TRUE(own.own_probabilities);
+  EXPECT_TRUE(own.models.empty());
+
+  lom::Annotations boxes;
+  lom::GroundTruthBox box;
+  box.label = 2;
+  box.box.center = wallPoint(sequence, 4, 3);
+  box.box.size = Eigen::Vector3d::Constant(0.2);
+  boxes.boxes.push_back(box);
+  lom::saveAnnotations(boxes, dir / "boxes.json");
+  auto scoreWith = [&](const char* map, std::shared_ptr<Segmenter> model) {
+    lom::ScoreInputs inputs;
+    inputs.sequence = dir / "seq";
+    inputs.annotations = dir / "boxes.json";
+    inputs.map = dir / map;
+    lom::EvaluationOptions options;
+    options.fusion = fusionOptions();
+    options.fusion.segmenter = std::move(model);
+    return lom::scoreSequence(inputs, options).warnings;
+  };
+  auto unmatched = [](const std::vector<std::string>& warnings) {
+    for (const std::string& warning : warnings)
+      if (warning.find("the projection baselines and the 2D metrics read") != std::string::npos)
+        return warning;
+    return std::string();
+  };
+  EXPECT_EQ(unmatched(scoreWith("network.ot", segmenter)), "");
+  EXPECT_EQ(unmatched(scoreWith("own.ot", nullptr)), "");
+  EXPECT_EQ(unmatched(scoreWith("network.ot", nullptr)),
+            (dir / "network.ot").string() +
+                " was fused with segmenter colour.onnx, but the projection baselines and the 2D "
+                "metrics read the frames' own probabilities: the comparison is not matched; give "
+                "--segmenter colour.onnx as the map was fused, or score without --map");
+  EXPECT_NE(unmatched(scoreWith("own.ot", segmenter))
+                .find("own.ot was fused with the frames' own probabilities, but the projection "
+                      "baselines and the 2D metrics read segmenter colour.onnx"),
+            std::string::npos);
 }
 
 TEST(SegmenterFusion, FrameWithoutColourIsAClearError) {

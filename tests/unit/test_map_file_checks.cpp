@@ -60,6 +60,7 @@ struct MapFile {
   // Data version 3: the fused candidates (absent: every label, or not known).
   std::uint8_t candidate_flag = 0;
   std::optional<std::vector<std::uint16_t>> candidates;
+  std::string evidence;       // data version 4: where the probabilities came from, as written
   std::string nodes;          // the node flag and OctoMap's node stream
 
   static MapFile read(const fs::path& path) {
@@ -103,6 +104,16 @@ struct MapFile {
           file.candidates->push_back(get<std::uint16_t>(bytes, at));
       }
     }
+    if (file.version >= 4) {
+      const size_t start = at;
+      if (get<std::uint8_t>(bytes, at++) == 1) {
+        at += 1;  // own probabilities
+        const auto n = get<std::uint16_t>(bytes, at);
+        at += 2;
+        for (int i = 0; i < n; ++i) at += 2u + get<std::uint16_t>(bytes, at);
+      }
+      file.evidence = bytes.substr(start, at - start);
+    }
     file.nodes = bytes.substr(at);
     return file;
   }
@@ -128,6 +139,9 @@ struct MapFile {
         put(bytes, static_cast<std::uint16_t>(candidates->size()));
         for (const std::uint16_t id : *candidates) put(bytes, id);
       }
+    }
+    if (version >= 4) {
+      bytes += evidence.empty() ? std::string(1, '\0') : evidence;
     }
     writeBytes(path, bytes + nodes);
   }
@@ -210,15 +224,15 @@ TEST_F(MapFileTest, ResolutionOutOfRangeIsRefused) {
 }
 
 TEST_F(MapFileTest, AnUnknownDataVersionIsNamed) {
-  const lom::Problem problem = loadError(changed([](MapFile& f) { f.version = 4; }));
+  const lom::Problem problem = loadError(changed([](MapFile& f) { f.version = 5; }));
   EXPECT_EQ(problem.field, "data version");
-  EXPECT_EQ(problem.found, "version 4 (written by a newer program?)");
-  EXPECT_NE(problem.expected.find("version 1 to 3"), std::string::npos);
+  EXPECT_EQ(problem.found, "version 5 (written by a newer program?)");
+  EXPECT_NE(problem.expected.find("version 1 to 4"), std::string::npos);
 }
 
 TEST_F(MapFileTest, VersionOneMapsWithoutTheCameraViewRecordStillLoad) {
   const fs::path path = changed([](MapFile& f) {
-    EXPECT_EQ(f.version, 3u);
+    EXPECT_EQ(f.version, 4u);
     f.version = 1;
   });
   const lom::LabelMap map = lom::LabelMap::load(path);
@@ -289,7 +303,7 @@ TEST_F(MapFileTest, VersionTwoMapsLoadWithTheirCandidatesUnknown) {
   // Saved again, they stay unknown (not "every label").
   map.save(dir / "again.ot");
   const MapFile again = MapFile::read(dir / "again.ot");
-  EXPECT_EQ(again.version, 3u);
+  EXPECT_EQ(again.version, 4u);
   EXPECT_EQ(again.candidate_flag, 2);
   EXPECT_FALSE(lom::LabelMap::load(dir / "again.ot").fusedCandidates().recorded);
 }
@@ -319,6 +333,38 @@ TEST_F(MapFileTest, FusedCandidatesAreSavedWithTheMapAndWidenedByLaterViews) {
   map.save(dir / "every.ot");
   EXPECT_FALSE(MapFile::read(dir / "every.ot").candidates);
   EXPECT_FALSE(lom::LabelMap::load(dir / "every.ot").fusedCandidates().labels);
+}
+
+// Where the probabilities came from: recorded per frame (a model's file name,
+// or the frame's own), saved with the map; unknown for a map of a version
+// before the record, also once frames are fused into it.
+TEST_F(MapFileTest, TheEvidenceRecordIsSavedAndUnknownInOlderMaps) {
+  lom::LabelMap map(lom::test::numberedLabels(5));
+  EXPECT_TRUE(map.fusedEvidence().recorded);
+  EXPECT_TRUE(map.fusedEvidence().empty());
+  for (const char* model : {"b.onnx", "a.onnx", "b.onnx", ""}) map.noteFusedEvidence(model);
+  EXPECT_EQ(lom::describeEvidence(map.fusedEvidence()),
+            "the frames' own probabilities and segmenters a.onnx and b.onnx");
+  map.save(dir / "evidence.ot");
+  const lom::FusedEvidence loaded = lom::LabelMap::load(dir / "evidence.ot").fusedEvidence();
+  EXPECT_TRUE(loaded.recorded);
+  EXPECT_TRUE(loaded.own_probabilities);
+  EXPECT_EQ(loaded.models, (std::vector<std::string>{"a.onnx", "b.onnx"}));
+
+  lom::LabelMap older = lom::LabelMap::load(changed([](MapFile& f) { f.version = 3; }));
+  EXPECT_FALSE(older.fusedEvidence().recorded);
+  older.noteFusedEvidence("a.onnx");
+  EXPECT_FALSE(older.fusedEvidence().recorded);
+  older.save(dir / "older.ot");
+  EXPECT_FALSE(lom::LabelMap::load(dir / "older.ot").fusedEvidence().recorded);
+
+  // Names out of order are refused, naming the field.
+  const lom::Problem order = loadError(changed([](MapFile& f) {
+    f.evidence = std::string("\x01\x00\x02\x00", 4) + std::string("\x01\x00", 2) + "b" +
+                 std::string("\x01\x00", 2) + "a";
+  }));
+  EXPECT_EQ(order.field, "evidence.models[1]");
+  EXPECT_EQ(order.found, "a");
 }
 
 TEST_F(MapFileTest, CandidatesOutOfRangeOrOrderAreRefused) {

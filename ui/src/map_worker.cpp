@@ -315,6 +315,7 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
       FrameStats stats =
           integrateFrame(*map_, sequence->cameraOf(i), sequence->frames[i].T_world_camera,
                          frame.depth, evidence, fusion.integration);
+      map_->noteFusedEvidence(evidenceSourceOf(*sequence, i, fusion.segmenter.get()));
       noteDepthRanges(stats, sequence->cameraOf(i), frame.depth, fusion.map.max_range);
       addFrameStats(totals, stats);
       fused_totals_ = totals;
@@ -474,7 +475,7 @@ void MapWorker::evaluate(std::shared_ptr<const Sequence> sequence, const Annotat
           // candidates, or what fusing it here left out.
           if (!map_file_.empty()) {
             describeMapFile(report, *map_, *sequence, map_file_, false, options.fusion.first_frame,
-                            options.fusion.last_frame);
+                            options.fusion.last_frame, options.fusion.segmenter.get());
           } else {
             report.fusion_totals = fused_totals_;
             if (frames_fused_ > 0)

@@ -235,10 +235,14 @@ inline constexpr double kPoorMapFit = 0.2;
 // the baselines took the map's: `candidates_from_map`), and a warning when
 // the map records another number of fused frames than the frames scored,
 // [first_frame, last_frame) clipped to the sequence (a map fused from some of
-// them, or continued over them twice: the comparison is not matched).
+// them, or continued over them twice: the comparison is not matched), and
+// when the map's probabilities came from elsewhere than those the baselines
+// read with `segmenter` (FusedEvidence: a map fused with a segmenter, scored
+// against the frames' own probabilities).
 void describeMapFile(EvaluationReport& report, const LabelMap& map, const Sequence& sequence,
                      const std::string& map_file, bool candidates_from_map, size_t first_frame = 0,
-                     size_t last_frame = static_cast<size_t>(-1));
+                     size_t last_frame = static_cast<size_t>(-1),
+                     const Segmenter* segmenter = nullptr);
 
 // Scores every annotated object. Resolution and max range come from `map`.
 // Throws lom::Error for unusable inputs (see checkAnnotationsForSequence; a map

@@ -291,6 +291,17 @@ void fuseSequenceInto(LabelMap& map, const Sequence& sequence, const FusionOptio
 // those frames (sameCameraViews).
 [[nodiscard]] CameraViewRecord cameraViewsOf(const Sequence& sequence, size_t first = 0,
                                              size_t last = static_cast<size_t>(-1));
+// Where frame `index`'s probabilities come from when it is fused with
+// `segmenter` (which may be null): the model's file name where it runs
+// (segmenterRunsOn), "" for the frame's own; LabelMap::noteFusedEvidence
+// records it.
+[[nodiscard]] std::string evidenceSourceOf(const Sequence& sequence, size_t index,
+                                           const Segmenter* segmenter);
+// The record fusing frames [first, last) with `segmenter` makes
+// (FusedEvidence): what the projection baselines of a score of those frames
+// read, to compare with a map's.
+[[nodiscard]] FusedEvidence evidenceOf(const Sequence& sequence, size_t first, size_t last,
+                                       const Segmenter* segmenter);
 // The mean up of the sequence's cameras (meanCameraUp of lom/level_plane.hpp):
 // the stand-in for the up of a map fused from it that records no camera.
 [[nodiscard]] std::optional<Eigen::Vector3d> camerasUpOf(const Sequence& sequence);

@@ -96,6 +96,27 @@ struct FusedCandidates {
   std::optional<std::vector<int>> labels;
 };
 
+// Where the fused frames' probabilities came from, so that a score whose
+// baselines read other ones can say so: whether some frame was fused with
+// probabilities of its own (a proba image, or one made from its label
+// image), and the file names of the segmentation models the other frames
+// ran through (ascending, each once). `recorded` is false for maps written
+// before the record (data versions 1 to 3), and stays so when frames are
+// fused into them.
+struct FusedEvidence {
+  bool recorded = true;
+  bool own_probabilities = false;
+  std::vector<std::string> models;
+  [[nodiscard]] bool empty() const { return !own_probabilities && models.empty(); }
+  bool operator==(const FusedEvidence& other) const {
+    return recorded == other.recorded && own_probabilities == other.own_probabilities &&
+           models == other.models;
+  }
+  bool operator!=(const FusedEvidence& other) const { return !(*this == other); }
+};
+// "the frames' own probabilities", "segmenter m.onnx", or both joined by "and".
+[[nodiscard]] std::string describeEvidence(const FusedEvidence& evidence);
+
 struct VoxelState {
   bool known = false;       // observed at least once
   bool occupied = false;
@@ -129,6 +150,11 @@ class LabelMap {
   // (every label once a frame had none).
   void noteFusedCandidates(const std::optional<std::vector<int>>& candidates);
   [[nodiscard]] const FusedCandidates& fusedCandidates() const;
+  // Records where a fused frame's probabilities came from: the file name of
+  // the segmentation model it ran through, or "" for its own (the fusion of
+  // a sequence does, for every frame).
+  void noteFusedEvidence(const std::string& model);
+  [[nodiscard]] const FusedEvidence& fusedEvidence() const;
   // Which way is up in the map's world, as its cameras saw it: the mean of
   // their up directions, normalised, when they agree (the mean is at least
   // half a unit long); nullopt when no view was recorded (maps of data

@@ -139,6 +139,8 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   // written with the map (data version 3).
   [[nodiscard]] const FusedCandidates& fusedCandidates() const { return fused_candidates_; }
   void setFusedCandidates(const FusedCandidates& record) { fused_candidates_ = record; }
+  [[nodiscard]] const FusedEvidence& fusedEvidence() const { return fused_evidence_; }
+  void setFusedEvidence(const FusedEvidence& record) { fused_evidence_ = record; }
 
   // Whether a miss of `key` (applyMiss) adds no node: the finest-depth node
   // of `key` exists, or a node on its path is saturated free space, which a
@@ -253,6 +255,7 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   MapParameters parameters_;
   CameraViewRecord camera_views_;
   FusedCandidates fused_candidates_;
+  FusedEvidence fused_evidence_;
 
   // Registers the tree type with OctoMap's factory so AbstractOcTree::read works.
   class StaticMemberInitializer {
