@@ -36,6 +36,15 @@ std::string formatPoint(const Eigen::Vector3d& p) {
 // units or another frame (millimetres for metres) looks just like that. A
 // third names boxes far larger than the map (millimetres again), which hold
 // voxels but score about 0. Each names its first ten boxes and counts the rest.
+// Many boxes are named up to ten, then counted: a sentence, not a page.
+std::string listed(const std::vector<std::string>& names) {
+  constexpr size_t kNamed = 10;
+  std::string text;
+  for (size_t i = 0; i < std::min(names.size(), kNamed); ++i) text += (i ? ", " : "") + names[i];
+  if (names.size() > kNamed) text += " and " + std::to_string(names.size() - kNamed) + " more";
+  return text;
+}
+
 std::vector<std::string> emptyBoxWarnings(const Annotations& annotations, const LabelSet& labels,
                                           const LabelMap& map, const std::string& file) {
   std::vector<std::string> warnings;
@@ -73,14 +82,6 @@ std::vector<std::string> emptyBoxWarnings(const Annotations& annotations, const 
   const std::string span = mapped ? " (its known voxels span " + formatPoint(observed.min()) +
                                         " to " + formatPoint(observed.max()) + " m)"
                                   : std::string(" (the map is empty)");
-  // Many boxes are named up to ten, then counted: a sentence, not a page.
-  const auto listed = [](const std::vector<std::string>& names) {
-    constexpr size_t kNamed = 10;
-    std::string text;
-    for (size_t i = 0; i < std::min(names.size(), kNamed); ++i) text += (i ? ", " : "") + names[i];
-    if (names.size() > kNamed) text += " and " + std::to_string(names.size() - kNamed) + " more";
-    return text;
-  };
   std::vector<std::string> outside, empty, huge;
   bool far = false;
   const double across = mapped ? observed.diagonal().norm() : 0.0;
@@ -517,12 +518,7 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
                         sequence.labels.at(label).name + ")");
     }
     if (!nowhere.empty()) {
-      constexpr size_t kNamed = 10;
-      std::string list;
-      for (size_t i = 0; i < std::min(nowhere.size(), kNamed); ++i)
-        list += (i ? ", " : "") + nowhere[i];
-      if (nowhere.size() > kNamed)
-        list += " and " + std::to_string(nowhere.size() - kNamed) + " more";
+      const std::string list = listed(nowhere);
       const bool one = nowhere.size() == 1;
       report.warnings.push_back(
           orDefault(options.annotations_file, "(annotations)") + ": " + list + ": no voxel of " +

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <set>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -641,11 +642,18 @@ std::string evidenceSourceOf(const Sequence& sequence, size_t index, const Segme
 
 FusedEvidence evidenceOf(const Sequence& sequence, size_t first, size_t last,
                          const Segmenter* segmenter) {
-  LabelMap record(LabelSet{{LabelInfo{0, "record", {0, 0, 0}}}});
+  FusedEvidence evidence;
+  std::set<std::string> models;  // ascending, each once, as the map records them
   const size_t end = std::min(last, sequence.frames.size());
-  for (size_t i = first; i < end; ++i)
-    record.noteFusedEvidence(evidenceSourceOf(sequence, i, segmenter));
-  return record.fusedEvidence();
+  for (size_t i = first; i < end; ++i) {
+    std::string source = evidenceSourceOf(sequence, i, segmenter);
+    if (source.empty())
+      evidence.own_probabilities = true;
+    else
+      models.insert(std::move(source));
+  }
+  evidence.models.assign(models.begin(), models.end());
+  return evidence;
 }
 
 CameraViewRecord cameraViewsOf(const Sequence& sequence, size_t first, size_t last) {

@@ -331,8 +331,11 @@ TEST_F(ScoreChecks, BoxesFarLargerThanTheMapAreWarnedAbout) {
                                      "observed") != std::string::npos &&
                         warning.find("given in millimetres for metres") != std::string::npos);
   EXPECT_TRUE(warned) << ::testing::PrintToString(report.warnings);
-  for (const lom::ObjectScore& object : report.objects)
-    if (object.label == annotations.boxes[1].label) EXPECT_LT(object.iou_3d.labeloctomap, 0.01);
+  for (const lom::ObjectScore& object : report.objects) {
+    if (object.label == annotations.boxes[1].label) {
+      EXPECT_LT(object.iou_3d.labeloctomap, 0.01);
+    }
+  }
   // The scene's own boxes are not.
   const lom::EvaluationReport plain =
       lom::evaluate(*sequence_, scene_->annotations, *map_, named());
