@@ -565,6 +565,55 @@ TEST_F(BoxFilesTest, BoxesWithUnknownLabelsAreReportedByFileAndIndex) {
   EXPECT_TRUE(warnings_.front().contains("boxes[1]: label 999")) << warnings_.front().toStdString();
 }
 
+// Restoring a recovery copy of boxes whose unknown labels were just reported
+// (the file's own) says nothing new; labels the file did not have are reported.
+TEST_F(BoxFilesTest, RestoredBoxesRepeatNoWarningTheirFileAlreadyGave) {
+  Annotations annotations;
+  annotations.frame_id = "base";
+  annotations.boxes.push_back(boxOf(1, "square_box"));
+  annotations.boxes.push_back(boxOf(999, "mystery"));
+  saveAnnotations(annotations, tiny_.folder / "annotations.json");
+  ASSERT_TRUE(open(tiny_.folder));
+  GroundTruthBox moved = boxes().box(0);
+  moved.box.center.x() += 0.01;
+  boxes().setBox(0, moved, "Edit box");
+  window_.autosave().writeNow();
+  ASSERT_TRUE(QFileInfo::exists(window_.autosave().currentRecoveryPath()));
+
+  const auto reopen = [&](QStringList& seen) {
+    auto next = std::make_unique<MainWindow>();
+    next->setErrorReporter([](const QString&, const QString&) {});
+    next->setWarningReporter(
+        [&seen](const QString& title, const QString& message) { seen << title + ": " + message; });
+    next->setRecoveryOffer([](const QString&) { return true; });
+    next->setMapDiscardQuestion([](const QString&) { return true; });
+    next->session().setAutoFuse(false);
+    EXPECT_TRUE(openInto(*next, qPath(tiny_.folder)));
+    EXPECT_EQ(next->session().annotations().boxCount(), static_cast<int>(annotations.boxes.size()));
+    EXPECT_TRUE(next->session().annotations().isDirty());
+    return next;
+  };
+  {
+    QStringList seen;
+    auto next = reopen(seen);
+    EXPECT_EQ(seen.filter("Boxes with unknown labels").size(), 1) << seen.join('\n').toStdString();
+    EXPECT_EQ(seen.filter("Boxes in another frame").size(), 1) << seen.join('\n').toStdString();
+    next->session().annotations().undoStack().setClean();
+  }
+
+  // A label the file does not have, added since: the restored boxes say so.
+  boxes().addBox(boxOf(777, "stranger"));
+  window_.autosave().writeNow();
+  annotations.boxes.push_back(boxOf(777, "stranger"));
+  QStringList seen;
+  auto next = reopen(seen);
+  const QStringList unknown = seen.filter("Boxes with unknown labels");
+  ASSERT_EQ(unknown.size(), 2) << seen.join('\n').toStdString();
+  EXPECT_TRUE(unknown.back().contains("777")) << unknown.back().toStdString();
+  EXPECT_EQ(seen.filter("Boxes in another frame").size(), 1) << seen.join('\n').toStdString();
+  next->session().annotations().undoStack().setClean();
+}
+
 TEST_F(BoxFilesTest, BoxesOfAnotherFrameAreAWarningThatSaysHowTheyAreRead) {
   Annotations annotations;
   annotations.frame_id = "base";

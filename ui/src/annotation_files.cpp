@@ -11,6 +11,7 @@
 #include <QStandardPaths>
 #include <QStringList>
 #include <QTimer>
+#include <algorithm>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -39,15 +40,33 @@ QString studioDataFolder() {
   return base;
 }
 
-void reportUnknownLabels(StudioSession& session, const Annotations& boxes, const QString& file) {
+// The labels of `boxes` that score refuses: ids the sequence lacks, and 0.
+std::set<int> unscorableLabels(const Annotations& boxes, const LabelSet& labels) {
+  std::set<int> found;
+  for (const GroundTruthBox& box : boxes.boxes)
+    if (box.label == 0 || !labels.contains(box.label)) found.insert(box.label);
+  return found;
+}
+
+// `reported`: boxes whose warnings the user has just seen (the file a
+// restored recovery copy replaces); only what they did not hold is reported.
+void reportUnknownLabels(StudioSession& session, const Annotations& boxes, const QString& file,
+                         const Annotations* reported = nullptr) {
   if (!session.sequence()) return;
-  const QString message = unknownLabelsMessage(boxes, session.sequence()->labels, file);
+  const LabelSet& labels = session.sequence()->labels;
+  bool seen = false;
+  if (reported) {
+    const std::set<int> before = unscorableLabels(*reported, labels);
+    const std::set<int> now = unscorableLabels(boxes, labels);
+    seen = std::includes(before.begin(), before.end(), now.begin(), now.end());
+  }
+  const QString message = seen ? QString() : unknownLabelsMessage(boxes, labels, file);
   if (!message.isEmpty())
     emit session.controller().warningOccurred(QObject::tr("Boxes with unknown labels"), message);
   // `labeloctomap score` refuses boxes of another frame; the studio keeps them
   // for editing but says how it reads them, and what saving will write.
   const std::string& frame = session.sequence()->frame_id;
-  if (boxes.frame_id != frame)
+  if (boxes.frame_id != frame && !(reported && reported->frame_id == boxes.frame_id))
     emit session.controller().warningOccurred(
         QObject::tr("Boxes in another frame"),
         QObject::tr("%1: frame_id is \"%2\", the sequence's frame is \"%3\". The boxes are "
@@ -549,6 +568,9 @@ void BoxesAutosave::offerRecovery(const QString& path) {
   const QString saved_path = model.path();
   const QString unreadable_path = model.unreadablePath();
   const QString unreadable_error = model.unreadableError();
+  // The boxes loaded from the file (and warned about) just before this offer.
+  const Annotations loaded = model.annotations();
+  const bool loaded_from_file = !saved_path.isEmpty();
   restoring_ = true;
   try {
     // The file the boxes were to be saved to stays their save target (the
@@ -566,7 +588,7 @@ void BoxesAutosave::offerRecovery(const QString& path) {
       model.reset(restored, target);
     model.undoStack().resetClean();
     for (const auto& [file, digest] : recovered.known_files) model.setKnownFile(file, digest);
-    reportUnknownLabels(session_, restored, path);
+    reportUnknownLabels(session_, restored, path, loaded_from_file ? &loaded : nullptr);
     // A save target written after the copy was made holds newer boxes than
     // the ones restored: Save would replace them.
     if (!target.isEmpty() && QFileInfo::exists(target) && QFileInfo(target).lastModified() > copied)
