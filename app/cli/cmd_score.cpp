@@ -24,6 +24,10 @@ namespace lom::cli {
 
 namespace {
 
+// The batch summary files written into DIR beside the report folders.
+constexpr const char* kAggregateFiles[] = {"aggregate.json", "aggregate.csv", "aggregate.md",
+                                           "aggregate.svg"};
+
 namespace fs = std::filesystem;
 
 EvaluationProgressFn progressPrinter(bool enabled, const std::string& prefix) {
@@ -262,10 +266,11 @@ int runScore(const Words& words) {
     for (const auto& entry : entries) {
       // A sequence named like a summary file would have its report folder
       // where the summary goes, found only after everything else is written.
-      for (const char* name : {"aggregate.json", "aggregate.md", "aggregate.svg"})
+      for (const char* name : kAggregateFiles)
         if (entry.name == name)
           throw Error(*batch, "line " + std::to_string(entry.line),
-                      "a sequence folder not named aggregate.json, aggregate.md or aggregate.svg "
+                      "a sequence folder not named aggregate.json, aggregate.csv, aggregate.md or "
+                      "aggregate.svg "
                       "(its report folder would take the place of the batch's summary file)",
                       entry.name);
       checkOutputSubfolder(out / entry.name, "out",
@@ -274,8 +279,7 @@ int runScore(const Words& words) {
                            read);
       checkReportFolder(out / entry.name, read);
     }
-    for (const char* name : {"aggregate.json", "aggregate.md", "aggregate.svg"})
-      checkOutputInFolder(out / name, "out", read);
+    for (const char* name : kAggregateFiles) checkOutputInFolder(out / name, "out", read);
     options.fusion.segmenter = segmenterFromArgs(args);
     // Every sequence is scored before anything is written, so a failure leaves DIR as it was.
     std::vector<EvaluationReport> reports;
@@ -305,7 +309,7 @@ int runScore(const Words& words) {
     warnReportsOfOtherRuns(out, entries);
     std::cout << aggregateTable(reports) << "wrote " << reports.size()
               << (reports.size() == 1 ? " report and " : " reports and ")
-              << (out / "aggregate.{json,md,svg}").string() << "\n";
+              << (out / "aggregate.{json,csv,md,svg}").string() << "\n";
     return 0;
   }
 

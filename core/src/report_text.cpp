@@ -180,6 +180,22 @@ std::string reportCsv(const EvaluationReport& report) {
   return out.str();
 }
 
+std::string aggregateCsv(const std::vector<EvaluationReport>& reports) {
+  std::ostringstream out;
+  out << "sequence,label,name,voxels,iou3d_projection_mean,iou3d_projection_max,"
+         "iou3d_labeloctomap,box_iou_projection_mean,box_iou_projection_max,"
+         "box_iou_labeloctomap\n";
+  for (const EvaluationReport& report : reports)
+    for (const auto& o : report.objects) {
+      out << csvText(report.sequence) << "," << o.label << "," << csvText(o.name) << ","
+          << o.voxels;
+      for (double v : values(o.iou_3d)) out << "," << fraction(v);
+      for (double v : values(o.box_iou)) out << "," << fraction(v);
+      out << "\n";
+    }
+  return out.str();
+}
+
 std::string reportMarkdown(const EvaluationReport& report) {
   std::ostringstream out;
   out << "# Segmentation results: " << markdownText(report.sequence) << "\n\n"

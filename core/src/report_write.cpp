@@ -39,6 +39,7 @@ Files reportFiles(const EvaluationReport& report) {
 
 Files aggregateFiles(const std::vector<EvaluationReport>& reports) {
   return {{"aggregate.json", aggregateJson(reports)},
+          {"aggregate.csv", utf8(aggregateCsv(reports))},
           {"aggregate.md", utf8(aggregateMarkdown(reports))},
           {"aggregate.svg", utf8(aggregateSvg(reports))}};
 }

@@ -1,6 +1,7 @@
 // labeloctomap score end to end: reports, errors, --map, --iou and --batch.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
@@ -698,6 +699,11 @@ TEST_F(CliScoreTest, BatchWritesOneReportPerSequenceAndTheAggregate) {
   ASSERT_EQ(aggregate["sequences"].size(), 2u);
   EXPECT_EQ(aggregate["sequences"][0]["sequence"], "bin_a");
   EXPECT_EQ(aggregate["summary"]["objects"], 8);
+  // aggregate.csv: a row per object of both sequences, each naming its sequence.
+  const std::string csv = slurp(out / "reports" / "aggregate.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 9) << csv;
+  EXPECT_NE(csv.find("\nbin_a,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\nbin_b,"), std::string::npos) << csv;
   // The aggregate is the mean over all objects of both sequences.
   double sum = 0.0;
   for (const char* name : {"bin_a", "bin_b"}) {

@@ -79,8 +79,9 @@ TEST(ReportFiles, ABatchIsWrittenWholeOrNotAtAll) {
 
   fs::remove(out / "bin_b");
   ASSERT_NO_THROW(lom::writeBatchReports(reports, out));
-  for (const char* name : {"aggregate.json", "aggregate.md", "aggregate.svg", "bin_a/report.json",
-                           "bin_a/report.md", "bin_b/report.csv", "bin_b/report.svg"})
+  for (const char* name :
+       {"aggregate.json", "aggregate.csv", "aggregate.md", "aggregate.svg", "bin_a/report.json",
+        "bin_a/report.md", "bin_b/report.csv", "bin_b/report.svg"})
     EXPECT_TRUE(fs::is_regular_file(out / name)) << name;
 }
 

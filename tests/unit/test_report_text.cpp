@@ -2,6 +2,9 @@
 // report, whatever its name holds; the settings line counts views in words.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <sstream>
+
 #include "lom/evaluation.hpp"
 #include "lom/report.hpp"
 
@@ -79,6 +82,43 @@ TEST(ReportText, AggregateSaysWhenTheSequencesWereScoredAtOtherSettings) {
   EXPECT_NE(json.find("different resolutions"), std::string::npos) << json;
   EXPECT_NE(json.find("\"resolution\": 0.02"), std::string::npos) << json;
   EXPECT_NE(json.find("\"occupancy_threshold\": 0.7"), std::string::npos) << json;
+}
+
+// aggregate.csv: every object of every sequence on a row that names its sequence.
+TEST(ReportText, AggregateCsvHasOneRowPerObjectOfEverySequence) {
+  std::vector<lom::EvaluationReport> reports(2);
+  reports[0].sequence = "bin_a";
+  reports[1].sequence = "scene, two";
+  lom::ObjectScore cup;
+  cup.label = 3;
+  cup.name = "blue_cup";
+  cup.voxels = 120;
+  cup.iou_3d = {0.25, 0.5, 0.75};
+  cup.box_iou = {0.125, 0.375, 0.625};
+  cup.per_view = {0.1, 0.2};
+  reports[0].objects = {cup};
+  lom::ObjectScore box = cup;
+  box.label = 7;
+  box.name = "square_box";
+  box.voxels = 44;
+  box.iou_3d.labeloctomap = 0.5;
+  reports[1].objects = {cup, box};
+  const std::string csv = lom::aggregateCsv(reports);
+  const std::string header =
+      "sequence,label,name,voxels,iou3d_projection_mean,iou3d_projection_max,iou3d_labeloctomap,"
+      "box_iou_projection_mean,box_iou_projection_max,box_iou_labeloctomap\n";
+  ASSERT_EQ(csv.substr(0, header.size()), header) << csv;
+  EXPECT_NE(csv.find("\nbin_a,3,blue_cup,120,0.25"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\n\"scene, two\",3,blue_cup,120,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\n\"scene, two\",7,square_box,44,0.25"), std::string::npos) << csv;
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4) << csv;
+  // Every row has the header's ten columns (no per-view ones).
+  std::istringstream rows(csv);
+  std::string row;
+  std::getline(rows, row);
+  while (std::getline(rows, row)) {
+    EXPECT_EQ(std::count(row.begin(), row.end(), ','), row[0] == '"' ? 10 : 9) << row;
+  }
 }
 
 TEST(ReportText, TheSettingsCountOneViewInTheSingular) {

@@ -29,9 +29,13 @@ void writeReport(const EvaluationReport& report, const std::filesystem::path& di
 // A batch: the mean over all objects of all sequences, and one row per sequence.
 [[nodiscard]] std::string aggregateJson(const std::vector<EvaluationReport>& reports);
 [[nodiscard]] std::string aggregateMarkdown(const std::vector<EvaluationReport>& reports);
+// One row per object of every sequence (its sequence first), the columns of
+// report.csv without the per-view ones, which differ between sequences.
+[[nodiscard]] std::string aggregateCsv(const std::vector<EvaluationReport>& reports);
 [[nodiscard]] std::string aggregateTable(const std::vector<EvaluationReport>& reports);
 [[nodiscard]] std::string aggregateSvg(const std::vector<EvaluationReport>& reports);
-// Writes aggregate.json, aggregate.md and aggregate.svg into `dir`, each atomically.
+// Writes aggregate.json, aggregate.csv, aggregate.md and aggregate.svg into `dir`, each
+// atomically.
 void writeAggregate(const std::vector<EvaluationReport>& reports, const std::filesystem::path& dir);
 // A batch's files: the aggregate into `dir` and each report into
 // `dir`/<sequence>/, all rendered first and put in place together, so that a
