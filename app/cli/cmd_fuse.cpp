@@ -376,6 +376,21 @@ int runFuse(const Words& words) {
                    "each of their observations twice, which makes the map surer than the data "
                    "are; fuse other frames into it, or leave out --start-from (cameras that only "
                    "moved, never turned, look alike: then ignore this)\n";
+    // Probabilities of another source (a segmenter where the map has the
+    // frames' own, or another model) make a map of both, recorded as both.
+    const FusedEvidence& before = earlier->fusedEvidence();
+    const FusedEvidence now =
+        evidenceOf(sequence, options.first_frame, options.last_frame, options.segmenter.get());
+    bool widens = now.own_probabilities && !before.own_probabilities;
+    for (const std::string& model : now.models)
+      widens = widens ||
+               std::find(before.models.begin(), before.models.end(), model) == before.models.end();
+    if (before.recorded && !before.empty() && widens)
+      std::cerr << "warning: " << *start_from << " was fused from other probabilities ("
+                << describeEvidence(before) << ") than these frames give (" << describeEvidence(now)
+                << "): the map mixes both, and records both (labeloctomap info shows it); a "
+                   "score --map of it warns when its projection baselines read other "
+                   "probabilities\n";
   }
   // Before the jumps: a camera outside the map is the wrong pose, not its neighbours.
   checkCamerasInsideMap(sequence, options.map.resolution, options.first_frame, options.last_frame);

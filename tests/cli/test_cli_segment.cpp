@@ -183,6 +183,33 @@ TEST_F(CliSegmentTest, ErrorsAreClearAndLeaveTheSequenceAlone) {
   EXPECT_NE(r.err.find("a sequence without colour images"), std::string::npos) << r.err;
 }
 
+// --start-from a map fused from other probabilities: the map mixes both, and
+// its record widens to both; fuse says so. The same source says nothing.
+TEST_F(CliSegmentTest, FusingAnotherSegmentersFramesIntoAMapIsAWarning) {
+  const std::string first = "fuse " + quoted(dir_ / "seq") + " --frames 0:1 --out " +
+                            quoted(dir_ / "first.ot") +
+                            " --resolution 0.05 --max-range 5 --segmenter " + quoted(model_);
+  ASSERT_EQ(runCli(first).exit_code, 0);
+  const std::string more = "fuse " + quoted(dir_ / "seq") + " --frames 1:2 --start-from " +
+                           quoted(dir_ / "first.ot") + " --out " + quoted(dir_ / "more.ot") +
+                           " --segmenter ";
+  const auto same = runCli(more + quoted(model_));
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_EQ(same.err.find("other probabilities"), std::string::npos) << same.err;
+
+  std::filesystem::copy_file(model_, dir_ / "other.onnx");
+  const auto other = runCli(more + quoted(dir_ / "other.onnx"));
+  ASSERT_EQ(other.exit_code, 0) << other.err;
+  EXPECT_NE(other.err.find("warning: " + (dir_ / "first.ot").string() +
+                           " was fused from other probabilities (segmenter colour.onnx) than "
+                           "these frames give (segmenter other.onnx)"),
+            std::string::npos)
+      << other.err;
+  const auto info = runCli("info " + quoted(dir_ / "more.ot"));
+  EXPECT_NE(info.out.find("colour.onnx"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("other.onnx"), std::string::npos) << info.out;
+}
+
 // A model that ends with a Softmax gives probabilities: without MODEL.json
 // they are used as they are (a second softmax over 40 labels would leave every
 // label about 1/40 and the map empty); declared "scores", fuse warns about the
