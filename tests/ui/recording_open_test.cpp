@@ -207,6 +207,13 @@ TEST_F(RecordingOpenTest, ARecordingOpenedAgainKeepsTheLabelsItWasConvertedWith)
   ASSERT_TRUE(controller().openSequence(qPath(tiny_.folder)));
   ASSERT_TRUE(controller().openSequence(qPath(frames)));
   EXPECT_EQ(controller().sequence().labels, *other.labels);  // the last conversion's
+
+  // The same recording reached through a symbolic link is the same recording.
+  const fs::path link = temp_ / "linked_room";
+  fs::create_directory_symlink(frames, link);
+  ASSERT_TRUE(controller().openSequence(qPath(tiny_.folder)));
+  ASSERT_TRUE(controller().openSequence(qPath(link))) << errors_.join('\n').toStdString();
+  EXPECT_EQ(controller().sequence().labels, *other.labels);
   EXPECT_TRUE(errors_.isEmpty()) << errors_.join('\n').toStdString();
 }
 

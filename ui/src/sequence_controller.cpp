@@ -28,15 +28,20 @@ std::filesystem::path toPath(const QString& path) {
 }
 
 // The labels and camera a recording was last converted with (--labels,
-// --intrinsics), by its absolute path: opened again without them, its boxes
+// --intrinsics), by its canonical path: opened again without them, its boxes
 // would name labels the conversion does not have.
 const char* const kConversionKey = "conversionOptions";
 
-QString conversionKeyOf(const QString& recording) {
-  QFileInfo info(recording);
+// The recording's path however it is reached (symbolic links resolved).
+QString conversionPathOf(const QString& recording) {
+  const QFileInfo info(recording);
   const QString canonical = info.canonicalFilePath();
+  return canonical.isEmpty() ? info.absoluteFilePath() : canonical;
+}
+
+QString conversionKeyOf(const QString& recording) {
   // QSettings keys treat '/' and '\\' as group separators: the path is hashed.
-  const QByteArray path = (canonical.isEmpty() ? info.absoluteFilePath() : canonical).toUtf8();
+  const QByteArray path = conversionPathOf(recording).toUtf8();
   return QString(kConversionKey) + "/" + QString::number(qHash(path), 16) + "-" +
          QString::number(path.size());
 }
@@ -46,7 +51,7 @@ void rememberConversion(const QString& recording, const ImportOptions& options) 
   const QString key = conversionKeyOf(recording);
   settings.remove(key);
   if (!options.labels && !options.intrinsics) return;
-  settings.setValue(key + "/path", QFileInfo(recording).absoluteFilePath());
+  settings.setValue(key + "/path", conversionPathOf(recording));
   if (options.labels) {
     QVariantList labels;
     for (const LabelInfo& label : options.labels->all())
@@ -65,7 +70,7 @@ QStringList recallConversion(const QString& recording, ImportOptions& options) {
   const QSettings settings;
   const QString key = conversionKeyOf(recording);
   QStringList taken;
-  if (settings.value(key + "/path").toString() != QFileInfo(recording).absoluteFilePath())
+  if (settings.value(key + "/path").toString() != conversionPathOf(recording))
     return taken;  // another recording's (a hash collision) or none
   if (!options.labels) {
     std::vector<LabelInfo> labels;
