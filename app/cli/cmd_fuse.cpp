@@ -396,8 +396,9 @@ int runFuse(const Words& words) {
   checkCamerasInsideMap(sequence, options.map.resolution, options.first_frame, options.last_frame);
   for (const auto& jump : cameraJumps(sequence, 10.0, options.first_frame, options.last_frame))
     std::cerr << "warning: " << jump << ": the map will span that distance\n";
-  for (const auto& camera :
-       implausibleIntrinsics(sequence, options.first_frame, options.last_frame))
+  const std::vector<std::string> camera_warnings =
+      implausibleIntrinsics(sequence, options.first_frame, options.last_frame);
+  for (const auto& camera : camera_warnings)
     std::cerr << "warning: " << (sequence.root / "sequence.json").string() << ": " << camera << "\n";
 
   const bool show_progress = !args.flag("quiet") && ::isatty(STDERR_FILENO);
@@ -436,7 +437,13 @@ int runFuse(const Words& words) {
           maxRangeMessage(totals, options.map.max_range, options.map.resolution,
                           (sequence.root / "sequence.json").string(), start_from.has_value());
       range.warning || (!args.flag("quiet") && !range.text.empty()))
-    std::fprintf(stderr, "%s: %s\n", range.warning ? "warning" : "note", range.text.c_str());
+    // Rays of wrong intrinsics fan out too wide and run long: the range is
+    // not what to change first.
+    std::fprintf(stderr, "%s: %s%s\n", range.warning ? "warning" : "note", range.text.c_str(),
+                 camera_warnings.empty()
+                     ? ""
+                     : " (but the camera's intrinsics look wrong, warned above: correct them "
+                       "before changing --max-range)");
   if (const std::string warning =
           outsideMapWarning((sequence.root / "sequence.json").string(), totals, frames_outside_map,
                             options.map.resolution, start_from.has_value());

@@ -311,8 +311,12 @@ int runImport(const Words& words) {
   std::cout << report.text();
   std::cout << "wrote " << out << "/sequence.json\n";
   // Intrinsics no depth camera has (given in millimetres, or for another image size).
-  for (const auto& camera : implausibleIntrinsics(loadSequence(out)))
+  const Sequence written = loadSequence(out);
+  for (const auto& camera : implausibleIntrinsics(written))
     std::cerr << "warning: " << out << "/sequence.json: " << camera << "\n";
+  // A --depth-scale (or a recording's own) that no depth camera measures.
+  if (const std::string depth = sampledDepthWarning(written); !depth.empty())
+    std::cerr << "warning: " << depth << "\n";
   return 0;
 }
 

@@ -144,6 +144,14 @@ std::string depthRange(const DepthFigures& figures) {
 // while reading every frame is validate's work (seconds for a long recording).
 // Returns the warning about implausible depths ("" when plausible).
 std::string printSampledDepths(const Sequence& sequence, std::ostream& out) {
+  return sampledDepthWarning(sequence, &out);
+}
+
+}  // namespace
+
+std::string sampledDepthWarning(const Sequence& sequence, std::ostream* out_or_null) {
+  std::ostringstream discarded;
+  std::ostream& out = out_or_null ? *out_or_null : discarded;
   const size_t count = sequence.frames.size();
   std::vector<size_t> sampled;
   for (const size_t i : {size_t{0}, count / 2, count - 1})
@@ -180,6 +188,8 @@ std::string printSampledDepths(const Sequence& sequence, std::ostream& out) {
   out << "\n";
   return implausibleDepthWarning(sequence, read, figures, true);
 }
+
+namespace {
 
 // Returns the warnings, for stderr (stdout stays the summary).
 std::vector<std::string> printInfo(const Sequence& sequence, std::ostream& out) {

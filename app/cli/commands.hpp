@@ -32,6 +32,11 @@ const char* importHelp();             // cmd_import.cpp: every option of import
 int runPlan(const Words& words);      // cmd_plan.cpp
 int runSegment(const Words& words);   // cmd_segment.cpp
 
+// The warning about implausible depths (a wrong depth_scale) of the first,
+// middle and last frames of `sequence` (cmd_info.cpp), "" when plausible or
+// unreadable; `out`, when given, receives info's "depth (sampled):" line.
+std::string sampledDepthWarning(const Sequence& sequence, std::ostream* out = nullptr);
+
 // --resolution --max-range --p-miss --threshold --candidates --frames (cmd_fuse.cpp); throws
 // UsageError for values out of range. The segmenter (--segmenter) is left to the caller.
 FusionOptions fusionOptionsFromArgs(const Args& args);

@@ -48,7 +48,25 @@ std::optional<std::string> implausibleCamera(const std::string& field, const Cam
   const double across = fieldOfView(camera.width, camera.fx, camera.cx);
   const double down = fieldOfView(camera.height, camera.fy, camera.cy);
   const auto plausible = [](double degrees) { return degrees <= kMaxPlausibleFieldOfView; };
-  if (plausible(across) && plausible(down)) return std::nullopt;
+  if (plausible(across) && plausible(down)) {
+    // A camera matrix of smaller (or larger) images: its principal point lies
+    // far from the centre of these, though the field of view may look fine.
+    const double at_x = camera.cx / camera.width;
+    const double at_y = camera.cy / camera.height;
+    const auto centred = [](double at) {
+      return at >= kMinPrincipalPointFraction && at <= 1.0 - kMinPrincipalPointFraction;
+    };
+    if (centred(at_x) && centred(at_y)) return std::nullopt;
+    char text[500];
+    std::snprintf(text, sizeof(text),
+                  "%s: the principal point cx = %.6g, cy = %.6g lies at %.0f %% and %.0f %% of "
+                  "the %d x %d pixels' width and height; a camera's lies near the centre (are "
+                  "these the intrinsics of %.0f x %.0f pixel images? scale fx, fy, cx and cy by "
+                  "the ratio of the sizes)",
+                  field.c_str(), camera.cx, camera.cy, 100.0 * at_x, 100.0 * at_y, camera.width,
+                  camera.height, 2.0 * camera.cx, 2.0 * camera.cy);
+    return std::string(text);
+  }
   char text[400];
   std::snprintf(text, sizeof(text),
                 "%s: fx = %.6g, fy = %.6g, cx = %.6g, cy = %.6g give a field of view of %.1f x "

@@ -2,6 +2,9 @@
 // cam.info.txt, bit-rotated depth, ground-truth segm/ and the segmenter's masks/.
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <string>
+#include <vector>
 
 #include "import_internal.hpp"
 
@@ -108,6 +111,10 @@ void importApcShelf(const fs::path& source, const ImportOptions& options, Sequen
                 std::to_string(depth_files.size()) + " depth images (frame-N uses pose N)");
 
   writer.setFound(depth_files.size());
+  // Which frames lack which object's mask (a segmenter's gap or a broken
+  // export): named at the end, a few each.
+  std::map<int, std::vector<std::string>> without_mask;  // object id -> frames
+  std::vector<std::string> one_hot;                      // frames with segm only
 
   const auto selected = selectFrames(depth_files.size(), options);
   writer.setTotal(selected.size());
@@ -160,6 +167,7 @@ void importApcShelf(const fs::path& source, const ImportOptions& options, Sequen
         const fs::path mask = source / "masks" / (stem + "." + labels.at(id).name + ".mask.png");
         if (!isFile(mask)) {
           masks.emplace_back();
+          without_mask[id].push_back(name);
           continue;
         }
         DepthImage values = readRaw16(mask);
@@ -181,8 +189,6 @@ void importApcShelf(const fs::path& source, const ImportOptions& options, Sequen
                               std::to_string(width) + " x " + std::to_string(height));
             }
           }
-        if (found < object_ids.size())
-          writer.note("objects without a mask in a frame get probability 0 there");
         ProbabilityImage proba;
         proba.width = width;
         proba.height = height;
@@ -205,7 +211,7 @@ void importApcShelf(const fs::path& source, const ImportOptions& options, Sequen
         }
         frame.proba = std::move(proba);
       } else if (frame.label) {
-        writer.note("frames without masks: their segm labels became one-hot probabilities");
+        one_hot.push_back(name);
       } else {
         throw Error((source / "masks").string(), name,
                     "masks/" + stem + ".<object>.mask.png or segm/" + stem + ".segm.png",
@@ -220,6 +226,30 @@ void importApcShelf(const fs::path& source, const ImportOptions& options, Sequen
     }
     if (!writer.add(std::move(frame))) return;
   }
+  const auto listed = [](const std::vector<std::string>& frames) {
+    constexpr size_t kListed = 5;
+    std::string text;
+    for (size_t i = 0; i < std::min(frames.size(), kListed); ++i)
+      text += (i ? ", " : "") + frames[i];
+    if (frames.size() > kListed)
+      text += " and " + std::to_string(frames.size() - kListed) + " more";
+    return text;
+  };
+  // A frame without any mask has none of these: its segm labels stand in.
+  for (auto& [id, frames] : without_mask) {
+    frames.erase(std::remove_if(frames.begin(), frames.end(),
+                                [&](const std::string& frame) {
+                                  return std::find(one_hot.begin(), one_hot.end(), frame) !=
+                                         one_hot.end();
+                                }),
+                 frames.end());
+    if (!frames.empty())
+      writer.note("no mask of " + labels.at(id).name + " in " + listed(frames) +
+                  ": it gets probability 0 there");
+  }
+  if (!one_hot.empty())
+    writer.note("no masks at all in " + listed(one_hot) +
+                ": their segm labels became one-hot probabilities");
 }
 
 }  // namespace lom::import_detail

@@ -793,6 +793,14 @@ class PoseLookup {
                     "': is a tf link between them missing from the bag? (a camera that truly "
                     "stands still can ignore this)");
       }
+    } else {
+      // Only /tf_static: no link moves, so neither does the camera.
+      writer.note(
+          "warning: the bag has no /tf messages, only /tf_static, so every frame gets "
+          "the same pose of '" +
+          camera_frame_ + "' in '" + fixed_frame_ +
+          "': was /tf left out of the recording? (a camera that truly stands still "
+          "can ignore this)");
     }
     findMovingLinks(contents, parent_of);
     if (lower(camera_frame_).find("optical") == std::string::npos)
@@ -982,6 +990,26 @@ void noteStampProblems(const ChosenTopics& chosen, PoseLookup& poses, const Impo
   if (from_bag)
     writer.note(std::to_string(from_bag) +
                 " depth images have a zero header stamp: the bag's record time is used");
+  // Two depth images at one stamp (sorted by it) get one pose: one of them
+  // is stamped wrong (a driver that restamps, a bag merged from two).
+  const auto same_stamp = [&](size_t a, size_t b) {
+    return depth_entries[a].nanoseconds == depth_entries[b].nanoseconds &&
+           !depth_entries[a].stamp_from_bag && !depth_entries[b].stamp_from_bag;
+  };
+  size_t shared = 0;  // images that share their stamp with another
+  std::string first_shared;
+  for (size_t i = 0; i < depth_entries.size(); ++i) {
+    const bool with_previous = i > 0 && same_stamp(i - 1, i);
+    const bool with_next = i + 1 < depth_entries.size() && same_stamp(i, i + 1);
+    if (!with_previous && !with_next) continue;
+    if (shared++ == 0) first_shared = stampText(depth_entries[i].stamp);
+  }
+  if (shared)
+    writer.note("warning: " + std::to_string(shared) +
+                " depth images share their header stamp with another (the first at " +
+                first_shared +
+                "): such images get the same pose, so at most one of them is placed right (is "
+                "the recording's driver restamping, or are two recordings merged?)");
   const double image_begin = depth_entries.front().stamp + options.time_offset;
   const double image_end = depth_entries.back().stamp + options.time_offset;
   if (poses.hasDynamic() && (image_end < poses.begin() - tol || image_begin > poses.end() + tol)) {

@@ -74,6 +74,22 @@ TEST(CliImport, FramesFolderToAValidSequence) {
                                       quoted(dir / "seq") + " --overwrite --every 2");
   EXPECT_EQ(overwrite.exit_code, 0) << overwrite.err;
   EXPECT_EQ(loadSequence(dir / "seq").frames.size(), 1u);
+  EXPECT_EQ(overwrite.err.find("warning"), std::string::npos) << overwrite.err;
+
+  // A depth scale no depth camera measures: the import says so, as info does.
+  const auto metres = test::runCli("import auto " + quoted(dir / "frames") + " --out " +
+                                   quoted(dir / "seq") + " --overwrite --depth-scale 1");
+  EXPECT_EQ(metres.exit_code, 0) << metres.err;
+  EXPECT_NE(metres.err.find("warning: "), std::string::npos) << metres.err;
+  EXPECT_NE(metres.err.find("depth_scale"), std::string::npos) << metres.err;
+  // Intrinsics of images of another size: the principal point is far off the centre.
+  const auto camera = test::runCli("import auto " + quoted(dir / "frames") + " --out " +
+                                   quoted(dir / "seq") + " --overwrite --intrinsics 20,20,2,1.5");
+  EXPECT_EQ(camera.exit_code, 0) << camera.err;
+  EXPECT_NE(camera.err.find("sequence.json: camera: the principal point cx = 2, cy = 1.5 lies at "
+                            "12 % and 12 % of the 16 x 12 pixels'"),
+            std::string::npos)
+      << camera.err;
 }
 
 // --overwrite that fails at its very end (the new sequence.json does not

@@ -20,6 +20,8 @@ void writeSequence(const fs::path& root) {
       {{0, "__background__", {0, 0, 0}}, {1, "mug", {128, 0, 0}}, {2, "book", {0, 128, 0}}});
   sequence.camera.width = kWidth;
   sequence.camera.height = kHeight;
+  sequence.camera.cx = 0.5 * (kWidth - 1);  // a real camera's focal lengths, centred
+  sequence.camera.cy = 0.5 * (kHeight - 1);
   for (int i = 0; i < 3; ++i) {
     const std::string stem = "frames/" + std::to_string(i);
     lom::FrameRecord frame;

@@ -112,5 +112,31 @@ TEST(MaxRangeRealData, FuseWarnsWhenMostDepthsAreBeyondMaxRange) {
   EXPECT_EQ(whole.err.find("warning"), std::string::npos) << whole.err;
 }
 
+// The camera matrix of quarter-size images: its rays fan out too wide and run
+// long, and the depths seem beyond max range; fuse warns about the camera and
+// says that the range is not what to change.
+TEST(MaxRangeRealData, WrongIntrinsicsComeBeforeTheMaxRangeAdvice) {
+  LOM_REQUIRE_SHARED_DATA("kinect-room-5");
+  if (!fs::exists(LOM_CLI_PATH)) GTEST_SKIP() << "the program " << LOM_CLI_PATH << " is not built";
+  test::TempDir dir;
+  ImportOptions options;
+  options.intrinsics = parseIntrinsics("129.5,129.75,81.4,63.4");  // 518,519,325.5,253.5 / 4
+  (void)importSource(SourceKind::Quaternion, test::sharedDataDir() / "kinect-room-5", dir / "seq",
+                     options);
+  const ProgramRun run =
+      runProgram("fuse '" + (dir / "seq").string() + "' --resolution 0.05 --frames 0:1 --out '" +
+                     (dir / "quarter.ot").string() + "'",
+                 dir);
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.err.find("camera: the principal point cx = 81.4, cy = 63.4 lies at 13 % and 13 %"),
+            std::string::npos)
+      << run.err;
+  EXPECT_NE(run.err.find("beyond the max range"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("(but the camera's intrinsics look wrong, warned above: correct them "
+                         "before changing --max-range)"),
+            std::string::npos)
+      << run.err;
+}
+
 }  // namespace
 }  // namespace lom

@@ -161,8 +161,12 @@ TEST(ImportApcShelf, RoundTrip) {
   const FrameData second = loadFrame(sequence, 1);
   EXPECT_NEAR(second.proba->pixel(kW - 2, 5)[2], 0.0f, 1e-6);
   EXPECT_NEAR(second.proba->pixel(kW - 2, 5)[0], 0.8f, 1e-3);
+  // The note names the object and the frame.
   bool noted = false;
-  for (const auto& n : report.notes) noted |= n.find("without a mask") != std::string::npos;
+  for (const auto& n : report.notes)
+    noted |= n ==
+             "no mask of expo_dry_erase_board_eraser in frame-000001: it gets probability 0 "
+             "there";
   EXPECT_TRUE(noted) << report.text();
 }
 
@@ -188,6 +192,12 @@ TEST(ImportApcShelf, OnlyFramesWithoutMasksAreMarkedProbaFromLabel) {
   const Sequence sequence = loadSequence(dir / "seq");
   EXPECT_FALSE(sequence.frames[0].proba_from_label) << "the segmenter's masks";
   EXPECT_TRUE(sequence.frames[1].proba_from_label) << "one-hot from segm";
+  bool noted = false;
+  for (const auto& n : report.notes)
+    noted |= n == "no masks at all in frame-000001: their segm labels became one-hot probabilities";
+  EXPECT_TRUE(noted) << report.text();
+  for (const auto& n : report.notes)
+    EXPECT_EQ(n.find("no mask of"), std::string::npos) << "frame 1 has no masks at all: " << n;
   for (const auto& frame : sequence.frames)
     EXPECT_FALSE(frame.stamp.has_value()) << "frame numbers are not times";
 }

@@ -166,6 +166,8 @@ struct BagSpec {
   double static_quaternion_scale = 1.0;
   bool tf_repeated = false;  // the first /tf message written twice (tf2 refuses the second)
   std::uint32_t chunk_threshold = 0;  // bytes of a chunk; 0: the library's (768 KiB)
+  bool no_dynamic_tf = false;         // /tf_static only: /tf left out of the recording
+  int restamped_frame = -1;           // this frame's depth header has the frame before's stamp
 };
 
 // `t` with its quaternion multiplied by `scale`.
@@ -197,7 +199,7 @@ void writeBag(const fs::path& path, const BagSpec& spec) {
   // Header stamps may run on another scale than the record times (a bag
   // replayed faster, or written without record times).
   const auto header = [&](double t) { return 10.0 + spec.stamp_scale * (t - 10.0); };
-  for (int k = -1; k <= 6; ++k) {
+  for (int k = -1; k <= (spec.no_dynamic_tf ? -2 : 6); ++k) {
     const double t = 10.0 + 0.05 * k;
     tf2_msgs::TFMessage tf;
     tf.transforms.push_back(scaledRotation(
@@ -217,7 +219,7 @@ void writeBag(const fs::path& path, const BagSpec& spec) {
     const double t = 10.0 + 0.1 * f + spec.image_clock_offset;
     const ros::Time stamp(t);
     sensor_msgs::Image depth;
-    depth.header.stamp = ros::Time(header(t));
+    depth.header.stamp = ros::Time(header(f == spec.restamped_frame ? t - 0.1 : t));
     depth.header.frame_id = kOptical;
     depth.width = kW;
     depth.height = kH;
@@ -520,6 +522,34 @@ TEST(ImportRosbag, ACameraChainOfStaticTransformsOnlyIsAWarning) {
   const ImportReport moving = importBag(other, BagSpec{});
   EXPECT_FALSE(anyNote(moving, "is static")) << moving.text();
   EXPECT_TRUE(moving.warnings().empty()) << moving.text();
+}
+
+// A bag recorded without /tf (only /tf_static): every frame gets one pose;
+// said, as for a chain of static links.
+TEST(ImportRosbag, ABagWithoutTfIsAWarning) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.no_dynamic_tf = true;
+  const ImportReport report = importBag(dir, spec);
+  EXPECT_TRUE(anyNote(report,
+                      "warning: the bag has no /tf messages, only /tf_static, so every "
+                      "frame gets the same pose of '" +
+                          std::string(kOptical) + "' in 'base_link'"))
+      << report.text();
+}
+
+// Two depth images with one header stamp get one pose: said, with the stamp.
+TEST(ImportRosbag, DepthImagesSharingAStampAreAWarning) {
+  test::TempDir dir;
+  BagSpec spec;
+  spec.restamped_frame = 2;
+  const ImportReport report = importBag(dir, spec);
+  EXPECT_TRUE(anyNote(report,
+                      "warning: 2 depth images share their header stamp with another "
+                      "(the first at "))
+      << report.text();
+  test::TempDir other;
+  EXPECT_FALSE(anyNote(importBag(other, BagSpec{}), "share their header stamp"));
 }
 
 // Opened in the studio, such a bag is a smeared map: the warning comes with

@@ -230,6 +230,30 @@ TEST(ImplausibleIntrinsics, NameCamerasNoDepthCameraHas) {
   // Narrow views are not flagged (small images with a real camera's focal lengths).
   sequence.camera.fx = sequence.camera.fy = 1e6;
   EXPECT_TRUE(lom::implausibleIntrinsics(sequence).empty());
+  // The camera matrix of quarter-size images: a plausible field of view, but
+  // the principal point far from the centre of these.
+  sequence.camera = lom::CameraIntrinsics();
+  sequence.camera.fx = sequence.camera.fy = 153.8;
+  sequence.camera.cx = 74.6;
+  sequence.camera.cy = 61.9;
+  warnings = lom::implausibleIntrinsics(sequence);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0],
+            "camera: the principal point cx = 74.6, cy = 61.9 lies at 12 % and 13 % of the 640 x "
+            "480 pixels' width and height; a camera's lies near the centre (are these the "
+            "intrinsics of 149 x 124 pixel images? scale fx, fy, cx and cy by the ratio of the "
+            "sizes)");
+  // Half-size images' (a field of view of 92 degrees): off-centre on both axes.
+  sequence.camera.fx = sequence.camera.fy = 307.6;
+  sequence.camera.cx = 149.2;
+  sequence.camera.cy = 123.8;
+  EXPECT_EQ(lom::implausibleIntrinsics(sequence).size(), 1u);
+  // One axis is enough; a point a little off the centre is a real camera's.
+  sequence.camera.cx = 298.4;
+  sequence.camera.cy = 61.9;
+  EXPECT_EQ(lom::implausibleIntrinsics(sequence).size(), 1u);
+  sequence.camera.cy = 247.5;
+  EXPECT_TRUE(lom::implausibleIntrinsics(sequence).empty());
   // 150 degrees is the widest taken.
   sequence.camera = lom::CameraIntrinsics();
   sequence.camera.cx = 320.0;

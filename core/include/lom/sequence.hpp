@@ -157,7 +157,12 @@ inline constexpr double kMaxPlausibleMedianDepth = 20.0;
 // field of view of 179.4 x 179.1 degrees at 640 x 480 pixels; ...". A warning:
 // the values are valid numbers, and a lens may be unusual. Only the cameras of
 // frames [first_frame, last_frame) count (those a fusion of them uses).
+// A principal point outside the middle half of the image on either axis
+// (cx < 0.25 width, ...) is named too: the camera matrix of images of
+// another size ("camera: the principal point cx = 74.6, cy = 61.9 lies at
+// 12 % and 13 % of the 640 x 480 pixels' ...").
 inline constexpr double kMaxPlausibleFieldOfView = 150.0;
+inline constexpr double kMinPrincipalPointFraction = 0.25;
 [[nodiscard]] std::vector<std::string> implausibleIntrinsics(
     const Sequence& sequence, size_t first_frame = 0,
     size_t last_frame = std::numeric_limits<size_t>::max());
