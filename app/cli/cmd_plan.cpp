@@ -77,8 +77,9 @@ std::string boxesOnWorldZNote(const LabelMap& map, const std::string& map_file, 
 
 int runPlan(const Words& words) {
   const Args args(words, {"all-clusters", "transitive"});
-  args.expectOnly({"target", "approach", "sequence", "out", "empty-bin", "all-clusters", "candidates",
-                   "cluster-tolerance", "min-cluster-voxels", "overlap-margin", "transitive", "gap"},
+  args.expectOnly({"target", "approach", "sequence", "out", "empty-bin", "all-clusters",
+                   "candidates", "cluster-tolerance", "min-cluster-voxels", "overlap-margin",
+                   "transitive", "gap", "threshold"},
                   1);
   const fs::path map_path = args.positional(0, "MAP.ot (a fused map)");
   const std::string target_text = args.required("target");
@@ -130,7 +131,14 @@ int runPlan(const Words& words) {
     options.objects.cameras_up = camerasUpOf(*sequence);  // for a map that records none
   }
 
-  const LabelMap map = LabelMap::load(map_path);
+  LabelMap map = LabelMap::load(map_path);
+  // --threshold: the map read as `fuse --threshold` or the studio's Threshold
+  // would read it (a plan the studio saved names its threshold).
+  if (args.option("threshold")) {
+    const double threshold = args.number("threshold", map.parameters().occupancy_threshold);
+    checkOccupancyThreshold(threshold, map.parameters(), map_path.string());
+    map.setOccupancyThreshold(threshold);
+  }
   // The approach comes from the sequence's cameras: only meaningful when the
   // map was fused from them (in the same world frame).
   if (sequence)

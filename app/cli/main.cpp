@@ -59,7 +59,7 @@ const Command kCommands[] = {
      "                                all options: labeloctomap import --help)"},
     {"plan", lom::cli::runPlan,
      "plan MAP.ot --target LABEL [--approach x,y,z | --sequence SEQ] [--empty-bin c,c,c,d,d,d]\n"
-     "     [--out plan.json]          (all options: docs/planning.md)\n"
+     "     [--threshold T] [--out plan.json] (all options: docs/planning.md)\n"
      "                                which objects to remove before picking the target"},
     {"segment", lom::cli::runSegment,
      "segment SEQ --segmenter MODEL.onnx [--all] [--dtype float32|float16|uint8] [--out-dir DIR]\n"

@@ -54,6 +54,10 @@ class alignas(64) BrickSet {  // own cache lines: each thread marks its own
     for (size_t i = 0; i < count; ++i) markWalk(walks[i]);
   }
   [[nodiscard]] size_t brickCount() const { return keys_.size(); }
+  // The memory kept for reuse, in bytes.
+  [[nodiscard]] size_t memoryBytes() const {
+    return index_.memoryBytes() + (words_.capacity() + keys_.capacity()) * sizeof(std::uint64_t);
+  }
   // The voxels marked (one per voxel however many rays crossed it).
   [[nodiscard]] size_t markedCount() const {
     size_t marked = 0;

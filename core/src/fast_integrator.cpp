@@ -319,7 +319,25 @@ struct FastScratch {
   std::vector<BrickSet> marks;
   std::vector<float> hit_values;
   std::vector<VoxelUpdate> hits, misses, updates, spare;
+
+  // What the frame-to-frame memory would keep: the streams and the marks,
+  // which grow with the voxels a frame crosses (the pixel groups are bounded
+  // by the image).
+  [[nodiscard]] size_t memoryBytes() const {
+    size_t bytes = hit_values.capacity() * sizeof(float);
+    for (const auto* stream : {&hits, &misses, &updates, &spare})
+      bytes += stream->capacity() * sizeof(VoxelUpdate);
+    for (const BrickSet& set : marks) bytes += set.memoryBytes();
+    return bytes;
+  }
 };
+
+// Beyond this, a frame's working memory is given back when the frame ends
+// rather than kept for the next: a frame of a fine room-scale map crosses
+// tens of millions of voxels, and the thread that fused it (the studio's
+// worker lives for the whole session) would hold gigabytes long after the
+// map is gone. Frames of a bin at 1 cm keep a few MiB.
+constexpr size_t kScratchKeptBytes = size_t{256} << 20;
 
 // Log-odds of each 8-bit code, the same for every frame.
 struct CodeTables {
@@ -424,6 +442,12 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   const size_t stride = coded_kernel ? kCodedStride : static_cast<size_t>(width);
   const bool count_in_kernel = coded_kernel && kernelCountsPixels(width);
   thread_local FastScratch scratch;
+  struct ReleaseLarge {
+    FastScratch& scratch;
+    ~ReleaseLarge() {
+      if (scratch.memoryBytes() > kScratchKeptBytes) scratch = FastScratch();
+    }
+  } release_large{scratch};
   std::vector<PixelGroups>& parts = scratch.parts;
   parts.resize(static_cast<size_t>(threads));
   std::vector<BrickSet>& marks = scratch.marks;

@@ -24,6 +24,9 @@ class FlatIndex {
     size_ = 0;
   }
 
+  // The table's memory, in bytes.
+  [[nodiscard]] size_t memoryBytes() const { return entries_.capacity() * sizeof(Entry); }
+
   // Empties the table, keeping its capacity (for reuse from frame to frame).
   void clear() {
     std::fill(entries_.begin(), entries_.end(), Entry{});

@@ -435,7 +435,10 @@ PickPlan planPick(const LabelMap& map, int target_label, const PlanOptions& opti
     approach = has_target ? approachFromFreeSpace(map, objects, file) : Eigen::Vector3d::UnitX();
     effective.approach_source = ApproachSource::FreeSpace;
   }
-  return planPick(objects, map.labels(), target_label, approach, effective, map.parameters().resolution);
+  PickPlan plan = planPick(objects, map.labels(), target_label, approach, effective,
+                           map.parameters().resolution);
+  plan.occupancy_threshold = map.parameters().occupancy_threshold;
+  return plan;
 }
 
 }  // namespace lom

@@ -109,26 +109,31 @@ std::string planJson(const PickPlan& plan, const std::string& map_file) {
                          {"placement", placementJson(step.placement)}});
   }
   const PlanOptions& options = plan.options;
-  Json root{
-      {"format", kPlanFormat},
-      {"version", kPlanVersion},
-      {"map", map_file},
-      {"resolution", plan.resolution},
-      {"target", Json{{"label", plan.target_label}, {"name", plan.target_name},
-                      {"object", plan.objects[plan.target].id()}}},
-      {"approach", Json{{"direction", vec(plan.approach)}, {"source", approachSourceName(plan.approach_source)}}},
-      {"options", Json{{"candidates", options.objects.labels ? Json(*options.objects.labels) : Json(nullptr)},
-                       {"all_clusters", options.objects.all_clusters},
-                       {"cluster_tolerance_voxels", options.objects.cluster_tolerance_voxels},
-                       {"min_cluster_voxels", options.objects.min_cluster_voxels},
-                       {"overlap_margin_voxels", options.overlap_margin_voxels},
-                       {"transitive", options.transitive},
-                       {"placement_gap", options.placement_gap}}},
-      {"empty_bin", plan.empty_bin ? Json{{"center", vec(plan.empty_bin->center)}, {"size", vec(plan.empty_bin->size)}}
-                                   : Json(nullptr)},
-      {"objects", std::move(objects)},
-      {"occluders", std::move(occluders)},
-      {"steps", std::move(steps)}};
+  Json root{{"format", kPlanFormat},
+            {"version", kPlanVersion},
+            {"map", map_file},
+            {"resolution", plan.resolution},
+            {"occupancy_threshold",
+             plan.occupancy_threshold ? Json(*plan.occupancy_threshold) : Json(nullptr)},
+            {"target", Json{{"label", plan.target_label},
+                            {"name", plan.target_name},
+                            {"object", plan.objects[plan.target].id()}}},
+            {"approach", Json{{"direction", vec(plan.approach)},
+                              {"source", approachSourceName(plan.approach_source)}}},
+            {"options", Json{{"candidates", options.objects.labels ? Json(*options.objects.labels)
+                                                                   : Json(nullptr)},
+                             {"all_clusters", options.objects.all_clusters},
+                             {"cluster_tolerance_voxels", options.objects.cluster_tolerance_voxels},
+                             {"min_cluster_voxels", options.objects.min_cluster_voxels},
+                             {"overlap_margin_voxels", options.overlap_margin_voxels},
+                             {"transitive", options.transitive},
+                             {"placement_gap", options.placement_gap}}},
+            {"empty_bin", plan.empty_bin ? Json{{"center", vec(plan.empty_bin->center)},
+                                                {"size", vec(plan.empty_bin->size)}}
+                                         : Json(nullptr)},
+            {"objects", std::move(objects)},
+            {"occluders", std::move(occluders)},
+            {"steps", std::move(steps)}};
   // A map path from the file system may hold bytes that are not UTF-8.
   return root.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }

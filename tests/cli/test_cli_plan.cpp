@@ -103,6 +103,26 @@ TEST_F(CliPlanTest, PrintsTheTableAndWritesThePlan) {
   EXPECT_DOUBLE_EQ(plan["steps"][2]["grasp"]["position"][0].get<double>(), 0.30);
   // Nothing is left behind next to the plan.
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(out.path()), {}), 1);
+  EXPECT_DOUBLE_EQ(plan["occupancy_threshold"].get<double>(), 0.5);  // the map's own
+}
+
+// --threshold reads the map as the studio's Threshold does; plan.json says
+// which threshold the objects were read at.
+TEST_F(CliPlanTest, ThresholdReadsTheMapAtAnotherProbability) {
+  TempDir out;
+  const std::string plan = "plan " + map() + " --target 19 --approach 1,0,0 --out " +
+                           quoted(out / "plan.json") + " --threshold ";
+  const auto surer = runCli(plan + "0.7");
+  ASSERT_EQ(surer.exit_code, 0) << surer.err;
+  EXPECT_DOUBLE_EQ(Json::parse(slurp(out / "plan.json"))["occupancy_threshold"].get<double>(), 0.7);
+  // The objects' voxels (probability 0.9) are not occupied at 0.95.
+  const auto none = runCli(plan + "0.95");
+  EXPECT_EQ(none.exit_code, 1) << none.err;
+  EXPECT_NE(none.err.find("which has no occupied voxel"), std::string::npos) << none.err;
+  const auto above = runCli(plan + "0.99");
+  EXPECT_EQ(above.exit_code, 2) << above.err;
+  EXPECT_NE(above.err.find("option --threshold expects at most 0.97"), std::string::npos)
+      << above.err;
 }
 
 TEST_F(CliPlanTest, TargetByNameAndApproachFromTheMapsFreeSpace) {

@@ -25,6 +25,7 @@
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
 #include "test_support.hpp"
+#include "tiny_sequence.hpp"
 
 namespace lom::ui {
 namespace {
@@ -45,6 +46,30 @@ class ObjectsPanelTest : public fixture::DemoWindowTest {
         << panel.statusText().toStdString();
   }
 };
+
+// The fusion a sequence's opening starts is said, not "Fuse the sequence".
+TEST_F(ObjectsPanelTest, SaysFusingWhileTheOpenedSequenceIsFused) {
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  ASSERT_TRUE(window_.session().worker().isFusing());
+  EXPECT_TRUE(window_.objectsPanel().statusText().startsWith("Fusing:"))
+      << window_.objectsPanel().statusText().toStdString();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !window_.session().worker().isFusing(); }, kTimeoutMs));
+}
+
+// A recording of geometry only (no labels given) can have no objects: the
+// panel says why, not "no objects yet".
+TEST_F(ObjectsPanelTest, ARecordingOfGeometryOnlySaysWhyItHasNoObjects) {
+  const lom::test::TempDir temp;
+  const auto tiny = lom::test::writeTinySequence(temp / "tiny_shelf");
+  lom::test::writeFramesLayout(tiny, temp / "room");
+  ASSERT_TRUE(window_.controller().openSequence(qPath(temp / "room")));
+  ASSERT_EQ(window_.session().sequence()->labels.size(), 1u);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !window_.session().worker().isFusing(); }, kTimeoutMs));
+  ObjectsPanel& panel = window_.objectsPanel();
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !panel.isBusy(); }, kTimeoutMs));
+  EXPECT_TRUE(panel.statusText().contains("the sequence's only label is the background"))
+      << panel.statusText().toStdString();
+}
 
 TEST_F(ObjectsPanelTest, ListsTheFusedObjectsAndDrawsTheirBoxes) {
   openFuseAndExtract();
@@ -227,6 +252,11 @@ TEST_F(ObjectsPanelTest, SavePlanWritesThePlanShownAsPlanJson) {
   const std::string text = test::slurp(chosen);
   EXPECT_EQ(text, planJson(*panel.plan()));  // the map was fused here: no file to name
   EXPECT_NE(text.find("\"labeloctomap-plan\""), std::string::npos) << text;
+  // The threshold the objects were read at is the view's (`plan --threshold` reproduces it).
+  ASSERT_TRUE(panel.plan()->occupancy_threshold.has_value());
+  EXPECT_EQ(*panel.plan()->occupancy_threshold,
+            window_.session().fusionOptions().map.occupancy_threshold);
+  EXPECT_NE(text.find("\"occupancy_threshold\""), std::string::npos) << text;
 
   // The sequence's own files are never replaced by a plan.
   const auto sequence_json = folder_ / "sequence.json";

@@ -144,9 +144,10 @@ TEST_F(OpenMapTest, AMapWithoutCamerasTakesTheSequencesUp) {
 TEST_F(OpenMapTest, SettingsTheFieldsShowRoundedAreKeptExactly) {
   openAndFuse();
   FusionOptions options;
-  options.map.resolution = 0.0325;  // shown 0.033 m (three decimals)
-  options.map.max_range = 25.125;   // shown 25.13 m; 774 voxels per ray, within the limit
+  options.map.resolution = 0.03254;  // shown 0.0325 m (four decimals)
+  options.map.max_range = 25.1254;   // shown 25.125 m; 772 voxels per ray, within the limit
   options.map.p_miss = 0.4951;      // shown 0.495
+  options.map.occupancy_threshold = 0.125;         // just above the clamping bound 0.12
   options.candidates = std::vector<int>{4, 0, 6};  // recorded with the map, sorted
   const auto path = temp_.path() / "exact_settings.ot";
   fuseSequence(loadSequence(folder_), options).save(path);
@@ -161,8 +162,13 @@ TEST_F(OpenMapTest, SettingsTheFieldsShowRoundedAreKeptExactly) {
   QTest::qWait(50);
   ASSERT_TRUE(window_.evaluationPanel().report().has_value());
   EXPECT_EQ(window_.evaluationPanel().report()->candidates, (std::vector<int>{0, 4, 6}));
-  EXPECT_NEAR(panel.maxRangeBox().value(), 25.13, 1e-9);  // not cut to an older 20 m limit
-  EXPECT_NEAR(panel.resolutionBox().value(), 0.033, 1e-9);
+  EXPECT_NEAR(panel.maxRangeBox().value(), 25.125, 1e-9);  // not cut to an older 20 m limit
+  EXPECT_NEAR(panel.resolutionBox().value(), 0.0325, 1e-9);
+  // The tooltips give the map's exact values.
+  EXPECT_EQ(panel.resolutionBox().toolTip(), "The map's value: 0.03254 m");
+  EXPECT_EQ(panel.maxRangeBox().toolTip(), "The map's value: 25.1254 m");
+  EXPECT_NEAR(panel.thresholdBox().value(), 0.125, 1e-9);
+  EXPECT_TRUE(panel.thresholdBox().toolTip().isEmpty());
   EXPECT_FALSE(panel.hasPendingChanges());
   EXPECT_FALSE(panel.refuseButton().isEnabled());
 
@@ -172,24 +178,67 @@ TEST_F(OpenMapTest, SettingsTheFieldsShowRoundedAreKeptExactly) {
   panel.refuseButton().click();
   waitForMap();
   const MapParameters& fused = session().fusionOptions().map;
-  EXPECT_EQ(fused.resolution, 0.0325);
-  EXPECT_EQ(fused.max_range, 25.125);
+  EXPECT_EQ(fused.resolution, 0.03254);
+  EXPECT_EQ(fused.max_range, 25.1254);
   EXPECT_EQ(fused.p_miss, 0.4951);
-  EXPECT_EQ(session().worker().snapshot()->resolution, 0.0325);
+  EXPECT_EQ(session().worker().snapshot()->resolution, 0.03254);
   EXPECT_FALSE(panel.hasPendingChanges());
 
-  // An edit that is undone leaves nothing to re-fuse; an edit re-fuses with the field's value.
-  panel.resolutionBox().setValue(0.05);
-  EXPECT_TRUE(panel.hasPendingChanges());
-  panel.resolutionBox().setValue(0.033);
-  EXPECT_FALSE(panel.hasPendingChanges());
-  panel.maxRangeBox().setValue(30.0);  // 909 voxels of 3.3 cm
+  // An edit re-fuses with the field's value; the others keep the map's.
+  panel.maxRangeBox().setValue(30.0);  // 922 voxels of 3.254 cm
   ASSERT_TRUE(panel.refuseButton().isEnabled());
   panel.refuseButton().click();
   waitForMap();
   EXPECT_EQ(session().fusionOptions().map.max_range, 30.0);
-  EXPECT_EQ(session().fusionOptions().map.resolution, 0.0325);
+  EXPECT_EQ(session().fusionOptions().map.resolution, 0.03254);
   EXPECT_FALSE(panel.hasPendingChanges());
+  // A value typed is the user's, also the one the box showed for the map's:
+  // Re-fuse applies it rather than dropping it without a word.
+  panel.resolutionBox().setValue(0.05);
+  EXPECT_TRUE(panel.hasPendingChanges());
+  panel.resolutionBox().setValue(0.0325);
+  EXPECT_TRUE(panel.hasPendingChanges());
+  ASSERT_TRUE(panel.refuseButton().isEnabled());
+  panel.refuseButton().click();
+  waitForMap();
+  EXPECT_EQ(session().fusionOptions().map.resolution, 0.0325);
+  EXPECT_TRUE(panel.resolutionBox().toolTip().isEmpty());
+  EXPECT_FALSE(panel.hasPendingChanges());
+}
+
+// Frames A:B, as `fuse --frames`: a map fused from some frames (opened from
+// a file, which does not record which) is fused again from the same ones.
+TEST_F(OpenMapTest, TheFramesFieldFusesAFrameRange) {
+  openAndFuse();
+  FusionPanel& panel = window_.fusionPanel();
+  const size_t count = loadSequence(folder_).frames.size();
+  ASSERT_GE(count, 3u);
+  EXPECT_TRUE(panel.framesEdit().text().isEmpty());
+  panel.framesEdit().setText("5:2");
+  EXPECT_FALSE(panel.refuseButton().isEnabled());
+  EXPECT_TRUE(panel.noteText().startsWith("Frames: A:B")) << panel.noteText().toStdString();
+  panel.framesEdit().setText(QString("%1:").arg(count));
+  EXPECT_FALSE(panel.refuseButton().isEnabled());
+  EXPECT_TRUE(panel.noteText().contains(QString("the sequence has %1 frames").arg(count)))
+      << panel.noteText().toStdString();
+  panel.framesEdit().setText("1:3");
+  ASSERT_TRUE(panel.hasPendingChanges());
+  ASSERT_TRUE(panel.refuseButton().isEnabled()) << panel.noteText().toStdString();
+  panel.refuseButton().click();
+  waitForMap();
+  EXPECT_EQ(session().worker().snapshot()->frames_fused, 2u);
+  EXPECT_EQ(session().fusionOptions().first_frame, 1u);
+  EXPECT_EQ(session().fusionOptions().last_frame, 3u);
+  EXPECT_FALSE(panel.hasPendingChanges());
+  // F5 fuses them again.
+  window_.findAction("Fuse Sequence")->trigger();
+  waitForMap();
+  EXPECT_EQ(session().worker().snapshot()->frames_fused, 2u);
+  // Frames name one recording's: another sequence is fused whole.
+  ASSERT_TRUE(window_.controller().openSequence(qPath(folder_)));
+  waitForMap();
+  EXPECT_TRUE(panel.framesEdit().text().isEmpty());
+  EXPECT_EQ(session().worker().snapshot()->frames_fused, count);
 }
 
 TEST_F(OpenMapTest, OpeningAMapDuringFusionStopsTheFusion) {

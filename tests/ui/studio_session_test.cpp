@@ -366,7 +366,7 @@ TEST_F(StudioSessionTest, FusionFieldsKeepTheCommandLinesLimits) {
   // A threshold at or below the lower clamping bound would make every observed
   // voxel occupied; above the upper one, none.
   panel.thresholdBox().setValue(0.01);
-  EXPECT_DOUBLE_EQ(panel.thresholdBox().value(), 0.13);
+  EXPECT_DOUBLE_EQ(panel.thresholdBox().value(), 0.121);  // just above 0.12
   panel.thresholdBox().setValue(0.99);
   EXPECT_DOUBLE_EQ(panel.thresholdBox().value(), 0.97);
   panel.resolutionBox().setValue(0.001);
@@ -610,10 +610,14 @@ TEST_F(StudioSessionTest, BoxAddedMovedUndoneRedoneSavedAndReloaded) {
               1e-9);
   }
 
-  // Delete is undoable too.
+  // Delete is undoable too, and the status bar names the box deleted.
   boxes.select(0);
+  const GroundTruthBox first = boxes.box(0);
   QTest::keyClick(QApplication::focusWidget() ? QApplication::focusWidget() : &window_, Qt::Key_Delete);
   EXPECT_EQ(boxes.boxCount(), static_cast<int>(saved.boxes.size()) - 1);
+  EXPECT_TRUE(window_.statusBar()->currentMessage().startsWith(
+      QString("Deleted the box of %1 %2").arg(first.label).arg(QString::fromStdString(first.name))))
+      << window_.statusBar()->currentMessage().toStdString();
   boxes.undoStack().undo();
   EXPECT_EQ(boxes.boxCount(), static_cast<int>(saved.boxes.size()));
 }

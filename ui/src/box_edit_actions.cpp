@@ -54,7 +54,15 @@ void BoxEditReaction::onTriggered() {
   if (edit_ == Edit::Previous) return model.selectNext(-1);
   const int index = model.selected();
   if (index < 0) return;
-  if (edit_ == Edit::Delete) return model.removeBox(index);
+  if (edit_ == Edit::Delete) {
+    // From the keyboard nothing else shows which box went.
+    const GroundTruthBox gone = model.box(index);
+    model.removeBox(index);
+    report_(tr("Deleted the box of %1 %2 (Ctrl+Z brings it back)")
+                .arg(gone.label)
+                .arg(QString::fromStdString(gone.name)));
+    return;
+  }
 
   GroundTruthBox box = model.box(index);
   const double m = steps_.move, r = steps_.resize, turn = steps_.turn * M_PI / 180.0;

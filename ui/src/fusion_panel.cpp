@@ -9,6 +9,7 @@
 #include <QLineEdit>
 #include <QPointer>
 #include <QPushButton>
+#include <QRegularExpression>
 #include <QSignalBlocker>
 #include <QVBoxLayout>
 #include <algorithm>
@@ -53,6 +54,29 @@ std::optional<std::vector<int>> parseCandidates(const QString& text, bool* ok) {
   return ids;
 }
 
+// "A:B", "A:", ":B" (as `fuse --frames`) or nothing (all frames); false
+// when the text is none of these or B does not come after A.
+bool parseFrames(const QString& text, size_t* first, size_t* last) {
+  *first = 0;
+  *last = static_cast<size_t>(-1);
+  const QString trimmed = text.trimmed();
+  if (trimmed.isEmpty()) return true;
+  static const QRegularExpression pattern(QStringLiteral("^(\\d*)\\s*:\\s*(\\d*)$"));
+  const QRegularExpressionMatch match = pattern.match(trimmed);
+  if (!match.hasMatch()) return false;
+  bool ok = true;
+  if (!match.captured(1).isEmpty()) *first = match.captured(1).toULongLong(&ok);
+  if (!ok) return false;
+  if (!match.captured(2).isEmpty()) *last = match.captured(2).toULongLong(&ok);
+  return ok && *last > *first;
+}
+
+QString framesText(size_t first, size_t last) {
+  if (first == 0 && last == static_cast<size_t>(-1)) return {};
+  return QStringLiteral("%1:%2").arg(first).arg(
+      last == static_cast<size_t>(-1) ? QString() : QString::number(last));
+}
+
 QString candidatesText(const std::optional<std::vector<int>>& candidates) {
   if (!candidates) return {};
   QStringList words;
@@ -72,11 +96,15 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
       // The command line's limits (docs/fusion.md): voxels from 2 mm to 1 m,
       // rays of at most 1000 voxels (checked with the resolution in onEdited),
       // a miss that lowers occupancy, a threshold inside the clamping bounds.
-      resolution_(makeBox(kMinFusionResolution, kMaxFusionResolution, 0.005, 3, " m")),
-      max_range_(makeBox(0.0, kMaxFusionVoxelsPerRay * kMaxFusionResolution, 0.1, 2, " m")),
+      // Decimals enough for the values maps are fused with (0.0025 m voxels,
+      // a 0.125 threshold); a map's value with more shows in the box's tooltip.
+      resolution_(makeBox(kMinFusionResolution, kMaxFusionResolution, 0.005, 4, " m")),
+      max_range_(makeBox(0.0, kMaxFusionVoxelsPerRay * kMaxFusionResolution, 0.1, 3, " m")),
       p_miss_(makeBox(0.001, 0.499, 0.05, 3, "")),
-      threshold_(makeBox(MapParameters{}.clamp_min + 0.01, MapParameters{}.clamp_max, 0.05, 2, "")),
+      threshold_(
+          makeBox(MapParameters{}.clamp_min + 0.001, MapParameters{}.clamp_max, 0.05, 3, "")),
       candidates_(new QLineEdit),
+      frames_(new QLineEdit),
       segmenter_path_(new QLineEdit),
       note_(new QLabel),
       refuse_(new QPushButton(tr("Re-fuse"))),
@@ -87,6 +115,11 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   refuse_->setObjectName("refuseButton");
   max_range_->setSpecialValueText(tr("unlimited"));
   candidates_->setPlaceholderText(tr("all labels (e.g. 0 3 7)"));
+  frames_->setObjectName("framesEdit");
+  frames_->setPlaceholderText(tr("all frames (e.g. 0:20)"));
+  frames_->setToolTip(
+      tr("Frames A:B fuses frames A to B-1, as `labeloctomap fuse --frames A:B`; "
+         "A: fuses from A to the end, :B the first B."));
   note_->setWordWrap(true);
   // Two-line notes (the depth-range one) keep their height in a crowded dock.
   note_->setSizePolicy(QSizePolicy::Preferred, QSizePolicy::MinimumExpanding);
@@ -103,6 +136,7 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   form->addRow(tr("p_miss"), p_miss_);
   form->addRow(tr("Threshold"), threshold_);
   form->addRow(tr("Candidates"), candidates_);
+  form->addRow(tr("Frames"), frames_);
   segmenter_path_->setReadOnly(true);
   segmenter_path_->setAccessibleName(tr("Segmenter model"));  // its label names the row
   // Short enough for a narrow dock; the tooltip says what the model is for.
@@ -146,13 +180,15 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
   // Settings typed but not applied are the user's choice for what is fused
   // next: the next sequence is fused with them (the status bar says so, as for
   // any setting carried over), not with the ones they were meant to replace.
-  // Candidates name labels of one scene and go with it.
+  // Candidates name labels of one scene and go with it, as frames do.
   connect(&session_.controller(), &SequenceController::sequenceAboutToChange, this, [this] {
     if (!hasPendingChanges() || !session_.sequence()) return;
     onEdited();
     if (!refuse_->isEnabled()) return;  // not valid: the next sequence's values replace them
     FusionOptions options = effectiveOptions();
     options.candidates = session_.fusionOptions().candidates;
+    options.first_frame = session_.fusionOptions().first_frame;  // frames of this sequence
+    options.last_frame = session_.fusionOptions().last_frame;
     session_.setFusionOptions(options);
   });
   connect(&session_.controller(), &SequenceController::sequenceChanged, this, [this] {
@@ -184,13 +220,32 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
     };
     shown_ = {shown(resolution_, map.resolution), shown(max_range_, std::max(0.0, map.max_range)),
               shown(p_miss_, map.p_miss)};
+    // The values typed for it are still the user's (Re-fuse applies them).
+    const auto differs = [](const QDoubleSpinBox* box, double value) {
+      return !qFuzzyCompare(1.0 + box->value(), 1.0 + value);
+    };
+    edited_ = {differs(resolution_, map.resolution),
+               differs(max_range_, std::max(0.0, map.max_range)), differs(p_miss_, map.p_miss)};
     onEdited();
   });
-  connect(threshold_, qOverload<double>(&QDoubleSpinBox::valueChanged), this,
-          [this](double value) { session_.setOccupancyThreshold(value); });
-  for (QDoubleSpinBox* box : {resolution_, max_range_, p_miss_})
-    connect(box, qOverload<double>(&QDoubleSpinBox::valueChanged), this, &FusionPanel::onEdited);
+  connect(threshold_, qOverload<double>(&QDoubleSpinBox::valueChanged), this, [this](double value) {
+    threshold_->setToolTip(QString());
+    session_.setOccupancyThreshold(value);
+  });
+  // A value committed in a box (Enter, leaving it, a step) is the user's,
+  // applied on Re-fuse even where it equals the map's value as the box shows it.
+  const auto track = [this](QDoubleSpinBox* box, bool Edited::*flag) {
+    connect(box, qOverload<double>(&QDoubleSpinBox::valueChanged), this, [this, box, flag] {
+      edited_.*flag = true;
+      box->setToolTip(QString());
+      onEdited();
+    });
+  };
+  track(resolution_, &Edited::resolution);
+  track(max_range_, &Edited::max_range);
+  track(p_miss_, &Edited::p_miss);
   connect(candidates_, &QLineEdit::textChanged, this, &FusionPanel::onEdited);
+  connect(frames_, &QLineEdit::textChanged, this, &FusionPanel::onEdited);
   connect(refuse_, &QPushButton::clicked, this, &FusionPanel::refuse);
   guardWheel(*this);
 }
@@ -198,11 +253,23 @@ FusionPanel::FusionPanel(StudioSession& session, QWidget* parent)
 void FusionPanel::loadFromSession() {
   const FusionOptions& options = session_.fusionOptions();
   const QSignalBlocker b1(resolution_), b2(max_range_), b3(p_miss_), b4(threshold_),
-      b5(candidates_);
+      b5(candidates_), b6(frames_);
+  frames_->setText(framesText(options.first_frame, options.last_frame));
   resolution_->setValue(options.map.resolution);
   max_range_->setValue(std::max(0.0, options.map.max_range));
   p_miss_->setValue(options.map.p_miss);
   threshold_->setValue(options.map.occupancy_threshold);
+  // A value the box rounds (or clamps) is the map's all the same: the tooltip
+  // says which, and Re-fuse keeps it unless the box is edited.
+  const auto exact = [this](QDoubleSpinBox* box, double value, const QString& unit) {
+    box->setToolTip(qFuzzyCompare(1.0 + box->value(), 1.0 + value)
+                        ? QString()
+                        : tr("The map's value: %1%2").arg(value, 0, 'g', 10).arg(unit));
+  };
+  exact(resolution_, options.map.resolution, QStringLiteral(" m"));
+  exact(max_range_, std::max(0.0, options.map.max_range), QStringLiteral(" m"));
+  exact(p_miss_, options.map.p_miss, QString());
+  exact(threshold_, options.map.occupancy_threshold, QString());
   rememberShown();
   candidates_->setText(candidatesText(options.candidates));
   segmenter_ = options.segmenter;
@@ -266,6 +333,7 @@ void FusionPanel::rememberShown() {
   // What the boxes show, rounded to their decimals: a box still showing it
   // stands for the map's exact value (effectiveOptions).
   shown_ = {resolution_->value(), max_range_->value(), p_miss_->value()};
+  edited_ = {};
 }
 
 FusionOptions FusionPanel::effectiveOptions() const {
@@ -273,14 +341,21 @@ FusionOptions FusionPanel::effectiveOptions() const {
   // A box the user left as loaded keeps the map's value, even one with more
   // decimals than the box shows (a map fused by `labeloctomap fuse --p-miss
   // 0.495`): re-fusing must not round the settings nobody changed.
-  auto edited = [](const QDoubleSpinBox* box, double shown) {
-    return !qFuzzyCompare(1.0 + box->value(), 1.0 + shown);
+  auto edited = [](const QDoubleSpinBox* box, double shown, bool committed) {
+    return committed || !qFuzzyCompare(1.0 + box->value(), 1.0 + shown);
   };
-  if (edited(resolution_, shown_.resolution)) options.map.resolution = resolution_->value();
-  if (edited(max_range_, shown_.max_range)) options.map.max_range = max_range_->value();
-  if (edited(p_miss_, shown_.p_miss)) options.map.p_miss = p_miss_->value();
+  if (edited(resolution_, shown_.resolution, edited_.resolution))
+    options.map.resolution = resolution_->value();
+  if (edited(max_range_, shown_.max_range, edited_.max_range))
+    options.map.max_range = max_range_->value();
+  if (edited(p_miss_, shown_.p_miss, edited_.p_miss)) options.map.p_miss = p_miss_->value();
   bool ok = true;
   options.candidates = parseCandidates(candidates_->text(), &ok);
+  size_t first = 0, last = 0;
+  if (parseFrames(frames_->text(), &first, &last)) {
+    options.first_frame = first;
+    options.last_frame = last;
+  }
   options.segmenter = segmenter_;
   return options;
 }
@@ -290,7 +365,8 @@ bool FusionPanel::hasPendingChanges() const {
   const FusionOptions wanted = effectiveOptions();
   return wanted.map.resolution != current.map.resolution ||
          wanted.map.max_range != current.map.max_range || wanted.map.p_miss != current.map.p_miss ||
-         wanted.candidates != current.candidates || wanted.segmenter != current.segmenter;
+         wanted.candidates != current.candidates || wanted.segmenter != current.segmenter ||
+         wanted.first_frame != current.first_frame || wanted.last_frame != current.last_frame;
 }
 
 void FusionPanel::onEdited() {
@@ -305,9 +381,20 @@ void FusionPanel::onEdited() {
   const std::optional<RayLengthProblem> too_long =
       checkRayLength(wanted.map.max_range, wanted.map.resolution);
   const bool pending = hasPendingChanges();
-  refuse_->setEnabled(pending && ok && !unknown && !too_long);
+  size_t first = 0, last = 0;
+  const bool frames_ok = parseFrames(frames_->text(), &first, &last);
+  const size_t frame_count = session_.sequence() ? session_.sequence()->frames.size() : 0;
+  const bool past_end = frames_ok && session_.sequence() && first >= frame_count;
+  refuse_->setEnabled(pending && ok && !unknown && !too_long && frames_ok && !past_end);
   QString note;
-  if (unknown)
+  if (!frames_ok)
+    note = tr("Frames: A:B fuses frames A to B-1 (B after A); A: to the end, :B the first B.");
+  else if (past_end)
+    note = frame_count == 1 ? tr("Frames: the sequence has 1 frame (0).")
+                            : tr("Frames: the sequence has %1 frames (0 to %2).")
+                                  .arg(static_cast<qulonglong>(frame_count))
+                                  .arg(static_cast<qulonglong>(frame_count) - 1);
+  else if (unknown)
     note = tr("Candidates: %1 is not a label of the sequence (0 to %2).")
                .arg(unknown->label)
                .arg(unknown->label_count - 1);

@@ -8,6 +8,10 @@
 
 namespace lom::ui {
 
+QString FusionReaction::stoppingNote() {
+  return tr("Stopping the fusion after the frame being fused…");
+}
+
 FusionReaction::FusionReaction(QAction* action, Kind kind, StudioSession& session,
                                std::function<void()> fuse)
     : Reaction(action), kind_(kind), session_(session), fuse_(std::move(fuse)) {
@@ -31,6 +35,9 @@ void FusionReaction::onTriggered() {
       worker.setPaused(action()->isChecked());
       break;
     case Kind::Cancel:
+      // A frame is fused whole: a fine room-scale one takes a minute. Say at
+      // once that the stop is coming (the status shows where it stopped).
+      if (worker.isFusing()) emit session_.controller().noteOccurred(stoppingNote());
       worker.cancel();
       break;
     case Kind::Reset:

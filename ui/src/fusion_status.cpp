@@ -34,6 +34,14 @@ class CountBar : public QProgressBar {
   }
 };
 
+// Frames per second; a fusion slower than a frame in ten seconds (a fine
+// room-scale map) in seconds per frame, which "0.0 frames/s" would hide.
+QString rateText(double frames_per_second) {
+  if (frames_per_second >= 0.1 || !(frames_per_second > 0.0))
+    return FusionStatus::tr("%1 frames/s").arg(frames_per_second, 0, 'f', 1);
+  return FusionStatus::tr("%1 s/frame").arg(1.0 / frames_per_second, 0, 'f', 0);
+}
+
 }  // namespace
 
 FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
@@ -61,9 +69,8 @@ FusionStatus::FusionStatus(MapWorker& worker, QWidget* parent)
             progress_->setValue(done);
             // The frame being fused when Pause came reports after it: the
             // count moves on, "paused" stays.
-            rate_->setText(worker.state() == MapWorker::State::Paused
-                               ? tr("paused")
-                               : tr("%1 frames/s").arg(rate, 0, 'f', 1));
+            rate_->setText(worker.state() == MapWorker::State::Paused ? tr("paused")
+                                                                      : rateText(rate));
           });
   // A new fusion: the last one's count is not this one's, also when it fails
   // on its first frame or replaces a fusion still running.

@@ -302,8 +302,15 @@ MainWindow::MainWindow(QWidget* parent)
   connect(
       controller_, &SequenceController::warningOccurred, this,
       [this](const QString& title, const QString& message) { report_warning_(title, message); });
-  connect(controller_, &SequenceController::noteOccurred, this,
-          [this](const QString& message) { statusBar()->showMessage(message, 15000); });
+  // Cancel's "Stopping…" stays until the fusion has stopped (a frame of a
+  // fine room-scale map takes a minute); other notes for 15 s.
+  connect(controller_, &SequenceController::noteOccurred, this, [this](const QString& message) {
+    statusBar()->showMessage(message, message == FusionReaction::stoppingNote() ? 0 : 15000);
+  });
+  connect(&session_->worker(), &MapWorker::fusionFinished, this, [this] {
+    if (statusBar()->currentMessage() == FusionReaction::stoppingNote())
+      statusBar()->clearMessage();
+  });
   connect(controller_, &SequenceController::conversionFinished, this,
           [this](const QString& name, bool cancelled) {
             if (cancelled)

@@ -1,5 +1,7 @@
 #include "lom/ui/map_worker.hpp"
 
+#include <malloc.h>
+
 #include <QMetaObject>
 #include <algorithm>
 #include <chrono>
@@ -93,6 +95,14 @@ void MapWorker::loop() {
       jobs_.pop_front();
     }
     runGuarded(job);
+    // A fusion, a reset or an adopted map may have freed a large map (a fine
+    // room-scale one takes gigabytes): the allocator keeps freed memory for
+    // the process unless asked to give it back, and this process is the
+    // studio, open for hours beside other programs.
+    if (!job.quick) {
+      job = Job();
+      malloc_trim(0);
+    }
   }
 }
 

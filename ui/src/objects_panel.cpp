@@ -146,8 +146,13 @@ ObjectsPanel::ObjectsPanel(StudioSession& session, QWidget* parent)
 
   MapWorker& worker = session_.worker();
   connect(&worker, &MapWorker::fusionFinished, this, [this](bool) { refresh(); });
-  connect(&session_.controller(), &SequenceController::sequenceChanged, this,
-          [this] { clearObjects(tr("Fuse the sequence to extract its objects.")); });
+  // The session starts fusing the new sequence before this runs: then the
+  // panel says so, as for any fusion.
+  connect(&session_.controller(), &SequenceController::sequenceChanged, this, [this] {
+    clearObjects(session_.worker().isFusing()
+                     ? tr("Fusing: the objects are listed when fusion finishes.")
+                     : tr("Fuse the sequence to extract its objects."));
+  });
   // The objects (and a plan made from them) belong to one map: a new fusion
   // or Reset Map drops them, a re-thresholded map is extracted again.
   connect(&worker, &MapWorker::stateChanged, this, [this](MapWorker::State state) {
@@ -271,7 +276,13 @@ void ObjectsPanel::showObjects(std::vector<ObjectInstance> objects) {
   const int keep = target_->findData(previous_target);
   if (keep >= 0) target_->setCurrentIndex(keep);
   plan_button_->setEnabled(target_->count() > 0);
-  showMessage(objects_.empty()       ? tr("The map has no objects yet.")
+  // A recording of geometry only (its one label the background) never has any.
+  const auto sequence = session_.sequence();
+  const bool background_only = sequence && sequence->labels.size() < 2;
+  showMessage(background_only
+                  ? tr("No objects: the sequence's only label is the background (0); import "
+                       "the recording with object labels (--labels) to list objects.")
+              : objects_.empty()     ? tr("The map has no objects yet.")
               : objects_.size() == 1 ? tr("1 object in the map.")
                                      : tr("%1 objects in the map.").arg(objects_.size()));
   emitBoxes();
@@ -292,7 +303,11 @@ void ObjectsPanel::planPick() {
     options.approach_source = map_approach_ ? ApproachSource::MapCameras : ApproachSource::Sequence;
     const auto snapshot = session_.worker().snapshot();
     const double resolution = snapshot && snapshot->resolution > 0 ? snapshot->resolution : 0.01;
-    showPlan(lom::planPick(objects_, sequence->labels, target, *options.approach, options, resolution));
+    PickPlan plan =
+        lom::planPick(objects_, sequence->labels, target, *options.approach, options, resolution);
+    // The objects are of the map as the studio reads it (maybe re-thresholded).
+    plan.occupancy_threshold = session_.fusionOptions().map.occupancy_threshold;
+    showPlan(std::move(plan));
   } catch (const std::exception& e) {
     clearPlan();
     showMessage(QString::fromStdString(e.what()));

@@ -94,6 +94,12 @@ void StudioSession::onSequenceChanged() {
     options_.candidates.reset();
     emit fusionOptionsChanged();
   }
+  // So do frames A:B of one recording.
+  if (options_.first_frame != 0 || options_.last_frame != FusionOptions().last_frame) {
+    options_.first_frame = 0;
+    options_.last_frame = FusionOptions().last_frame;
+    emit fusionOptionsChanged();
+  }
   // The segmenter stays only if its channels fit this sequence's labels: else
   // every fusion would fail at once (the Fusion panel says why it went).
   if (options_.segmenter) {

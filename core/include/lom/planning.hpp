@@ -78,6 +78,9 @@ struct PickPlan {
   int target_label = 0;
   std::string target_name;
   double resolution = 0.0;
+  // The threshold the map's voxels were read at (planPickInMap: the map's;
+  // the studio's, when re-thresholded); plan.json keeps it, when known.
+  std::optional<double> occupancy_threshold;
   Eigen::Vector3d approach = Eigen::Vector3d::UnitX();  // unit
   ApproachSource approach_source = ApproachSource::Given;
   std::vector<ObjectInstance> objects;  // all extracted objects, by label then instance

@@ -1,6 +1,6 @@
 #pragma once
 // Fusion parameters: the threshold re-thresholds the current map at once; the
-// others (resolution, max range, p_miss, candidates, the segmentation network
+// others (resolution, max range, p_miss, candidates, the frames, the segmentation network
 // run on frames without probability images) need a new fusion, which the panel
 // offers with its "Re-fuse" button.
 #include <QWidget>
@@ -32,6 +32,8 @@ class FusionPanel : public QWidget {
   [[nodiscard]] QDoubleSpinBox& maxRangeBox() { return *max_range_; }
   [[nodiscard]] QPushButton& refuseButton() { return *refuse_; }
   [[nodiscard]] QLineEdit& candidatesEdit() { return *candidates_; }
+  // Frames A:B (as `fuse --frames`): empty for all of the sequence's.
+  [[nodiscard]] QLineEdit& framesEdit() { return *frames_; }
   // Shown when most depths of the last fusion lay beyond max range: re-fuses
   // with a max range that reaches the farthest depth, at
   // suggestedResolutionForRange (a room at 1 cm and 10 m takes gigabytes).
@@ -75,6 +77,7 @@ class FusionPanel : public QWidget {
   QDoubleSpinBox* p_miss_;
   QDoubleSpinBox* threshold_;
   QLineEdit* candidates_;
+  QLineEdit* frames_;
   QLineEdit* segmenter_path_;
   std::shared_ptr<const Segmenter> segmenter_;  // chosen in the panel, applied on re-fuse
   QLabel* note_;
@@ -82,7 +85,12 @@ class FusionPanel : public QWidget {
   QPushButton* extend_range_;
   struct Shown {
     double resolution = 0.0, max_range = 0.0, p_miss = 0.0;
-  } shown_;                       // the boxes' values after loadFromSession
+  } shown_;  // the boxes' values after loadFromSession
+  // Boxes the user has committed a value in since the map's were loaded: their
+  // value is applied, even one equal to the map's value as the box rounds it.
+  struct Edited {
+    bool resolution = false, max_range = false, p_miss = false;
+  } edited_;
   double suggested_range_ = 0.0;  // what extend_range_ re-fuses with
   double suggested_resolution_ = 0.0;
   QString range_note_;  // why it is shown

@@ -17,6 +17,8 @@ class FusionReaction : public Reaction {
   // fuses with the settings its Fusion panel shows).
   FusionReaction(QAction* action, Kind kind, StudioSession& session,
                  std::function<void()> fuse = {});
+  // The status bar's line from Cancel until the fusion has stopped.
+  [[nodiscard]] static QString stoppingNote();
 
  protected:
   void onTriggered() override;
