@@ -221,6 +221,10 @@ void importApcShelf(const fs::path& source, const ImportOptions& options, Sequen
       error = e.what();
     }
     if (error) {
+      // A skipped frame is reported as such, not among the frames without masks.
+      for (auto& [id, frames] : without_mask)
+        if (!frames.empty() && frames.back() == name) frames.pop_back();
+      if (!one_hot.empty() && one_hot.back() == name) one_hot.pop_back();
       if (!writer.skip(name, *error)) return;
       continue;
     }
