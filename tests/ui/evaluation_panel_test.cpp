@@ -572,6 +572,10 @@ TEST_F(EvaluationPanelTest, AMapThatLeftMostDepthsBeyondTheMaxRangeIsWarnedAbout
 // new map is fused, also when they were still being computed when it started.
 TEST_F(EvaluationPanelTest, ScoresOfTheMapBeingReplacedAreDroppedWhenFusionStarts) {
   openAndFuse();
+  // The scores fusion asked for come first: the evaluation below is the one
+  // this test asks for (waiting for the first one's start could miss it, its
+  // start having been delivered while the fusion's end was awaited).
+  waitForScores();
   // The new fusion waits after its first frame until the end of the test.
   auto released = std::make_shared<std::atomic<bool>>(false);
   MapWorker& worker = window_.session().worker();
@@ -579,7 +583,7 @@ TEST_F(EvaluationPanelTest, ScoresOfTheMapBeingReplacedAreDroppedWhenFusionStart
     while (frames == 1 && !*released) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   });
   const std::shared_ptr<void> release(nullptr, [released](void*) { *released = true; });
-  // Fused again as soon as the scores of the fused map are asked for: before
+  // Fused again as soon as new scores of the fused map are asked for: before
   // they can arrive.
   bool refused = false;
   QObject guard;
@@ -591,6 +595,7 @@ TEST_F(EvaluationPanelTest, ScoresOfTheMapBeingReplacedAreDroppedWhenFusionStart
         window_.session().fuse();
       },
       Qt::QueuedConnection);
+  panel().requestUpdate();
   ASSERT_TRUE(QTest::qWaitFor([&] { return refused && !worker.isEvaluating(); }, kTimeoutMs));
   QTest::qWait(50);
   ASSERT_TRUE(worker.isFusing());

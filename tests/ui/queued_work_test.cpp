@@ -326,7 +326,9 @@ TEST_F(QueuedWorkTest, ClosingDuringFusionCanKeepTheMapSoFar) {
   auto reached = std::make_shared<std::atomic<size_t>>(0);
   session().worker().setFrameFusedHook([reached](size_t frames) {
     *reached = frames;
-    if (frames == 2) std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    // Long enough for the question to be answered on a loaded machine (the
+    // fusion then stops here); the remaining frames fuse in milliseconds.
+    if (frames == 2) std::this_thread::sleep_for(std::chrono::milliseconds(3000));
   });
   QStringList map_questions;
   window_.setMapDiscardQuestion([&](const QString& replaced_by) {
