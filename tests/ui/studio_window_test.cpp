@@ -139,7 +139,12 @@ TEST_F(StudioWindowTest, TheFusionIndicatorStaysAtTheRightOfTheStatusBar) {
   ASSERT_TRUE(QTest::qWaitFor([&] { return !window_.session().worker().isFusing(); }, 60'000));
   auto* indicator = window_.findChild<QWidget*>("fusionStatus");
   ASSERT_NE(indicator, nullptr);
-  QApplication::processEvents();
+  // The last frame's text and rate widen the indicator; the status bar lays
+  // itself out again an event-loop round later.
+  EXPECT_TRUE(QTest::qWaitFor(
+      [&] { return indicator->width() >= indicator->minimumSizeHint().width(); }, 5'000))
+      << "the indicator is narrower than its text: " << indicator->width() << " < "
+      << indicator->minimumSizeHint().width();
   const auto right_edge = [&] {
     return indicator->mapTo(&window_, QPoint(indicator->width(), 0)).x();
   };
