@@ -3,10 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
-#include <cerrno>
 #include <chrono>
-#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -19,6 +16,7 @@
 #include "commands.hpp"
 #include "lom/error.hpp"
 #include "lom/evaluation.hpp"
+#include "lom/frame_range.hpp"
 #include "lom/fusion.hpp"
 #include "output_paths.hpp"
 #include "segmenter_option.hpp"
@@ -26,8 +24,6 @@
 namespace lom::cli {
 
 namespace {
-
-constexpr size_t kToTheEnd = static_cast<size_t>(-1);
 
 // A number as the options take it: "10", "0.04".
 std::string formatNumber(double value) {
@@ -44,31 +40,15 @@ long peakResidentKiB() {
 }
 
 // "A:B", "A:", ":B" -> [A, B) frame indices; an absent B means "to the end".
-void parseFrameRange(const std::string& text, FusionOptions& options) {
-  const auto colon = text.find(':');
-  if (colon == std::string::npos)
-    throw UsageError("option --frames expects A:B (first frame, end frame exclusive), got '" +
-                     text + "'");
-  auto parse = [&](const std::string& part, size_t fallback) -> size_t {
-    if (part.empty()) return fallback;
-    // Digits only (strtol would take blanks and a sign first).
-    if (!std::all_of(part.begin(), part.end(), [](unsigned char c) { return std::isdigit(c); }))
-      throw UsageError("option --frames expects non-negative frame indices A:B, got '" + text +
-                       "'");
-    char* end = nullptr;
-    errno = 0;
-    const long value = std::strtol(part.c_str(), &end, 10);
-    if (*end == '\0' && errno == ERANGE && value > 0)
-      throw UsageError("option --frames: frame index " + part + " is too large (at most " +
-                       std::to_string(LONG_MAX) + "), got '" + text + "'");
-    if (*end != '\0' || value < 0 || errno == ERANGE)
-      throw UsageError("option --frames expects non-negative frame indices A:B, got '" + text + "'");
-    return static_cast<size_t>(value);
-  };
-  options.first_frame = parse(text.substr(0, colon), 0);
-  options.last_frame = parse(text.substr(colon + 1), kToTheEnd);
-  if (options.last_frame <= options.first_frame)
-    throw UsageError("option --frames: the end frame must come after the first, got '" + text + "'");
+// An empty value is refused (a script's unset variable), not read as every frame.
+void readFrameRange(const std::string& text, FusionOptions& options) {
+  std::string expected = "A:B (first frame, end frame exclusive), A: or :B";
+  const std::optional<FrameRange> range = text.find_first_not_of(" \t") == std::string::npos
+                                              ? std::nullopt
+                                              : parseFrameRange(text, &expected);
+  if (!range) throw UsageError("option --frames expects " + expected + ", got '" + text + "'");
+  options.first_frame = range->first;
+  options.last_frame = range->end;
 }
 
 // The shortest text that reads back as `value`: a refused 0.9700001 is not
@@ -227,7 +207,7 @@ FusionOptions fusionOptionsFromArgs(const Args& args) {
                    "over these object labels, so background pixels are fused (and projected) "
                    "as objects\n";
   }
-  if (auto frames = args.option("frames")) parseFrameRange(*frames, options);
+  if (auto frames = args.option("frames")) readFrameRange(*frames, options);
   try {
     checkMapParameters(options.map);
   } catch (const Error& e) {
@@ -305,9 +285,9 @@ void checkFusionOptionsForSequence(const FusionOptions& options, const Sequence&
   const bool past_end = options.first_frame >= count ||
                         (options.last_frame != kToTheEnd && options.last_frame > count);
   if (past_end) {
-    const std::string range =
-        std::to_string(options.first_frame) + ":" +
-        (options.last_frame == kToTheEnd ? std::string() : std::to_string(options.last_frame));
+    const std::string range = options.first_frame == 0 && options.last_frame == kToTheEnd
+                                  ? std::string("0:")
+                                  : frameRangeText({options.first_frame, options.last_frame});
     throw UsageError("option --frames " + range + " goes past the end of " + file + ", which has " +
                      std::to_string(count) + (count == 1 ? " frame" : " frames") +
                      " (A:B takes frames A to B-1; A: takes every frame from A)");
@@ -381,10 +361,12 @@ int runFuse(const Words& words) {
     const FusedEvidence& before = earlier->fusedEvidence();
     const FusedEvidence now =
         evidenceOf(sequence, options.first_frame, options.last_frame, options.segmenter.get());
-    bool widens = now.own_probabilities && !before.own_probabilities;
-    for (const std::string& model : now.models)
-      widens = widens ||
-               std::find(before.models.begin(), before.models.end(), model) == before.models.end();
+    const bool widens =
+        (now.own_probabilities && !before.own_probabilities) ||
+        std::any_of(now.models.begin(), now.models.end(), [&](const std::string& model) {
+          return std::find(before.models.begin(), before.models.end(), model) ==
+                 before.models.end();
+        });
     if (before.recorded && !before.empty() && widens)
       std::cerr << "warning: " << *start_from << " was fused from other probabilities ("
                 << describeEvidence(before) << ") than these frames give (" << describeEvidence(now)

@@ -67,7 +67,8 @@ TEST_F(CliOptionTest, IntegersThatDoNotFitAreRefusedNotWrappedAround) {
   expectUsage(runCli("synth --out " + q(out / "s") + " --objects 4294967300"), "--objects");
   expectUsage(
       runCli("fuse " + q(scene()) + " --frames 0:99999999999999999999 --out " + q(out / "m.ot")),
-      "--frames: frame index 99999999999999999999 is too large");
+      "--frames expects frame indices of at most 9223372036854775807 (frame index "
+      "99999999999999999999 is too large)");
   EXPECT_TRUE(fs::is_empty(out.path()));
 }
 

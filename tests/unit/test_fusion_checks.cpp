@@ -1,6 +1,7 @@
 // The checks of fusion settings that the command line and the studio share.
 #include <gtest/gtest.h>
 
+#include "lom/frame_range.hpp"
 #include "lom/fusion.hpp"
 
 namespace {
@@ -8,6 +9,54 @@ namespace {
 lom::LabelSet threeLabels() {
   return lom::LabelSet(
       {{0, "__background__", {0, 0, 0}}, {1, "book", {128, 0, 0}}, {2, "cup", {0, 128, 0}}});
+}
+
+// `fuse --frames` and the studio's Frames field read ranges alike.
+TEST(FrameRanges, ReadAToBAsFramesAToBMinusOneAndAbsentEndsAsTheSequenceEnds) {
+  const auto both = lom::parseFrameRange("2:5");
+  ASSERT_TRUE(both);
+  EXPECT_EQ(both->first, 2U);
+  EXPECT_EQ(both->end, 5U);
+  const auto from = lom::parseFrameRange(" 7 : ");
+  ASSERT_TRUE(from);
+  EXPECT_EQ(from->first, 7U);
+  EXPECT_EQ(from->end, lom::kToTheEnd);
+  const auto head = lom::parseFrameRange(":3");
+  ASSERT_TRUE(head);
+  EXPECT_EQ(head->first, 0U);
+  EXPECT_EQ(head->end, 3U);
+  const auto all = lom::parseFrameRange("  ");
+  ASSERT_TRUE(all);
+  EXPECT_EQ(all->first, 0U);
+  EXPECT_EQ(all->end, lom::kToTheEnd);
+  // The text of a range reads back as it.
+  for (const char* text : {"2:5", "7:", "0:3", "0:1"}) {
+    const auto range = lom::parseFrameRange(text);
+    ASSERT_TRUE(range) << text;
+    EXPECT_EQ(lom::frameRangeText(*range), text);
+  }
+  EXPECT_EQ(lom::frameRangeText(*head), "0:3");
+  EXPECT_EQ(lom::frameRangeText({}), "");
+}
+
+TEST(FrameRanges, OtherTextsSayWhatARangeMustBe) {
+  const auto expected = [](const char* text) {
+    std::string what;
+    EXPECT_FALSE(lom::parseFrameRange(text, &what)) << text;
+    return what;
+  };
+  EXPECT_EQ(expected("5"), "A:B (first frame, end frame exclusive), A: or :B");
+  EXPECT_EQ(expected("-1:3"), "non-negative frame indices A:B");
+  EXPECT_EQ(expected("1:+3"), "non-negative frame indices A:B");
+  EXPECT_EQ(expected("1 2:3"), "non-negative frame indices A:B");
+  EXPECT_EQ(expected("1:2:3"), "non-negative frame indices A:B");
+  EXPECT_EQ(expected("3:3"), "an end frame B after the first frame A");
+  EXPECT_EQ(expected("4:2"), "an end frame B after the first frame A");
+  EXPECT_EQ(expected("0:99999999999999999999"),
+            "frame indices of at most 9223372036854775807 (frame index 99999999999999999999 is "
+            "too large)");
+  // The largest index itself is a frame index.
+  EXPECT_TRUE(lom::parseFrameRange("9223372036854775806:9223372036854775807"));
 }
 
 TEST(FusionChecks, RaysOfAtMost1000VoxelsPass) {

@@ -9,12 +9,12 @@
 #include <QLineEdit>
 #include <QPointer>
 #include <QPushButton>
-#include <QRegularExpression>
 #include <QSignalBlocker>
 #include <QVBoxLayout>
 #include <algorithm>
 #include <cmath>
 
+#include "lom/frame_range.hpp"
 #include "lom/fusion.hpp"
 #include "lom/segmenter.hpp"
 #include "lom/ui/map_worker.hpp"
@@ -52,29 +52,6 @@ std::optional<std::vector<int>> parseCandidates(const QString& text, bool* ok) {
     ids.push_back(id);
   }
   return ids;
-}
-
-// "A:B", "A:", ":B" (as `fuse --frames`) or nothing (all frames); false
-// when the text is none of these or B does not come after A.
-bool parseFrames(const QString& text, size_t* first, size_t* last) {
-  *first = 0;
-  *last = static_cast<size_t>(-1);
-  const QString trimmed = text.trimmed();
-  if (trimmed.isEmpty()) return true;
-  static const QRegularExpression pattern(QStringLiteral("^(\\d*)\\s*:\\s*(\\d*)$"));
-  const QRegularExpressionMatch match = pattern.match(trimmed);
-  if (!match.hasMatch()) return false;
-  bool ok = true;
-  if (!match.captured(1).isEmpty()) *first = match.captured(1).toULongLong(&ok);
-  if (!ok) return false;
-  if (!match.captured(2).isEmpty()) *last = match.captured(2).toULongLong(&ok);
-  return ok && *last > *first;
-}
-
-QString framesText(size_t first, size_t last) {
-  if (first == 0 && last == static_cast<size_t>(-1)) return {};
-  return QStringLiteral("%1:%2").arg(first).arg(
-      last == static_cast<size_t>(-1) ? QString() : QString::number(last));
 }
 
 QString candidatesText(const std::optional<std::vector<int>>& candidates) {
@@ -254,7 +231,8 @@ void FusionPanel::loadFromSession() {
   const FusionOptions& options = session_.fusionOptions();
   const QSignalBlocker b1(resolution_), b2(max_range_), b3(p_miss_), b4(threshold_),
       b5(candidates_), b6(frames_);
-  frames_->setText(framesText(options.first_frame, options.last_frame));
+  frames_->setText(
+      QString::fromStdString(frameRangeText({options.first_frame, options.last_frame})));
   resolution_->setValue(options.map.resolution);
   max_range_->setValue(std::max(0.0, options.map.max_range));
   p_miss_->setValue(options.map.p_miss);
@@ -351,10 +329,9 @@ FusionOptions FusionPanel::effectiveOptions() const {
   if (edited(p_miss_, shown_.p_miss, edited_.p_miss)) options.map.p_miss = p_miss_->value();
   bool ok = true;
   options.candidates = parseCandidates(candidates_->text(), &ok);
-  size_t first = 0, last = 0;
-  if (parseFrames(frames_->text(), &first, &last)) {
-    options.first_frame = first;
-    options.last_frame = last;
+  if (const std::optional<FrameRange> frames = parseFrameRange(frames_->text().toStdString())) {
+    options.first_frame = frames->first;
+    options.last_frame = frames->end;
   }
   options.segmenter = segmenter_;
   return options;
@@ -381,10 +358,10 @@ void FusionPanel::onEdited() {
   const std::optional<RayLengthProblem> too_long =
       checkRayLength(wanted.map.max_range, wanted.map.resolution);
   const bool pending = hasPendingChanges();
-  size_t first = 0, last = 0;
-  const bool frames_ok = parseFrames(frames_->text(), &first, &last);
+  const std::optional<FrameRange> frames = parseFrameRange(frames_->text().toStdString());
+  const bool frames_ok = frames.has_value();
   const size_t frame_count = session_.sequence() ? session_.sequence()->frames.size() : 0;
-  const bool past_end = frames_ok && session_.sequence() && first >= frame_count;
+  const bool past_end = frames_ok && session_.sequence() && frames->first >= frame_count;
   refuse_->setEnabled(pending && ok && !unknown && !too_long && frames_ok && !past_end);
   QString note;
   if (!frames_ok)
