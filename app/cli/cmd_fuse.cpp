@@ -11,6 +11,7 @@
 #include <iostream>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 #include "args.hpp"
 #include "commands.hpp"
@@ -49,6 +50,38 @@ void readFrameRange(const std::string& text, FusionOptions& options) {
   if (!range) throw UsageError("option --frames expects " + expected + ", got '" + text + "'");
   options.first_frame = range->first;
   options.last_frame = range->end;
+}
+
+// The frames of [first, last) a map with the camera view record `record` was
+// fused from, it seems: the first run of consecutive frames whose views sum
+// to the record (sameCameraViews), each a fused view (a frame whose rotation
+// is not finite adds none). nullopt when no run does, or the map records no
+// views. Prefix sums: one pass, however long the sequence.
+std::optional<FrameRange> framesWithCameraViews(const Sequence& sequence, size_t first, size_t last,
+                                                const CameraViewRecord& record) {
+  const size_t end = std::min(last, sequence.frames.size());
+  if (record.views == 0 || first >= end) return std::nullopt;
+  // prefix[i]: the views of frames first .. first + i - 1.
+  std::vector<CameraViewRecord> prefix(1);
+  for (size_t i = first; i < end; ++i) {
+    prefix.push_back(prefix.back());
+    addCameraView(prefix.back(), sequence.frames[i].T_world_camera.linear());
+  }
+  size_t b = 0;
+  for (size_t a = 0; a + 1 < prefix.size(); ++a) {
+    b = std::max(b, a);
+    while (b < prefix.size() && prefix[b].views - prefix[a].views < record.views) ++b;
+    if (b == prefix.size()) break;
+    if (prefix[b].views - prefix[a].views != record.views) continue;
+    CameraViewRecord window;
+    window.views = record.views;
+    for (int k = 0; k < 3; ++k) {
+      window.up_sum[k] = prefix[b].up_sum[k] - prefix[a].up_sum[k];
+      window.forward_sum[k] = prefix[b].forward_sum[k] - prefix[a].forward_sum[k];
+    }
+    if (sameCameraViews(window, record)) return FrameRange{first + a, first + b};
+  }
+  return std::nullopt;
 }
 
 // The shortest text that reads back as `value`: a refused 0.9700001 is not
@@ -329,7 +362,7 @@ int runFuse(const Words& words) {
   std::optional<LabelMap> earlier;
   if (start_from) {
     earlier.emplace(LabelMap::load(*start_from));
-    checkMapLabels(*earlier, sequence, *start_from);
+    checkMapMatchesSequence(*earlier, sequence, *start_from);
     if (args.option("threshold")) {
       checkOccupancyThreshold(options.map.occupancy_threshold, earlier->parameters(), *start_from);
       earlier->setOccupancyThreshold(options.map.occupancy_threshold);
@@ -348,14 +381,29 @@ int runFuse(const Words& words) {
                   << ids << "), as it records; --candidates chooses others\n";
     }
     const CameraViewRecord& views = earlier->cameraViews();
-    if (views.views > 0 &&
-        sameCameraViews(views, cameraViewsOf(sequence, options.first_frame, options.last_frame)))
-      std::cerr << "warning: " << *start_from
-                << " was fused from these very frames already, it seems (it records as many "
-                   "camera views as they are, looking the same ways): fusing them again counts "
-                   "each of their observations twice, which makes the map surer than the data "
-                   "are; fuse other frames into it, or leave out --start-from (cameras that only "
-                   "moved, never turned, look alike: then ignore this)\n";
+    if (const auto again =
+            framesWithCameraViews(sequence, options.first_frame, options.last_frame, views)) {
+      const size_t end = std::min(options.last_frame, sequence.frames.size());
+      if (again->first == options.first_frame && again->end == end)
+        std::cerr << "warning: " << *start_from
+                  << " was fused from these very frames already, it seems (it records as many "
+                     "camera views as they are, looking the same ways): fusing them again counts "
+                     "each of their observations twice, which makes the map surer than the data "
+                     "are; fuse other frames into it, or leave out --start-from (cameras that "
+                     "only moved, never turned, look alike: then ignore this)\n";
+      else
+        std::cerr << "warning: " << *start_from << " was fused from frames "
+                  << frameRangeText(*again)
+                  << " of these already, it seems (it records as many camera views as they "
+                     "are, looking the same ways): fusing them again counts each of their "
+                     "observations twice, which makes the map surer than the data are; leave "
+                     "them out with --frames "
+                  << (again->first == options.first_frame
+                          ? frameRangeText({again->end, options.last_frame})
+                          : frameRangeText({options.first_frame, again->first}) +
+                                (again->end < end ? " (and fuse the frames after them too)" : ""))
+                  << " (cameras that only moved, never turned, look alike: then ignore this)\n";
+    }
     // Probabilities of another source (a segmenter where the map has the
     // frames' own, or another model) make a map of both, recorded as both.
     const FusedEvidence& before = earlier->fusedEvidence();

@@ -280,6 +280,13 @@ void printMapInfo(const std::filesystem::path& path, std::ostream& out) {
     out << "not recorded (a map of data version 1 to 3)\n";
   else
     out << describeEvidence(map.fusedEvidence()) << "\n";
+  out << "world frame:      ";
+  if (!map.worldFrame().recorded)
+    out << "not recorded (a map of data version 1 to 4)\n";
+  else if (map.worldFrame().frame_id.empty())
+    out << "none yet (no frame fused)\n";
+  else
+    out << map.worldFrame().frame_id << " (the frame its fused poses were in)\n";
   out << "camera views:     " << map.cameraViews().views;
   if (const auto up = map.camerasUp())
     out << ", mean up (" << up->x() << ", " << up->y() << ", " << up->z() << ")";

@@ -249,7 +249,7 @@ int runScore(const Words& words) {
       try {
         if (const auto& map_file = entry.inputs.map) {
           const LabelMap map = LabelMap::load(*map_file);
-          checkMapLabels(map, loadSequence(entry.inputs.sequence), map_file->string());
+          checkMapMatchesSequence(map, loadSequence(entry.inputs.sequence), map_file->string());
           if (threshold) checkOccupancyThreshold(*threshold, map.parameters(), map_file->string());
         } else {
           checkThresholdFor(threshold, std::nullopt, options);

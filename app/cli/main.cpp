@@ -94,6 +94,15 @@ std::string lessMemoryAdvice(const std::string& command) {
   return "free memory or raise ulimit -v";
 }
 
+// A command's usage on standard output (COMMAND --help, help COMMAND).
+int printCommandHelp(const Command& command) {
+  if (std::string(command.name) == "import")
+    std::cout << lom::cli::importHelp();
+  else
+    std::cout << "usage: labeloctomap " << command.usage << "\n";
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -104,9 +113,22 @@ int main(int argc, char** argv) {
   // Ctrl-C or a kill in the middle of a write removes the temporary files.
   lom::removePendingOutputsOnSignals();
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") ||
-      !std::strcmp(argv[1], "help")) {
+      (!std::strcmp(argv[1], "help") && argc == 2)) {
     printUsage(argc < 2 ? std::cerr : std::cout);
     return argc < 2 ? 2 : 0;
+  }
+  // "help fuse" as "fuse --help" (git's habit); an unknown name below.
+  if (!std::strcmp(argv[1], "help")) {
+    if (argc > 3) {
+      std::cerr << "labeloctomap help: expects one command name, got " << argc - 2 << " words\n";
+      printUsage(std::cerr);
+      return 2;
+    }
+    for (const auto& c : kCommands)
+      if (c.name == std::string(argv[2])) return printCommandHelp(c);
+    std::cerr << "labeloctomap help: unknown command '" << argv[2] << "'\n";
+    printUsage(std::cerr);
+    return 2;
   }
   // As the studio's --version: the version of the build, for bug reports.
   if (argc == 2 && (!std::strcmp(argv[1], "--version") || !std::strcmp(argv[1], "-v"))) {
@@ -117,13 +139,7 @@ int main(int argc, char** argv) {
   lom::cli::Words words(argv + 2, argv + argc);
   for (const auto& c : kCommands) {
     if (name != c.name) continue;
-    if (std::any_of(words.begin(), words.end(), lom::cli::isHelpWord)) {
-      if (name == "import")
-        std::cout << lom::cli::importHelp();
-      else
-        std::cout << "usage: labeloctomap " << c.usage << "\n";
-      return 0;
-    }
+    if (std::any_of(words.begin(), words.end(), lom::cli::isHelpWord)) return printCommandHelp(c);
     try {
       const int status = c.run(words);
       // What the command printed (tables, "wrote ..." lines) must have

@@ -20,6 +20,10 @@ constexpr const char* kMetrics2dFromLabels =
     "the probabilities were made from the label images, which are not an independent ground "
     "truth";
 
+constexpr const char* kMetrics2dPlaceholders =
+    "the label images are placeholders written by an import of colour and depth only, so "
+    "there is no ground truth to compare the probabilities with";
+
 std::string orDefault(const std::string& text, const char* fallback) {
   return text.empty() ? fallback : text;
 }
@@ -135,7 +139,7 @@ std::vector<std::string> emptyBoxWarnings(const Annotations& annotations, const 
 
 void checkMapAgainstSequence(const LabelMap& map, const Sequence& sequence, const std::string& map_file) {
   const std::string file = orDefault(map_file, "(map)");
-  checkMapLabels(map, sequence, file);
+  checkMapMatchesSequence(map, sequence, file);
   if (map.occupiedCountPerLabel().empty())
     throw Error(file, "map", "at least one occupied voxel", "an empty map");
 }
@@ -342,7 +346,8 @@ ScoreSummary summarizeAll(const std::vector<EvaluationReport>& reports) {
   return summarize(objects);
 }
 
-void checkMapLabels(const LabelMap& map, const Sequence& sequence, const std::string& map_file) {
+void checkMapMatchesSequence(const LabelMap& map, const Sequence& sequence,
+                             const std::string& map_file) {
   const std::string file = orDefault(map_file, "(map)");
   if (map.numLabels() != sequence.labels.size())
     throw Error(file, "labels",
@@ -354,6 +359,16 @@ void checkMapLabels(const LabelMap& map, const Sequence& sequence, const std::st
       throw Error(file, "labels[" + std::to_string(k) + "]",
                   "the sequence's label \"" + sequence.labels.at(k).name + "\"",
                   "\"" + map.labels().at(k).name + "\"");
+  // Poses and boxes in another world frame place the map elsewhere (an
+  // "odom" map scored against boxes in "map"); a map of before the record,
+  // or with no frame fused yet, cannot tell.
+  const WorldFrameRecord& world = map.worldFrame();
+  if (world.recorded && !world.frame_id.empty() && world.frame_id != sequence.frame_id)
+    throw Error(file, "world frame",
+                "the sequence's frame_id \"" + sequence.frame_id + "\" (" +
+                    (sequence.root / "sequence.json").string() +
+                    "): poses in one world frame are not coordinates of another",
+                "\"" + world.frame_id + "\", the frame the map's fused poses were in");
 }
 
 MapFit mapFitOf(const LabelMap& map, const Sequence& sequence, int stride) {
@@ -535,6 +550,8 @@ EvaluationReport evaluate(const Sequence& sequence, const Annotations& annotatio
   report.metrics_2d_excluded_frames = scan.excluded_2d;
   if (!report.metrics_2d && !scan.excluded_2d.empty())
     report.metrics_2d_not_scored = kMetrics2dFromLabels;
+  else if (!report.metrics_2d && scan.placeholder_labels_2d > 0)
+    report.metrics_2d_not_scored = kMetrics2dPlaceholders;
   return report;
 }
 

@@ -141,6 +141,8 @@ FrameScan scanFrames(const Sequence& sequence, const LabelMap& map,
     const bool has_proba = !record.proba.empty() || options.fusion.segmenter;
     // A placeholder label image (an import without labels) is no ground truth.
     const bool scored_2d = !record.label.empty() && !record.label_placeholder && has_proba;
+    if (has_proba && !record.label.empty() && record.label_placeholder)
+      ++scan.placeholder_labels_2d;
     if (scored_2d && ownLabelsProba(record)) {
       scan.excluded_2d.push_back(i);
       if (record.view) to_load.push_back(i);

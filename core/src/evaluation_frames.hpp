@@ -24,6 +24,9 @@ struct FrameScan {
   std::optional<ConfusionMatrix> confusion;             // frames with label and proba images
   std::optional<ConfusionMatrix> confusion_candidates;  // the same, after candidates
   std::vector<size_t> excluded_2d;  // frames with label and proba, the proba made from the label
+  // Frames with probabilities whose label image is a placeholder (an import
+  // without labels): no ground truth to compare them with.
+  size_t placeholder_labels_2d = 0;
 };
 
 // Frames [first_frame, last_frame) of options.fusion; voxel keys as in `map`

@@ -611,6 +611,7 @@ void fuseSequenceInto(LabelMap& map, const Sequence& sequence, const FusionOptio
   // Every camera before any frame: a pose far out fails at once, not after
   // the frames before it were fused.
   checkCamerasInsideMap(sequence, map.parameters().resolution, first, last);
+  noteSequenceWorldFrame(map, sequence);
   for (size_t i = first; i < last; ++i) {
     const FrameData frame = loadFusionFrame(sequence, i, options.segmenter.get());
     const FrameEvidence evidence = makeEvidence(sequence, i, frame, options);
@@ -633,6 +634,17 @@ void fuseSequenceInto(LabelMap& map, const Sequence& sequence, const FusionOptio
     if (progress && !progress(report)) break;
   }
   map.prune();  // merge every identical set of children once fusion is over
+}
+
+void noteSequenceWorldFrame(LabelMap& map, const Sequence& sequence) {
+  try {
+    map.noteWorldFrame(sequence.frame_id);
+  } catch (const Error& e) {
+    Problem p = e.problem();
+    p.file = (sequence.root / "sequence.json").string();
+    p.field = "frame_id";
+    throw Error(p);
+  }
 }
 
 std::string evidenceSourceOf(const Sequence& sequence, size_t index, const Segmenter* segmenter) {

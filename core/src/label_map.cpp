@@ -177,6 +177,19 @@ void LabelMap::noteFusedEvidence(const std::string& model) {
 
 const FusedEvidence& LabelMap::fusedEvidence() const { return tree_->fusedEvidence(); }
 
+void LabelMap::noteWorldFrame(const std::string& frame_id) {
+  const WorldFrameRecord& record = tree_->worldFrame();
+  if (!record.recorded || record.frame_id == frame_id) return;  // unknown stays unknown
+  if (!record.frame_id.empty())
+    throw Error("", "world frame",
+                "the map's world frame \"" + record.frame_id +
+                    "\" (the frame the poses fused into it were in)",
+                "\"" + frame_id + "\"");
+  tree_->setWorldFrame(WorldFrameRecord{true, frame_id});
+}
+
+const WorldFrameRecord& LabelMap::worldFrame() const { return tree_->worldFrame(); }
+
 std::string describeEvidence(const FusedEvidence& evidence) {
   std::string models;
   for (size_t i = 0; i < evidence.models.size(); ++i)

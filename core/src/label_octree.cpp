@@ -510,8 +510,9 @@ namespace {
 
 constexpr char kMagic[4] = {'L', 'O', 'M', 'T'};
 // 1: labels, parameters, nodes. 2: and the camera view record after the
-// parameters. 3: and the fused candidates after the camera views.
-constexpr std::uint32_t kFileVersion = 4;
+// parameters. 3: and the fused candidates after the camera views. 4: and
+// where the probabilities came from. 5: and the fused poses' world frame.
+constexpr std::uint32_t kFileVersion = 5;
 
 template <typename T>
 void writePod(std::ostream& s, const T& v) {
@@ -562,6 +563,15 @@ std::ostream& LabelOcTree::writeData(std::ostream& s) const {
       writePod(s, static_cast<std::uint16_t>(model.size()));
       s.write(model.data(), static_cast<std::streamsize>(model.size()));
     }
+  }
+  // The fused poses' world frame (version 5): 0 not known (a map read from an
+  // older file), or 1 and the frame name as a uint16 length (0 before the
+  // first frame is fused) and its bytes.
+  writePod(s, static_cast<std::uint8_t>(world_frame_.recorded ? 1 : 0));
+  if (world_frame_.recorded) {
+    writePod(s, static_cast<std::uint16_t>(world_frame_.frame_id.size()));
+    s.write(world_frame_.frame_id.data(),
+            static_cast<std::streamsize>(world_frame_.frame_id.size()));
   }
   // OctoMap's node stream cannot express an empty tree, so say whether one follows.
   writePod(s, static_cast<std::uint8_t>(root != nullptr));
@@ -649,6 +659,31 @@ FusedEvidence readFusedEvidence(std::istream& s) {
   return evidence;
 }
 
+// The fused poses' world frame (data version 5, writeData).
+WorldFrameRecord readWorldFrame(std::istream& s) {
+  constexpr std::uint16_t kMaxName = 4096;
+  WorldFrameRecord frame;
+  std::uint8_t known = 0;
+  if (!readPod(s, known)) truncated("world frame", "a world frame flag");
+  if (known > 1)
+    throw Error("", "world frame", "a world frame flag 0 (not known) or 1", std::to_string(known));
+  frame.recorded = known == 1;
+  if (!frame.recorded) return frame;
+  std::uint16_t length = 0;
+  if (!readPod(s, length)) truncated("world frame", "a name length");
+  if (length > kMaxName)
+    throw Error("", "world frame", "a frame name of at most " + std::to_string(kMaxName) + " bytes",
+                std::to_string(length) + " bytes");
+  frame.frame_id.assign(length, '\0');
+  s.read(frame.frame_id.data(), length);
+  if (!s) truncated("world frame", "a name of " + std::to_string(length) + " bytes");
+  if (std::any_of(frame.frame_id.begin(), frame.frame_id.end(),
+                  [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+    throw Error("", "world frame", "a frame name without control characters",
+                "a name with control characters");
+  return frame;
+}
+
 }  // namespace
 
 void LabelOcTree::readLabelledData(std::istream& s) {
@@ -712,6 +747,7 @@ void LabelOcTree::readLabelledData(std::istream& s) {
   FusedCandidates candidates =
       version >= 3 ? readFusedCandidates(s, count) : FusedCandidates{false, std::nullopt};
   FusedEvidence evidence = version >= 4 ? readFusedEvidence(s) : FusedEvidence{false, false, {}};
+  WorldFrameRecord world_frame = version >= 5 ? readWorldFrame(s) : WorldFrameRecord{false, {}};
   std::uint8_t has_nodes = 0;
   if (!readPod(s, has_nodes)) truncated("nodes", "a node flag");
   if (has_nodes > 1)
@@ -722,6 +758,7 @@ void LabelOcTree::readLabelledData(std::istream& s) {
   camera_views_ = camera_views;
   fused_candidates_ = std::move(candidates);
   fused_evidence_ = std::move(evidence);
+  world_frame_ = std::move(world_frame);
   applyParameters();
   if (!has_nodes) return;
   root = new LabelOcTreeNode();

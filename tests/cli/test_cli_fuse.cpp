@@ -121,6 +121,31 @@ TEST_F(CliFuseTest, FusingTheSameFramesAgainIsWarnedAbout) {
                             "' --out '" + (out / "both.ot").string() + "'");
   EXPECT_EQ(other.exit_code, 0) << other.err;
   EXPECT_EQ(other.err.find("warning:"), std::string::npos) << other.err;
+
+  // Frames that include the map's (a continuation started from the first
+  // frame again): the warning names the map's frames and the range to fuse.
+  const auto all = runCli("fuse " + scene() + " --quiet --start-from '" + first + "' --out '" +
+                          (out / "all.ot").string() + "'");
+  EXPECT_EQ(all.exit_code, 0) << all.err;
+  EXPECT_NE(all.err.find("warning: " + first +
+                         " was fused from frames 0:2 of these already, it seems (it records as "
+                         "many camera views as they are, looking the same ways): fusing them "
+                         "again counts each of their observations twice, which makes the map "
+                         "surer than the data are; leave them out with --frames 2: "),
+            std::string::npos)
+      << all.err;
+  // A map of middle frames: the frames before them, and those after.
+  const std::string middle = (out / "middle.ot").string();
+  ASSERT_EQ(runCli("fuse " + scene() + " --frames 1:3 --quiet --out '" + middle + "'").exit_code,
+            0);
+  const auto around = runCli("fuse " + scene() + " --quiet --start-from '" + middle + "' --out '" +
+                             (out / "around.ot").string() + "'");
+  EXPECT_NE(around.err.find("was fused from frames 1:3 of these already"), std::string::npos)
+      << around.err;
+  EXPECT_NE(around.err.find("leave them out with --frames 0:1 (and fuse the frames after them "
+                            "too)"),
+            std::string::npos)
+      << around.err;
 }
 
 // A map fused with --candidates is continued with the same candidates unless
@@ -458,6 +483,49 @@ TEST_F(CliFuseTest, AdviceAfterStartFromSaysToFuseAgainWithoutIt) {
   const auto plain =
       runCli("fuse " + scene_path + " --max-range 0.5 --out '" + (out / "plain.ot").string() + "'");
   EXPECT_NE(plain.err.find("; fuse with --max-range "), std::string::npos) << plain.err;
+}
+
+// A map records the world frame of the poses fused into it: frames of another
+// frame are not fused into it, nor is it scored against boxes of another
+// frame; info shows it.
+TEST_F(CliFuseTest, AMapOfAnotherWorldFrameIsRefusedByStartFromAndScore) {
+  TempDir out;
+  const auto copy = out / "odom_scene";
+  std::filesystem::copy(scene_->path() / "scene", copy, std::filesystem::copy_options::recursive);
+  lom::Sequence sequence = lom::loadSequence(copy);
+  sequence.frame_id = "odom";
+  lom::saveSequence(sequence, copy);
+  const std::string odom_map = "'" + (out / "odom.ot").string() + "'";
+  ASSERT_EQ(runCli("fuse '" + copy.string() + "' --frames 0:1 --quiet --out " + odom_map).exit_code,
+            0);
+  const auto info = runCli("info " + odom_map);
+  EXPECT_NE(info.out.find("world frame:      odom (the frame its fused poses were in)\n"),
+            std::string::npos)
+      << info.out;
+
+  const auto into = runCli("fuse " + scene() + " --frames 1: --start-from " + odom_map +
+                           " --out '" + (out / "mixed.ot").string() + "'");
+  EXPECT_NE(into.exit_code, 0);
+  EXPECT_NE(into.err.find((out / "odom.ot").string()), std::string::npos) << into.err;
+  EXPECT_NE(into.err.find("world frame"), std::string::npos) << into.err;
+  EXPECT_NE(into.err.find("\"world\""), std::string::npos) << into.err;
+  EXPECT_NE(into.err.find("\"odom\""), std::string::npos) << into.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "mixed.ot"));
+
+  const auto score = runCli("score " + scene() + " --annotations '" +
+                            (scene_->path() / "scene" / "annotations.json").string() + "' --map " +
+                            odom_map + " --out '" + (out / "report").string() + "'");
+  EXPECT_NE(score.exit_code, 0);
+  EXPECT_NE(score.err.find("world frame"), std::string::npos) << score.err;
+  EXPECT_NE(score.err.find("\"odom\", the frame the map's fused poses were in"), std::string::npos)
+      << score.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "report"));
+
+  // Frames of its own world frame fuse into it.
+  const auto same = runCli("fuse '" + copy.string() + "' --frames 1: --quiet --start-from " +
+                           odom_map + " --out '" + (out / "both.ot").string() + "'");
+  EXPECT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_EQ(lom::LabelMap::load(out / "both.ot").worldFrame().frame_id, "odom");
 }
 
 // The frame memory check charges nodes only for voxels a miss adds them

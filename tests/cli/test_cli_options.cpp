@@ -244,12 +244,23 @@ TEST_F(CliOptionTest, HelpPrintsTheUsageOfEveryCommand) {
     for (const std::string help : {"--help", "-h"}) {
       const auto r = runCli(command + " " + help);
       EXPECT_EQ(r.exit_code, 0) << command << " " << help << "\n" << r.err;
+      // "help COMMAND" (git's habit) says the same.
+      if (help == "--help") EXPECT_EQ(runCli("help " + command).out, r.out) << command;
       EXPECT_NE(r.out.find("usage: labeloctomap " + command), std::string::npos)
           << command << " " << help << "\n"
           << r.out;
       EXPECT_TRUE(r.err.empty()) << r.err;
     }
   }
+  // help with no word is the general usage; with a word that is no command, or
+  // with more words, an error and the general usage.
+  const auto general = runCli("help");
+  EXPECT_EQ(general.exit_code, 0);
+  EXPECT_NE(general.out.find("usage: labeloctomap"), std::string::npos) << general.out;
+  const auto unknown = runCli("help fusion");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("unknown command 'fusion'"), std::string::npos) << unknown.err;
+  EXPECT_EQ(runCli("help fuse score").exit_code, 2);
   // Also after other arguments, and import gives every option.
   const auto r = runCli("fuse " + q(scene()) + " --help");
   EXPECT_EQ(r.exit_code, 0) << r.err;

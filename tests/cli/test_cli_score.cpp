@@ -491,6 +491,14 @@ TEST_F(CliScoreTest, PlaceholderLabelImagesAreNoGroundTruth) {
   const Json report = Json::parse(slurp(out / "report" / "report.json"));
   EXPECT_FALSE(report.contains("metrics_2d"));
   EXPECT_EQ(report["objects"].size(), 4u) << "the 3D scores are unaffected";
+  // The reports say why there are no 2D metrics.
+  EXPECT_NE(r.out.find("2D segmentation: not scored: the label images are placeholders written "
+                       "by an import of colour and depth only"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(report.value("metrics_2d_not_scored", std::string()).find("placeholders"),
+            std::string::npos)
+      << report.dump();
   // The same frames without the mark are scored.
   const auto original = runCli(scoreArgs(out / "original"));
   ASSERT_EQ(original.exit_code, 0) << original.err;

@@ -1,8 +1,8 @@
 // A map fused earlier (.ot, as `labeloctomap fuse` writes it) shown instead of
 // fusing: File > Open Map… and --map on the studio's command line. The map
 // replaces the fused one with its own parameters and is scored as `score
-// --map` scores it; a map of another label set, or a file that is no map,
-// is refused with a message and leaves the map as it was.
+// --map` scores it; a map of another label set or world frame, or a file that
+// is no map, is refused with a message and leaves the map as it was.
 #include <gtest/gtest.h>
 
 #include <QAction>
@@ -316,17 +316,32 @@ TEST_F(OpenMapTest, AMapOfAnotherLabelSetOrNoMapAtAllIsRefused) {
   ASSERT_EQ(errors_.size(), 1u);
   EXPECT_TRUE(errors_.front().contains("other_labels.ot")) << errors_.front().toStdString();
   EXPECT_TRUE(errors_.front().contains("labels")) << errors_.front().toStdString();
+  EXPECT_TRUE(errors_.front().startsWith("Map of another label set: "))
+      << errors_.front().toStdString();
+
+  // The sequence's labels, but poses of another world frame than its own.
+  LabelMap elsewhere(loadSequence(folder_).labels, MapParameters{});
+  elsewhere.noteWorldFrame("odom");
+  const auto elsewhere_path = temp_.path() / "odom_frame.ot";
+  elsewhere.save(elsewhere_path);
+  session().openMap(qPath(elsewhere_path));
+  waitForMap();
+  ASSERT_EQ(errors_.size(), 2u);
+  EXPECT_TRUE(errors_.back().startsWith("Map of another world frame: "))
+      << errors_.back().toStdString();
+  EXPECT_TRUE(errors_.back().contains("odom_frame.ot")) << errors_.back().toStdString();
+  EXPECT_TRUE(errors_.back().contains("\"odom\"")) << errors_.back().toStdString();
 
   const auto garbage = temp_.path() / "not_a_map.ot";
   std::ofstream(garbage) << "hello\n";
   session().openMap(qPath(garbage));
   waitForMap();
-  ASSERT_EQ(errors_.size(), 2u);
+  ASSERT_EQ(errors_.size(), 3u);
   EXPECT_TRUE(errors_.back().contains("not_a_map.ot")) << errors_.back().toStdString();
 
   session().openMap(qPath(temp_.path() / "missing.ot"));
   waitForMap();
-  ASSERT_EQ(errors_.size(), 3u);
+  ASSERT_EQ(errors_.size(), 4u);
   EXPECT_TRUE(errors_.back().contains("missing.ot")) << errors_.back().toStdString();
 
   // The fused map is still the one shown, with its parameters, and the status

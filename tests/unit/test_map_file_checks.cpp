@@ -61,6 +61,7 @@ struct MapFile {
   std::uint8_t candidate_flag = 0;
   std::optional<std::vector<std::uint16_t>> candidates;
   std::string evidence;       // data version 4: where the probabilities came from, as written
+  std::string world_frame;    // data version 5: the fused poses' world frame, as written
   std::string nodes;          // the node flag and OctoMap's node stream
 
   static MapFile read(const fs::path& path) {
@@ -114,6 +115,11 @@ struct MapFile {
       }
       file.evidence = bytes.substr(start, at - start);
     }
+    if (file.version >= 5) {
+      const size_t start = at;
+      if (get<std::uint8_t>(bytes, at++) == 1) at += 2u + get<std::uint16_t>(bytes, at);
+      file.world_frame = bytes.substr(start, at - start);
+    }
     file.nodes = bytes.substr(at);
     return file;
   }
@@ -142,6 +148,9 @@ struct MapFile {
     }
     if (version >= 4) {
       bytes += evidence.empty() ? std::string(1, '\0') : evidence;
+    }
+    if (version >= 5) {
+      bytes += world_frame.empty() ? std::string(1, '\0') : world_frame;
     }
     writeBytes(path, bytes + nodes);
   }
@@ -224,15 +233,15 @@ TEST_F(MapFileTest, ResolutionOutOfRangeIsRefused) {
 }
 
 TEST_F(MapFileTest, AnUnknownDataVersionIsNamed) {
-  const lom::Problem problem = loadError(changed([](MapFile& f) { f.version = 5; }));
+  const lom::Problem problem = loadError(changed([](MapFile& f) { f.version = 6; }));
   EXPECT_EQ(problem.field, "data version");
-  EXPECT_EQ(problem.found, "version 5 (written by a newer program?)");
-  EXPECT_NE(problem.expected.find("version 1 to 4"), std::string::npos);
+  EXPECT_EQ(problem.found, "version 6 (written by a newer program?)");
+  EXPECT_NE(problem.expected.find("version 1 to 5"), std::string::npos);
 }
 
 TEST_F(MapFileTest, VersionOneMapsWithoutTheCameraViewRecordStillLoad) {
   const fs::path path = changed([](MapFile& f) {
-    EXPECT_EQ(f.version, 4u);
+    EXPECT_EQ(f.version, 5u);
     f.version = 1;
   });
   const lom::LabelMap map = lom::LabelMap::load(path);
@@ -303,7 +312,7 @@ TEST_F(MapFileTest, VersionTwoMapsLoadWithTheirCandidatesUnknown) {
   // Saved again, they stay unknown (not "every label").
   map.save(dir / "again.ot");
   const MapFile again = MapFile::read(dir / "again.ot");
-  EXPECT_EQ(again.version, 4u);
+  EXPECT_EQ(again.version, 5u);
   EXPECT_EQ(again.candidate_flag, 2);
   EXPECT_FALSE(lom::LabelMap::load(dir / "again.ot").fusedCandidates().recorded);
 }
@@ -365,6 +374,57 @@ TEST_F(MapFileTest, TheEvidenceRecordIsSavedAndUnknownInOlderMaps) {
   }));
   EXPECT_EQ(order.field, "evidence.models[1]");
   EXPECT_EQ(order.found, "a");
+}
+
+// The world frame of the fused poses: set by the first fused frame, saved
+// with the map; another frame is refused; unknown in maps of a version
+// before the record, also once frames are fused into them.
+TEST_F(MapFileTest, TheWorldFrameIsSavedAndUnknownInOlderMaps) {
+  lom::LabelMap map(lom::test::numberedLabels(5));
+  EXPECT_TRUE(map.worldFrame().recorded);
+  EXPECT_EQ(map.worldFrame().frame_id, "");
+  map.save(dir / "fresh.ot");
+  EXPECT_EQ(MapFile::read(dir / "fresh.ot").world_frame, std::string("\x01\x00\x00", 3));
+  map.noteWorldFrame("odom");
+  map.noteWorldFrame("odom");
+  EXPECT_EQ(map.worldFrame().frame_id, "odom");
+  try {
+    map.noteWorldFrame("map");
+    ADD_FAILURE() << "a pose of another world frame was recorded";
+  } catch (const lom::Error& e) {
+    EXPECT_EQ(e.problem().field, "world frame");
+    EXPECT_NE(e.problem().expected.find("\"odom\""), std::string::npos) << e.what();
+    EXPECT_EQ(e.problem().found, "\"map\"");
+  }
+  EXPECT_EQ(map.worldFrame().frame_id, "odom");
+  map.save(dir / "odom.ot");
+  EXPECT_EQ(MapFile::read(dir / "odom.ot").world_frame, std::string("\x01\x04\x00odom", 7));
+  const lom::LabelMap loaded = lom::LabelMap::load(dir / "odom.ot");
+  EXPECT_TRUE(loaded.worldFrame().recorded);
+  EXPECT_EQ(loaded.worldFrame().frame_id, "odom");
+
+  lom::LabelMap older = lom::LabelMap::load(changed([](MapFile& f) { f.version = 4; }));
+  EXPECT_FALSE(older.worldFrame().recorded);
+  older.noteWorldFrame("world");
+  EXPECT_FALSE(older.worldFrame().recorded);
+  older.save(dir / "older.ot");
+  EXPECT_FALSE(lom::LabelMap::load(dir / "older.ot").worldFrame().recorded);
+
+  // A damaged record names the field.
+  const lom::Problem flag =
+      loadError(changed([](MapFile& f) { f.world_frame = std::string("\x03", 1); }));
+  EXPECT_EQ(flag.field, "world frame");
+  EXPECT_EQ(flag.found, "3");
+  const lom::Problem control = loadError(
+      changed([](MapFile& f) { f.world_frame = std::string("\x01\x02\x00\x61\x0a", 5); }));
+  EXPECT_EQ(control.field, "world frame");
+  EXPECT_EQ(control.expected, "a frame name without control characters");
+  const lom::Problem cut = loadError(changed([](MapFile& f) {
+    f.world_frame = std::string("\x01\xff\x00", 3);
+    f.nodes = "ab";
+  }));
+  EXPECT_EQ(cut.field, "world frame");
+  EXPECT_NE(cut.found.find("truncated"), std::string::npos) << cut.message();
 }
 
 TEST_F(MapFileTest, CandidatesOutOfRangeOrOrderAreRefused) {

@@ -255,6 +255,7 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
     // fused, naming sequence.json and the frame.
     checkCamerasInsideMap(*sequence, fusion.map.resolution, fusion.first_frame, fusion.last_frame);
     auto fresh = std::make_unique<LabelMap>(sequence->labels, fusion.map);
+    noteSequenceWorldFrame(*fresh, *sequence);
     // Named in reports only when it runs: frames with a proba image of their own
     // are fused as they are (segmenterRunsOn).
     const size_t first_fused = std::min(fusion.first_frame, sequence->frames.size());

@@ -31,9 +31,11 @@ StudioSession::StudioSession(QObject* parent)
             if (!map) return emit mapOpenFailed(tr("Cannot open map"), error);
             if (!sequence_) return;
             try {
-              checkMapLabels(*map, *sequence_, path.toStdString());
-            } catch (const std::exception& mismatch) {
-              return emit mapOpenFailed(tr("Map of another label set"),
+              checkMapMatchesSequence(*map, *sequence_, path.toStdString());
+            } catch (const Error& mismatch) {
+              return emit mapOpenFailed(mismatch.problem().field == "world frame"
+                                            ? tr("Map of another world frame")
+                                            : tr("Map of another label set"),
                                         QString::fromStdString(mismatch.what()));
             }
             // Shown all the same: a map fused with other poses may be what the user wants to see.

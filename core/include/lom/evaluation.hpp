@@ -215,8 +215,11 @@ void checkBoxLabels(const Annotations& annotations, int label_count,
                     const std::string& annotations_file, const std::string& labelled);
 // Throws lom::Error naming `map_file` and the field "labels" (or "labels[k]")
 // unless the map has the sequence's labels, with the same names in the same
-// order: a map fused from another sequence's label set.
-void checkMapLabels(const LabelMap& map, const Sequence& sequence, const std::string& map_file);
+// order (a map fused from another sequence's label set), or the field "world
+// frame" when the map records fused poses of another world frame than the
+// sequence's frame_id.
+void checkMapMatchesSequence(const LabelMap& map, const Sequence& sequence,
+                             const std::string& map_file);
 
 // Samples the sequence's first, middle and last frames (unreadable depth
 // images are left out). Below kPoorMapFit, `score --map` and the studio warn

@@ -283,7 +283,8 @@ struct FusionProgress {
 // The same into `map` (fused earlier, e.g. from another recording of the
 // scene with the same labels), with the map's own parameters: options.map is
 // not used. Fusing frames A then B this way gives the map of A and B fused at
-// once. The caller checks that the labels agree (lom::checkMapLabels).
+// once. The caller checks that the labels and the world frame agree
+// (lom::checkMapMatchesSequence).
 void fuseSequenceInto(LabelMap& map, const Sequence& sequence, const FusionOptions& options,
                       const std::function<bool(const FusionProgress&)>& progress = {});
 // The camera views fusing frames [first, last) of `sequence` records in a map
@@ -291,6 +292,10 @@ void fuseSequenceInto(LabelMap& map, const Sequence& sequence, const FusionOptio
 // those frames (sameCameraViews).
 [[nodiscard]] CameraViewRecord cameraViewsOf(const Sequence& sequence, size_t first = 0,
                                              size_t last = static_cast<size_t>(-1));
+// Records the sequence's world frame (frame_id) in `map` before its frames
+// are fused (LabelMap::noteWorldFrame); throws lom::Error naming
+// sequence.json's frame_id when the map records another.
+void noteSequenceWorldFrame(LabelMap& map, const Sequence& sequence);
 // Where frame `index`'s probabilities come from when it is fused with
 // `segmenter` (which may be null): the model's file name where it runs
 // (segmenterRunsOn), "" for the frame's own; LabelMap::noteFusedEvidence

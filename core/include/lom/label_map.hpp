@@ -117,6 +117,16 @@ struct FusedEvidence {
 // "the frames' own probabilities", "segmenter m.onnx", or both joined by "and".
 [[nodiscard]] std::string describeEvidence(const FusedEvidence& evidence);
 
+// The world frame the fused cameras' poses were in (the sequence's frame_id),
+// which the sequence's boxes and any frames fused into the map later must be
+// in too. `frame_id` is empty until a frame is fused. `recorded` is false for
+// maps written before the record (data versions 1 to 4), and stays so when
+// frames are fused into them.
+struct WorldFrameRecord {
+  bool recorded = true;
+  std::string frame_id;
+};
+
 struct VoxelState {
   bool known = false;       // observed at least once
   bool occupied = false;
@@ -155,6 +165,12 @@ class LabelMap {
   // a sequence does, for every frame).
   void noteFusedEvidence(const std::string& model);
   [[nodiscard]] const FusedEvidence& fusedEvidence() const;
+  // Records the world frame of a fused frame's pose (the fusion of a sequence
+  // does, for every frame): the first sets it. Throws lom::Error (field
+  // "world frame") for another frame than the one recorded: its coordinates
+  // are not the map's (callers check first, with checkMapMatchesSequence).
+  void noteWorldFrame(const std::string& frame_id);
+  [[nodiscard]] const WorldFrameRecord& worldFrame() const;
   // Which way is up in the map's world, as its cameras saw it: the mean of
   // their up directions, normalised, when they agree (the mean is at least
   // half a unit long); nullopt when no view was recorded (maps of data

@@ -141,6 +141,9 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   void setFusedCandidates(const FusedCandidates& record) { fused_candidates_ = record; }
   [[nodiscard]] const FusedEvidence& fusedEvidence() const { return fused_evidence_; }
   void setFusedEvidence(const FusedEvidence& record) { fused_evidence_ = record; }
+  // The fused poses' world frame (LabelMap::noteWorldFrame); data version 5.
+  [[nodiscard]] const WorldFrameRecord& worldFrame() const { return world_frame_; }
+  void setWorldFrame(const WorldFrameRecord& record) { world_frame_ = record; }
 
   // Whether a miss of `key` (applyMiss) adds no node: the finest-depth node
   // of `key` exists, or a node on its path is saturated free space, which a
@@ -256,6 +259,7 @@ class LabelOcTree : public octomap::OccupancyOcTreeBase<LabelOcTreeNode> {
   CameraViewRecord camera_views_;
   FusedCandidates fused_candidates_;
   FusedEvidence fused_evidence_;
+  WorldFrameRecord world_frame_;
 
   // Registers the tree type with OctoMap's factory so AbstractOcTree::read works.
   class StaticMemberInitializer {
