@@ -12,6 +12,7 @@
 #include "lom/atomic_file.hpp"
 #include "lom/error.hpp"
 #include "lom/sequence.hpp"
+#include "lom/sequence_files.hpp"
 
 namespace lom::cli {
 
@@ -85,43 +86,14 @@ void checkOutsideInputs(const fs::path& out, const std::string& option, const st
                      folder->path.string() + "; write " + what + " outside it");
 }
 
-// Whether `a` and `b` name the same file (existing or not).
-bool samePath(const fs::path& a, const fs::path& b) {
-  std::error_code ec;
-  return resolved(a) == resolved(b) || fs::equivalent(a, b, ec);
-}
-
 }  // namespace
 
 void checkNotASequenceFile(const fs::path& out, const std::string& option) {
-  const fs::path target = resolved(out);
-  std::error_code ec;
-  for (fs::path folder = target.parent_path();; folder = folder.parent_path()) {
-    if (fs::is_regular_file(folder / "sequence.json", ec)) {
-      std::vector<std::pair<fs::path, std::string>> owned = {
-          {folder / "sequence.json", "the sequence file"},
-          {folder / "annotations.json", "the ground-truth boxes"},
-          {folder / "annotations.yaml", "the ground-truth boxes"},
-          {folder / "annotations.yml", "the ground-truth boxes"}};
-      try {
-        for (const fs::path& file : frameFilesOf(loadSequence(folder)))
-          owned.emplace_back(file, "a frame file");
-      } catch (const std::exception&) {
-        // An unreadable sequence names no frame files; its own files stay protected.
-      }
-      for (const auto& [file, what] : owned)
-        if (samePath(out, file)) {
-          // A sequence's own names are reserved even while the file is absent
-          // (its boxes are made later, in the studio).
-          const bool there = fs::exists(fs::symlink_status(file, ec));
-          throw UsageError("--" + option + " " + out.string() +
-                           (there ? " would overwrite " : " is the name reserved for ") + what +
-                           " " + file.string() + " of the sequence in " + folder.string() +
-                           "; choose another path");
-        }
-    }
-    if (!folder.has_parent_path() || folder.parent_path() == folder) break;
-  }
+  if (const std::optional<OwnedSequenceFile> owned = sequenceFileAt(out))
+    throw UsageError("--" + option + " " + out.string() +
+                     (owned->exists ? " would overwrite " : " is the name reserved for ") +
+                     owned->what + " " + owned->file.string() + " of the sequence in " +
+                     owned->folder.string() + "; choose another path");
 }
 
 bool isSameOrInside(const fs::path& path, const fs::path& folder) { return isInside(path, folder); }

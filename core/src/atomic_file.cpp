@@ -250,7 +250,21 @@ fs::path writtenFileOf(const fs::path& target) {
   std::error_code ec;
   if (!fs::is_symlink(fs::symlink_status(target, ec))) return target;
   const fs::path resolved = fs::canonical(target, ec);
-  return ec ? target : resolved;
+  if (!ec) return resolved;
+  // A dangling link names the file to make (`echo > link` makes it too),
+  // followed link by link, each relative to the folder it is in; a cycle
+  // or an unreadable link is written as the link itself.
+  fs::path file = target;
+  for (int hops = 0; hops < 40; ++hops) {
+    if (!fs::is_symlink(fs::symlink_status(file, ec))) {
+      const fs::path made = fs::weakly_canonical(fs::absolute(file, ec), ec);
+      return ec ? file.lexically_normal() : made;
+    }
+    const fs::path next = fs::read_symlink(file, ec);
+    if (ec) return target;
+    file = next.is_absolute() ? next : file.parent_path() / next;
+  }
+  return target;
 }
 
 fs::path createStagingFolder(const fs::path& parent, const std::string& what,

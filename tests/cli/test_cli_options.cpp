@@ -245,7 +245,9 @@ TEST_F(CliOptionTest, HelpPrintsTheUsageOfEveryCommand) {
       const auto r = runCli(command + " " + help);
       EXPECT_EQ(r.exit_code, 0) << command << " " << help << "\n" << r.err;
       // "help COMMAND" (git's habit) says the same.
-      if (help == "--help") EXPECT_EQ(runCli("help " + command).out, r.out) << command;
+      if (help == "--help") {
+        EXPECT_EQ(runCli("help " + command).out, r.out) << command;
+      }
       EXPECT_NE(r.out.find("usage: labeloctomap " + command), std::string::npos)
           << command << " " << help << "\n"
           << r.out;

@@ -226,6 +226,29 @@ TEST_F(BoxFilesTest, NeitherBoxesNorScreenshotsAreSavedOverTheSequencesFiles) {
   EXPECT_EQ(slurp(tiny_.folder / "sequence.json"), sequence_json);
   EXPECT_TRUE(boxes().isDirty());
 
+  // Nor over another sequence's files: its sequence.json, its boxes, its frames.
+  const fs::path other = temp_ / "other_sequence";
+  lom::test::writeTinySequence(other);
+  std::ofstream(other / "annotations.json") << "{}";
+  for (const fs::path& file :
+       {other / "sequence.json", other / "annotations.json", other / "color_0.png"}) {
+    errors_.clear();
+    const std::string kept = slurp(file);
+    save_as->saveTo(qPath(file));
+    ASSERT_EQ(errors_.size(), 1) << file;
+    EXPECT_TRUE(errors_.front().contains("is a file of the sequence"))
+        << errors_.front().toStdString();
+    EXPECT_EQ(slurp(file), kept) << file;
+  }
+  EXPECT_TRUE(boxes().isDirty());
+  // The open sequence's own boxes file is where they are saved.
+  errors_.clear();
+  save_as->saveTo(qPath(tiny_.folder / "annotations.json"));
+  EXPECT_TRUE(errors_.empty()) << errors_.front().toStdString();
+  EXPECT_FALSE(boxes().isDirty());
+  boxes().addBox(boxOf(1, "square_box"));
+  errors_.clear();
+
   // A frame's colour image is a PNG, as a screenshot is.
   auto* screenshot = window_.findAction("Save Screenshot…")->findChild<SaveScreenshotReaction*>();
   ASSERT_NE(screenshot, nullptr);
@@ -234,6 +257,9 @@ TEST_F(BoxFilesTest, NeitherBoxesNorScreenshotsAreSavedOverTheSequencesFiles) {
   const std::string pixels = slurp(colour);
   EXPECT_TRUE(screenshot->saveTo(qPath(colour)).contains("is a file of the sequence"));
   EXPECT_EQ(slurp(colour), pixels);
+  // Another sequence's colour image too.
+  EXPECT_TRUE(
+      screenshot->saveTo(qPath(other / "color_0.png")).contains("is a file of the sequence"));
   // Anywhere else the picture is written.
   EXPECT_TRUE(screenshot->saveTo(qPath(temp_ / "window.png")).isEmpty());
   EXPECT_TRUE(fs::exists(temp_ / "window.png"));
@@ -493,6 +519,34 @@ TEST_F(BoxFilesTest, RecoveryFileGoesWhenTheBoxesAreCleanAgain) {
   accept_offer_ = true;
   ASSERT_TRUE(open(tiny_.folder));
   EXPECT_TRUE(offered_.isEmpty()) << offered_.join(", ").toStdString();
+}
+
+// A recovery copy that cannot be written (a full disk; here a folder in its
+// place) is said once, not at every retry; once a copy is written again, a
+// later failure is said again.
+TEST_F(BoxFilesTest, ARecoveryCopyThatCannotBeWrittenIsSaidOnce) {
+  ASSERT_TRUE(open(tiny_.folder));
+  const QString recovery = window_.autosave().currentRecoveryPath();
+  ASSERT_FALSE(recovery.isEmpty());
+  ASSERT_TRUE(QDir().mkpath(recovery));
+  boxes().addBox(boxOf(1, "square_box"));
+  window_.autosave().writeNow();
+  ASSERT_EQ(warnings_.size(), 1) << warnings_.join("\n").toStdString();
+  EXPECT_TRUE(warnings_.front().startsWith("Unsaved boxes not backed up: "))
+      << warnings_.front().toStdString();
+  EXPECT_TRUE(warnings_.front().contains(recovery)) << warnings_.front().toStdString();
+  window_.autosave().writeNow();
+  EXPECT_EQ(warnings_.size(), 1);
+  ASSERT_TRUE(QDir(recovery).removeRecursively());
+  window_.autosave().writeNow();
+  EXPECT_TRUE(QFileInfo(recovery).isFile());
+  EXPECT_EQ(warnings_.size(), 1);
+  ASSERT_TRUE(QFile::remove(recovery));
+  ASSERT_TRUE(QDir().mkpath(recovery));
+  boxes().addBox(boxOf(2, "blue_cup"));
+  window_.autosave().writeNow();
+  EXPECT_EQ(warnings_.size(), 2);
+  ASSERT_TRUE(QDir(recovery).removeRecursively());
 }
 
 TEST_F(BoxFilesTest, RecoveryFileStaysWhenTheOtherSequenceFailsToOpen) {

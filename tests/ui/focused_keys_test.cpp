@@ -11,6 +11,8 @@
 
 #include "demo_window_fixture.hpp"
 #include "lom/ui/annotations_model.hpp"
+#include "lom/ui/frame_images_view.hpp"
+#include "lom/ui/image_pane.hpp"
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
@@ -39,6 +41,32 @@ class FocusedKeysTest : public fixture::DemoWindowTest {
     ASSERT_TRUE(QTest::qWaitFor([&] { return widget.hasFocus(); }, 5000));
   }
 };
+
+// Tabbing into Map Labels chooses no label: the probability shown stays the
+// selected box's label, and the table starts on that label's row; the arrows
+// then choose as they move.
+TEST_F(FocusedKeysTest, TabbingIntoMapLabelsKeepsTheLabelShown) {
+  auto* legend = window_.findChild<QTableView*>("mapLegendTable");
+  ASSERT_NE(legend, nullptr);
+  const int label = boxes().box(0).label;
+  ASSERT_GT(label, 0);
+  ASSERT_EQ(window_.session().selectedLabel(), label);
+  const QString caption = window_.frameImages().heatPane().caption();
+  ASSERT_FALSE(caption.contains("__background__")) << caption.toStdString();
+  ASSERT_FALSE(legend->currentIndex().isValid());
+  for (QWidget* up = legend; up; up = up->parentWidget())
+    if (auto* panel = qobject_cast<QDockWidget*>(up)) panel->raise();
+  legend->setFocus(Qt::TabFocusReason);
+  ASSERT_TRUE(QTest::qWaitFor([&] { return legend->hasFocus(); }, 5000));
+  EXPECT_EQ(window_.frameImages().heatPane().caption(), caption);
+  EXPECT_EQ(window_.session().selectedLabel(), label);
+  ASSERT_TRUE(legend->currentIndex().isValid());
+  EXPECT_EQ(legend->currentIndex().data(Qt::UserRole + 1).toInt(), label);
+  EXPECT_TRUE(legend->selectionModel()->selectedRows().isEmpty());
+  // An arrow moves to another row and shows that label's probability.
+  QTest::keyClick(legend, legend->currentIndex().row() == 0 ? Qt::Key_Down : Qt::Key_Up);
+  EXPECT_NE(window_.frameImages().heatPane().caption(), caption);
+}
 
 TEST_F(FocusedKeysTest, ListsAndTablesKeepLettersDeleteAndHomeEnd) {
   auto* legend = window_.findChild<QTableView*>("mapLegendTable");

@@ -264,6 +264,16 @@ TEST_F(ObjectsPanelTest, SavePlanWritesThePlanShownAsPlanJson) {
   const QString refused = panel.savePlanTo(qPath(sequence_json));
   EXPECT_TRUE(refused.contains("is a file of the sequence")) << refused.toStdString();
   EXPECT_EQ(test::slurp(sequence_json), before);
+  // Nor are its boxes, also while the file is absent (the studio makes it later).
+  const auto boxes_file = folder_ / "annotations.json";
+  const bool had_boxes = std::filesystem::exists(boxes_file);
+  const std::string boxes_before = had_boxes ? test::slurp(boxes_file) : std::string();
+  const QString boxes_refused = panel.savePlanTo(qPath(boxes_file));
+  EXPECT_TRUE(boxes_refused.contains("is a file of the sequence")) << boxes_refused.toStdString();
+  EXPECT_EQ(std::filesystem::exists(boxes_file), had_boxes);
+  if (had_boxes) {
+    EXPECT_EQ(test::slurp(boxes_file), boxes_before);
+  }
 
   // A new fusion drops the plan, and with it what there is to save.
   window_.session().fuse();

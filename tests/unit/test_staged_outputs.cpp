@@ -214,4 +214,40 @@ TEST(LibraryWrites, SavingThroughASymbolicLinkReplacesTheFileItPointsTo) {
   EXPECT_EQ(files, 1u);
 }
 
+// A link set up before its file exists (a folder of ground truth shared by
+// several sequences, before the first save) makes the file where it points,
+// link by link (a relative link is relative to its own folder), and stays a
+// link; one into a folder that does not exist fails, naming that folder, and
+// is kept as it was.
+TEST(LibraryWrites, SavingThroughALinkToAFileNotMadeYetMakesThatFile) {
+  lom::test::TempDir dir;
+  fs::create_directories(dir / "gt");
+  fs::create_directories(dir / "seq");
+  fs::create_symlink(fs::path("..") / "gt" / "hop.json", dir / "seq" / "annotations.json");
+  fs::create_symlink("boxes.json", dir / "gt" / "hop.json");
+  lom::writeTextFileAtomically(dir / "seq" / "annotations.json", "new");
+  EXPECT_TRUE(fs::is_symlink(dir / "seq" / "annotations.json"));
+  EXPECT_TRUE(fs::is_symlink(dir / "gt" / "hop.json"));
+  ASSERT_TRUE(fs::is_regular_file(dir / "gt" / "boxes.json"));
+  EXPECT_EQ(readText(dir / "gt" / "boxes.json"), "new");
+  EXPECT_EQ(lom::writtenFileOf(dir / "seq" / "annotations.json"),
+            fs::canonical(dir / "gt" / "boxes.json"));
+
+  fs::create_symlink(dir / "missing" / "boxes.json", dir / "seq" / "nowhere.json");
+  try {
+    lom::writeTextFileAtomically(dir / "seq" / "nowhere.json", "lost?");
+    ADD_FAILURE() << "wrote through a link into a folder that does not exist";
+  } catch (const lom::Error& e) {
+    EXPECT_NE(std::string(e.what()).find((dir / "missing").string()), std::string::npos)
+        << e.what();
+  }
+  EXPECT_TRUE(fs::is_symlink(dir / "seq" / "nowhere.json"));
+  EXPECT_FALSE(fs::exists(dir / "missing"));
+
+  // A cycle is no file to make: the link itself is written.
+  fs::create_symlink("b.json", dir / "seq" / "a.json");
+  fs::create_symlink("a.json", dir / "seq" / "b.json");
+  EXPECT_EQ(lom::writtenFileOf(dir / "seq" / "a.json"), dir / "seq" / "a.json");
+}
+
 }  // namespace

@@ -462,8 +462,18 @@ void BoxesAutosave::writeNow() {
   try {
     writeRecoveryFile(boxesToSave(session_), session_.annotations().path(),
                       session_.annotations().knownFiles(), recovery_path_);
-  } catch (const std::exception&) {
-    // A failed recovery copy must not interrupt the work; the next tick retries.
+    copy_failing_ = false;
+  } catch (const std::exception& error) {
+    // The next tick retries; the user hears once that a crash would now
+    // lose the boxes (a full disk, a folder that takes no files).
+    if (copy_failing_) return;
+    copy_failing_ = true;
+    emit session_.controller().warningOccurred(
+        QObject::tr("Unsaved boxes not backed up"),
+        QObject::tr("The recovery copy of the unsaved boxes could not be written, so a crash "
+                    "would lose them: %1\n\nSave the boxes (File ▸ Save Boxes) to keep them; "
+                    "the studio keeps trying to write the copy.")
+            .arg(QString::fromStdString(error.what())));
   }
 }
 

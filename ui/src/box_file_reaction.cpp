@@ -140,6 +140,10 @@ void BoxFileReaction::onTriggered() {
 bool BoxFileReaction::refuseSequenceFile(const QString& path) {
   const QString input = session_.controller().sequenceFileAt(path);
   if (input.isEmpty()) return false;
+  // The open sequence's own boxes file is where its boxes belong.
+  if (const auto sequence = session_.sequence())
+    for (const char* name : {"annotations.json", "annotations.yaml", "annotations.yml"})
+      if (input == QString::fromStdString((sequence->root / name).string())) return false;
   report_(tr("Boxes"), tr("%1 is a file of the sequence (%2): boxes are never saved over it. "
                           "Choose another name.")
                            .arg(QDir::toNativeSeparators(path), QDir::toNativeSeparators(input)));

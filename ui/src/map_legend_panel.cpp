@@ -1,5 +1,6 @@
 #include "lom/ui/map_legend_panel.hpp"
 
+#include <QEvent>
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QPixmap>
@@ -7,6 +8,8 @@
 #include <QSignalBlocker>
 #include <QTableWidget>
 #include <QVBoxLayout>
+#include <functional>
+#include <utility>
 
 #include "lom/height_colours.hpp"
 #include "lom/ui/colour_bar.hpp"
@@ -18,6 +21,21 @@ namespace lom::ui {
 
 namespace {
 constexpr int kLabelRole = Qt::UserRole + 1;
+
+// Runs `entering` when its table gets the keyboard focus, before the table
+// itself makes its first row current (which would choose that label).
+class FocusEntry : public QObject {
+ public:
+  FocusEntry(QObject* parent, std::function<void()> entering)
+      : QObject(parent), entering_(std::move(entering)) {}
+  bool eventFilter(QObject*, QEvent* event) override {
+    if (event->type() == QEvent::FocusIn) entering_();
+    return false;
+  }
+
+ private:
+  std::function<void()> entering_;
+};
 
 QIcon swatch(const QColor& color) {
   QPixmap pixmap(14, 14);
@@ -71,6 +89,19 @@ MapLegendPanel::MapLegendPanel(StudioSession& session, QWidget* parent)
           [this](QTableWidgetItem* item) { showOnly(item->data(kLabelRole).toInt()); });
   connect(table_, &QTableWidget::currentCellChanged, this,
           [this] { emit currentLabelChanged(currentLabel()); });
+  // Tabbing into the table chooses no label: the row it starts on is the
+  // label chosen already (else the first), made current without a word, so
+  // the frame images keep the label they show (the background's probability
+  // instead, before). Arrows then move from there and choose as they go.
+  table_->installEventFilter(new FocusEntry(table_, [this] {
+    if (table_->currentRow() >= 0 || table_->rowCount() == 0) return;
+    int row = 0;
+    for (int r = 0; r < table_->rowCount(); ++r)
+      if (table_->item(r, 0)->data(kLabelRole).toInt() == session_.selectedLabel()) row = r;
+    const QSignalBlocker block(table_);
+    table_->selectionModel()->setCurrentIndex(table_->model()->index(row, 0),
+                                              QItemSelectionModel::NoUpdate);
+  }));
   connect(&session_.worker(), &MapWorker::snapshotChanged, this, &MapLegendPanel::rebuild);
   connect(&session_, &StudioSession::hiddenLabelsChanged, this, &MapLegendPanel::rebuild);
 }

@@ -17,6 +17,7 @@
 
 #include "lom/error.hpp"
 #include "lom/segmenter.hpp"
+#include "lom/sequence_files.hpp"
 #include "lom/ui/frame_labels.hpp"
 
 namespace lom::ui {
@@ -523,8 +524,12 @@ void SequenceController::startFrameSegmentation() {
 
 QString SequenceController::sequenceFileAt(const QString& path) const {
   namespace fs = std::filesystem;
-  if (!sequence_) return {};
   const fs::path target = path.toStdString();
+  // Any sequence's own files: its sequence.json, boxes and frames (another
+  // sequence's too, when the path lies in its folder).
+  if (const std::optional<OwnedSequenceFile> owned = lom::sequenceFileAt(target))
+    return QString::fromStdString(owned->file.string());
+  if (!sequence_) return {};
   std::vector<fs::path> files = frameFilesOf(*sequence_);
   files.push_back(sequence_->root / "sequence.json");
   for (const fs::path& file : files) {

@@ -60,9 +60,11 @@ void removePendingOutputs() noexcept;
 // removePendingOutputsAndDie. Call once, early in main.
 void removePendingOutputsOnSignals();
 
-// The file a write of `target` replaces: for a symbolic link that resolves,
-// the file it points to (a link into a shared folder of annotations keeps
-// pointing at the saved boxes); else `target` itself, a dangling link included.
+// The file a write of `target` replaces: for a symbolic link, the file it
+// points to (a link into a shared folder of annotations keeps pointing at the
+// saved boxes), also when that file does not exist yet (it is made there, and
+// a write into a folder that does not exist fails, naming it); else `target`
+// itself, and for a link that cannot be followed (a cycle) the link.
 [[nodiscard]] std::filesystem::path writtenFileOf(const std::filesystem::path& target);
 
 // Calls write(stream) on a temporary file next to `target`, then renames it over

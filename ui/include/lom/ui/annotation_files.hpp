@@ -119,6 +119,9 @@ class BoxesAutosave : public QObject {
   QString offered_path_;   // the recovery file about to be offered
   bool restoring_ = false;
   bool leave_files_alone_ = false;
+  // A recovery copy failed since the last one written: said once, not at
+  // every retry.
+  bool copy_failing_ = false;
 };
 
 }  // namespace lom::ui

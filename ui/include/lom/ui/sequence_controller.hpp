@@ -67,10 +67,12 @@ class SequenceController : public QObject {
   // followed by `suffix` ("NAME.ot", "NAME-report"), so that the outputs of
   // one sequence never replace another's unasked. Empty without a sequence.
   [[nodiscard]] QString proposedOutput(const QString& suffix) const;
-  // The file of the open sequence (its sequence.json or a frame file, and for
-  // a converted recording the bag or any file already in the recording's
-  // folder) that `path` names, under any name; empty when it names none (or
-  // no sequence is open). The studio never writes its outputs over them.
+  // The file of a sequence that `path` names, under any name: the sequence.json,
+  // boxes (annotations.json, .yaml, .yml) or a frame file of the open sequence
+  // or of any sequence whose folder holds `path` (lom::sequenceFileAt), and
+  // for a converted recording the bag or any file already in the recording's
+  // folder; empty when it names none. The studio never writes its outputs
+  // over them (Save Boxes only over the open sequence's own boxes).
   [[nodiscard]] QString sequenceFileAt(const QString& path) const;
   // Options of the conversion of bags and dataset folders (the camera
   // intrinsics of a layout without them, for instance).
