@@ -3,11 +3,14 @@
 // Home/End), and the focus never works in a panel nobody sees.
 #include <gtest/gtest.h>
 
+#include <QApplication>
 #include <QComboBox>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QTableView>
 #include <QTest>
+#include <QToolButton>
+#include <cstdlib>
 
 #include "demo_window_fixture.hpp"
 #include "lom/ui/annotations_model.hpp"
@@ -66,6 +69,26 @@ TEST_F(FocusedKeysTest, TabbingIntoMapLabelsKeepsTheLabelShown) {
   // An arrow moves to another row and shows that label's probability.
   QTest::keyClick(legend, legend->currentIndex().row() == 0 ? Qt::Key_Down : Qt::Key_Up);
   EXPECT_NE(window_.frameImages().heatPane().caption(), caption);
+}
+
+// The timeline's buttons (Play, the frame steps) show where the keyboard
+// focus is: drawn otherwise when Tab reaches them than without the focus.
+TEST_F(FocusedKeysTest, TheTimelineButtonsShowTheKeyboardFocus) {
+  auto* play = window_.findChild<QToolButton*>("playButton");
+  ASSERT_NE(play, nullptr);
+  ASSERT_TRUE(play->isEnabled());
+  window_.frameImages().setFocus(Qt::OtherFocusReason);
+  QApplication::processEvents();
+  const QImage without = play->grab().toImage();
+  play->setFocus(Qt::TabFocusReason);  // as Tab gives it
+  ASSERT_TRUE(QTest::qWaitFor([&] { return play->hasFocus(); }, 5000));
+  QApplication::processEvents();
+  const QImage with = play->grab().toImage();
+  if (const char* keep = std::getenv("LOM_KEEP_SHOTS")) {
+    with.save(QString(keep) + "/play_with.png");
+    without.save(QString(keep) + "/play_without.png");
+  }
+  EXPECT_NE(with, without) << "the focused Play button looks as it does without the focus";
 }
 
 TEST_F(FocusedKeysTest, ListsAndTablesKeepLettersDeleteAndHomeEnd) {

@@ -2,6 +2,7 @@
 
 #include <QAction>
 #include <QComboBox>
+#include <QEvent>
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QSignalBlocker>
@@ -15,12 +16,40 @@
 namespace lom::ui {
 
 namespace {
-QToolButton* buttonFor(QAction* action) {
+
+// A flat (auto-raise) tool button is drawn as a raised button while it has
+// the keyboard focus: the style draws a flat one the same with and without
+// it, so Tab reached it unseen.
+class RaisedWhileFocused : public QObject {
+ public:
+  explicit RaisedWhileFocused(QToolButton* button) : QObject(button), button_(button) {
+    button->installEventFilter(this);
+  }
+  bool eventFilter(QObject*, QEvent* event) override {
+    if (event->type() == QEvent::FocusIn)
+      button_->setAutoRaise(false);
+    else if (event->type() == QEvent::FocusOut)
+      button_->setAutoRaise(true);
+    return false;
+  }
+
+ private:
+  QToolButton* button_;
+};
+
+QToolButton* flatButton() {
   auto* button = new QToolButton;
-  button->setDefaultAction(action);
   button->setAutoRaise(true);
+  new RaisedWhileFocused(button);
   return button;
 }
+
+QToolButton* buttonFor(QAction* action) {
+  QToolButton* button = flatButton();
+  button->setDefaultAction(action);
+  return button;
+}
+
 }  // namespace
 
 TimelineWidget::TimelineWidget(const StepActions& actions, QWidget* parent)
@@ -28,12 +57,11 @@ TimelineWidget::TimelineWidget(const StepActions& actions, QWidget* parent)
       slider_(new QSlider(Qt::Horizontal)),
       frame_number_(new QSpinBox),
       frame_count_(new QLabel),
-      play_(new QToolButton),
+      play_(flatButton()),
       speed_(new QComboBox),
       play_timer_(new QTimer(this)) {
   play_->setObjectName("playButton");
   play_->setCheckable(true);
-  play_->setAutoRaise(true);
   play_->setIcon(mediaIcon(MediaIcon::Play, palette()));
   play_->setToolTip(tr("Play / pause (Space)"));
   // Names a screen reader says (a tooltip is only its description).
