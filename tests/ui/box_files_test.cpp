@@ -849,6 +849,44 @@ TEST_F(BoxFilesTest, TabAndShiftTabInTheSceneStepThroughTheBoxes) {
   EXPECT_EQ(boxes().selected(), 0);
 }
 
+// A studio ended with unsaved boxes of a sequence that was then moved: its
+// copy is found by the old path, never offered again; the next studio keeps
+// it as a plain boxes file and says where, once.
+TEST_F(BoxFilesTest, TheCopyOfASequenceMovedAwayIsKeptAndSaidWhere) {
+  const fs::path old_folder = temp_ / "before_the_move";
+  lom::test::writeTinySequence(old_folder);
+  ASSERT_TRUE(open(old_folder));
+  boxes().addBox(boxOf(1, "square_box"));
+  window_.autosave().writeNow();
+  const QString recovery = window_.autosave().currentRecoveryPath();
+  ASSERT_TRUE(QFileInfo::exists(recovery));
+  const std::string copy = slurp(recovery.toStdString());
+  boxes().undoStack().undo();  // the copy goes; it is put back below, as a crash leaves it
+  ASSERT_FALSE(QFileInfo::exists(recovery));
+  fs::rename(old_folder, temp_ / "after_the_move");
+  std::ofstream(recovery.toStdString(), std::ios::binary) << copy;
+
+  warnings_.clear();
+  ASSERT_TRUE(open(tiny_.folder));
+  ASSERT_EQ(warnings_.size(), 1) << warnings_.join("\n").toStdString();
+  EXPECT_TRUE(warnings_.front().startsWith("Unsaved boxes of a sequence not found: "))
+      << warnings_.front().toStdString();
+  EXPECT_TRUE(
+      warnings_.front().contains(qPath(fs::weakly_canonical(temp_.path()) / "before_the_move")))
+      << warnings_.front().toStdString();
+  const QString kept = BoxesAutosave::declinedPath(recovery);
+  EXPECT_TRUE(warnings_.front().contains(kept)) << warnings_.front().toStdString();
+  EXPECT_FALSE(QFileInfo::exists(recovery));
+  EXPECT_FALSE(QFileInfo::exists(recovery + ".lock"));
+  ASSERT_TRUE(QFileInfo::exists(kept));
+  EXPECT_EQ(loadAnnotations(fs::path(kept.toStdString())).boxes.size(), 1u);
+  EXPECT_TRUE(offered_.isEmpty());
+  // Said once: the next sequence opened hears nothing of it.
+  ASSERT_TRUE(open(temp_ / "after_the_move"));
+  EXPECT_EQ(warnings_.size(), 1) << warnings_.join("\n").toStdString();
+  QFile::remove(kept);
+}
+
 // A declined recovery copy is not offered again, and not deleted either.
 TEST_F(BoxFilesTest, ADeclinedRecoveryCopyIsKept) {
   ASSERT_TRUE(open(tiny_.folder));

@@ -7,6 +7,7 @@
 #include <QFileInfo>
 #include <QJsonDocument>
 #include <QJsonObject>
+#include <QLockFile>
 #include <QMessageBox>
 #include <QStandardPaths>
 #include <QStringList>
@@ -88,7 +89,8 @@ struct RecoveredBoxes {
 };
 
 void writeRecoveryFile(const Annotations& boxes, const QString& save_to,
-                       const std::map<QString, QByteArray>& known_files, const QString& path) {
+                       const std::map<QString, QByteArray>& known_files, const QString& sequence,
+                       const QString& path) {
   // The boxes are written by the core, as Save Boxes writes them, then wrapped.
   const QString boxes_file = path + ".boxes";
   saveAnnotations(boxes, toPath(boxes_file));
@@ -103,7 +105,9 @@ void writeRecoveryFile(const Annotations& boxes, const QString& save_to,
   QJsonObject known;
   for (const auto& [file, digest] : known_files)
     known.insert(file, QString::fromLatin1(digest.toHex()));
+  // The sequence (its canonical path) tells a copy whose sequence has gone.
   const QJsonObject recovery{{"format", kRecoveryFormat},
+                             {"sequence", sequence},
                              {"save_to", save_to},
                              {"known_files", known},
                              {"boxes", annotations.object()}};
@@ -461,7 +465,8 @@ void BoxesAutosave::writeNow() {
   QDir().mkpath(QFileInfo(recovery_path_).path());
   try {
     writeRecoveryFile(boxesToSave(session_), session_.annotations().path(),
-                      session_.annotations().knownFiles(), recovery_path_);
+                      session_.annotations().knownFiles(),
+                      canonicalSourcePath(session_.controller().sequencePath()), recovery_path_);
     copy_failing_ = false;
   } catch (const std::exception& error) {
     // The next tick retries; the user hears once that a crash would now
@@ -554,7 +559,10 @@ void BoxesAutosave::onSequenceChanged() {
             .arg(holder));
     return;
   }
-  if (!QFileInfo::exists(path)) return;
+  if (!QFileInfo::exists(path)) {
+    keepOrphanedCopies();
+    return;
+  }
   // Offered once the switch has reached every view: the question waits for
   // an answer, and meanwhile the window shows the sequence it names (the
   // status bar and the frame too). Until then the file is neither written
@@ -565,6 +573,40 @@ void BoxesAutosave::onSequenceChanged() {
     offered_path_.clear();
     offerRecovery(path);
   });
+}
+
+void BoxesAutosave::keepOrphanedCopies() {
+  // Copies are found by the sequence's path: one moved, renamed or on a
+  // drive mounted elsewhere since its studio ended is never offered again.
+  // Each is kept as a plain boxes file, once, and said where.
+  const QDir folder(QFileInfo(recovery_path_).path());
+  for (const QString& name : folder.entryList({QStringLiteral("*.json")}, QDir::Files)) {
+    const QString copy = folder.filePath(name);
+    if (copy == recovery_path_ || name.contains(QStringLiteral(".declined"))) continue;
+    QFile file(copy);
+    if (!file.open(QIODevice::ReadOnly)) continue;
+    const QJsonObject recovery = QJsonDocument::fromJson(file.readAll()).object();
+    file.close();
+    // The sequence it was of; copies written before that was recorded say
+    // where their boxes were to be saved, beside the sequence.
+    QString sequence = recovery.value("sequence").toString();
+    if (sequence.isEmpty() && !recovery.value("save_to").toString().isEmpty())
+      sequence = QFileInfo(recovery.value("save_to").toString()).absolutePath();
+    if (recovery.value("format").toString() != QLatin1String(kRecoveryFormat) ||
+        sequence.isEmpty() || QFileInfo::exists(sequence))
+      continue;
+    QLockFile lock(copy + QStringLiteral(".lock"));  // a studio still open keeps its copy
+    lock.setStaleLockTime(0);
+    if (!lock.tryLock(0)) continue;
+    const QString kept = keepAsDeclined(copy);
+    lock.unlock();
+    emit session_.controller().warningOccurred(
+        QObject::tr("Unsaved boxes of a sequence not found"),
+        QObject::tr("A studio ended with unsaved boxes of the sequence %1, which is no longer "
+                    "there (moved, renamed, or on a drive not mounted). They are kept as %2: "
+                    "File ▸ Open Boxes… opens them as the open sequence's unsaved boxes.")
+            .arg(QDir::toNativeSeparators(sequence), QDir::toNativeSeparators(kept)));
+  }
 }
 
 void BoxesAutosave::offerRecovery(const QString& path) {

@@ -103,6 +103,10 @@ class BoxesAutosave : public QObject {
   // Keeps a recovery file that is not restored as a plain boxes file beside
   // it (NAME.declined.json, or the next free name); returns where it went.
   QString keepAsDeclined(const QString& path);
+  // Keeps as declined (keepAsDeclined) the recovery copies of sequences whose
+  // folder is gone, with a warning naming it; copies a live studio holds
+  // are left alone.
+  void keepOrphanedCopies();
   // Takes the lock of the recovery file `path` (true), or says which process
   // holds it (false, `holder`).
   bool takeLock(const QString& path, qint64* holder);
