@@ -26,19 +26,8 @@ std::string lower(std::string text) {
   return text;
 }
 
-// Absolute, with symbolic links of the existing part resolved and no trailing separator.
-fs::path resolved(const fs::path& path) {
-  std::error_code ec;
-  fs::path absolute = fs::absolute(path, ec);
-  if (ec) absolute = path;
-  fs::path result = fs::weakly_canonical(absolute, ec);
-  if (ec) result = absolute.lexically_normal();
-  if (!result.has_filename() && result.has_parent_path()) result = result.parent_path();
-  return result;
-}
-
 bool isInside(const fs::path& path, const fs::path& folder) {
-  const fs::path inner = resolved(path), outer = resolved(folder);
+  const fs::path inner = resolvedPath(path), outer = resolvedPath(folder);
   const auto [outer_end, inner_end] =
       std::mismatch(outer.begin(), outer.end(), inner.begin(), inner.end());
   return outer_end == outer.end();
@@ -100,7 +89,7 @@ bool isSameOrInside(const fs::path& path, const fs::path& folder) { return isIns
 
 void checkHoldsNoFramesOfSequencesAbove(const fs::path& out, const std::string& option,
                                         const std::string& what) {
-  const fs::path target = resolved(out);
+  const fs::path target = resolvedPath(out);
   std::error_code ec;
   for (fs::path folder = target.parent_path(); !folder.empty(); folder = folder.parent_path()) {
     if (fs::is_regular_file(folder / "sequence.json", ec)) {
@@ -144,7 +133,7 @@ void CommandInputs::addSequencePath(const fs::path& folder_or_json) {
   if (fs::is_directory(folder_or_json, ec))
     addFolder(folder_or_json, "the input sequence folder");
   else if (fs::is_regular_file(folder_or_json, ec))
-    addFolder(resolved(folder_or_json).parent_path(), "the input sequence folder");
+    addFolder(resolvedPath(folder_or_json).parent_path(), "the input sequence folder");
 }
 
 void requireExtension(const fs::path& out, const std::string& option, const std::string& extension,

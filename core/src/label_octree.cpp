@@ -567,8 +567,10 @@ std::ostream& LabelOcTree::writeData(std::ostream& s) const {
   // The fused poses' world frame (version 5): 0 not known (a map read from an
   // older file), or 1 and the frame name as a uint16 length (0 before the
   // first frame is fused) and its bytes.
-  writePod(s, static_cast<std::uint8_t>(world_frame_.recorded ? 1 : 0));
-  if (world_frame_.recorded) {
+  // (A name too long for its length field, which no sequence has, is not known.)
+  const bool frame_known = world_frame_.recorded && world_frame_.frame_id.size() <= 0xffff;
+  writePod(s, static_cast<std::uint8_t>(frame_known ? 1 : 0));
+  if (frame_known) {
     writePod(s, static_cast<std::uint16_t>(world_frame_.frame_id.size()));
     s.write(world_frame_.frame_id.data(),
             static_cast<std::streamsize>(world_frame_.frame_id.size()));
@@ -661,7 +663,6 @@ FusedEvidence readFusedEvidence(std::istream& s) {
 
 // The fused poses' world frame (data version 5, writeData).
 WorldFrameRecord readWorldFrame(std::istream& s) {
-  constexpr std::uint16_t kMaxName = 4096;
   WorldFrameRecord frame;
   std::uint8_t known = 0;
   if (!readPod(s, known)) truncated("world frame", "a world frame flag");
@@ -671,9 +672,6 @@ WorldFrameRecord readWorldFrame(std::istream& s) {
   if (!frame.recorded) return frame;
   std::uint16_t length = 0;
   if (!readPod(s, length)) truncated("world frame", "a name length");
-  if (length > kMaxName)
-    throw Error("", "world frame", "a frame name of at most " + std::to_string(kMaxName) + " bytes",
-                std::to_string(length) + " bytes");
   frame.frame_id.assign(length, '\0');
   s.read(frame.frame_id.data(), length);
   if (!s) truncated("world frame", "a name of " + std::to_string(length) + " bytes");

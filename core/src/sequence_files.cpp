@@ -10,10 +10,7 @@ namespace lom {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-// Absolute, with symbolic links of the existing part resolved and no trailing separator.
-fs::path resolved(const fs::path& path) {
+fs::path resolvedPath(const fs::path& path) {
   std::error_code ec;
   fs::path absolute = fs::absolute(path, ec);
   if (ec) absolute = path;
@@ -23,16 +20,18 @@ fs::path resolved(const fs::path& path) {
   return result;
 }
 
+namespace {
+
 // Whether `a` and `b` name the same file (existing or not).
 bool samePath(const fs::path& a, const fs::path& b) {
   std::error_code ec;
-  return resolved(a) == resolved(b) || fs::equivalent(a, b, ec);
+  return resolvedPath(a) == resolvedPath(b) || fs::equivalent(a, b, ec);
 }
 
 }  // namespace
 
 std::optional<OwnedSequenceFile> sequenceFileAt(const fs::path& path) {
-  const fs::path target = resolved(path);
+  const fs::path target = resolvedPath(path);
   std::error_code ec;
   for (fs::path folder = target.parent_path();; folder = folder.parent_path()) {
     if (fs::is_regular_file(folder / "sequence.json", ec)) {

@@ -13,29 +13,24 @@ lom::LabelSet threeLabels() {
 
 // `fuse --frames` and the studio's Frames field read ranges alike.
 TEST(FrameRanges, ReadAToBAsFramesAToBMinusOneAndAbsentEndsAsTheSequenceEnds) {
-  const auto both = lom::parseFrameRange("2:5");
-  ASSERT_TRUE(both);
-  EXPECT_EQ(both->first, 2U);
-  EXPECT_EQ(both->end, 5U);
-  const auto from = lom::parseFrameRange(" 7 : ");
-  ASSERT_TRUE(from);
-  EXPECT_EQ(from->first, 7U);
-  EXPECT_EQ(from->end, lom::kToTheEnd);
-  const auto head = lom::parseFrameRange(":3");
-  ASSERT_TRUE(head);
-  EXPECT_EQ(head->first, 0U);
-  EXPECT_EQ(head->end, 3U);
-  const auto all = lom::parseFrameRange("  ");
-  ASSERT_TRUE(all);
-  EXPECT_EQ(all->first, 0U);
-  EXPECT_EQ(all->end, lom::kToTheEnd);
+  struct Case {
+    const char* text;
+    size_t first, end;
+  };
+  for (const Case& c : {Case{"2:5", 2, 5}, Case{" 7 : ", 7, lom::kToTheEnd}, Case{":3", 0, 3},
+                        Case{"  ", 0, lom::kToTheEnd}}) {
+    const auto range = lom::parseFrameRange(c.text);
+    ASSERT_TRUE(range) << c.text;
+    EXPECT_EQ(range->first, c.first) << c.text;
+    EXPECT_EQ(range->end, c.end) << c.text;
+  }
   // The text of a range reads back as it.
   for (const char* text : {"2:5", "7:", "0:3", "0:1"}) {
     const auto range = lom::parseFrameRange(text);
     ASSERT_TRUE(range) << text;
     EXPECT_EQ(lom::frameRangeText(*range), text);
   }
-  EXPECT_EQ(lom::frameRangeText(*head), "0:3");
+  EXPECT_EQ(lom::frameRangeText(*lom::parseFrameRange(":3")), "0:3");
   EXPECT_EQ(lom::frameRangeText({}), "");
 }
 

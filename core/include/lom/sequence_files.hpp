@@ -13,6 +13,10 @@ struct OwnedSequenceFile {
   bool exists = false;           // names of absent files are reserved too
 };
 
+// `path` absolute, with the symbolic links of its existing part resolved and
+// no trailing separator: the same text for every name of a file or folder.
+[[nodiscard]] std::filesystem::path resolvedPath(const std::filesystem::path& path);
+
 // The file of a sequence that writing `path` would replace, under any name
 // (symbolic links of the existing part resolved): the sequence.json, the
 // ground-truth boxes (annotations.json, .yaml, .yml) or a frame file of any
