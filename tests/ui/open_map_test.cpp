@@ -302,6 +302,33 @@ TEST_F(OpenMapTest, AMapThatDoesNotFitTheDepthsIsShownWithAWarning) {
   EXPECT_TRUE(window_.fusionStatusText().contains("map from file"));  // shown all the same
 }
 
+// A map whose labels have other colours than the sequence's (an edited label
+// file) is shown, drawn in the sequence's colours, with a warning naming the
+// labels and saying that exports take the map's.
+TEST_F(OpenMapTest, AMapOfOtherLabelColoursIsShownWithAWarning) {
+  std::vector<QString> warnings;
+  window_.setWarningReporter([&](const QString& title, const QString& message) {
+    warnings.push_back(title + ": " + message);
+  });
+  openAndFuse();
+  Sequence recoloured = loadSequence(folder_);
+  std::vector<LabelInfo> labels = recoloured.labels.all();
+  labels.at(4).color = {1, 2, 3};
+  recoloured.labels = LabelSet(labels);
+  const auto path = temp_.path() / "recoloured.ot";
+  fuseSequence(recoloured, FusionOptions{}).save(path);
+  session().openMap(qPath(path));
+  waitForMap();
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_TRUE(warnings.front().startsWith("Map colours differ: "))
+      << warnings.front().toStdString();
+  EXPECT_TRUE(warnings.front().contains(
+      QString("4 %1: (1, 2, 3) in the map").arg(QString::fromStdString(labels.at(4).name))))
+      << warnings.front().toStdString();
+  EXPECT_TRUE(errors_.empty());
+  EXPECT_TRUE(window_.fusionStatusText().contains("map from file"));  // shown all the same
+}
+
 TEST_F(OpenMapTest, AMapOfAnotherLabelSetOrNoMapAtAllIsRefused) {
   openAndFuse();
   const MapSnapshotPtr before = session().worker().snapshot();

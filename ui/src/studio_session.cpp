@@ -1,7 +1,9 @@
 #include "lom/ui/studio_session.hpp"
 
+#include <QDir>
 #include <QFileInfo>
 #include <QStringList>
+#include <algorithm>
 
 #include "lom/annotations.hpp"
 #include "lom/evaluation.hpp"
@@ -44,6 +46,36 @@ StudioSession::StudioSession(QObject* parent)
                   tr("Map of another scene?"),
                   fit_warning + " " +
                       tr("It is shown all the same; its scores would mean little."));
+            // The labels agree by name; a map written with other colours
+            // (an edited label file) is drawn in the sequence's here but
+            // exported in its own.
+            QStringList recoloured;
+            for (int k = 0; k < map->numLabels(); ++k) {
+              const Rgb& own = map->labels().at(k).color;
+              const Rgb& shown = sequence_->labels.at(k).color;
+              if (own == shown) continue;
+              const auto rgb = [](const Rgb& c) {
+                return QStringLiteral("(%1, %2, %3)").arg(c[0]).arg(c[1]).arg(c[2]);
+              };
+              recoloured << tr("%1 %2: %3 in the map, %4 in the sequence")
+                                .arg(k)
+                                .arg(QString::fromStdString(map->labels().at(k).name), rgb(own),
+                                     rgb(shown));
+            }
+            if (!recoloured.isEmpty()) {
+              const int listed = std::min<int>(static_cast<int>(recoloured.size()), 5);
+              const QString more = recoloured.size() > listed
+                                       ? tr("; and %1 more").arg(recoloured.size() - listed)
+                                       : QString();
+              emit controller_->warningOccurred(
+                  tr("Map colours differ"),
+                  tr("%1 records other label colours than the sequence: %2%3. The 3D view and "
+                     "Map Labels draw the sequence's colours; meshes exported from the map "
+                     "(File ▸ Export Map…, labeloctomap export) take the map's.")
+                      .arg(QDir::toNativeSeparators(path),
+                           QStringList(recoloured.mid(0, listed)).join(QStringLiteral("; ")),
+                           more));
+            }
             options_.map = map->parameters();
             // The projection baselines see the labels the map was fused with
             // (maps written before the record keep the panel's candidates).
