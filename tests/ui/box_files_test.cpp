@@ -863,11 +863,13 @@ TEST_F(BoxFilesTest, TheCopyOfASequenceMovedAwayIsKeptAndSaidWhere) {
   const std::string copy = slurp(recovery.toStdString());
   boxes().undoStack().undo();  // the copy goes; it is put back below, as a crash leaves it
   ASSERT_FALSE(QFileInfo::exists(recovery));
+  ASSERT_TRUE(open(tiny_.folder));
   fs::rename(old_folder, temp_ / "after_the_move");
   std::ofstream(recovery.toStdString(), std::ios::binary) << copy;
 
+  // As a studio does when it opens its first sequence.
   warnings_.clear();
-  ASSERT_TRUE(open(tiny_.folder));
+  window_.autosave().keepOrphanedCopies();
   ASSERT_EQ(warnings_.size(), 1) << warnings_.join("\n").toStdString();
   EXPECT_TRUE(warnings_.front().startsWith("Unsaved boxes of a sequence not found: "))
       << warnings_.front().toStdString();
@@ -881,9 +883,16 @@ TEST_F(BoxFilesTest, TheCopyOfASequenceMovedAwayIsKeptAndSaidWhere) {
   ASSERT_TRUE(QFileInfo::exists(kept));
   EXPECT_EQ(loadAnnotations(fs::path(kept.toStdString())).boxes.size(), 1u);
   EXPECT_TRUE(offered_.isEmpty());
-  // Said once: the next sequence opened hears nothing of it.
-  ASSERT_TRUE(open(temp_ / "after_the_move"));
+  // Said once: kept, it is no longer looked at.
+  window_.autosave().keepOrphanedCopies();
   EXPECT_EQ(warnings_.size(), 1) << warnings_.join("\n").toStdString();
+  // The copy of the open sequence, and of one still there, are left alone.
+  boxes().addBox(boxOf(1, "square_box"));
+  window_.autosave().writeNow();
+  ASSERT_TRUE(QFileInfo::exists(window_.autosave().currentRecoveryPath()));
+  window_.autosave().keepOrphanedCopies();
+  EXPECT_EQ(warnings_.size(), 1) << warnings_.join("\n").toStdString();
+  EXPECT_TRUE(QFileInfo::exists(window_.autosave().currentRecoveryPath()));
   QFile::remove(kept);
 }
 

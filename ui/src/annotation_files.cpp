@@ -559,10 +559,14 @@ void BoxesAutosave::onSequenceChanged() {
             .arg(holder));
     return;
   }
-  if (!QFileInfo::exists(path)) {
+  // Copies left by crashes of earlier runs, looked for once per studio, when
+  // it opens its first sequence (before the offer of that one's own copy).
+  static bool orphans_looked_for = false;
+  if (!orphans_looked_for) {
+    orphans_looked_for = true;
     keepOrphanedCopies();
-    return;
   }
+  if (!QFileInfo::exists(path)) return;
   // Offered once the switch has reached every view: the question waits for
   // an answer, and meanwhile the window shows the sequence it names (the
   // status bar and the frame too). Until then the file is neither written

@@ -84,6 +84,11 @@ class BoxesAutosave : public QObject {
   // boxes file (name.declined.json) beside it.
   [[nodiscard]] static QString declinedPath(const QString& recovery_path);
   [[nodiscard]] QString currentRecoveryPath() const { return recovery_path_; }
+  // Keeps as declined (keepAsDeclined) the recovery copies of sequences that
+  // are gone (moved, renamed, a drive not mounted), with a warning naming
+  // each; copies a live studio holds are left alone. Done once per studio,
+  // when it opens its first sequence.
+  void keepOrphanedCopies();
   void setOffer(std::function<bool(const QString&)> offer) { offer_ = std::move(offer); }
   // From now on no recovery file is offered, written or removed: for a run
   // with no one to answer the offer (a screenshot), whose boxes are not the
@@ -103,10 +108,6 @@ class BoxesAutosave : public QObject {
   // Keeps a recovery file that is not restored as a plain boxes file beside
   // it (NAME.declined.json, or the next free name); returns where it went.
   QString keepAsDeclined(const QString& path);
-  // Keeps as declined (keepAsDeclined) the recovery copies of sequences whose
-  // folder is gone, with a warning naming it; copies a live studio holds
-  // are left alone.
-  void keepOrphanedCopies();
   // Takes the lock of the recovery file `path` (true), or says which process
   // holds it (false, `holder`).
   bool takeLock(const QString& path, qint64* holder);
