@@ -17,6 +17,40 @@
 
 namespace lom::ui {
 
+namespace {
+
+// The labels agree by name; a map written with other colours (an edited label
+// file) is drawn in the sequence's here but exported in its own. Empty when
+// every colour agrees.
+QString recolouredLabels(const LabelMap& map, const LabelSet& sequence_labels,
+                         const QString& path) {
+  const auto rgb = [](const Rgb& c) {
+    return QStringLiteral("(%1, %2, %3)").arg(c[0]).arg(c[1]).arg(c[2]);
+  };
+  QStringList recoloured;
+  for (int k = 0; k < map.numLabels(); ++k) {
+    const Rgb& own = map.labels().at(k).color;
+    const Rgb& shown = sequence_labels.at(k).color;
+    if (own != shown)
+      recoloured << StudioSession::tr("%1 %2: %3 in the map, %4 in the sequence")
+                        .arg(k)
+                        .arg(QString::fromStdString(map.labels().at(k).name), rgb(own), rgb(shown));
+  }
+  if (recoloured.isEmpty()) return {};
+  const int listed = std::min<int>(static_cast<int>(recoloured.size()), 5);
+  const QString more = recoloured.size() > listed
+                           ? StudioSession::tr("; and %1 more").arg(recoloured.size() - listed)
+                           : QString();
+  return StudioSession::tr(
+             "%1 records other label colours than the sequence: %2%3. The 3D view and Map "
+             "Labels draw the sequence's colours; meshes exported from the map (File ▸ Export "
+             "Map…, labeloctomap export) take the map's.")
+      .arg(QDir::toNativeSeparators(path), recoloured.mid(0, listed).join(QStringLiteral("; ")),
+           more);
+}
+
+}  // namespace
+
 StudioSession::StudioSession(QObject* parent)
     : QObject(parent),
       controller_(new SequenceController(this)),
@@ -46,36 +80,9 @@ StudioSession::StudioSession(QObject* parent)
                   tr("Map of another scene?"),
                   fit_warning + " " +
                       tr("It is shown all the same; its scores would mean little."));
-            // The labels agree by name; a map written with other colours
-            // (an edited label file) is drawn in the sequence's here but
-            // exported in its own.
-            QStringList recoloured;
-            for (int k = 0; k < map->numLabels(); ++k) {
-              const Rgb& own = map->labels().at(k).color;
-              const Rgb& shown = sequence_->labels.at(k).color;
-              if (own == shown) continue;
-              const auto rgb = [](const Rgb& c) {
-                return QStringLiteral("(%1, %2, %3)").arg(c[0]).arg(c[1]).arg(c[2]);
-              };
-              recoloured << tr("%1 %2: %3 in the map, %4 in the sequence")
-                                .arg(k)
-                                .arg(QString::fromStdString(map->labels().at(k).name), rgb(own),
-                                     rgb(shown));
-            }
-            if (!recoloured.isEmpty()) {
-              const int listed = std::min<int>(static_cast<int>(recoloured.size()), 5);
-              const QString more = recoloured.size() > listed
-                                       ? tr("; and %1 more").arg(recoloured.size() - listed)
-                                       : QString();
-              emit controller_->warningOccurred(
-                  tr("Map colours differ"),
-                  tr("%1 records other label colours than the sequence: %2%3. The 3D view and "
-                     "Map Labels draw the sequence's colours; meshes exported from the map "
-                     "(File ▸ Export Map…, labeloctomap export) take the map's.")
-                      .arg(QDir::toNativeSeparators(path),
-                           QStringList(recoloured.mid(0, listed)).join(QStringLiteral("; ")),
-                           more));
-            }
+            if (const QString recoloured = recolouredLabels(*map, sequence_->labels, path);
+                !recoloured.isEmpty())
+              emit controller_->warningOccurred(tr("Map colours differ"), recoloured);
             options_.map = map->parameters();
             // The projection baselines see the labels the map was fused with
             // (maps written before the record keep the panel's candidates).
