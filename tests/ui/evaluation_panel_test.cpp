@@ -30,6 +30,7 @@
 #include "lom/ui/demo_scene.hpp"
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/map_worker.hpp"
+#include "lom/ui/scene_view.hpp"
 #include "lom/ui/score_chart.hpp"
 #include "lom/ui/sequence_controller.hpp"
 #include "lom/ui/studio_session.hpp"
@@ -230,6 +231,60 @@ TEST_F(EvaluationPanelTest, NewScoresAndUndoNeverMoveTheSelectionToAnotherBox) {
     boxes.undoStack().undo();
     waitForScores();
   }
+}
+
+// Delete in the sorted table selects the next row as sorted (the row above
+// for the last row), not the deleted box's successor in the boxes file; from
+// elsewhere (the 3D view) it is the successor in the file.
+TEST_F(EvaluationPanelTest, DeleteInTheSortedTableSelectsTheNextRow) {
+  openAndFuse();
+  waitForScores();
+  AnnotationsModel& boxes = window_.session().annotations();
+  ASSERT_GE(boxes.boxCount(), 4);
+  QTableWidget& table = panel().table();
+  const auto selectedLabel = [&] {
+    return boxes.selected() < 0 ? -1 : boxes.box(boxes.selected()).label;
+  };
+  const auto fileSuccessorLabel = [&](int label) {
+    const int index = boxes.indexOfLabel(label);
+    return boxes.box(index + 1 < boxes.boxCount() ? index + 1 : index - 1).label;
+  };
+  window_.activateWindow();
+  ASSERT_TRUE(QTest::qWaitForWindowActive(&window_));
+  // Descending labels: the next row is the box before in the file.
+  table.sortItems(EvaluationPanel::Label, Qt::DescendingOrder);
+  std::vector<int> rows = tableLabels();
+  ASSERT_EQ(rows.size(), static_cast<size_t>(boxes.boxCount()));
+  table.setFocus();
+  boxes.select(boxes.indexOfLabel(rows[1]));
+  ASSERT_EQ(table.currentRow(), 1);
+  ASSERT_NE(fileSuccessorLabel(rows[1]), rows[2]) << "the test needs orders that differ";
+  QTest::keyClick(&table, Qt::Key_Delete);
+  EXPECT_EQ(boxes.indexOfLabel(rows[1]), -1);
+  EXPECT_EQ(selectedLabel(), rows[2]);
+  waitForScores();
+  EXPECT_EQ(selectedLabel(), rows[2]);
+  EXPECT_EQ(tableLabels()[static_cast<size_t>(table.currentRow())], rows[2]);
+
+  // The last row: the one above it.
+  rows = tableLabels();
+  boxes.select(boxes.indexOfLabel(rows.back()));
+  table.setFocus();
+  QTest::keyClick(&table, Qt::Key_Delete);
+  EXPECT_EQ(selectedLabel(), rows[rows.size() - 2]);
+  // Undo brings the deleted box back, selected.
+  boxes.undoStack().undo();
+  EXPECT_EQ(selectedLabel(), rows.back());
+  waitForScores();
+
+  // From the 3D view: the successor in the boxes file.
+  rows = tableLabels();
+  boxes.select(boxes.indexOfLabel(rows[1]));
+  const int in_file = fileSuccessorLabel(rows[1]);
+  window_.sceneView().setFocus();
+  QTest::keyClick(QApplication::focusWidget() ? QApplication::focusWidget() : &window_,
+                  Qt::Key_Delete);
+  EXPECT_EQ(selectedLabel(), in_file);
 }
 
 // Export report asks before replacing a report the folder holds, and never

@@ -39,11 +39,11 @@ class AddBoxCommand : public QUndoCommand {
 
 class RemoveBoxCommand : public QUndoCommand {
  public:
-  RemoveBoxCommand(AnnotationsModel& model, int index)
-      : model_(model), box_(model.box(index)), index_(index) {
+  RemoveBoxCommand(AnnotationsModel& model, int index, int successor)
+      : model_(model), box_(model.box(index)), index_(index), successor_(successor) {
     setText(QObject::tr("Delete box %1").arg(QString::fromStdString(box_.name)));
   }
-  void redo() override { model_.removeRaw(index_); }
+  void redo() override { model_.removeRaw(index_, successor_); }
   void undo() override {
     model_.insertRaw(index_, box_);
     model_.select(index_);
@@ -53,6 +53,7 @@ class RemoveBoxCommand : public QUndoCommand {
   AnnotationsModel& model_;
   GroundTruthBox box_;
   int index_;
+  int successor_;
 };
 
 class SetBoxCommand : public QUndoCommand {
@@ -201,9 +202,10 @@ void AnnotationsModel::addBox(const GroundTruthBox& box) {
   undo_stack_.push(new AddBoxCommand(*this, box));
 }
 
-void AnnotationsModel::removeBox(int index) {
+void AnnotationsModel::removeBox(int index, int successor) {
   if (index < 0 || index >= boxCount()) return;
-  undo_stack_.push(new RemoveBoxCommand(*this, index));
+  if (successor == index || successor >= boxCount()) successor = -1;
+  undo_stack_.push(new RemoveBoxCommand(*this, index, successor));
 }
 
 void AnnotationsModel::setBox(int index, const GroundTruthBox& box, const QString& text,
@@ -231,10 +233,13 @@ void AnnotationsModel::insertRaw(int index, const GroundTruthBox& box) {
   if (moved) emit selectionChanged(selected_);
 }
 
-void AnnotationsModel::removeRaw(int index) {
+void AnnotationsModel::removeRaw(int index, int successor) {
   annotations_.boxes.erase(annotations_.boxes.begin() + index);
+  if (successor >= 0 && selected_ == index)
+    selected_ = successor > index ? successor - 1 : successor;
   // The removed box's successor takes its place (the last box's predecessor).
-  if (index < selected_ || selected_ >= boxCount()) --selected_;
+  else if (index < selected_ || selected_ >= boxCount())
+    --selected_;
   emit boxesChanged();
   emit selectionChanged(selected_);
 }

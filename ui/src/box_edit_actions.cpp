@@ -33,8 +33,14 @@ void BoxSteps::save() const {
 }
 
 BoxEditReaction::BoxEditReaction(QAction* action, Edit edit, StudioSession& session,
-                                 const BoxSteps& steps, std::function<void(const QString&)> report)
-    : Reaction(action), edit_(edit), session_(session), steps_(steps), report_(std::move(report)) {
+                                 const BoxSteps& steps, std::function<void(const QString&)> report,
+                                 std::function<int(int)> box_after)
+    : Reaction(action),
+      edit_(edit),
+      session_(session),
+      steps_(steps),
+      report_(std::move(report)),
+      box_after_(std::move(box_after)) {
   connect(&session_.annotations(), &AnnotationsModel::selectionChanged, this,
           &BoxEditReaction::updateEnabled);
   connect(&session_.annotations(), &AnnotationsModel::boxesChanged, this,
@@ -57,7 +63,7 @@ void BoxEditReaction::onTriggered() {
   if (edit_ == Edit::Delete) {
     // From the keyboard nothing else shows which box went.
     const GroundTruthBox gone = model.box(index);
-    model.removeBox(index);
+    model.removeBox(index, box_after_ ? box_after_(index) : -1);
     report_(tr("Deleted the box of %1 %2 (Ctrl+Z brings it back)")
                 .arg(gone.label)
                 .arg(QString::fromStdString(gone.name)));
@@ -174,7 +180,8 @@ class PreviousBoxKey : public QObject {
 
 std::vector<QAction*> createBoxEditActions(QWidget& window, QWidget& scene, StudioSession& session,
                                            const BoxSteps& steps,
-                                           const std::function<void(const QString&)>& report) {
+                                           const std::function<void(const QString&)>& report,
+                                           const std::function<int(int)>& box_after) {
   using Edit = BoxEditReaction::Edit;
   struct Spec {
     QString text;
@@ -209,7 +216,7 @@ std::vector<QAction*> createBoxEditActions(QWidget& window, QWidget& scene, Stud
     const bool tab = spec.edit == Edit::Next || spec.edit == Edit::Previous;
     action->setShortcutContext(tab ? Qt::WidgetWithChildrenShortcut : Qt::WindowShortcut);
     (tab ? scene : window).addAction(action);
-    new BoxEditReaction(action, spec.edit, session, steps, report);
+    new BoxEditReaction(action, spec.edit, session, steps, report, box_after);
     if (spec.edit == Edit::Previous) new PreviousBoxKey(action, scene);
     actions.push_back(action);
   }

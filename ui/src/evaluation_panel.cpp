@@ -523,6 +523,23 @@ void EvaluationPanel::selectRowOfBox() {
   syncing_selection_ = false;
 }
 
+int EvaluationPanel::boxAfterIfFocused(int box) const {
+  const AnnotationsModel& boxes = session_.annotations();
+  if (!table_->hasFocus() || box < 0 || box >= boxes.boxCount()) return -1;
+  const QString label = QString::number(boxes.box(box).label);
+  const auto row_label = [this](int row) {
+    const QTableWidgetItem* item = table_->item(row, Label);
+    return item ? item->text() : QString();
+  };
+  for (int row = 0; row < table_->rowCount(); ++row) {
+    if (row_label(row) != label) continue;
+    const int next = row + 1 < table_->rowCount() ? row + 1 : row - 1;
+    const QString next_label = next >= 0 ? row_label(next) : QString();
+    return next_label.isEmpty() ? -1 : boxes.indexOfLabel(next_label.toInt());
+  }
+  return -1;
+}
+
 void EvaluationPanel::showMessage(const QString& message) {
   summary_->setText(message);
   // The warnings were about scores no longer shown.

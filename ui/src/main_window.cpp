@@ -452,7 +452,8 @@ void MainWindow::createAnnotateMenu() {
   menu->addSeparator();
   for (QAction* action : createBoxEditActions(
            *this, *scene_view_, *session_, steps_,
-           [this](const QString& message) { statusBar()->showMessage(message, 8000); }))
+           [this](const QString& message) { statusBar()->showMessage(message, 8000); },
+           [this](int box) { return evaluation_panel_->boxAfterIfFocused(box); }))
     menu->addAction(action);
   menu->addSeparator();
   for (QAction* action : createLeaveViewActions(*this, *scene_view_)) menu->addAction(action);

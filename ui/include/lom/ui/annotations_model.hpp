@@ -62,14 +62,18 @@ class AnnotationsModel : public QObject {
 
   // Undoable edits.
   void addBox(const GroundTruthBox& box);
-  void removeBox(int index);
+  // When the removed box is the selected one, `successor` (a box's index
+  // before the removal; -1: the removed box's successor in file order) is
+  // selected afterwards: a view sorted its own way moves its selection to
+  // its next row.
+  void removeBox(int index, int successor = -1);
   // Edits with the same non-negative merge id on the same box are merged into
   // one undo step (a drag of the 3D handles).
   void setBox(int index, const GroundTruthBox& box, const QString& text, int merge_id = -1);
 
   // Raw changes for the undo commands; they do not touch the undo stack.
   void insertRaw(int index, const GroundTruthBox& box);
-  void removeRaw(int index);
+  void removeRaw(int index, int successor = -1);
   void replaceRaw(int index, const GroundTruthBox& box);
 
  signals:

@@ -54,8 +54,12 @@ class BoxEditReaction : public Reaction {
     Tighten,
   };
   // `report` gets a sentence for the status bar when an edit cannot be made.
+  // `box_after` names the box a deleted box's row is followed by in the
+  // focused view when that view lists the boxes in an order of its own (-1:
+  // file order).
   BoxEditReaction(QAction* action, Edit edit, StudioSession& session, const BoxSteps& steps,
-                  std::function<void(const QString&)> report);
+                  std::function<void(const QString&)> report,
+                  std::function<int(int)> box_after = {});
 
  protected:
   void onTriggered() override;
@@ -71,6 +75,7 @@ class BoxEditReaction : public Reaction {
   StudioSession& session_;
   const BoxSteps& steps_;
   std::function<void(const QString&)> report_;
+  std::function<int(int)> box_after_;
 };
 
 // Creates the editing actions with their shortcuts. All but Tab/Shift+Tab act
@@ -78,7 +83,8 @@ class BoxEditReaction : public Reaction {
 // the 3D view has the focus, so Tab still moves between fields elsewhere.
 std::vector<QAction*> createBoxEditActions(QWidget& window, QWidget& scene, StudioSession& session,
                                            const BoxSteps& steps,
-                                           const std::function<void(const QString&)>& report);
+                                           const std::function<void(const QString&)>& report,
+                                           const std::function<int(int)>& box_after = {});
 
 // Tab and Shift+Tab select boxes in the 3D view, so Ctrl+Tab and
 // Ctrl+Shift+Tab take the keyboard focus out of it, to the next or previous

@@ -57,6 +57,10 @@ class EvaluationPanel : public QWidget {
   // report files `dir` already holds, refuses files of the sequence, writes
   // and reports an error in a message box. True when the report was written.
   bool exportReportTo(const QString& dir);
+  // While the table has the keyboard focus: the box of the row after box
+  // `box`'s row as sorted (the row before for the last row), where Delete
+  // moves the selection. -1 otherwise (no focus, no such row).
+  [[nodiscard]] int boxAfterIfFocused(int box) const;
 
  public slots:
   void requestUpdate();  // debounced
