@@ -7,6 +7,7 @@
 #include <QApplication>
 #include <QComboBox>
 #include <QDoubleSpinBox>
+#include <QSettings>
 #include <QStandardItemModel>
 #include <QTest>
 #include <QWheelEvent>
@@ -15,6 +16,7 @@
 #include "demo_window_fixture.hpp"
 #include "dialog_answerer.hpp"
 #include "lom/ui/annotations_model.hpp"
+#include "lom/ui/box_edit_actions.hpp"
 #include "lom/ui/box_editor_panel.hpp"
 #include "lom/ui/box_math.hpp"
 #include "lom/ui/scene_view.hpp"
@@ -310,6 +312,31 @@ TEST_F(BoxEditorTest, ABoxFitArrivingLaterKeepsTheValueBeingTypedAndTheSelection
   EXPECT_NEAR(boxes().box(index).box.center.x(), 0.123, 1e-9);
   EXPECT_EQ(boxes().selected(), index);
   EXPECT_NEAR(window_.boxEditor().field(0).value(), 0.123, 1e-9);
+}
+
+// Key steps from a settings file edited by hand: out of range, not finite or
+// no number at all. The keys must step what the Key steps fields can show.
+TEST(BoxStepsTest, StepsFromTheSettingsAreKeptInTheFieldsRanges) {
+  QSettings settings;
+  const auto restore = [&settings] { settings.remove("studio/boxSteps"); };
+  restore();
+  settings.setValue("studio/boxSteps/move", 5.0);
+  settings.setValue("studio/boxSteps/turn", -30.0);
+  settings.setValue("studio/boxSteps/resize", "nan");
+  BoxSteps steps = BoxSteps::load();
+  EXPECT_EQ(steps.move, BoxSteps::kMaxLength);
+  EXPECT_EQ(steps.turn, BoxSteps::kMinTurn);
+  EXPECT_EQ(steps.resize, BoxSteps{}.resize);
+  settings.setValue("studio/boxSteps/move", "abc");
+  settings.setValue("studio/boxSteps/turn", 200.0);
+  settings.setValue("studio/boxSteps/resize", 0.0);
+  steps = BoxSteps::load();
+  EXPECT_EQ(steps.move, BoxSteps{}.move);
+  EXPECT_EQ(steps.turn, BoxSteps::kMaxTurn);
+  EXPECT_EQ(steps.resize, BoxSteps::kMinLength);
+  settings.setValue("studio/boxSteps/move", 0.02);  // in range: as stored
+  EXPECT_EQ(BoxSteps::load().move, 0.02);
+  restore();
 }
 
 }  // namespace

@@ -19,9 +19,14 @@ namespace lom::ui {
 BoxSteps BoxSteps::load() {
   QSettings settings;
   BoxSteps steps;
-  steps.move = settings.value("studio/boxSteps/move", steps.move).toDouble();
-  steps.turn = settings.value("studio/boxSteps/turn", steps.turn).toDouble();
-  steps.resize = settings.value("studio/boxSteps/resize", steps.resize).toDouble();
+  const auto stored = [&settings](const char* key, double fallback, double low, double high) {
+    bool number = false;
+    const double value = settings.value(key, fallback).toDouble(&number);
+    return number && std::isfinite(value) ? std::clamp(value, low, high) : fallback;
+  };
+  steps.move = stored("studio/boxSteps/move", steps.move, kMinLength, kMaxLength);
+  steps.turn = stored("studio/boxSteps/turn", steps.turn, kMinTurn, kMaxTurn);
+  steps.resize = stored("studio/boxSteps/resize", steps.resize, kMinLength, kMaxLength);
   return steps;
 }
 

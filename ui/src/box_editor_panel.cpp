@@ -124,9 +124,9 @@ BoxEditorPanel::BoxEditorPanel(StudioSession& session, BoxSteps& steps, QWidget*
 
   auto* steps_box = new QGroupBox(tr("Key steps"));
   auto* steps_form = new QFormLayout(steps_box);
-  auto* move = makeField(0.001, 1.0, 3, 0.005, " m");
-  auto* turn = makeField(0.1, 90.0, 1, 1.0, QStringLiteral("°"));
-  auto* resize = makeField(0.001, 1.0, 3, 0.005, " m");
+  auto* move = makeField(BoxSteps::kMinLength, BoxSteps::kMaxLength, 3, 0.005, " m");
+  auto* turn = makeField(BoxSteps::kMinTurn, BoxSteps::kMaxTurn, 1, 1.0, QStringLiteral("°"));
+  auto* resize = makeField(BoxSteps::kMinLength, BoxSteps::kMaxLength, 3, 0.005, " m");
   move->setValue(steps_.move);
   turn->setValue(steps_.turn);
   resize->setValue(steps_.resize);

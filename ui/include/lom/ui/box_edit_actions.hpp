@@ -25,7 +25,13 @@ struct BoxSteps {
   double turn = 5.0;     // degrees
   double resize = 0.01;  // metres
 
-  static BoxSteps load();  // from QSettings "studio/boxSteps/*"
+  // The ranges the Key steps fields offer.
+  static constexpr double kMinLength = 0.001, kMaxLength = 1.0;  // move, resize
+  static constexpr double kMinTurn = 0.1, kMaxTurn = 90.0;
+  // From QSettings "studio/boxSteps/*": a value out of its range (a settings
+  // file edited by hand) is brought into it, one that is no number is the
+  // default, so that the keys step what the fields show.
+  static BoxSteps load();
   void save() const;
 };
 
