@@ -68,7 +68,7 @@ constexpr const char* kHelp =
     "                       the Fusion panel's Max range (rays of at most 1000 voxels).\n"
     "  --screenshot OUT.png Open SEQ, save a picture of the window to OUT.png and exit.\n"
     "  --frame N            Frame to show, as the index N of frames[N] in sequence.json\n"
-    "                       (default 0).\n"
+    "                       (default 0; the timeline shows frames[N] as frame N+1).\n"
     "  --fuse               With --screenshot: fuse the whole sequence before taking the picture.\n"
     "  --map MAP.ot         Show this map of SEQ, fused earlier (e.g. by labeloctomap fuse),\n"
     "                       instead of fusing SEQ (File > Open Map... in the window).\n"

@@ -21,6 +21,7 @@
 #include "lom/ui/evaluation_panel.hpp"
 #include "lom/ui/main_window.hpp"
 #include "lom/ui/recent_sequences.hpp"
+#include "lom/ui/scene_view.hpp"
 #include "lom/ui/studio_session.hpp"
 
 namespace lom::ui {
@@ -50,6 +51,7 @@ class PanelLayoutTest : public ::testing::Test {
     settings.remove(PanelLayout::kPanelsKey);
     settings.remove(PanelLayout::kPanelsHeightKey);
     settings.remove(MainWindow::kIouModeKey);
+    settings.remove(MainWindow::kViewOptionsGroup);
   }
 };
 
@@ -304,6 +306,58 @@ TEST_F(PanelLayoutTest, TheIouModeChosenComesBackInTheNextSession) {
   QSettings().setValue(MainWindow::kIouModeKey, "median");
   auto window = shownWindow(true);
   EXPECT_EQ(window->session().iouMode(), IouMode::Exact);
+}
+
+// The View menu's display toggles, the 3D view picture size and the playback
+// speed a user chose come back in the next session, and the view follows.
+TEST_F(PanelLayoutTest, ViewOptionsChosenComeBackInTheNextSession) {
+  auto speed = [](const MainWindow& window) {
+    auto* box = window.findChild<QComboBox*>("playSpeed");
+    EXPECT_NE(box, nullptr);
+    return box;
+  };
+  {
+    auto window = shownWindow(true);
+    QAction* cameras = window->findAction("Show Camera Frustums");
+    QAction* opacity = window->findAction("Opacity by Probability");
+    QAction* size = window->findAction("3x");
+    ASSERT_NE(cameras, nullptr);
+    ASSERT_NE(opacity, nullptr);
+    ASSERT_NE(size, nullptr);
+    ASSERT_TRUE(cameras->isChecked());
+    ASSERT_FALSE(opacity->isChecked());
+    cameras->trigger();
+    opacity->trigger();
+    size->trigger();
+    speed(*window)->setCurrentIndex(speed(*window)->findData(15));
+    ASSERT_FALSE(window->sceneView().camerasVisible());
+    ASSERT_TRUE(window->close());
+  }
+  {
+    auto window = shownWindow(true);
+    EXPECT_FALSE(window->findAction("Show Camera Frustums")->isChecked());
+    EXPECT_FALSE(window->sceneView().camerasVisible());
+    EXPECT_TRUE(window->findAction("Opacity by Probability")->isChecked());
+    EXPECT_TRUE(window->findAction("Show Axes Marker")->isChecked());  // left alone
+    EXPECT_TRUE(window->findAction("3x")->isChecked());
+    EXPECT_FALSE(window->findAction("1x (as on screen)")->isChecked());
+    EXPECT_EQ(speed(*window)->currentData().toInt(), 15);
+  }
+  {
+    // Screenshots and tests keep the defaults.
+    auto window = shownWindow(false);
+    EXPECT_TRUE(window->findAction("Show Camera Frustums")->isChecked());
+    EXPECT_TRUE(window->sceneView().camerasVisible());
+    EXPECT_EQ(speed(*window)->currentData().toInt(), 5);
+  }
+  // Values this version does not know leave the defaults.
+  QSettings().setValue(QString(MainWindow::kViewOptionsGroup) + "/cameraFrustums", "maybe");
+  QSettings().setValue(QString(MainWindow::kViewOptionsGroup) + "/pictureSize", 9);
+  QSettings().setValue(QString(MainWindow::kViewOptionsGroup) + "/playbackFps", 7);
+  auto window = shownWindow(true);
+  EXPECT_TRUE(window->findAction("Show Camera Frustums")->isChecked());
+  EXPECT_TRUE(window->findAction("1x (as on screen)")->isChecked());
+  EXPECT_EQ(speed(*window)->currentData().toInt(), 5);
 }
 
 }  // namespace

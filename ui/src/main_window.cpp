@@ -721,6 +721,7 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
     size->setCheckable(true);
     size->setChecked(magnification == 1);
     sizes->addAction(size);
+    picture_sizes_.push_back(size);
     connect(size, &QAction::triggered, scene_saver,
             [scene_saver, magnification] { scene_saver->setMagnification(magnification); });
   }
@@ -781,6 +782,16 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
     action->setShortcut(key);
     new SceneViewReaction(action, kind, *session_, *scene_view_);
     using Kind = SceneViewReaction::Kind;
+    // Colour by Height is chosen per sequence (by its labels), so not kept.
+    const std::pair<Kind, const char*> kept[] = {
+        {Kind::FramePoints, "framePoints"},
+        {Kind::Cameras, "cameraFrustums"},
+        {Kind::Axes, "axesMarker"},
+        {Kind::Boxes, "boxOutlines"},
+        {Kind::OpacityByProbability, "opacityByProbability"}};
+    for (const auto& [toggle, key] : kept)
+      if (kind == toggle)
+        remembered_toggles_.emplace_back(action, QString(kViewOptionsGroup) + "/" + key);
     if (kind == Kind::LookFromFrame || kind == Kind::FramePoints || kind == Kind::ProjectionVoxels)
       sequence_view_actions_.push_back(action);
     else if (kind != Kind::OpacityByProbability && kind != Kind::ColourByHeight &&
@@ -943,6 +954,40 @@ void MainWindow::rememberLayout() {
   connect(session_, &StudioSession::iouModeChanged, this, [this] {
     QSettings().setValue(kIouModeKey, session_->iouMode() == IouMode::Center ? "center" : "exact");
   });
+  rememberViewOptions();
+}
+
+void MainWindow::rememberViewOptions() {
+  QSettings settings;
+  // Triggered, not only checked: the view follows as when the user chooses.
+  // A stored value that is no true or false leaves the default.
+  for (const auto& [action, key] : remembered_toggles_) {
+    const QString stored = settings.value(key).toString();
+    if ((stored == QLatin1String("true") && !action->isChecked()) ||
+        (stored == QLatin1String("false") && action->isChecked())) {
+      // Frame Points is off until a sequence opens; a disabled action ignores trigger().
+      const bool enabled = action->isEnabled();
+      action->setEnabled(true);
+      action->trigger();
+      action->setEnabled(enabled);
+    }
+    connect(action, &QAction::toggled, this,
+            [key = key](bool checked) { QSettings().setValue(key, checked); });
+  }
+  const QString size_key = QString(kViewOptionsGroup) + "/pictureSize";
+  bool number = false;
+  const int size = settings.value(size_key).toInt(&number);
+  if (number && size >= 1 && size <= static_cast<int>(picture_sizes_.size()))
+    picture_sizes_[static_cast<size_t>(size - 1)]->trigger();
+  for (size_t i = 0; i < picture_sizes_.size(); ++i)
+    connect(picture_sizes_[i], &QAction::triggered, this,
+            [size_key, i] { QSettings().setValue(size_key, static_cast<int>(i) + 1); });
+  const QString fps_key = QString(kViewOptionsGroup) + "/playbackFps";
+  QComboBox& speed = timeline_->speed();
+  const int stored_fps = settings.value(fps_key).toInt(&number);
+  if (number && speed.findData(stored_fps) >= 0) speed.setCurrentIndex(speed.findData(stored_fps));
+  connect(&speed, qOverload<int>(&QComboBox::currentIndexChanged), this,
+          [fps_key, &speed] { QSettings().setValue(fps_key, speed.currentData().toInt()); });
 }
 
 }  // namespace lom::ui

@@ -79,6 +79,10 @@ class MainWindow : public QMainWindow {
   // saved one alone.
   void rememberLayout();
   static constexpr const char* kIouModeKey = "studio/evaluation/iouMode";
+  // The View menu's display toggles (frame points, camera frustums, axes,
+  // box outlines, opacity by probability), the 3D view picture size and the
+  // playback speed are preferences too, kept under this group.
+  static constexpr const char* kViewOptionsGroup = "studio/view";
   [[nodiscard]] PanelLayout& panelLayout() { return *panel_layout_; }
 
  protected:
@@ -114,6 +118,8 @@ class MainWindow : public QMainWindow {
   // View actions that need a sequence, or anything in the scene (a sequence
   // or a map), are enabled only while there is one.
   void updateViewActions();
+  // Part of rememberLayout: restores the View options and saves them when changed.
+  void rememberViewOptions();
 
   RecentSequences recent_;
   ErrorReporter report_error_;
@@ -129,6 +135,9 @@ class MainWindow : public QMainWindow {
   ObjectsPanel* objects_panel_ = nullptr;
   PanelLayout* panel_layout_ = nullptr;
   bool remember_layout_ = false;
+  // What rememberLayout restores and keeps: each action under its key.
+  std::vector<std::pair<QAction*, QString>> remembered_toggles_;
+  std::vector<QAction*> picture_sizes_;  // 1x to 4x
   bool closing_ = false;  // closeEvent is asking its questions
   QString settings_note_;  // the carried-over settings note shown when the sequence opened
   BoxesAutosave* autosave_ = nullptr;
