@@ -79,7 +79,7 @@ int runPlan(const Words& words) {
   const Args args(words, {"all-clusters", "transitive"});
   args.expectOnly({"target", "approach", "sequence", "out", "empty-bin", "all-clusters",
                    "candidates", "cluster-tolerance", "min-cluster-voxels", "overlap-margin",
-                   "transitive", "gap", "threshold"},
+                   "transitive", "gap", "threshold", "occluders"},
                   1);
   const fs::path map_path = args.positional(0, "MAP.ot (a fused map)");
   const std::string target_text = args.required("target");
@@ -106,6 +106,16 @@ int runPlan(const Words& words) {
   if (!(options.placement_gap >= 0.0))
     throw UsageError("option --gap expects a number of metres >= 0, got '" + *args.option("gap") + "'");
   options.transitive = args.flag("transitive");
+  if (const auto rule = args.option("occluders")) {
+    if (*rule == "centroid")
+      options.occluder_rule = OccluderRule::Centroid;
+    else if (*rule != "path")
+      throw UsageError(
+          "option --occluders expects path (boxes in the target's path, the "
+          "default) or centroid (the paper's rule: centroids nearer the cameras "
+          "than the target's), got '" +
+          *rule + "'");
+  }
   if (const auto bin = args.option("empty-bin")) options.empty_bin = parseBin(*bin);
   if (args.option("approach") && args.option("sequence"))
     throw UsageError("give either --approach or --sequence, not both");

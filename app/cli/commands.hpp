@@ -29,6 +29,9 @@ int runScore(const Words& words);     // cmd_score.cpp
 int runRender(const Words& words);    // cmd_render.cpp
 int runImport(const Words& words);    // cmd_import.cpp
 const char* importHelp();             // cmd_import.cpp: every option of import
+// Each option of `command` with its meaning and default (command_help.cpp;
+// "" for info, validate and import, whose help is importHelp).
+std::string commandOptionsHelp(const std::string& command);
 int runPlan(const Words& words);      // cmd_plan.cpp
 int runSegment(const Words& words);   // cmd_segment.cpp
 

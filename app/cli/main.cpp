@@ -43,7 +43,7 @@ const Command kCommands[] = {
     {"export", lom::cli::runExport,
      "export MAP.ot --format ply|obj|stl|pcd|ot|bt|objects [--per-label] [--labels 8,19]\n"
      "       [--smooth] [--points] [--native] [--no-merge] [--level] [--sequence SEQ] --out PATH\n"
-     "       | export MAP.ot --voxels OUT.pcd   (options: docs/export.md)\n"
+     "       | export MAP.ot --voxels OUT.pcd   (all options: labeloctomap help export)\n"
      "                                write meshes, point clouds, octrees or object boxes"},
     {"render", lom::cli::runRender,
      "render MAP.ot --out view.png [--camera SEQ:INDEX | --azimuth A --elevation E --up X,Y,Z]\n"
@@ -59,7 +59,7 @@ const Command kCommands[] = {
      "                                all options: labeloctomap import --help)"},
     {"plan", lom::cli::runPlan,
      "plan MAP.ot --target LABEL [--approach x,y,z | --sequence SEQ] [--empty-bin c,c,c,d,d,d]\n"
-     "     [--threshold T] [--out plan.json] (all options: docs/planning.md)\n"
+     "     [--threshold T] [--out plan.json] (all options: labeloctomap help plan)\n"
      "                                which objects to remove before picking the target"},
     {"segment", lom::cli::runSegment,
      "segment SEQ --segmenter MODEL.onnx [--all] [--dtype float32|float16|uint8] [--out-dir DIR]\n"
@@ -99,7 +99,8 @@ int printCommandHelp(const Command& command) {
   if (std::string(command.name) == "import")
     std::cout << lom::cli::importHelp();
   else
-    std::cout << "usage: labeloctomap " << command.usage << "\n";
+    std::cout << "usage: labeloctomap " << command.usage << "\n"
+              << lom::cli::commandOptionsHelp(command.name);
   return 0;
 }
 
@@ -131,7 +132,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   // As the studio's --version: the version of the build, for bug reports.
-  if (argc == 2 && (!std::strcmp(argv[1], "--version") || !std::strcmp(argv[1], "-v"))) {
+  if (!std::strcmp(argv[1], "--version") || !std::strcmp(argv[1], "-v")) {
+    if (argc > 2) {
+      std::cerr << "labeloctomap " << argv[1] << ": takes no arguments, got '" << argv[2] << "'\n";
+      return 2;
+    }
     std::cout << "labeloctomap " << LOM_VERSION << "\n";
     return 0;
   }

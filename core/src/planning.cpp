@@ -73,6 +73,10 @@ const char* approachSourceName(ApproachSource source) {
   return "given";
 }
 
+const char* occluderRuleName(OccluderRule rule) {
+  return rule == OccluderRule::Centroid ? "centroid" : "path";
+}
+
 const char* stepActionName(StepAction action) { return action == StepAction::Pick ? "pick" : "remove"; }
 
 const char* objectRoleName(ObjectRole role) {
@@ -247,12 +251,17 @@ void orderForRemoval(std::vector<size_t>& removals, const std::vector<ObjectInst
 }
 
 std::vector<size_t> findOccluders(const std::vector<ObjectInstance>& objects, size_t target,
-                                  const Eigen::Vector3d& approach, double margin) {
+                                  const Eigen::Vector3d& approach, double margin,
+                                  OccluderRule rule) {
   const Eigen::Vector3d d = approach.normalized();
+  const double target_depth = objects[target].centroid.dot(d);
   std::vector<size_t> occluders;
   for (size_t i = 0; i < objects.size(); ++i) {
     if (i == target) continue;
-    if (boxInPathOf(objects[i].box, objects[target].box, d, margin)) occluders.push_back(i);
+    const bool in_the_way = rule == OccluderRule::Centroid
+                                ? objects[i].centroid.dot(d) < target_depth
+                                : boxInPathOf(objects[i].box, objects[target].box, d, margin);
+    if (in_the_way) occluders.push_back(i);
   }
   orderForRemoval(occluders, objects, d, margin);
   return occluders;
@@ -367,14 +376,16 @@ PickPlan planPick(const std::vector<ObjectInstance>& objects, const LabelSet& la
   plan.target = static_cast<size_t>(target - plan.objects.begin());
 
   const double margin = options.overlap_margin_voxels * resolution;
-  plan.occluders = findOccluders(plan.objects, plan.target, plan.approach, margin);
+  plan.occluders =
+      findOccluders(plan.objects, plan.target, plan.approach, margin, options.occluder_rule);
   if (options.transitive) {
     std::set<size_t> chosen(plan.occluders.begin(), plan.occluders.end());
     std::vector<size_t> pending = plan.occluders;
     while (!pending.empty()) {
       const size_t blocked = pending.back();
       pending.pop_back();
-      for (size_t i : findOccluders(plan.objects, blocked, plan.approach, margin))
+      for (size_t i :
+           findOccluders(plan.objects, blocked, plan.approach, margin, options.occluder_rule))
         if (i != plan.target && chosen.insert(i).second) pending.push_back(i);
     }
     plan.occluders.assign(chosen.begin(), chosen.end());

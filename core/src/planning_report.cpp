@@ -125,6 +125,7 @@ std::string planJson(const PickPlan& plan, const std::string& map_file) {
                              {"all_clusters", options.objects.all_clusters},
                              {"cluster_tolerance_voxels", options.objects.cluster_tolerance_voxels},
                              {"min_cluster_voxels", options.objects.min_cluster_voxels},
+                             {"occluder_rule", occluderRuleName(options.occluder_rule)},
                              {"overlap_margin_voxels", options.overlap_margin_voxels},
                              {"transitive", options.transitive},
                              {"placement_gap", options.placement_gap}}},

@@ -40,6 +40,12 @@ TEST_F(CliOptionTest, VersionIsPrinted) {
     EXPECT_NE(result.out.find_first_of("0123456789"), std::string::npos) << result.out;
     EXPECT_EQ(result.out.find("usage"), std::string::npos) << result.out;
   }
+  // A word after it is no unknown command '--version'.
+  const auto extra = lom::test::runCli("--version extra");
+  EXPECT_EQ(extra.exit_code, 2);
+  EXPECT_NE(extra.err.find("--version: takes no arguments, got 'extra'"), std::string::npos)
+      << extra.err;
+  EXPECT_EQ(extra.err.find("unknown command"), std::string::npos) << extra.err;
 }
 
 TEST_F(CliOptionTest, IntegersThatDoNotFitAreRefusedNotWrappedAround) {

@@ -1,11 +1,12 @@
 // labeloctomap plan end to end: table, plan.json, approach sources, errors.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
-
 #include <Eigen/Geometry>
+#include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
 
 #include "lom/label_map.hpp"
 #include "lom/objects.hpp"
@@ -104,6 +105,41 @@ TEST_F(CliPlanTest, PrintsTheTableAndWritesThePlan) {
   // Nothing is left behind next to the plan.
   EXPECT_EQ(std::distance(std::filesystem::directory_iterator(out.path()), {}), 1);
   EXPECT_DOUBLE_EQ(plan["occupancy_threshold"].get<double>(), 0.5);  // the map's own
+}
+
+// --occluders centroid: the paper's rule, recorded in plan.json; the default
+// (path) is recorded too, and anything else is a usage error.
+TEST_F(CliPlanTest, OccludersCentroidTakesThePapersRule) {
+  TempDir out;
+  const auto path_rule =
+      runCli("plan " + map() + " --target 19 --approach 1,0,0 --out " + quoted(out / "path.json"));
+  ASSERT_EQ(path_rule.exit_code, 0) << path_rule.err;
+  const auto centroid =
+      runCli("plan " + map() + " --target 19 --approach 1,0,0 --occluders centroid --out " +
+             quoted(out / "centroid.json"));
+  ASSERT_EQ(centroid.exit_code, 0) << centroid.err;
+  const Json by_path = Json::parse(slurp(out / "path.json"));
+  const Json by_centroid = Json::parse(slurp(out / "centroid.json"));
+  EXPECT_EQ(by_path["options"]["occluder_rule"], "path");
+  EXPECT_EQ(by_centroid["options"]["occluder_rule"], "centroid");
+  // Every object whose centroid is in front of the target's, and only those.
+  std::map<std::string, double> depth;
+  double target_depth = 0.0;
+  for (const Json& object : by_centroid["objects"]) {
+    const double x = object["centroid"][0].get<double>();
+    depth[object["id"].get<std::string>()] = x;
+    if (object["id"] == by_centroid["target"]["object"]) target_depth = x;
+  }
+  std::set<std::string> expected, removed;
+  for (const auto& [id, x] : depth)
+    if (x < target_depth) expected.insert(id);
+  for (const Json& id : by_centroid["occluders"]) removed.insert(id.get<std::string>());
+  EXPECT_EQ(removed, expected);
+  EXPECT_GE(removed.size(), by_path["occluders"].size());
+
+  const auto bad = runCli("plan " + map() + " --target 19 --approach 1,0,0 --occluders box");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("--occluders expects path"), std::string::npos) << bad.err;
 }
 
 // --threshold reads the map as the studio's Threshold does; plan.json says

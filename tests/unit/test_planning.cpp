@@ -152,6 +152,33 @@ TEST(Planning, AnOccluderInAnotherOccludersPathIsRemovedBeforeIt) {
   EXPECT_EQ(apart, (std::vector<size_t>{1, 2}));
 }
 
+// The paper's rule (section V.C): every object whose centroid is nearer the
+// cameras than the target's, beside the path or not; objects behind stay.
+TEST(Planning, TheCentroidRuleRemovesEveryObjectInFrontOfTheTarget) {
+  const Eigen::Vector3d d = Eigen::Vector3d::UnitX();
+  const auto object = [](Eigen::Vector3d centre, int label) {
+    OrientedBox b;
+    b.center = centre;
+    b.size = Eigen::Vector3d(0.06, 0.06, 0.06);
+    lom::ObjectInstance o = objectWithBox(b, centre);
+    o.label = label;
+    return o;
+  };
+  const std::vector<lom::ObjectInstance> objects = {
+      object({0.50, 0.0, 0.0}, 19),   // target
+      object({0.30, 0.0, 0.0}, 8),    // in front, in the path
+      object({0.40, 0.30, 0.0}, 30),  // in front, 30 cm to the side
+      object({0.70, 0.0, 0.0}, 12),   // behind
+  };
+  EXPECT_EQ(lom::findOccluders(objects, 0, d), (std::vector<size_t>{1}));
+  EXPECT_EQ(lom::findOccluders(objects, 0, d, 0.0, lom::OccluderRule::Centroid),
+            (std::vector<size_t>{1, 2}));  // front-most first
+  EXPECT_TRUE(lom::findOccluders(objects, 0, -d, 0.0, lom::OccluderRule::Centroid) ==
+              std::vector<size_t>{3});
+  EXPECT_STREQ(lom::occluderRuleName(lom::OccluderRule::Centroid), "centroid");
+  EXPECT_STREQ(lom::occluderRuleName(lom::OccluderRule::Path), "path");
+}
+
 TEST(Planning, StraySpeckOfTheTargetLabelDoesNotMoveTheTargetBox) {
   const LabelMap clean = scene({{8, {0.10, -0.04, 0.0}, {0.18, 0.04, 0.08}}});
   const PickPlan expected = lom::planPick(clean, kTarget, along(kIntoTheBin));

@@ -28,6 +28,13 @@ enum class ApproachSource {
 // "given" | "sequence" | "map-cameras" | "free-space"
 [[nodiscard]] const char* approachSourceName(ApproachSource source);
 
+// Which objects are in the target's way. Path (the default): the objects
+// whose box is in the target's path (boxInPathOf). Centroid: the paper's rule
+// (section V.C), every object whose centroid lies nearer the cameras along the
+// approach than the target's, beside the path or not.
+enum class OccluderRule { Path, Centroid };
+[[nodiscard]] const char* occluderRuleName(OccluderRule rule);  // "path" | "centroid"
+
 struct PlanOptions {
   ObjectOptions objects;  // objects.labels (candidates) always gets the target added
   // Unit or not (it is normalised). When absent: the mean viewing direction of
@@ -39,6 +46,7 @@ struct PlanOptions {
   // perpendicular to it overlap by more than this many voxel edges on every
   // separating axis (touching neighbours do not overlap). >= 0.
   double overlap_margin_voxels = 1.0;
+  OccluderRule occluder_rule = OccluderRule::Path;
   // Also remove the objects in front of each object to be removed (and so on).
   bool transitive = false;
   // Empty bin (axis-aligned box in the map's frame, z up) for the removed objects;
@@ -132,10 +140,12 @@ struct PickPlan {
 void orderForRemoval(std::vector<size_t>& removals, const std::vector<ObjectInstance>& objects,
                      const Eigen::Vector3d& approach, double margin = 0.0);
 
-// Indices of the objects (other than `target`) in the target's path
-// (boxInPathOf), in removal order (orderForRemoval).
-[[nodiscard]] std::vector<size_t> findOccluders(const std::vector<ObjectInstance>& objects, size_t target,
-                                                const Eigen::Vector3d& approach, double margin = 0.0);
+// Indices of the objects (other than `target`) in the target's way by `rule`
+// (by default in its path, boxInPathOf), in removal order (orderForRemoval).
+[[nodiscard]] std::vector<size_t> findOccluders(const std::vector<ObjectInstance>& objects,
+                                                size_t target, const Eigen::Vector3d& approach,
+                                                double margin = 0.0,
+                                                OccluderRule rule = OccluderRule::Path);
 
 // Grasp on the face of the object's box that faces the approach the most.
 [[nodiscard]] Grasp graspFor(const ObjectInstance& object, const Eigen::Vector3d& approach);
