@@ -10,6 +10,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <climits>
 #include <cmath>
 #include <csignal>
@@ -17,7 +18,10 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <mutex>
 #include <random>
+#include <regex>
+#include <set>
 
 #include "lom/error.hpp"
 
@@ -185,6 +189,41 @@ fs::path folderOf(const fs::path& target) {
   return target.has_parent_path() ? target.parent_path() : fs::path(".");
 }
 
+// A writer killed outright (kill -9, a crash, a power cut) leaves its hidden
+// temporary file (temporaryPathFor) beside the output. The first write into a
+// folder in a process removes those of processes that no longer run. Left
+// alone: files of a process that runs (or of an id now taken by another
+// process), of another user, and files changed in the last hour (a writer of
+// the same process id on another machine may still write them into a shared
+// folder).
+void removeAbandonedTemporaries(const fs::path& folder) {
+  static std::mutex mutex;
+  static std::set<std::string> swept;
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(folder, ec);
+  {
+    const std::lock_guard lock(mutex);
+    if (ec || !swept.insert(absolute.string()).second) return;
+  }
+  static const std::regex temporary_name(R"(^\..*\.tmp([0-9]{1,9})-[0-9]{1,6}(\.[^.]*)?$)");
+  const auto now = std::chrono::system_clock::now();
+  for (fs::directory_iterator it(absolute, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    std::smatch match;
+    if (!std::regex_match(name, match, temporary_name)) continue;
+    const pid_t pid = static_cast<pid_t>(std::stol(match[1].str()));
+    if (pid <= 0 || pid == ::getpid() || ::kill(pid, 0) == 0 || errno != ESRCH) continue;
+    struct stat info {};
+    if (::lstat(it->path().c_str(), &info) != 0 || !S_ISREG(info.st_mode) ||
+        info.st_uid != ::geteuid())
+      continue;
+    if (now - std::chrono::system_clock::from_time_t(info.st_mtime) < std::chrono::hours(1))
+      continue;
+    std::error_code ignored;
+    fs::remove(it->path(), ignored);
+  }
+}
+
 void checkFolder(const fs::path& target) {
   const fs::path folder = folderOf(target);
   std::error_code ec;
@@ -293,6 +332,7 @@ void StagedFiles::addPath(const fs::path& target,
                           const std::function<void(const fs::path&)>& write) {
   checkFolder(target);
   const fs::path file = writtenFileOf(target);
+  removeAbandonedTemporaries(folderOf(file));
   const fs::path temporary = temporaryPathFor(file);
   // Created here first (and only here: O_EXCL): a folder that takes no new
   // file is reported in the program's words, naming the output, before a

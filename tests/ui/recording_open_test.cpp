@@ -191,11 +191,21 @@ TEST_F(RecordingOpenTest, ARecordingOpenedAgainKeepsTheLabelsItWasConvertedWith)
   controller().setImportOptions(plain);  // a later session without --labels
   ASSERT_TRUE(controller().openSequence(qPath(tiny_.folder)));
   window_.statusBar()->clearMessage();
+  window_.resize(900, window_.height());  // narrower than the note
+  QTest::qWait(50);
   ASSERT_TRUE(controller().openSequence(qPath(frames))) << errors_.join('\n').toStdString();
   EXPECT_EQ(controller().sequence().labels, *labelled.labels);
   EXPECT_TRUE(window_.statusBar()->currentMessage().contains(
       "labelled_room was converted with the labels it was converted with before"))
       << window_.statusBar()->currentMessage().toStdString();
+  // Wider than the status bar: its whole text is the tooltip.
+  const QString note = window_.statusBar()->currentMessage();
+  ASSERT_GT(window_.statusBar()->fontMetrics().horizontalAdvance(note),
+            window_.statusBar()->width())
+      << "the test needs a note wider than the status bar";
+  EXPECT_EQ(window_.statusBar()->toolTip(), note);
+  window_.statusBar()->showMessage("Short");
+  EXPECT_EQ(window_.statusBar()->toolTip(), QString());
 
   ImportOptions other = plain;
   other.labels = labelSet({"__background__", "cup"});

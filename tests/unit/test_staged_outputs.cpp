@@ -3,7 +3,10 @@
 // simulated with a file size limit: writes beyond it fail as they would on a
 // full disk.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <fstream>
 #include <set>
 
@@ -37,6 +40,34 @@ lom::LabelMap smallAndLargeLabels() {
       .occupy(blockKeys(-5, -4, 0, 1, 0, 1), 1)
       .occupy(blockKeys(0, 20, 0, 20, 0, 20), 2)
       .build();
+}
+
+// The hidden temporary file of a writer killed outright (kill -9) is removed
+// by the next write into its folder once it is an hour old and its process
+// is gone; anything else that looks alike stays.
+TEST(StagedOutputs, TemporaryFilesOfKilledWritersAreRemovedByTheNextWrite) {
+  lom::test::TempDir dir;
+  const pid_t gone = ::fork();  // an id of a process that has ended
+  ASSERT_GE(gone, 0);
+  if (gone == 0) ::_exit(0);
+  ::waitpid(gone, nullptr, 0);
+  const std::string dead = std::to_string(gone);
+  const std::string alive = std::to_string(::getppid());
+  const auto made = [&](const std::string& name, std::chrono::hours age) {
+    std::ofstream(dir / name) << "partial\n";
+    fs::last_write_time(dir / name, fs::file_time_type::clock::now() - age);
+  };
+  made(".map.tmp" + dead + "-123456.ot", std::chrono::hours(2));   // abandoned
+  made(".report.tmp" + dead + "-7.json", std::chrono::hours(30));  // abandoned
+  made(".boxes.tmp" + dead + "-8.json", std::chrono::hours(0));    // too recent
+  made(".map.tmp" + alive + "-9.ot", std::chrono::hours(2));       // its process runs
+  made(".notes.tmp" + dead + ".txt", std::chrono::hours(2));       // another name
+  made("map.tmp" + dead + "-1.ot", std::chrono::hours(2));         // not hidden
+  lom::writeTextFileAtomically(dir / "new.txt", "new\n");
+  EXPECT_EQ(
+      namesIn(dir.path()),
+      (std::set<std::string>{".boxes.tmp" + dead + "-8.json", ".map.tmp" + alive + "-9.ot",
+                             ".notes.tmp" + dead + ".txt", "map.tmp" + dead + "-1.ot", "new.txt"}));
 }
 
 TEST(StagedOutputs, AFailedObjLeavesTheOldObjAndMtlTogether) {

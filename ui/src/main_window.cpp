@@ -25,6 +25,7 @@
 #include <QSettings>
 #include <QSplitter>
 #include <QStatusBar>
+#include <QStyle>
 #include <QTimer>
 #include <QVBoxLayout>
 #include <algorithm>
@@ -278,6 +279,11 @@ MainWindow::MainWindow(QWidget* parent)
   status_label_->setText(describeFrame(*controller_));
   fusion_status_ = new FusionStatus(session_->worker());
   statusBar()->addPermanentWidget(fusion_status_);
+  // A message wider than the status bar is cut off at its edge: its whole
+  // text is the status bar's tooltip while it is shown.
+  connect(statusBar(), &QStatusBar::messageChanged, this, [this](const QString& message) {
+    statusBar()->setToolTip(statusMessageFits(message) ? QString() : message);
+  });
 
   createDocks();
   createMenus(step_actions);
@@ -304,8 +310,12 @@ MainWindow::MainWindow(QWidget* parent)
       [this](const QString& title, const QString& message) { report_warning_(title, message); });
   // Cancel's "Stopping…" stays until the fusion has stopped (a frame of a
   // fine room-scale map takes a minute); other notes for 15 s.
+  // A note cut off at the status bar's edge stays twice as long, to be read
+  // in its tooltip.
   connect(controller_, &SequenceController::noteOccurred, this, [this](const QString& message) {
-    statusBar()->showMessage(message, message == FusionReaction::stoppingNote() ? 0 : 15000);
+    statusBar()->showMessage(message, message == FusionReaction::stoppingNote() ? 0
+                                      : statusMessageFits(message)              ? 15000
+                                                                                : 30000);
   });
   connect(&session_->worker(), &MapWorker::fusionFinished, this, [this] {
     if (statusBar()->currentMessage() == FusionReaction::stoppingNote())
@@ -845,6 +855,14 @@ void MainWindow::createMenus(const TimelineWidget::StepActions& step_actions) {
 }
 
 QString MainWindow::statusText() const { return status_label_->text(); }
+
+bool MainWindow::statusMessageFits(const QString& message) const {
+  const QStatusBar* bar = statusBar();
+  const int permanent = fusion_status_ && fusion_status_->isVisible() ? fusion_status_->width() : 0;
+  const int room =
+      bar->width() - permanent - 2 * bar->style()->pixelMetric(QStyle::PM_LayoutLeftMargin);
+  return bar->fontMetrics().horizontalAdvance(message) <= room;
+}
 
 void MainWindow::showStatusMessage(const QString& message) {
   if (message.isEmpty())

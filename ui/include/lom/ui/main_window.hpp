@@ -112,6 +112,8 @@ class MainWindow : public QMainWindow {
   void updateTitle();
   // A reaction's message that lasts until the next one; empty clears it.
   void showStatusMessage(const QString& message);
+  // Whether `message` fits the status bar beside its permanent widgets.
+  [[nodiscard]] bool statusMessageFits(const QString& message) const;
   void onSequenceChanged();
   void renewSettingsNote();
   void onCurrentFrameChanged();
