@@ -297,7 +297,7 @@ void printMapInfo(const std::filesystem::path& path, std::ostream& out) {
     const Eigen::Vector3d& n = plane->normal;
     out << "up:               (" << n.x() << ", " << n.y() << ", " << n.z()
         << "), the normal of the largest level plane (" << plane->voxels << " of " << plane->sampled
-        << " sampled occupied voxels), " << std::fixed << std::setprecision(1)
+        << " occupied voxels), " << std::fixed << std::setprecision(1)
         << std::acos(std::clamp(n.dot(*map.camerasUp()), -1.0, 1.0)) * 180.0 / M_PI
         << std::defaultfloat << std::setprecision(6) << " deg from the cameras' mean up\n";
   }

@@ -14,9 +14,10 @@ struct FrameScan {
   std::vector<size_t> views;
   // For each view (same order), the voxels each scored label occupies in that view alone.
   std::vector<std::map<int, std::vector<VoxelKey>>> view_voxels;
-  // The centres of the voxels every view's points fall in, whatever their
-  // label (the background's floor and walls too), in key order: the scene as
-  // the projection baselines see it, which levels their boxes.
+  // The centres of the voxels every view's background points fall in (every
+  // label's when the views hold under 400 such voxels), in key order: the
+  // floor and walls as the projection baselines see them, which level their
+  // boxes.
   std::vector<Eigen::Vector3d> view_centres;
   // The scored labels some pixel of some view takes (its argmax), with a
   // depth or without one (a transparent object's pixels have none).

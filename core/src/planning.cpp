@@ -272,10 +272,17 @@ Grasp graspFor(const ObjectInstance& object, const Eigen::Vector3d& approach) {
   grasp.approach = approach.normalized();
   grasp.axes = axesOf(object.box);
   grasp.size = object.box.size;
+  // The face that shows the most area along the approach (its area times
+  // |cos| of its normal to it): the front of a cube, but the broad top of a
+  // flat envelope seen from above at a slant, not its edge, which no gripper
+  // takes and which faces the approach more squarely.
+  const auto shown = [&](int k) {
+    return std::abs(grasp.axes.col(k).dot(grasp.approach)) * grasp.size[(k + 1) % 3] *
+           grasp.size[(k + 2) % 3];
+  };
   int best = 0;
   for (int k = 1; k < 3; ++k)
-    if (std::abs(grasp.axes.col(k).dot(grasp.approach)) > std::abs(grasp.axes.col(best).dot(grasp.approach)))
-      best = k;
+    if (shown(k) > shown(best)) best = k;
   grasp.face_axis = best;
   const double sign = grasp.axes.col(best).dot(grasp.approach) > 0.0 ? -1.0 : 1.0;
   grasp.face_normal = sign * grasp.axes.col(best);

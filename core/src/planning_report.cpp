@@ -145,8 +145,14 @@ std::string planTable(const PickPlan& plan) {
   out << "target    " << objectName(target) << " (" << target.voxelCount() << " voxels, centroid "
       << triple(target.centroid) << " m)\n";
   out << "approach  " << triple(plan.approach) << " (" << approachExplanation(plan.approach_source) << ")\n";
-  out << "objects   " << plan.objects.size() << ", " << plan.occluders.size()
-      << " in the way (in the target's path along the approach)";
+  // The rule that chose them: the words a reader checks the removals by.
+  const bool by_centroid = plan.options.occluder_rule == OccluderRule::Centroid;
+  out << "objects   " << plan.objects.size() << ", " << plan.occluders.size() << " in the way ("
+      << (by_centroid ? "centroid nearer the cameras than the target's, the paper's rule"
+                      : "in the target's path along the approach")
+      << (plan.options.transitive && !by_centroid ? ", and in the paths of those (--transitive)"
+                                                  : "")
+      << ")";
   if (plan.empty_bin)
     out << "; empty bin at " << triple(plan.empty_bin->center) << ", size " << triple(plan.empty_bin->size) << "\n";
   else

@@ -169,12 +169,14 @@ std::string reportCsv(const EvaluationReport& report) {
   out << "label,name,voxels,iou3d_projection_mean,iou3d_projection_max,iou3d_labeloctomap,"
          "box_iou_projection_mean,box_iou_projection_max,box_iou_labeloctomap";
   for (size_t v : report.views) out << ",iou3d_frame_" << v;
+  for (size_t v : report.views) out << ",box_iou_frame_" << v;
   out << "\n";
   for (const auto& o : report.objects) {
     out << o.label << "," << csvText(o.name) << "," << o.voxels;
     for (double v : values(o.iou_3d)) out << "," << fraction(v);
     for (double v : values(o.box_iou)) out << "," << fraction(v);
     for (double v : o.per_view) out << "," << fraction(v);
+    for (double v : o.per_view_box_iou) out << "," << fraction(v);
     out << "\n";
   }
   return out.str();

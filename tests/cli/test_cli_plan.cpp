@@ -136,6 +136,14 @@ TEST_F(CliPlanTest, OccludersCentroidTakesThePapersRule) {
   for (const Json& id : by_centroid["occluders"]) removed.insert(id.get<std::string>());
   EXPECT_EQ(removed, expected);
   EXPECT_GE(removed.size(), by_path["occluders"].size());
+  // The table says which rule chose them.
+  EXPECT_NE(centroid.out.find("in the way (centroid nearer the cameras than the target's, the "
+                              "paper's rule)"),
+            std::string::npos)
+      << centroid.out;
+  EXPECT_NE(path_rule.out.find("in the way (in the target's path along the approach)"),
+            std::string::npos)
+      << path_rule.out;
 
   const auto bad = runCli("plan " + map() + " --target 19 --approach 1,0,0 --occluders box");
   EXPECT_EQ(bad.exit_code, 2);

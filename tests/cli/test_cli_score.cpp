@@ -104,6 +104,18 @@ TEST_F(CliScoreTest, WritesTheFourReports) {
   const std::string csv = slurp(dir / "report.csv");
   EXPECT_EQ(csv.rfind("label,name,voxels,iou3d_projection_mean", 0), 0u) << csv;
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5);
+  // Per view: IU_3d, then box IU, as report.json's per_view and per_view_box_iou.
+  const std::string header = csv.substr(0, csv.find('\n'));
+  const size_t views = report["views"].size();
+  ASSERT_GE(views, 1u);
+  const std::string last_view = std::to_string(report["views"].back().get<size_t>());
+  EXPECT_NE(header.find(",box_iou_frame_" + last_view), std::string::npos) << header;
+  EXPECT_EQ(std::count(header.begin(), header.end(), ','), 8 + 2 * static_cast<long>(views))
+      << header;
+  const std::string row =
+      csv.substr(csv.find('\n') + 1, csv.find('\n', csv.find('\n') + 1) - csv.find('\n') - 1);
+  const double last_box = std::stod(row.substr(row.rfind(',') + 1));
+  EXPECT_NEAR(last_box, report["objects"][0]["per_view_box_iou"].back().get<double>(), 1e-6) << row;
   const std::string markdown = slurp(dir / "report.md");
   EXPECT_NE(markdown.find("| label | name | voxels | Projection (Mean) | Projection (Max) | LabelOctoMap |"),
             std::string::npos);

@@ -320,6 +320,19 @@ TEST(Planning, GraspIsOnTheFrontFaceNearTheCentroid) {
   const Eigen::Vector3d local = grasp.axes.transpose() * (grasp.position - turned.center);
   EXPECT_NEAR(std::abs(local[grasp.face_axis]), 0.5 * turned.size[grasp.face_axis], 1e-12);
   EXPECT_LT((grasp.position - turned.center).dot(kIntoTheBin), 0.0);
+
+  // A flat envelope (17 x 15 x 0.9 cm) seen from 25 degrees above: its broad
+  // top shows more area along the approach than its edge, which faces it
+  // more squarely but which no gripper takes.
+  const OrientedBox flat = aabb({0.30, -0.075, 0.0}, {0.47, 0.075, 0.0086});
+  const Eigen::Vector3d slant(std::cos(25 * M_PI / 180), 0.0, -std::sin(25 * M_PI / 180));
+  grasp = lom::graspFor(objectWithBox(flat, flat.center), slant);
+  EXPECT_EQ(grasp.face_axis, 2);
+  EXPECT_TRUE(grasp.face_normal.isApprox(Eigen::Vector3d::UnitZ(), 1e-12));
+  EXPECT_NEAR(grasp.position.z(), 0.0086, 1e-12);
+  // Seen level, the edge is all it shows.
+  grasp = lom::graspFor(objectWithBox(flat, flat.center), kIntoTheBin);
+  EXPECT_EQ(grasp.face_axis, 0);
 }
 
 TEST(Planning, RemovedObjectsArePackedIntoTheEmptyBin) {

@@ -12,8 +12,8 @@ namespace lom {
 
 struct LevelPlane {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit, on the side of the cameras' up
-  size_t voxels = 0;                                  // of the sampled voxels, those on the plane
-  size_t sampled = 0;                                 // voxels sampled
+  size_t voxels = 0;                                  // of the voxels, those on the plane
+  size_t sampled = 0;                                 // voxels (all the centres given)
   // normal . p for the points p of the plane (through the mean of the centres
   // on it): a point's height above the plane is normal . point - offset.
   double offset = 0.0;
@@ -24,12 +24,13 @@ inline constexpr double kMaxLevelTiltDegrees = 30.0;
 
 // The largest plane through the voxel centres (a centre is on it when within
 // one voxel edge) whose normal is within kMaxLevelTiltDegrees of `cameras_up`
-// and which holds at least a twelfth of the sampled voxels (at least 200): found by a
+// and which holds at least a twelfth of the voxels (at least 200): found by a
 // consensus search with a fixed seed over at most 4096 evenly spaced centres,
 // in which every candidate plane is refitted by least squares to the centres
-// on it, again as long as that gathers more of them, before candidates are
-// compared and the largest is judged (three noisy centres span a tilted plane
-// that holds only a strip of a wide floor). nullopt when no such plane exists.
+// on it, again as long as that gathers more of them (three noisy centres span
+// a tilted plane that holds only a strip of a wide floor); the eight largest
+// distinct candidates of that sample are then counted on every centre, and
+// the largest is judged. nullopt when no such plane exists.
 // The same input always gives the same plane.
 [[nodiscard]] std::optional<LevelPlane> findLevelPlane(const std::vector<Eigen::Vector3d>& centres,
                                                        const Eigen::Vector3d& cameras_up,
