@@ -396,7 +396,13 @@ bool hasDuplicateChannels(const ProbabilityImage& proba) {
 FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
                               const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
                               const FrameEvidence& evidence, int threads, VectorKernels kernels,
-                              double frame_memory_limit_bytes) {
+                              double frame_memory_limit_bytes,
+                              const std::function<bool()>& cancelled) {
+  // Between phases only: nothing of the map has changed before the tree pass.
+  const auto stopIfCancelled = [&cancelled] {
+    if (cancelled && cancelled()) throw FrameCancelled();
+  };
+  stopIfCancelled();
   const bool vector_kernels = kernels != VectorKernels::Baseline;
   const auto start = std::chrono::steady_clock::now();
   checkFrameInputs(map, camera, depth, evidence);
@@ -585,6 +591,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
   // A frame whose rays crossed more voxels than the memory can take is
   // refused here, before it changes the map (the streams and the new nodes
   // below grow with the crossed voxels; the marks are bits).
+  stopIfCancelled();
   size_t bricks = 0;
   for (const BrickSet& mark : marks) bricks += mark.brickCount();
   if (frameMemoryNeedsCheck(bricks * BrickSet::kWords * 64, frame_memory_limit_bytes)) {
@@ -609,6 +616,7 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
         static_cast<double>(sizeof(VoxelUpdate));
     checkFrameMemory(crossed, frame_memory_limit_bytes, map.parameters().resolution, count_new,
                      reusable);
+    stopIfCancelled();
   }
 
   // 3. Hits: full per-label log-odds; they are never also misses in this
@@ -683,8 +691,10 @@ FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
     buildHits();
     buildMisses();
   }
+  stopIfCancelled();
   std::vector<VoxelUpdate>& updates = scratch.updates;
   mergeUpdates(hits, misses, updates, threads);
+  stopIfCancelled();
   tree.applySortedUpdates(updates, threads, direct ? &listed : nullptr);
 
   FrameStats stats;

@@ -442,7 +442,8 @@ FrameStats integrateFrame(LabelMap& map, const CameraIntrinsics& camera,
       integration.path == IntegrationPath::Reference
           ? integrateFrameReference(map, camera, T_world_camera, depth, evidence)
           : integrateFrameFast(map, camera, T_world_camera, depth, evidence, integration.threads,
-                               integration.kernels, integration.frame_memory_limit_bytes);
+                               integration.kernels, integration.frame_memory_limit_bytes,
+                               integration.cancelled);
   map.noteFusedCandidates(evidence.candidates());
   map.noteCameraView(T_world_camera.linear());
   return stats;

@@ -109,7 +109,8 @@ FrameStats integrateFrameReference(LabelMap& map, const CameraIntrinsics& camera
 FrameStats integrateFrameFast(LabelMap& map, const CameraIntrinsics& camera,
                               const Eigen::Isometry3d& T_world_camera, const DepthImage& depth,
                               const FrameEvidence& evidence, int threads, VectorKernels kernels,
-                              double frame_memory_limit_bytes);
+                              double frame_memory_limit_bytes,
+                              const std::function<bool()>& cancelled = {});
 
 // IntegrationOptions::frame_memory_limit_bytes, in the fast path once the
 // frame's rays are marked: whether a frame whose rays crossed at most

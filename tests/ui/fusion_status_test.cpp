@@ -53,6 +53,22 @@ TEST(FusionStatusTest, CancelSaysAtOnceThatTheFusionStops) {
   QTest::qWait(50);
   EXPECT_TRUE(window.statusBar()->currentMessage().isEmpty())
       << window.statusBar()->currentMessage().toStdString();
+
+  // Pause says the frame being fused comes first.
+  window.session().fuse();
+  ASSERT_TRUE(worker.isFusing());
+  QAction* pause = window.findAction("Pause Fusion");
+  ASSERT_NE(pause, nullptr);
+  pause->trigger();
+  EXPECT_TRUE(window.statusBar()->currentMessage().startsWith("Pausing"))
+      << window.statusBar()->currentMessage().toStdString();
+  // Cancel, then Fuse again before the stop is heard: the new fusion does not
+  // keep saying the fusion is stopping.
+  window.findAction("Cancel Fusion")->trigger();
+  ASSERT_EQ(window.statusBar()->currentMessage(), FusionReaction::stoppingNote());
+  window.session().fuse();
+  EXPECT_NE(window.statusBar()->currentMessage(), FusionReaction::stoppingNote());
+  ASSERT_TRUE(QTest::qWaitFor([&] { return !worker.isFusing(); }, 10000));
 }
 
 }  // namespace

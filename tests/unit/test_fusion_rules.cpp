@@ -317,6 +317,60 @@ void refuseAFrameWhoseRaysCrossMoreVoxelsThanTheLimitTakes() {
   lom::integrateFrame(map, pencilCamera(width), poseAtVoxelCentre(), depth, evidence, options);
 }
 
+// IntegrationOptions::cancelled: asked before the frame and between its
+// phases; a frame cancelled at any of them leaves the map as it was, and the
+// next frame fuses as if the cancelled one had never started.
+TEST(FrameCancel, AFrameCancelledBetweenItsPhasesLeavesTheMapAsItWas) {
+  const int width = 2;
+  DepthImage depth{width, 1, {0.5f, 0.7f}};
+  ProbabilityImage proba{width, 1, 3, {0, 1, 2}, {0.1f, 0.8f, 0.1f, 0.2f, 0.2f, 0.6f}, {}};
+  FrameEvidence evidence(3, &proba, nullptr, std::nullopt, 0.9);
+  lom::IntegrationOptions plain;
+  plain.path = lom::IntegrationPath::Fast;
+  LabelMap expected(threeLabels());
+  lom::integrateFrame(expected, pencilCamera(width), poseAtVoxelCentre(), depth, evidence, plain);
+  const auto expectSameMap = [&](const LabelMap& map) {
+    for (const double z : {0.205, 0.505, 0.705}) {
+      const auto voxel = map.voxelAt(at(z));
+      const auto wanted = expected.voxelAt(at(z));
+      EXPECT_EQ(voxel.known, wanted.known) << z;
+      EXPECT_EQ(voxel.label, wanted.label) << z;
+      for (size_t k = 0; k < 3; ++k)
+        EXPECT_EQ(voxel.probabilities[k], wanted.probabilities[k]) << z << " label " << k;
+    }
+  };
+  // Asked before the frame, after the rays, after the memory check (when it
+  // runs: a limit given), after the update streams and after their merge.
+  for (const auto& [limit, asks] : {std::pair{0.0, 4}, std::pair{1e12, 5}}) {
+    for (int cancel_at = 1; cancel_at <= asks + 1; ++cancel_at) {
+      SCOPED_TRACE("limit " + std::to_string(limit) + ", cancelled at ask " +
+                   std::to_string(cancel_at));
+      LabelMap map(threeLabels());
+      int asked = 0;
+      lom::IntegrationOptions options = plain;
+      options.frame_memory_limit_bytes = limit;
+      options.cancelled = [&] { return ++asked == cancel_at; };
+      bool cancelled = false;
+      try {
+        lom::integrateFrame(map, pencilCamera(width), poseAtVoxelCentre(), depth, evidence,
+                            options);
+      } catch (const lom::FrameCancelled&) {
+        cancelled = true;
+      }
+      if (cancel_at > asks) {  // asked every time and never told to stop: fused
+        EXPECT_FALSE(cancelled);
+        EXPECT_EQ(asked, asks);
+        expectSameMap(map);
+        continue;
+      }
+      ASSERT_TRUE(cancelled);
+      EXPECT_EQ(map.numNodes(), 0u) << "the cancelled frame changed the map";
+      lom::integrateFrame(map, pencilCamera(width), poseAtVoxelCentre(), depth, evidence, plain);
+      expectSameMap(map);
+    }
+  }
+}
+
 // On a thread of its own: the stream buffers a frame may reuse are the
 // thread's own from its earlier frames (none here), not whatever the tests
 // before left in the main thread's (their size depended on how those tests'

@@ -8,9 +8,7 @@
 
 namespace lom::ui {
 
-QString FusionReaction::stoppingNote() {
-  return tr("Stopping the fusion after the frame being fused…");
-}
+QString FusionReaction::stoppingNote() { return tr("Stopping the fusion…"); }
 
 FusionReaction::FusionReaction(QAction* action, Kind kind, StudioSession& session,
                                std::function<void()> fuse)
@@ -32,11 +30,17 @@ void FusionReaction::onTriggered() {
         session_.fuse();
       break;
     case Kind::Pause:
+      // The frame being fused is finished first (a fine room-scale one takes
+      // a minute), while the status already says paused.
+      if (action()->isChecked() && worker.isFusing())
+        emit session_.controller().noteOccurred(
+            tr("Pausing: the frame being fused is finished first."));
       worker.setPaused(action()->isChecked());
       break;
     case Kind::Cancel:
-      // A frame is fused whole: a fine room-scale one takes a minute. Say at
-      // once that the stop is coming (the status shows where it stopped).
+      // A frame's map update is finished (a fine room-scale one takes half a
+      // minute). Say at once that the stop is coming (the status shows where
+      // it stopped).
       if (worker.isFusing()) emit session_.controller().noteOccurred(stoppingNote());
       worker.cancel();
       break;

@@ -317,10 +317,14 @@ MainWindow::MainWindow(QWidget* parent)
                                       : statusMessageFits(message)              ? 15000
                                                                                 : 30000);
   });
-  connect(&session_->worker(), &MapWorker::fusionFinished, this, [this] {
+  // A fusion started meanwhile replaced the one stopping, which never says
+  // it finished.
+  const auto stopped = [this] {
     if (statusBar()->currentMessage() == FusionReaction::stoppingNote())
       statusBar()->clearMessage();
-  });
+  };
+  connect(&session_->worker(), &MapWorker::fusionFinished, this, stopped);
+  connect(&session_->worker(), &MapWorker::fusionStarted, this, stopped);
   connect(controller_, &SequenceController::conversionFinished, this,
           [this](const QString& name, bool cancelled) {
             if (cancelled)
@@ -585,7 +589,8 @@ bool MainWindow::confirmStopWork() {
   if (keep && question.clickedButton() == keep) {
     MapWorker& worker = session_->worker();
     worker.cancel();
-    // Cancelling is heard between frames: the wait is a frame's fusion.
+    // Cancelling is heard between a frame's phases: the wait is at most its
+    // map update (FrameCancelled).
     QEventLoop stopped;
     const QMetaObject::Connection finished =
         connect(&worker, &MapWorker::stateChanged, &stopped, [&] {

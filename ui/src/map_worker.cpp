@@ -250,6 +250,8 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
   const bool had_map = map_ && (frames_fused_ > 0 || !map_file_.empty());
   FusionOptions fusion = options;
   fusion.map.occupancy_threshold = threshold_;
+  // Cancel also stops within a frame, before the frame changes the map.
+  fusion.integration.cancelled = [cancelled] { return cancelled->load(); };
   try {
     // As fuseSequence: a camera outside the map fails before any frame is
     // fused, naming sequence.json and the frame.
@@ -331,6 +333,9 @@ void MapWorker::fuse(const std::shared_ptr<const Sequence>& sequence, const Fusi
       addFrameStats(totals, stats);
       fused_totals_ = totals;
       if (stats.outside_map_pixels > 0) frames_outside_map_.push_back(i);
+    } catch (const FrameCancelled&) {  // the frame left the map as it was
+      completed = false;
+      break;
     } catch (const std::exception& error) {
       // Errors about a frame's files name the frame already (frames[5].depth).
       const QString what = QString::fromStdString(error.what());

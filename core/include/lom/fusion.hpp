@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -125,6 +126,18 @@ struct IntegrationOptions {
   // Fast path: which vector kernels may run (where the processor has them).
   // Every choice gives the same map to the last bit; the others are for checks.
   VectorKernels kernels = VectorKernels::Best;
+  // Fast path: asked before the frame and between its phases (rays, memory
+  // check, update streams, their merge); once it says true, the frame is
+  // abandoned with FrameCancelled before the tree pass, leaving the map as it
+  // was. The tree pass itself (about half of a fine room-scale frame) runs to
+  // its end. Empty: never cancelled.
+  std::function<bool()> cancelled;
+};
+
+// Thrown by integrateFrame when IntegrationOptions::cancel was set: the frame
+// was not fused and the map is unchanged.
+struct FrameCancelled : std::runtime_error {
+  FrameCancelled() : std::runtime_error("the frame's fusion was cancelled") {}
 };
 
 // The memory this process can still take, in bytes: MemAvailable of
