@@ -151,8 +151,7 @@ std::optional<LevelPlane> findLevelPlane(const std::vector<Eigen::Vector3d>& cen
   size_t best_count = 0;
   Plane best{up, Eigen::Vector3d::Zero()};
   for (const Plane& plane : finalists) {
-    const size_t on = sampled == centres.size() ? gather(sample, plane, tolerance).on
-                                                : gather(centres, plane, tolerance).on;
+    const size_t on = gather(centres, plane, tolerance).on;
     if (on > best_count) {
       best_count = on;
       best = plane;
