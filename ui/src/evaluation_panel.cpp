@@ -514,29 +514,27 @@ void EvaluationPanel::selectRowOfBox() {
   const QString label = selected >= 0 ? QString::number(boxes.box(selected).label) : QString();
   syncing_selection_ = true;
   table_->clearSelection();
-  for (int row = 0; row < table_->rowCount() && !label.isEmpty(); ++row)
-    if (const QTableWidgetItem* item = table_->item(row, Label); item && item->text() == label) {
-      table_->selectRow(row);
-      table_->scrollToItem(item);
-      break;
-    }
+  if (const int row = rowOfLabel(label); row >= 0) {
+    table_->selectRow(row);
+    table_->scrollToItem(table_->item(row, Label));
+  }
   syncing_selection_ = false;
 }
 
 int EvaluationPanel::boxAfterIfFocused(int box) const {
   const AnnotationsModel& boxes = session_.annotations();
   if (!table_->hasFocus() || box < 0 || box >= boxes.boxCount()) return -1;
-  const QString label = QString::number(boxes.box(box).label);
-  const auto row_label = [this](int row) {
-    const QTableWidgetItem* item = table_->item(row, Label);
-    return item ? item->text() : QString();
-  };
-  for (int row = 0; row < table_->rowCount(); ++row) {
-    if (row_label(row) != label) continue;
-    const int next = row + 1 < table_->rowCount() ? row + 1 : row - 1;
-    const QString next_label = next >= 0 ? row_label(next) : QString();
-    return next_label.isEmpty() ? -1 : boxes.indexOfLabel(next_label.toInt());
-  }
+  const int row = rowOfLabel(QString::number(boxes.box(box).label));
+  if (row < 0) return -1;
+  const int next = row + 1 < table_->rowCount() ? row + 1 : row - 1;
+  const QTableWidgetItem* item = next >= 0 ? table_->item(next, Label) : nullptr;
+  return item ? boxes.indexOfLabel(item->text().toInt()) : -1;
+}
+
+int EvaluationPanel::rowOfLabel(const QString& label) const {
+  for (int row = 0; row < table_->rowCount() && !label.isEmpty(); ++row)
+    if (const QTableWidgetItem* item = table_->item(row, Label); item && item->text() == label)
+      return row;
   return -1;
 }
 

@@ -78,6 +78,8 @@ class EvaluationPanel : public QWidget {
   // box's row is selected: one object selection across the panels.
   void selectBoxOfRow();
   void selectRowOfBox();
+  // The table row of `label` (its Label column's text), -1 for none.
+  [[nodiscard]] int rowOfLabel(const QString& label) const;
   // A double-click on a projection score shows the frame of the view that
   // scored highest for that object (the view behind Projection (Max)).
   void showBestView(int row, int column);
